@@ -1,0 +1,24 @@
+#!/usr/bin/env bash
+# Installs the Debian 12 packages Poise needs. Idempotent: installs only what is missing.
+set -euo pipefail
+PKGS=(
+  build-essential cmake git pkg-config
+  libeigen3-dev libsundials-dev libnlopt-cxx-dev libembree-dev libtbb-dev
+  libcli11-dev libtomlplusplus-dev nlohmann-json3-dev librandom123-dev libboost-dev
+  libgtest-dev libbenchmark-dev libopenmpi-dev openmpi-bin gnuplot-nox
+)
+missing=()
+for p in "${PKGS[@]}"; do
+  if ! dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed"; then
+    missing+=("$p")
+  fi
+done
+if [ ${#missing[@]} -eq 0 ]; then
+  echo "install_deps: all ${#PKGS[@]} packages present"
+  exit 0
+fi
+echo "install_deps: installing ${missing[*]}"
+SUDO=""
+if [ "$(id -u)" -ne 0 ]; then SUDO="sudo"; fi
+$SUDO apt-get update -qq
+DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}"

@@ -1,0 +1,46 @@
+#pragma once
+/// Error types of Poise. User input errors carry where the bad value came from
+/// (file, line, column, key), the value as written, and what was expected, so a
+/// person can fix the file without reading code.
+#include <stdexcept>
+#include <string>
+
+namespace poise {
+
+/// Base of all Poise exceptions.
+class Error : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+/// Where a value came from in an input file. line/column are 1-based; 0 = unknown.
+struct SourceLocation {
+  std::string file;
+  int line = 0;
+  int column = 0;
+};
+
+/// A value in a study or model file that is refused.
+/// what() reads: "<file>:<line>:<col>: key '<key>' = <value>: expected <expected>".
+class InputError : public Error {
+ public:
+  InputError(SourceLocation where, std::string key, std::string value, std::string expected);
+
+  const SourceLocation& where() const { return where_; }
+  const std::string& key() const { return key_; }
+  const std::string& value() const { return value_; }
+  const std::string& expected() const { return expected_; }
+
+ private:
+  SourceLocation where_;
+  std::string key_;
+  std::string value_;
+  std::string expected_;
+};
+
+/// Throws poise::Error with the message if cond is false (for checks of API use).
+inline void require(bool cond, const std::string& message) {
+  if (!cond) throw Error(message);
+}
+
+}  // namespace poise

@@ -1,0 +1,210 @@
+#include "core/units.h"
+
+#include <charconv>
+#include <cmath>
+#include <cstdio>
+#include <map>
+#include <stdexcept>
+
+#include "core/error.h"
+
+namespace poise::units {
+namespace {
+
+struct UnitDef {
+  double factor;
+  Dimension dim;
+};
+
+const std::map<std::string, UnitDef, std::less<>>& unit_table() {
+  static const std::map<std::string, UnitDef, std::less<>> table = {
+      // length
+      {"m", {1.0, kLength}},
+      {"km", {1e3, kLength}},
+      {"cm", {1e-2, kLength}},
+      {"mm", {1e-3, kLength}},
+      {"um", {1e-6, kLength}},
+      {"µm", {1e-6, kLength}},
+      {"nm", {1e-9, kLength}},
+      // mass
+      {"kg", {1.0, kMass}},
+      {"g", {1e-3, kMass}},
+      {"mg", {1e-6, kMass}},
+      // time
+      {"s", {1.0, kTime}},
+      {"ms", {1e-3, kTime}},
+      {"us", {1e-6, kTime}},
+      {"min", {60.0, kTime}},
+      {"h", {3600.0, kTime}},
+      // current
+      {"A", {1.0, kCurrent}},
+      {"mA", {1e-3, kCurrent}},
+      // angle
+      {"rad", {1.0, kAngle}},
+      {"mrad", {1e-3, kAngle}},
+      {"urad", {1e-6, kAngle}},
+      {"µrad", {1e-6, kAngle}},
+      {"deg", {kRadPerDeg, kAngle}},
+      {"arcmin", {kRadPerDeg / 60.0, kAngle}},
+      {"arcsec", {kRadPerArcsec, kAngle}},
+      {"rev", {2.0 * kPi, kAngle}},
+      // pixel
+      {"px", {1.0, kPixel}},
+      {"pixel", {1.0, kPixel}},
+      // derived
+      {"Hz", {1.0, kFrequency}},
+      {"N", {1.0, kForce}},
+      {"mN", {1e-3, kForce}},
+      {"Nm", {1.0, kTorque}},
+      {"mNm", {1e-3, kTorque}},
+      {"Pa", {1.0, kPressure}},
+      {"kPa", {1e3, kPressure}},
+      {"MPa", {1e6, kPressure}},
+      {"GPa", {1e9, kPressure}},
+      {"rpm", {2.0 * kPi / 60.0, Dimension{{0, 0, -1, 0, 1, 0}}}},
+      // dimensionless
+      {"1", {1.0, kDimensionless}},
+      {"%", {1e-2, kDimensionless}},
+      {"ppm", {1e-6, kDimensionless}},
+  };
+  return table;
+}
+
+Dimension combine(const Dimension& a, const Dimension& b, int power) {
+  Dimension out = a;
+  for (std::size_t i = 0; i < out.e.size(); ++i) {
+    out.e[i] = static_cast<std::int8_t>(out.e[i] + power * b.e[i]);
+  }
+  return out;
+}
+
+std::string_view trim(std::string_view s) {
+  while (!s.empty() && (s.front() == ' ' || s.front() == '\t')) s.remove_prefix(1);
+  while (!s.empty() && (s.back() == ' ' || s.back() == '\t')) s.remove_suffix(1);
+  return s;
+}
+
+// Parses a unit expression: factors joined by '*' or '/', each with optional '^int'.
+// "r/min" is accepted as a whole word for revolutions per minute.
+UnitDef parse_unit(std::string_view text) {
+  text = trim(text);
+  if (text.empty()) return {1.0, kDimensionless};
+  if (text == "r/min") return {2.0 * kPi / 60.0, Dimension{{0, 0, -1, 0, 1, 0}}};
+  UnitDef out{1.0, kDimensionless};
+  int sign = +1;
+  std::size_t pos = 0;
+  while (pos <= text.size()) {
+    std::size_t next = text.find_first_of("*/", pos);
+    std::string_view factor = trim(text.substr(pos, next == std::string_view::npos ? text.npos : next - pos));
+    if (factor.empty()) throw Error("malformed unit \"" + std::string(text) + "\"");
+    int power = 1;
+    if (auto caret = factor.find('^'); caret != std::string_view::npos) {
+      std::string_view p = factor.substr(caret + 1);
+      auto res = std::from_chars(p.data(), p.data() + p.size(), power);
+      if (res.ec != std::errc() || res.ptr != p.data() + p.size()) {
+        throw Error("malformed exponent in unit \"" + std::string(text) + "\"");
+      }
+      factor = factor.substr(0, caret);
+    }
+    auto it = unit_table().find(factor);
+    if (it == unit_table().end()) {
+      throw Error("unknown unit \"" + std::string(factor) + "\"");
+    }
+    out.factor *= std::pow(it->second.factor, sign * power);
+    out.dim = combine(out.dim, it->second.dim, sign * power);
+    if (next == std::string_view::npos) break;
+    sign = text[next] == '/' ? -1 : +1;
+    pos = next + 1;
+  }
+  return out;
+}
+
+}  // namespace
+
+std::string dimension_name(const Dimension& d) {
+  if (d == kDimensionless) return "a dimensionless number";
+  if (d == kLength) return "a length";
+  if (d == kMass) return "a mass";
+  if (d == kTime) return "a time";
+  if (d == kCurrent) return "a current";
+  if (d == kAngle) return "an angle";
+  if (d == kPixel) return "a pixel count";
+  if (d == kFrequency) return "a frequency";
+  if (d == kForce) return "a force";
+  if (d == kTorque) return "a torque";
+  if (d == kPressure) return "a pressure";
+  if (d == kAcceleration) return "an acceleration";
+  static const char* names[] = {"m", "kg", "s", "A", "rad", "px"};
+  std::string out;
+  for (std::size_t i = 0; i < d.e.size(); ++i) {
+    if (d.e[i] == 0) continue;
+    if (!out.empty()) out += "*";
+    out += names[i];
+    if (d.e[i] != 1) out += "^" + std::to_string(d.e[i]);
+  }
+  return "a quantity in " + out;
+}
+
+std::string example_unit(const Dimension& d) {
+  if (d == kLength) return "mm";
+  if (d == kMass) return "kg";
+  if (d == kTime) return "s";
+  if (d == kCurrent) return "A";
+  if (d == kAngle) return "deg";
+  if (d == kPixel) return "px";
+  if (d == kFrequency) return "Hz";
+  if (d == kForce) return "N";
+  if (d == kTorque) return "N*m";
+  if (d == kPressure) return "MPa";
+  if (d == kAcceleration) return "m/s^2";
+  if (d == kDimensionless) return "";
+  return "SI units";
+}
+
+Quantity parse_quantity(std::string_view text) {
+  std::string_view s = trim(text);
+  if (s.empty()) throw Error("empty value");
+  double number = 0.0;
+  auto res = std::from_chars(s.data(), s.data() + s.size(), number);
+  if (res.ec != std::errc()) {
+    throw Error("no number at the start of \"" + std::string(text) + "\"");
+  }
+  if (!std::isfinite(number)) throw Error("number is not finite in \"" + std::string(text) + "\"");
+  std::string_view rest = s.substr(static_cast<std::size_t>(res.ptr - s.data()));
+  if (!rest.empty() && rest.front() != ' ' && rest.front() != '\t' && rest.front() != '%') {
+    throw Error("expected a space between number and unit in \"" + std::string(text) + "\"");
+  }
+  UnitDef u = parse_unit(rest);
+  return {number * u.factor, u.dim};
+}
+
+double parse_as(std::string_view text, const Dimension& expected) {
+  Quantity q;
+  const std::string example = example_unit(expected);
+  const std::string hint = example.empty() ? std::string("a plain number")
+                                           : "e.g. \"1 " + example + "\"";
+  try {
+    q = parse_quantity(text);
+  } catch (const Error& e) {
+    throw Error(std::string(e.what()) + "; expected " + dimension_name(expected) + ", " + hint);
+  }
+  if (!(q.dim == expected)) {
+    if (q.dim == kDimensionless) {
+      throw Error("missing unit; expected " + dimension_name(expected) + ", " + hint);
+    }
+    throw Error("wrong unit: got " + dimension_name(q.dim) + ", expected " +
+                dimension_name(expected) + ", " + hint);
+  }
+  return q.value;
+}
+
+double unit_factor(std::string_view unit) { return parse_unit(unit).factor; }
+
+std::string format(double si_value, std::string_view unit, int significant) {
+  double v = si_value / unit_factor(unit);
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.*g", significant, v);
+  return std::string(buf) + (unit.empty() ? "" : " " + std::string(unit));
+}
+
+}  // namespace poise::units

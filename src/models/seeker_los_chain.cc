@@ -1,0 +1,160 @@
+#include "models/seeker_los_chain.h"
+
+#include <cmath>
+
+#include "core/error.h"
+
+namespace poise::models {
+namespace {
+
+// asin and atan of arguments that are almost always tiny (pointing errors ~1e-4 rad):
+// the series is exact to double precision below 1e-3 (next term < 1e-16 relative).
+inline double small_asin(double x) {
+  if (std::abs(x) < 1e-3) {
+    const double x2 = x * x;
+    return x * (1.0 + x2 * (1.0 / 6.0 + x2 * (3.0 / 40.0)));
+  }
+  return std::asin(x);
+}
+inline double small_atan(double x) {
+  if (std::abs(x) < 1e-3) {
+    const double x2 = x * x;
+    return x * (1.0 - x2 * (1.0 / 3.0 - x2 * (1.0 / 5.0)));
+  }
+  return std::atan(x);
+}
+
+// T(a -> u) for u = normalize(a + t1 e1 + t2 e2).
+inline Eigen::Matrix3d tilt_rotation(const Eigen::Vector3d& a, const Eigen::Vector3d& e1,
+                                     const Eigen::Vector3d& e2, const Eigen::Vector2d& t) {
+  const Eigen::Vector3d u = (a + t[0] * e1 + t[1] * e2).normalized();
+  return minimal_rotation(a, u);
+}
+
+// Error of unit LOS d against the nominal LOS with precomputed cos/sin of alpha, beta.
+inline PointingError error_against(const Eigen::Vector3d& d, double ca, double sa, double cb,
+                                   double sb) {
+  const Eigen::Vector3d n(cb * ca, cb * sa, sb);
+  PointingError e;
+  e.total = 2.0 * small_asin(0.5 * (d - n).norm());
+  // Yaw: angle of d's horizontal projection from azimuth alpha.
+  const double along = d.x() * ca + d.y() * sa;
+  const double across = -d.x() * sa + d.y() * ca;
+  e.yaw = along > 0 ? small_atan(across / along) : std::atan2(across, along);
+  // Pitch: sin(beta' - beta) = d.z cos b - rho sin b, rho = |horizontal projection|.
+  const double rho = std::sqrt(d.x() * d.x() + d.y() * d.y());
+  e.pitch = small_asin(d.z() * cb - rho * sb);
+  return e;
+}
+
+const Eigen::Vector3d kX = Eigen::Vector3d::UnitX();
+const Eigen::Vector3d kY = Eigen::Vector3d::UnitY();
+const Eigen::Vector3d kZ = Eigen::Vector3d::UnitZ();
+
+}  // namespace
+
+void AxisErrorState::add(const TiltHarmonic& h) {
+  require(n_harmonics < kMaxHarmonics, "too many tilt harmonics on one axis (max " +
+                                           std::to_string(kMaxHarmonics) + ")");
+  harmonics[static_cast<std::size_t>(n_harmonics++)] = h;
+}
+
+Eigen::Vector2d AxisErrorState::tilt(double phi) const {
+  Eigen::Vector2d t(static_tilt[0], static_tilt[1]);
+  for (int k = 0; k < n_harmonics; ++k) {
+    const TiltHarmonic& h = harmonics[static_cast<std::size_t>(k)];
+    const double arg = h.order * phi + h.phase;
+    t[0] += h.amplitude * std::cos(arg);
+    t[1] += h.amplitude * std::sin(arg);
+  }
+  return t;
+}
+
+Eigen::Matrix3d minimal_rotation(const Eigen::Vector3d& a, const Eigen::Vector3d& u) {
+  const Eigen::Vector3d v = a.cross(u);
+  const double c = a.dot(u);
+  Eigen::Matrix3d vx;
+  vx << 0.0, -v.z(), v.y(), v.z(), 0.0, -v.x(), -v.y(), v.x(), 0.0;
+  return Eigen::Matrix3d::Identity() + vx + vx * vx / (1.0 + c);
+}
+
+Eigen::Matrix3d yaw_orientation(const AxisErrorState& yaw, double alpha) {
+  const double c = std::cos(alpha), s = std::sin(alpha);
+  Eigen::Matrix3d rz;
+  rz << c, -s, 0.0, s, c, 0.0, 0.0, 0.0, 1.0;
+  return tilt_rotation(kZ, kX, kY, yaw.tilt(alpha)) * rz;
+}
+
+Eigen::Matrix3d pitch_orientation(const AxisErrorState& pitch, double beta) {
+  // Rotation by beta about -y: x -> (cos b, 0, sin b).
+  const double c = std::cos(beta), s = std::sin(beta);
+  Eigen::Matrix3d r;
+  r << c, 0.0, -s, 0.0, 1.0, 0.0, s, 0.0, c;
+  return tilt_rotation(-kY, kX, kZ, pitch.tilt(beta)) * r;
+}
+
+Eigen::Vector3d optical_axis(double collimation) {
+  return Eigen::Vector3d(1.0, collimation, 0.0).normalized();
+}
+
+Eigen::Vector3d nominal_los(double alpha, double beta) {
+  return {std::cos(beta) * std::cos(alpha), std::cos(beta) * std::sin(alpha), std::sin(beta)};
+}
+
+Eigen::Vector3d los_direction(const SeekerErrorState& s, double alpha, double beta) {
+  return yaw_orientation(s.yaw, alpha) * (pitch_orientation(s.pitch, beta) * optical_axis(s.collimation));
+}
+
+PointingError pointing_error(const Eigen::Vector3d& d, double alpha, double beta) {
+  return error_against(d, std::cos(alpha), std::sin(alpha), std::cos(beta), std::sin(beta));
+}
+
+std::vector<double> linspace(double lo, double hi, std::size_t n) {
+  require(n >= 1, "linspace needs at least one point");
+  if (n == 1) return {lo};
+  std::vector<double> v(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    v[i] = lo + (hi - lo) * static_cast<double>(i) / static_cast<double>(n - 1);
+  }
+  return v;
+}
+
+LosGrid::LosGrid(std::vector<double> alpha, std::vector<double> beta)
+    : alpha_(std::move(alpha)), beta_(std::move(beta)) {
+  require(!alpha_.empty() && !beta_.empty(), "a LOS grid needs at least one yaw and one pitch angle");
+  for (double a : alpha_) {
+    ca_.push_back(std::cos(a));
+    sa_.push_back(std::sin(a));
+  }
+  for (double b : beta_) {
+    cb_.push_back(std::cos(b));
+    sb_.push_back(std::sin(b));
+  }
+}
+
+LosGrid::Workspace LosGrid::make_workspace() const {
+  Workspace ws;
+  ws.yaw_frames.resize(alpha_.size());
+  ws.pitch_los.resize(beta_.size());
+  return ws;
+}
+
+void LosGrid::evaluate(const SeekerErrorState& s, Workspace& ws, std::span<PointingError> out) const {
+  require(out.size() == size(), "LOS grid output has the wrong size");
+  const Eigen::Vector3d l = optical_axis(s.collimation);
+  for (std::size_t ib = 0; ib < beta_.size(); ++ib) {
+    ws.pitch_los[ib] = pitch_orientation(s.pitch, beta_[ib]) * l;
+  }
+  for (std::size_t ia = 0; ia < alpha_.size(); ++ia) {
+    ws.yaw_frames[ia] = yaw_orientation(s.yaw, alpha_[ia]);
+  }
+  for (std::size_t ia = 0; ia < alpha_.size(); ++ia) {
+    const Eigen::Matrix3d& m = ws.yaw_frames[ia];
+    const double ca = ca_[ia], sa = sa_[ia];
+    for (std::size_t ib = 0; ib < beta_.size(); ++ib) {
+      out[index(ia, ib)] = error_against(m * ws.pitch_los[ib], ca, sa, cb_[ib], sb_[ib]);
+    }
+  }
+}
+
+}  // namespace poise::models

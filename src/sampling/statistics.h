@@ -1,0 +1,41 @@
+#pragma once
+/// Summary statistics with 95% confidence intervals, for a reviewer who must know
+/// how much of a figure is sampling noise.
+///   mean   : mean +- t(0.975, n-1) s / sqrt(n)
+///   std    : asymptotic, distribution-free: Var(s^2) ~ (m4 - s^4 (n-3)/(n-1)) / n, delta method
+///   pXX    : order-statistic interval from the exact binomial(n, p) distribution; distribution-
+///            free. An end that needs more samples than n is reported as missing (null).
+///   max    : the sample maximum; lower end = lower order-statistic bound of the quantile
+///            n/(n+1), upper end unknown (no distribution-free upper bound exists).
+///   fraction (of successes): Wilson score interval.
+/// Intervals assume independent samples; for Latin hypercube and Sobol designs they are
+/// conservative (those designs have lower variance than independent sampling).
+#include <cstddef>
+#include <optional>
+#include <span>
+#include <string>
+#include <vector>
+
+namespace poise::sampling {
+
+struct Estimate {
+  double value = 0.0;
+  std::optional<double> lo;  ///< lower end of the 95% CI, if it exists
+  std::optional<double> hi;  ///< upper end of the 95% CI, if it exists
+};
+
+struct Summary {
+  std::size_t n = 0;
+  Estimate mean, std, p50, p95, p99_73, max;
+};
+
+/// Summary of the values (order does not matter). Throws if values is empty.
+Summary summarize(std::span<const double> values);
+
+/// Quantile of sorted values (type 7 / linear interpolation) with its binomial CI.
+Estimate quantile_sorted(std::span<const double> sorted, double p);
+
+/// Fraction successes/n with the Wilson 95% interval.
+Estimate fraction_wilson(std::size_t successes, std::size_t n);
+
+}  // namespace poise::sampling

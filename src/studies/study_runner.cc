@@ -1,0 +1,286 @@
+#include "studies/study_runner.h"
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <thread>
+
+#include "core/units.h"
+#include "core/version.h"
+#include "studies/provenance.h"
+#include "studies/report.h"
+#include "studies/seeker_los_study.h"
+#include "studies/toml_reader.h"
+
+namespace poise::studies {
+namespace {
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+json estimate_json(const sampling::Estimate& e) {
+  json j;
+  j["value"] = e.value;
+  j["ci95"] = {e.lo ? json(*e.lo) : json(nullptr), e.hi ? json(*e.hi) : json(nullptr)};
+  return j;
+}
+
+json summary_json(const sampling::Summary& s, const std::string& unit, const std::string& desc) {
+  json j;
+  j["unit"] = unit;
+  if (!desc.empty()) j["description"] = desc;
+  j["n"] = s.n;
+  j["mean"] = estimate_json(s.mean);
+  j["std"] = estimate_json(s.std);
+  j["p50"] = estimate_json(s.p50);
+  j["p95"] = estimate_json(s.p95);
+  j["p99_73"] = estimate_json(s.p99_73);
+  j["max"] = estimate_json(s.max);
+  return j;
+}
+
+std::string fmt(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.9g", v);
+  return buf;
+}
+
+// Loads the study and its model, merging both files' errors into one report.
+std::pair<StudyConfig, SeekerModel> load_all(const std::string& path,
+                                             const std::map<std::string, std::string>& extra = {}) {
+  StudyConfig cfg = load_study(path);
+  auto overrides = cfg.overrides;
+  for (const auto& [k, v] : extra) overrides[k] = v;
+  SeekerModel model = load_seeker_model(cfg.model_path, overrides);
+  return {std::move(cfg), std::move(model)};
+}
+
+int resolve_threads(int requested) {
+  if (requested > 0) return requested;
+  return std::max(1u, std::thread::hardware_concurrency());
+}
+
+json budget_json(const models::WangBudget& b, const SeekerModel& m) {
+  json terms = json::array();
+  int disagreements = 0;
+  for (const auto& t : b.terms) {
+    json j{{"key", t.key}, {"description", t.description}, {"equation", t.equation},
+           {"recomputed", t.value}, {"unit", t.unit}};
+    for (const auto& d : m.declared) {
+      if (d.key != t.key) continue;
+      // Agrees if the recomputed value rounds to the printed one (half a unit of the
+      // printed last digit, plus 1e-9 relative for binary representation).
+      const bool agrees = std::abs(t.value - d.value) <= d.rounding + 1e-9 * std::abs(d.value);
+      j["declared"] = d.value;
+      j["declared_as_written"] = d.as_written;
+      j["declared_source"] = d.source;
+      j["difference"] = t.value - d.value;
+      j["agrees"] = agrees;
+      disagreements += agrees ? 0 : 1;
+    }
+    terms.push_back(j);
+  }
+  return {{"terms", terms}, {"disagreements", disagreements}};
+}
+
+}  // namespace
+
+std::string validate_study(const std::string& study_path) {
+  auto [cfg, model] = load_all(study_path);
+  // Sweep values are validated by loading the model with each of them.
+  std::vector<InputError> errors;
+  for (const auto& sw : cfg.sweeps) {
+    for (const auto& v : sw.values) {
+      try {
+        load_seeker_model(cfg.model_path, [&] {
+          auto o = cfg.overrides;
+          o[sw.parameter] = v;
+          return o;
+        }());
+      } catch (const ValidationError& e) {
+        for (const auto& err : e.errors()) {
+          errors.emplace_back(SourceLocation{cfg.file, 0, 0}, "sweep " + sw.parameter, "\"" + v + "\"",
+                              std::string("a value the model accepts: ") + err.what());
+        }
+      }
+    }
+  }
+  if (!errors.empty()) throw ValidationError(errors);
+  SeekerSampler sampler(model);
+  char buf[512];
+  std::snprintf(buf, sizeof buf,
+                "%s: valid. Study '%s' (%s) on model '%s': %zu random inputs, %s design, %zu "
+                "samples, seed %llu, grid %zu x %zu over yaw [%g, %g] deg, pitch [%g, %g] deg, "
+                "requirement %s, %zu sweep(s).",
+                study_path.c_str(), cfg.name.c_str(), cfg.kind.c_str(), model.name.c_str(),
+                sampler.dimension(), sampling::to_string(cfg.method).c_str(), cfg.samples,
+                static_cast<unsigned long long>(cfg.seed), cfg.yaw_points, cfg.pitch_points,
+                model.yaw_min / units::kRadPerDeg, model.yaw_max / units::kRadPerDeg,
+                model.pitch_min / units::kRadPerDeg, model.pitch_max / units::kRadPerDeg,
+                cfg.requirement_text.c_str(), cfg.sweeps.size());
+  return buf;
+}
+
+json replay_sample(const std::string& study_path, std::size_t index, const RunOptions& options) {
+  auto [cfg, model] = load_all(study_path);
+  const std::size_t n = options.samples.value_or(cfg.samples);
+  if (index >= n) throw Error("sample index " + std::to_string(index) + " is outside 0.." + std::to_string(n - 1));
+  SeekerLosStudy study(cfg, model, n, options.seed.value_or(cfg.seed));
+  auto ws = study.make_workspace();
+  SeekerSampleResult r;
+  study.compute(index, ws, r);
+  json j;
+  j["sample"] = index;
+  j["status"] = r.ok ? "ok" : "failed";
+  if (!r.ok) j["message"] = r.message;
+  for (std::size_t k = 0; k < r.inputs.size(); ++k) j["inputs"][study.sampler().columns()[k].name] = r.inputs[k];
+  for (std::size_t k = 0; k < kNumSeekerOutputs; ++k) j["outputs"][kSeekerOutputs[k].name] = r.outputs[k];
+  if (r.ok) {
+    const auto errs = study.grid_errors(index);
+    json grid = json::array();
+    for (std::size_t ia = 0; ia < study.grid().alpha().size(); ++ia) {
+      for (std::size_t ib = 0; ib < study.grid().beta().size(); ++ib) {
+        const auto& e = errs[study.grid().index(ia, ib)];
+        grid.push_back({{"yaw_deg", study.grid().alpha()[ia] / units::kRadPerDeg},
+                        {"pitch_deg", study.grid().beta()[ib] / units::kRadPerDeg},
+                        {"total_arcsec", e.total * units::kArcsecPerRad},
+                        {"yaw_arcsec", e.yaw * units::kArcsecPerRad},
+                        {"pitch_arcsec", e.pitch * units::kArcsecPerRad}});
+      }
+    }
+    j["grid"] = grid;
+  }
+  return j;
+}
+
+std::string run_study(const std::string& study_path, const RunOptions& options) {
+  auto [cfg, model] = load_all(study_path);
+  validate_study(study_path);  // sweeps too: nothing runs until everything validates
+  const std::size_t n = options.samples.value_or(cfg.samples);
+  const std::uint64_t seed = options.seed.value_or(cfg.seed);
+  const int threads = resolve_threads(options.threads);
+  if (n == 0) throw Error("--samples must be at least 1");
+
+  const std::string dir = make_run_folder(options.results_root, cfg.name, options.out);
+  const std::string started = now_iso8601();
+  if (options.progress) {
+    std::fprintf(stderr, "poise: study %s -> %s\n  %zu samples (%s, seed %llu) on %d thread(s)\n",
+                 cfg.name.c_str(), dir.c_str(), n, sampling::to_string(cfg.method).c_str(),
+                 static_cast<unsigned long long>(seed), threads);
+  }
+  SeekerLosStudy study(cfg, model, n, seed);
+
+  // samples.csv, streamed in sample order.
+  std::ofstream csv(fs::path(dir) / "samples.csv");
+  if (!csv) throw Error("cannot write " + (fs::path(dir) / "samples.csv").string());
+  csv << "sample,status";
+  for (const auto& c : study.sampler().columns()) csv << ',' << c.name;
+  for (const auto& o : kSeekerOutputs) csv << ',' << o.name;
+  csv << ",message\n";
+  const SeekerMcResult mc = study.run(threads, options.progress, [&](std::span<const SeekerSampleResult> block) {
+    for (const auto& s : block) {
+      csv << s.index << ',' << (s.ok ? "ok" : "failed");
+      for (double v : s.inputs) csv << ',' << fmt(v);
+      for (double v : s.outputs) csv << ',' << fmt(v);
+      std::string msg = s.message;
+      for (auto& ch : msg) {
+        if (ch == '"' || ch == ',' || ch == '\n') ch = ' ';
+      }
+      csv << ',' << msg << '\n';
+    }
+    csv.flush();
+  });
+  csv.close();
+
+  const models::WangBudget budget = models::compute_wang_budget(model.budget_inputs());
+
+  // Sweeps: the same seed at every value (common random numbers), so differences between
+  // values are the design's, not the sampling noise's.
+  json sweeps = json::array();
+  for (const auto& sw : cfg.sweeps) {
+    json js{{"parameter", sw.parameter}, {"samples", sw.samples}, {"points", json::array()}};
+    for (const auto& v : sw.values) {
+      auto [cfg_v, model_v] = load_all(study_path, {{sw.parameter, v}});
+      SeekerLosStudy sv(cfg_v, model_v, sw.samples, seed);
+      if (options.progress) std::fprintf(stderr, "  sweep %s = %s\n", sw.parameter.c_str(), v.c_str());
+      const SeekerMcResult r = sv.run(threads, false, {});
+      const models::WangBudget bv = models::compute_wang_budget(model_v.budget_inputs());
+      json p{{"value", v}, {"value_si", units::parse_quantity(v).value}, {"failures", r.failures}};
+      if (!r.outputs.empty()) {
+        p["los_max_arcsec"] = summary_json(r.outputs[0], "arcsec", "");
+        p["fraction_samples_meeting"] = estimate_json(r.fraction_samples_ok);
+        p["pooled_arcsec"] = summary_json(r.pooled, "arcsec", "");
+      }
+      p["budget_eq8_max_arcsec"] = bv.term("los_max").value;
+      p["budget_great_circle_max_arcsec"] = bv.term("los_gc_max").value;
+      js["points"].push_back(p);
+    }
+    sweeps.push_back(js);
+  }
+
+  json s;
+  s["study"] = {{"name", cfg.name}, {"title", cfg.title}, {"kind", cfg.kind}, {"file", cfg.file},
+                {"model_file", cfg.model_path}, {"model_name", model.name}, {"model_source", model.source},
+                {"notes", cfg.notes}, {"overrides", cfg.overrides}};
+  const double req_arcsec = study.requirement_rad() * units::kArcsecPerRad;
+  s["requirement"] = {{"as_written", cfg.requirement_text}, {"arcsec", req_arcsec},
+                      {"px", study.requirement_rad() / model.pixel_ifov},
+                      {"pixel_ifov_arcsec", model.pixel_ifov * units::kArcsecPerRad},
+                      {"pixel_ifov_source", model.pixel_ifov_source}};
+  json inputs = json::array();
+  inputs.push_back({{"name", "load_deformation (k')"}, {"distribution", model.load_deformation.dist.describe(1.0, "")},
+                    {"source", model.load_deformation.source}});
+  auto tol_json = [&](const std::string& name, const ToleranceSpec& t) {
+    inputs.push_back({{"name", name}, {"distribution", t.dist.describe(t.display_factor, t.display_unit)},
+                      {"source", t.source}});
+  };
+  tol_json("yaw.perpendicularity (over " + units::format(model.yaw.span, "mm") + ")", model.yaw.perpendicularity);
+  tol_json("pitch.perpendicularity (over " + units::format(model.pitch.span, "mm") + ")", model.pitch.perpendicularity);
+  tol_json("optics.axis_error (over " + units::format(model.barrel_length, "mm") + ")", model.optical_axis);
+  for (const auto* a : {&model.yaw, &model.pitch}) {
+    for (const auto& src : a->bearing_sources) {
+      tol_json(std::string(a == &model.yaw ? "yaw." : "pitch.") + src.name + " (per bearing, order " +
+                   fmt(src.order) + (src.load_scaled ? ", x k')" : ")"),
+               src.spec);
+    }
+  }
+  s["sampling"] = {{"method", sampling::to_string(cfg.method)}, {"samples", n}, {"seed", seed},
+                   {"threads", threads}, {"dimension", study.sampler().dimension()},
+                   {"grid", {{"yaw_points", cfg.yaw_points}, {"pitch_points", cfg.pitch_points},
+                             {"yaw_deg", {model.yaw_min / units::kRadPerDeg, model.yaw_max / units::kRadPerDeg}},
+                             {"pitch_deg", {model.pitch_min / units::kRadPerDeg, model.pitch_max / units::kRadPerDeg}}}},
+                   {"inputs", inputs},
+                   {"ci_note", "95% intervals assume independent samples; for lhs and sobol designs they are conservative"}};
+  json outputs;
+  for (std::size_t k = 0; k < mc.outputs.size(); ++k) {
+    outputs[kSeekerOutputs[k].name] = summary_json(mc.outputs[k], kSeekerOutputs[k].unit, kSeekerOutputs[k].description);
+  }
+  s["outputs"] = outputs;
+  if (mc.outputs.size() == kNumSeekerOutputs) {
+    s["pooled_field_arcsec"] = summary_json(mc.pooled, "arcsec", "total LOS error over every (sample, grid point)");
+    s["fraction_samples_meeting"] = estimate_json(mc.fraction_samples_ok);
+    s["fraction_field_meeting"] = estimate_json(mc.fraction_field_ok);
+  }
+  s["budget"] = budget_json(budget, model);
+  s["failures"] = {{"count", mc.failures}, {"first", json::array()}};
+  for (const auto& [i, why] : mc.failed) s["failures"]["first"].push_back({{"sample", i}, {"reason", why}});
+  s["sweeps"] = sweeps;
+  s["provenance"] = {{"poise_version", kVersion}, {"git_commit", git_commit()},
+                     {"study_file_sha1", file_sha1(cfg.file)}, {"model_file_sha1", file_sha1(cfg.model_path)},
+                     {"seed", seed}, {"samples", n}, {"threads", threads},
+                     {"wall_time_s", mc.wall_seconds}, {"started", started}, {"finished", now_iso8601()},
+                     {"command_line_overrides", {{"samples", options.samples.has_value()}, {"seed", options.seed.has_value()}}},
+                     {"libraries", library_versions()}};
+  {
+    std::ofstream js(fs::path(dir) / "summary.json");
+    js << s.dump(2) << '\n';
+  }
+  ReportInputs rep{dir, s, budget, mc, study.grid().alpha(), study.grid().beta(), options.plots && cfg.plots};
+  write_report(rep);
+  if (options.progress) {
+    std::fprintf(stderr, "poise: report %s\n", (fs::path(dir) / "report.html").c_str());
+  }
+  return dir;
+}
+
+}  // namespace poise::studies

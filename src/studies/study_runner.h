@@ -1,0 +1,38 @@
+#pragma once
+/// Runs a study file end to end and writes its result folder:
+///   samples.csv   one row per sample: index, status, drawn inputs, outputs, message
+///                 (streamed block by block, in sample order)
+///   summary.json  statistics of every output with 95% CIs, the budget table, provenance
+///   plots/        gnuplot scripts, data and SVG figures
+///   report.html   the report a reviewer reads
+#include <cstdint>
+#include <optional>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+namespace poise::studies {
+
+struct RunOptions {
+  std::optional<std::size_t> samples;   ///< overrides [sampling] samples
+  std::optional<std::uint64_t> seed;    ///< overrides [sampling] seed
+  int threads = 0;                      ///< 0 = all hardware threads
+  std::string out;                      ///< result folder; "" = results/<study>/<run id>
+  std::string results_root = "results";
+  bool progress = true;
+  bool plots = true;                    ///< false skips gnuplot (tests)
+};
+
+/// Loads, validates (study and model), runs and writes the folder. Returns its path.
+/// Throws ValidationError before anything runs if a file is invalid.
+std::string run_study(const std::string& study_path, const RunOptions& options);
+
+/// Validates a study and its model; returns a short human summary. Throws ValidationError.
+std::string validate_study(const std::string& study_path);
+
+/// Recomputes sample `index` alone and returns it as JSON (inputs, outputs, and the
+/// pointing error at every grid point).
+nlohmann::json replay_sample(const std::string& study_path, std::size_t index,
+                             const RunOptions& options);
+
+}  // namespace poise::studies
