@@ -42,12 +42,45 @@ void check_axis(const WangBudgetAxisInputs& a, const char* name) {
   require(a.span > 0, std::string(name) + " bearing span must be positive");
 }
 
-struct GridExtremes {
-  double eq8_min = std::numeric_limits<double>::infinity(), eq8_max = 0;
-  double gc_min = std::numeric_limits<double>::infinity(), gc_max = 0;
+struct PointFigures {
+  double eq8, rss, gc;
 };
 
+// The paper's propagation at one gimbal angle (a, b) for axis totals d1, d2, d3 (arcsec).
+PointFigures point_figures(double d1, double d2, double d3, double a, double b) {
+  const double da1 = d1 * std::tan(b) * std::sin(a), da2 = d2 * std::tan(b), da3 = d3 / std::cos(b);
+  const double da2sum = da1 * da1 + da2 * da2 + da3 * da3;
+  const double db = d1 * std::cos(a);
+  const double w = a * a + b * b;
+  PointFigures f;
+  f.eq8 = w > 0 ? std::sqrt((a * a * da2sum + b * b * db * db) / w) : NAN;  // 0/0 at a = b = 0
+  f.rss = std::sqrt(da2sum + db * db);
+  f.gc = std::sqrt(da2sum * std::cos(b) * std::cos(b) + db * db);
+  return f;
+}
+
 }  // namespace
+
+WangGridFigures wang_grid_figures(double d1_min, double d1_max, double d2_min, double d2_max,
+                                  double d3, const WangBudgetInputs& in) {
+  const auto alpha = linspace(in.alpha_min, in.alpha_max, in.grid_points);
+  const auto beta = linspace(in.beta_min, in.beta_max, in.grid_points);
+  const double inf = std::numeric_limits<double>::infinity();
+  WangGridFigures g{inf, 0, inf, 0, inf, 0};
+  for (double a : alpha) {
+    for (double b : beta) {
+      const PointFigures lo = point_figures(d1_min, d2_min, d3, a, b);
+      const PointFigures hi = point_figures(d1_max, d2_max, d3, a, b);
+      if (std::isfinite(lo.eq8)) g.eq8_min = std::min(g.eq8_min, lo.eq8);
+      if (std::isfinite(hi.eq8)) g.eq8_max = std::max(g.eq8_max, hi.eq8);
+      g.rss_min = std::min(g.rss_min, lo.rss);
+      g.rss_max = std::max(g.rss_max, hi.rss);
+      g.gc_min = std::min(g.gc_min, lo.gc);
+      g.gc_max = std::max(g.gc_max, hi.gc);
+    }
+  }
+  return g;
+}
 
 const BudgetTerm& WangBudget::term(const std::string& key) const {
   for (const auto& t : terms) {
@@ -92,50 +125,33 @@ WangBudget compute_wang_budget(const WangBudgetInputs& in) {
 
   b.alpha = linspace(in.alpha_min, in.alpha_max, in.grid_points);
   b.beta = linspace(in.beta_min, in.beta_max, in.grid_points);
-  GridExtremes lo_k, hi_k;
   b.eq8_map_kmax.assign(b.alpha.size() * b.beta.size(), 0.0);
   b.great_circle_map_kmax.assign(b.eq8_map_kmax.size(), 0.0);
-  for (int pass = 0; pass < 2; ++pass) {
-    const double d1 = pass == 0 ? y.total_min : y.total_max;
-    const double d2 = pass == 0 ? p.total_min : p.total_max;
-    GridExtremes& g = pass == 0 ? lo_k : hi_k;
-    for (std::size_t ia = 0; ia < b.alpha.size(); ++ia) {
-      for (std::size_t ib = 0; ib < b.beta.size(); ++ib) {
-        const double a = b.alpha[ia], be = b.beta[ib];
-        const double da1 = d1 * std::tan(be) * std::sin(a), da2 = d2 * std::tan(be),
-                     da3 = d3 / std::cos(be);
-        const double da = std::sqrt(da1 * da1 + da2 * da2 + da3 * da3);
-        const double db = std::abs(d1 * std::cos(a));
-        const double gc = std::sqrt(da * da * std::cos(be) * std::cos(be) + db * db);
-        const double w = a * a + be * be;
-        const bool defined = w > 0;
-        const double eq8 = defined ? std::sqrt((a * a * da * da + be * be * db * db) / w) : NAN;
-        if (defined) {
-          g.eq8_min = std::min(g.eq8_min, eq8);
-          g.eq8_max = std::max(g.eq8_max, eq8);
-        }
-        g.gc_min = std::min(g.gc_min, gc);
-        g.gc_max = std::max(g.gc_max, gc);
-        if (pass == 1) {
-          b.eq8_map_kmax[ia * b.beta.size() + ib] = eq8;
-          b.great_circle_map_kmax[ia * b.beta.size() + ib] = gc;
-        }
-      }
+  for (std::size_t ia = 0; ia < b.alpha.size(); ++ia) {
+    for (std::size_t ib = 0; ib < b.beta.size(); ++ib) {
+      const PointFigures f = point_figures(y.total_max, p.total_max, d3, b.alpha[ia], b.beta[ib]);
+      b.eq8_map_kmax[ia * b.beta.size() + ib] = f.eq8;
+      b.great_circle_map_kmax[ia * b.beta.size() + ib] = f.gc;
     }
   }
+  const WangGridFigures g = wang_grid_figures(y.total_min, y.total_max, p.total_min, p.total_max, d3, in);
   const double px = in.pixel_ifov * kArcsecPerRad;
-  add("los_min", "LOS error, Eq. 8, least over the field, k' = k_min", "Eq. 8", lo_k.eq8_min,
-      "arcsec");
-  add("los_max", "LOS error, Eq. 8, greatest over the field, k' = k_max", "Eq. 8", hi_k.eq8_max,
-      "arcsec");
-  add("los_min_px", "LOS error in pixels, Eq. 8, least", "Sec. 3", lo_k.eq8_min / px, "px");
-  add("los_max_px", "LOS error in pixels, Eq. 8, greatest", "Sec. 3", hi_k.eq8_max / px, "px");
-  add("los_gc_min", "LOS error, great-circle combination, least over the field, k' = k_min",
-      "corrected Eq. 8", lo_k.gc_min, "arcsec");
-  add("los_gc_max", "LOS error, great-circle combination, greatest over the field, k' = k_max",
-      "corrected Eq. 8", hi_k.gc_max, "arcsec");
-  add("los_gc_max_px", "LOS error in pixels, great-circle, greatest", "corrected Eq. 8",
-      hi_k.gc_max / px, "px");
+  add("los_min", "LOS error sqrt(Da^2 + Db^2), least over the field, k' = k_min", "Sec. 3",
+      g.rss_min, "arcsec");
+  add("los_max", "LOS error sqrt(Da^2 + Db^2), greatest over the field, k' = k_max", "Sec. 3",
+      g.rss_max, "arcsec");
+  add("los_min_px", "least LOS error in pixels", "Sec. 3", g.rss_min / px, "px");
+  add("los_max_px", "greatest LOS error in pixels", "Sec. 3", g.rss_max / px, "px");
+  add("los_eq8_min", "LOS error by Eq. 8 as printed, least over the field, k' = k_min", "Eq. 8",
+      g.eq8_min, "arcsec");
+  add("los_eq8_max", "LOS error by Eq. 8 as printed, greatest over the field, k' = k_max", "Eq. 8",
+      g.eq8_max, "arcsec");
+  add("los_gc_min", "angle true-nominal LOS sqrt((Da cos b)^2 + Db^2), least, k' = k_min",
+      "corrected Eq. 8", g.gc_min, "arcsec");
+  add("los_gc_max", "angle true-nominal LOS sqrt((Da cos b)^2 + Db^2), greatest, k' = k_max",
+      "corrected Eq. 8", g.gc_max, "arcsec");
+  add("los_gc_max_px", "greatest angle true-nominal LOS in pixels", "corrected Eq. 8",
+      g.gc_max / px, "px");
   return b;
 }
 

@@ -14,12 +14,21 @@
 /// Propagation (paper Sec. 3, the theodolite axis-error formulas):
 ///   Da = sqrt((d1 tan b sin a)^2 + (d2 tan b)^2 + (d3 / cos b)^2),   Db = d1 cos a
 ///   Eq. 8:  D = sqrt(a^2/(a^2+b^2) Da^2 + b^2/(a^2+b^2) Db^2)      (0/0 at a = b = 0)
+/// Three combinations of Da and Db over the field are reported:
+///   los_eq8_*  Eq. 8 as printed;
+///   los_*      sqrt(Da^2 + Db^2): the one that reproduces the printed range 10.47-17.82''
+///              (least at |a| = 30, b = 0 with k_min; greatest at a = 0, |b| = 30 with k_max,
+///              using the printed delta_1, delta_2), so it is what the paper computed;
+///   los_gc_*   sqrt((Da cos b)^2 + Db^2): the angle between true and nominal LOS, since a
+///              yaw-angle error Da moves the LOS by Da cos b on the sky.
 /// Corrections found while recomputing (details in the study notes and the report):
 ///   * Eqs. 2 and 5 omit T''; the printed sigma_12, sigma_22 values include it.
-///   * sigma_21 = 0.004/56 T'' = 14.73'', not the printed 18.41''; delta_2 follows.
-///   * Eq. 8 weights the yaw-angle error Da by a^2/(a^2+b^2); a yaw-angle error moves the
-///     LOS by Da cos b on the sky, so the angle between true and nominal LOS is
-///     sqrt((Da cos b)^2 + Db^2). Both are reported ("eq8" and "great_circle").
+///   * sigma_12, sigma_22 and delta_1 were computed from Delta_16 rounded to 0.0044 mm
+///     (e.g. 2.556'' -> 2.56'' against 2.565'' unrounded): within 1%, flagged "close".
+///   * sigma_21 = 0.004/56 T'' = 14.73'', not the printed 18.41''; delta_2 and the greatest
+///     LOS figure follow (16.66'' instead of 17.82'').
+///   * Eq. 8 is not what produced the printed range (see los_*), and its yaw weighting is
+///     not the angle on the sky (see los_gc_*).
 #include <string>
 #include <vector>
 
@@ -62,6 +71,14 @@ struct WangBudget {
   std::vector<double> eq8_map_kmax, great_circle_map_kmax;
   const BudgetTerm& term(const std::string& key) const;  ///< throws if absent
 };
+
+/// Least and greatest of the three combinations over the field for given axis totals
+/// (arcsec), e.g. the paper's printed delta_1, delta_2 to check that they reproduce its range.
+struct WangGridFigures {
+  double eq8_min = 0, eq8_max = 0, rss_min = 0, rss_max = 0, gc_min = 0, gc_max = 0;
+};
+WangGridFigures wang_grid_figures(double d1_min, double d1_max, double d2_min, double d2_max,
+                                  double d3, const WangBudgetInputs& in);
 
 /// Throws poise::Error for non-positive spans, lengths or IFOV, or k_min > k_max.
 WangBudget compute_wang_budget(const WangBudgetInputs& in);

@@ -68,7 +68,8 @@ void write_report(const ReportInputs& in) {
   const fs::path pdir = dir / "plots";
   fs::create_directories(pdir);
   const double req = s["requirement"]["arcsec"].get<double>();
-  const double eq8max = in.budget.term("los_max").value;
+  const double eq8max = in.budget.term("los_eq8_max").value;
+  const double rssmax = in.budget.term("los_max").value;
   const double gcmax = in.budget.term("los_gc_max").value;
   std::vector<std::string> figures;  // (svg file names)
   std::string plot_note;
@@ -130,8 +131,8 @@ void write_report(const ReportInputs& in) {
         << "set yrange [0:1]\nset grid\nset xrange [0:*]\n"
         << "set arrow from " << req << ", graph 0 to " << req << ", graph 1 nohead lw 2 lc rgb 'red'\n"
         << "set label 'requirement' at " << req << ", graph 0.5 offset 0.5,0 tc rgb 'red'\n"
-        << "set arrow from " << eq8max << ", graph 0 to " << eq8max << ", graph 1 nohead dt 2 lc rgb '#228833'\n"
-        << "set label 'paper Eq. 8 max' at " << eq8max << ", graph 0.3 offset 0.5,0 tc rgb '#228833'\n"
+        << "set arrow from " << rssmax << ", graph 0 to " << rssmax << ", graph 1 nohead dt 2 lc rgb '#228833'\n"
+        << "set label 'budget max (paper method)' at " << rssmax << ", graph 0.3 offset 0.5,0 tc rgb '#228833'\n"
         << "set arrow from " << gcmax << ", graph 0 to " << gcmax << ", graph 1 nohead dt 3 lc rgb '#aa3377'\n"
         << "set label 'great-circle RSS max' at " << gcmax << ", graph 0.15 offset 0.5,0 tc rgb '#aa3377'\n"
         << "plot 'los_max.dat' u 1:2 with lines lw 2 lc rgb '#4477aa' title 'Monte Carlo (exact chain)'\n";
@@ -157,13 +158,13 @@ void write_report(const ReportInputs& in) {
       const std::string base = "sweep_" + std::to_string(si++);
       std::ofstream d(pdir / (base + ".dat"));
       d << "# " << sw["parameter"].get<std::string>()
-        << " value_as_written | p50 p95 p99_73 of los_max [arcsec] | budget eq8 max | great-circle max\n";
+        << " value_as_written | p50 p95 p99_73 of los_max [arcsec] | budget max (paper method) | great-circle max\n";
       for (const auto& p : sw["points"]) {
         if (!p.contains("los_max_arcsec")) continue;
         const auto& l = p["los_max_arcsec"];
         d << '"' << p["value"].get<std::string>() << "\" " << num_json(l["p50"]["value"], 8) << ' '
           << num_json(l["p95"]["value"], 8) << ' ' << num_json(l["p99_73"]["value"], 8) << ' '
-          << p["budget_eq8_max_arcsec"].get<double>() << ' '
+          << p["budget_rss_max_arcsec"].get<double>() << ' '
           << p["budget_great_circle_max_arcsec"].get<double>() << '\n';
       }
       std::ostringstream g;
@@ -172,7 +173,7 @@ void write_report(const ReportInputs& in) {
         << "set xlabel '" << sw["parameter"].get<std::string>() << "'\nset ylabel 'arcsec'\nset grid\n"
         << "set key outside right\nset yrange [0:*]\n"
         << "plot '" << base << ".dat' u 0:2:xtic(1) w lp lw 2 t 'MC p50', '' u 0:3 w lp lw 2 t 'MC p95', "
-        << "'' u 0:4 w lp lw 2 t 'MC p99.73', '' u 0:5 w lp dt 2 t 'paper Eq. 8 max', "
+        << "'' u 0:4 w lp lw 2 t 'MC p99.73', '' u 0:5 w lp dt 2 t 'budget max (paper method)', "
         << "'' u 0:6 w lp dt 3 t 'great-circle RSS max', " << req << " w l lc rgb 'red' lw 2 t 'requirement'\n";
       write_file(pdir / (base + ".gp"), g.str());
       scripts.push_back(base);
@@ -196,7 +197,7 @@ void write_report(const ReportInputs& in) {
     << esc(st["name"].get<std::string>()) << "</title><style>"
     << "body{font-family:Helvetica,Arial,sans-serif;max-width:1100px;margin:2em auto;color:#222;line-height:1.4}"
     << "table{border-collapse:collapse;margin:0.6em 0}td,th{border:1px solid #bbb;padding:3px 8px;text-align:right}"
-    << "th{background:#eef}td.l,th.l{text-align:left}.bad{background:#fdd}.ok{background:#dfd}"
+    << "th{background:#eef}td.l,th.l{text-align:left}.bad{background:#fdd}.close{background:#ffe9b3}.ok{background:#dfd}"
     << "small{color:#666}pre{background:#f6f6f6;padding:0.8em;white-space:pre-wrap}img{max-width:100%}"
     << "</style></head><body>\n";
   h << "<h1>" << esc(st["title"].get<std::string>().empty() ? st["name"].get<std::string>()
@@ -239,8 +240,15 @@ void write_report(const ReportInputs& in) {
   };
   row("paper, printed: least over the field (Sec. 3)", 10.47);
   row("paper, printed: greatest over the field (Sec. 3)", 17.82);
-  row("Eq. 8 recomputed, least (k' = k_min)", in.budget.term("los_min").value);
-  row("Eq. 8 recomputed, greatest (k' = k_max)", eq8max);
+  if (s["budget"].contains("from_declared_deltas")) {
+    const auto& fd = s["budget"]["from_declared_deltas"];
+    row("paper's method sqrt(Da^2+Db^2) from the printed delta_1..3: least", fd["los_min"].get<double>());
+    row("paper's method sqrt(Da^2+Db^2) from the printed delta_1..3: greatest", fd["los_max"].get<double>());
+  }
+  row("paper's method recomputed from the inputs: least (k' = k_min)", in.budget.term("los_min").value);
+  row("paper's method recomputed from the inputs: greatest (k' = k_max)", rssmax);
+  row("Eq. 8 as printed, recomputed: least (k' = k_min)", in.budget.term("los_eq8_min").value);
+  row("Eq. 8 as printed, recomputed: greatest (k' = k_max)", eq8max);
   row("great-circle combination, least (k' = k_min)", in.budget.term("los_gc_min").value);
   row("great-circle combination, greatest (k' = k_max)", gcmax);
   if (s.contains("pooled_field_arcsec")) {
@@ -260,12 +268,14 @@ void write_report(const ReportInputs& in) {
   // Budget table.
   const auto& b = s["budget"];
   h << "<h2>Budget recomputed term by term</h2>\n<p>" << b["disagreements"].get<int>()
-    << " declared value(s) disagree with the recomputation beyond the rounding of their printed "
-       "digits (marked red).</p>\n<table><tr><th class='l'>term</th><th class='l'>meaning</th><th class='l'>source</th>"
+    << " declared value(s) disagree with the recomputation (red); " << b["close"].get<int>()
+    << " are within 1% but beyond the rounding of their printed digits (amber: a rounded "
+       "intermediate carried on); green rows agree to the printed digits.</p>\n<table><tr><th class='l'>term</th><th class='l'>meaning</th><th class='l'>source</th>"
        "<th>recomputed</th><th>declared</th><th>difference</th><th class='l'>unit</th></tr>\n";
   for (const auto& t : b["terms"]) {
     const bool has_decl = t.contains("declared");
-    const std::string cls = !has_decl ? "" : (t["agrees"].get<bool>() ? " class='ok'" : " class='bad'");
+    const std::string verdict = has_decl ? t["verdict"].get<std::string>() : "";
+    const std::string cls = !has_decl ? "" : verdict == "agrees" ? " class='ok'" : verdict == "close" ? " class='close'" : " class='bad'";
     h << "<tr" << cls << "><td class='l'><code>" << esc(t["key"].get<std::string>()) << "</code></td><td class='l'>"
       << esc(t["description"].get<std::string>()) << "</td><td class='l'>" << esc(t["equation"].get<std::string>())
       << "</td><td>" << num(t["recomputed"].get<double>(), 5) << "</td><td>"
@@ -298,13 +308,14 @@ void write_report(const ReportInputs& in) {
     h << "<h2>Sweep of <code>" << esc(sw["parameter"].get<std::string>()) << "</code></h2>\n<p>"
       << sw["samples"].get<std::size_t>() << " samples per value, same seed at every value (common random "
          "numbers).</p>\n<table><tr><th class='l'>value</th><th>MC p50</th><th>MC p95</th><th>MC p99.73</th>"
-         "<th>samples meeting</th><th>Eq. 8 max</th><th>great-circle max</th></tr>\n";
+         "<th>samples meeting</th><th>budget max (paper method)</th><th>Eq. 8 max</th><th>great-circle max</th></tr>\n";
     for (const auto& p : sw["points"]) {
       if (!p.contains("los_max_arcsec")) continue;
       const auto& l = p["los_max_arcsec"];
       h << "<tr><td class='l'>" << esc(p["value"].get<std::string>()) << "</td><td>" << num_json(l["p50"]["value"])
         << "</td><td>" << num_json(l["p95"]["value"]) << "</td><td>" << num_json(l["p99_73"]["value"]) << "</td><td>"
         << num(100 * p["fraction_samples_meeting"]["value"].get<double>(), 4) << "%</td><td>"
+        << num(p["budget_rss_max_arcsec"].get<double>()) << "</td><td>"
         << num(p["budget_eq8_max_arcsec"].get<double>()) << "</td><td>"
         << num(p["budget_great_circle_max_arcsec"].get<double>()) << "</td></tr>\n";
     }

@@ -62,25 +62,44 @@ int resolve_threads(int requested) {
 
 json budget_json(const models::WangBudget& b, const SeekerModel& m) {
   json terms = json::array();
-  int disagreements = 0;
+  int disagreements = 0, close_count = 0;
   for (const auto& t : b.terms) {
     json j{{"key", t.key}, {"description", t.description}, {"equation", t.equation},
            {"recomputed", t.value}, {"unit", t.unit}};
     for (const auto& d : m.declared) {
       if (d.key != t.key) continue;
-      // Agrees if the recomputed value rounds to the printed one (half a unit of the
-      // printed last digit, plus 1e-9 relative for binary representation).
-      const bool agrees = std::abs(t.value - d.value) <= d.rounding + 1e-9 * std::abs(d.value);
+      // "agrees": the recomputed value rounds to the printed one (half a unit of the
+      // printed last digit, plus 1e-9 relative for binary representation); "close": within
+      // 1% (typically a rounded intermediate carried on); else "disagrees".
+      const double diff = std::abs(t.value - d.value);
+      const bool agrees = diff <= d.rounding + 1e-9 * std::abs(d.value);
+      const bool close = diff <= 0.01 * std::abs(d.value) + d.rounding;
       j["declared"] = d.value;
       j["declared_as_written"] = d.as_written;
       j["declared_source"] = d.source;
       j["difference"] = t.value - d.value;
       j["agrees"] = agrees;
-      disagreements += agrees ? 0 : 1;
+      j["verdict"] = agrees ? "agrees" : (close ? "close" : "disagrees");
+      disagreements += close ? 0 : 1;
+      close_count += (!agrees && close) ? 1 : 0;
     }
     terms.push_back(j);
   }
-  return {{"terms", terms}, {"disagreements", disagreements}};
+  json out{{"terms", terms}, {"disagreements", disagreements}, {"close", close_count}};
+  // Do the printed axis totals reproduce the printed range? Recompute the field figures
+  // from the declared delta_1, delta_2, delta_3 (when all are declared).
+  std::map<std::string, double> dv;
+  for (const auto& d : m.declared) dv[d.key] = d.value;
+  if (dv.count("delta_1_min") && dv.count("delta_1_max") && dv.count("delta_2_min") &&
+      dv.count("delta_2_max") && dv.count("delta_3")) {
+    const models::WangGridFigures g = models::wang_grid_figures(
+        dv["delta_1_min"], dv["delta_1_max"], dv["delta_2_min"], dv["delta_2_max"], dv["delta_3"],
+        m.budget_inputs());
+    out["from_declared_deltas"] = {{"los_min", g.rss_min}, {"los_max", g.rss_max},
+                                   {"los_eq8_min", g.eq8_min}, {"los_eq8_max", g.eq8_max},
+                                   {"los_gc_min", g.gc_min}, {"los_gc_max", g.gc_max}};
+  }
+  return out;
 }
 
 }  // namespace
@@ -211,7 +230,8 @@ std::string run_study(const std::string& study_path, const RunOptions& options) 
         p["fraction_samples_meeting"] = estimate_json(r.fraction_samples_ok);
         p["pooled_arcsec"] = summary_json(r.pooled, "arcsec", "");
       }
-      p["budget_eq8_max_arcsec"] = bv.term("los_max").value;
+      p["budget_eq8_max_arcsec"] = bv.term("los_eq8_max").value;
+      p["budget_rss_max_arcsec"] = bv.term("los_max").value;
       p["budget_great_circle_max_arcsec"] = bv.term("los_gc_max").value;
       js["points"].push_back(p);
     }
