@@ -200,8 +200,8 @@ double parse_as(std::string_view text, const Dimension& expected) {
 
 double unit_factor(std::string_view unit) { return parse_unit(unit).factor; }
 
-std::string format(double si_value, std::string_view unit, int significant) {
-  double v = si_value / unit_factor(unit);
+std::string format(double value_si, std::string_view unit, int significant) {
+  double v = value_si / unit_factor(unit);
   char buf[64];
   std::snprintf(buf, sizeof buf, "%.*g", significant, v);
   return std::string(buf) + (unit.empty() ? "" : " " + std::string(unit));

@@ -58,7 +58,7 @@ Quantity parse_quantity(std::string_view text);
 double parse_as(std::string_view text, const Dimension& expected);
 
 /// Formats an SI value in a given unit, e.g. format(1.5e-5, "mm") -> "0.015 mm".
-std::string format(double si_value, std::string_view unit, int significant = 6);
+std::string format(double value_si, std::string_view unit, int significant = 6);
 
 /// SI value of one unit of `unit` (e.g. "mm" -> 1e-3). Throws on unknown unit.
 double unit_factor(std::string_view unit);

@@ -1,0 +1,211 @@
+// Tests of the summary statistics and their 95% confidence intervals
+// (src/sampling/statistics.h): exact values on known data and coverage on simulated data.
+#include "sampling/statistics.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+#include "core/error.h"
+#include "sampling/distribution.h"
+#include "sampling/random_stream.h"
+
+namespace {
+
+using poise::Error;
+using poise::sampling::Estimate;
+using poise::sampling::RandomStream;
+using poise::sampling::StreamId;
+using poise::sampling::Summary;
+namespace ps = poise::sampling;
+
+constexpr double kZ975 = 1.959963984540054;  // standard normal 97.5% quantile
+
+std::vector<double> one_to_hundred() {
+  std::vector<double> v;
+  for (int i = 100; i >= 1; --i) v.push_back(i);  // unsorted on purpose
+  return v;
+}
+
+TEST(Statistics, SummaryOfOneToHundred) {
+  const std::vector<double> v = one_to_hundred();
+  const Summary s = ps::summarize(v);
+  EXPECT_EQ(s.n, 100u);
+  EXPECT_NEAR(s.mean.value, 50.5, 1e-13);
+  // Sample variance of 1..n: n (n + 1) / 12 = 841.6667.
+  const double sd = std::sqrt(100.0 * 101.0 / 12.0);
+  EXPECT_NEAR(s.std.value, sd, 1e-12);
+  EXPECT_NEAR(sd * sd, 841.6667, 1e-4);
+  // Mean CI: t(0.975, 99) = 1.9842169515 (tabulated), half-width t sd / 10.
+  ASSERT_TRUE(s.mean.lo && s.mean.hi);
+  const double half = 1.9842169515 * sd / 10.0;
+  EXPECT_NEAR(*s.mean.lo, 50.5 - half, 1e-8);
+  EXPECT_NEAR(*s.mean.hi, 50.5 + half, 1e-8);
+  // Type-7 quantiles: h = 99 p, x = x[floor h] + frac(h) (x[floor h + 1] - x[floor h]) (0-based).
+  EXPECT_NEAR(s.p50.value, 50.5, 1e-12);
+  EXPECT_NEAR(s.p95.value, 95.05, 1e-12);
+  EXPECT_NEAR(s.p99_73.value, 1.0 + 99.0 * 0.9973, 1e-12);
+  EXPECT_EQ(s.max.value, 100.0);
+  // p99.73 with n = 100: the upper order statistic needed exceeds n -> no upper end.
+  EXPECT_FALSE(s.p99_73.hi.has_value());
+  EXPECT_TRUE(s.p99_73.lo.has_value());
+  // The maximum never has an upper end.
+  EXPECT_FALSE(s.max.hi.has_value());
+  ASSERT_TRUE(s.max.lo.has_value());
+  EXPECT_LE(*s.max.lo, s.max.value);
+  // Median CI of 1..100, the textbook distribution-free interval [x(40), x(61)]:
+  // with B ~ Binomial(100, 1/2), P(x(l) > median) = P(B <= l - 1); P(B <= 39) = 0.0176 <= 2.5%
+  // < P(B <= 40) = 0.0284, so l = 40; P(B <= 60) = 0.9824 >= 97.5% > P(B <= 59), so u = 61.
+  ASSERT_TRUE(s.p50.lo && s.p50.hi);
+  EXPECT_EQ(*s.p50.lo, 40.0);
+  EXPECT_EQ(*s.p50.hi, 61.0);
+  // Std CI brackets the estimate.
+  ASSERT_TRUE(s.std.lo && s.std.hi);
+  EXPECT_LT(*s.std.lo, sd);
+  EXPECT_GT(*s.std.hi, sd);
+}
+
+TEST(Statistics, SmallSamples) {
+  const std::vector<double> one{3.5};
+  const Summary s1 = ps::summarize(one);
+  EXPECT_EQ(s1.mean.value, 3.5);
+  EXPECT_EQ(s1.std.value, 0.0);
+  EXPECT_FALSE(s1.mean.lo.has_value());
+  EXPECT_FALSE(s1.std.lo.has_value());
+  EXPECT_EQ(s1.p50.value, 3.5);
+  EXPECT_EQ(s1.max.value, 3.5);
+  // Constant data: sd 0, no std CI.
+  const std::vector<double> same(50, 2.0);
+  const Summary sc = ps::summarize(same);
+  EXPECT_EQ(sc.std.value, 0.0);
+  EXPECT_FALSE(sc.std.lo.has_value());
+  EXPECT_EQ(sc.p95.value, 2.0);
+}
+
+TEST(Statistics, EmptyThrows) {
+  const std::vector<double> empty;
+  EXPECT_THROW(ps::summarize(empty), Error);
+  EXPECT_THROW(ps::quantile_sorted(empty, 0.5), Error);
+  EXPECT_THROW(ps::fraction_wilson(0, 0), Error);
+}
+
+// n standard normal values from a stream keyed by replicate r.
+std::vector<double> normal_sample(std::uint64_t r, std::size_t n) {
+  RandomStream rs(20240601, StreamId::kProcedure, r);
+  std::vector<double> v(n);
+  for (auto& x : v) x = ps::standard_normal_quantile(rs.uniform());
+  return v;
+}
+
+TEST(Statistics, MeanAndStdIntervalsCoverTheTruth) {
+  // 100 replicates of n = 200 standard normals. Nominal coverage 95%: P(< 90 of 100) = 1.1%
+  // for a correct interval; the streams are fixed so the outcome is deterministic.
+  int mean_hits = 0, std_hits = 0;
+  for (std::uint64_t r = 0; r < 100; ++r) {
+    const Summary s = ps::summarize(normal_sample(r, 200));
+    ASSERT_TRUE(s.mean.lo && s.mean.hi && s.std.lo && s.std.hi);
+    mean_hits += *s.mean.lo <= 0.0 && 0.0 <= *s.mean.hi;
+    std_hits += *s.std.lo <= 1.0 && 1.0 <= *s.std.hi;
+    // The mean CI half-width is close to 1.972 / sqrt(200) = 0.139 for sd ~ 1.
+    EXPECT_NEAR(*s.mean.hi - *s.mean.lo, 2.0 * 1.9719565 * s.std.value / std::sqrt(200.0), 1e-6);
+  }
+  EXPECT_GE(mean_hits, 90);
+  EXPECT_LE(mean_hits, 100);
+  EXPECT_GE(std_hits, 88);  // asymptotic interval, slightly below nominal at n = 200
+}
+
+TEST(Statistics, QuantileIntervalCoversTheTrueNormalQuantile) {
+  const double q95 = 1.6448536269514722;
+  int hits = 0, missing = 0;
+  for (std::uint64_t r = 0; r < 100; ++r) {
+    std::vector<double> v = normal_sample(1000 + r, 200);
+    std::sort(v.begin(), v.end());
+    const Estimate e = ps::quantile_sorted(v, 0.95);
+    if (!e.lo || !e.hi) {
+      ++missing;
+      continue;
+    }
+    EXPECT_LE(*e.lo, e.value);
+    EXPECT_GE(*e.hi, e.value);
+    hits += *e.lo <= q95 && q95 <= *e.hi;
+  }
+  EXPECT_EQ(missing, 0);  // n = 200 is enough for both ends of a p95 interval
+  EXPECT_GE(hits, 90);
+}
+
+TEST(Statistics, QuantileIntervalIsTheExactBinomialOrderStatisticInterval) {
+  // Independent check of the order statistics chosen for n = 200, p = 0.95 by exact binomial
+  // sums: l = largest l with P(B <= l - 1) <= 0.025, u = smallest u with P(B <= u - 1) >= 0.975.
+  const int n = 200;
+  const double p = 0.95;
+  std::vector<double> cdf(n + 1);
+  double acc = 0.0;
+  for (int k = 0; k <= n; ++k) {
+    const double logc = std::lgamma(n + 1.0) - std::lgamma(k + 1.0) - std::lgamma(n - k + 1.0);
+    acc += std::exp(logc + k * std::log(p) + (n - k) * std::log1p(-p));
+    cdf[static_cast<std::size_t>(k)] = acc;
+  }
+  // Data x(i) = i (1-based) so the CI ends read off the order statistic indices directly.
+  std::vector<double> v(n);
+  for (int i = 0; i < n; ++i) v[static_cast<std::size_t>(i)] = i + 1;
+  const Estimate e = ps::quantile_sorted(v, p);
+  ASSERT_TRUE(e.lo && e.hi);
+  const int l = static_cast<int>(*e.lo), u = static_cast<int>(*e.hi);
+  // Coverage P(l <= B <= u - 1) >= 0.95 where B = #samples below the true quantile.
+  const double coverage = cdf[static_cast<std::size_t>(u - 1)] - (l >= 1 ? cdf[static_cast<std::size_t>(l - 1)] : 0.0);
+  EXPECT_GE(coverage, 0.95);
+  // Each tail at most 2.5%...
+  EXPECT_LE(l >= 1 ? cdf[static_cast<std::size_t>(l - 1)] : 0.0, 0.025);
+  EXPECT_GE(cdf[static_cast<std::size_t>(u - 1)], 0.975);
+  // ...and the ends are the tightest such order statistics: X(l + 1) would leave more than
+  // 2.5% below, X(u - 1) more than 2.5% above. By hand: P(B <= 183) = 0.0238,
+  // P(B <= 184) = 0.0444 -> l = 184; P(B <= 195) = 0.9736, P(B <= 196) = 0.9910 -> u = 197.
+  EXPECT_GT(cdf[static_cast<std::size_t>(l)], 0.025) << "lower end X(" << l << ") is not the tightest";
+  EXPECT_LT(cdf[static_cast<std::size_t>(u - 2)], 0.975) << "upper end X(" << u << ") is not the tightest";
+  EXPECT_EQ(l, 184);
+  EXPECT_EQ(u, 197);
+  // n = 5, median: P(B = 0) = 1/32 > 2.5%, so neither end exists.
+  const std::vector<double> five{1, 2, 3, 4, 5};
+  const Estimate m5 = ps::quantile_sorted(five, 0.5);
+  EXPECT_FALSE(m5.lo.has_value());
+  EXPECT_FALSE(m5.hi.has_value());
+  EXPECT_EQ(m5.value, 3.0);
+}
+
+TEST(Statistics, QuantileTypeSeven) {
+  const std::vector<double> v{1.0, 2.0, 4.0, 8.0};
+  EXPECT_NEAR(ps::quantile_sorted(v, 0.0).value, 1.0, 0.0);
+  EXPECT_NEAR(ps::quantile_sorted(v, 1.0).value, 8.0, 0.0);
+  EXPECT_NEAR(ps::quantile_sorted(v, 0.5).value, 3.0, 1e-15);   // h = 1.5
+  EXPECT_NEAR(ps::quantile_sorted(v, 0.25).value, 1.75, 1e-15);  // h = 0.75
+}
+
+TEST(Statistics, WilsonInterval) {
+  // 0 of 10: lo = 0, hi = (z^2/n) / (1 + z^2/n) = 0.27753.
+  const Estimate e0 = ps::fraction_wilson(0, 10);
+  EXPECT_EQ(e0.value, 0.0);
+  ASSERT_TRUE(e0.lo && e0.hi);
+  EXPECT_EQ(*e0.lo, 0.0);
+  const double zz = kZ975 * kZ975 / 10.0;
+  EXPECT_NEAR(*e0.hi, zz / (1.0 + zz), 1e-14);
+  EXPECT_NEAR(*e0.hi, 0.2775, 5e-5);
+
+  // 5 of 10: symmetric about 0.5, half-width z sqrt(0.025 + z^2/400) / (1 + z^2/10).
+  const Estimate e5 = ps::fraction_wilson(5, 10);
+  ASSERT_TRUE(e5.lo && e5.hi);
+  EXPECT_EQ(e5.value, 0.5);
+  EXPECT_NEAR(*e5.lo + *e5.hi, 1.0, 1e-15);
+  const double half = kZ975 * std::sqrt(0.025 + kZ975 * kZ975 / 400.0) / (1.0 + zz);
+  EXPECT_NEAR(*e5.hi - 0.5, half, 1e-14);
+  EXPECT_NEAR(*e5.lo, 0.2366, 1e-4);  // tabulated Wilson interval for 5/10: [0.2366, 0.7634]
+
+  // n of n mirrors 0 of n.
+  const Estimate e10 = ps::fraction_wilson(10, 10);
+  ASSERT_TRUE(e10.lo && e10.hi);
+  EXPECT_NEAR(*e10.hi, 1.0, 1e-15);
+  EXPECT_NEAR(*e10.lo, 1.0 - *e0.hi, 1e-14);
+}
+
+}  // namespace
