@@ -127,11 +127,13 @@ WangBudget compute_wang_budget(const WangBudgetInputs& in) {
   b.beta = linspace(in.beta_min, in.beta_max, in.grid_points);
   b.eq8_map_kmax.assign(b.alpha.size() * b.beta.size(), 0.0);
   b.great_circle_map_kmax.assign(b.eq8_map_kmax.size(), 0.0);
+  b.rss_map_kmax.assign(b.eq8_map_kmax.size(), 0.0);
   for (std::size_t ia = 0; ia < b.alpha.size(); ++ia) {
     for (std::size_t ib = 0; ib < b.beta.size(); ++ib) {
       const PointFigures f = point_figures(y.total_max, p.total_max, d3, b.alpha[ia], b.beta[ib]);
       b.eq8_map_kmax[ia * b.beta.size() + ib] = f.eq8;
       b.great_circle_map_kmax[ia * b.beta.size() + ib] = f.gc;
+      b.rss_map_kmax[ia * b.beta.size() + ib] = f.rss;
     }
   }
   const WangGridFigures g = wang_grid_figures(y.total_min, y.total_max, p.total_min, p.total_max, d3, in);

@@ -68,7 +68,7 @@ struct WangBudget {
   std::vector<BudgetTerm> terms;
   /// Grid maps (row-major alpha x beta, arcsec) of the combined figure at k_max.
   std::vector<double> alpha, beta;
-  std::vector<double> eq8_map_kmax, great_circle_map_kmax;
+  std::vector<double> eq8_map_kmax, rss_map_kmax, great_circle_map_kmax;
   const BudgetTerm& term(const std::string& key) const;  ///< throws if absent
 };
 

@@ -129,6 +129,15 @@ void read_declared(TomlReader& root, SeekerModel& m) {
 
 }  // namespace
 
+std::vector<std::string> SeekerModel::tolerance_keys() const {
+  std::vector<std::string> keys = {"yaw.perpendicularity"};
+  for (const auto& src : yaw.bearing_sources) keys.push_back("yaw." + src.name);
+  keys.push_back("pitch.perpendicularity");
+  for (const auto& src : pitch.bearing_sources) keys.push_back("pitch." + src.name);
+  keys.push_back("optics.axis_error");
+  return keys;
+}
+
 models::WangBudgetInputs SeekerModel::budget_inputs() const {
   models::WangBudgetInputs in;
   auto axis_in = [](const SeekerAxis& a) {

@@ -60,6 +60,8 @@ struct SeekerModel {
   ToleranceSpec optical_axis;
   std::vector<DeclaredValue> declared;
 
+  /// Dotted keys of every tolerance table ("yaw.perpendicularity", "yaw.radial_runout", ...).
+  std::vector<std::string> tolerance_keys() const;
   /// Inputs of the paper's analytic budget, from the same numbers.
   models::WangBudgetInputs budget_inputs() const;
 };

@@ -79,6 +79,8 @@ StudyConfig load_study(const std::string& path) {
     TomlReader t = root.table("output");
     c.plots = t.boolean("plots", true);
     c.block = static_cast<std::size_t>(t.integer("block", 1, 1'000'000, 1024));
+    c.contribution_samples =
+        static_cast<std::size_t>(t.integer("contribution_samples", 0, 1'000'000'000, 4096));
   }
   finish(doc, *ctx);
   return c;

@@ -10,7 +10,7 @@
 ///   [requirement] los_error = "1 px" (or any angle)
 ///   [overrides] "dotted.model.key" = "value"      (optional)
 ///   [[sweep]]   parameter = "dotted.model.key", values = [...], samples (optional)
-///   [output]    plots = true, block = 1024         (optional)
+///   [output]    plots = true, block = 1024, contribution_samples = 4096  (optional)
 #include <cstdint>
 #include <map>
 #include <string>
@@ -41,6 +41,9 @@ struct StudyConfig {
   std::vector<SweepSpec> sweeps;
   bool plots = true;
   std::size_t block = 1024;
+  /// Contribution of each tolerance: the study re-run with that tolerance set to zero
+  /// (same random numbers), with this many samples; 0 switches it off.
+  std::size_t contribution_samples = 4096;
 };
 
 /// Loads and validates a study file (not its model). Throws ValidationError.
