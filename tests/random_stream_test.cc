@@ -77,7 +77,7 @@ TEST(RandomStream, DifferentKeysGiveDifferentSequences) {
       draw(42, StreamId::kDesign, 8, 64), draw(43, StreamId::kDesign, 7, 64),
       draw(42, StreamId::kProcedure, 7, 64), draw(42, StreamId::kLhsJitter, 7, 64)};
   for (const auto& o : others) {
-    // Not merely different somewhere: no word coincides (a 64-bit collision has odds 2^-52 here).
+    // Not merely different somewhere: no word coincides (chance of any 64-bit match here ~2^-56).
     for (std::size_t i = 0; i < base.size(); ++i) EXPECT_NE(base[i], o[i]) << i;
   }
   // Within a stream all words are distinct.
@@ -137,9 +137,10 @@ TEST(RandomStream, ToOpenUnitEnds) {
     EXPECT_GE(x, prev);
     prev = x;
   }
-  // Symmetry: x(bits) + x(~bits) = 1 for an exact midpoint map.
+  // Symmetry of an exact midpoint map: x(~bits) = 1 - x(bits). For bits < 2^63, x(~bits) is in
+  // [1/2, 1) where 1 - x is exact, so this compares without rounding.
   for (std::uint64_t b : {0ull, 12345ull << 11, 0x0123456789abcdefull, 0x7ff0000000000000ull}) {
-    EXPECT_EQ(to_open_unit(b) + to_open_unit(~b), 1.0) << std::hex << b;
+    EXPECT_EQ(1.0 - to_open_unit(~b), to_open_unit(b)) << std::hex << b;
   }
 }
 

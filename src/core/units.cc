@@ -101,7 +101,7 @@ UnitDef parse_unit(std::string_view text) {
     if (auto caret = factor.find('^'); caret != std::string_view::npos) {
       std::string_view p = factor.substr(caret + 1);
       auto res = std::from_chars(p.data(), p.data() + p.size(), power);
-      if (res.ec != std::errc() || res.ptr != p.data() + p.size()) {
+      if (res.ec != std::errc() || res.ptr != p.data() + p.size() || power < -12 || power > 12) {
         throw Error("malformed exponent in unit \"" + std::string(text) + "\"");
       }
       factor = factor.substr(0, caret);
@@ -140,9 +140,9 @@ std::string dimension_name(const Dimension& d) {
     if (d.e[i] == 0) continue;
     if (!out.empty()) out += "*";
     out += names[i];
-    if (d.e[i] != 1) out += "^" + std::to_string(d.e[i]);
+    if (d.e[i] != 1) out.append("^").append(std::to_string(d.e[i]));
   }
-  return "a quantity in " + out;
+  return std::string("a quantity in ").append(out);
 }
 
 std::string example_unit(const Dimension& d) {
@@ -165,6 +165,7 @@ Quantity parse_quantity(std::string_view text) {
   std::string_view s = trim(text);
   if (s.empty()) throw Error("empty value");
   double number = 0.0;
+  if (s.size() > 1 && s.front() == '+') s.remove_prefix(1);  // from_chars refuses '+'
   auto res = std::from_chars(s.data(), s.data() + s.size(), number);
   if (res.ec != std::errc()) {
     throw Error("no number at the start of \"" + std::string(text) + "\"");
@@ -204,7 +205,9 @@ std::string format(double value_si, std::string_view unit, int significant) {
   double v = value_si / unit_factor(unit);
   char buf[64];
   std::snprintf(buf, sizeof buf, "%.*g", significant, v);
-  return std::string(buf) + (unit.empty() ? "" : " " + std::string(unit));
+  std::string out(buf);
+  if (!unit.empty()) out.append(" ").append(unit);
+  return out;
 }
 
 }  // namespace poise::units

@@ -54,7 +54,7 @@ std::string example_unit(const Dimension& d);
 Quantity parse_quantity(std::string_view text);
 
 /// Parses and checks the dimension; returns the SI value. Throws poise::Error whose
-/// message names the expected dimension and an example ("expected an angle, e.g. \"30 deg\"").
+/// message names the expected dimension and an example ("expected an angle, e.g. \"1 deg\"").
 double parse_as(std::string_view text, const Dimension& expected);
 
 /// Formats an SI value in a given unit, e.g. format(1.5e-5, "mm") -> "0.015 mm".

@@ -33,8 +33,8 @@
 ///   yaw   = atan2(d.y, d.x) - alpha     (yaw-angle error, the paper's Delta alpha)
 ///   pitch = asin(d.z) - beta            (the paper's Delta beta)
 /// First-order limits (checked in tests, they are the theodolite axis-error formulas the
-/// paper uses): a yaw-axis tilt i towards azimuth psi gives yaw = i tan(b) sin(a - psi),
-/// pitch = -i cos(a - psi); c2 gives yaw = -c2 tan(b); c3 gives yaw = c3 / cos(b).
+/// paper uses): a yaw-axis tilt i towards azimuth psi gives yaw = -i tan(b) sin(a - psi),
+/// pitch = -i cos(a - psi); c2 gives yaw = +c2 tan(b); c3 gives yaw = c3 / cos(b).
 #include <Eigen/Dense>
 #include <array>
 #include <span>
@@ -77,6 +77,8 @@ struct PointingError {
   double pitch = 0.0;
 };
 
+/// The smallest rotation taking one unit vector onto another. Undefined for opposite
+/// vectors (1 + cos = 0); callers pass small tilts only.
 Eigen::Matrix3d minimal_rotation(const Eigen::Vector3d& from_unit, const Eigen::Vector3d& to_unit);
 Eigen::Matrix3d yaw_orientation(const AxisErrorState& yaw, double alpha);
 Eigen::Matrix3d pitch_orientation(const AxisErrorState& pitch, double beta);

@@ -1,6 +1,7 @@
 #include "sampling/design.h"
 
 #include <boost/random/sobol.hpp>
+#include <algorithm>
 #include <numeric>
 
 #include "core/error.h"
@@ -65,19 +66,23 @@ void Design::point(std::size_t i, std::span<double> u) const {
       RandomStream rs(seed_, StreamId::kLhsJitter, i);
       const double n = static_cast<double>(n_samples_);
       for (std::size_t d = 0; d < dimension_; ++d) {
-        u[d] = (static_cast<double>(lhs_permutation_[d][i]) + rs.uniform()) / n;
+        // Rounding could reach the top of the stratum (1.0 in the last one): clamp inside.
+        u[d] = std::min((static_cast<double>(lhs_permutation_[d][i]) + rs.uniform()) / n,
+                        1.0 - 0x1.0p-53);
       }
       break;
     }
     case SamplingMethod::kSobol: {
       if (dimension_ == 0) return;
-      // One engine per thread, re-positioned to point i+1 (Gray-code jump, O(dim*64)).
+      // One engine per thread, re-positioned to point i (Gray-code jump, O(dim*64)).
+      // Boost's seed(k) positions the engine so that its next vector is point k+1; point 0
+      // is the origin, which the digital shift moves off zero.
       thread_local boost::random::sobol engine(1);
       if (engine.dimension() != dimension_) engine = boost::random::sobol(dimension_);
-      engine.seed(static_cast<boost::uint_least64_t>(i) + 1);
+      if (i > 0) engine.seed(static_cast<boost::uint_least64_t>(i) - 1);
       for (std::size_t d = 0; d < dimension_; ++d) {
-        const std::uint64_t x = static_cast<std::uint64_t>(engine()) ^ sobol_shift_[d];
-        u[d] = to_open_unit(x);
+        const std::uint64_t raw = i > 0 ? static_cast<std::uint64_t>(engine()) : 0;
+        u[d] = to_open_unit(raw ^ sobol_shift_[d]);
       }
       break;
     }

@@ -4,9 +4,10 @@
 ///   monte_carlo : independent uniforms from Philox keyed by (seed, i).
 ///   lhs         : Latin hypercube; per dimension a random permutation of the N strata
 ///                 (Fisher-Yates keyed by (seed, dimension)) and a Philox jitter in the stratum.
-///   sobol       : Boost.Random's Sobol sequence (Joe-Kuo direction numbers), point i+1
-///                 (the origin is skipped), randomized by a digital shift per dimension
-///                 drawn from the seed, so seeds give independent replicas.
+///   sobol       : Boost.Random's Sobol sequence (Joe-Kuo direction numbers), point i
+///                 (point 0 is the origin), randomized by a digital shift per dimension
+///                 drawn from the seed, so seeds give independent replicas and every
+///                 elementary interval of a 2^m-point prefix keeps exactly one point.
 #include <cstddef>
 #include <cstdint>
 #include <span>

@@ -17,9 +17,10 @@ enum class StreamId : std::uint64_t {
   kProcedure = 16,   ///< randomness inside a sample's procedure (noise etc.)
 };
 
-/// Maps 64 random bits to a double in the open interval (0, 1).
+/// Maps 64 random bits to a double in the open interval (0, 1): the top 52 bits, centred
+/// in their cell, exact in double precision, within [2^-53, 1 - 2^-53] and symmetric.
 inline double to_open_unit(std::uint64_t bits) {
-  return (static_cast<double>(bits >> 11) + 0.5) * 0x1.0p-53;
+  return (static_cast<double>(bits >> 12) + 0.5) * 0x1.0p-52;
 }
 
 /// A sequence of random numbers keyed by (seed, stream, index).

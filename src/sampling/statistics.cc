@@ -17,10 +17,12 @@ Estimate quantile_sorted(std::span<const double> sorted, double p) {
   const auto lo_i = static_cast<std::size_t>(std::floor(h));
   const std::size_t hi_i = std::min(lo_i + 1, n - 1);
   e.value = sorted[lo_i] + (h - static_cast<double>(lo_i)) * (sorted[hi_i] - sorted[lo_i]);
-  // Order statistics X(l) <= q_p <= X(u) (1-based) with P >= 95%:
-  // l = binomial quantile(0.025), u = binomial quantile(0.975) + 1.
+  // Order statistics X(l) <= q_p <= X(u) (1-based) with P >= 95%: l is the smallest l with
+  // P(B <= l - 1) <= 0.025 taken from the top, u = binomial quantile(0.975) + 1.
+  // Boost's quantile(bin, 0.025) is the largest x with cdf(x) <= 0.025, i.e. l - 1.
   boost::math::binomial_distribution<double> bin(static_cast<double>(n), p);
-  const double l = std::floor(boost::math::quantile(bin, 0.025));
+  const double q = std::floor(boost::math::quantile(bin, 0.025));
+  const double l = boost::math::cdf(bin, q) <= 0.025 ? q + 1.0 : 0.0;
   const double u = std::ceil(boost::math::quantile(bin, 0.975)) + 1.0;
   if (l >= 1.0) e.lo = sorted[static_cast<std::size_t>(l) - 1];
   if (u <= static_cast<double>(n)) e.hi = sorted[static_cast<std::size_t>(u) - 1];
@@ -35,7 +37,10 @@ Estimate fraction_wilson(std::size_t successes, std::size_t n) {
   const double denom = 1.0 + z * z / nn;
   const double centre = (ph + z * z / (2.0 * nn)) / denom;
   const double half = z * std::sqrt(ph * (1.0 - ph) / nn + z * z / (4.0 * nn * nn)) / denom;
-  return {ph, std::max(0.0, centre - half), std::min(1.0, centre + half)};
+  // The Wilson ends are exactly 0 and 1 at 0 and n successes (rounding would miss them).
+  const double lo = successes == 0 ? 0.0 : std::max(0.0, centre - half);
+  const double hi = successes == n ? 1.0 : std::min(1.0, centre + half);
+  return {ph, lo, hi};
 }
 
 Summary summarize(std::span<const double> values) {
