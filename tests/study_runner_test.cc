@@ -231,3 +231,26 @@ TEST(StudyRunner, InvalidStudyRunsNothing) {
 
 }  // namespace
 }  // namespace poise::studies
+
+namespace poise::studies {
+namespace {
+
+// The figures quoted in the default study's notes and in the issue note come from this run;
+// if the engine changes them, the notes must be revised.
+TEST(StudyRunner, DefaultStudyFiguresQuotedInItsNotes) {
+  TempDir d;
+  RunOptions o = options(d.file("run"), 2);
+  run_study(test::source_path("studies/los_seeker_wang2011.toml"), o);
+  const json s = json::parse(test::read_text(d.file("run/summary.json")));
+  const auto& lm = s["outputs"]["los_max_arcsec"];
+  EXPECT_NEAR(lm["p50"]["value"].get<double>(), 16.9, 0.05);
+  EXPECT_NEAR(lm["p95"]["value"].get<double>(), 31.2, 0.05);
+  EXPECT_NEAR(lm["p99_73"]["value"].get<double>(), 43.1, 0.05);
+  EXPECT_NEAR(s["fraction_samples_meeting"]["value"].get<double>(), 0.60, 0.005);
+  EXPECT_NEAR(s["fraction_field_meeting"]["value"].get<double>(), 0.86, 0.005);
+  EXPECT_EQ(s["budget"]["disagreements"], 5);  // sigma_21, delta_2 (2), los_max, los_max_px
+  EXPECT_EQ(s["failures"]["count"], 0);
+}
+
+}  // namespace
+}  // namespace poise::studies
