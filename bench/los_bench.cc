@@ -1,6 +1,6 @@
 /// Benchmarks of the seeker LOS study (Google Benchmark 1.7.1).
 ///
-///   BM_LosGridEvaluation   LosGrid::evaluate of one realistic error state on the study's
+///   BM_LosGridEvaluation   LosGrid::evaluate of realistic error states on the study's
 ///                          13 x 13 grid over +-30 deg (factorized chain).
 ///                          Target: >= 10 million gimbal-angle evaluations/s per core.
 ///   BM_LosSinglePoint      los_direction + pointing_error at one (alpha, beta) from
@@ -8,6 +8,7 @@
 ///   BM_SampleCompute       SeekerLosStudy::compute: design point + draw + grid + outputs.
 ///   BM_StudyRun/threads:N  SeekerLosStudy::run on N threads, 8192 samples, no sink.
 ///                          Target: >= 1.8x samples/s from 1 to 2 threads.
+///   BM_StudyComputeOnly/threads:N  diagnostic: the parallel part of run() alone.
 ///
 /// The study and model are the project defaults (studies/los_seeker_wang2011.toml and the
 /// model it names), loaded once per process outside every timed loop. The source tree is
@@ -16,13 +17,16 @@
 /// Run: poise_bench --benchmark_min_time=0.5
 #include <benchmark/benchmark.h>
 
-#include <cmath>
+#include <cstdint>
 #include <cstdlib>
 #include <filesystem>
-#include <numbers>
+#include <span>
+#include <utility>
 #include <vector>
 
 #include "models/seeker_los_chain.h"
+#include "sampling/design.h"
+#include "sampling/parallel_runner.h"
 #include "studies/seeker_los_study.h"
 #include "studies/seeker_model.h"
 #include "studies/study_config.h"
@@ -50,8 +54,11 @@ fs::path source_dir() {
 // Everything the benchmarks share, built once on first use (never inside a timed loop).
 struct Setup {
   SeekerLosStudy study;
-  SeekerErrorState state;  // one realistic draw of every error of the Wang model
-  std::size_t harmonics = 0;
+  // Realistic draws of every error of the Wang model (6 bearing sources x 2 bearings per
+  // axis = 12 tilt harmonics per axis, plus static tilts and collimation): the design
+  // points of the study's first kStates samples mapped through its sampler.
+  static constexpr std::size_t kStates = 256;
+  std::vector<SeekerErrorState> states;
 
   static SeekerLosStudy make_study() {
     const fs::path study_file = source_dir() / "studies" / "los_seeker_wang2011.toml";
@@ -64,15 +71,14 @@ struct Setup {
   }
 
   Setup() : study(make_study()) {
-    // A fixed, well-spread design point (golden-ratio sequence, all in (0, 1)), mapped
-    // through the model's sampler like any Monte Carlo sample.
     const auto& sampler = study.sampler();
+    const poise::sampling::Design design(study.config().method, study.seed(), kStates,
+                                         sampler.dimension());
     std::vector<double> u(sampler.dimension()), values(sampler.dimension());
-    for (std::size_t k = 0; k < u.size(); ++k) {
-      u[k] = std::fmod(0.5 + std::numbers::phi * static_cast<double>(k + 1), 1.0);
+    for (std::size_t i = 0; i < kStates; ++i) {
+      design.point(i, u);
+      states.push_back(sampler.draw(u, values));
     }
-    state = sampler.draw(u, values);
-    harmonics = static_cast<std::size_t>(state.yaw.n_harmonics + state.pitch.n_harmonics);
   }
 };
 
@@ -89,23 +95,28 @@ void rate(benchmark::State& state, const char* name, std::size_t items_per_itera
 }
 
 // 1. The factorized grid: 13 yaw frames + 13 pitch LOS, then one 3x3 product and the
-//    error extraction per grid point.
+//    error extraction per grid point. states:1 evaluates one error state over and over
+//    (branch predictors learn its libm paths); states:256 cycles through 256 draws, as
+//    a Monte Carlo run does, and is the realistic figure (~25% fewer evals/s).
 void BM_LosGridEvaluation(benchmark::State& state) {
   const Setup& s = setup();
   const LosGrid& grid = s.study.grid();
+  const auto n_states = static_cast<std::size_t>(state.range(0));
   LosGrid::Workspace ws = grid.make_workspace();
   std::vector<PointingError> out(grid.size());
+  std::size_t k = 0;
   for (auto _ : state) {
-    grid.evaluate(s.state, ws, out);
+    grid.evaluate(s.states[k], ws, out);
+    k = k + 1 == n_states ? 0 : k + 1;
     benchmark::DoNotOptimize(out.data());
     benchmark::ClobberMemory();
   }
   rate(state, "evals_per_s", grid.size());
   state.SetItemsProcessed(static_cast<std::int64_t>(state.iterations() * grid.size()));
-  state.counters["grid_points"] = static_cast<double>(grid.size());
-  state.counters["harmonics"] = static_cast<double>(s.harmonics);  // yaw + pitch
+  state.counters["harmonics"] =  // yaw + pitch, of the first state
+      static_cast<double>(s.states[0].yaw.n_harmonics + s.states[0].pitch.n_harmonics);
 }
-BENCHMARK(BM_LosGridEvaluation);
+BENCHMARK(BM_LosGridEvaluation)->ArgName("states")->Arg(1)->Arg(Setup::kStates);
 
 // 2. One gimbal angle from scratch: both frames (with their harmonic sums) rebuilt per
 //    point. Cycles through the grid's angles so the inputs vary between iterations.
@@ -120,7 +131,7 @@ void BM_LosSinglePoint(benchmark::State& state) {
   for (auto _ : state) {
     const auto [alpha, beta] = angles[k];
     k = k + 1 == angles.size() ? 0 : k + 1;
-    const Eigen::Vector3d d = poise::models::los_direction(s.state, alpha, beta);
+    const Eigen::Vector3d d = poise::models::los_direction(s.states[0], alpha, beta);
     PointingError e = poise::models::pointing_error(d, alpha, beta);
     benchmark::DoNotOptimize(e);
   }
@@ -165,11 +176,28 @@ void BM_StudyRun(benchmark::State& state) {
   state.SetItemsProcessed(static_cast<std::int64_t>(state.iterations() * study.samples()));
   state.counters["block"] = static_cast<double>(study.config().block);
 }
-BENCHMARK(BM_StudyRun)
-    ->ArgName("threads")
-    ->Arg(1)
-    ->Arg(2)
-    ->UseRealTime()
-    ->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_StudyRun)->ArgName("threads")->Arg(1)->Arg(2)
+    ->UseRealTime()->Unit(benchmark::kMillisecond);
+
+// Diagnostic for 4: the parallel part of run() alone (compute() in blocks of
+// StudyConfig::block, results dropped), to separate its scaling from the serial tail
+// (aggregation, pooled summary and per-grid-point quantile maps) that run() adds.
+void BM_StudyComputeOnly(benchmark::State& state) {
+  const SeekerLosStudy& study = setup().study;
+  const poise::sampling::RunShape shape{0, study.samples(), static_cast<int>(state.range(0)),
+                                        study.config().block};
+  for (auto _ : state) {
+    poise::sampling::run_in_blocks<SeekerSampleResult>(
+        shape, [&] { return study.make_workspace(); },
+        [&](std::size_t i, SeekerLosStudy::Workspace& ws, SeekerSampleResult& r) {
+          study.compute(i, ws, r);
+          benchmark::DoNotOptimize(r.outputs.data());
+        },
+        [](std::size_t, std::span<const SeekerSampleResult>) {});
+  }
+  rate(state, "samples_per_s", study.samples());
+}
+BENCHMARK(BM_StudyComputeOnly)->ArgName("threads")->Arg(1)->Arg(2)
+    ->UseRealTime()->Unit(benchmark::kMillisecond);
 
 }  // namespace

@@ -9,14 +9,22 @@
 
 namespace poise::sampling {
 
-Estimate quantile_sorted(std::span<const double> sorted, double p) {
-  const std::size_t n = sorted.size();
-  require(n > 0, "quantile of an empty sample");
-  Estimate e;
+namespace {
+
+// 0-based ranks a quantile needs: the interpolation pair and, optionally, its CI ends.
+struct QuantileRanks {
+  std::size_t lo_i = 0, hi_i = 0;
+  double frac = 0.0;
+  std::optional<std::size_t> ci_lo, ci_hi;
+};
+
+QuantileRanks quantile_ranks(std::size_t n, double p, bool with_ci) {
+  QuantileRanks r;
   const double h = (static_cast<double>(n) - 1.0) * p;
-  const auto lo_i = static_cast<std::size_t>(std::floor(h));
-  const std::size_t hi_i = std::min(lo_i + 1, n - 1);
-  e.value = sorted[lo_i] + (h - static_cast<double>(lo_i)) * (sorted[hi_i] - sorted[lo_i]);
+  r.lo_i = static_cast<std::size_t>(std::floor(h));
+  r.hi_i = std::min(r.lo_i + 1, n - 1);
+  r.frac = h - static_cast<double>(r.lo_i);
+  if (!with_ci) return r;
   // Order statistics X(l) <= q_p <= X(u) (1-based) with P >= 95%: l is the smallest l with
   // P(B <= l - 1) <= 0.025 taken from the top, u = binomial quantile(0.975) + 1.
   // Boost's quantile(bin, 0.025) is the largest x with cdf(x) <= 0.025, i.e. l - 1.
@@ -24,9 +32,35 @@ Estimate quantile_sorted(std::span<const double> sorted, double p) {
   const double q = std::floor(boost::math::quantile(bin, 0.025));
   const double l = boost::math::cdf(bin, q) <= 0.025 ? q + 1.0 : 0.0;
   const double u = std::ceil(boost::math::quantile(bin, 0.975)) + 1.0;
-  if (l >= 1.0) e.lo = sorted[static_cast<std::size_t>(l) - 1];
-  if (u <= static_cast<double>(n)) e.hi = sorted[static_cast<std::size_t>(u) - 1];
+  if (l >= 1.0) r.ci_lo = static_cast<std::size_t>(l) - 1;
+  if (u <= static_cast<double>(n)) r.ci_hi = static_cast<std::size_t>(u) - 1;
+  return r;
+}
+
+// at(k) = k-th smallest value (0-based).
+template <class At>
+Estimate quantile_at(const QuantileRanks& r, At at) {
+  Estimate e;
+  e.value = at(r.lo_i) + r.frac * (at(r.hi_i) - at(r.lo_i));
+  if (r.ci_lo) e.lo = at(*r.ci_lo);
+  if (r.ci_hi) e.hi = at(*r.ci_hi);
   return e;
+}
+
+}  // namespace
+
+Estimate quantile_sorted(std::span<const double> sorted, double p) {
+  require(!sorted.empty(), "quantile of an empty sample");
+  return quantile_at(quantile_ranks(sorted.size(), p, true), [&](std::size_t k) { return sorted[k]; });
+}
+
+double quantile_value(std::span<double> data, double p) {
+  require(!data.empty(), "quantile of an empty sample");
+  const QuantileRanks r = quantile_ranks(data.size(), p, false);
+  std::nth_element(data.begin(), data.begin() + static_cast<long>(r.lo_i), data.end());
+  const double lo = data[r.lo_i];
+  const double hi = r.hi_i == r.lo_i ? lo : *std::min_element(data.begin() + static_cast<long>(r.hi_i), data.end());
+  return lo + r.frac * (hi - lo);
 }
 
 Estimate fraction_wilson(std::size_t successes, std::size_t n) {
@@ -46,16 +80,15 @@ Estimate fraction_wilson(std::size_t successes, std::size_t n) {
 Summary summarize(std::span<const double> values) {
   const std::size_t n = values.size();
   require(n > 0, "summary of an empty sample");
-  std::vector<double> sorted(values.begin(), values.end());
-  std::sort(sorted.begin(), sorted.end());
+  std::vector<double> data(values.begin(), values.end());
   Summary s;
   s.n = n;
   const double nn = static_cast<double>(n);
   double mean = 0.0;
-  for (double v : sorted) mean += v;
+  for (double v : data) mean += v;
   mean /= nn;
   double m2 = 0.0, m4 = 0.0;
-  for (double v : sorted) {
+  for (double v : data) {
     const double d = (v - mean) * (v - mean);
     m2 += d;
     m4 += d * d;
@@ -77,11 +110,32 @@ Summary summarize(std::span<const double> values) {
     s.std.lo = std::max(0.0, sd - 1.959963984540054 * se_s);
     s.std.hi = sd + 1.959963984540054 * se_s;
   }
-  s.p50 = quantile_sorted(sorted, 0.50);
-  s.p95 = quantile_sorted(sorted, 0.95);
-  s.p99_73 = quantile_sorted(sorted, 0.9973);
-  s.max.value = sorted.back();
-  s.max.lo = quantile_sorted(sorted, nn / (nn + 1.0)).lo;
+  // Only a dozen order statistics are needed: select them in increasing rank with
+  // nth_element on what is left, instead of sorting everything.
+  const QuantileRanks r50 = quantile_ranks(n, 0.50, true), r95 = quantile_ranks(n, 0.95, true),
+                      r9973 = quantile_ranks(n, 0.9973, true),
+                      rmax = quantile_ranks(n, nn / (nn + 1.0), true);
+  std::vector<std::size_t> ranks = {n - 1};
+  for (const auto* r : {&r50, &r95, &r9973, &rmax}) {
+    ranks.push_back(r->lo_i);
+    ranks.push_back(r->hi_i);
+    if (r->ci_lo) ranks.push_back(*r->ci_lo);
+    if (r->ci_hi) ranks.push_back(*r->ci_hi);
+  }
+  std::sort(ranks.begin(), ranks.end());
+  ranks.erase(std::unique(ranks.begin(), ranks.end()), ranks.end());
+  std::size_t start = 0;
+  for (std::size_t k : ranks) {
+    std::nth_element(data.begin() + static_cast<long>(start), data.begin() + static_cast<long>(k), data.end());
+    start = k + 1;
+  }
+  // After the loop data[k] is the k-th smallest for every selected k.
+  auto at = [&](std::size_t k) { return data[k]; };
+  s.p50 = quantile_at(r50, at);
+  s.p95 = quantile_at(r95, at);
+  s.p99_73 = quantile_at(r9973, at);
+  s.max.value = data[n - 1];
+  s.max.lo = quantile_at(rmax, at).lo;
   return s;
 }
 

@@ -35,6 +35,9 @@ Summary summarize(std::span<const double> values);
 /// Quantile of sorted values (type 7 / linear interpolation) with its binomial CI.
 Estimate quantile_sorted(std::span<const double> sorted, double p);
 
+/// Quantile value only (no CI) of unsorted data, which it partially reorders; O(n).
+double quantile_value(std::span<double> data, double p);
+
 /// Fraction successes/n with the Wilson 95% interval.
 Estimate fraction_wilson(std::size_t successes, std::size_t n);
 

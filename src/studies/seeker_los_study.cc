@@ -4,6 +4,8 @@
 #include <cmath>
 
 #include "core/units.h"
+#include <tbb/parallel_invoke.h>
+
 #include "sampling/parallel_runner.h"
 
 namespace poise::studies {
@@ -123,17 +125,28 @@ SeekerMcResult SeekerLosStudy::run(
   r.fraction_samples_ok = sampling::fraction_wilson(n_all_ok, n_ok);
   const auto& field = r.outputs[5];
   r.fraction_field_ok = field.mean;
-  std::vector<double> pooled(grid_values.begin(), grid_values.end());
-  r.pooled = sampling::summarize(pooled);
+  // The tail runs on the same threads: the pooled summary beside the per-point maps.
   const std::size_t rows = grid_values.size() / g;
-  std::vector<double> column(rows);
-  for (std::size_t p = 0; p < g; ++p) {
-    for (std::size_t s = 0; s < rows; ++s) column[s] = grid_values[s * g + p];
-    std::sort(column.begin(), column.end());
-    r.map_p50.push_back(sampling::quantile_sorted(column, 0.5).value);
-    r.map_p95.push_back(sampling::quantile_sorted(column, 0.95).value);
-    r.map_p99_73.push_back(sampling::quantile_sorted(column, 0.9973).value);
-  }
+  r.map_p50.resize(g);
+  r.map_p95.resize(g);
+  r.map_p99_73.resize(g);
+  tbb::task_arena arena(std::max(1, threads));
+  arena.execute([&] {
+    tbb::parallel_invoke(
+        [&] {
+          const std::vector<double> pooled(grid_values.begin(), grid_values.end());
+          r.pooled = sampling::summarize(pooled);
+        },
+        [&] {
+          tbb::parallel_for(std::size_t{0}, g, [&](std::size_t p) {
+            std::vector<double> column(rows);
+            for (std::size_t k = 0; k < rows; ++k) column[k] = grid_values[k * g + p];
+            r.map_p50[p] = sampling::quantile_value(column, 0.5);
+            r.map_p95[p] = sampling::quantile_value(column, 0.95);
+            r.map_p99_73[p] = sampling::quantile_value(column, 0.9973);
+          });
+        });
+  });
   r.los_max_sorted = out_values[0];
   std::sort(r.los_max_sorted.begin(), r.los_max_sorted.end());
   return r;
