@@ -68,7 +68,9 @@ void SeekerLosStudy::compute(std::size_t i, Workspace& ws, SeekerSampleResult& o
                    max_yaw * kArcsec,
                    max_pitch * kArcsec,
                    max_total / model_.pixel_ifov,
-                   static_cast<double>(ok_points) / n};
+                   static_cast<double>(ok_points) / n,
+                   max_yaw / model_.pixel_ifov,
+                   max_pitch / model_.pixel_ifov};
   } catch (const std::exception& e) {
     out.ok = false;
     out.message = e.what();

@@ -10,6 +10,7 @@
 ///   pitch_max_arcsec   greatest |pitch-angle error|
 ///   los_max_px         los_max in pixels (model's IFOV)
 ///   field_ok_fraction  fraction of grid points meeting the requirement
+///   yaw_max_px, pitch_max_px   the yaw and pitch figures in pixels
 /// A sample that fails (non-finite result, exception) is kept with its reason.
 #include <cstddef>
 #include <functional>
@@ -49,6 +50,8 @@ inline constexpr OutputDef kSeekerOutputs[] = {
     {"pitch_max_arcsec", "arcsec", "greatest |pitch-angle error| over the field"},
     {"los_max_px", "px", "greatest total LOS error in pixels"},
     {"field_ok_fraction", "1", "fraction of the field of regard meeting the requirement"},
+    {"yaw_max_px", "px", "greatest |yaw-angle error| in pixels"},
+    {"pitch_max_px", "px", "greatest |pitch-angle error| in pixels"},
 };
 inline constexpr std::size_t kNumSeekerOutputs = std::size(kSeekerOutputs);
 
