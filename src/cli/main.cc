@@ -3,6 +3,7 @@
 #include <cstdio>
 #include <iostream>
 
+#include "cli/fit_command.h"
 #include "core/version.h"
 #include "studies/study_runner.h"
 #include "studies/toml_reader.h"
@@ -65,7 +66,10 @@ int main(int argc, char** argv) {
   add_common(replay);
   replay->add_option("--sample,-i", index, "sample index (0-based, as in samples.csv)")->required();
 
+  const poise::cli::FitHandler fit = poise::cli::add_fit_command(app);
+
   CLI11_PARSE(app, argc, argv);
+  if (const auto status = fit()) return *status;
   if (samples > 0) opt.samples = samples;
   if (!run->count("--seed") && !replay->count("--seed")) {
   } else {

@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "core/units.h"
+#include "studies/model_overrides.h"
 
 namespace poise::studies {
 namespace {
@@ -42,43 +43,6 @@ SeekerAxis read_axis(TomlReader& root, const std::string& name) {
     axis.bearing_sources.push_back(src);
   }
   return axis;
-}
-
-// Replaces root[a][b]...[key] by the override text, keeping numbers numbers.
-void apply_override(toml::table& root, const std::string& dotted, const std::string& text,
-                    ReadContext& ctx) {
-  toml::table* t = &root;
-  std::size_t pos = 0;
-  while (true) {
-    const std::size_t dot = dotted.find('.', pos);
-    const std::string part = dotted.substr(pos, dot == std::string::npos ? std::string::npos : dot - pos);
-    toml::node* n = t->get(part);
-    if (!n) {
-      ctx.errors.emplace_back(SourceLocation{ctx.file, 0, 0}, dotted, "\"" + text + "\"",
-                              "an override of a key that exists in the model file");
-      return;
-    }
-    if (dot == std::string::npos) {
-      if (n->is_number()) {
-        try {
-          t->insert_or_assign(part, std::stod(text));
-        } catch (...) {
-          ctx.errors.emplace_back(SourceLocation{ctx.file, 0, 0}, dotted, "\"" + text + "\"",
-                                  "a plain number (the model's value is a number)");
-        }
-      } else {
-        t->insert_or_assign(part, text);
-      }
-      return;
-    }
-    t = n->as_table();
-    if (!t) {
-      ctx.errors.emplace_back(SourceLocation{ctx.file, 0, 0}, dotted, "\"" + text + "\"",
-                              "a dotted key through tables of the model file");
-      return;
-    }
-    pos = dot + 1;
-  }
 }
 
 units::Dimension declared_dimension(const std::string& key) {
@@ -173,7 +137,7 @@ SeekerModel load_seeker_model(const std::string& path,
   toml::table doc = parse_toml_file(path);
   auto ctx = std::make_shared<ReadContext>();
   ctx->file = path;
-  for (const auto& [k, v] : overrides) apply_override(doc, k, v, *ctx);
+  apply_overrides(doc, overrides, *ctx);
   TomlReader root(doc, ctx);
   SeekerModel m;
   m.file = path;

@@ -6,6 +6,35 @@
 
 namespace poise::studies {
 
+namespace {
+
+void read_gimbal_groups(TomlReader& root, StudyConfig& c) {
+  const units::Dimension torque = units::kTorque;
+  for (auto& g : root.table_array("group")) {
+    GimbalGroup grp;
+    grp.name = g.string("name");
+    grp.positions = static_cast<std::size_t>(g.integer("positions", 4, 3600));
+    grp.repeats = static_cast<std::size_t>(g.integer("repeats", 1, 10000, 1));
+    if (g.has("paper_rmse_torque")) grp.paper_rmse_torque = g.quantity("paper_rmse_torque", torque, non_negative);
+    if (g.has("paper_rmse_angle")) grp.paper_rmse_angle = g.quantity("paper_rmse_angle", units::kAngle, non_negative);
+    g.string("notes", "");
+    for (auto& l : g.table_array("load")) {
+      GimbalLoad load;
+      load.mass = l.quantity("mass", units::kMass, positive);
+      load.radius = l.quantity("radius", units::kLength, positive);
+      load.angle = l.quantity("angle", units::kAngle);
+      if (l.has("paper_torque")) load.paper_torque = l.quantity("paper_torque", torque);
+      if (l.has("paper_angle")) load.paper_angle = l.quantity("paper_angle", units::kAngle);
+      grp.loads.push_back(load);
+    }
+    if (grp.loads.empty()) g.error("load", "", "at least one [[group.load]] (a test mass)");
+    c.groups.push_back(grp);
+  }
+  if (c.groups.empty()) root.error("group", "", "at least one [[group]] of tests");
+}
+
+}  // namespace
+
 StudyConfig load_study(const std::string& path) {
   toml::table doc = parse_toml_file(path);
   auto ctx = std::make_shared<ReadContext>();
@@ -22,7 +51,7 @@ StudyConfig load_study(const std::string& path) {
         break;
       }
     }
-    c.kind = t.choice("kind", {"seeker_los"});
+    c.kind = t.choice("kind", {"seeker_los", "gimbal_static_unbalance"});
     const std::string model = t.string("model");
     c.model_path = (std::filesystem::path(path).parent_path() / model).lexically_normal().string();
     if (!model.empty() && !std::filesystem::exists(c.model_path)) {
@@ -37,30 +66,34 @@ StudyConfig load_study(const std::string& path) {
     c.samples = static_cast<std::size_t>(t.integer("samples", 1, 1'000'000'000));
     c.seed = static_cast<std::uint64_t>(t.integer("seed", 0, INT64_MAX));
   }
-  {
-    TomlReader t = root.table("grid");
-    c.yaw_points = static_cast<std::size_t>(t.integer("yaw_points", 1, 1001));
-    c.pitch_points = static_cast<std::size_t>(t.integer("pitch_points", 1, 1001));
-  }
-  {
-    TomlReader t = root.table("requirement");
-    c.requirement_text = t.string("los_error");
-    try {
-      const units::Quantity q = units::parse_quantity(c.requirement_text);
-      if (q.dim == units::kPixel) {
-        c.requirement_in_pixels = true;
-      } else if (q.dim == units::kAngle) {
-        c.requirement_in_pixels = false;
-      } else {
-        throw Error("got " + units::dimension_name(q.dim));
-      }
-      if (!(q.value > 0)) throw Error("not positive");
-      c.requirement = q.value;
-    } catch (const Error& e) {
-      t.error("los_error", "\"" + c.requirement_text + "\"",
-              std::string("a positive angle or pixel count, e.g. \"1 px\" or \"18 arcsec\" (") +
-                  e.what() + ")");
+  if (c.kind == "seeker_los") {
+    {
+      TomlReader t = root.table("grid");
+      c.yaw_points = static_cast<std::size_t>(t.integer("yaw_points", 1, 1001));
+      c.pitch_points = static_cast<std::size_t>(t.integer("pitch_points", 1, 1001));
     }
+    {
+      TomlReader t = root.table("requirement");
+      c.requirement_text = t.string("los_error");
+      try {
+        const units::Quantity q = units::parse_quantity(c.requirement_text);
+        if (q.dim == units::kPixel) {
+          c.requirement_in_pixels = true;
+        } else if (q.dim == units::kAngle) {
+          c.requirement_in_pixels = false;
+        } else {
+          throw Error("got " + units::dimension_name(q.dim));
+        }
+        if (!(q.value > 0)) throw Error("not positive");
+        c.requirement = q.value;
+      } catch (const Error& e) {
+        t.error("los_error", "\"" + c.requirement_text + "\"",
+                std::string("a positive angle or pixel count, e.g. \"1 px\" or \"18 arcsec\" (") +
+                    e.what() + ")");
+      }
+    }
+  } else {
+    read_gimbal_groups(root, c);
   }
   if (root.has("overrides")) {
     TomlReader t = root.table("overrides");

@@ -10,9 +10,13 @@
 ///   [requirement] los_error = "1 px" (or any angle)
 ///   [overrides] "dotted.model.key" = "value"      (optional)
 ///   [[sweep]]   parameter = "dotted.model.key", values = [...], samples (optional)
+///   kind = "gimbal_static_unbalance" replaces [grid]/[requirement] by test groups:
+///   [[group]]   name, positions, repeats, paper_rmse_torque, paper_rmse_angle
+///   [[group.load]] mass, radius, angle, paper_torque, paper_angle
 ///   [output]    plots = true, block = 1024, contribution_samples = 4096  (optional)
 #include <cstdint>
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -24,6 +28,26 @@ struct SweepSpec {
   std::string parameter;
   std::vector<std::string> values;
   std::size_t samples = 0;
+};
+
+/// A test mass of a gimbal loading test (Yang 2015, Tables 2-3).
+struct GimbalLoad {
+  double mass = 0.0;    ///< kg
+  double radius = 0.0;  ///< m
+  double angle = 0.0;   ///< rad
+  std::optional<double> paper_torque;  ///< what the paper measured (N m), for the report
+  std::optional<double> paper_angle;   ///< rad
+};
+
+/// A group of tests of one campaign: the same plan (number of positions), `repeats`
+/// runs of each load; statistics (RMSE against the loads) are taken per group.
+struct GimbalGroup {
+  std::string name;
+  std::size_t positions = 36;   ///< evenly spaced over 360 deg, from 0
+  std::size_t repeats = 1;
+  std::vector<GimbalLoad> loads;
+  std::optional<double> paper_rmse_torque;  ///< N m
+  std::optional<double> paper_rmse_angle;   ///< rad
 };
 
 struct StudyConfig {
@@ -44,6 +68,7 @@ struct StudyConfig {
   /// Contribution of each tolerance: the study re-run with that tolerance set to zero
   /// (same random numbers), with this many samples; 0 switches it off.
   std::size_t contribution_samples = 4096;
+  std::vector<GimbalGroup> groups;  ///< kind = "gimbal_static_unbalance"
 };
 
 /// Loads and validates a study file (not its model). Throws ValidationError.

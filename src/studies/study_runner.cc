@@ -8,6 +8,7 @@
 
 #include "core/units.h"
 #include "core/version.h"
+#include "studies/gimbal_runner.h"
 #include "studies/provenance.h"
 #include "studies/report.h"
 #include "studies/seeker_los_study.h"
@@ -105,6 +106,9 @@ json budget_json(const models::WangBudget& b, const SeekerModel& m) {
 }  // namespace
 
 std::string validate_study(const std::string& study_path) {
+  if (const StudyConfig c = load_study(study_path); c.kind == "gimbal_static_unbalance") {
+    return validate_gimbal_study(c);
+  }
   auto [cfg, model] = load_all(study_path);
   // Sweep values are validated by loading the model with each of them.
   std::vector<InputError> errors;
@@ -141,6 +145,9 @@ std::string validate_study(const std::string& study_path) {
 }
 
 json replay_sample(const std::string& study_path, std::size_t index, const RunOptions& options) {
+  if (const StudyConfig c = load_study(study_path); c.kind == "gimbal_static_unbalance") {
+    return replay_gimbal_sample(c, index, options);
+  }
   auto [cfg, model] = load_all(study_path);
   const std::size_t n = options.samples.value_or(cfg.samples);
   if (index >= n) throw Error("sample index " + std::to_string(index) + " is outside 0.." + std::to_string(n - 1));
@@ -173,6 +180,10 @@ json replay_sample(const std::string& study_path, std::size_t index, const RunOp
 }
 
 std::string run_study(const std::string& study_path, const RunOptions& options) {
+  if (const StudyConfig c = load_study(study_path); c.kind == "gimbal_static_unbalance") {
+    validate_gimbal_study(c);  // nothing runs until everything validates
+    return run_gimbal_study(c, options);
+  }
   auto [cfg, model] = load_all(study_path);
   validate_study(study_path);  // sweeps too: nothing runs until everything validates
   const std::size_t n = options.samples.value_or(cfg.samples);

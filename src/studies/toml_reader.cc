@@ -297,6 +297,11 @@ void TomlReader::accept_all() {
   }
 }
 
+void TomlReader::accept_notes() {
+  string("notes", "");
+  string("source", "");
+}
+
 void finish(const toml::table& root, ReadContext& ctx) {
   walk_unknown(root, "", ctx);
   if (!ctx.errors.empty()) {

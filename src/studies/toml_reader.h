@@ -76,6 +76,8 @@ class TomlReader {
   void error(const std::string& key, const std::string& value, const std::string& expected);
   /// Marks every key of this table (and below) as used (for free-form tables).
   void accept_all();
+  /// Reads the optional free-text keys `notes` and `source` (a model's reasoning).
+  void accept_notes();
   /// Line of key in the file (0 if absent).
   int line_of(const std::string& key) const;
   const std::string& prefix() const { return prefix_; }

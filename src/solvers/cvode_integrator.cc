@@ -1,0 +1,139 @@
+#include "solvers/cvode_integrator.h"
+
+#include <cvode/cvode.h>
+#include <nvector/nvector_serial.h>
+#include <sundials/sundials_context.h>
+#include <sunlinsol/sunlinsol_dense.h>
+#include <sunmatrix/sunmatrix_dense.h>
+
+#include <algorithm>
+
+#include "core/error.h"
+
+namespace poise::solvers {
+namespace {
+
+struct RhsBinding {
+  RhsFunction rhs;
+  void* user;
+};
+
+// The C callback: forwards raw arrays; the user function must not throw.
+int cvode_rhs(sunrealtype t, N_Vector y, N_Vector ydot, void* user_data) {
+  auto* b = static_cast<RhsBinding*>(user_data);
+  return b->rhs(t, N_VGetArrayPointer(y), N_VGetArrayPointer(ydot), b->user);
+}
+
+void check(int flag, const char* what, const std::string& detail = "") {
+  if (flag < 0) {
+    throw Error(std::string("CVODE ") + what + " failed (flag " + std::to_string(flag) + ")" +
+                (detail.empty() ? "" : ": " + detail));
+  }
+}
+
+}  // namespace
+
+// Keeps CVODE's message for the exception instead of printing it to stderr.
+void cvode_error_handler(int, const char* module, const char* function, char* msg, void* data) {
+  auto* self = static_cast<CvodeIntegrator*>(data);
+  self->last_error_ = std::string(module) + "::" + function + ": " + msg;
+}
+
+CvodeIntegrator::CvodeIntegrator(std::size_t n, RhsFunction rhs, void* user_data,
+                                 const CvodeOptions& opt)
+    : n_(n), opt_(opt) {
+  require(n > 0, "CVODE needs at least one state");
+  SUNContext ctx = nullptr;
+#if SUNDIALS_VERSION_MAJOR >= 7
+  check(SUNContext_Create(SUN_COMM_NULL, &ctx), "SUNContext_Create");
+#else
+  check(SUNContext_Create(nullptr, &ctx), "SUNContext_Create");
+#endif
+  ctx_ = ctx;
+  N_Vector y = N_VNew_Serial(static_cast<sunindextype>(n), ctx);
+  N_Vector tmp = N_VNew_Serial(static_cast<sunindextype>(n), ctx);
+  require(y && tmp, "CVODE: cannot allocate vectors");
+  N_VConst(0.0, y);
+  y_ = y;
+  tmp_ = tmp;
+  void* mem = CVodeCreate(CV_BDF, ctx);
+  require(mem != nullptr, "CVodeCreate failed");
+  mem_ = mem;
+  CVodeSetErrHandlerFn(mem, cvode_error_handler, this);
+  check(CVodeInit(mem, cvode_rhs, 0.0, y), "CVodeInit");
+  if (opt.atol_per_state.empty()) {
+    check(CVodeSStolerances(mem, opt.rtol, opt.atol), "CVodeSStolerances");
+  } else {
+    require(opt.atol_per_state.size() == n, "CVODE: atol_per_state must have one entry per state");
+    std::copy(opt.atol_per_state.begin(), opt.atol_per_state.end(), N_VGetArrayPointer(tmp));
+    check(CVodeSVtolerances(mem, opt.rtol, tmp), "CVodeSVtolerances");  // CVODE copies it
+  }
+  auto* binding = new RhsBinding{rhs, user_data};
+  check(CVodeSetUserData(mem, binding), "CVodeSetUserData");
+  SUNMatrix a = SUNDenseMatrix(static_cast<sunindextype>(n), static_cast<sunindextype>(n), ctx);
+  SUNLinearSolver ls = SUNLinSol_Dense(y, a, ctx);
+  require(a && ls, "CVODE: cannot create the dense linear solver");
+  a_ = a;
+  ls_ = ls;
+  check(CVodeSetLinearSolver(mem, ls, a), "CVodeSetLinearSolver");
+  check(CVodeSetMaxNumSteps(mem, opt.max_steps), "CVodeSetMaxNumSteps");
+  if (opt.max_step > 0) check(CVodeSetMaxStep(mem, opt.max_step), "CVodeSetMaxStep");
+  if (opt.max_order > 0) check(CVodeSetMaxOrd(mem, opt.max_order), "CVodeSetMaxOrd");
+}
+
+CvodeIntegrator::~CvodeIntegrator() {
+  if (mem_) {
+    void* ud = nullptr;
+    CVodeGetUserData(mem_, &ud);
+    delete static_cast<RhsBinding*>(ud);
+    CVodeFree(&mem_);
+  }
+  if (ls_) SUNLinSolFree(static_cast<SUNLinearSolver>(ls_));
+  if (a_) SUNMatDestroy(static_cast<SUNMatrix>(a_));
+  if (y_) N_VDestroy(static_cast<N_Vector>(y_));
+  if (tmp_) N_VDestroy(static_cast<N_Vector>(tmp_));
+  if (ctx_) {
+    SUNContext ctx = static_cast<SUNContext>(ctx_);
+    SUNContext_Free(&ctx);
+  }
+}
+
+void CvodeIntegrator::reset(double t0, std::span<const double> y0) {
+  require(y0.size() == n_, "CVODE reset: state of the wrong size");
+  N_Vector y = static_cast<N_Vector>(y_);
+  std::copy(y0.begin(), y0.end(), N_VGetArrayPointer(y));
+  check(CVodeReInit(mem_, t0, y), "CVodeReInit", last_error_);
+  t_ = t0;
+}
+
+double CvodeIntegrator::advance(double t_out, double t_stop, bool one_step) {
+  check(CVodeSetStopTime(mem_, t_stop), "CVodeSetStopTime", last_error_);
+  sunrealtype t = t_;
+  const int flag = CVode(mem_, t_out, static_cast<N_Vector>(y_), &t, one_step ? CV_ONE_STEP : CV_NORMAL);
+  check(flag, "CVode", last_error_);
+  t_ = t;
+  return t_;
+}
+
+void CvodeIntegrator::interpolate(double t, std::span<double> y) const {
+  require(y.size() == n_, "CVODE interpolate: buffer of the wrong size");
+  N_Vector tmp = static_cast<N_Vector>(tmp_);
+  check(CVodeGetDky(mem_, t, 0, tmp), "CVodeGetDky", last_error_);
+  const double* p = N_VGetArrayPointer(tmp);
+  std::copy(p, p + n_, y.begin());
+}
+
+std::span<const double> CvodeIntegrator::state() const {
+  return {N_VGetArrayPointer(static_cast<N_Vector>(y_)), n_};
+}
+
+CvodeStats CvodeIntegrator::stats() const {
+  long steps = 0, nfe = 0, nfe_ls = 0, nje = 0;
+  CVodeGetNumSteps(mem_, &steps);
+  CVodeGetNumRhsEvals(mem_, &nfe);
+  CVodeGetNumLinRhsEvals(mem_, &nfe_ls);
+  CVodeGetNumJacEvals(mem_, &nje);
+  return {steps, nfe + nfe_ls, nje};
+}
+
+}  // namespace poise::solvers

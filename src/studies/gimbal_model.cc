@@ -1,0 +1,139 @@
+#include "studies/gimbal_model.h"
+
+#include "core/units.h"
+#include "studies/model_overrides.h"
+
+namespace poise::studies {
+namespace {
+using units::Dimension;
+
+const Dimension kUnbalance{{1, 1, 0, 0, 0, 0}};          // kg m
+const Dimension kInertia{{2, 1, 0, 0, 0, 0}};            // kg m^2
+const Dimension kStiffness{{0, 1, -2, 0, 0, 0}};         // N/m
+const Dimension kDamping{{0, 1, -1, 0, 0, 0}};           // N s/m
+const Dimension kRotDamping{{2, 1, -1, 0, -1, 0}};       // N m s/rad
+const Dimension kRotStiffness{{2, 1, -2, 0, -1, 0}};     // N m/rad
+const Dimension kAngularRate{{0, 0, -1, 0, 1, 0}};       // rad/s
+const Dimension kTorquePerCurrent{{2, 1, -2, -1, 0, 0}}; // N m/A
+
+ScopedTolerance scoped(TomlReader& parent, const std::string& key, const Dimension& dim,
+                       const std::string& display_unit) {
+  ScopedTolerance t;
+  t.spec = read_tolerance(parent, key, dim, display_unit);
+  TomlReader sub = parent.table(key);
+  t.per_test = sub.choice("scope", {"unit", "test"}) == "test";
+  return t;
+}
+
+}  // namespace
+
+GimbalModel load_gimbal_model(const std::string& path,
+                              const std::map<std::string, std::string>& overrides) {
+  toml::table doc = parse_toml_file(path);
+  auto ctx = std::make_shared<ReadContext>();
+  ctx->file = path;
+  apply_overrides(doc, overrides, *ctx);
+  TomlReader root(doc, ctx);
+  GimbalModel m;
+  m.file = path;
+  {
+    TomlReader t = root.table("model");
+    t.choice("kind", {"gimbal_static_unbalance"});
+    m.name = t.string("name");
+    m.title = t.string("title", "");
+    m.source = t.string("source", "");
+  }
+  {
+    TomlReader t = root.table("rotor");
+    auto& r = m.rotor;
+    r.mass = t.quantity("mass", units::kMass, positive);
+    r.inertia = t.quantity("inertia", kInertia, positive);
+    r.support_stiffness = t.quantity("support_stiffness", kStiffness, positive);
+    r.support_damping = t.quantity("support_damping", kDamping, non_negative);
+    r.viscous_friction = t.quantity("viscous_friction", kRotDamping, non_negative);
+    r.coulomb_friction = t.quantity("coulomb_friction", units::kTorque, non_negative);
+    r.coulomb_smoothing = t.quantity("coulomb_smoothing", kAngularRate, positive);
+    r.torsion_stiffness = t.quantity("torsion_stiffness", kRotStiffness, non_negative);
+    r.torsion_zero = t.quantity("torsion_zero", units::kAngle);
+    t.accept_notes();
+  }
+  {
+    TomlReader t = root.table("motor");
+    m.plan.servo.kt_nominal = t.quantity("kt_nominal", kTorquePerCurrent, positive);
+    m.plan.servo.current_limit = t.quantity("current_limit", units::kCurrent, positive);
+    t.accept_notes();
+  }
+  {
+    TomlReader t = root.table("servo");
+    m.plan.servo.bandwidth_hz = t.quantity("bandwidth", units::kFrequency, positive);
+    m.plan.servo.damping = t.number("damping", [](double v) { return v > 0 ? "" : "a positive damping ratio"; });
+    m.plan.servo.integral_ratio = t.number("integral_ratio", [](double v) { return v >= 0 ? "" : "a ratio >= 0"; });
+    m.plan.servo.inertia_estimate = t.quantity("inertia_estimate", kInertia, positive);
+    t.accept_notes();
+  }
+  {
+    TomlReader t = root.table("oscillation");
+    auto& o = m.plan.oscillation;
+    o.rate_amplitude = t.quantity("rate_amplitude", kAngularRate, positive);
+    o.period = t.quantity("period", units::kTime, positive);
+    o.periods = static_cast<int>(t.integer("periods", 1, 1000));
+    o.lead_in = t.quantity("lead_in", units::kTime, non_negative);
+    o.settle_time = t.quantity("settle_time", units::kTime, non_negative);
+    o.centre = t.quantity("centre", units::kAngle);
+    const double swing = o.rate_amplitude * o.period / (2.0 * units::kPi);
+    if (std::abs(o.centre) + swing > 3.0 * units::kRadPerDeg + 1e-12) {
+      t.error("rate_amplitude", "", "an oscillation within +-3 deg (|centre| + A T / 2 pi = " +
+                                        units::format(std::abs(o.centre) + swing, "deg", 4) + ")");
+    }
+    t.accept_notes();
+  }
+  {
+    TomlReader t = root.table("acquisition");
+    auto& a = m.plan.acquisition;
+    a.rate_hz = t.quantity("rate", units::kFrequency, positive);
+    a.noise_rms = t.quantity("noise_rms", units::kCurrent, non_negative);
+    a.offset = t.quantity("offset", units::kCurrent);
+    a.offset_drift = t.quantity("offset_drift", units::kCurrent, non_negative);
+    a.adc_bits = static_cast<int>(t.integer("adc_bits", 4, 32));
+    a.adc_full_scale = t.quantity("adc_full_scale", units::kCurrent, positive);
+    t.accept_notes();
+  }
+  {
+    TomlReader t = root.table("turntable");
+    m.plan.positioning_error = t.quantity("positioning_error", units::kAngle, non_negative);
+    m.plan.gravity = t.quantity("gravity", units::kAcceleration, positive);
+    t.accept_notes();
+  }
+  {
+    TomlReader t = root.table("solver");
+    m.plan.solver.rtol = t.number("rtol", [](double v) { return v > 0 && v < 1 ? "" : "0 < rtol < 1"; });
+    const double atol_angle = t.quantity("atol_angle", units::kAngle, positive);
+    const double atol_length = t.quantity("atol_length", units::kLength, positive);
+    m.plan.solver.max_order = static_cast<int>(t.integer("max_order", 1, 5));
+    // phi, phidot, y, ydot, z, zdot, integral of the angle error
+    m.plan.solver.atol_per_state = {atol_angle, 10 * atol_angle, atol_length, 1e3 * atol_length,
+                                    atol_length, 1e3 * atol_length, 0.1 * atol_angle};
+    t.accept_notes();
+  }
+  m.counterweight_radius = root.table("counterweight").quantity("radius", units::kLength, positive);
+  {
+    TomlReader t = root.table("tolerances");
+    m.residual_unbalance = scoped(t, "residual_unbalance", kUnbalance, "g*mm");
+    m.runout = scoped(t, "runout", units::kLength, "um");
+    m.clump_mass = scoped(t, "clump_mass", units::kMass, "g");
+    m.hole_radius = scoped(t, "hole_radius", units::kLength, "mm");
+    m.hole_angle = scoped(t, "hole_angle", units::kAngle, "deg");
+    m.kt_calibration = scoped(t, "kt_calibration", units::kDimensionless, "");
+    m.kt_drift = scoped(t, "kt_drift", units::kDimensionless, "");
+    m.turntable_zero = scoped(t, "turntable_zero", units::kAngle, "deg");
+    m.gimbal_zero = scoped(t, "gimbal_zero", units::kAngle, "deg");
+    m.axis_tilt = scoped(t, "axis_tilt", units::kAngle, "arcmin");
+    m.counterweight_mass = scoped(t, "counterweight_mass", units::kDimensionless, "");
+    m.counterweight_radius_error = scoped(t, "counterweight_radius", units::kLength, "mm");
+    m.counterweight_angle = scoped(t, "counterweight_angle", units::kAngle, "deg");
+  }
+  finish(doc, *ctx);
+  return m;
+}
+
+}  // namespace poise::studies

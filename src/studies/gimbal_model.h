@@ -1,0 +1,46 @@
+#pragma once
+/// The gimbal static-unbalance test rig (models/gimbal_simulator_*.toml): the disk rotor
+/// of the axis under test, its instruments, the test plan, and every tolerance with its
+/// distribution and scope:
+///   scope = "unit"  drawn once per Monte Carlo sample (the hardware as built);
+///   scope = "test"  drawn again for every test run (repeat or load) of that sample.
+#include <map>
+#include <string>
+#include <vector>
+
+#include "procedures/static_unbalance_test.h"
+#include "studies/tolerance_spec.h"
+
+namespace poise::studies {
+
+struct ScopedTolerance {
+  ToleranceSpec spec;
+  bool per_test = false;  ///< scope = "test"
+};
+
+struct GimbalModel {
+  std::string file, name, title, source;
+  models::DiskRotorParams rotor;   ///< eccentricity comes from the sampled unbalance
+  procedures::TestPlan plan;       ///< positions are set per test group
+  double counterweight_radius = 0; ///< R of Eq. 23 (m)
+  // Tolerances (SI). Magnitudes for vectors; their directions are uniform.
+  ScopedTolerance residual_unbalance;   ///< simulator's own unbalance (kg m), random angle
+  ScopedTolerance runout;               ///< bearing run-out (m), random angle
+  ScopedTolerance clump_mass;           ///< deviation of the test mass (kg)
+  ScopedTolerance hole_radius;          ///< deviation of the hole radius (m)
+  ScopedTolerance hole_angle;           ///< deviation of the hole angle (rad)
+  ScopedTolerance kt_calibration;       ///< K_T true / nominal - 1
+  ScopedTolerance kt_drift;             ///< further K_T change between tests
+  ScopedTolerance turntable_zero;       ///< registration error of the turntable zero (rad)
+  ScopedTolerance gimbal_zero;          ///< registration error of the gimbal zero (rad)
+  ScopedTolerance axis_tilt;            ///< gimbal axis vs turntable axis (rad), random azimuth
+  ScopedTolerance counterweight_mass;   ///< placement: mass deviation (relative)
+  ScopedTolerance counterweight_radius_error;  ///< placement: radius deviation (m)
+  ScopedTolerance counterweight_angle;  ///< placement: angle deviation (rad)
+};
+
+/// Loads and validates; `overrides` replace values by dotted key. Throws ValidationError.
+GimbalModel load_gimbal_model(const std::string& path,
+                              const std::map<std::string, std::string>& overrides = {});
+
+}  // namespace poise::studies
