@@ -71,7 +71,7 @@ TEST(ModelFile, MissingUnit) {
   const std::string e = model_error(d, "bearing_span = \"82 mm\"", "bearing_span = \"82\"");
   EXPECT_NE(e.find("model.toml:"), std::string::npos) << e;
   EXPECT_NE(e.find("key 'yaw.bearing_span' = \"82\""), std::string::npos) << e;
-  EXPECT_NE(e.find("missing unit; expected a length"), std::string::npos) << e;
+  EXPECT_NE(e.find("expected a length, e.g. \"1 mm\" (missing unit)"), std::string::npos) << e;
 }
 
 TEST(ModelFile, BareNumberNamesTheMissingUnit) {

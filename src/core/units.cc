@@ -119,6 +119,19 @@ UnitDef parse_unit(std::string_view text) {
   return out;
 }
 
+// "m*kg", "m^2*kg*s^-2": the SI units of a dimension, in a form parse_quantity accepts.
+std::string si_composition(const Dimension& d) {
+  static const char* names[] = {"m", "kg", "s", "A", "rad", "px"};
+  std::string out;
+  for (std::size_t i = 0; i < d.e.size(); ++i) {
+    if (d.e[i] == 0) continue;
+    if (!out.empty()) out.append("*");
+    out.append(names[i]);
+    if (d.e[i] != 1) out.append("^").append(std::to_string(d.e[i]));
+  }
+  return out;
+}
+
 }  // namespace
 
 std::string dimension_name(const Dimension& d) {
@@ -134,15 +147,7 @@ std::string dimension_name(const Dimension& d) {
   if (d == kTorque) return "a torque";
   if (d == kPressure) return "a pressure";
   if (d == kAcceleration) return "an acceleration";
-  static const char* names[] = {"m", "kg", "s", "A", "rad", "px"};
-  std::string out;
-  for (std::size_t i = 0; i < d.e.size(); ++i) {
-    if (d.e[i] == 0) continue;
-    if (!out.empty()) out += "*";
-    out += names[i];
-    if (d.e[i] != 1) out.append("^").append(std::to_string(d.e[i]));
-  }
-  return std::string("a quantity in ").append(out);
+  return std::string("a quantity in ").append(si_composition(d));
 }
 
 std::string example_unit(const Dimension& d) {
@@ -158,7 +163,7 @@ std::string example_unit(const Dimension& d) {
   if (d == kPressure) return "MPa";
   if (d == kAcceleration) return "m/s^2";
   if (d == kDimensionless) return "";
-  return "SI units";
+  return si_composition(d);  // any other dimension: its SI units, which parse
 }
 
 Quantity parse_quantity(std::string_view text) {

@@ -1,0 +1,243 @@
+/// Benchmarks of one simulated static-unbalance measurement (Google Benchmark 1.7.1).
+///
+///   BM_Measurement36/rate:R  procedures::run_static_unbalance_test, 36 turntable positions,
+///                            each: settle, lead-in and 2 x 4 s oscillation of the full
+///                            nonlinear disk rotor under its PID servo (CVODE BDF2), current
+///                            sampled at R Hz, then the sine fit. R = 500 (the model's rate)
+///                            and 50: the difference is the acquisition loop's cost
+///                            (interpolation, one-step advances, ADC model).
+///                            Target: <= 50 ms per measurement per core.
+///   BM_Measurement18/rate:R  the same with 18 positions.
+///
+/// Rig: models/gimbal_simulator_yang2015.toml (studies::load_gimbal_model) with its own solver
+/// settings, noise and positioning error (fixed seed); load 25.81 g at r = 51 mm, 45.5 deg
+/// (the paper's 12.91 mN*m), added to the rotor as studies/gimbal_study.cc does (mass +
+/// clump, inertia + m r^2, eccentricity = U / m_total). Nominal K_T, no tilt, no zero errors.
+///
+/// Counters, per measurement: ms_per_meas (wall), steps, rhs_evals (incl. those of the
+/// finite-difference Jacobians), jac_evals, rhs_ns (mean cost of one RHS call) and
+/// rhs_share = rhs_evals x rhs_ns / measurement time.
+/// RHS cost, method: the RHS is internal to static_unbalance_test.cc, so replica_rhs below
+/// copies its arithmetic. At startup it drives a CvodeIntegrator through one position
+/// (theta = 45 deg) with the model's solver settings, recording the (t, y) of every call;
+/// then those recorded, realistic inputs are replayed through replica_rhs by function
+/// pointer and timed. Excluded: CVODE's C-callback shim (cvode_rhs + 2 N_VGetArrayPointer).
+///
+/// Accuracy check (once at startup, printed to stderr; counters of BM_Measurement36):
+/// the 36-point measurement without noise, offsets and positioning error at the model's
+/// tolerances and at rtol 1e-8, atol / 100; tol_torque_rel = |dMT_s| / load torque (must
+/// be < 1e-3), tol_phase_deg = |db|.
+///
+/// Run: poise_gimbal_bench --benchmark_min_time=1
+#include <benchmark/benchmark.h>
+
+#include <algorithm>
+#include <array>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <vector>
+
+#include "core/units.h"
+#include "models/disk_rotor.h"
+#include "procedures/static_unbalance_test.h"
+#include "sampling/random_stream.h"
+#include "solvers/cvode_integrator.h"
+#include "studies/gimbal_model.h"
+
+namespace {
+
+namespace fs = std::filesystem;
+namespace pr = poise::procedures;
+using poise::units::kPi;
+using poise::units::kRadPerDeg;
+using Clock = std::chrono::steady_clock;
+
+constexpr double kClump = 25.81e-3, kRadius = 0.051, kAngle = 45.5 * kRadPerDeg;
+constexpr std::uint64_t kSeed = 2015;
+
+fs::path source_dir() {  // $POISE_SOURCE_DIR, else bench/.. (__FILE__ is absolute)
+  if (const char* env = std::getenv("POISE_SOURCE_DIR"); env != nullptr && *env != '\0') return env;
+  return fs::path(__FILE__).parent_path().parent_path();
+}
+
+double seconds_since(Clock::time_point t0) {
+  return std::chrono::duration<double>(Clock::now() - t0).count();
+}
+
+// ---- REPLICA of the right-hand side of procedures/static_unbalance_test.cc, FOR TIMING
+// ONLY (reference, PID + feed-forward clamped current, disk_accelerations, conditional
+// integral, finiteness check). Keep in step with that file. `record` is null when timed.
+struct RhsReplica {
+  poise::models::DiskRotorParams disk;
+  poise::models::GimbalGravity gravity;
+  double kp = 0, kd = 0, ki = 0, j_ff = 0, kt_nominal = 1, kt_true = 1, i_max = 1;
+  double t0 = 0, omega = 1, amplitude = 0, rate_amplitude = 0, centre = 0;
+  long calls = 0;
+  std::vector<std::array<double, 8>>* record = nullptr;  // (t, y) of every call
+};
+
+int replica_rhs(double t, const double* y, double* ydot, void* user) {
+  auto* c = static_cast<RhsReplica*>(user);
+  ++c->calls;
+  if (c->record) c->record->push_back({t, y[0], y[1], y[2], y[3], y[4], y[5], y[6]});
+  double phi_r = c->centre - c->amplitude, rate_r = 0.0, acc_r = 0.0;
+  if (t >= c->t0) {
+    const double w = c->omega * (t - c->t0);
+    phi_r = c->centre - c->amplitude * std::cos(w);
+    rate_r = c->rate_amplitude * std::sin(w);
+    acc_r = c->rate_amplitude * c->omega * std::cos(w);
+  }
+  const double cmd = (c->kp * (phi_r - y[0]) + c->kd * (rate_r - y[1]) + c->ki * y[6] + c->j_ff * acc_r) /
+                     c->kt_nominal;
+  const double i = std::clamp(cmd, -c->i_max, c->i_max);
+  const poise::models::DiskState s{y[0], y[1], y[2], y[3], y[4], y[5]};
+  const auto acc = poise::models::disk_accelerations(c->disk, c->gravity, s, c->kt_true * i);
+  ydot[0] = y[1], ydot[1] = acc[0], ydot[2] = y[3], ydot[3] = acc[1], ydot[4] = y[5], ydot[5] = acc[2];
+  ydot[6] = i != cmd ? 0.0 : phi_r - y[0];
+  for (int k = 0; k < 7; ++k) {
+    if (!std::isfinite(ydot[k])) return 1;
+  }
+  return 0;
+}
+
+pr::TestPlan make_plan(const poise::studies::GimbalModel& m, int positions, double rate_hz) {
+  pr::TestPlan plan = m.plan;  // the model's servo, oscillation, acquisition and solver
+  plan.positions.clear();
+  for (int p = 0; p < positions; ++p) plan.positions.push_back(2.0 * kPi * p / positions);
+  plan.acquisition.rate_hz = rate_hz;
+  return plan;
+}
+
+pr::MeasurementResult measure(const pr::TestPlan& plan, const pr::GimbalTruth& truth) {
+  pr::StaticUnbalanceWorkspace ws(plan.solver);
+  poise::sampling::RandomStream rs(kSeed, poise::sampling::StreamId::kProcedure, 0);
+  return pr::run_static_unbalance_test(plan, truth, rs, ws);
+}
+
+// Mean cost (ns) of one RHS call, by the record-and-replay method described above.
+double rhs_cost_ns(const pr::TestPlan& plan, const pr::GimbalTruth& truth, long* calls_per_position) {
+  const pr::ServoConfig& sv = plan.servo;
+  const pr::OscillationConfig& osc = plan.oscillation;
+  RhsReplica c;  // the same set-up as run_static_unbalance_test
+  const double wc = 2.0 * kPi * sv.bandwidth_hz;
+  c.disk = truth.disk;
+  c.gravity = poise::models::gravity_in_gimbal(plan.gravity, 45.0 * kRadPerDeg);
+  c.kp = sv.inertia_estimate * wc * wc, c.kd = 2.0 * sv.damping * sv.inertia_estimate * wc;
+  c.ki = c.kp * wc * sv.integral_ratio, c.j_ff = sv.inertia_estimate;
+  c.kt_nominal = sv.kt_nominal, c.kt_true = truth.kt_true, c.i_max = sv.current_limit;
+  c.omega = 2.0 * kPi / osc.period, c.rate_amplitude = osc.rate_amplitude;
+  c.amplitude = osc.rate_amplitude / c.omega, c.centre = osc.centre, c.t0 = osc.settle_time;
+  std::vector<std::array<double, 8>> rec;
+  c.record = &rec;
+  poise::solvers::CvodeIntegrator integ(7, replica_rhs, &c, plan.solver);
+  const auto defl = poise::models::static_deflection(c.disk, c.gravity);
+  const double y0[7] = {osc.centre - c.amplitude, 0.0, defl[0], 0.0, defl[1], 0.0, 0.0};
+  const double t2 = osc.settle_time + osc.lead_in + osc.periods * osc.period;
+  integ.reset(0.0, y0);
+  integ.advance(c.t0, c.t0, false);
+  integ.advance(t2, t2, false);
+  *calls_per_position = c.calls;
+  c.record = nullptr;
+  int (*volatile f)(double, const double*, double*, void*) = replica_rhs;  // no inlining
+  double ydot[7];
+  long n = 0;
+  const auto start = Clock::now();
+  do {
+    for (const auto& r : rec) {
+      f(r[0], r.data() + 1, ydot, &c);
+      benchmark::DoNotOptimize(ydot);
+    }
+    n += static_cast<long>(rec.size());
+  } while (seconds_since(start) < 0.3);
+  return seconds_since(start) / static_cast<double>(n) * 1e9;
+}
+
+// Built once on first use, never inside a timed loop.
+struct Setup {
+  poise::studies::GimbalModel model;
+  pr::GimbalTruth truth;
+  double load_torque = 0, rhs_ns = 0, torque_rel = 0, phase_deg = 0;
+  long replica_calls = 0;
+
+  Setup()
+      : model(poise::studies::load_gimbal_model(
+            (source_dir() / "models" / "gimbal_simulator_yang2015.toml").string())) {
+    const double m_total = model.rotor.mass + kClump;
+    truth.disk = model.rotor;
+    truth.disk.mass = m_total;
+    truth.disk.inertia = model.rotor.inertia + kClump * kRadius * kRadius;
+    truth.disk.eccentricity = kClump * kRadius / m_total;
+    truth.disk.eccentricity_angle = kAngle;
+    truth.kt_true = model.plan.servo.kt_nominal;
+    load_torque = kClump * kRadius * model.plan.gravity;
+    const pr::TestPlan plan = make_plan(model, 36, model.plan.acquisition.rate_hz);
+    rhs_ns = rhs_cost_ns(plan, truth, &replica_calls);
+    // Accuracy: noise, offsets and positioning error off; model vs tightened tolerances.
+    pr::TestPlan quiet = plan;
+    quiet.acquisition.noise_rms = quiet.acquisition.offset = quiet.acquisition.offset_drift = 0.0;
+    quiet.positioning_error = 0.0;
+    pr::TestPlan tight = quiet;
+    tight.solver.rtol = 1e-8;
+    for (double& a : tight.solver.atol_per_state) a /= 100.0;
+    tight.solver.atol /= 100.0;
+    const auto t_tight = Clock::now();
+    const pr::MeasurementResult a = measure(quiet, truth), b = measure(tight, truth);
+    const double s_tight = seconds_since(t_tight);
+    torque_rel = std::abs(a.fit.amplitude - b.fit.amplitude) / load_torque;
+    phase_deg = std::abs(std::remainder(a.fit.phase - b.fit.phase, 2.0 * kPi)) / kRadPerDeg;
+    std::fprintf(stderr,
+                 "accuracy (36 positions, noise off): MT_s %.6f mN*m (model tol) vs %.6f (rtol 1e-8, "
+                 "atol/100; %ld steps, %.0f ms for both runs)\n  |dMT_s| / load = %.2e (limit 1e-3) %s,"
+                 " |d phase| = %.2e deg; load torque %.4f mN*m, fit/load %.5f\n"
+                 "RHS replica: %.1f ns/call, %ld calls for one position (procedure: %ld / 36)\n",
+                 a.fit.amplitude * 1e3, b.fit.amplitude * 1e3, b.solver.steps, s_tight * 1e3, torque_rel,
+                 torque_rel < 1e-3 ? "OK" : "FAILED", phase_deg, load_torque * 1e3,
+                 a.fit.amplitude / load_torque, rhs_ns, replica_calls, a.solver.rhs_evals);
+  }
+};
+
+const Setup& setup() {
+  static const Setup s;
+  return s;
+}
+
+void measurement(benchmark::State& state, int positions) {
+  const Setup& s = setup();
+  const pr::TestPlan plan = make_plan(s.model, positions, static_cast<double>(state.range(0)));
+  pr::StaticUnbalanceWorkspace ws(plan.solver);  // per thread, as the study keeps it
+  pr::MeasurementResult m;
+  double seconds = 0;
+  try {
+    for (auto _ : state) {
+      poise::sampling::RandomStream rs(kSeed, poise::sampling::StreamId::kProcedure, 0);
+      const auto t0 = Clock::now();
+      m = pr::run_static_unbalance_test(plan, s.truth, rs, ws);
+      seconds += seconds_since(t0);
+      benchmark::DoNotOptimize(m.fit.amplitude);
+    }
+  } catch (const std::exception& e) {
+    state.SkipWithError(e.what());
+    return;
+  }
+  const double per = seconds / static_cast<double>(state.iterations());
+  state.counters["ms_per_meas"] = per * 1e3;
+  state.counters["steps"] = static_cast<double>(m.solver.steps);
+  state.counters["rhs_evals"] = static_cast<double>(m.solver.rhs_evals);
+  state.counters["jac_evals"] = static_cast<double>(m.solver.jac_evals);
+  state.counters["rhs_ns"] = s.rhs_ns;
+  state.counters["rhs_share"] = static_cast<double>(m.solver.rhs_evals) * s.rhs_ns * 1e-9 / per;
+  if (positions == 36) {
+    state.counters["tol_torque_rel"] = s.torque_rel;
+    state.counters["tol_phase_deg"] = s.phase_deg;
+  }
+}
+
+void BM_Measurement36(benchmark::State& state) { measurement(state, 36); }
+void BM_Measurement18(benchmark::State& state) { measurement(state, 18); }
+BENCHMARK(BM_Measurement36)->ArgName("rate")->Arg(500)->Arg(50)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_Measurement18)->ArgName("rate")->Arg(500)->Arg(50)->Unit(benchmark::kMillisecond);
+
+}  // namespace
