@@ -16,9 +16,16 @@ A study file (TOML) names a model file, how to sample its tolerances and what to
 Every value carries its unit ("0.004 mm", "82 mm", "30 deg", "4 arcsec"); unknown keys,
 missing units and non-physical values are refused with file, line, key and what was expected.
 
+Study kinds: seeker_los (LOS error of a two-axis seeker from shafting tolerances, Wang 2011)
+and gimbal_static_unbalance (the static-unbalance test of a gimbal axis simulated end to end
+with SUNDIALS: turntable positions, servo-driven oscillation, current integration, sine fit,
+counterweight; Yang 2015).
+
 Examples:
   poise validate studies/los_seeker_wang2011.toml
   poise run studies/los_seeker_wang2011.toml
+  poise run studies/yang2015_repeatability.toml --samples 8
+  poise fit ../shared/data/yang2015/table1_loading_test_36pt.csv --json
   poise run studies/los_seeker_wang2011.toml --samples 100000 --seed 7 --threads 2 --out /tmp/los
   poise replay studies/los_seeker_wang2011.toml --sample 42
 
