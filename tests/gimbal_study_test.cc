@@ -94,7 +94,8 @@ TEST(GimbalStudy, IdealRigBalancesWithinTheNoise) {
       {"axis_tilt", "0 deg"}, {"counterweight_mass", "0"}, {"counterweight_radius", "0 mm"},
       {"counterweight_angle", "0 deg"}, {"kt_calibration", "0"}};
   for (const auto& [k, v] : zeros) ov.append("\"tolerances.").append(k).append(".tolerance\" = \"").append(v).append("\"\n");
-  for (const char* k : {"acquisition.noise_rms", "acquisition.offset", "acquisition.offset_drift"}) {
+  for (const char* k : {"acquisition.noise_rms", "acquisition.offset", "acquisition.offset_drift",
+                        "acquisition.offset_noise"}) {
     ov.append("\"").append(k).append("\" = \"0 A\"\n");
   }
   ov += "\"turntable.positioning_error\" = \"0 deg\"\n\"rotor.coulomb_friction\" = \"0 N*m\"\n";

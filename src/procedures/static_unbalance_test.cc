@@ -145,6 +145,7 @@ MeasurementResult run_static_unbalance_test(const TestPlan& plan, const GimbalTr
     pr.theta_nominal = theta_nominal;
     pr.theta_true = theta_nominal + truth.turntable_zero + plan.positioning_error * normal.next();
     offset += acq.offset_drift * normal.next();
+    const double window_offset = offset + acq.offset_noise * normal.next();
     c.gravity = models::gravity_in_gimbal(plan.gravity, pr.theta_true, truth.axis_tilt,
                                           truth.axis_tilt_azimuth);
     // Locked at the start angle, supports deflected statically, servo integrator empty.
@@ -168,7 +169,7 @@ MeasurementResult run_static_unbalance_test(const TestPlan& plan, const GimbalTr
       const double i_true = drive_current(c, ref, y.data(), &sat);
       pr.saturated = pr.saturated || sat;
       // Sensor: offset and white noise, then the ADC's range and resolution.
-      double i_meas = i_true + offset + (acq.noise_rms > 0 ? acq.noise_rms * normal.next() : 0.0);
+      double i_meas = i_true + window_offset + (acq.noise_rms > 0 ? acq.noise_rms * normal.next() : 0.0);
       i_meas = std::clamp(std::round(i_meas / lsb) * lsb, -acq.adc_full_scale, acq.adc_full_scale);
       sum_i += i_meas;
       const double e = ref.phi - y[0];

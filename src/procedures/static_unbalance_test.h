@@ -47,6 +47,8 @@ struct AcquisitionConfig {
   double noise_rms = 0.0;       ///< white current noise (A)
   double offset = 0.0;          ///< current-sensor offset at the first position (A)
   double offset_drift = 0.0;    ///< random-walk step of the offset per position (A, 1 sigma)
+  double offset_noise = 0.0;    ///< the sensor's low-frequency (1/f) noise as it averages over
+                                ///< one position's window: white from position to position (A)
   int adc_bits = 16;
   double adc_full_scale = 2.0;  ///< +- range (A)
 };

@@ -94,6 +94,7 @@ GimbalModel load_gimbal_model(const std::string& path,
     a.noise_rms = t.quantity("noise_rms", units::kCurrent, non_negative);
     a.offset = t.quantity("offset", units::kCurrent);
     a.offset_drift = t.quantity("offset_drift", units::kCurrent, non_negative);
+    a.offset_noise = t.quantity("offset_noise", units::kCurrent, non_negative);
     a.adc_bits = static_cast<int>(t.integer("adc_bits", 4, 32));
     a.adc_full_scale = t.quantity("adc_full_scale", units::kCurrent, positive);
     t.accept_notes();

@@ -77,7 +77,7 @@ GimbalStudy::GimbalStudy(StudyConfig config, GimbalModel model, std::size_t samp
   for (const auto& g : config_.groups) {
     for (const char* o : {"rmse_torque_mNm", "rmse_angle_deg", "mean_torque_error_mNm",
                           "mean_angle_error_deg", "sd_torque_mNm", "sd_angle_deg", "mean_offset_mNm",
-                          "max_residual_gmm", "max_swing_deg"}) {
+                          "max_residual_gmm", "max_swing_deg", "mean_fit_rmse_mNm"}) {
       output_names_.push_back(g.name + "_" + o);
     }
   }
@@ -128,7 +128,7 @@ void GimbalStudy::compute(std::size_t i, Workspace& ws, GimbalSampleResult& out)
       for (std::size_t p = 0; p < grp.positions; ++p) {
         plan.positions.push_back(2.0 * kPi * static_cast<double>(p) / static_cast<double>(grp.positions));
       }
-      double se_t = 0, se_a = 0, sum_t = 0, sum_a = 0, sum_mk = 0, max_res = 0, max_phi = 0;
+      double se_t = 0, se_a = 0, sum_t = 0, sum_a = 0, sum_mk = 0, max_res = 0, max_phi = 0, sum_fit_rmse = 0;
       std::size_t n = 0;
       for (std::size_t r = 0; r < grp.repeats; ++r) {
         for (const auto& load : grp.loads) {
@@ -165,6 +165,7 @@ void GimbalStudy::compute(std::size_t i, Workspace& ws, GimbalSampleResult& out)
           sum_t += et;
           sum_a += ea;
           sum_mk += m.fit.offset;
+          sum_fit_rmse += m.fit.rmse;
           // Eq. 23 counterweight opposite the fitted unbalance, placed with its tolerances.
           const double m_cw = procedures::counterweight_mass(m.fit.amplitude, model_.counterweight_radius, g0) *
                               (1.0 + d.cw_mass);
@@ -182,7 +183,8 @@ void GimbalStudy::compute(std::size_t i, Workspace& ws, GimbalSampleResult& out)
       const double sd_a = n > 1 ? std::sqrt(std::max(0.0, (se_a - nn * mean_a * mean_a) / (nn - 1))) : 0.0;
       const double deg = units::kRadPerDeg;
       const double values[] = {std::sqrt(se_t / nn) * 1e3, std::sqrt(se_a / nn) / deg, mean_t * 1e3, mean_a / deg,
-                               sd_t * 1e3, sd_a / deg, sum_mk / nn * 1e3, max_res * 1e6, max_phi / deg};
+                               sd_t * 1e3, sd_a / deg, sum_mk / nn * 1e3, max_res * 1e6, max_phi / deg,
+                               sum_fit_rmse / nn * 1e3};
       for (double v : values) out.outputs[o++] = v;
     }
   } catch (const std::exception& e) {

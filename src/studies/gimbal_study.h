@@ -12,6 +12,7 @@
 ///   g_max_residual_gmm                      largest residual unbalance after the
 ///                                           counterweight, about the disk's geometric centre
 ///   g_max_swing_deg                         largest |phi - phi_c| reached (the +-3 deg check)
+///   g_mean_fit_rmse_mNm                     RMS residual of the Eq. 22 fit (Table 1: 0.23)
 #include <functional>
 #include <span>
 #include <string>
