@@ -1,33 +1,27 @@
 /// Benchmarks of one simulated static-unbalance measurement (Google Benchmark 1.7.1).
 ///
-///   BM_Measurement36/rate:R  procedures::run_static_unbalance_test, 36 turntable positions,
-///                            each: settle, lead-in and 2 x 4 s oscillation of the full
-///                            nonlinear disk rotor under its PID servo (CVODE BDF2), current
-///                            sampled at R Hz, then the sine fit. R = 500 (the model's rate)
-///                            and 50: the difference is the acquisition loop's cost
-///                            (interpolation, one-step advances, ADC model).
-///                            Target: <= 50 ms per measurement per core.
+///   BM_Measurement36/rate:R  procedures::run_static_unbalance_test with 36 turntable positions
+///     (each: settle, lead-in, 2 x 4 s oscillation of the full nonlinear disk rotor under its
+///     PID servo, CVODE BDF2), current sampled at R Hz, then the sine fit. R = 500 (the
+///     model's rate) and 50: the difference is the acquisition loop's share (per-sample
+///     interpolation, reference, ADC). Target: <= 50 ms per measurement per core.
 ///   BM_Measurement18/rate:R  the same with 18 positions.
+/// Rig: models/gimbal_simulator_yang2015.toml (load_gimbal_model; found via $POISE_SOURCE_DIR
+/// or bench/..) with its solver settings, noise and positioning error (fixed seed); load
+/// 25.81 g at r = 51 mm, 45.5 deg (12.91 mN*m); nominal K_T, no tilt, no zero errors.
 ///
-/// Rig: models/gimbal_simulator_yang2015.toml (studies::load_gimbal_model) with its own solver
-/// settings, noise and positioning error (fixed seed); load 25.81 g at r = 51 mm, 45.5 deg
-/// (the paper's 12.91 mN*m), added to the rotor as studies/gimbal_study.cc does (mass +
-/// clump, inertia + m r^2, eccentricity = U / m_total). Nominal K_T, no tilt, no zero errors.
+/// Counters per measurement: ms_per_meas (wall), steps, rhs_evals (incl. finite-difference
+/// Jacobians), jac_evals, rhs_ns (mean cost of one RHS call), rhs_share = rhs_evals x rhs_ns
+/// / ms_per_meas. RHS cost method: the RHS is internal to static_unbalance_test.cc, so
+/// replica_rhs copies its arithmetic; at startup it drives a CvodeIntegrator through one
+/// position (theta = 45 deg, model solver settings) recording the (t, y) of every call, and
+/// those realistic inputs are then replayed through a function pointer and timed. Not
+/// counted: CVODE's C-callback shim (cvode_rhs, 2 x N_VGetArrayPointer), a few ns per call.
 ///
-/// Counters, per measurement: ms_per_meas (wall), steps, rhs_evals (incl. those of the
-/// finite-difference Jacobians), jac_evals, rhs_ns (mean cost of one RHS call) and
-/// rhs_share = rhs_evals x rhs_ns / measurement time.
-/// RHS cost, method: the RHS is internal to static_unbalance_test.cc, so replica_rhs below
-/// copies its arithmetic. At startup it drives a CvodeIntegrator through one position
-/// (theta = 45 deg) with the model's solver settings, recording the (t, y) of every call;
-/// then those recorded, realistic inputs are replayed through replica_rhs by function
-/// pointer and timed. Excluded: CVODE's C-callback shim (cvode_rhs + 2 N_VGetArrayPointer).
-///
-/// Accuracy check (once at startup, printed to stderr; counters of BM_Measurement36):
-/// the 36-point measurement without noise, offsets and positioning error at the model's
-/// tolerances and at rtol 1e-8, atol / 100; tol_torque_rel = |dMT_s| / load torque (must
-/// be < 1e-3), tol_phase_deg = |db|.
-///
+/// Accuracy (once at startup, printed to stderr; counters of BM_Measurement36): the 36-point
+/// measurement with every acquisition noise and offset term at its default 0 and no
+/// positioning error (ADC kept), at the model's tolerances and at rtol 1e-8, atol / 100:
+/// tol_torque_rel = |dMT_s| / load torque (must be < 1e-3), tol_phase_deg = |db|.
 /// Run: poise_gimbal_bench --benchmark_min_time=1
 #include <benchmark/benchmark.h>
 
@@ -49,7 +43,6 @@
 
 namespace {
 
-namespace fs = std::filesystem;
 namespace pr = poise::procedures;
 using poise::units::kPi;
 using poise::units::kRadPerDeg;
@@ -58,14 +51,12 @@ using Clock = std::chrono::steady_clock;
 constexpr double kClump = 25.81e-3, kRadius = 0.051, kAngle = 45.5 * kRadPerDeg;
 constexpr std::uint64_t kSeed = 2015;
 
-fs::path source_dir() {  // $POISE_SOURCE_DIR, else bench/.. (__FILE__ is absolute)
+std::filesystem::path source_dir() {  // $POISE_SOURCE_DIR, else bench/.. (__FILE__ is absolute)
   if (const char* env = std::getenv("POISE_SOURCE_DIR"); env != nullptr && *env != '\0') return env;
-  return fs::path(__FILE__).parent_path().parent_path();
+  return std::filesystem::path(__FILE__).parent_path().parent_path();
 }
 
-double seconds_since(Clock::time_point t0) {
-  return std::chrono::duration<double>(Clock::now() - t0).count();
-}
+double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
 // ---- REPLICA of the right-hand side of procedures/static_unbalance_test.cc, FOR TIMING
 // ONLY (reference, PID + feed-forward clamped current, disk_accelerations, conditional
@@ -97,9 +88,7 @@ int replica_rhs(double t, const double* y, double* ydot, void* user) {
   const auto acc = poise::models::disk_accelerations(c->disk, c->gravity, s, c->kt_true * i);
   ydot[0] = y[1], ydot[1] = acc[0], ydot[2] = y[3], ydot[3] = acc[1], ydot[4] = y[5], ydot[5] = acc[2];
   ydot[6] = i != cmd ? 0.0 : phi_r - y[0];
-  for (int k = 0; k < 7; ++k) {
-    if (!std::isfinite(ydot[k])) return 1;
-  }
+  for (int k = 0; k < 7; ++k) if (!std::isfinite(ydot[k])) return 1;
   return 0;
 }
 
@@ -123,14 +112,13 @@ double rhs_cost_ns(const pr::TestPlan& plan, const pr::GimbalTruth& truth, long*
   const pr::OscillationConfig& osc = plan.oscillation;
   RhsReplica c;  // the same set-up as run_static_unbalance_test
   const double wc = 2.0 * kPi * sv.bandwidth_hz;
-  c.disk = truth.disk;
-  c.gravity = poise::models::gravity_in_gimbal(plan.gravity, 45.0 * kRadPerDeg);
+  c.disk = truth.disk, c.gravity = poise::models::gravity_in_gimbal(plan.gravity, 45.0 * kRadPerDeg);
   c.kp = sv.inertia_estimate * wc * wc, c.kd = 2.0 * sv.damping * sv.inertia_estimate * wc;
   c.ki = c.kp * wc * sv.integral_ratio, c.j_ff = sv.inertia_estimate;
   c.kt_nominal = sv.kt_nominal, c.kt_true = truth.kt_true, c.i_max = sv.current_limit;
   c.omega = 2.0 * kPi / osc.period, c.rate_amplitude = osc.rate_amplitude;
   c.amplitude = osc.rate_amplitude / c.omega, c.centre = osc.centre, c.t0 = osc.settle_time;
-  std::vector<std::array<double, 8>> rec;
+  std::vector<std::array<double, 8>> rec;  // recorded inputs, then replayed
   c.record = &rec;
   poise::solvers::CvodeIntegrator integ(7, replica_rhs, &c, plan.solver);
   const auto defl = poise::models::static_deflection(c.disk, c.gravity);
@@ -139,17 +127,13 @@ double rhs_cost_ns(const pr::TestPlan& plan, const pr::GimbalTruth& truth, long*
   integ.reset(0.0, y0);
   integ.advance(c.t0, c.t0, false);
   integ.advance(t2, t2, false);
-  *calls_per_position = c.calls;
-  c.record = nullptr;
+  *calls_per_position = c.calls, c.record = nullptr;
   int (*volatile f)(double, const double*, double*, void*) = replica_rhs;  // no inlining
   double ydot[7];
-  long n = 0;
+  long n = 0;  // calls timed
   const auto start = Clock::now();
   do {
-    for (const auto& r : rec) {
-      f(r[0], r.data() + 1, ydot, &c);
-      benchmark::DoNotOptimize(ydot);
-    }
+    for (const auto& r : rec) f(r[0], r.data() + 1, ydot, &c), benchmark::DoNotOptimize(ydot);
     n += static_cast<long>(rec.size());
   } while (seconds_since(start) < 0.3);
   return seconds_since(start) / static_cast<double>(n) * 1e9;
@@ -165,11 +149,10 @@ struct Setup {
   Setup()
       : model(poise::studies::load_gimbal_model(
             (source_dir() / "models" / "gimbal_simulator_yang2015.toml").string())) {
-    const double m_total = model.rotor.mass + kClump;
-    truth.disk = model.rotor;
-    truth.disk.mass = m_total;
+    truth.disk = model.rotor;  // the clump on the rotor, as studies/gimbal_study.cc adds it
+    truth.disk.mass = model.rotor.mass + kClump;
     truth.disk.inertia = model.rotor.inertia + kClump * kRadius * kRadius;
-    truth.disk.eccentricity = kClump * kRadius / m_total;
+    truth.disk.eccentricity = kClump * kRadius / truth.disk.mass;
     truth.disk.eccentricity_angle = kAngle;
     truth.kt_true = model.plan.servo.kt_nominal;
     load_torque = kClump * kRadius * model.plan.gravity;
@@ -177,25 +160,26 @@ struct Setup {
     rhs_ns = rhs_cost_ns(plan, truth, &replica_calls);
     // Accuracy: noise, offsets and positioning error off; model vs tightened tolerances.
     pr::TestPlan quiet = plan;
-    quiet.acquisition.noise_rms = quiet.acquisition.offset = quiet.acquisition.offset_drift = 0.0;
-    quiet.positioning_error = 0.0;
+    quiet.acquisition = pr::AcquisitionConfig{};  // every noise and offset term 0 by default
+    quiet.acquisition.rate_hz = plan.acquisition.rate_hz, quiet.positioning_error = 0.0;
+    quiet.acquisition.adc_bits = plan.acquisition.adc_bits;
+    quiet.acquisition.adc_full_scale = plan.acquisition.adc_full_scale;
     pr::TestPlan tight = quiet;
-    tight.solver.rtol = 1e-8;
+    tight.solver.rtol = 1e-8, tight.solver.atol /= 100.0;
     for (double& a : tight.solver.atol_per_state) a /= 100.0;
-    tight.solver.atol /= 100.0;
-    const auto t_tight = Clock::now();
+    const auto t_acc = Clock::now();
     const pr::MeasurementResult a = measure(quiet, truth), b = measure(tight, truth);
-    const double s_tight = seconds_since(t_tight);
+    const double s_tight = seconds_since(t_acc);
     torque_rel = std::abs(a.fit.amplitude - b.fit.amplitude) / load_torque;
     phase_deg = std::abs(std::remainder(a.fit.phase - b.fit.phase, 2.0 * kPi)) / kRadPerDeg;
     std::fprintf(stderr,
-                 "accuracy (36 positions, noise off): MT_s %.6f mN*m (model tol) vs %.6f (rtol 1e-8, "
-                 "atol/100; %ld steps, %.0f ms for both runs)\n  |dMT_s| / load = %.2e (limit 1e-3) %s,"
-                 " |d phase| = %.2e deg; load torque %.4f mN*m, fit/load %.5f\n"
-                 "RHS replica: %.1f ns/call, %ld calls for one position (procedure: %ld / 36)\n",
-                 a.fit.amplitude * 1e3, b.fit.amplitude * 1e3, b.solver.steps, s_tight * 1e3, torque_rel,
-                 torque_rel < 1e-3 ? "OK" : "FAILED", phase_deg, load_torque * 1e3,
-                 a.fit.amplitude / load_torque, rhs_ns, replica_calls, a.solver.rhs_evals);
+                 "accuracy (36 positions, noise off): MT_s %.6f mN*m at the model's tolerances (%ld steps),"
+                 " %.6f at rtol 1e-8, atol/100 (%ld steps; both runs %.0f ms)\n  |dMT_s| / load = %.2e"
+                 " (limit 1e-3: %s), |d phase| = %.2e deg; load %.4f mN*m\n  RHS replica: %.1f ns/call;"
+                 " %ld calls for one position (the procedure: %.0f per position)\n",
+                 a.fit.amplitude * 1e3, a.solver.steps, b.fit.amplitude * 1e3, b.solver.steps, s_tight * 1e3,
+                 torque_rel, torque_rel < 1e-3 ? "OK" : "FAILED", phase_deg, load_torque * 1e3, rhs_ns,
+                 replica_calls, static_cast<double>(a.solver.rhs_evals) / 36.0);
   }
 };
 
@@ -204,17 +188,19 @@ const Setup& setup() {
   return s;
 }
 
+// One complete measurement per iteration, the workspace kept as a study thread keeps it.
 void measurement(benchmark::State& state, int positions) {
-  const Setup& s = setup();
-  const pr::TestPlan plan = make_plan(s.model, positions, static_cast<double>(state.range(0)));
-  pr::StaticUnbalanceWorkspace ws(plan.solver);  // per thread, as the study keeps it
+  const Setup* sp = nullptr;
   pr::MeasurementResult m;
   double seconds = 0;
   try {
+    sp = &setup();
+    const pr::TestPlan plan = make_plan(sp->model, positions, static_cast<double>(state.range(0)));
+    pr::StaticUnbalanceWorkspace ws(plan.solver);
     for (auto _ : state) {
       poise::sampling::RandomStream rs(kSeed, poise::sampling::StreamId::kProcedure, 0);
       const auto t0 = Clock::now();
-      m = pr::run_static_unbalance_test(plan, s.truth, rs, ws);
+      m = pr::run_static_unbalance_test(plan, sp->truth, rs, ws);
       seconds += seconds_since(t0);
       benchmark::DoNotOptimize(m.fit.amplitude);
     }
@@ -222,17 +208,13 @@ void measurement(benchmark::State& state, int positions) {
     state.SkipWithError(e.what());
     return;
   }
-  const double per = seconds / static_cast<double>(state.iterations());
-  state.counters["ms_per_meas"] = per * 1e3;
-  state.counters["steps"] = static_cast<double>(m.solver.steps);
-  state.counters["rhs_evals"] = static_cast<double>(m.solver.rhs_evals);
-  state.counters["jac_evals"] = static_cast<double>(m.solver.jac_evals);
-  state.counters["rhs_ns"] = s.rhs_ns;
-  state.counters["rhs_share"] = static_cast<double>(m.solver.rhs_evals) * s.rhs_ns * 1e-9 / per;
-  if (positions == 36) {
-    state.counters["tol_torque_rel"] = s.torque_rel;
-    state.counters["tol_phase_deg"] = s.phase_deg;
-  }
+  const double per = seconds / static_cast<double>(state.iterations());  // s per measurement
+  const auto evals = static_cast<double>(m.solver.rhs_evals);
+  state.counters.insert({{"ms_per_meas", per * 1e3}, {"steps", static_cast<double>(m.solver.steps)},
+                         {"rhs_evals", evals}, {"jac_evals", static_cast<double>(m.solver.jac_evals)},
+                         {"rhs_ns", sp->rhs_ns}, {"rhs_share", evals * sp->rhs_ns * 1e-9 / per}});
+  if (positions == 36)
+    state.counters.insert({{"tol_torque_rel", sp->torque_rel}, {"tol_phase_deg", sp->phase_deg}});
 }
 
 void BM_Measurement36(benchmark::State& state) { measurement(state, 36); }
