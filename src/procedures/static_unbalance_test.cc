@@ -156,14 +156,23 @@ MeasurementResult run_static_unbalance_test(const TestPlan& plan, const GimbalTr
     integ.advance(t1, t1, false);      // lead-in: the start transient is not integrated
     double sum_i = 0.0, sum_track2 = 0.0;
     long k = 0;
-    double t = integ.time();
+    double t = integ.time(), tn = 0.0;
+    std::array<double, 6 * kStates> poly{};
+    int q = integ.step_polynomial(poly, &tn);
     while (k < n_samples) {
       const double tk = t1 + static_cast<double>(k) * dt;
       if (tk > t) {
         t = integ.advance(t2, t2, true);
+        q = integ.step_polynomial(poly, &tn);
         continue;
       }
-      integ.interpolate(tk, y);
+      // The current only needs phi, phidot and the error integral (states 0, 1, 6).
+      const double h = tk - tn;
+      for (int i : {0, 1, 6}) {
+        double v = poly[static_cast<std::size_t>(q * kStates + i)];
+        for (int j = q - 1; j >= 0; --j) v = v * h + poly[static_cast<std::size_t>(j * kStates + i)];
+        y[static_cast<std::size_t>(i)] = v;
+      }
       bool sat = false;
       const Reference ref = reference(c, tk);
       const double i_true = drive_current(c, ref, y.data(), &sat);

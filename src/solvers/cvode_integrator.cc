@@ -54,6 +54,8 @@ CvodeIntegrator::CvodeIntegrator(std::size_t n, RhsFunction rhs, void* user_data
   N_Vector tmp = N_VNew_Serial(static_cast<sunindextype>(n), ctx);
   require(y && tmp, "CVODE: cannot allocate vectors");
   N_VConst(0.0, y);
+  N_VEnableFusedOps_Serial(y, SUNTRUE);  // one loop per linear combination (clones inherit)
+  N_VEnableFusedOps_Serial(tmp, SUNTRUE);
   y_ = y;
   tmp_ = tmp;
   void* mem = CVodeCreate(CV_BDF, ctx);
@@ -121,6 +123,22 @@ void CvodeIntegrator::interpolate(double t, std::span<double> y) const {
   check(CVodeGetDky(mem_, t, 0, tmp), "CVodeGetDky", last_error_);
   const double* p = N_VGetArrayPointer(tmp);
   std::copy(p, p + n_, y.begin());
+}
+
+int CvodeIntegrator::step_polynomial(std::span<double> c, double* tn) const {
+  int q = 0;
+  CVodeGetLastOrder(mem_, &q);
+  CVodeGetCurrentTime(mem_, tn);
+  require(c.size() >= (static_cast<std::size_t>(q) + 1) * n_, "CVODE step_polynomial: buffer too small");
+  N_Vector tmp = static_cast<N_Vector>(tmp_);
+  const double* p = N_VGetArrayPointer(tmp);
+  double fact = 1.0;
+  for (int j = 0; j <= q; ++j) {
+    if (j > 1) fact *= j;
+    check(CVodeGetDky(mem_, *tn, j, tmp), "CVodeGetDky", last_error_);
+    for (std::size_t i = 0; i < n_; ++i) c[static_cast<std::size_t>(j) * n_ + i] = p[i] / fact;
+  }
+  return q;
 }
 
 std::span<const double> CvodeIntegrator::state() const {

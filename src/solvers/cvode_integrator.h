@@ -52,6 +52,9 @@ class CvodeIntegrator {
   double advance(double t_out, double t_stop, bool one_step);
   /// Solution at t within the last step (CVodeGetDky, order-k interpolation).
   void interpolate(double t, std::span<double> y) const;
+  /// The last step's interpolant as a Taylor polynomial about the solver's internal time
+  /// tn: y(t) = sum_{j=0..q} c[j*n + i] (t - tn)^j, valid on [tn - h, tn]. `c` holds 6 n.
+  int step_polynomial(std::span<double> c, double* tn) const;
   /// Current state (after the last step).
   std::span<const double> state() const;
   double time() const { return t_; }
