@@ -33,7 +33,7 @@ RunResult run_poise(const poise::test::TempDir& dir, const std::string& args) {
 }
 
 const std::string kTable1 =
-    poise::test::source_path("../shared/data/yang2015/table1_loading_test_36pt.csv");
+    poise::test::source_path("data/yang2015/table1_loading_test_36pt.csv");
 
 TEST(FitCommand, JsonForTable1HasExactlyTheDocumentedKeysAndTheFit) {
   poise::test::TempDir dir;
@@ -120,7 +120,7 @@ TEST(FitCommand, HelpTeachesTheFormatWithTheTable1Example) {
   EXPECT_EQ(r.status, 0);
   EXPECT_NE(r.out.find("M(theta) = MT_s sin(theta + b) + MK"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("theta_deg,torque_mNm"), std::string::npos);
-  EXPECT_NE(r.out.find("poise fit ../shared/data/yang2015/table1_loading_test_36pt.csv"),
+  EXPECT_NE(r.out.find("poise fit data/yang2015/table1_loading_test_36pt.csv"),
             std::string::npos);
 }
 

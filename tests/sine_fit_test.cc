@@ -36,7 +36,7 @@ std::vector<double> sine(const std::vector<double>& t, double amp, double phase,
 // Table 1 of Yang et al. 2015 parsed here with no help from the code under test.
 void read_table1(std::vector<double>& theta_rad, std::vector<double>& torque_mNm) {
   std::istringstream in(
-      test::read_text(test::source_path("../shared/data/yang2015/table1_loading_test_36pt.csv")));
+      test::read_text(test::source_path("data/yang2015/table1_loading_test_36pt.csv")));
   std::string line;
   std::getline(in, line);  // header
   while (std::getline(in, line)) {

@@ -34,7 +34,7 @@ const char* kGood = "theta_deg,torque_mNm\n0,1\n90,2\n180,3\n270,2\n";
 
 TEST(TorqueTable, ReadsThePapersTable1) {
   const TorqueTable t =
-      read_torque_table(test::source_path("../shared/data/yang2015/table1_loading_test_36pt.csv"));
+      read_torque_table(test::source_path("data/yang2015/table1_loading_test_36pt.csv"));
   ASSERT_EQ(t.size(), 36u);
   EXPECT_EQ(t.torque_column, "torque_mNm");
   EXPECT_EQ(t.unit, "mN*m");

@@ -25,7 +25,7 @@ Examples:
   poise validate studies/los_seeker_wang2011.toml
   poise run studies/los_seeker_wang2011.toml
   poise run studies/yang2015_repeatability.toml --samples 8
-  poise fit ../shared/data/yang2015/table1_loading_test_36pt.csv --json
+  poise fit data/yang2015/table1_loading_test_36pt.csv --json
   poise run studies/los_seeker_wang2011.toml --samples 100000 --seed 7 --threads 2 --out /tmp/los
   poise replay studies/los_seeker_wang2011.toml --sample 42
 
