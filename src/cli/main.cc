@@ -3,7 +3,9 @@
 #include <cstdio>
 #include <iostream>
 
+#include "cli/diagnose_command.h"
 #include "cli/fit_command.h"
+#include "cli/record_command.h"
 #include "core/version.h"
 #include "studies/study_runner.h"
 #include "studies/toml_reader.h"
@@ -74,9 +76,13 @@ int main(int argc, char** argv) {
   replay->add_option("--sample,-i", index, "sample index (0-based, as in samples.csv)")->required();
 
   const poise::cli::FitHandler fit = poise::cli::add_fit_command(app);
+  const poise::cli::DiagnoseHandler diagnose = poise::cli::add_diagnose_command(app);
+  const auto record = poise::cli::add_record_commands(app);
 
   CLI11_PARSE(app, argc, argv);
   if (const auto status = fit()) return *status;
+  if (const auto status = diagnose()) return *status;
+  if (const auto status = record()) return *status;
   if (samples > 0) opt.samples = samples;
   if (!run->count("--seed") && !replay->count("--seed")) {
   } else {

@@ -22,7 +22,8 @@ std::array<double, 3> disk_accelerations(const DiskRotorParams& p, const GimbalG
   const double m = p.mass, e = p.eccentricity;
   const double pa = phi + p.eccentricity_angle;
   const double sp = std::sin(pa), cp = std::cos(pa);
-  const double q_phi = motor_torque - p.viscous_friction * w -
+  const double cogging = p.cogging_order > 0 ? -p.cogging_torque * std::sin(p.cogging_order * phi + p.cogging_phase) : 0.0;
+  const double q_phi = motor_torque + cogging - p.viscous_friction * w -
                        p.coulomb_friction * std::tanh(w / p.coulomb_smoothing) -
                        p.torsion_stiffness * (phi - p.torsion_zero) + m * e * (-g.gy * sp + g.gz * cp);
   const double f_y = m * e * cp * w * w - p.support_stiffness * y - p.support_damping * yd + m * g.gy;

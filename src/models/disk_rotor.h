@@ -17,7 +17,8 @@
 ///       + 1/2 J phidot^2
 ///   V = 1/2 k (y^2 + z^2) + 1/2 k_CR (phi - phi_0)^2 - m (g_y (y + e cos p) + g_z (z + e sin p))
 /// Non-conservative: motor torque M, viscous K_f phidot, Coulomb T_c tanh(phidot / w_s) on phi;
-/// support damping c ydot, c zdot. Lagrange's equations give
+/// support damping c ydot, c zdot. Motor cogging -T_cog sin(N phi + psi) (conservative, off
+/// unless set) joins M. Lagrange's equations give
 ///   (J + m e^2) phi'' - m e sin p y'' + m e cos p z'' = M - K_f phi' - T_c tanh(phi'/w_s)
 ///                                 - k_CR (phi - phi_0) + m e (-g_y sin p + g_z cos p)
 ///   m y'' - m e sin p phi'' = m e cos p phi'^2 - k y - c y' + m g_y
@@ -58,6 +59,9 @@ struct DiskRotorParams {
   double coulomb_smoothing = 1e-3;    ///< w_s (rad/s), tanh regularization of sign(phidot)
   double torsion_stiffness = 0.0;     ///< k_CR (N m/rad), cable / flex
   double torsion_zero = 0.0;          ///< phi_0 (rad), where the cable torque vanishes
+  double cogging_torque = 0.0;        ///< T_cog (N m): motor cogging -T_cog sin(N phi + psi_cog)
+  int cogging_order = 0;              ///< N, cycles per turn (0 = none)
+  double cogging_phase = 0.0;         ///< psi_cog (rad)
 };
 
 /// Components of gravity perpendicular to the gimbal axis, in the gimbal frame (m/s^2).

@@ -12,6 +12,7 @@ struct StaticUnbalanceWorkspace::Context {
   models::DiskRotorParams disk;
   models::GimbalGravity gravity;
   double kp = 0, kd = 0, ki = 0, j_ff = 0, kt_nominal = 1, kt_true = 1, i_max = 1;
+  double disturbance_torque = 0;  // constant external torque at this position (N m)
   double t0 = 0, omega = 1, amplitude = 0, rate_amplitude = 0, centre = 0;
   long rhs_calls = 0;
 };
@@ -48,7 +49,7 @@ int rhs(double t, const double* y, double* ydot, void* user) {
   const Reference r = reference(*c, t);
   const double i = drive_current(*c, r, y, &sat);
   const models::DiskState s{y[0], y[1], y[2], y[3], y[4], y[5]};
-  const auto acc = models::disk_accelerations(c->disk, c->gravity, s, c->kt_true * i);
+  const auto acc = models::disk_accelerations(c->disk, c->gravity, s, c->kt_true * i + c->disturbance_torque);
   ydot[0] = y[1];
   ydot[1] = acc[0];
   ydot[2] = y[3];
@@ -99,11 +100,14 @@ StaticUnbalanceWorkspace::~StaticUnbalanceWorkspace() {
 
 MeasurementResult run_static_unbalance_test(const TestPlan& plan, const GimbalTruth& truth,
                                             sampling::RandomStream& noise,
-                                            StaticUnbalanceWorkspace& ws) {
+                                            StaticUnbalanceWorkspace& ws, int record_position,
+                                            std::vector<RecordSample>* record) {
   require(plan.positions.size() >= 4, "the static-unbalance test needs at least 4 positions");
   require(plan.oscillation.period > 0 && plan.oscillation.periods >= 1,
           "the oscillation needs a positive period and at least one whole period");
   require(plan.acquisition.rate_hz > 0, "acquisition rate must be positive");
+  require(plan.sweep.empty() || plan.sweep.size() == plan.positions.size(),
+          "the sweep directions must be given for every position or for none");
   Context& c = ws.context();
   solvers::CvodeIntegrator& integ = ws.integrator();
   const ServoConfig& sv = plan.servo;
@@ -140,14 +144,24 @@ MeasurementResult run_static_unbalance_test(const TestPlan& plan, const GimbalTr
   std::vector<double> theta, torque;
   theta.reserve(plan.positions.size());
   torque.reserve(plan.positions.size());
-  for (double theta_nominal : plan.positions) {
+  const Disturbances& dist = truth.disturbances;
+  const double position_duration = plan.move_time + t2;  // move and lock, then the test
+  if (record) record->clear();
+  for (std::size_t ip = 0; ip < plan.positions.size(); ++ip) {
+    const double theta_nominal = plan.positions[ip];
     PositionResult pr;
     pr.theta_nominal = theta_nominal;
+    pr.sweep = plan.sweep.empty() ? 1 : plan.sweep[ip];
+    const double t_start = static_cast<double>(ip) * position_duration + plan.move_time;  // test clock
+    pr.time = t_start + 0.5 * (t1 + t2);
     pr.theta_true = theta_nominal + truth.turntable_zero + plan.positioning_error * normal.next();
     offset += acq.offset_drift * normal.next();
     const double window_offset = offset + acq.offset_noise * normal.next();
     c.gravity = models::gravity_in_gimbal(plan.gravity, pr.theta_true, truth.axis_tilt,
                                           truth.axis_tilt_azimuth);
+    c.disturbance_torque = dist.harmonic2_torque * std::sin(2.0 * pr.theta_true + dist.harmonic2_phase) +
+                           dist.direction_torque * pr.sweep +
+                           (static_cast<int>(ip) == dist.bump_position ? dist.bump_torque : 0.0);
     // Locked at the start angle, supports deflected statically, servo integrator empty.
     const auto defl = models::static_deflection(c.disk, c.gravity);
     const double y0[kStates] = {osc.centre - c.amplitude, 0.0, defl[0], 0.0, defl[1], 0.0, 0.0};
@@ -178,9 +192,11 @@ MeasurementResult run_static_unbalance_test(const TestPlan& plan, const GimbalTr
       const double i_true = drive_current(c, ref, y.data(), &sat);
       pr.saturated = pr.saturated || sat;
       // Sensor: offset and white noise, then the ADC's range and resolution.
-      double i_meas = i_true + window_offset + (acq.noise_rms > 0 ? acq.noise_rms * normal.next() : 0.0);
+      const double drift = dist.offset_drift_rate * (t_start + tk);
+      double i_meas = i_true + window_offset + drift + (acq.noise_rms > 0 ? acq.noise_rms * normal.next() : 0.0);
       i_meas = std::clamp(std::round(i_meas / lsb) * lsb, -acq.adc_full_scale, acq.adc_full_scale);
       sum_i += i_meas;
+      if (record && static_cast<int>(ip) == record_position) record->push_back({tk - t1, i_meas, y[0]});
       const double e = ref.phi - y[0];
       sum_track2 += e * e;
       pr.max_abs_phi = std::max(pr.max_abs_phi, std::abs(y[0] - c.centre));

@@ -54,13 +54,26 @@ struct AcquisitionConfig {
 };
 
 struct TestPlan {
-  std::vector<double> positions;     ///< nominal turntable angles theta_i (rad)
+  std::vector<double> positions;     ///< nominal turntable angles theta_i (rad), in test order
+  std::vector<int> sweep;            ///< approach direction per position (+1/-1); empty = all +1
+  double move_time = 5.0;            ///< turntable move and lock between positions (s)
   double positioning_error = 0.0;    ///< turntable error per position (rad, 1 sigma)
   ServoConfig servo;
   OscillationConfig oscillation;
   AcquisitionConfig acquisition;
   solvers::CvodeOptions solver;
   double gravity = 9.80665;
+};
+
+/// Effects a real rig may have that the test's model (Eqs. 21-22) does not declare; all
+/// off by default. They let the residual diagnosis be tested on data whose effect is known.
+struct Disturbances {
+  double offset_drift_rate = 0.0;   ///< current-sensor offset drifting linearly in time (A/s)
+  double harmonic2_torque = 0.0;    ///< torque T2 sin(2 theta + psi2) at each position (N m):
+  double harmonic2_phase = 0.0;     ///< an out-of-round bearing under the gravity load
+  double direction_torque = 0.0;    ///< torque +-T_d by approach direction (cable wind-up, N m)
+  int bump_position = -1;           ///< one position disturbed by a bump (index, -1 = none)
+  double bump_torque = 0.0;         ///< its extra torque during that position (N m)
 };
 
 /// The unit under test as it really is (one Monte Carlo sample).
@@ -70,16 +83,26 @@ struct GimbalTruth {
   double axis_tilt = 0.0;        ///< gimbal axis vs turntable axis (rad)
   double axis_tilt_azimuth = 0.0;
   double turntable_zero = 0.0;   ///< registration error of the turntable zero (rad)
+  Disturbances disturbances;
 };
 
 struct PositionResult {
   double theta_nominal = 0.0;    ///< rad
+  double time = 0.0;             ///< middle of the integration window since the test began (s)
+  int sweep = 1;                 ///< approach direction
   double theta_true = 0.0;       ///< rad
   double torque = 0.0;           ///< M_i (N m), Eq. 21
   double max_abs_phi = 0.0;      ///< largest |phi - phi_c| in the integration window (rad),
                                  ///< the swing about the commanded centre (the +-3 deg limit)
   double rms_tracking = 0.0;     ///< RMS of phi_ref - phi in the window (rad)
   bool saturated = false;        ///< current limit reached in the window
+};
+
+/// One sample of a raw record: what the acquisition saw at one position.
+struct RecordSample {
+  double t;          ///< s since the start of the integration window
+  double current;    ///< measured drive current (A), with noise and ADC
+  double phi;        ///< gimbal angle from the encoder (rad)
 };
 
 struct MeasurementResult {
@@ -105,9 +128,12 @@ class StaticUnbalanceWorkspace {
 
 /// Runs the whole test on `truth`; noise comes from `noise` (advanced). Throws
 /// poise::Error on a solver failure (the caller records the sample as failed).
+/// `record_position` >= 0 keeps the raw samples of that position in `record`.
 MeasurementResult run_static_unbalance_test(const TestPlan& plan, const GimbalTruth& truth,
                                             sampling::RandomStream& noise,
-                                            StaticUnbalanceWorkspace& ws);
+                                            StaticUnbalanceWorkspace& ws,
+                                            int record_position = -1,
+                                            std::vector<RecordSample>* record = nullptr);
 
 /// Eq. 23: counterweight mass for amplitude MT_s at radius R.
 inline double counterweight_mass(double amplitude, double radius, double g) {

@@ -55,6 +55,9 @@ GimbalModel load_gimbal_model(const std::string& path,
     r.coulomb_smoothing = t.quantity("coulomb_smoothing", kAngularRate, positive);
     r.torsion_stiffness = t.quantity("torsion_stiffness", kRotStiffness, non_negative);
     r.torsion_zero = t.quantity("torsion_zero", units::kAngle);
+    r.cogging_torque = t.quantity("cogging_torque", units::kTorque, non_negative, 0.0);
+    r.cogging_order = static_cast<int>(t.integer("cogging_order", 0, 100000, 0));
+    r.cogging_phase = t.quantity("cogging_phase", units::kAngle, {}, 0.0);
     t.accept_notes();
   }
   {
@@ -117,6 +120,17 @@ GimbalModel load_gimbal_model(const std::string& path,
     t.accept_notes();
   }
   m.counterweight_radius = root.table("counterweight").quantity("radius", units::kLength, positive);
+  if (root.has("disturbances")) {  // effects the test's model does not declare; off by default
+    TomlReader t = root.table("disturbances");
+    auto& d = m.disturbances;
+    d.offset_drift_rate = t.quantity("offset_drift_rate", units::Dimension{{0, 0, -1, 1, 0, 0}}, {}, 0.0);
+    d.harmonic2_torque = t.quantity("harmonic2_torque", units::kTorque, non_negative, 0.0);
+    d.harmonic2_phase = t.quantity("harmonic2_phase", units::kAngle, {}, 0.0);
+    d.direction_torque = t.quantity("direction_torque", units::kTorque, {}, 0.0);
+    d.bump_position = static_cast<int>(t.integer("bump_position", -1, 100000, -1));
+    d.bump_torque = t.quantity("bump_torque", units::kTorque, {}, 0.0);
+    t.accept_notes();
+  }
   {
     TomlReader t = root.table("tolerances");
     m.residual_unbalance = scoped(t, "residual_unbalance", kUnbalance, "g*mm");

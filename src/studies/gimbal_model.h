@@ -23,6 +23,7 @@ struct GimbalModel {
   models::DiskRotorParams rotor;   ///< eccentricity comes from the sampled unbalance
   procedures::TestPlan plan;       ///< positions are set per test group
   double counterweight_radius = 0; ///< R of Eq. 23 (m)
+  procedures::Disturbances disturbances;  ///< undeclared effects, off unless [disturbances] sets them
   // Tolerances (SI). Magnitudes for vectors; their directions are uniform.
   ScopedTolerance residual_unbalance;   ///< simulator's own unbalance (kg m), random angle
   ScopedTolerance runout;               ///< bearing run-out (m), random angle

@@ -153,6 +153,7 @@ void GimbalStudy::compute(std::size_t i, Workspace& ws, GimbalSampleResult& out)
           truth.axis_tilt = d.axis_tilt;
           truth.axis_tilt_azimuth = d.tilt_azimuth;
           truth.turntable_zero = d.turntable_zero;
+          truth.disturbances = model_.disturbances;
           plan.oscillation.centre = model_.plan.oscillation.centre + d.gimbal_zero;
           const procedures::MeasurementResult m = procedures::run_static_unbalance_test(plan, truth, rs, ws);
           out.solver_steps += m.solver.steps;

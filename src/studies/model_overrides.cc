@@ -18,7 +18,17 @@ void apply_one(toml::table& root, const std::string& dotted, const std::string& 
       return;
     }
     if (dot == std::string::npos) {
-      if (n->is_number()) {
+      if (n->is_integer()) {
+        try {
+          std::size_t used = 0;
+          const long long v = std::stoll(text, &used);
+          if (used != text.size()) throw std::invalid_argument(text);
+          t->insert_or_assign(part, static_cast<std::int64_t>(v));
+        } catch (...) {
+          ctx.errors.emplace_back(SourceLocation{ctx.file, 0, 0}, dotted, "\"" + text + "\"",
+                                  "an integer (the model's value is an integer)");
+        }
+      } else if (n->is_number()) {
         try {
           t->insert_or_assign(part, std::stod(text));
         } catch (...) {

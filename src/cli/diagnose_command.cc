@@ -1,0 +1,414 @@
+#include "cli/diagnose_command.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <numbers>
+#include <numeric>
+#include <sstream>
+#include <string>
+#include <tuple>
+
+#include "core/error.h"
+#include "core/units.h"
+#include "estimators/residual_diagnosis.h"
+#include "estimators/torque_table.h"
+#include "studies/report.h"
+
+namespace poise::cli {
+namespace {
+namespace fs = std::filesystem;
+namespace est = poise::estimators;
+using nlohmann::json;
+
+const char* kDiagnoseHelp = R"(What it does:
+  Looks in a measured static unbalance table for effects that the Eq. 22 model
+  M(theta) = MT_s sin(theta + b) + MK (Yang et al. 2015) lacks, and shows what they do to
+  the unbalance estimate. Candidates: harmonics 2..K of the turntable angle, a time drift
+  (linear, then quadratic), a direction offset between sweep directions, one outlier at a
+  time, AR(1) errors in measurement order. Forward stepwise: each round tests every
+  candidate (F test of the nested linear model; Bonferroni-adjusted largest studentized
+  residual for outliers; restricted likelihood ratio of Prais-Winsten GLS for AR(1)),
+  adjusts the round's p-values with Holm, and adds the best one only if its adjusted p <
+  alpha AND it lowers the BIC. On data with none of these effects it adds one in at most
+  about alpha of the cases.
+
+Data file: as for `poise fit` (theta_deg and torque_mNm or torque_Nm). Optional columns:
+  time_s (time of each point, s; without it, time = row order) and sweep (+1/-1, turntable
+  direction; a direction offset needs both directions).
+
+Example (Table 1 of the paper, 25.81 g at 45.50 deg on r = 5.10 cm: 12.91 mN*m):
+  poise diagnose data/yang2015/table1_loading_test_36pt.csv \
+      --load-torque "12.91 mN*m" --load-angle "45.5 deg" --out /tmp/table1_diagnosis
+
+Output: the base fit, each effect found with its parameters +- SE, p, Holm-adjusted p,
+delta_BIC and physical causes, rmse and the unbalance estimate before and after, the errors
+against the known load, and the candidates tested but not added. --json prints one object
+(effects, rmse_before, rmse_after, estimate_before, estimate_after, unit, n_points and, with
+a load, load, error_before, error_after). --out DIR also writes diagnosis.json, plot.svg
+(gnuplot; .gp and .dat kept) and report.html.
+Exit status: 0 success, 2 invalid input (the message names the file, line and column),
+1 the output folder cannot be written.
+)";
+
+constexpr double kDegPerRad = 180.0 / std::numbers::pi;
+
+struct Options {
+  std::string data, out, load_torque, load_angle;
+  bool json = false;
+  double alpha = 0.05;
+  int max_harmonic = 6;
+};
+
+struct Load {
+  double torque = 0.0;  // in the table's unit
+  double angle_rad = 0.0;
+};
+
+std::string num(double v, int significant = 4) {
+  if (!std::isfinite(v)) return "n/a";
+  char buf[48];
+  std::snprintf(buf, sizeof buf, "%.*g", significant, v);
+  return buf;
+}
+
+// HTML text; a line break becomes <br>.
+std::string esc(const std::string& s) {
+  std::string o;
+  for (char c : s) {
+    const char* r = c == '<'    ? "&lt;"
+                    : c == '>'  ? "&gt;"
+                    : c == '&'  ? "&amp;"
+                    : c == '"'  ? "&quot;"
+                    : c == '\n' ? "<br>"
+                                : nullptr;
+    o += r ? std::string(r) : std::string(1, c);
+  }
+  return o;
+}
+
+json estimate_json(const est::UnbalanceEstimate& e) {
+  return {{"amplitude", e.amplitude},
+          {"phase_deg", e.phase * kDegPerRad},
+          {"offset", e.offset},
+          {"se_amplitude", e.se_amplitude},
+          {"se_phase_deg", e.se_phase * kDegPerRad},
+          {"se_offset", e.se_offset}};
+}
+
+json to_json(const est::TorqueTable& t, const est::DiagnosisResult& r,
+             const std::optional<Load>& load) {
+  json effects = json::array();
+  for (const est::Effect& e : r.effects) {
+    json params = json::object();
+    for (const auto& p : e.params)
+      params[p.name] = {{"value", p.value}, {"se", p.se}, {"unit", p.unit}};
+    json j = {{"name", e.name},           {"params", params},
+              {"p_value", e.p_value},     {"p_adjusted", e.p_adjusted},
+              {"delta_bic", e.delta_bic}, {"causes", e.causes}};
+    if (e.name == "harmonic") j["order"] = e.order;
+    if (e.name == "outlier") j["index"] = e.index, j["line"] = e.line;
+    effects.push_back(std::move(j));
+  }
+  json out = {{"effects", effects},
+              {"rmse_before", r.rmse_before},
+              {"rmse_after", r.rmse_after},
+              {"estimate_before", estimate_json(r.estimate_before)},
+              {"estimate_after", estimate_json(r.estimate_after)},
+              {"unit", t.unit},
+              {"n_points", t.size()}};
+  if (load) {
+    const est::KnownLoadErrors k = est::known_load_errors(r, load->torque, load->angle_rad);
+    out["load"] = {{"torque", load->torque}, {"angle_deg", load->angle_rad * kDegPerRad}};
+    out["error_before"] = {{"amplitude", k.before.amplitude}, {"phase_deg", k.before.phase_deg}};
+    out["error_after"] = {{"amplitude", k.after.amplitude}, {"phase_deg", k.after.phase_deg}};
+  }
+  return out;
+}
+
+std::string params_text(const est::Effect& e, const std::string& sep) {
+  std::string s;
+  for (const auto& p : e.params) {
+    s += (s.empty() ? "" : sep) + p.name + " = " + num(p.value) + " +- " + num(p.se, 2) +
+         (p.unit.empty() ? "" : " " + p.unit);
+  }
+  return s;
+}
+
+std::string effect_title(const est::Effect& e) {
+  if (e.name == "harmonic") return "harmonic " + std::to_string(e.order);
+  if (e.name == "outlier") {
+    return "outlier at row " + std::to_string(e.index) + " (file line " + std::to_string(e.line) +
+           ")";
+  }
+  return e.name;
+}
+
+std::string estimate_text(const est::UnbalanceEstimate& e, const std::string& u) {
+  return "amplitude " + num(e.amplitude, 5) + " +- " + num(e.se_amplitude, 2) + " " + u +
+         ", phase " + num(e.phase * kDegPerRad, 5) + " +- " + num(e.se_phase * kDegPerRad, 2) +
+         " deg, offset " + num(e.offset, 4) + " +- " + num(e.se_offset, 2) + " " + u;
+}
+
+std::string error_text(const est::EstimateError& e, const std::string& u) {
+  return "amplitude " + num(e.amplitude, 3) + " " + u + ", phase " + num(e.phase_deg, 3) +
+         " deg, unbalance left after correction " + num(e.vector, 3) + " " + u;
+}
+
+void print_text(const est::TorqueTable& t, const est::DiagnosisResult& r, double alpha,
+                const std::optional<Load>& load, std::ostream& out) {
+  const std::string& u = t.unit;
+  const auto& b = r.estimate_before;
+  out << "Residual diagnosis of " << t.size() << " points from " << t.file << " (torque in " << u
+      << "; time: " << (t.time_s.empty() ? "row order" : "column time_s")
+      << "; sweep: " << (t.sweep.empty() ? "none" : "column sweep") << ")\n"
+      << "Searched: harmonics 2.." << r.max_harmonic
+      << ", time drift, direction offset, outliers, AR(1) errors; forward stepwise, Holm per "
+         "round at alpha = "
+      << alpha << ", delta_BIC < 0\n\n"
+      << "Base fit (Eq. 22): M(theta) = " << num(b.amplitude, 5) << " sin(theta + "
+      << num(b.phase * kDegPerRad, 4) << " deg) + " << num(b.offset, 4) << " " << u << "\n\n";
+  out << "Effects found (in the order added):" << (r.effects.empty() ? " none\n" : "\n");
+  for (std::size_t i = 0; i < r.effects.size(); ++i) {
+    const est::Effect& e = r.effects[i];
+    out << "  " << i + 1 << ". " << effect_title(e) << ": " << params_text(e, ", ") << "\n"
+        << "     p = " << num(e.p_value, 3) << ", Holm-adjusted p = " << num(e.p_adjusted, 3)
+        << ", delta_BIC = " << num(e.delta_bic, 3) << "\n"
+        << "     causes: " << e.causes << "\n";
+  }
+  for (const auto& s : r.notes) out << "  note: " << s << "\n";
+  out << "\nCandidates tested in the last round, not added:\n";
+  for (const auto& s : r.tested) out << "  " << s << "\n";
+  out << "\nrmse (sqrt(RSS/n)): before " << num(r.rmse_before) << " " << u << ", after "
+      << num(r.rmse_after) << " " << u << "\n"
+      << "Unbalance estimate (first harmonic, +- 1 SE):\n"
+      << "  before: " << estimate_text(r.estimate_before, u) << "\n"
+      << "  after:  " << estimate_text(r.estimate_after, u) << "\n";
+  if (load) {
+    const est::KnownLoadErrors k = est::known_load_errors(r, load->torque, load->angle_rad);
+    out << "Error against the known load " << num(load->torque) << " " << u << " at "
+        << num(load->angle_rad * kDegPerRad) << " deg (estimate - load):\n"
+        << "  before: " << error_text(k.before, u) << "\n"
+        << "  after:  " << error_text(k.after, u) << "\n";
+  }
+}
+
+// plot.dat, plot.gp and (if gnuplot runs) plot.svg; returns the note for the report.
+std::string write_plot(const fs::path& dir, const est::TorqueTable& t,
+                       const est::DiagnosisResult& r) {
+  std::vector<std::size_t> idx(t.size());
+  std::iota(idx.begin(), idx.end(), std::size_t{0});
+  std::stable_sort(idx.begin(), idx.end(),
+                   [&](auto a, auto b) { return t.theta_deg[a] < t.theta_deg[b]; });
+  std::ofstream dat(dir / "plot.dat");
+  dat << "# theta_deg measured fitted_before fitted_after residual_before residual_after ("
+      << t.unit << ")\n";
+  dat.precision(10);
+  for (std::size_t i : idx) {
+    dat << t.theta_deg[i] << ' ' << t.torque[i] << ' ' << r.fitted_before[i] << ' '
+        << r.fitted_after[i] << ' ' << r.residual_before[i] << ' ' << r.residual_after[i] << '\n';
+  }
+  dat.close();
+  const auto& b = r.estimate_before;
+  std::ofstream gp(dir / "plot.gp");
+  gp.precision(12);
+  gp << "set terminal svg size 900,760 noenhanced font 'Helvetica,12' background rgb 'white'\n"
+     << "set output 'plot.svg'\nset samples 721\nset grid\nset autoscale xfix\nset key below "
+        "horizontal\n"
+     << "set multiplot layout 2,1 title 'Residual diagnosis of "
+     << fs::path(t.file).filename().string() << "'\n"
+     << "set xlabel 'turntable angle theta [deg]'\nset ylabel 'torque [" << t.unit << "]'\n"
+     << "A = " << b.amplitude << "; B = " << b.phase << "; K = " << b.offset << "\n"
+     << "plot 'plot.dat' u 1:2 w p pt 7 ps 0.7 lc rgb '#000000' t 'measured', \\\n"
+     << "  A*sin(x*pi/180 + B) + K w l lw 2 lc rgb '#1f77b4' t 'base fit (Eq. 22)', \\\n"
+     << "  'plot.dat' u 1:4 w p pt 6 ps 1.0 lc rgb '#d62728' t 'final model'\n"
+     << "set ylabel 'residual [" << t.unit << "]'\n"
+     << "plot 'plot.dat' u 1:5 w lp pt 7 ps 0.6 lc rgb '#1f77b4' t 'base fit residual', \\\n"
+     << "  'plot.dat' u 1:6 w lp pt 6 ps 0.8 lc rgb '#d62728' t 'final model residual', \\\n"
+     << "  0 w l lc rgb '#808080' notitle\nunset multiplot\n";
+  gp.close();
+  std::string why;
+  if (studies::run_gnuplot((dir / "plot.gp").string(), &why) && fs::exists(dir / "plot.svg")) {
+    return "";
+  }
+  return "gnuplot is not installed or failed (see gnuplot.log): no plot.svg; plot.gp and "
+         "plot.dat are kept (run gnuplot plot.gp in this folder).";
+}
+
+void write_report(const fs::path& dir, const est::TorqueTable& t, const est::DiagnosisResult& r,
+                  const json& j, double alpha, const std::string& plot_note) {
+  const std::string& u = t.unit;
+  std::ostringstream h;
+  h << "<!DOCTYPE html><html><head><meta charset=\"utf-8\"><title>Residual diagnosis: "
+    << esc(t.file) << "</title><style>body{font-family:sans-serif;max-width:1000px;margin:2em "
+    << "auto}table{border-collapse:collapse}td,th{border:1px solid #aaa;padding:4px 8px;"
+    << "vertical-align:top}th{background:#eee}</style></head><body>\n"
+    << "<h1>Residual diagnosis of a static unbalance measurement</h1>\n<p>Data: <code>"
+    << esc(t.file) << "</code>, " << t.size() << " points, torque in " << esc(u)
+    << "; time: " << (t.time_s.empty() ? "row order" : "column time_s")
+    << "; sweep: " << (t.sweep.empty() ? "none" : "column sweep")
+    << ".</p>\n<p>Base model (Yang et al. 2015, "
+    << "Eq. 22): M(theta) = MT_s sin(theta + b) + MK. Candidates: harmonics 2.." << r.max_harmonic
+    << ", time drift, direction offset, outliers, AR(1) errors, added by "
+    << "forward stepwise selection (F test or likelihood ratio, Holm-adjusted per round, "
+    << "alpha = " << alpha << ", and delta_BIC &lt; 0).</p>\n<h2>Findings</h2>\n";
+  if (r.effects.empty()) {
+    h << "<p>No effect beyond Eq. 22 was found: the base model explains the data within its "
+         "noise.</p>\n";
+  } else {
+    h << "<table><tr><th>#</th><th>effect</th><th>parameters (&plusmn; SE)</th><th>p</th>"
+         "<th>Holm p</th><th>&Delta;BIC</th><th>possible causes</th></tr>\n";
+    for (std::size_t i = 0; i < r.effects.size(); ++i) {
+      const est::Effect& e = r.effects[i];
+      h << "<tr><td>" << i + 1 << "</td><td>" << esc(effect_title(e)) << "</td><td>"
+        << esc(params_text(e, "\n")) << "</td><td>" << num(e.p_value, 3) << "</td><td>"
+        << num(e.p_adjusted, 3) << "</td><td>" << num(e.delta_bic, 3) << "</td><td>"
+        << esc(e.causes) << "</td></tr>\n";
+    }
+    h << "</table>\n";
+  }
+  for (const auto& s : r.notes) h << "<p><i>Note: " << esc(s) << "</i></p>\n";
+  const auto row = [&](const std::string& name, const json& a, const json& b2, const char* key,
+                       const std::string& unit) {
+    h << "<tr><td>" << name << "</td><td>" << num(a.at(key).get<double>(), 5) << "</td><td>"
+      << num(b2.at(key).get<double>(), 5) << "</td><td>" << esc(unit) << "</td></tr>\n";
+  };
+  h << "<h2>Before and after</h2>\n<table><tr><th></th><th>base fit</th><th>final model</th>"
+       "<th>unit</th></tr>\n";
+  h << "<tr><td>rmse</td><td>" << num(r.rmse_before, 4) << "</td><td>" << num(r.rmse_after, 4)
+    << "</td><td>" << esc(u) << "</td></tr>\n";
+  for (const auto& [name, key, unit] :
+       {std::tuple<std::string, const char*, std::string>{"amplitude MT_s", "amplitude", u},
+        {"SE amplitude", "se_amplitude", u},
+        {"phase b", "phase_deg", "deg"},
+        {"SE phase", "se_phase_deg", "deg"},
+        {"offset MK", "offset", u},
+        {"SE offset", "se_offset", u}}) {
+    row(name, j["estimate_before"], j["estimate_after"], key, unit);
+  }
+  if (j.contains("load")) {
+    h << "<tr><th colspan=\"4\">against the known load " << num(j["load"]["torque"].get<double>())
+      << " " << esc(u) << " at " << num(j["load"]["angle_deg"].get<double>()) << " deg "
+      << "(estimate - load)</th></tr>\n";
+    row("amplitude error", j["error_before"], j["error_after"], "amplitude", u);
+    row("phase error", j["error_before"], j["error_after"], "phase_deg", "deg");
+  }
+  h << "</table>\n<h2>Plot</h2>\n";
+  if (plot_note.empty()) {
+    h << "<p><img src=\"plot.svg\" alt=\"data, base fit and final model against theta; "
+         "residuals\" style=\"max-width:100%\"></p>\n";
+  } else {
+    h << "<p><b>" << esc(plot_note) << "</b></p>\n";
+  }
+  h << "<p>Upper panel: measured points, the base fit and the final model at each point. Lower"
+       " panel: residuals of both (with AR(1) errors the final residual is the innovation; a "
+       "flagged outlier's residual is 0).</p>\n<h2>Candidates tested in the last round, not "
+       "added</h2>\n<ul>\n";
+  for (const auto& s : r.tested) h << "<li>" << esc(s) << "</li>\n";
+  h << "</ul>\n<p><small>Files: diagnosis.json, plot.dat, plot.gp, plot.svg, report.html."
+       "</small></p>\n</body></html>\n";
+  std::ofstream(dir / "report.html") << h.str();
+}
+
+std::optional<Load> parse_load(const Options& o, const est::TorqueTable& t) {
+  if (o.load_torque.empty() && o.load_angle.empty()) return std::nullopt;
+  if (o.load_torque.empty() || o.load_angle.empty()) {
+    throw Error(
+        "--load-torque and --load-angle go together; expected both, e.g. "
+        "--load-torque \"12.91 mN*m\" --load-angle \"45.5 deg\"");
+  }
+  Load l;
+  try {
+    l.torque = units::parse_as(o.load_torque, units::kTorque) / t.unit_factor;
+  } catch (const Error& e) {
+    throw Error("--load-torque '" + o.load_torque + "': " + e.what());
+  }
+  if (!(l.torque >= 0.0)) {
+    throw Error("--load-torque '" + o.load_torque +
+                "': expected a torque >= 0, e.g. \"12.91 mN*m\"");
+  }
+  try {
+    l.angle_rad = units::parse_as(o.load_angle, units::kAngle);
+  } catch (const Error& e) {
+    throw Error("--load-angle '" + o.load_angle + "': " + e.what());
+  }
+  return l;
+}
+
+int run_diagnose(const Options& o) {
+  est::TorqueTable table;
+  est::DiagnosisResult result;
+  std::optional<Load> load;
+  const fs::path dir(o.out);
+  try {
+    if (!o.out.empty() && fs::exists(dir / "diagnosis.json")) {
+      throw Error(o.out +
+                  " already holds diagnosis.json; expected a new or empty folder "
+                  "(nothing is overwritten)");
+    }
+    table = est::read_torque_table(o.data);
+    load = parse_load(o, table);
+    est::DiagnosisOptions opt;
+    opt.alpha = o.alpha;
+    opt.max_harmonic = o.max_harmonic;
+    result = est::diagnose_residuals(table, opt);
+  } catch (const Error& e) {
+    std::cerr << "poise: " << e.what() << "\nNothing was diagnosed.\n";
+    return 2;
+  }
+  const json j = to_json(table, result, load);
+  if (o.json) {
+    std::cout << j.dump(2) << '\n';
+  } else {
+    print_text(table, result, o.alpha, load, std::cout);
+  }
+  if (o.out.empty()) return 0;
+  try {
+    fs::create_directories(dir);
+    std::ofstream js(dir / "diagnosis.json");
+    js << j.dump(2) << '\n';
+    if (!js) throw Error("cannot write " + (dir / "diagnosis.json").string());
+    js.close();
+    const std::string note = write_plot(dir, table, result);
+    write_report(dir, table, result, j, o.alpha, note);
+    if (!o.json) std::cout << "\nreport: " << (dir / "report.html").string() << '\n';
+    if (!note.empty()) std::cerr << "poise: " << note << '\n';
+  } catch (const std::exception& e) {
+    std::cerr << "poise: cannot write the output folder " << o.out << ": " << e.what() << '\n';
+    return 1;
+  }
+  return 0;
+}
+
+}  // namespace
+
+DiagnoseHandler add_diagnose_command(CLI::App& app) {
+  auto opt = std::make_shared<Options>();  // outlives this call: CLI11 writes into it
+  CLI::App* sub = app.add_subcommand(
+      "diagnose", "find effects beyond the Eq. 22 sine in measured unbalance torque data");
+  sub->add_option("DATA", opt->data,
+                  "CSV file with columns theta_deg and torque_mNm (or "
+                  "torque_Nm), optional time_s and sweep")
+      ->required();
+  sub->add_flag("--json", opt->json, "print the diagnosis as one JSON object");
+  sub->add_option("--alpha", opt->alpha, "familywise level per round (Holm), default 0.05");
+  sub->add_option("--max-harmonic", opt->max_harmonic,
+                  "highest harmonic tried, default 6 (capped to keep 5 residual dof)");
+  sub->add_option("--load-torque", opt->load_torque, "known load torque, e.g. \"12.91 mN*m\"");
+  sub->add_option("--load-angle", opt->load_angle, "angle of the known load, e.g. \"45.5 deg\"");
+  sub->add_option("--out", opt->out,
+                  "folder for diagnosis.json, plot.svg and report.html (must not hold a "
+                  "diagnosis.json)");
+  sub->footer(kDiagnoseHelp);
+  return [sub, opt]() -> std::optional<int> {
+    if (!*sub) return std::nullopt;
+    return run_diagnose(*opt);
+  };
+}
+
+}  // namespace poise::cli

@@ -1,0 +1,27 @@
+#pragma once
+/// `poise diagnose DATA.csv [--json] [--alpha A] [--max-harmonic K]
+///  [--load-torque "12.91 mN*m" --load-angle "45.5 deg"] [--out DIR]`: which effects beyond
+/// the Eq. 22 sine (Yang et al. 2015) a measured static unbalance table holds (harmonics, time
+/// drift, direction offset, outliers, AR(1) errors), what they do to the unbalance estimate
+/// and, with a known load, to its error. Method: estimators/residual_diagnosis.h; input:
+/// estimators/torque_table.h; see `poise diagnose --help`.
+///
+/// --out DIR (created; refused if it already holds diagnosis.json) receives diagnosis.json
+/// (the --json object), plot.dat, plot.gp and plot.svg (gnuplot, SVG terminal; a missing
+/// gnuplot is noted in the report, not an error) and report.html.
+#include <CLI/CLI.hpp>
+#include <functional>
+#include <optional>
+
+namespace poise::cli {
+
+/// Runs `poise diagnose` if it was the subcommand given: returns its exit status (0 success,
+/// 2 invalid input, with the message on stderr, 1 when the output folder cannot be written),
+/// or nullopt when another subcommand was given.
+using DiagnoseHandler = std::function<std::optional<int>()>;
+
+/// Registers the `diagnose` subcommand on app (before app is parsed). Call the returned
+/// handler once app has parsed the command line.
+DiagnoseHandler add_diagnose_command(CLI::App& app);
+
+}  // namespace poise::cli

@@ -1,0 +1,210 @@
+#include "cli/record_command.h"
+
+#include <cstdio>
+#include <fstream>
+#include <iostream>
+#include <map>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "core/error.h"
+#include "core/units.h"
+#include "estimators/oscillation_diagnosis.h"
+#include "studies/gimbal_model.h"
+#include "studies/toml_reader.h"
+
+namespace poise::cli {
+namespace {
+
+struct Args {
+  std::string model, out, file, kt_text = "0.05 N*m/A", theta_text = "30 deg";
+  std::vector<std::string> sets;
+  std::uint64_t seed = 1;
+  bool json = false;
+};
+
+// Reads time_s, current_A, phi_deg (other columns ignored); errors name line and column.
+estimators::OscillationRecord read_record(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw Error(path + ": cannot open the file");
+  std::string line;
+  std::getline(in, line);
+  std::vector<std::string> head;
+  {
+    std::stringstream ss(line);
+    std::string cell;
+    while (std::getline(ss, cell, ',')) {
+      while (!cell.empty() && (cell.back() == '\r' || cell.back() == ' ')) cell.pop_back();
+      head.push_back(cell);
+    }
+  }
+  std::map<std::string, std::size_t> col;
+  for (std::size_t i = 0; i < head.size(); ++i) col[head[i]] = i;
+  for (const char* need : {"time_s", "current_A", "phi_deg"}) {
+    if (!col.count(need)) throw Error(path + ":1: missing column '" + need + "' (need time_s, current_A, phi_deg)");
+  }
+  estimators::OscillationRecord r;
+  std::size_t lineno = 1;
+  while (std::getline(in, line)) {
+    ++lineno;
+    if (line.empty() || line == "\r") continue;
+    std::vector<std::string> cells;
+    std::stringstream ss(line);
+    std::string cell;
+    while (std::getline(ss, cell, ',')) cells.push_back(cell);
+    if (cells.size() != head.size()) {
+      throw Error(path + ":" + std::to_string(lineno) + ": " + std::to_string(cells.size()) + " cells, the header has " +
+                  std::to_string(head.size()));
+    }
+    auto num = [&](const char* name) {
+      const std::string& c = cells[col[name]];
+      try {
+        std::size_t used = 0;
+        const double v = std::stod(c, &used);
+        if (used == 0 || !std::isfinite(v)) throw std::invalid_argument(c);
+        return v;
+      } catch (const std::exception&) {
+        throw Error(path + ":" + std::to_string(lineno) + ": column '" + name + "' = \"" + c + "\" is not a number");
+      }
+    };
+    r.t.push_back(num("time_s"));
+    r.current.push_back(num("current_A"));
+    r.phi.push_back(num("phi_deg") * units::kRadPerDeg);
+  }
+  return r;
+}
+
+int simulate(const Args& a) {
+  std::map<std::string, std::string> overrides;
+  for (const auto& s : a.sets) {
+    const auto eq = s.find('=');
+    if (eq == std::string::npos) throw Error("--set " + s + ": expected key=value, e.g. rotor.cogging_order=180");
+    overrides[s.substr(0, eq)] = s.substr(eq + 1);
+  }
+  const studies::GimbalModel m = studies::load_gimbal_model(a.model, overrides);
+  procedures::TestPlan plan = m.plan;
+  const double theta = units::parse_as(a.theta_text, units::kAngle);
+  plan.positions = {theta, theta + 0.5, theta + 1.0, theta + 1.5};  // the test needs 4; the first is recorded
+  procedures::GimbalTruth truth;
+  truth.disk = m.rotor;
+  truth.disk.eccentricity = 25.81e-3 * 0.051 / m.rotor.mass;  // the paper's reference load, 12.91 mN*m
+  truth.disk.eccentricity_angle = 45.5 * units::kRadPerDeg;
+  truth.kt_true = m.plan.servo.kt_nominal;
+  truth.disturbances = m.disturbances;
+  procedures::StaticUnbalanceWorkspace ws(plan.solver);
+  sampling::RandomStream rs(a.seed, sampling::StreamId::kProcedure, 0);
+  std::vector<procedures::RecordSample> rec;
+  const auto res = procedures::run_static_unbalance_test(plan, truth, rs, ws, 0, &rec);
+  std::ofstream out(a.out);
+  if (!out) throw Error("cannot write " + a.out);
+  out << "time_s,current_A,phi_deg\n";
+  char buf[96];
+  for (const auto& s : rec) {
+    std::snprintf(buf, sizeof buf, "%.6f,%.9g,%.9g\n", s.t, s.current, s.phi / units::kRadPerDeg);
+    out << buf;
+  }
+  const double true_torque = m.rotor.mass * m.plan.gravity * truth.disk.eccentricity *
+                             std::sin(res.positions[0].theta_true + truth.disk.eccentricity_angle);
+  const double cable = m.rotor.torsion_stiffness * (m.plan.oscillation.centre - m.rotor.torsion_zero);
+  std::printf("wrote %zu samples of the position theta = %s to %s\n  Eq. 21 torque %.4f mN*m; unbalance torque "
+              "m g e sin(theta + eps) = %.4f mN*m; K_T = %s\n  (Eq. 21 also carries the position's constant "
+              "torques: cable k_CR (phi_c - phi_0) = %.4f mN*m and the current-sensor offset, %s + window noise "
+              "%s rms)\n",
+              rec.size(), a.theta_text.c_str(), a.out.c_str(), res.positions[0].torque * 1e3, true_torque * 1e3,
+              units::format(m.plan.servo.kt_nominal, "N*m/A").c_str(), cable * 1e3,
+              units::format(m.plan.acquisition.offset, "mA").c_str(),
+              units::format(m.plan.acquisition.offset_noise, "mA").c_str());
+  return 0;
+}
+
+int diagnose(const Args& a) {
+  estimators::OscillationOptions opt;
+  opt.kt = units::parse_as(a.kt_text, units::Dimension{{2, 1, -2, -1, 0, 0}});
+  const estimators::OscillationDiagnosis d = estimators::diagnose_oscillation(read_record(a.file), opt);
+  nlohmann::json j;
+  auto p = [](const estimators::OscillationParam& q, double f) {
+    return nlohmann::json{{"value", q.value * f}, {"se", q.se * f}};
+  };
+  j["n_samples"] = d.n;
+  j["torque_eq21_mNm"] = d.torque_eq21 * 1e3;
+  j["torque_before_mNm"] = p(d.torque_before, 1e3);
+  j["torque_after_mNm"] = p(d.torque_after, 1e3);
+  j["rmse_before_mNm"] = d.rmse_before * 1e3;
+  j["rmse_after_mNm"] = d.rmse_after * 1e3;
+  j["base_model"] = nlohmann::json::object();
+  for (const auto& b : d.base_before) j["base_model"][b.name] = {{"value", b.value}, {"se", b.se}, {"unit", b.unit}};
+  j["effects"] = nlohmann::json::array();
+  for (const auto& e : d.effects) {
+    nlohmann::json ej{{"name", e.name}, {"p_value", e.p_value}, {"p_adjusted", e.p_adjusted},
+                      {"delta_bic", e.delta_bic}, {"causes", e.causes}};
+    if (e.name == "cogging") ej["order"] = e.order;
+    for (const auto& q : e.params) ej["params"][q.name] = {{"value", q.value}, {"se", q.se}, {"unit", q.unit}};
+    j["effects"].push_back(ej);
+  }
+  j["not_identifiable"] = nlohmann::json::array();
+  for (const auto& [name, why] : d.not_identifiable) j["not_identifiable"].push_back({{"name", name}, {"why", why}});
+  if (a.json) {
+    std::cout << j.dump(2) << '\n';
+    return 0;
+  }
+  std::printf("Time-series diagnosis of %s (%zu samples used, K_T = %s)\n\n", a.file.c_str(), d.n, a.kt_text.c_str());
+  std::printf("  base model  K_T i = J phi'' + B phi' + C sign(phi') [+ K phi] + M_0\n");
+  for (const auto& b : d.base_before) std::printf("    %-2s = %.4g +- %.2g %s\n", b.name.c_str(), b.value, b.se, b.unit.c_str());
+  std::printf("\n  effects found: %zu\n", d.effects.size());
+  for (const auto& e : d.effects) {
+    std::printf("  * %s%s  p = %.2g (Holm %.2g), delta BIC = %.1f\n", e.name.c_str(),
+                e.name == "cogging" ? (" of order " + std::to_string(e.order) + " per turn").c_str() : "",
+                e.p_value, e.p_adjusted, e.delta_bic);
+    for (const auto& q : e.params) std::printf("      %s = %.4g +- %.2g %s\n", q.name.c_str(), q.value, q.se, q.unit.c_str());
+    std::printf("      causes: %s\n", e.causes.c_str());
+  }
+  for (const auto& [name, why] : d.not_identifiable) std::printf("  not identifiable here: %s: %s\n", name.c_str(), why.c_str());
+  std::printf("\n  torque residual RMS  %.4f -> %.4f mN*m\n", d.rmse_before * 1e3, d.rmse_after * 1e3);
+  std::printf("  position torque: Eq. 21 %.4f mN*m; M_0 base %.4f +- %.4f; with the effects %.4f +- %.4f mN*m\n",
+              d.torque_eq21 * 1e3, d.torque_before.value * 1e3, d.torque_before.se * 1e3, d.torque_after.value * 1e3,
+              d.torque_after.se * 1e3);
+  return 0;
+}
+
+}  // namespace
+
+std::function<std::optional<int>()> add_record_commands(CLI::App& app) {
+  auto a = std::make_shared<Args>();
+  CLI::App* sim = app.add_subcommand(
+      "simulate-record",
+      "simulate one turntable position of the static-unbalance test and write its raw record "
+      "(time_s, current_A, phi_deg); --set switches on effects the test's model lacks, e.g. "
+      "--set rotor.cogging_torque=\"0.3 mN*m\" --set rotor.cogging_order=180");
+  sim->add_option("MODEL", a->model, "gimbal model file, e.g. models/gimbal_simulator_yang2015.toml")
+      ->required()
+      ->check(CLI::ExistingFile);
+  sim->add_option("--out,-o", a->out, "record file to write (CSV)")->required();
+  sim->add_option("--theta", a->theta_text, "turntable angle with its unit (default \"30 deg\")");
+  sim->add_option("--set", a->sets, "model key=value override (repeatable)");
+  sim->add_option("--seed", a->seed, "noise seed (default 1)");
+  CLI::App* diag = app.add_subcommand(
+      "diagnose-record",
+      "residual diagnosis of a raw record of one turntable position: fits K_T i = J phi'' + B phi' + "
+      "C sign(phi') + K phi + M_0, then looks for cogging (orders 20-600 per turn), offset drift and "
+      "friction asymmetry, adds what is significant (F test, Holm, BIC) and reports the position's "
+      "torque before and after");
+  diag->add_option("RECORD", a->file, "CSV with columns time_s, current_A, phi_deg")->required()->check(CLI::ExistingFile);
+  diag->add_option("--kt", a->kt_text, "torque constant with its unit (default \"0.05 N*m/A\")");
+  diag->add_flag("--json", a->json, "print one JSON object");
+  return [a, sim, diag]() -> std::optional<int> {
+    try {
+      if (*sim) return simulate(*a);
+      if (*diag) return diagnose(*a);
+    } catch (const studies::ValidationError& e) {
+      std::cerr << "poise: " << e.what() << '\n';
+      return 2;
+    } catch (const Error& e) {
+      std::cerr << "poise: " << e.what() << '\n';
+      return 2;
+    }
+    return std::nullopt;
+  };
+}
+
+}  // namespace poise::cli

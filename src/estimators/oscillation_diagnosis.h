@@ -1,0 +1,76 @@
+#pragma once
+/// Residual diagnosis of a raw record of one turntable position (Yang 2015 Sec. 5.1, the
+/// sixth step): time t, drive current i and gimbal angle phi while the servo drives
+/// phidot = A sin(2 pi t / T). Finds effects in the oscillation that the test's model
+/// lacks and reports the position's unbalance torque with and without them.
+///
+/// Base model (the disk rotor's phi equation at one position, supports quasi-static):
+///   K_T i(t) = J phi'' + B phi' + C sign(phi') + K (phi - mean phi) + M_0 + e(t)
+/// (K: gravity's pendulum stiffness m g e cos(theta + eps) plus any cable spring; dropped,
+/// and reported, when the motion cannot separate it from J).
+/// phi', phi'' from a local quadratic (Savitzky-Golay) fit over `derivative_window` samples.
+/// M_0 is the torque Eq. 21 is after: K_T mean(i) over whole periods equals M_0 when the
+/// other terms average out.
+/// Candidates, each adding columns, tested like the turntable diagnosis (nested F test,
+/// Holm across the round's candidates, delta BIC < 0, forward stepwise):
+///   cogging          sin(N phi), cos(N phi), N scanned over [min, max] cycles per turn as
+///                    one family (Bonferroni over the scan); motor cogging or detent torque.
+///                    Separable from the smooth terms only when the swing spans a good part
+///                    of a cogging cycle (N a >~ 3 rad for a swing +-a): with +-1.27 deg,
+///                    orders above ~150 per turn, as torque motors' slot/pole products are.
+///   offset_drift     t - mean(t); current-sensor offset drift (amplifier warm-up)
+///   coulomb_asymmetry  [phi' > 0]: direction-dependent friction
+/// A candidate whose columns lie (numerically) in the span of the model is reported as not
+/// identifiable, with the reason: at one position a constant friction asymmetry is the
+/// unbalance torque's alias. A cable's stiffness adds to gravity's in K; only the part of K
+/// that does not follow cos(theta + eps) across positions is the cable's.
+#include <string>
+#include <vector>
+
+namespace poise::estimators {
+
+struct OscillationRecord {
+  std::vector<double> t;        ///< s, uniformly sampled
+  std::vector<double> current;  ///< A
+  std::vector<double> phi;      ///< rad
+};
+
+struct OscillationOptions {
+  double kt = 0.0;               ///< N m/A, the nominal torque constant
+  double alpha = 0.05;
+  int derivative_window = 9;     ///< odd number of samples
+  int cogging_min_order = 20;
+  int cogging_max_order = 600;
+};
+
+struct OscillationParam {
+  std::string name;
+  double value = 0.0, se = 0.0;
+  std::string unit;
+};
+
+struct OscillationEffect {
+  std::string name;              ///< cogging, offset_drift, coulomb_asymmetry
+  int order = 0;                 ///< cogging order N
+  std::vector<OscillationParam> params;
+  double p_value = 1.0, p_adjusted = 1.0, delta_bic = 0.0;
+  std::string causes;
+};
+
+struct OscillationDiagnosis {
+  std::size_t n = 0;             ///< samples used (the window's edges dropped)
+  double torque_eq21 = 0.0;      ///< K_T mean(i) (N m), Eq. 21
+  OscillationParam torque_before;  ///< M_0 of the base model (N m)
+  OscillationParam torque_after;   ///< M_0 with the effects found (N m)
+  std::vector<OscillationParam> base_before;  ///< J, B, C of the base model
+  std::vector<OscillationEffect> effects;
+  std::vector<std::pair<std::string, std::string>> not_identifiable;  ///< (candidate, why)
+  double rmse_before = 0.0, rmse_after = 0.0;  ///< torque residual (N m)
+  int rounds = 0;
+};
+
+/// Throws poise::Error for fewer than 4 windows of samples, unequal sizes, non-uniform time,
+/// a non-positive K_T or an even window.
+OscillationDiagnosis diagnose_oscillation(const OscillationRecord& rec, const OscillationOptions& opt);
+
+}  // namespace poise::estimators

@@ -1,0 +1,350 @@
+#include "estimators/residual_diagnosis.h"
+
+#include <Eigen/Core>
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <numbers>
+#include <numeric>
+#include <string>
+#include <utility>
+
+#include "core/error.h"
+#include "estimators/residual_diagnosis_model.h"
+#include "estimators/sine_fit.h"
+
+namespace poise::estimators {
+namespace {
+
+using detail::autocorrelation_test;
+using detail::describe;
+using detail::fit_linear;
+using detail::fit_rho;
+using detail::holm;
+using detail::LinearFit;
+using detail::Model;
+using detail::nested_test;
+using detail::outlier_family;
+using detail::RhoFit;
+using detail::Term;
+using detail::with_columns;
+using Data = detail::ModelData;
+using Eigen::Index;
+using Eigen::MatrixXd;
+using Eigen::VectorXd;
+
+constexpr double kPi = std::numbers::pi;
+constexpr double kDegPerRad = 180.0 / kPi;
+constexpr int kMaxRounds = 200;  // the search ends long before: each round adds a column set
+constexpr const char* kCauseHarmonic2 =
+    "Gimbal axis not parallel to the turntable axis, an out-of-round bearing or race under the "
+    "gravity load, or anisotropic support stiffness.";
+constexpr const char* kCauseHarmonicHigh =
+    "Race waviness, cogging of the turntable drive, or a mass distribution with higher moments "
+    "coupled through compliance.";
+constexpr const char* kCauseDrift =
+    "Motor or amplifier heating, current-sensor offset drift, or K_T changing with temperature.";
+constexpr const char* kCauseDirection =
+    "Backlash in the turntable, cable wind-up, or hysteresis of the flex leads.";
+constexpr const char* kCauseOutlier =
+    "A disturbed point: turntable not settled or not locked, a bump, or a missed period.";
+constexpr const char* kCauseAr =
+    "A slow disturbance spanning several positions: thermal drift, or settling not complete.";
+
+double wrap_two_pi(double x) {
+  double w = std::fmod(x, 2.0 * kPi);
+  if (w < 0.0) w += 2.0 * kPi;
+  return w >= 2.0 * kPi ? 0.0 : w;
+}
+
+std::vector<Term> round_candidates(const Model& m, const Data& d, const TorqueTable& table,
+                                   const std::vector<double>& t_c, int max_harmonic) {
+  const Index n = d.n;
+  std::vector<Term> c;
+  for (int k = 2; k <= max_harmonic; ++k) {
+    if (m.has("harmonic", k)) continue;
+    Term h("harmonic", "harmonic " + std::to_string(k), k);
+    h.cols.resize(n, 2);
+    for (Index i = 0; i < n; ++i) {
+      const double th = table.theta_rad[static_cast<std::size_t>(i)];
+      h.cols(i, 0) = std::sin(k * th), h.cols(i, 1) = std::cos(k * th);
+    }
+    c.push_back(std::move(h));
+  }
+  const auto column_term = [&](const std::string& name, auto value) {
+    Term t(name, name);
+    t.cols.resize(n, 1);
+    for (Index i = 0; i < n; ++i) t.cols(i, 0) = value(static_cast<std::size_t>(i));
+    c.push_back(std::move(t));
+  };
+  if (!m.has("time_drift")) column_term("time_drift", [&](std::size_t i) { return t_c[i]; });
+  if (m.has("time_drift") && !m.has("time_drift_quadratic")) {
+    column_term("time_drift_quadratic", [&](std::size_t i) { return t_c[i] * t_c[i]; });
+  }
+  const bool both = !table.sweep.empty() &&
+                    std::count(table.sweep.begin(), table.sweep.end(), 1) > 0 &&
+                    std::count(table.sweep.begin(), table.sweep.end(), -1) > 0;
+  if (!m.has("direction_offset")) {
+    column_term("direction_offset",
+                [&](std::size_t i) { return both ? static_cast<double>(table.sweep[i]) : 0.0; });
+    if (!both) {
+      c.back().note = table.sweep.empty() ? "not examined: the table has no sweep column"
+                                          : "not examined: only one sweep direction occurs";
+    }
+  }
+  return c;
+}
+
+struct Polar {
+  double amplitude, phase, se_amplitude, se_phase;
+};
+
+// (a, c) of a sin + c cos -> amplitude, phase with delta-method SE (as in fit_sine).
+Polar polar(double a, double c, const Eigen::Matrix2d& cov) {
+  Polar p{std::hypot(a, c), wrap_two_pi(std::atan2(c, a)), 0.0, 0.0};
+  if (p.amplitude > 0.0) {
+    const Eigen::Vector2d ua(a / p.amplitude, c / p.amplitude), up(-ua(1), ua(0));
+    p.se_amplitude = std::sqrt(std::max(0.0, ua.dot(cov * ua)));
+    p.se_phase = std::sqrt(std::max(0.0, up.dot(cov * up))) / p.amplitude;
+  } else {
+    p.se_amplitude = std::sqrt(0.5 * (cov(0, 0) + cov(1, 1)));
+    p.se_phase = std::numeric_limits<double>::infinity();
+  }
+  return p;
+}
+
+Effect to_effect(const Term& t, const Model& m, const LinearFit& f, const TorqueTable& table) {
+  Effect e;
+  e.name = t.name, e.order = t.order, e.index = t.index;
+  e.p_value = t.p, e.p_adjusted = t.p_adj, e.delta_bic = t.delta_bic;
+  const std::string& u = table.unit;
+  const std::string per = table.time_s.empty() ? "/measurement" : "/s";
+  const auto coef = [&](Index k) {
+    return EffectParam{"", f.beta(t.first + k), std::sqrt(f.cov(t.first + k, t.first + k)), u};
+  };
+  if (t.name == "harmonic") {
+    const Polar p =
+        polar(f.beta(t.first), f.beta(t.first + 1), f.cov.block<2, 2>(t.first, t.first));
+    e.params = {{"amplitude", p.amplitude, p.se_amplitude, u},
+                {"phase_deg", p.phase * kDegPerRad, p.se_phase * kDegPerRad, "deg"}};
+    e.causes = t.order == 2 ? kCauseHarmonic2 : kCauseHarmonicHigh;
+  } else if (t.name == "time_drift" || t.name == "time_drift_quadratic") {
+    const bool quad = t.name == "time_drift_quadratic";
+    EffectParam p = coef(0);
+    p.name = quad ? "curvature" : "slope";
+    p.unit = u + per + (quad ? "^2" : "");
+    e.params = {p};
+    e.causes = kCauseDrift;
+  } else if (t.name == "direction_offset") {
+    EffectParam p = coef(0);
+    p.name = "half_difference";
+    e.params = {p};
+    e.causes = kCauseDirection;
+  } else if (t.name == "outlier") {
+    EffectParam p = coef(0);
+    p.name = "offset";
+    e.params = {p};
+    const auto row = static_cast<std::size_t>(t.index);
+    e.line = row < table.rows.size() ? table.rows[row] : 0;
+    e.causes = kCauseOutlier;
+  } else {
+    e.params = {{"rho", m.rho.rho, m.rho.se, ""}};
+    e.causes = kCauseAr;
+  }
+  return e;
+}
+
+void check(const TorqueTable& t, const DiagnosisOptions& o) {
+  const std::size_t n = t.theta_rad.size();
+  require(std::isfinite(o.alpha) && o.alpha > 0.0 && o.alpha < 1.0,
+          "diagnose_residuals: alpha = " + std::to_string(o.alpha) + "; expected 0 < alpha < 1");
+  require(o.max_harmonic >= 1, "diagnose_residuals: max_harmonic = " +
+                                   std::to_string(o.max_harmonic) + "; expected >= 1 (1 = none)");
+  require(t.torque.size() == n && (t.time_s.empty() || t.time_s.size() == n) &&
+              (t.sweep.empty() || t.sweep.size() == n),
+          "diagnose_residuals: columns of different lengths (" + std::to_string(n) + " angles, " +
+              std::to_string(t.torque.size()) + " torques, " + std::to_string(t.time_s.size()) +
+              " times, " + std::to_string(t.sweep.size()) +
+              " sweeps); expected one of each per point, time and sweep optional");
+  for (double v : t.time_s) require(std::isfinite(v), "diagnose_residuals: a time is not finite");
+}
+
+struct SearchInputs {
+  const Data& d;
+  const TorqueTable& table;
+  const std::vector<double>& t;  // time from its mean
+  const DiagnosisOptions& options;
+  int max_harmonic;
+};
+
+struct Search {
+  Model m;
+  int rounds = 0;
+  std::vector<std::string> tested, notes;
+  std::string summary;             // effects in the order added, e.g. "harmonic 2, time_drift"
+  std::vector<std::string> found;  // the same, sorted: the model whatever the order
+  double bic = 0.0;  // -2 ln L + k ln n of the final model (ML form, rho at its estimate)
+};
+
+// Forward stepwise search from `start` (the rounds described in residual_diagnosis.h). With
+// ar_last, AR(1) is picked only in a round where no column candidate qualifies.
+Search search(const SearchInputs& in, const Model& start, bool ar_last) {
+  const Data& d = in.d;
+  const double alpha = in.options.alpha;
+  Search s;
+  s.m = start;
+  Model& m = s.m;
+  while (s.rounds < kMaxRounds) {
+    ++s.rounds;
+    std::vector<Term> c = round_candidates(m, d, in.table, in.t, in.max_harmonic);
+    for (Term& term : c) {
+      if (term.note.empty()) nested_test(m, d, term);
+    }
+    if (in.options.outliers) c.push_back(outlier_family(m, d));
+    if (in.options.autocorrelation && !m.ar) c.push_back(autocorrelation_test(m, d));
+    holm(c);
+    const Term* pick = nullptr;
+    for (int pass = ar_last ? 0 : 1; pass < 2 && !pick; ++pass) {
+      for (const Term& term : c) {
+        if ((pass == 0 && term.name == "autocorrelation") || !term.examined ||
+            !(term.p_adj < alpha) || !(term.delta_bic < 0.0)) {
+          continue;
+        }
+        if (!pick || term.p_adj < pick->p_adj || (term.p_adj == pick->p_adj && term.p < pick->p)) {
+          pick = &term;
+        }
+      }
+    }
+    if (!pick) {
+      for (const Term& term : c) s.tested.push_back(describe(term));
+      break;
+    }
+    Term added = *pick;
+    added.first = m.x.cols();
+    added.round = s.rounds;
+    if (added.name == "autocorrelation") {
+      m.ar = true;
+    } else {
+      m.x = with_columns(m.x, added.cols);
+    }
+    m.terms.push_back(std::move(added));
+    if (!m.ar) continue;
+    // AR(1) stays only while the columns leave the residuals autocorrelated: a missing smooth
+    // effect looks like correlated errors until it is in the model.
+    const Term check = autocorrelation_test(m, d);
+    if (check.examined && check.p < alpha && check.delta_bic < 0.0) {
+      m.rho = fit_rho(m.x, d);
+      continue;
+    }
+    const auto ar = std::find_if(m.terms.begin(), m.terms.end(),
+                                 [](const Term& x) { return x.name == "autocorrelation"; });
+    char buf[200];
+    std::snprintf(buf, sizeof buf,
+                  "autocorrelation, added in round %d, was removed in round %d: with %s in the "
+                  "model it has p = %.3g, delta_BIC = %+.2f",
+                  ar->round, s.rounds, m.terms.back().label.c_str(), check.p, check.delta_bic);
+    s.notes.emplace_back(buf);
+    m.terms.erase(ar);
+    m.ar = false;
+    m.rho = RhoFit{};
+  }
+  for (const Term& term : m.terms) {
+    s.found.push_back(term.name == "outlier" ? "outlier at row " + std::to_string(term.index)
+                                             : term.label);
+    s.summary += (s.summary.empty() ? "" : ", ") + s.found.back();
+  }
+  std::sort(s.found.begin(), s.found.end());
+  if (s.summary.empty()) s.summary = "no effect";
+  const LinearFit f = fit_linear(m.x, d, m.ar, m.rho.rho);
+  const double n = static_cast<double>(d.n);
+  const double loglik = -0.5 * n * std::log(std::max(f.rss, d.rss_floor) / n) +
+                        (m.ar ? 0.5 * std::log(1.0 - m.rho.rho * m.rho.rho) : 0.0);
+  s.bic = -2.0 * loglik + static_cast<double>(m.x.cols() + (m.ar ? 1 : 0)) * std::log(n);
+  return s;
+}
+
+}  // namespace
+
+DiagnosisResult diagnose_residuals(const TorqueTable& table, const DiagnosisOptions& options) {
+  check(table, options);
+  const SineFitResult base = fit_sine(table.theta_rad, table.torque);
+  const std::size_t n = table.size();
+  Data d;
+  d.n = static_cast<Index>(n);
+  d.y = Eigen::Map<const VectorXd>(table.torque.data(), d.n);
+  d.rss_floor = 1e-28 * std::max(d.y.squaredNorm(), 1e-300);
+  std::vector<double> t(n);
+  if (table.time_s.empty()) {
+    std::iota(t.begin(), t.end(), 0.0);
+  } else {
+    t = table.time_s;
+  }
+  d.order.resize(n);
+  std::iota(d.order.begin(), d.order.end(), std::size_t{0});
+  std::stable_sort(d.order.begin(), d.order.end(), [&](auto a, auto b) { return t[a] < t[b]; });
+  const double t_mean = std::accumulate(t.begin(), t.end(), 0.0) / static_cast<double>(n);
+  for (double& v : t) v -= t_mean;
+
+  DiagnosisResult res;
+  res.max_harmonic = std::max(1, std::min(options.max_harmonic, (static_cast<int>(n) - 6) / 2));
+  Model start;
+  start.x.resize(d.n, 3);
+  for (Index i = 0; i < d.n; ++i) {
+    const double th = table.theta_rad[static_cast<std::size_t>(i)];
+    start.x(i, 0) = std::sin(th), start.x(i, 1) = std::cos(th), start.x(i, 2) = 1.0;
+  }
+  const SearchInputs in{d, table, t, options, res.max_harmonic};
+  Search s = search(in, start, false);
+  if (options.autocorrelation) {
+    Search a = search(in, start, true);
+    if (a.found != s.found) {
+      const bool keep_a = a.bic < s.bic;
+      char buf[400];
+      std::snprintf(buf, sizeof buf,
+                    "The search with AR(1) allowed in any round found %s (BIC %.2f); with AR(1) "
+                    "deferred until no column effect qualifies it found %s (BIC %.2f). The "
+                    "lower BIC is kept: %s.",
+                    s.summary.c_str(), s.bic, a.summary.c_str(), a.bic,
+                    keep_a ? "the second" : "the first");
+      if (keep_a) s = std::move(a);
+      s.notes.emplace_back(buf);
+    }
+  }
+  const Model& m = s.m;
+  res.rounds = s.rounds;
+  res.tested = std::move(s.tested);
+  res.notes = std::move(s.notes);
+
+  const LinearFit f = fit_linear(m.x, d, m.ar, m.rho.rho);
+  for (const Term& term : m.terms) res.effects.push_back(to_effect(term, m, f, table));
+  res.rmse_before = base.rmse;
+  res.rmse_after = std::sqrt(f.rss / static_cast<double>(n));
+  res.estimate_before = {base.amplitude,    base.phase,    base.offset,
+                         base.se_amplitude, base.se_phase, base.se_offset};
+  const Polar p = polar(f.beta(0), f.beta(1), f.cov.block<2, 2>(0, 0));
+  res.estimate_after = {p.amplitude,    p.phase,    f.beta(2),
+                        p.se_amplitude, p.se_phase, std::sqrt(f.cov(2, 2))};
+  for (std::size_t i = 0; i < n; ++i) {
+    const auto k = static_cast<Index>(i);
+    res.fitted_before.push_back(sine_fit_predict(base, table.theta_rad[i]));
+    res.residual_before.push_back(base.residuals[i]);
+    res.residual_after.push_back(f.resid(k));
+    res.fitted_after.push_back(table.torque[i] - f.resid(k));
+  }
+  return res;
+}
+
+KnownLoadErrors known_load_errors(const DiagnosisResult& r, double true_amplitude,
+                                  double true_phase_rad) {
+  const auto error = [&](const UnbalanceEstimate& e) {
+    double dphi = std::remainder(e.phase - true_phase_rad, 2.0 * kPi);
+    if (dphi <= -kPi) dphi += 2.0 * kPi;
+    const double dx = e.amplitude * std::cos(e.phase) - true_amplitude * std::cos(true_phase_rad);
+    const double dy = e.amplitude * std::sin(e.phase) - true_amplitude * std::sin(true_phase_rad);
+    return EstimateError{e.amplitude - true_amplitude, dphi * kDegPerRad, std::hypot(dx, dy)};
+  };
+  return {error(r.estimate_before), error(r.estimate_after)};
+}
+
+}  // namespace poise::estimators

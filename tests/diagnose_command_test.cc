@@ -1,0 +1,187 @@
+// End-to-end tests of `poise diagnose`: runs the built executable on the paper's Table 1, on a
+// copy with an injected 2nd harmonic and on bad input; checks the JSON keys, the text, the
+// --out folder (diagnosis.json, report.html, plot.svg when gnuplot exists) and exit statuses.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <nlohmann/json.hpp>
+#include <numbers>
+#include <set>
+#include <sstream>
+#include <string>
+
+#include "test_util.h"
+
+namespace {
+
+struct RunResult {
+  int status = -1;
+  std::string out, err;
+};
+
+// Runs `poise <args>` with stdout and stderr captured through files.
+RunResult run_poise(const poise::test::TempDir& dir, const std::string& args) {
+  const std::string out = dir.file("stdout.txt"), err = dir.file("stderr.txt");
+  const std::string cmd =
+      std::string("'") + POISE_BINARY + "' " + args + " >'" + out + "' 2>'" + err + "'";
+  const int raw = std::system(cmd.c_str());
+  RunResult r;
+  r.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
+  r.out = poise::test::read_text(out);
+  r.err = poise::test::read_text(err);
+  return r;
+}
+
+std::set<std::string> keys(const nlohmann::json& j) {
+  std::set<std::string> k;
+  for (const auto& [key, value] : j.items()) k.insert(key);
+  return k;
+}
+
+const std::string kTable1 = poise::test::source_path("data/yang2015/table1_loading_test_36pt.csv");
+const std::string kLoad = " --load-torque '12.91 mN*m' --load-angle '45.5 deg'";
+
+TEST(DiagnoseCommand, JsonForTable1HasExactlyTheDocumentedKeys) {
+  poise::test::TempDir dir;
+  RunResult r = run_poise(dir, "diagnose '" + kTable1 + "' --json");
+  ASSERT_EQ(r.status, 0) << r.err;
+  nlohmann::json j = nlohmann::json::parse(r.out);
+  EXPECT_EQ(keys(j),
+            (std::set<std::string>{"effects", "rmse_before", "rmse_after", "estimate_before",
+                                   "estimate_after", "unit", "n_points"}));
+  const std::set<std::string> estimate_keys{"amplitude",    "phase_deg",    "offset",
+                                            "se_amplitude", "se_phase_deg", "se_offset"};
+  EXPECT_EQ(keys(j.at("estimate_before")), estimate_keys);
+  EXPECT_EQ(keys(j.at("estimate_after")), estimate_keys);
+  EXPECT_EQ(j.at("unit"), "mN*m");
+  EXPECT_EQ(j.at("n_points"), 36);
+  // The least-squares fit of Table 1 (see fit_command_test.cc).
+  EXPECT_NEAR(j.at("estimate_before").at("amplitude").get<double>(), 12.4747, 1e-4);
+  EXPECT_NEAR(j.at("estimate_before").at("phase_deg").get<double>(), 42.4290, 1e-4);
+  EXPECT_NEAR(j.at("rmse_before").get<double>(), 0.22512, 1e-5);
+  // Table 1 holds nothing beyond Eq. 22 at alpha = 0.05 (its largest residual, 20 deg, has a
+  // Bonferroni p of 0.11).
+  EXPECT_TRUE(j.at("effects").empty()) << j.at("effects").dump();
+
+  r = run_poise(dir, "diagnose '" + kTable1 + "' --json" + kLoad);
+  ASSERT_EQ(r.status, 0) << r.err;
+  j = nlohmann::json::parse(r.out);
+  EXPECT_EQ(keys(j), (std::set<std::string>{"effects", "rmse_before", "rmse_after",
+                                            "estimate_before", "estimate_after", "unit", "n_points",
+                                            "load", "error_before", "error_after"}));
+  EXPECT_EQ(keys(j.at("load")), (std::set<std::string>{"torque", "angle_deg"}));
+  EXPECT_NEAR(j.at("load").at("torque").get<double>(), 12.91, 1e-12);
+  EXPECT_NEAR(j.at("load").at("angle_deg").get<double>(), 45.5, 1e-12);
+  EXPECT_EQ(keys(j.at("error_before")), (std::set<std::string>{"amplitude", "phase_deg"}));
+  EXPECT_NEAR(j.at("error_before").at("amplitude").get<double>(), 12.4747 - 12.91, 1e-4);
+  EXPECT_NEAR(j.at("error_before").at("phase_deg").get<double>(), 42.4290 - 45.5, 1e-4);
+}
+
+TEST(DiagnoseCommand, InjectedSecondHarmonicIsDiagnosedInTextAndJson) {
+  poise::test::TempDir dir;
+  std::istringstream in(poise::test::read_text(kTable1));
+  std::string line, csv;
+  std::getline(in, line);
+  csv = line + "\n";
+  while (std::getline(in, line)) {
+    const double theta = std::stod(line.substr(0, line.find(','))) * std::numbers::pi / 180.0;
+    const double torque = std::stod(line.substr(line.find(',') + 1));
+    csv += line.substr(0, line.find(',')) + "," + std::to_string(torque + std::sin(2.0 * theta)) +
+           "\n";
+  }
+  const std::string data = dir.file("table1_with_h2.csv");
+  poise::test::write_text(data, csv);
+  RunResult r = run_poise(dir, "diagnose '" + data + "' --json");
+  ASSERT_EQ(r.status, 0) << r.err;
+  const nlohmann::json j = nlohmann::json::parse(r.out);
+  ASSERT_FALSE(j.at("effects").empty()) << r.out;
+  const auto& e = j.at("effects")[0];
+  EXPECT_EQ(keys(e), (std::set<std::string>{"name", "order", "params", "p_value", "p_adjusted",
+                                            "delta_bic", "causes"}));
+  EXPECT_EQ(e.at("name"), "harmonic");
+  EXPECT_EQ(e.at("order"), 2);
+  EXPECT_EQ(keys(e.at("params")), (std::set<std::string>{"amplitude", "phase_deg"}));
+  EXPECT_EQ(keys(e.at("params").at("amplitude")), (std::set<std::string>{"value", "se", "unit"}));
+  const double amp = e.at("params").at("amplitude").at("value");
+  EXPECT_LT(std::abs(amp - 1.0), 3.0 * e.at("params").at("amplitude").at("se").get<double>());
+  EXPECT_LT(j.at("rmse_after").get<double>(), j.at("rmse_before").get<double>());
+
+  r = run_poise(dir, "diagnose '" + data + "'" + kLoad);
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.out.find("1. harmonic 2: amplitude = "), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("causes: Gimbal axis not parallel"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("Candidates tested in the last round, not added:"), std::string::npos);
+  EXPECT_NE(r.out.find("direction_offset: not examined: the table has no sweep column"),
+            std::string::npos)
+      << r.out;
+  EXPECT_NE(r.out.find("Error against the known load 12.91 mN*m at 45.5 deg"), std::string::npos)
+      << r.out;
+}
+
+TEST(DiagnoseCommand, OutWritesJsonReportAndPlotAndRefusesToOverwrite) {
+  poise::test::TempDir dir;
+  const std::string out = dir.file("diag");
+  RunResult r = run_poise(dir, "diagnose '" + kTable1 + "' --out '" + out + "'" + kLoad);
+  ASSERT_EQ(r.status, 0) << r.err;
+  namespace fs = std::filesystem;
+  ASSERT_TRUE(fs::exists(out + "/diagnosis.json"));
+  const nlohmann::json j = nlohmann::json::parse(poise::test::read_text(out + "/diagnosis.json"));
+  EXPECT_TRUE(j.contains("error_after"));
+  const std::string html = poise::test::read_text(out + "/report.html");
+  EXPECT_NE(html.find("<h2>Findings</h2>"), std::string::npos);
+  EXPECT_NE(html.find("No effect beyond Eq. 22 was found"), std::string::npos);
+  EXPECT_NE(html.find("against the known load 12.91 mN*m at 45.5 deg"), std::string::npos);
+  EXPECT_TRUE(fs::exists(out + "/plot.gp"));
+  EXPECT_TRUE(fs::exists(out + "/plot.dat"));
+  if (std::system("command -v gnuplot >/dev/null 2>&1") == 0) {
+    ASSERT_TRUE(fs::exists(out + "/plot.svg"));
+    EXPECT_NE(poise::test::read_text(out + "/plot.svg").find("<svg"), std::string::npos);
+    EXPECT_NE(html.find("<img src=\"plot.svg\""), std::string::npos);
+  } else {
+    EXPECT_NE(html.find("gnuplot is not installed or failed"), std::string::npos);
+  }
+  EXPECT_NE(r.out.find("report: " + out + "/report.html"), std::string::npos) << r.out;
+
+  const std::string before = poise::test::read_text(out + "/diagnosis.json");
+  r = run_poise(dir, "diagnose '" + kTable1 + "' --out '" + out + "'");
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.err.find("already holds diagnosis.json"), std::string::npos) << r.err;
+  EXPECT_EQ(poise::test::read_text(out + "/diagnosis.json"), before);
+}
+
+TEST(DiagnoseCommand, BadInputGivesStatus2WithLineAndColumn) {
+  poise::test::TempDir dir;
+  const std::string bad = dir.file("bad.csv");
+  poise::test::write_text(
+      bad, poise::test::replace_once(poise::test::read_text(kTable1), "15.77", "1S.77"));
+  RunResult r = run_poise(dir, "diagnose '" + bad + "' --json");
+  EXPECT_EQ(r.status, 2);
+  EXPECT_TRUE(r.out.empty()) << r.out;
+  EXPECT_NE(r.err.find(bad + ":6: column 'torque_mNm': cell '1S.77' is not a finite number"),
+            std::string::npos)
+      << r.err;
+
+  r = run_poise(dir, "diagnose '" + kTable1 + "' --load-torque '12.91 mm' --load-angle '45 deg'");
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.err.find("--load-torque '12.91 mm'"), std::string::npos) << r.err;
+  r = run_poise(dir, "diagnose '" + kTable1 + "' --load-torque '12.91 mN*m'");
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.err.find("go together"), std::string::npos) << r.err;
+  r = run_poise(dir, "diagnose '" + kTable1 + "' --alpha 1.5");
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.err.find("expected 0 < alpha < 1"), std::string::npos) << r.err;
+}
+
+TEST(DiagnoseCommand, HelpExplainsTheMethodWithTheTable1Example) {
+  poise::test::TempDir dir;
+  const RunResult r = run_poise(dir, "diagnose --help");
+  EXPECT_EQ(r.status, 0);
+  EXPECT_NE(r.out.find("Holm"), std::string::npos);
+  EXPECT_NE(r.out.find("poise diagnose data/yang2015/table1_loading_test_36pt.csv"),
+            std::string::npos);
+}
+
+}  // namespace
