@@ -158,6 +158,11 @@ int diagnose(const Args& a) {
                 e.p_value, e.p_adjusted, e.delta_bic);
     for (const auto& q : e.params) std::printf("      %s = %.4g +- %.2g %s\n", q.name.c_str(), q.value, q.se, q.unit.c_str());
     std::printf("      causes: %s\n", e.causes.c_str());
+    if (e.name == "cogging") {  // close the loop: the effect, as the simulation model takes it
+      std::printf("      into the model: --set rotor.cogging_torque=\"%.4g N*m\" --set rotor.cogging_order=%d "
+                  "--set rotor.cogging_phase=\"%.4g rad\"\n",
+                  e.params[0].value, e.order, e.params[1].value);
+    }
   }
   for (const auto& [name, why] : d.not_identifiable) std::printf("  not identifiable here: %s: %s\n", name.c_str(), why.c_str());
   std::printf("\n  torque residual RMS  %.4f -> %.4f mN*m\n", d.rmse_before * 1e3, d.rmse_after * 1e3);
