@@ -2,6 +2,7 @@
 // replay of one sample, strict files, and an ideal rig that balances to within the noise.
 #include <gtest/gtest.h>
 
+#include <filesystem>
 #include <nlohmann/json.hpp>
 
 #include "studies/gimbal_model.h"
@@ -109,6 +110,32 @@ TEST(GimbalStudy, IdealRigBalancesWithinTheNoise) {
   EXPECT_LT(s["outputs"]["g_rmse_angle_deg"]["max"]["value"].get<double>(), 0.05);
   // Residual after the counterweight: below 0.1% of the larger load's 1316 g*mm.
   EXPECT_LT(s["outputs"]["g_max_residual_gmm"]["max"]["value"].get<double>(), 1.4);
+}
+
+TEST(GimbalStudy, InterruptedRunResumesToTheSameSamples) {
+  TempDir d;
+  const std::string study = tiny_study(d);
+  run_study(study, options(d.file("full"), 2));
+  const std::string full = test::read_text(d.file("full/samples.csv"));
+  // An interruption: the copy keeps the header, two samples and half of the third line.
+  std::filesystem::create_directories(d.file("cut"));
+  std::filesystem::copy_file(d.file("full/run.json"), d.file("cut/run.json"));
+  std::size_t pos = 0;
+  for (int k = 0; k < 3; ++k) pos = full.find('\n', pos) + 1;
+  const std::size_t third_end = full.find('\n', pos);
+  test::write_text(d.file("cut/samples.csv"), full.substr(0, pos + (third_end - pos) / 2));
+  RunOptions o = options("", 1);
+  o.resume = d.file("cut");
+  run_study(study, o);
+  EXPECT_EQ(test::read_text(d.file("cut/samples.csv")), full);
+  const json a = json::parse(test::read_text(d.file("full/summary.json")));
+  const json b = json::parse(test::read_text(d.file("cut/summary.json")));
+  EXPECT_NEAR(a["outputs"]["g_rmse_torque_mNm"]["mean"]["value"].get<double>(),
+              b["outputs"]["g_rmse_torque_mNm"]["mean"]["value"].get<double>(), 1e-8);
+  EXPECT_EQ(b["provenance"]["resumed_after_sample"], 2);
+  // A changed study refuses to resume.
+  test::write_text(study, test::read_text(study) + "\n# edited\n");
+  EXPECT_THROW(run_study(study, o), Error);
 }
 
 TEST(GimbalStudy, StrictGroupsAndScopes) {

@@ -64,6 +64,12 @@ int main(int argc, char** argv) {
       ->check(CLI::NonNegativeNumber);
   run->add_option("--out,-o", opt.out, "result folder (default results/<study>/<run id>); must not hold a run");
   run->add_option("--results-root", opt.results_root, "where default result folders go (default: results)");
+  run->add_option("--resume", opt.resume,
+                  "continue an interrupted gimbal-study run in this folder: keeps its samples.csv rows, "
+                  "computes the rest (same seed and sample count; the study files must be unchanged)")
+      ->excludes("--out")
+      ->excludes("--samples")
+      ->excludes("--seed");
   run->add_flag("--quiet,-q", quiet, "no progress on stderr");
   run->add_flag("--no-plots", no_plots, "skip gnuplot figures");
 

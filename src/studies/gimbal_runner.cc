@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <sstream>
 #include <thread>
 
@@ -83,24 +84,96 @@ json replay_gimbal_sample(const StudyConfig& cfg, std::size_t index, const RunOp
   return j;
 }
 
+namespace {
+
+// Samples already in an interrupted run's samples.csv: complete lines only, in order from
+// 0; a partial last line is cut off the file. Throws if the header is not this study's.
+std::vector<GimbalSampleResult> read_done_samples(const std::string& csv_path, const std::string& header,
+                                                  std::size_t n_inputs, std::size_t n_outputs) {
+  std::ifstream in(csv_path, std::ios::binary);
+  if (!in) throw Error("--resume: cannot read " + csv_path);
+  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  in.close();
+  const std::size_t complete = text.rfind('\n');
+  if (complete == std::string::npos || text.compare(0, header.size() + 1, header + "\n") != 0) {
+    throw Error("--resume: " + csv_path + " does not start with this study's header");
+  }
+  if (complete + 1 != text.size()) {  // cut the partial line an interruption left
+    text.resize(complete + 1);
+    std::ofstream(csv_path, std::ios::binary | std::ios::trunc) << text;
+  }
+  std::vector<GimbalSampleResult> done;
+  std::istringstream lines(text.substr(header.size() + 1));
+  std::string line;
+  while (std::getline(lines, line)) {
+    std::vector<std::string> cells;
+    std::stringstream ss(line);
+    std::string cell;
+    while (std::getline(ss, cell, ',')) cells.push_back(cell);
+    if (!line.empty() && line.back() == ',') cells.emplace_back();
+    if (cells.size() != 2 + n_inputs + n_outputs + 2) {
+      throw Error("--resume: " + csv_path + " row " + std::to_string(done.size() + 2) + " has " +
+                  std::to_string(cells.size()) + " cells, expected " + std::to_string(4 + n_inputs + n_outputs));
+    }
+    GimbalSampleResult r;
+    r.index = std::stoul(cells[0]);
+    if (r.index != done.size()) throw Error("--resume: samples.csv rows are not in order at sample " + cells[0]);
+    r.ok = cells[1] == "ok";
+    for (std::size_t k = 0; k < n_inputs; ++k) r.inputs.push_back(std::stod(cells[2 + k]));
+    for (std::size_t k = 0; k < n_outputs; ++k) r.outputs.push_back(std::stod(cells[2 + n_inputs + k]));
+    r.solver_steps = std::stol(cells[2 + n_inputs + n_outputs]);
+    r.message = cells.back();
+    done.push_back(std::move(r));
+  }
+  return done;
+}
+
+}  // namespace
+
 std::string run_gimbal_study(const StudyConfig& cfg, const RunOptions& options) {
   const GimbalModel model = load_gimbal_model(cfg.model_path, cfg.overrides);
-  const std::size_t n = options.samples.value_or(cfg.samples);
-  const std::uint64_t seed = options.seed.value_or(cfg.seed);
+  std::size_t n = options.samples.value_or(cfg.samples);
+  std::uint64_t seed = options.seed.value_or(cfg.seed);
   const int threads = options.threads > 0 ? options.threads : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
-  const std::string dir = make_run_folder(options.results_root, cfg.name, options.out);
-  const std::string started = now_iso8601();
+  std::string dir;
+  json manifest;
+  if (!options.resume.empty()) {
+    dir = options.resume;
+    std::ifstream mf(fs::path(dir) / "run.json");
+    if (!mf) throw Error("--resume " + dir + ": no run.json there (not a run folder of Poise)");
+    manifest = json::parse(mf);
+    if (manifest.value("study_file_sha1", "") != file_sha1(cfg.file) ||
+        manifest.value("model_file_sha1", "") != file_sha1(cfg.model_path)) {
+      throw Error("--resume " + dir + ": the study or model file changed since the run began; start a new run");
+    }
+    n = manifest.at("samples").get<std::size_t>();
+    seed = manifest.at("seed").get<std::uint64_t>();
+  } else {
+    dir = make_run_folder(options.results_root, cfg.name, options.out);
+    manifest = {{"kind", cfg.kind}, {"study_file_sha1", file_sha1(cfg.file)},
+                {"model_file_sha1", file_sha1(cfg.model_path)}, {"samples", n}, {"seed", seed},
+                {"method", sampling::to_string(cfg.method)}, {"poise_version", kVersion}, {"started", now_iso8601()}};
+    std::ofstream(fs::path(dir) / "run.json") << manifest.dump(2) << '\n';
+  }
+  const std::string started = manifest.value("started", now_iso8601());
   if (options.progress) {
     std::fprintf(stderr, "poise: study %s -> %s\n  %zu samples (%s, seed %llu) on %d thread(s)\n", cfg.name.c_str(),
                  dir.c_str(), n, sampling::to_string(cfg.method).c_str(), static_cast<unsigned long long>(seed), threads);
   }
   GimbalStudy study(cfg, model, n, seed);
-  std::ofstream csv(fs::path(dir) / "samples.csv");
-  if (!csv) throw Error("cannot write " + (fs::path(dir) / "samples.csv").string());
-  csv << "sample,status";
-  for (const auto& c : study.input_names()) csv << ',' << c;
-  for (const auto& c : study.output_names()) csv << ',' << c;
-  csv << ",solver_steps,message\n";
+  std::string header = "sample,status";
+  for (const auto& c : study.input_names()) header += "," + c;
+  for (const auto& c : study.output_names()) header += "," + c;
+  header += ",solver_steps,message";
+  const std::string csv_path = (fs::path(dir) / "samples.csv").string();
+  std::vector<GimbalSampleResult> done;
+  if (!options.resume.empty()) {
+    done = read_done_samples(csv_path, header, study.input_names().size(), study.output_names().size());
+    if (options.progress) std::fprintf(stderr, "  resuming: %zu of %zu samples already done\n", done.size(), n);
+  }
+  std::ofstream csv(csv_path, options.resume.empty() ? std::ios::trunc : std::ios::app);
+  if (!csv) throw Error("cannot write " + csv_path);
+  if (options.resume.empty()) csv << header << '\n';
   const GimbalMcResult mc = study.run(threads, options.progress, [&](std::span<const GimbalSampleResult> block) {
     for (const auto& s : block) {
       csv << s.index << ',' << (s.ok ? "ok" : "failed");
@@ -113,7 +186,7 @@ std::string run_gimbal_study(const StudyConfig& cfg, const RunOptions& options) 
       csv << ',' << s.solver_steps << ',' << msg << '\n';
     }
     csv.flush();
-  });
+  }, done);
   csv.close();
 
   json s;
@@ -157,7 +230,8 @@ std::string run_gimbal_study(const StudyConfig& cfg, const RunOptions& options) 
   s["provenance"] = {{"poise_version", kVersion}, {"git_commit", git_commit()},
                      {"study_file_sha1", file_sha1(cfg.file)}, {"model_file_sha1", file_sha1(cfg.model_path)},
                      {"seed", seed}, {"samples", n}, {"threads", threads}, {"wall_time_s", mc.wall_seconds},
-                     {"started", started}, {"finished", now_iso8601()}, {"libraries", library_versions()}};
+                     {"started", started}, {"finished", now_iso8601()}, {"libraries", library_versions()},
+                     {"resumed_after_sample", options.resume.empty() ? json(nullptr) : json(done.size())}};
   {
     std::ofstream js(fs::path(dir) / "summary.json");
     js << s.dump(2) << '\n';

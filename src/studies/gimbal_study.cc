@@ -195,28 +195,34 @@ void GimbalStudy::compute(std::size_t i, Workspace& ws, GimbalSampleResult& out)
 }
 
 GimbalMcResult GimbalStudy::run(int threads, bool progress,
-                                const std::function<void(std::span<const GimbalSampleResult>)>& sink) const {
+                                const std::function<void(std::span<const GimbalSampleResult>)>& sink,
+                                std::span<const GimbalSampleResult> done) const {
   GimbalMcResult r;
   r.n = samples_;
   r.values.resize(output_names_.size());
-  sampling::Progress bar("samples", samples_, progress);
+  auto collect = [&](std::span<const GimbalSampleResult> block) {
+    for (const auto& s : block) {
+      r.solver_steps += s.solver_steps;
+      r.rhs_evals += s.rhs_evals;
+      if (!s.ok) {
+        ++r.failures;
+        if (r.failed.size() < 100) r.failed.emplace_back(s.index, s.message);
+        continue;
+      }
+      for (std::size_t k = 0; k < s.outputs.size(); ++k) r.values[k].push_back(s.outputs[k]);
+    }
+  };
+  collect(done);
+  const std::size_t first = std::min(done.size(), samples_);
+  sampling::Progress bar("samples", samples_ - first, progress);
   // Whole campaigns are slow: small blocks so that progress and the CSV move often.
-  sampling::RunShape shape{0, samples_, threads, std::min<std::size_t>(config_.block, 8)};
+  sampling::RunShape shape{first, samples_ - first, threads, std::min<std::size_t>(config_.block, 8)};
   sampling::run_in_blocks<GimbalSampleResult>(
       shape, [this] { return make_workspace(); },
       [this](std::size_t i, std::unique_ptr<Workspace>& ws, GimbalSampleResult& res) { compute(i, *ws, res); },
       [&](std::size_t, std::span<const GimbalSampleResult> block) {
         if (sink) sink(block);
-        for (const auto& s : block) {
-          r.solver_steps += s.solver_steps;
-          r.rhs_evals += s.rhs_evals;
-          if (!s.ok) {
-            ++r.failures;
-            if (r.failed.size() < 100) r.failed.emplace_back(s.index, s.message);
-            continue;
-          }
-          for (std::size_t k = 0; k < s.outputs.size(); ++k) r.values[k].push_back(s.outputs[k]);
-        }
+        collect(block);
       },
       &bar);
   bar.finish();

@@ -56,8 +56,11 @@ class GimbalStudy {
   std::unique_ptr<Workspace> make_workspace() const;
   /// Sample i alone (replayable): depends only on (seed, samples, method, i).
   void compute(std::size_t i, Workspace& ws, GimbalSampleResult& out) const;
+  /// Runs samples [done.size(), samples); `done` are the results of the samples before
+  /// (a resumed run), counted in the statistics but not recomputed nor sent to `sink`.
   GimbalMcResult run(int threads, bool progress,
-                     const std::function<void(std::span<const GimbalSampleResult>)>& sink) const;
+                     const std::function<void(std::span<const GimbalSampleResult>)>& sink,
+                     std::span<const GimbalSampleResult> done = {}) const;
 
  private:
   StudyConfig config_;

@@ -184,6 +184,9 @@ std::string run_study(const std::string& study_path, const RunOptions& options) 
     validate_gimbal_study(c);  // nothing runs until everything validates
     return run_gimbal_study(c, options);
   }
+  if (!options.resume.empty()) {
+    throw Error("--resume is for gimbal studies, whose samples are expensive; a LOS study re-runs in seconds");
+  }
   auto [cfg, model] = load_all(study_path);
   validate_study(study_path);  // sweeps too: nothing runs until everything validates
   const std::size_t n = options.samples.value_or(cfg.samples);

@@ -21,6 +21,10 @@ struct RunOptions {
   std::string results_root = "results";
   bool progress = true;
   bool plots = true;                    ///< false skips gnuplot (tests)
+  /// Continue an interrupted run in this folder (gimbal studies): the samples already in
+  /// its samples.csv are kept, the rest computed and appended. The study and model files
+  /// must be unchanged (run.json holds their SHA-1); seed and sample count are the run's.
+  std::string resume;
 };
 
 /// Loads, validates (study and model), runs and writes the folder. Returns its path.
