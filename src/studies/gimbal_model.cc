@@ -29,20 +29,14 @@ ScopedTolerance scoped(TomlReader& parent, const std::string& key, const Dimensi
 
 GimbalModel load_gimbal_model(const std::string& path,
                               const std::map<std::string, std::string>& overrides) {
-  toml::table doc = parse_toml_file(path);
-  auto ctx = std::make_shared<ReadContext>();
-  ctx->file = path;
-  apply_overrides(doc, overrides, *ctx);
+  auto [doc, ctx] = open_model_file(path, overrides);
   TomlReader root(doc, ctx);
   GimbalModel m;
   m.file = path;
-  {
-    TomlReader t = root.table("model");
-    t.choice("kind", {"gimbal_static_unbalance"});
-    m.name = t.string("name");
-    m.title = t.string("title", "");
-    m.source = t.string("source", "");
-  }
+  const ModelHeader header = read_model_header(root, "gimbal_static_unbalance");
+  m.name = header.name;
+  m.title = header.title;
+  m.source = header.source;
   {
     TomlReader t = root.table("rotor");
     auto& r = m.rotor;

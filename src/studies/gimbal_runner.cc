@@ -12,21 +12,13 @@
 #include "core/version.h"
 #include "studies/gimbal_study.h"
 #include "studies/provenance.h"
+#include "studies/result_io.h"
 #include "studies/report.h"
 
 namespace poise::studies {
 namespace {
 namespace fs = std::filesystem;
 using nlohmann::json;
-
-json estimate_json(const sampling::Estimate& e) {
-  return {{"value", e.value}, {"ci95", {e.lo ? json(*e.lo) : json(nullptr), e.hi ? json(*e.hi) : json(nullptr)}}};
-}
-
-json summary_json(const sampling::Summary& s) {
-  return {{"n", s.n}, {"mean", estimate_json(s.mean)}, {"std", estimate_json(s.std)}, {"p50", estimate_json(s.p50)},
-          {"p95", estimate_json(s.p95)}, {"p99_73", estimate_json(s.p99_73)}, {"max", estimate_json(s.max)}};
-}
 
 std::string fmt(double v, int prec = 9) {
   char buf[40];
@@ -44,11 +36,6 @@ std::string unit_of(const std::string& name) {
   return "";
 }
 
-std::string esc(const std::string& s) {
-  std::string o;
-  for (char c : s) o += c == '<' ? "&lt;" : c == '>' ? "&gt;" : c == '&' ? "&amp;" : std::string(1, c);
-  return o;
-}
 
 }  // namespace
 
@@ -177,13 +164,9 @@ std::string run_gimbal_study(const StudyConfig& cfg, const RunOptions& options) 
   const GimbalMcResult mc = study.run(threads, options.progress, [&](std::span<const GimbalSampleResult> block) {
     for (const auto& s : block) {
       csv << s.index << ',' << (s.ok ? "ok" : "failed");
-      for (double v : s.inputs) csv << ',' << fmt(v);
-      for (double v : s.outputs) csv << ',' << fmt(v);
-      std::string msg = s.message;
-      for (auto& ch : msg) {
-        if (ch == '"' || ch == ',' || ch == '\n') ch = ' ';
-      }
-      csv << ',' << s.solver_steps << ',' << msg << '\n';
+      for (double v : s.inputs) csv << ',' << csv_number(v);
+      for (double v : s.outputs) csv << ',' << csv_number(v);
+      csv << ',' << s.solver_steps << ',' << csv_text(s.message) << '\n';
     }
     csv.flush();
   }, done);
@@ -273,13 +256,13 @@ std::string run_gimbal_study(const StudyConfig& cfg, const RunOptions& options) 
   }
   // Report.
   std::ostringstream h;
-  h << "<!DOCTYPE html><html lang='en'><head><meta charset='utf-8'><title>Poise: " << esc(cfg.name)
+  h << "<!DOCTYPE html><html lang='en'><head><meta charset='utf-8'><title>Poise: " << html_escape(cfg.name)
     << "</title><style>body{font-family:Helvetica,Arial,sans-serif;max-width:1100px;margin:2em auto;color:#222}"
        "table{border-collapse:collapse}td,th{border:1px solid #bbb;padding:3px 8px;text-align:right}"
        "th{background:#eef}td.l,th.l{text-align:left}small{color:#666}pre{background:#f6f6f6;padding:0.8em;"
        "white-space:pre-wrap}</style></head><body>\n<h1>"
-    << esc(cfg.title.empty() ? cfg.name : cfg.title) << "</h1>\n<p>Study <code>" << esc(cfg.file) << "</code>, model <code>"
-    << esc(cfg.model_path) << "</code> (" << esc(model.source) << "). " << n << " simulated campaigns ("
+    << html_escape(cfg.title.empty() ? cfg.name : cfg.title) << "</h1>\n<p>Study <code>" << html_escape(cfg.file) << "</code>, model <code>"
+    << html_escape(cfg.model_path) << "</code> (" << html_escape(model.source) << "). " << n << " simulated campaigns ("
     << sampling::to_string(cfg.method) << ", seed " << seed << "), " << mc.failures << " failed.</p>\n";
   auto cell = [](const json& e) {
     std::string out = fmt(e["value"].get<double>(), 4) + " <small>[";
@@ -292,8 +275,8 @@ std::string run_gimbal_study(const StudyConfig& cfg, const RunOptions& options) 
     h << "<h2>The paper against the simulation</h2>\n<table><tr><th class='l'>group</th><th class='l'>figure</th>"
          "<th>paper</th><th>simulated p50</th><th>simulated mean</th><th>p95</th><th>paper's percentile</th></tr>\n";
     for (const auto& c : cmp) {
-      h << "<tr><td class='l'>" << esc(c["group"].get<std::string>()) << "</td><td class='l'>"
-        << esc(c["figure"].get<std::string>()) << "</td><td>" << fmt(c["paper"].get<double>(), 4) << "</td><td>"
+      h << "<tr><td class='l'>" << html_escape(c["group"].get<std::string>()) << "</td><td class='l'>"
+        << html_escape(c["figure"].get<std::string>()) << "</td><td>" << fmt(c["paper"].get<double>(), 4) << "</td><td>"
         << cell(c["simulated"]["p50"]) << "</td><td>" << cell(c["simulated"]["mean"]) << "</td><td>"
         << cell(c["simulated"]["p95"]) << "</td><td>" << fmt(100 * c["paper_percentile"].get<double>(), 3) << "%</td></tr>\n";
     }
@@ -303,15 +286,15 @@ std::string run_gimbal_study(const StudyConfig& cfg, const RunOptions& options) 
   h << "<h2>Outputs per campaign</h2>\n<table><tr><th class='l'>output</th><th>mean</th><th>std</th><th>p50</th>"
        "<th>p95</th><th>p99.73</th><th>max</th></tr>\n";
   for (const auto& [name, o] : s["outputs"].items()) {
-    h << "<tr><td class='l'><code>" << esc(name) << "</code> " << esc(o["unit"].get<std::string>()) << "</td><td>"
+    h << "<tr><td class='l'><code>" << html_escape(name) << "</code> " << html_escape(o["unit"].get<std::string>()) << "</td><td>"
       << cell(o["mean"]) << "</td><td>" << cell(o["std"]) << "</td><td>" << cell(o["p50"]) << "</td><td>"
       << cell(o["p95"]) << "</td><td>" << cell(o["p99_73"]) << "</td><td>" << cell(o["max"]) << "</td></tr>\n";
   }
   h << "</table>\n<h2>Figures</h2>\n";
-  if (!plot_note.empty()) h << "<p>" << esc(plot_note) << "</p>\n";
+  if (!plot_note.empty()) h << "<p>" << html_escape(plot_note) << "</p>\n";
   for (const auto& f : figures) h << "<p><img src='plots/" << f << "' alt='" << f << "'></p>\n";
-  if (!cfg.notes.empty()) h << "<h2>Notes of the study</h2>\n<pre>" << esc(cfg.notes) << "</pre>\n";
-  h << "<h2>Provenance</h2>\n<pre>" << esc(s["provenance"].dump(2)) << "\n" << esc(s["solver"].dump(2))
+  if (!cfg.notes.empty()) h << "<h2>Notes of the study</h2>\n<pre>" << html_escape(cfg.notes) << "</pre>\n";
+  h << "<h2>Provenance</h2>\n<pre>" << html_escape(s["provenance"].dump(2)) << "\n" << html_escape(s["solver"].dump(2))
     << "</pre>\n</body></html>\n";
   std::ofstream(fs::path(dir) / "report.html") << h.str();
   if (options.progress) std::fprintf(stderr, "poise: report %s\n", (fs::path(dir) / "report.html").c_str());

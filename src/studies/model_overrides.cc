@@ -57,4 +57,21 @@ void apply_overrides(toml::table& root, const std::map<std::string, std::string>
   for (const auto& [k, v] : overrides) apply_one(root, k, v, ctx);
 }
 
+ModelDocument open_model_file(const std::string& path, const std::map<std::string, std::string>& overrides) {
+  ModelDocument m{parse_toml_file(path), std::make_shared<ReadContext>()};
+  m.ctx->file = path;
+  apply_overrides(m.doc, overrides, *m.ctx);
+  return m;
+}
+
+ModelHeader read_model_header(TomlReader& root, const std::string& kind) {
+  TomlReader t = root.table("model");
+  t.choice("kind", {kind});
+  ModelHeader h;
+  h.name = t.string("name");
+  h.title = t.string("title", "");
+  h.source = t.string("source", "");
+  return h;
+}
+
 }  // namespace poise::studies

@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "core/units.h"
+#include "studies/result_io.h"
 
 namespace poise::studies {
 namespace {
@@ -24,19 +25,6 @@ std::string num_json(const json& j, int prec = 4) {
   return j.is_number() ? num(j.get<double>(), prec) : std::string("&ndash;");
 }
 
-std::string esc(const std::string& s) {
-  std::string o;
-  for (char c : s) {
-    switch (c) {
-      case '<': o += "&lt;"; break;
-      case '>': o += "&gt;"; break;
-      case '&': o += "&amp;"; break;
-      case '"': o += "&quot;"; break;
-      default: o += c;
-    }
-  }
-  return o;
-}
 
 std::string with_ci(const json& e, int prec = 4) {
   return num_json(e["value"], prec) + " <small>[" + num_json(e["ci95"][0], prec) + ", " +
@@ -195,16 +183,16 @@ void write_report(const ReportInputs& in) {
   std::ostringstream h;
   const auto& st = s["study"];
   h << "<!DOCTYPE html><html lang='en'><head><meta charset='utf-8'><title>Poise: "
-    << esc(st["name"].get<std::string>()) << "</title><style>"
+    << html_escape(st["name"].get<std::string>()) << "</title><style>"
     << "body{font-family:Helvetica,Arial,sans-serif;max-width:1100px;margin:2em auto;color:#222;line-height:1.4}"
     << "table{border-collapse:collapse;margin:0.6em 0}td,th{border:1px solid #bbb;padding:3px 8px;text-align:right}"
     << "th{background:#eef}td.l,th.l{text-align:left}.bad{background:#fdd}.close{background:#ffe9b3}.ok{background:#dfd}"
     << "small{color:#666}pre{background:#f6f6f6;padding:0.8em;white-space:pre-wrap}img{max-width:100%}"
     << "</style></head><body>\n";
-  h << "<h1>" << esc(st["title"].get<std::string>().empty() ? st["name"].get<std::string>()
+  h << "<h1>" << html_escape(st["title"].get<std::string>().empty() ? st["name"].get<std::string>()
                                                            : st["title"].get<std::string>())
-    << "</h1>\n<p>Study <code>" << esc(st["file"].get<std::string>()) << "</code>, model <code>"
-    << esc(st["model_file"].get<std::string>()) << "</code> (" << esc(st["model_source"].get<std::string>())
+    << "</h1>\n<p>Study <code>" << html_escape(st["file"].get<std::string>()) << "</code>, model <code>"
+    << html_escape(st["model_file"].get<std::string>()) << "</code> (" << html_escape(st["model_source"].get<std::string>())
     << ").</p>\n";
 
   // Verdict.
@@ -214,9 +202,9 @@ void write_report(const ReportInputs& in) {
     const auto& fs_ = s["fraction_samples_meeting"];
     const auto& ff = s["fraction_field_meeting"];
     const auto& lm = s["outputs"]["los_max_arcsec"];
-    h << "<p>Requirement: LOS error &le; <b>" << esc(req_j["as_written"].get<std::string>()) << "</b> = "
+    h << "<p>Requirement: LOS error &le; <b>" << html_escape(req_j["as_written"].get<std::string>()) << "</b> = "
       << num(req_j["arcsec"].get<double>()) << " arcsec (pixel IFOV " << num(req_j["pixel_ifov_arcsec"].get<double>())
-      << " arcsec; " << esc(req_j["pixel_ifov_source"].get<std::string>()) << ").</p>\n<ul>"
+      << " arcsec; " << html_escape(req_j["pixel_ifov_source"].get<std::string>()) << ").</p>\n<ul>"
       << "<li>Fraction of samples (units) that meet it over the <i>whole</i> field of regard: <b>"
       << num(100 * fs_["value"].get<double>(), 4) << "%</b> <small>(95% CI " << num(100 * fs_["ci95"][0].get<double>(), 4)
       << "&ndash;" << num(100 * fs_["ci95"][1].get<double>(), 4) << "%)</small></li>"
@@ -277,12 +265,12 @@ void write_report(const ReportInputs& in) {
     const bool has_decl = t.contains("declared");
     const std::string verdict = has_decl ? t["verdict"].get<std::string>() : "";
     const std::string cls = !has_decl ? "" : verdict == "agrees" ? " class='ok'" : verdict == "close" ? " class='close'" : " class='bad'";
-    h << "<tr" << cls << "><td class='l'><code>" << esc(t["key"].get<std::string>()) << "</code></td><td class='l'>"
-      << esc(t["description"].get<std::string>()) << "</td><td class='l'>" << esc(t["equation"].get<std::string>())
+    h << "<tr" << cls << "><td class='l'><code>" << html_escape(t["key"].get<std::string>()) << "</code></td><td class='l'>"
+      << html_escape(t["description"].get<std::string>()) << "</td><td class='l'>" << html_escape(t["equation"].get<std::string>())
       << "</td><td>" << num(t["recomputed"].get<double>(), 5) << "</td><td>"
-      << (has_decl ? esc(t["declared_as_written"].get<std::string>()) : "&ndash;") << "</td><td>"
+      << (has_decl ? html_escape(t["declared_as_written"].get<std::string>()) : "&ndash;") << "</td><td>"
       << (has_decl ? num(t["difference"].get<double>(), 3) : "&ndash;") << "</td><td class='l'>"
-      << esc(t["unit"].get<std::string>()) << "</td></tr>\n";
+      << html_escape(t["unit"].get<std::string>()) << "</td></tr>\n";
   }
   h << "</table>\n";
 
@@ -297,7 +285,7 @@ void write_report(const ReportInputs& in) {
          "<th>p99.73</th><th>units meeting</th></tr>\n";
     for (const auto& row_j : c) {
       const auto& st_ = row_j["stats"];
-      h << "<tr><td class='l'>" << esc(row_j["without"].get<std::string>()) << "</td><td>"
+      h << "<tr><td class='l'>" << html_escape(row_j["without"].get<std::string>()) << "</td><td>"
         << num(st_["los_max_p50"].get<double>()) << "</td><td>" << num(st_["los_max_p95"].get<double>())
         << "</td><td>" << num(base["los_max_p95"].get<double>() - st_["los_max_p95"].get<double>(), 3)
         << "</td><td>" << num(st_["los_max_p99_73"].get<double>()) << "</td><td>"
@@ -308,17 +296,17 @@ void write_report(const ReportInputs& in) {
 
   // Figures.
   h << "<h2>Figures</h2>\n";
-  if (!plot_note.empty()) h << "<p class='bad'>" << esc(plot_note) << "</p>\n";
+  if (!plot_note.empty()) h << "<p class='bad'>" << html_escape(plot_note) << "</p>\n";
   for (const auto& f : figures) h << "<p><img src='plots/" << f << "' alt='" << f << "'></p>\n";
 
   // Outputs.
   h << "<h2>Per-sample outputs</h2>\n<p><small>value [95% confidence interval]; a missing end needs "
-       "more samples. " << esc(s["sampling"]["ci_note"].get<std::string>()) << ".</small></p>\n"
+       "more samples. " << html_escape(s["sampling"]["ci_note"].get<std::string>()) << ".</small></p>\n"
     << "<table><tr><th class='l'>output</th><th class='l'>unit</th><th>mean</th><th>std</th><th>p50</th>"
        "<th>p95</th><th>p99.73</th><th>max</th></tr>\n";
   for (const auto& [name, o] : s["outputs"].items()) {
-    h << "<tr><td class='l'><code>" << esc(name) << "</code><br><small>" << esc(o["description"].get<std::string>())
-      << "</small></td><td class='l'>" << esc(o["unit"].get<std::string>()) << "</td><td>" << with_ci(o["mean"])
+    h << "<tr><td class='l'><code>" << html_escape(name) << "</code><br><small>" << html_escape(o["description"].get<std::string>())
+      << "</small></td><td class='l'>" << html_escape(o["unit"].get<std::string>()) << "</td><td>" << with_ci(o["mean"])
       << "</td><td>" << with_ci(o["std"]) << "</td><td>" << with_ci(o["p50"]) << "</td><td>" << with_ci(o["p95"])
       << "</td><td>" << with_ci(o["p99_73"]) << "</td><td>" << with_ci(o["max"]) << "</td></tr>\n";
   }
@@ -326,14 +314,14 @@ void write_report(const ReportInputs& in) {
 
   // Sweeps.
   for (const auto& sw : s["sweeps"]) {
-    h << "<h2>Sweep of <code>" << esc(sw["parameter"].get<std::string>()) << "</code></h2>\n<p>"
+    h << "<h2>Sweep of <code>" << html_escape(sw["parameter"].get<std::string>()) << "</code></h2>\n<p>"
       << sw["samples"].get<std::size_t>() << " samples per value, same seed at every value (common random "
          "numbers).</p>\n<table><tr><th class='l'>value</th><th>MC p50</th><th>MC p95</th><th>MC p99.73</th>"
          "<th>samples meeting</th><th>budget max (paper method)</th><th>Eq. 8 max</th><th>great-circle max</th></tr>\n";
     for (const auto& p : sw["points"]) {
       if (!p.contains("los_max_arcsec")) continue;
       const auto& l = p["los_max_arcsec"];
-      h << "<tr><td class='l'>" << esc(p["value"].get<std::string>()) << "</td><td>" << num_json(l["p50"]["value"])
+      h << "<tr><td class='l'>" << html_escape(p["value"].get<std::string>()) << "</td><td>" << num_json(l["p50"]["value"])
         << "</td><td>" << num_json(l["p95"]["value"]) << "</td><td>" << num_json(l["p99_73"]["value"]) << "</td><td>"
         << num(100 * p["fraction_samples_meeting"]["value"].get<double>(), 4) << "%</td><td>"
         << num(p["budget_rss_max_arcsec"].get<double>()) << "</td><td>"
@@ -347,15 +335,15 @@ void write_report(const ReportInputs& in) {
   h << "<h2>Tolerances sampled</h2>\n<table><tr><th class='l'>input</th><th class='l'>distribution</th>"
        "<th class='l'>source</th></tr>\n";
   for (const auto& i : s["sampling"]["inputs"]) {
-    h << "<tr><td class='l'>" << esc(i["name"].get<std::string>()) << "</td><td class='l'>"
-      << esc(i["distribution"].get<std::string>()) << "</td><td class='l'>" << esc(i["source"].get<std::string>())
+    h << "<tr><td class='l'>" << html_escape(i["name"].get<std::string>()) << "</td><td class='l'>"
+      << html_escape(i["distribution"].get<std::string>()) << "</td><td class='l'>" << html_escape(i["source"].get<std::string>())
       << "</td></tr>\n";
   }
   h << "</table>\n";
   if (!st["notes"].get<std::string>().empty()) {
-    h << "<h2>Notes of the study</h2>\n<pre>" << esc(st["notes"].get<std::string>()) << "</pre>\n";
+    h << "<h2>Notes of the study</h2>\n<pre>" << html_escape(st["notes"].get<std::string>()) << "</pre>\n";
   }
-  h << "<h2>Provenance</h2>\n<pre>" << esc(s["provenance"].dump(2)) << "</pre>\n"
+  h << "<h2>Provenance</h2>\n<pre>" << html_escape(s["provenance"].dump(2)) << "</pre>\n"
     << "<p><small>Files: samples.csv (one row per sample), summary.json, plots/ (data, gnuplot "
        "scripts, SVG).</small></p>\n</body></html>\n";
   write_file(dir / "report.html", h.str());

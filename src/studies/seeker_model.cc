@@ -134,20 +134,14 @@ models::WangBudgetInputs SeekerModel::budget_inputs() const {
 
 SeekerModel load_seeker_model(const std::string& path,
                               const std::map<std::string, std::string>& overrides) {
-  toml::table doc = parse_toml_file(path);
-  auto ctx = std::make_shared<ReadContext>();
-  ctx->file = path;
-  apply_overrides(doc, overrides, *ctx);
+  auto [doc, ctx] = open_model_file(path, overrides);
   TomlReader root(doc, ctx);
   SeekerModel m;
   m.file = path;
-  {
-    TomlReader t = root.table("model");
-    t.choice("kind", {"seeker_two_axis"});
-    m.name = t.string("name");
-    m.title = t.string("title", "");
-    m.source = t.string("source", "");
-  }
+  const ModelHeader header = read_model_header(root, "seeker_two_axis");
+  m.name = header.name;
+  m.title = header.title;
+  m.source = header.source;
   {
     TomlReader t = root.table("field_of_regard");
     m.yaw_min = t.quantity("yaw_min", kAngle);

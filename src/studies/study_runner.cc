@@ -10,6 +10,7 @@
 #include "core/version.h"
 #include "studies/gimbal_runner.h"
 #include "studies/provenance.h"
+#include "studies/result_io.h"
 #include "studies/report.h"
 #include "studies/seeker_los_study.h"
 #include "studies/toml_reader.h"
@@ -19,32 +20,13 @@ namespace {
 namespace fs = std::filesystem;
 using nlohmann::json;
 
-json estimate_json(const sampling::Estimate& e) {
-  json j;
-  j["value"] = e.value;
-  j["ci95"] = {e.lo ? json(*e.lo) : json(nullptr), e.hi ? json(*e.hi) : json(nullptr)};
-  return j;
-}
-
 json summary_json(const sampling::Summary& s, const std::string& unit, const std::string& desc) {
-  json j;
+  json j = studies::summary_json(s);
   j["unit"] = unit;
   if (!desc.empty()) j["description"] = desc;
-  j["n"] = s.n;
-  j["mean"] = estimate_json(s.mean);
-  j["std"] = estimate_json(s.std);
-  j["p50"] = estimate_json(s.p50);
-  j["p95"] = estimate_json(s.p95);
-  j["p99_73"] = estimate_json(s.p99_73);
-  j["max"] = estimate_json(s.max);
   return j;
 }
 
-std::string fmt(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.9g", v);
-  return buf;
-}
 
 // Loads the study and its model, merging both files' errors into one report.
 std::pair<StudyConfig, SeekerModel> load_all(const std::string& path,
@@ -213,13 +195,9 @@ std::string run_study(const std::string& study_path, const RunOptions& options) 
   const SeekerMcResult mc = study.run(threads, options.progress, [&](std::span<const SeekerSampleResult> block) {
     for (const auto& s : block) {
       csv << s.index << ',' << (s.ok ? "ok" : "failed");
-      for (double v : s.inputs) csv << ',' << fmt(v);
-      for (double v : s.outputs) csv << ',' << fmt(v);
-      std::string msg = s.message;
-      for (auto& ch : msg) {
-        if (ch == '"' || ch == ',' || ch == '\n') ch = ' ';
-      }
-      csv << ',' << msg << '\n';
+      for (double v : s.inputs) csv << ',' << csv_number(v);
+      for (double v : s.outputs) csv << ',' << csv_number(v);
+      csv << ',' << csv_text(s.message) << '\n';
     }
     csv.flush();
   });
@@ -299,7 +277,7 @@ std::string run_study(const std::string& study_path, const RunOptions& options) 
   for (const auto* a : {&model.yaw, &model.pitch}) {
     for (const auto& src : a->bearing_sources) {
       tol_json(std::string(a == &model.yaw ? "yaw." : "pitch.") + src.name + " (per bearing, order " +
-                   fmt(src.order) + (src.load_scaled ? ", x k')" : ")"),
+                   csv_number(src.order) + (src.load_scaled ? ", x k')" : ")"),
                src.spec);
     }
   }

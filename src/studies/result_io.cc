@@ -1,0 +1,50 @@
+#include "studies/result_io.h"
+
+#include <cstdio>
+
+namespace poise::studies {
+
+nlohmann::json estimate_json(const sampling::Estimate& e) {
+  using nlohmann::json;
+  return {{"value", e.value}, {"ci95", {e.lo ? json(*e.lo) : json(nullptr), e.hi ? json(*e.hi) : json(nullptr)}}};
+}
+
+nlohmann::json summary_json(const sampling::Summary& s) {
+  return {{"n", s.n},
+          {"mean", estimate_json(s.mean)},
+          {"std", estimate_json(s.std)},
+          {"p50", estimate_json(s.p50)},
+          {"p95", estimate_json(s.p95)},
+          {"p99_73", estimate_json(s.p99_73)},
+          {"max", estimate_json(s.max)}};
+}
+
+std::string csv_number(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.9g", v);
+  return buf;
+}
+
+std::string csv_text(std::string s) {
+  for (auto& ch : s) {
+    if (ch == '"' || ch == ',' || ch == '\n' || ch == '\r') ch = ' ';
+  }
+  return s;
+}
+
+std::string html_escape(const std::string& s) {
+  std::string o;
+  o.reserve(s.size());
+  for (char c : s) {
+    switch (c) {
+      case '<': o += "&lt;"; break;
+      case '>': o += "&gt;"; break;
+      case '&': o += "&amp;"; break;
+      case '"': o += "&quot;"; break;
+      default: o += c;
+    }
+  }
+  return o;
+}
+
+}  // namespace poise::studies

@@ -1,0 +1,22 @@
+#pragma once
+/// Shared pieces of every result folder: statistics as JSON (value and 95% CI), numbers and
+/// text for samples.csv, and escaping for report.html.
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "sampling/statistics.h"
+
+namespace poise::studies {
+
+/// {"value": v, "ci95": [lo or null, hi or null]}
+nlohmann::json estimate_json(const sampling::Estimate& e);
+/// {"n", "mean", "std", "p50", "p95", "p99_73", "max"}, each an estimate_json.
+nlohmann::json summary_json(const sampling::Summary& s);
+/// A number for samples.csv: 9 significant digits, enough to replay-compare.
+std::string csv_number(double v);
+/// Free text for one CSV cell: quotes, commas and newlines become spaces.
+std::string csv_text(std::string s);
+/// Text for HTML.
+std::string html_escape(const std::string& s);
+
+}  // namespace poise::studies
