@@ -50,7 +50,7 @@
 ///     m H^2 would be counted twice. J here is about O4; J + m H^2 is about the shaft.
 ///   * Eq. 8 drops gravity: the swinging part is an inverted pendulum (mass centre above the
 ///     shaft), the torsional stiffness is k6 l^2 - m g H. Off by default (gravity = 0) to match
-///     the paper; about 0.1-1 % of k6 l^2 for plausible values.
+///     the paper; m g H = 0.05 % of k6 l^2 for the plausible Wang 2014 values of the test.
 ///   * Eq. 9's omega_n2 = sqrt(k6 l^2 / (J + m h^2)): h for H; Eq. 10 itself uses J + m H^2.
 ///     omega_n1, omega_n2 are the uncoupled frequencies; the coupled natural frequencies
 ///     (generalized eigenproblem) lie outside them, omega_1 < min and omega_2 > max.
