@@ -10,6 +10,7 @@
 
 #include "core/error.h"
 #include "core/units.h"
+#include "sampling/normal_stream.h"
 
 namespace poise::procedures {
 
@@ -34,30 +35,6 @@ int scaled_rhs(double t, const double* ys, double* ydot, void* user) {
   for (std::size_t i = 0; i < kStates; ++i) ydot[i] /= c->scale[i];
   return r;
 }
-
-// Standard normals by Marsaglia's polar method from the counter-based stream (as in
-// static_unbalance_test.cc): deterministic for a given (seed, stream, index).
-struct NormalSource {
-  sampling::RandomStream* rs;
-  double spare = 0.0;
-  bool has_spare = false;
-  double next() {
-    if (has_spare) {
-      has_spare = false;
-      return spare;
-    }
-    double v1, v2, s;
-    do {
-      v1 = 2.0 * rs->uniform() - 1.0;
-      v2 = 2.0 * rs->uniform() - 1.0;
-      s = v1 * v1 + v2 * v2;
-    } while (s >= 1.0 || s == 0.0);
-    const double f = std::sqrt(-2.0 * std::log(s) / s);
-    spare = v2 * f;
-    has_spare = true;
-    return v1 * f;
-  }
-};
 
 }  // namespace
 
@@ -148,7 +125,7 @@ BalancingMeasurement run_balancing_measurement(const models::SpringPlateMachineP
     integ.advance(t2, t2, true);   // one step, so that the interpolant exists at t = 0
   }
 
-  NormalSource normal{&noise};
+  sampling::NormalStream normal(&noise);
   const double k5 = machine.horizontal_plate_stiffness;
   const double k6l = machine.torsional_plate_stiffness * machine.lever;
   const double g1 = 1.0 + sensors.gain_error_1, g2 = 1.0 + sensors.gain_error_2;

@@ -5,6 +5,7 @@
 
 #include "core/error.h"
 #include "core/units.h"
+#include "sampling/normal_stream.h"
 
 namespace poise::procedures {
 
@@ -64,30 +65,6 @@ int rhs(double t, const double* y, double* ydot, void* user) {
   return 0;
 }
 
-// Standard normals by Marsaglia's polar method (no trigonometry) from the sample's
-// counter-based stream: deterministic for a given (seed, sample).
-struct NormalSource {
-  sampling::RandomStream* rs;
-  double spare = 0.0;
-  bool has_spare = false;
-  double next() {
-    if (has_spare) {
-      has_spare = false;
-      return spare;
-    }
-    double v1, v2, s;
-    do {
-      v1 = 2.0 * rs->uniform() - 1.0;
-      v2 = 2.0 * rs->uniform() - 1.0;
-      s = v1 * v1 + v2 * v2;
-    } while (s >= 1.0 || s == 0.0);
-    const double f = std::sqrt(-2.0 * std::log(s) / s);
-    spare = v2 * f;
-    has_spare = true;
-    return v1 * f;
-  }
-};
-
 }  // namespace
 
 StaticUnbalanceWorkspace::StaticUnbalanceWorkspace(const solvers::CvodeOptions& opt)
@@ -129,7 +106,7 @@ MeasurementResult run_static_unbalance_test(const TestPlan& plan, const GimbalTr
   c.t0 = osc.settle_time;
   c.rhs_calls = 0;
 
-  NormalSource normal{&noise};
+  sampling::NormalStream normal(&noise);
   const double lsb = 2.0 * acq.adc_full_scale / std::ldexp(1.0, acq.adc_bits);
   const double t1 = osc.settle_time + osc.lead_in;
   const double t2 = t1 + osc.periods * osc.period;
