@@ -14,23 +14,8 @@
 
 namespace {
 
-struct RunResult {
-  int status = -1;
-  std::string out, err;
-};
-
-// Runs `poise <args>` with stdout and stderr captured through files.
-RunResult run_poise(const poise::test::TempDir& dir, const std::string& args) {
-  const std::string out = dir.file("stdout.txt"), err = dir.file("stderr.txt");
-  const std::string cmd =
-      std::string("'") + POISE_BINARY + "' " + args + " >'" + out + "' 2>'" + err + "'";
-  const int raw = std::system(cmd.c_str());
-  RunResult r;
-  r.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
-  r.out = poise::test::read_text(out);
-  r.err = poise::test::read_text(err);
-  return r;
-}
+using poise::test::RunResult;
+using poise::test::run_poise;
 
 const std::string kTable1 =
     poise::test::source_path("data/yang2015/table1_loading_test_36pt.csv");

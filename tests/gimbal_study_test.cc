@@ -51,14 +51,7 @@ angle = "270.30 deg"
   return path;
 }
 
-RunOptions options(const std::string& out, int threads) {
-  RunOptions o;
-  o.out = out;
-  o.threads = threads;
-  o.progress = false;
-  o.plots = false;
-  return o;
-}
+RunOptions options(const std::string& out, int threads) { return test::quiet_run_options(out, threads); }
 
 TEST(GimbalStudy, SamplesIdenticalForOneAndTwoThreadsAndReplay) {
   TempDir d;

@@ -66,14 +66,7 @@ std::string small_study(const TempDir& d, const std::string& method = "sobol") {
   return path;
 }
 
-RunOptions options(const std::string& out, int threads) {
-  RunOptions o;
-  o.out = out;
-  o.threads = threads;
-  o.progress = false;
-  o.plots = false;
-  return o;
-}
+RunOptions options(const std::string& out, int threads) { return test::quiet_run_options(out, threads); }
 
 TEST(StudyRunner, SamplesIdenticalForOneAndTwoThreads) {
   TempDir d;

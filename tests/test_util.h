@@ -2,12 +2,16 @@
 // Helpers shared by the tests: temporary files and reading the repository's files.
 #include <gtest/gtest.h>
 
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <cstdlib>
 #include <string>
+
+#include "studies/study_runner.h"
 
 namespace poise::test {
 
@@ -52,6 +56,35 @@ inline std::string replace_once(std::string text, const std::string& from, const
   EXPECT_NE(pos, std::string::npos) << "test setup: '" << from << "' not found";
   if (pos != std::string::npos) text.replace(pos, from.size(), to);
   return text;
+}
+
+/// Exit status and captured output of a run of the built `poise` executable.
+struct RunResult {
+  int status = -1;
+  std::string out, err;
+};
+
+/// Runs `poise <args>` with stdout and stderr captured through files in `dir`.
+inline RunResult run_poise(const TempDir& dir, const std::string& args) {
+  const std::string out = dir.file("stdout.txt"), err = dir.file("stderr.txt");
+  const std::string cmd =
+      std::string("'") + POISE_BINARY + "' " + args + " >'" + out + "' 2>'" + err + "'";
+  const int raw = std::system(cmd.c_str());
+  RunResult r;
+  r.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
+  r.out = read_text(out);
+  r.err = read_text(err);
+  return r;
+}
+
+/// Run options for tests: a given folder and thread count, no progress, no plots.
+inline studies::RunOptions quiet_run_options(const std::string& out, int threads) {
+  studies::RunOptions o;
+  o.out = out;
+  o.threads = threads;
+  o.progress = false;
+  o.plots = false;
+  return o;
 }
 
 }  // namespace poise::test
