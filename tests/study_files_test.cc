@@ -2,8 +2,12 @@
 // file, line, key, value and what was expected.
 #include <gtest/gtest.h>
 
+#include <filesystem>
+
 #include "studies/seeker_model.h"
 #include "studies/study_config.h"
+#include "studies/study_runner.h"
+#include "studies/toml_reader.h"
 #include "test_util.h"
 
 namespace poise::studies {
@@ -235,6 +239,23 @@ TEST(StudyFile, MissingSection) {
   TempDir d;
   const std::string e = study_error(d, test::replace_once(study_text(), "[grid]\nyaw_points = 5\npitch_points = 5\n", ""));
   EXPECT_NE(e.find("key 'grid': expected a table [grid] (missing)"), std::string::npos) << e;
+}
+
+// Every study in the repository, with its model, passes validation (a study file a change
+// broke is found here, not by the user).
+TEST(StudyFile, EveryRepositoryStudyValidates) {
+  std::size_t n = 0;
+  for (const auto& entry : std::filesystem::directory_iterator(test::source_path("studies"))) {
+    if (entry.path().extension() != ".toml") continue;
+    ++n;
+    try {
+      const std::string summary = validate_study(entry.path().string());
+      EXPECT_NE(summary.find("valid"), std::string::npos) << summary;
+    } catch (const ValidationError& e) {
+      ADD_FAILURE() << entry.path() << ": " << e.what();
+    }
+  }
+  EXPECT_GE(n, 7u);  // LOS, three gimbal and three balancing-machine studies at least
 }
 
 }  // namespace

@@ -18,15 +18,19 @@ A study file (TOML) names a model file, how to sample its tolerances and what to
 Every value carries its unit ("0.004 mm", "82 mm", "30 deg", "4 arcsec"); unknown keys,
 missing units and non-physical values are refused with file, line, key and what was expected.
 
-Study kinds: seeker_los (LOS error of a two-axis seeker from shafting tolerances, Wang 2011)
-and gimbal_static_unbalance (the static-unbalance test of a gimbal axis simulated end to end
+Study kinds: seeker_los (LOS error of a two-axis seeker from shafting tolerances, Wang 2011),
+gimbal_static_unbalance (the static-unbalance test of a gimbal axis simulated end to end
 with SUNDIALS: turntable positions, servo-driven oscillation, current integration, sine fit,
-counterweight; Yang 2015).
+counterweight; Yang 2015) and balancing_machine (the spring-plate vertical balancing machine
+of Wang 2014: every run integrated from rest to steady state, sensors with gain error and
+noise, synchronous demodulation, closed-form and influence-coefficient estimates; the
+separation, U_mar, stability, URR and accuracy experiments).
 
 Examples:
   poise validate studies/los_seeker_wang2011.toml
   poise run studies/los_seeker_wang2011.toml
   poise run studies/yang2015_repeatability.toml --samples 8
+  poise run studies/wang2014_umar.toml
   poise fit data/yang2015/table1_loading_test_36pt.csv --json
   poise run studies/los_seeker_wang2011.toml --samples 100000 --seed 7 --threads 2 --out /tmp/los
   poise replay studies/los_seeker_wang2011.toml --sample 42
@@ -65,7 +69,7 @@ int main(int argc, char** argv) {
   run->add_option("--out,-o", opt.out, "result folder (default results/<study>/<run id>); must not hold a run");
   run->add_option("--results-root", opt.results_root, "where default result folders go (default: results)");
   run->add_option("--resume", opt.resume,
-                  "continue an interrupted gimbal-study run in this folder: keeps its samples.csv rows, "
+                  "continue an interrupted gimbal or balancing-machine run in this folder: keeps its samples.csv rows, "
                   "computes the rest (same seed and sample count; the study files must be unchanged)")
       ->excludes("--out")
       ->excludes("--samples")

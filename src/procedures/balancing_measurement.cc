@@ -114,9 +114,8 @@ BalancingMeasurement run_balancing_measurement(const models::SpringPlateMachineP
   c.scale[3] = w2 * c.scale[2];
 
   solvers::CvodeIntegrator& integ = ws.integrator();
-  const solvers::CvodeStats before = integ.stats();
   const std::array<double, kStates> y0{};
-  integ.reset(0.0, y0);
+  integ.reset(0.0, y0);  // zeroes the solver's counters
   const double t1 = out.settle_time;
   const double t2 = t1 + run.revolutions * period;
   if (t1 > 0.0) {
@@ -145,7 +144,7 @@ BalancingMeasurement run_balancing_measurement(const models::SpringPlateMachineP
       continue;
     }
     integ.interpolate(tk, y);
-    double f1 = g1 * k5 * y[0] * c.scale[0];
+    double f1 = g1 * k5 * (y[0] * c.scale[0] + sensors.sensor_1_offset * y[2] * c.scale[2]);
     double f2 = g2 * k6l * y[2] * c.scale[2];
     if (sensors.noise_rms > 0.0) {
       f1 += sensors.noise_rms * normal.next();
@@ -166,10 +165,7 @@ BalancingMeasurement run_balancing_measurement(const models::SpringPlateMachineP
   const double per_rev = 2.0 / spr;
   out.last_revolution_change(0) = std::abs(rev1[1] - rev1[0]) * per_rev / std::abs(out.amplitudes(0));
   out.last_revolution_change(1) = std::abs(rev2[1] - rev2[0]) * per_rev / std::abs(out.amplitudes(1));
-  const solvers::CvodeStats after = integ.stats();
-  out.solver.steps = after.steps - before.steps;
-  out.solver.rhs_evals = after.rhs_evals - before.rhs_evals;
-  out.solver.jac_evals = after.jac_evals - before.jac_evals;
+  out.solver = integ.stats();
   return out;
 }
 

@@ -48,6 +48,11 @@ struct SensorConfig {
   double gain_error_2 = 0.0;      ///< sensor 2
   double noise_rms = 0.0;         ///< white noise per sample, each sensor (N)
   double sample_rate_hz = 2000.0; ///< nominal; rounded to whole samples per revolution
+  /// Height a (m) of sensor 1's measuring point above the torsion shaft axis. 0 (as
+  /// designed): it reads the horizontal plates, F_n1 = k5 x. Otherwise it reads the
+  /// horizontal motion of the swinging part at that height, F_n1 = k5 (x + a theta): the
+  /// couple unbalance then leaks into sensor 1 (what fixing the vibration centre avoids).
+  double sensor_1_offset = 0.0;
 };
 
 struct BalancingRunConfig {

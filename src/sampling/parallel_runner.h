@@ -25,6 +25,9 @@ struct RunShape {
   std::size_t count = 0;      ///< number of samples
   int threads = 1;            ///< worker threads (>= 1)
   std::size_t block = 1024;   ///< samples per in-order block
+  /// Samples per parallel task; 1 for slow samples (a whole simulated procedure), so that
+  /// even a small block spreads over every thread.
+  std::size_t grain = 16;
 };
 
 template <class Result, class MakeWorkspace, class Compute, class Sink>
@@ -37,7 +40,7 @@ void run_in_blocks(const RunShape& shape, MakeWorkspace make_workspace, Compute 
   for (std::size_t start = 0; start < shape.count; start += shape.block) {
     const std::size_t n = std::min(shape.block, shape.count - start);
     arena.execute([&] {
-      tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 16),
+      tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, std::max<std::size_t>(shape.grain, 1)),
                         [&](const tbb::blocked_range<std::size_t>& r) {
                           Workspace& ws = workspaces.local();
                           for (std::size_t k = r.begin(); k != r.end(); ++k) {

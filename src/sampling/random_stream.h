@@ -15,6 +15,7 @@ enum class StreamId : std::uint64_t {
   kLhsJitter = 3,
   kSobolShift = 4,
   kProcedure = 16,   ///< randomness inside a sample's procedure (noise etc.)
+  kNoise = 17,       ///< measurement noise, apart from the procedure's other draws
 };
 
 /// Maps 64 random bits to a double in the open interval (0, 1): the top 52 bits, centred

@@ -31,7 +31,7 @@ struct CvodeOptions {
   int max_order = 0;
 };
 
-/// Counters since construction.
+/// Counters since the last reset() (CVodeReInit zeroes CVODE's counters).
 struct CvodeStats {
   long steps = 0;
   long rhs_evals = 0;      ///< including those for finite-difference Jacobians

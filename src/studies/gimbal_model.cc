@@ -16,15 +16,6 @@ const Dimension kRotStiffness{{2, 1, -2, 0, -1, 0}};     // N m/rad
 const Dimension kAngularRate{{0, 0, -1, 0, 1, 0}};       // rad/s
 const Dimension kTorquePerCurrent{{2, 1, -2, -1, 0, 0}}; // N m/A
 
-ScopedTolerance scoped(TomlReader& parent, const std::string& key, const Dimension& dim,
-                       const std::string& display_unit) {
-  ScopedTolerance t;
-  t.spec = read_tolerance(parent, key, dim, display_unit);
-  TomlReader sub = parent.table(key);
-  t.per_test = sub.choice("scope", {"unit", "test"}) == "test";
-  return t;
-}
-
 }  // namespace
 
 GimbalModel load_gimbal_model(const std::string& path,
@@ -127,19 +118,19 @@ GimbalModel load_gimbal_model(const std::string& path,
   }
   {
     TomlReader t = root.table("tolerances");
-    m.residual_unbalance = scoped(t, "residual_unbalance", kUnbalance, "g*mm");
-    m.runout = scoped(t, "runout", units::kLength, "um");
-    m.clump_mass = scoped(t, "clump_mass", units::kMass, "g");
-    m.hole_radius = scoped(t, "hole_radius", units::kLength, "mm");
-    m.hole_angle = scoped(t, "hole_angle", units::kAngle, "deg");
-    m.kt_calibration = scoped(t, "kt_calibration", units::kDimensionless, "");
-    m.kt_drift = scoped(t, "kt_drift", units::kDimensionless, "");
-    m.turntable_zero = scoped(t, "turntable_zero", units::kAngle, "deg");
-    m.gimbal_zero = scoped(t, "gimbal_zero", units::kAngle, "deg");
-    m.axis_tilt = scoped(t, "axis_tilt", units::kAngle, "arcmin");
-    m.counterweight_mass = scoped(t, "counterweight_mass", units::kDimensionless, "");
-    m.counterweight_radius_error = scoped(t, "counterweight_radius", units::kLength, "mm");
-    m.counterweight_angle = scoped(t, "counterweight_angle", units::kAngle, "deg");
+    m.residual_unbalance = read_scoped_tolerance(t, "residual_unbalance", kUnbalance, "g*mm");
+    m.runout = read_scoped_tolerance(t, "runout", units::kLength, "um");
+    m.clump_mass = read_scoped_tolerance(t, "clump_mass", units::kMass, "g");
+    m.hole_radius = read_scoped_tolerance(t, "hole_radius", units::kLength, "mm");
+    m.hole_angle = read_scoped_tolerance(t, "hole_angle", units::kAngle, "deg");
+    m.kt_calibration = read_scoped_tolerance(t, "kt_calibration", units::kDimensionless, "");
+    m.kt_drift = read_scoped_tolerance(t, "kt_drift", units::kDimensionless, "");
+    m.turntable_zero = read_scoped_tolerance(t, "turntable_zero", units::kAngle, "deg");
+    m.gimbal_zero = read_scoped_tolerance(t, "gimbal_zero", units::kAngle, "deg");
+    m.axis_tilt = read_scoped_tolerance(t, "axis_tilt", units::kAngle, "arcmin");
+    m.counterweight_mass = read_scoped_tolerance(t, "counterweight_mass", units::kDimensionless, "");
+    m.counterweight_radius_error = read_scoped_tolerance(t, "counterweight_radius", units::kLength, "mm");
+    m.counterweight_angle = read_scoped_tolerance(t, "counterweight_angle", units::kAngle, "deg");
   }
   finish(doc, *ctx);
   return m;

@@ -13,11 +13,6 @@
 
 namespace poise::studies {
 
-struct ScopedTolerance {
-  ToleranceSpec spec;
-  bool per_test = false;  ///< scope = "test"
-};
-
 struct GimbalModel {
   std::string file, name, title, source;
   models::DiskRotorParams rotor;   ///< eccentricity comes from the sampled unbalance

@@ -87,7 +87,7 @@ std::unique_ptr<GimbalStudy::Workspace> GimbalStudy::make_workspace() const {
   return std::make_unique<Workspace>(model_.plan.solver);
 }
 
-void GimbalStudy::compute(std::size_t i, Workspace& ws, GimbalSampleResult& out) const {
+void GimbalStudy::compute(std::size_t i, Workspace& ws, SampleResult& out) const {
   out.index = i;
   out.ok = true;
   out.message.clear();
@@ -194,43 +194,38 @@ void GimbalStudy::compute(std::size_t i, Workspace& ws, GimbalSampleResult& out)
   }
 }
 
-GimbalMcResult GimbalStudy::run(int threads, bool progress,
-                                const std::function<void(std::span<const GimbalSampleResult>)>& sink,
-                                std::span<const GimbalSampleResult> done) const {
-  GimbalMcResult r;
-  r.n = samples_;
-  r.values.resize(output_names_.size());
-  auto collect = [&](std::span<const GimbalSampleResult> block) {
-    for (const auto& s : block) {
-      r.solver_steps += s.solver_steps;
-      r.rhs_evals += s.rhs_evals;
-      if (!s.ok) {
-        ++r.failures;
-        if (r.failed.size() < 100) r.failed.emplace_back(s.index, s.message);
-        continue;
-      }
-      for (std::size_t k = 0; k < s.outputs.size(); ++k) r.values[k].push_back(s.outputs[k]);
-    }
-  };
-  collect(done);
-  const std::size_t first = std::min(done.size(), samples_);
-  sampling::Progress bar("samples", samples_ - first, progress);
-  // Whole campaigns are slow: small blocks so that progress and the CSV move often.
-  sampling::RunShape shape{first, samples_ - first, threads, std::min<std::size_t>(config_.block, 8)};
-  sampling::run_in_blocks<GimbalSampleResult>(
-      shape, [this] { return make_workspace(); },
-      [this](std::size_t i, std::unique_ptr<Workspace>& ws, GimbalSampleResult& res) { compute(i, *ws, res); },
-      [&](std::size_t, std::span<const GimbalSampleResult> block) {
-        if (sink) sink(block);
-        collect(block);
-      },
-      &bar);
-  bar.finish();
-  r.wall_seconds = bar.elapsed_seconds();
-  if (!r.values.empty() && !r.values[0].empty()) {
-    for (const auto& v : r.values) r.outputs.push_back(sampling::summarize(v));
-  }
+McResult GimbalStudy::run(int threads, bool progress, const SampleSink& sink,
+                          std::span<const SampleResult> done) const {
+  return run_procedure_samples(samples_, config_.block, threads, progress, sink, done,
+                               [this] { return make_workspace(); },
+                               [this](std::size_t i, Workspace& ws, SampleResult& res) { compute(i, ws, res); });
+}
+
+SampleResult GimbalStudy::replay(std::size_t i) const {
+  auto ws = make_workspace();
+  SampleResult r;
+  compute(i, *ws, r);
   return r;
+}
+
+nlohmann::json GimbalStudy::paper_figures() const {
+  nlohmann::json out = nlohmann::json::array();
+  for (const auto& g : config_.groups) {
+    if (g.paper_rmse_torque) {
+      out.push_back({{"group", g.name}, {"figure", "rmse_torque_mNm"}, {"output", g.name + "_rmse_torque_mNm"},
+                     {"unit", "mN*m"}, {"paper", *g.paper_rmse_torque / 1e-3}});
+    }
+    if (g.paper_rmse_angle) {
+      out.push_back({{"group", g.name}, {"figure", "rmse_angle_deg"}, {"output", g.name + "_rmse_angle_deg"},
+                     {"unit", "deg"}, {"paper", *g.paper_rmse_angle / units::kRadPerDeg}});
+    }
+  }
+  return out;
+}
+
+nlohmann::json GimbalStudy::solver_json(const McResult& mc) const {
+  return {{"steps", mc.solver_steps}, {"rhs_evals", mc.rhs_evals}, {"rtol", model_.plan.solver.rtol},
+          {"max_order", model_.plan.solver.max_order}};
 }
 
 }  // namespace poise::studies

@@ -21,46 +21,34 @@
 #include "sampling/design.h"
 #include "sampling/statistics.h"
 #include "studies/gimbal_model.h"
+#include "studies/procedure_study.h"
 #include "studies/study_config.h"
 
 namespace poise::studies {
 
-struct GimbalSampleResult {
-  std::size_t index = 0;
-  bool ok = true;
-  std::string message;
-  std::vector<double> inputs;   ///< unit-scope draws, display units
-  std::vector<double> outputs;  ///< output_names() order
-  long solver_steps = 0, rhs_evals = 0;
-};
-
-struct GimbalMcResult {
-  std::size_t n = 0, failures = 0;
-  std::vector<std::pair<std::size_t, std::string>> failed;
-  std::vector<sampling::Summary> outputs;
-  std::vector<std::vector<double>> values;  ///< per output, ok samples in order
-  double wall_seconds = 0.0;
-  long solver_steps = 0, rhs_evals = 0;
-};
-
-class GimbalStudy {
+class GimbalStudy : public ProcedureStudy {
  public:
   GimbalStudy(StudyConfig config, GimbalModel model, std::size_t samples, std::uint64_t seed);
 
-  const std::vector<std::string>& input_names() const { return input_names_; }
-  const std::vector<std::string>& output_names() const { return output_names_; }
-  const StudyConfig& config() const { return config_; }
+  const std::vector<std::string>& input_names() const override { return input_names_; }
+  const std::vector<std::string>& output_names() const override { return output_names_; }
+  const StudyConfig& config() const override { return config_; }
+  std::string model_name() const override { return model_.name; }
+  std::string model_source() const override { return model_.source; }
   const GimbalModel& model() const { return model_; }
 
   using Workspace = procedures::StaticUnbalanceWorkspace;
   std::unique_ptr<Workspace> make_workspace() const;
   /// Sample i alone (replayable): depends only on (seed, samples, method, i).
-  void compute(std::size_t i, Workspace& ws, GimbalSampleResult& out) const;
+  void compute(std::size_t i, Workspace& ws, SampleResult& out) const;
   /// Runs samples [done.size(), samples); `done` are the results of the samples before
   /// (a resumed run), counted in the statistics but not recomputed nor sent to `sink`.
-  GimbalMcResult run(int threads, bool progress,
-                     const std::function<void(std::span<const GimbalSampleResult>)>& sink,
-                     std::span<const GimbalSampleResult> done = {}) const;
+  McResult run(int threads, bool progress, const SampleSink& sink,
+               std::span<const SampleResult> done = {}) const override;
+  SampleResult replay(std::size_t i) const override;
+  /// The groups' paper_rmse_torque and paper_rmse_angle.
+  nlohmann::json paper_figures() const override;
+  nlohmann::json solver_json(const McResult& mc) const override;
 
  private:
   StudyConfig config_;

@@ -33,6 +33,47 @@ void read_gimbal_groups(TomlReader& root, StudyConfig& c) {
   if (c.groups.empty()) root.error("group", "", "at least one [[group]] of tests");
 }
 
+void read_balancing_procedure(TomlReader& root, StudyConfig& c) {
+  {
+    TomlReader t = root.table("procedure");
+    c.plane_1_surface = static_cast<int>(t.integer("plane_1_surface", 1, 1000));
+    c.plane_2_surface = static_cast<int>(t.integer("plane_2_surface", 1, 1000));
+    if (c.plane_1_surface == c.plane_2_surface) {
+      t.error("plane_2_surface", std::to_string(c.plane_2_surface), "a surface other than plane_1_surface");
+    }
+    c.estimator = t.choice("estimator", {"influence", "closed_form"});
+    c.calibration_mass = t.quantity("calibration_mass", units::kMass, positive);
+    c.calibration_radius = t.quantity("calibration_radius", units::kLength, positive);
+    t.string("notes", "");
+  }
+  const units::Dimension unbalance{{1, 1, 0, 0, 0, 0}};
+  for (auto& e : root.table_array("experiment")) {
+    BalancingExperiment x;
+    x.name = e.string("name");
+    x.type = e.choice("type", {"separation", "umar", "stability", "urr", "accuracy"});
+    for (const auto& other : c.experiments) {
+      if (other.name == x.name) e.error("name", "\"" + x.name + "\"", "a name no other experiment has");
+    }
+    x.mass = e.quantity("mass", units::kMass, positive);
+    x.radius = e.quantity("radius", units::kLength, positive);
+    if (x.type == "separation" || x.type == "umar" || x.type == "stability") {
+      x.positions = static_cast<int>(e.integer("positions", 1, 360, 8));
+    }
+    if (x.type == "stability") {
+      x.surface = static_cast<int>(e.integer("surface", 1, 1000));
+      x.band = e.number("band", [](double v) { return v > 0 && v < 1 ? "" : "a fraction in (0, 1), e.g. 0.12"; }, 0.12);
+      x.balance_first = e.boolean("balance_first", true);
+    }
+    if (x.type == "accuracy") x.piece_unbalance = e.quantity("piece_unbalance", unbalance, positive);
+    if (x.type == "urr") {
+      x.requirement = e.number("requirement", [](double v) { return v > 0 && v < 1 ? "" : "a fraction in (0, 1), e.g. 0.9"; });
+    }
+    e.string("notes", "");
+    c.experiments.push_back(x);
+  }
+  if (c.experiments.empty()) root.error("experiment", "", "at least one [[experiment]]");
+}
+
 }  // namespace
 
 StudyConfig load_study(const std::string& path) {
@@ -51,7 +92,7 @@ StudyConfig load_study(const std::string& path) {
         break;
       }
     }
-    c.kind = t.choice("kind", {"seeker_los", "gimbal_static_unbalance"});
+    c.kind = t.choice("kind", {"seeker_los", "gimbal_static_unbalance", "balancing_machine"});
     const std::string model = t.string("model");
     c.model_path = (std::filesystem::path(path).parent_path() / model).lexically_normal().string();
     if (!model.empty() && !std::filesystem::exists(c.model_path)) {
@@ -91,6 +132,12 @@ StudyConfig load_study(const std::string& path) {
                 std::string("a positive angle or pixel count, e.g. \"1 px\" or \"18 arcsec\" (") +
                     e.what() + ")");
       }
+    }
+  } else if (c.kind == "balancing_machine") {
+    read_balancing_procedure(root, c);
+    if (root.has("paper")) {
+      TomlReader t = root.table("paper");
+      for (const auto& key : t.keys()) c.paper.push_back({key, t.number(key), t.line_of(key)});
     }
   } else {
     read_gimbal_groups(root, c);

@@ -13,6 +13,14 @@
 ///   kind = "gimbal_static_unbalance" replaces [grid]/[requirement] by test groups:
 ///   [[group]]   name, positions, repeats, paper_rmse_torque, paper_rmse_angle
 ///   [[group.load]] mass, radius, angle, paper_torque, paper_angle
+///   kind = "balancing_machine" (models/balancing_machine_*.toml) takes instead:
+///   [procedure]  plane_1_surface, plane_2_surface (correction planes: testing surfaces),
+///                estimator = "influence" | "closed_form" (what the machine displays),
+///                calibration_mass, calibration_radius (influence-coefficient test masses)
+///   [[experiment]] name (output prefix), type = "separation" | "umar" | "stability" | "urr" |
+///                "accuracy", and per type: mass, radius, surface, positions, band,
+///                piece_unbalance, requirement (see BalancingExperiment)
+///   [paper]      output_name = value in the output's unit (the paper's figure, for the report)
 ///   [output]    plots = true, block = 1024, contribution_samples = 4096  (optional)
 #include <cstdint>
 #include <map>
@@ -50,6 +58,20 @@ struct GimbalGroup {
   std::optional<double> paper_rmse_angle;   ///< rad
 };
 
+/// One experiment of a balancing-machine study (Wang 2014 Sec. 5, ISO 21940-21 tests).
+struct BalancingExperiment {
+  std::string name;            ///< output prefix
+  std::string type;            ///< separation | umar | stability | urr | accuracy
+  double mass = 0.0;           ///< test mass (kg)
+  double radius = 0.0;         ///< its radius (m)
+  int surface = 0;             ///< stability: surface carrying the test mass
+  int positions = 8;           ///< angular positions (holes) used, evenly spaced from 0 deg
+  double band = 0.12;          ///< stability: readings within +-band of their mean
+  bool balance_first = true;   ///< stability: correct the rotor with the machine first
+  double piece_unbalance = 0;  ///< accuracy: plane unbalance of the test piece (kg m), random angles
+  double requirement = 0.0;    ///< urr: required reduction ratio (fraction)
+};
+
 struct StudyConfig {
   std::string file;        ///< path of the study file
   std::string name, kind, title, notes;
@@ -69,6 +91,17 @@ struct StudyConfig {
   /// (same random numbers), with this many samples; 0 switches it off.
   std::size_t contribution_samples = 4096;
   std::vector<GimbalGroup> groups;  ///< kind = "gimbal_static_unbalance"
+  // kind = "balancing_machine"
+  int plane_1_surface = 0, plane_2_surface = 0;
+  std::string estimator = "influence";
+  double calibration_mass = 0.0, calibration_radius = 0.0;
+  std::vector<BalancingExperiment> experiments;
+  struct PaperValue {
+    std::string output;  ///< an output name of the study
+    double value = 0.0;  ///< in the output's unit
+    int line = 0;        ///< in the study file
+  };
+  std::vector<PaperValue> paper;
 };
 
 /// Loads and validates a study file (not its model). Throws ValidationError.

@@ -8,6 +8,7 @@
 
 #include "core/units.h"
 #include "core/version.h"
+#include "studies/balancing_runner.h"
 #include "studies/gimbal_runner.h"
 #include "studies/provenance.h"
 #include "studies/result_io.h"
@@ -90,6 +91,8 @@ json budget_json(const models::WangBudget& b, const SeekerModel& m) {
 std::string validate_study(const std::string& study_path) {
   if (const StudyConfig c = load_study(study_path); c.kind == "gimbal_static_unbalance") {
     return validate_gimbal_study(c);
+  } else if (c.kind == "balancing_machine") {
+    return validate_balancing_study(c);
   }
   auto [cfg, model] = load_all(study_path);
   // Sweep values are validated by loading the model with each of them.
@@ -129,6 +132,8 @@ std::string validate_study(const std::string& study_path) {
 json replay_sample(const std::string& study_path, std::size_t index, const RunOptions& options) {
   if (const StudyConfig c = load_study(study_path); c.kind == "gimbal_static_unbalance") {
     return replay_gimbal_sample(c, index, options);
+  } else if (c.kind == "balancing_machine") {
+    return replay_balancing_sample(c, index, options);
   }
   auto [cfg, model] = load_all(study_path);
   const std::size_t n = options.samples.value_or(cfg.samples);
@@ -165,9 +170,13 @@ std::string run_study(const std::string& study_path, const RunOptions& options) 
   if (const StudyConfig c = load_study(study_path); c.kind == "gimbal_static_unbalance") {
     validate_gimbal_study(c);  // nothing runs until everything validates
     return run_gimbal_study(c, options);
+  } else if (c.kind == "balancing_machine") {
+    validate_balancing_study(c);
+    return run_balancing_study(c, options);
   }
   if (!options.resume.empty()) {
-    throw Error("--resume is for gimbal studies, whose samples are expensive; a LOS study re-runs in seconds");
+    throw Error("--resume is for gimbal and balancing-machine studies, whose samples are expensive; a LOS study "
+                "re-runs in seconds");
   }
   auto [cfg, model] = load_all(study_path);
   validate_study(study_path);  // sweeps too: nothing runs until everything validates

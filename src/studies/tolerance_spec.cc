@@ -42,4 +42,13 @@ ToleranceSpec read_tolerance(TomlReader& parent, const std::string& key, const u
   return spec;
 }
 
+ScopedTolerance read_scoped_tolerance(TomlReader& parent, const std::string& key, const units::Dimension& dim,
+                                      const std::string& display_unit) {
+  ScopedTolerance t;
+  t.spec = read_tolerance(parent, key, dim, display_unit);
+  TomlReader sub = parent.table(key);
+  t.per_test = sub.choice("scope", {"unit", "test"}) == "test";
+  return t;
+}
+
 }  // namespace poise::studies

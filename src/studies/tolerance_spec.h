@@ -26,9 +26,21 @@ struct ToleranceSpec {
   double display_factor = 1.0;
 };
 
+/// A tolerance with its scope in a procedure study:
+///   scope = "unit"  drawn once per Monte Carlo sample (the hardware as built);
+///   scope = "test"  drawn again for every test run of that sample.
+struct ScopedTolerance {
+  ToleranceSpec spec;
+  bool per_test = false;  ///< scope = "test"
+};
+
 /// Reads a tolerance table at `key` with values of dimension `dim` (dimensionless specs
 /// may use min/max as plain numbers). Errors are recorded in the reader's context.
 ToleranceSpec read_tolerance(TomlReader& parent, const std::string& key, const units::Dimension& dim,
                              const std::string& display_unit);
+
+/// read_tolerance plus its `scope` ("unit" or "test").
+ScopedTolerance read_scoped_tolerance(TomlReader& parent, const std::string& key, const units::Dimension& dim,
+                                      const std::string& display_unit);
 
 }  // namespace poise::studies

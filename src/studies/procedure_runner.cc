@@ -1,0 +1,298 @@
+#include "studies/procedure_runner.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <sstream>
+#include <thread>
+
+#include "core/units.h"
+#include "core/version.h"
+#include "studies/provenance.h"
+#include "studies/report.h"
+#include "studies/result_io.h"
+
+namespace poise::studies {
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+void collect_samples(McResult& r, std::span<const SampleResult> block) {
+  for (const auto& s : block) {
+    r.solver_steps += s.solver_steps;
+    r.rhs_evals += s.rhs_evals;
+    if (!s.ok) {
+      ++r.failures;
+      if (r.failed.size() < 100) r.failed.emplace_back(s.index, s.message);
+      continue;
+    }
+    if (r.values.size() < s.outputs.size()) r.values.resize(s.outputs.size());
+    for (std::size_t k = 0; k < s.outputs.size(); ++k) r.values[k].push_back(s.outputs[k]);
+  }
+}
+
+void summarize_outputs(McResult& r) {
+  r.outputs.clear();
+  if (r.values.empty() || r.values[0].empty()) return;
+  for (const auto& v : r.values) r.outputs.push_back(sampling::summarize(v));
+}
+
+std::string unit_of_output(const std::string& name) {
+  static const std::pair<const char*, const char*> kSuffixes[] = {
+      {"_mNm", "mN*m"}, {"_deg", "deg"}, {"_gmm", "g*mm"}, {"_kgm", "kg*m"}, {"_kgm2", "kg*m^2"},
+      {"_pct", "%"},    {"_mN", "mN"},   {"_N", "N"},      {"_g", "g"},     {"_mm", "mm"},
+      {"_Hz", "Hz"},    {"_per_mm", "1/mm"}, {"_ratio", "1"}};
+  for (const auto& [suffix, unit] : kSuffixes) {
+    const std::size_t n = std::char_traits<char>::length(suffix);
+    if (name.size() > n && name.compare(name.size() - n, n, suffix) == 0) return unit;
+  }
+  return "";
+}
+
+namespace {
+
+std::string fmt(double v, int prec = 9) {
+  char buf[40];
+  std::snprintf(buf, sizeof buf, "%.*g", prec, v);
+  return buf;
+}
+
+}  // namespace
+
+json replay_procedure_sample(const ProcedureStudy& study, std::size_t index) {
+  const SampleResult r = study.replay(index);
+  json j{{"sample", index}, {"status", r.ok ? "ok" : "failed"}};
+  if (!r.ok) j["message"] = r.message;
+  for (std::size_t k = 0; k < r.inputs.size(); ++k) j["inputs"][study.input_names()[k]] = r.inputs[k];
+  for (std::size_t k = 0; k < r.outputs.size(); ++k) j["outputs"][study.output_names()[k]] = r.outputs[k];
+  return j;
+}
+
+namespace {
+
+// Samples already in an interrupted run's samples.csv: complete lines only, in order from
+// 0; a partial last line is cut off the file. Throws if the header is not this study's.
+std::vector<SampleResult> read_done_samples(const std::string& csv_path, const std::string& header,
+                                                  std::size_t n_inputs, std::size_t n_outputs) {
+  std::ifstream in(csv_path, std::ios::binary);
+  if (!in) throw Error("--resume: cannot read " + csv_path);
+  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  in.close();
+  const std::size_t complete = text.rfind('\n');
+  if (complete == std::string::npos || text.compare(0, header.size() + 1, header + "\n") != 0) {
+    throw Error("--resume: " + csv_path + " does not start with this study's header");
+  }
+  if (complete + 1 != text.size()) {  // cut the partial line an interruption left
+    text.resize(complete + 1);
+    std::ofstream(csv_path, std::ios::binary | std::ios::trunc) << text;
+  }
+  std::vector<SampleResult> done;
+  std::istringstream lines(text.substr(header.size() + 1));
+  std::string line;
+  while (std::getline(lines, line)) {
+    std::vector<std::string> cells;
+    std::stringstream ss(line);
+    std::string cell;
+    while (std::getline(ss, cell, ',')) cells.push_back(cell);
+    if (!line.empty() && line.back() == ',') cells.emplace_back();
+    if (cells.size() != 2 + n_inputs + n_outputs + 2) {
+      throw Error("--resume: " + csv_path + " row " + std::to_string(done.size() + 2) + " has " +
+                  std::to_string(cells.size()) + " cells, expected " + std::to_string(4 + n_inputs + n_outputs));
+    }
+    SampleResult r;
+    r.index = std::stoul(cells[0]);
+    if (r.index != done.size()) throw Error("--resume: samples.csv rows are not in order at sample " + cells[0]);
+    r.ok = cells[1] == "ok";
+    for (std::size_t k = 0; k < n_inputs; ++k) r.inputs.push_back(std::stod(cells[2 + k]));
+    for (std::size_t k = 0; k < n_outputs; ++k) r.outputs.push_back(std::stod(cells[2 + n_inputs + k]));
+    r.solver_steps = std::stol(cells[2 + n_inputs + n_outputs]);
+    r.message = cells.back();
+    done.push_back(std::move(r));
+  }
+  return done;
+}
+
+}  // namespace
+
+std::string run_procedure_study(const StudyConfig& cfg, const StudyFactory& make_study, const RunOptions& options) {
+  std::size_t n = options.samples.value_or(cfg.samples);
+  std::uint64_t seed = options.seed.value_or(cfg.seed);
+  const int threads = options.threads > 0 ? options.threads : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  std::string dir;
+  json manifest;
+  if (!options.resume.empty()) {
+    dir = options.resume;
+    std::ifstream mf(fs::path(dir) / "run.json");
+    if (!mf) throw Error("--resume " + dir + ": no run.json there (not a run folder of Poise)");
+    manifest = json::parse(mf);
+    if (manifest.value("study_file_sha1", "") != file_sha1(cfg.file) ||
+        manifest.value("model_file_sha1", "") != file_sha1(cfg.model_path)) {
+      throw Error("--resume " + dir + ": the study or model file changed since the run began; start a new run");
+    }
+    n = manifest.at("samples").get<std::size_t>();
+    seed = manifest.at("seed").get<std::uint64_t>();
+  } else {
+    dir = make_run_folder(options.results_root, cfg.name, options.out);
+    manifest = {{"kind", cfg.kind}, {"study_file_sha1", file_sha1(cfg.file)},
+                {"model_file_sha1", file_sha1(cfg.model_path)}, {"samples", n}, {"seed", seed},
+                {"method", sampling::to_string(cfg.method)}, {"poise_version", kVersion}, {"started", now_iso8601()}};
+    std::ofstream(fs::path(dir) / "run.json") << manifest.dump(2) << '\n';
+  }
+  const std::string started = manifest.value("started", now_iso8601());
+  if (options.progress) {
+    std::fprintf(stderr, "poise: study %s -> %s\n  %zu samples (%s, seed %llu) on %d thread(s)\n", cfg.name.c_str(),
+                 dir.c_str(), n, sampling::to_string(cfg.method).c_str(), static_cast<unsigned long long>(seed), threads);
+  }
+  const std::unique_ptr<ProcedureStudy> owned = make_study(n, seed);
+  const ProcedureStudy& study = *owned;
+  std::string header = "sample,status";
+  for (const auto& c : study.input_names()) header += "," + c;
+  for (const auto& c : study.output_names()) header += "," + c;
+  header += ",solver_steps,message";
+  const std::string csv_path = (fs::path(dir) / "samples.csv").string();
+  std::vector<SampleResult> done;
+  if (!options.resume.empty()) {
+    done = read_done_samples(csv_path, header, study.input_names().size(), study.output_names().size());
+    if (options.progress) std::fprintf(stderr, "  resuming: %zu of %zu samples already done\n", done.size(), n);
+  }
+  std::ofstream csv(csv_path, options.resume.empty() ? std::ios::trunc : std::ios::app);
+  if (!csv) throw Error("cannot write " + csv_path);
+  if (options.resume.empty()) csv << header << '\n';
+  const McResult mc = study.run(threads, options.progress, [&](std::span<const SampleResult> block) {
+    for (const auto& s : block) {
+      csv << s.index << ',' << (s.ok ? "ok" : "failed");
+      for (double v : s.inputs) csv << ',' << csv_number(v);
+      for (double v : s.outputs) csv << ',' << csv_number(v);
+      csv << ',' << s.solver_steps << ',' << csv_text(s.message) << '\n';
+    }
+    csv.flush();
+  }, done);
+  csv.close();
+
+  json s;
+  s["study"] = {{"name", cfg.name}, {"title", cfg.title}, {"kind", cfg.kind}, {"file", cfg.file},
+                {"model_file", cfg.model_path}, {"model_name", study.model_name()}, {"model_source", study.model_source()},
+                {"notes", cfg.notes}, {"overrides", cfg.overrides}};
+  s["sampling"] = {{"method", sampling::to_string(cfg.method)}, {"samples", n}, {"seed", seed}, {"threads", threads},
+                   {"inputs", study.input_names()},
+                   {"ci_note", "95% intervals assume independent samples; for lhs and sobol designs they are conservative"}};
+  json outputs;
+  for (std::size_t k = 0; k < mc.outputs.size(); ++k) {
+    json o = summary_json(mc.outputs[k]);
+    o["unit"] = unit_of_output(study.output_names()[k]);
+    outputs[study.output_names()[k]] = o;
+  }
+  s["outputs"] = outputs;
+  // The paper's figures beside the simulated distribution: where the paper's value falls.
+  json cmp = json::array();
+  for (const auto& f : study.paper_figures()) {
+    const auto& names = study.output_names();
+    const auto it = std::find(names.begin(), names.end(), f["output"].get<std::string>());
+    if (it == names.end() || mc.outputs.empty()) continue;
+    const auto& v = mc.values[static_cast<std::size_t>(it - names.begin())];
+    const double p = f["paper"].get<double>();
+    std::size_t below = 0;
+    for (double x : v) below += x <= p ? 1 : 0;
+    json c = f;
+    c["simulated"] = summary_json(mc.outputs[static_cast<std::size_t>(it - names.begin())]);
+    c["paper_percentile"] = static_cast<double>(below) / static_cast<double>(v.size());
+    cmp.push_back(c);
+  }
+  s["paper_comparison"] = cmp;
+  s["failures"] = {{"count", mc.failures}, {"first", json::array()}};
+  for (const auto& [i, why] : mc.failed) s["failures"]["first"].push_back({{"sample", i}, {"reason", why}});
+  s["solver"] = study.solver_json(mc);
+  if (const json d = study.details(mc); !d.is_null()) s["details"] = d;
+  s["provenance"] = {{"poise_version", kVersion}, {"git_commit", git_commit()},
+                     {"study_file_sha1", file_sha1(cfg.file)}, {"model_file_sha1", file_sha1(cfg.model_path)},
+                     {"seed", seed}, {"samples", n}, {"threads", threads}, {"wall_time_s", mc.wall_seconds},
+                     {"started", started}, {"finished", now_iso8601()}, {"libraries", library_versions()},
+                     {"resumed_after_sample", options.resume.empty() ? json(nullptr) : json(done.size())}};
+  {
+    std::ofstream js(fs::path(dir) / "summary.json");
+    js << s.dump(2) << '\n';
+  }
+
+  // Plots: one histogram per compared figure, with the paper's value as a line.
+  const fs::path pdir = fs::path(dir) / "plots";
+  fs::create_directories(pdir);
+  std::vector<std::string> figures;
+  std::string plot_note;
+  if (options.plots && cfg.plots && !mc.outputs.empty()) {
+    for (const auto& c : cmp) {
+      const std::string name = c["output"].get<std::string>();
+      std::size_t k = 0;
+      while (study.output_names()[k] != name) ++k;
+      {
+        std::ofstream d(pdir / (name + ".dat"));
+        for (double v : mc.values[k]) d << v << '\n';
+      }
+      const double paper = c["paper"].get<double>();
+      std::ostringstream g;
+      g << "set terminal svg size 640,400 dynamic noenhanced font 'Helvetica,12'\nset output '" << name << ".svg'\n"
+        << "set title '" << name << ": simulated samples vs the paper'\nset xlabel '" << c["unit"].get<std::string>()
+        << "'\nset ylabel 'samples'\nstats '" << name << ".dat' u 1 nooutput\n"
+        << "bw = (STATS_max - STATS_min) / 20.0\nif (bw <= 0) bw = 0.01\nbin(x) = bw * floor(x / bw) + bw / 2\n"
+        << "set style fill solid 0.6\nset arrow from " << paper << ", graph 0 to " << paper
+        << ", graph 1 nohead lw 2 lc rgb 'red'\nset label 'paper' at " << paper << ", graph 0.95 offset 0.5,0 tc rgb 'red'\n"
+        << "set xrange [0:*]\nplot '" << name << ".dat' u (bin($1)):(1.0) smooth freq with boxes lc rgb '#4477aa' title 'simulated'\n";
+      std::ofstream(pdir / (name + ".gp")) << g.str();
+      std::string why;
+      if (run_gnuplot((pdir / (name + ".gp")).string(), &why)) {
+        figures.push_back(name + ".svg");
+      } else {
+        plot_note = why;
+      }
+    }
+  }
+  // Report.
+  std::ostringstream h;
+  h << "<!DOCTYPE html><html lang='en'><head><meta charset='utf-8'><title>Poise: " << html_escape(cfg.name)
+    << "</title><style>body{font-family:Helvetica,Arial,sans-serif;max-width:1100px;margin:2em auto;color:#222}"
+       "table{border-collapse:collapse}td,th{border:1px solid #bbb;padding:3px 8px;text-align:right}"
+       "th{background:#eef}td.l,th.l{text-align:left}small{color:#666}pre{background:#f6f6f6;padding:0.8em;"
+       "white-space:pre-wrap}</style></head><body>\n<h1>"
+    << html_escape(cfg.title.empty() ? cfg.name : cfg.title) << "</h1>\n<p>Study <code>" << html_escape(cfg.file) << "</code>, model <code>"
+    << html_escape(cfg.model_path) << "</code> (" << html_escape(study.model_source()) << "). " << n << " simulated samples ("
+    << sampling::to_string(cfg.method) << ", seed " << seed << "), " << mc.failures << " failed.</p>\n";
+  auto cell = [](const json& e) {
+    std::string out = fmt(e["value"].get<double>(), 4) + " <small>[";
+    out += e["ci95"][0].is_number() ? fmt(e["ci95"][0].get<double>(), 4) : std::string("&ndash;");
+    out += ", ";
+    out += e["ci95"][1].is_number() ? fmt(e["ci95"][1].get<double>(), 4) : std::string("&ndash;");
+    return out + "]</small>";
+  };
+  if (!cmp.empty()) {
+    h << "<h2>The paper against the simulation</h2>\n<table><tr><th class='l'>group</th><th class='l'>figure</th>"
+         "<th>paper</th><th>simulated p50</th><th>simulated mean</th><th>p95</th><th>paper's percentile</th></tr>\n";
+    for (const auto& c : cmp) {
+      h << "<tr><td class='l'>" << html_escape(c["group"].get<std::string>()) << "</td><td class='l'>"
+        << html_escape(c["figure"].get<std::string>()) << "</td><td>" << fmt(c["paper"].get<double>(), 4) << "</td><td>"
+        << cell(c["simulated"]["p50"]) << "</td><td>" << cell(c["simulated"]["mean"]) << "</td><td>"
+        << cell(c["simulated"]["p95"]) << "</td><td>" << fmt(100 * c["paper_percentile"].get<double>(), 3) << "%</td></tr>\n";
+    }
+    h << "</table>\n<p><small>A paper figure between the 2.5th and 97.5th percentiles of the simulated "
+         "campaigns is what the model expects; outside, the model misses an effect or a value.</small></p>\n";
+  }
+  study.report_sections(mc, pdir.string(), options.plots && cfg.plots, figures, h);
+  h << "<h2>Outputs per sample</h2>\n<table><tr><th class='l'>output</th><th>mean</th><th>std</th><th>p50</th>"
+       "<th>p95</th><th>p99.73</th><th>max</th></tr>\n";
+  for (const auto& [name, o] : s["outputs"].items()) {
+    h << "<tr><td class='l'><code>" << html_escape(name) << "</code> " << html_escape(o["unit"].get<std::string>()) << "</td><td>"
+      << cell(o["mean"]) << "</td><td>" << cell(o["std"]) << "</td><td>" << cell(o["p50"]) << "</td><td>"
+      << cell(o["p95"]) << "</td><td>" << cell(o["p99_73"]) << "</td><td>" << cell(o["max"]) << "</td></tr>\n";
+  }
+  h << "</table>\n<h2>Figures</h2>\n";
+  if (!plot_note.empty()) h << "<p>" << html_escape(plot_note) << "</p>\n";
+  for (const auto& f : figures) h << "<p><img src='plots/" << f << "' alt='" << f << "'></p>\n";
+  if (!cfg.notes.empty()) h << "<h2>Notes of the study</h2>\n<pre>" << html_escape(cfg.notes) << "</pre>\n";
+  h << "<h2>Provenance</h2>\n<pre>" << html_escape(s["provenance"].dump(2)) << "\n" << html_escape(s["solver"].dump(2))
+    << "</pre>\n</body></html>\n";
+  std::ofstream(fs::path(dir) / "report.html") << h.str();
+  if (options.progress) std::fprintf(stderr, "poise: report %s\n", (fs::path(dir) / "report.html").c_str());
+  return dir;
+}
+
+}  // namespace poise::studies

@@ -1,0 +1,102 @@
+#pragma once
+/// What the result-folder writer (procedure_runner.h) needs from a Monte Carlo study of a
+/// simulated procedure (the gimbal static-unbalance test, the balancing machine): named
+/// inputs and outputs per sample, a parallel run that streams finished samples in order,
+/// a single-sample replay, the paper's figures to compare with, and the study's own report
+/// sections.
+#include <functional>
+#include <memory>
+#include <span>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "sampling/parallel_runner.h"
+#include "sampling/progress.h"
+#include "sampling/statistics.h"
+#include "studies/study_config.h"
+
+namespace poise::studies {
+
+struct SampleResult {
+  std::size_t index = 0;
+  bool ok = true;
+  std::string message;
+  std::vector<double> inputs;   ///< unit-scope draws, display units
+  std::vector<double> outputs;  ///< output_names() order
+  long solver_steps = 0, rhs_evals = 0;
+};
+
+struct McResult {
+  std::size_t n = 0, failures = 0;
+  std::vector<std::pair<std::size_t, std::string>> failed;
+  std::vector<sampling::Summary> outputs;
+  std::vector<std::vector<double>> values;  ///< per output, ok samples in order
+  double wall_seconds = 0.0;
+  long solver_steps = 0, rhs_evals = 0;
+};
+
+using SampleSink = std::function<void(std::span<const SampleResult>)>;
+
+/// Accumulates finished samples into an McResult (counts failures, keeps ok outputs).
+void collect_samples(McResult& r, std::span<const SampleResult> block);
+/// Statistics of every output once all samples are collected.
+void summarize_outputs(McResult& r);
+
+/// Display unit of an output from its name's suffix ("_mNm" -> "mN*m", "_pct" -> "%", ...).
+std::string unit_of_output(const std::string& name);
+
+/// The parallel run every procedure study shares: samples [done.size(), samples) in small
+/// in-order blocks (whole procedures are slow: progress and the CSV move often), one
+/// workspace per thread; `done` (a resumed run's samples) counted but not recomputed.
+template <class MakeWorkspace, class Compute>
+McResult run_procedure_samples(std::size_t samples, std::size_t block, int threads, bool progress,
+                               const SampleSink& sink, std::span<const SampleResult> done,
+                               MakeWorkspace make_workspace, Compute compute) {
+  McResult r;
+  r.n = samples;
+  collect_samples(r, done);
+  const std::size_t first = std::min(done.size(), samples);
+  sampling::Progress bar("samples", samples - first, progress);
+  sampling::RunShape shape{first, samples - first, threads, std::min<std::size_t>(block, 8), 1};
+  sampling::run_in_blocks<SampleResult>(
+      shape, make_workspace, [&](std::size_t i, auto& ws, SampleResult& res) { compute(i, *ws, res); },
+      [&](std::size_t, std::span<const SampleResult> finished) {
+        if (sink) sink(finished);
+        collect_samples(r, finished);
+      },
+      &bar);
+  bar.finish();
+  r.wall_seconds = bar.elapsed_seconds();
+  summarize_outputs(r);
+  return r;
+}
+
+class ProcedureStudy {
+ public:
+  virtual ~ProcedureStudy() = default;
+  virtual const StudyConfig& config() const = 0;
+  virtual const std::vector<std::string>& input_names() const = 0;
+  virtual const std::vector<std::string>& output_names() const = 0;
+  virtual std::string model_name() const = 0;
+  virtual std::string model_source() const = 0;
+  /// Runs samples [done.size(), n); `done` (a resumed run's samples) are counted, not rerun.
+  virtual McResult run(int threads, bool progress, const SampleSink& sink,
+                       std::span<const SampleResult> done) const = 0;
+  /// Sample i alone (depends only on seed, sample count, method and i).
+  virtual SampleResult replay(std::size_t i) const = 0;
+  /// The paper's figures: [{"group", "figure", "output", "unit", "paper"}] (paper in the unit).
+  virtual nlohmann::json paper_figures() const = 0;
+  /// Solver settings and counters for summary.json.
+  virtual nlohmann::json solver_json(const McResult& mc) const = 0;
+  /// Study-specific summary.json content (null if none), e.g. the nominal machine.
+  virtual nlohmann::json details(const McResult&) const { return nullptr; }
+  /// Study-specific figures (written into plots_dir; names of the SVGs made are appended to
+  /// `figures`) and HTML sections for report.html.
+  virtual void report_sections(const McResult&, const std::string& /*plots_dir*/, bool /*plots*/,
+                               std::vector<std::string>& /*figures*/, std::ostringstream& /*html*/) const {}
+};
+
+}  // namespace poise::studies
