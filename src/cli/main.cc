@@ -5,6 +5,7 @@
 
 #include "cli/diagnose_command.h"
 #include "cli/fit_command.h"
+#include "cli/optimize_command.h"
 #include "cli/record_command.h"
 #include "core/version.h"
 #include "studies/study_runner.h"
@@ -34,6 +35,7 @@ Examples:
   poise fit data/yang2015/table1_loading_test_36pt.csv --json
   poise run studies/los_seeker_wang2011.toml --samples 100000 --seed 7 --threads 2 --out /tmp/los
   poise replay studies/los_seeker_wang2011.toml --sample 42
+  poise optimize studies/bearing_span_sizing.toml
 
 A run writes results/<study>/<run id>/ (never overwriting an earlier run): samples.csv,
 summary.json (statistics with 95% confidence intervals, provenance), plots/ and report.html.
@@ -88,11 +90,13 @@ int main(int argc, char** argv) {
   const poise::cli::FitHandler fit = poise::cli::add_fit_command(app);
   const poise::cli::DiagnoseHandler diagnose = poise::cli::add_diagnose_command(app);
   const auto record = poise::cli::add_record_commands(app);
+  const poise::cli::OptimizeHandler optimize = poise::cli::add_optimize_command(app);
 
   CLI11_PARSE(app, argc, argv);
   if (const auto status = fit()) return *status;
   if (const auto status = diagnose()) return *status;
   if (const auto status = record()) return *status;
+  if (const auto status = optimize()) return *status;
   if (samples > 0) opt.samples = samples;
   if (!run->count("--seed") && !replay->count("--seed")) {
   } else {

@@ -239,7 +239,7 @@ BalancingStudy::BalancingStudy(StudyConfig config, BalancingModel model, std::si
     } else {
       for (const char* o : {"_u_error_ic_gmm", "_v_error_ic_gmm", "_plane_error_ic_pct", "_u_error_cf_gmm",
                             "_v_error_cf_gmm", "_plane_error_cf_pct", "_interference_ic_per_mm",
-                            "_interference_cf_per_mm"}) {
+                            "_interference_cf_per_mm", "_x_amplitude_um"}) {
         output_names_.push_back(n + o);
       }
     }
@@ -482,6 +482,10 @@ void BalancingStudy::compute(std::size_t i, Workspace& ws, SampleResult& out) co
         const cd applied_static = unbalance_of(c1) + unbalance_of(c2);  // ~0 (placement errors)
         out.outputs[o++] = std::abs(dic(0) + dic(1) - applied_static) / std::abs(couple) * 1e-3;
         out.outputs[o++] = std::abs(dcf(0) + dcf(1) - applied_static) / std::abs(couple) * 1e-3;
+        // How far the horizontal plates move for a static unbalance of piece_unbalance (a
+        // displacement pickup must resolve it): the piece's motion scaled by piece_unbalance / |U|.
+        out.outputs[o++] = std::abs(a(0)) / (1.0 + d.value[kGain1]) / bench.machine_piece.horizontal_plate_stiffness *
+                           x.piece_unbalance / std::abs(u_true) * 1e6;
       }
     }
     steps = bench.steps;

@@ -28,7 +28,9 @@
 ///       |V^ - V| / (z2 - z1) (the couple error as equal and opposite unbalances in the two
 ///       planes, g mm), NAME_plane_error_{ic,cf}_pct (|U_p^ - U_p| / |U_p|, the larger of the
 ///       two planes), NAME_interference_{ic,cf}_per_mm (static unbalance
-///       indicated per unit of a pure couple unbalance, ISO 21940-21's I_s,c)
+///       indicated per unit of a pure couple unbalance, ISO 21940-21's I_s,c),
+///       NAME_x_amplitude_um (amplitude of the horizontal plates' motion for a static
+///       unbalance of piece_unbalance)
 ///   ic: influence coefficients; cf: the corrected closed form (Eq. 13).
 #include <memory>
 #include <string>

@@ -1,0 +1,188 @@
+// Optimization over Monte Carlo studies (`poise optimize`): statistics, common random numbers,
+// the bearing-span sizing of the LOS study (a monotone constraint with a known structure), an
+// infeasible requirement that ends with a clear message, strict files.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+
+#include "core/error.h"
+#include "optimize/optimization_study.h"
+#include "studies/study_evaluation.h"
+#include "studies/toml_reader.h"
+#include "test_util.h"
+
+namespace poise::optimize {
+namespace {
+
+using test::TempDir;
+
+TEST(Statistic, QuantilesMomentsAndFractions) {
+  const std::vector<double> v{5, 1, 4, 2, 3};
+  EXPECT_DOUBLE_EQ(studies::statistic(v, "mean"), 3.0);
+  EXPECT_DOUBLE_EQ(studies::statistic(v, "std"), std::sqrt(2.5));
+  EXPECT_DOUBLE_EQ(studies::statistic(v, "min"), 1.0);
+  EXPECT_DOUBLE_EQ(studies::statistic(v, "max"), 5.0);
+  EXPECT_DOUBLE_EQ(studies::statistic(v, "p50"), 3.0);
+  EXPECT_DOUBLE_EQ(studies::statistic(v, "p25"), 2.0);
+  EXPECT_DOUBLE_EQ(studies::statistic(v, "p90"), 4.6);       // type 7: 4 + 0.6 (5 - 4)
+  EXPECT_DOUBLE_EQ(studies::statistic(v, "p99.73"), studies::statistic(v, "p99_73"));
+  EXPECT_DOUBLE_EQ(studies::statistic(v, "fraction_le:2"), 0.4);
+  EXPECT_DOUBLE_EQ(studies::statistic(v, "fraction_ge:4.5"), 0.2);
+  EXPECT_THROW(studies::statistic(v, "p101"), Error);
+  EXPECT_THROW(studies::statistic(v, "median"), Error);
+  EXPECT_THROW(studies::statistic({}, "mean"), Error);
+  EXPECT_TRUE(studies::is_statistic("p95"));
+  EXPECT_FALSE(studies::is_statistic("fraction_le:x"));
+}
+
+// A small bearing-span sizing on the LOS study: 512 samples per evaluation.
+std::string sizing_text(const std::string& at_most) {
+  return R"([optimization]
+name = "spans"
+study = ")" + test::source_path("studies/los_seeker_wang2011.toml") + R"("
+samples = 512
+seed = 11
+algorithm = "cobyla"
+max_evaluations = 40
+xtol_rel = 1e-4
+
+[[variable]]
+parameter = "yaw.bearing_span"
+lower = "60 mm"
+upper = "160 mm"
+start = "140 mm"
+
+[[variable]]
+parameter = "pitch.bearing_span"
+lower = "40 mm"
+upper = "120 mm"
+start = "100 mm"
+
+[objective]
+variable_sum = ["yaw.bearing_span", "pitch.bearing_span"]
+
+[[constraint]]
+output = "los_max_px"
+statistic = "p95"
+at_most = )" + at_most + R"(
+
+[verification]
+samples = 1024
+seed = 5
+)";
+}
+
+TEST(OptimizationStudy, CommonRandomNumbersMakeTheObjectiveRepeatable) {
+  TempDir d;
+  test::write_text(d.file("opt.toml"), sizing_text("1.5"));
+  const OptimizationSpec spec = load_optimization(d.file("opt.toml"));
+  const std::map<std::string, std::string> design{{"yaw.bearing_span", "100 mm"}, {"pitch.bearing_span", "70 mm"}};
+  const auto a = studies::evaluate_study(spec.base, design, spec.samples, spec.seed, 1);
+  const auto b = studies::evaluate_study(spec.base, design, spec.samples, spec.seed, 2);
+  const std::size_t k = a.index("los_max_px");
+  EXPECT_EQ(a.values[k], b.values[k]);  // same numbers, any thread count
+  // A slightly longer span moves every sample a little and the same way (CRN): the statistic
+  // changes smoothly instead of by the sampling noise.
+  auto longer = design;
+  longer["yaw.bearing_span"] = "100.5 mm";
+  const auto c = studies::evaluate_study(spec.base, longer, spec.samples, spec.seed, 1);
+  const double p_a = studies::statistic(a.values[k], "p95"), p_c = studies::statistic(c.values[k], "p95");
+  EXPECT_LT(p_c, p_a);
+  EXPECT_LT(p_a - p_c, 0.01 * p_a);
+  // A different seed gives a different sample (so the equality above is not trivial).
+  const auto e = studies::evaluate_study(spec.base, design, spec.samples, spec.seed + 1, 1);
+  EXPECT_NE(e.values[k], a.values[k]);
+}
+
+TEST(OptimizationStudy, BearingSpansShrinkUntilTheLosRequirementBinds) {
+  TempDir d;
+  test::write_text(d.file("opt.toml"), sizing_text("1.5"));
+  const std::string dir = run_optimization(d.file("opt.toml"), test::quiet_run_options(d.file("run"), 2));
+  const auto summary = nlohmann::json::parse(test::read_text(dir + "/summary.json"));
+  ASSERT_TRUE(summary["feasible"].get<bool>()) << summary.dump(2);
+  const auto& run = summary["runs"][0];
+  const double f = run["objective"].get<double>();
+  std::printf("optimum %s, sum of spans %.3f mm after %d evaluations (%s)\n", run["x"].dump().c_str(), f,
+              run["evaluations"].get<int>(), run["status"].get<std::string>().c_str());
+  EXPECT_LT(f, 240.0 - 1.0);  // shorter than the start (140 + 100 mm)
+  // At the optimum the requirement binds: p95 close to 1.5 px, not far below.
+  const OptimizationSpec spec = load_optimization(d.file("opt.toml"));
+  std::map<std::string, std::string> optimum = summary["optimum"].get<std::map<std::string, std::string>>();
+  const auto at = studies::evaluate_study(spec.base, optimum, spec.samples, spec.seed, 2);
+  const double p95 = studies::statistic(at.values[at.index("los_max_px")], "p95");
+  EXPECT_LE(p95, 1.5 + 1e-6);
+  EXPECT_GT(p95, 1.45);
+  // Verification with fresh numbers reported with its CI.
+  EXPECT_EQ(summary["verification"]["samples"].get<int>(), 1024);
+  EXPECT_TRUE(summary["verification"]["figures"][0]["summary"].contains("p95"));
+  EXPECT_TRUE(std::filesystem::exists(dir + "/history.csv"));
+  EXPECT_TRUE(std::filesystem::exists(dir + "/report.html"));
+}
+
+TEST(OptimizationStudy, InfeasibleRequirementEndsWithAClearMessage) {
+  TempDir d;
+  test::write_text(d.file("opt.toml"), test::replace_once(sizing_text("0.05"), "max_evaluations = 40", "max_evaluations = 12"));
+  try {
+    run_optimization(d.file("opt.toml"), test::quiet_run_options(d.file("run"), 2));
+    FAIL() << "an infeasible requirement must not end with a silent best guess";
+  } catch (const studies::ValidationError&) {
+    FAIL() << "not an input error";
+  } catch (const Error& e) {
+    const std::string m = e.what();
+    EXPECT_NE(m.find("no design met the constraints"), std::string::npos) << m;
+    EXPECT_NE(m.find("p95 of los_max_px <= 0.05"), std::string::npos) << m;
+  }
+  // The folder keeps what was tried.
+  const std::string history = test::read_text(d.file("run") + "/history.csv");
+  EXPECT_NE(history.find("choice,evaluation,yaw.bearing_span_mm"), std::string::npos) << history;
+  const auto summary = nlohmann::json::parse(test::read_text(d.file("run") + "/summary.json"));
+  EXPECT_FALSE(summary["feasible"].get<bool>());
+  // The command line says it too, with exit status 1.
+  const auto r = test::run_poise(d, "optimize '" + d.file("opt.toml") + "' -q --no-plots --out '" + d.file("run2") + "'");
+  EXPECT_EQ(r.status, 1) << r.err;
+  EXPECT_NE(r.err.find("no design met the constraints"), std::string::npos) << r.err;
+}
+
+TEST(OptimizationStudy, StrictFile) {
+  TempDir d;
+  auto error_of = [&](const std::string& text) {
+    test::write_text(d.file("bad.toml"), text);
+    try {
+      load_optimization(d.file("bad.toml"));
+    } catch (const studies::ValidationError& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  const std::string base = sizing_text("1");
+  std::string e = error_of(test::replace_once(base, "output = \"los_max_px\"", "output = \"los_max\""));
+  EXPECT_NE(e.find("constraint[0].output"), std::string::npos) << e;
+  EXPECT_NE(e.find("los_max_px"), std::string::npos) << e;  // lists the outputs
+  e = error_of(test::replace_once(base, "lower = \"60 mm\"", "lower = \"170 mm\""));
+  EXPECT_NE(e.find("upper > lower"), std::string::npos) << e;
+  e = error_of(test::replace_once(base, "start = \"140 mm\"", "start = \"14 cm\""));
+  EXPECT_NE(e.find("same unit"), std::string::npos) << e;
+  e = error_of(test::replace_once(base, "statistic = \"p95\"", "statistic = \"median\""));
+  EXPECT_NE(e.find("statistic"), std::string::npos) << e;
+  e = error_of(test::replace_once(base, "algorithm = \"cobyla\"", "algorithm = \"newton\""));
+  EXPECT_NE(e.find("algorithm"), std::string::npos) << e;
+  e = error_of(test::replace_once(base, "parameter = \"yaw.bearing_span\"", "parameter = \"yaw.span\""));
+  EXPECT_NE(e.find("objective.variable_sum"), std::string::npos) << e;  // no longer a variable
+  e = error_of(test::replace_once(test::replace_once(base, "parameter = \"yaw.bearing_span\"", "parameter = \"yaw.span\""),
+                                  "[\"yaw.bearing_span\",", "[\"yaw.span\","));
+  EXPECT_NE(e.find("yaw.span"), std::string::npos) << e;  // not a key of the model
+  e = error_of(test::replace_once(base, "at_most = 1", "at_most = 1\nat_least = 0"));
+  EXPECT_NE(e.find("exactly one of at_least and at_most"), std::string::npos) << e;
+}
+
+TEST(OptimizationStudy, RepositoryOptimizationFilesLoad) {
+  for (const char* f : {"studies/spring_plate_sizing.toml", "studies/bearing_span_sizing.toml"}) {
+    const OptimizationSpec s = load_optimization(test::source_path(f));
+    EXPECT_FALSE(s.variables.empty()) << f;
+    EXPECT_FALSE(s.constraints.empty()) << f;
+  }
+}
+
+}  // namespace
+}  // namespace poise::optimize
