@@ -110,6 +110,19 @@ void BalancingStudy::report_sections(const McResult& mc, const std::string& plot
   for (const auto& x : config_.experiments) {
     if (mc.outputs.empty()) break;
     auto values = [&](const std::string& n) { return mc.values[index_of(names, n)]; };
+    // Per position k, "x(k) p50 p05 p95" of NAME_p1_k<k><suffix>, then of plane 2 (gnuplot data).
+    auto position_bands = [&](const BalancingExperiment& e, const std::string& suffix, auto x_of) {
+      std::ostringstream dat;
+      for (int k = 0; k < e.positions; ++k) {
+        dat << x_of(k);
+        for (int p = 1; p <= 2; ++p) {
+          const Band b = band_of(values(e.name + "_p" + std::to_string(p) + "_k" + std::to_string(k) + suffix));
+          dat << ' ' << b.p50 << ' ' << b.p05 << ' ' << b.p95;
+        }
+        dat << '\n';
+      }
+      return dat.str();
+    };
     if (x.type == "separation") {
       h << "<h2>Separation of static and couple unbalance (" << html_escape(x.name) << ")</h2>\n"
         << "<p>" << fmt(x.mass * 1e3) << " g at r = " << fmt(x.radius * 1e3) << " mm on each testing surface in "
@@ -144,17 +157,8 @@ void BalancingStudy::report_sections(const McResult& mc, const std::string& plot
            "U<sub>mar1</sub> + U<sub>mar2</sub> (Eq. 18: e = U<sub>mar1</sub>/M<sub>1</sub> = U<sub>mar2</sub>/M<sub>2</sub>, "
            "M<sub>1</sub> + M<sub>2</sub> = M<sub>R</sub>). The spread X<sub>max</sub> - X<sub>min</sub> is twice the rotor's own "
            "residual in that plane plus what the machine adds: compare U<sub>mar,p</sub> with the true residual.</p>\n";
-      std::ostringstream dat;
-      for (int k = 0; k < x.positions; ++k) {
-        dat << 360.0 * k / x.positions;
-        for (int p = 1; p <= 2; ++p) {
-          const Band b = band_of(values(x.name + "_p" + std::to_string(p) + "_k" + std::to_string(k) + "_g"));
-          dat << ' ' << b.p50 << ' ' << b.p05 << ' ' << b.p95;
-        }
-        dat << '\n';
-      }
       if (plots) {
-        std::ofstream(dir / (x.name + "_readings.dat")) << dat.str();
+        std::ofstream(dir / (x.name + "_readings.dat")) << position_bands(x, "_g", [&](int k) { return 360.0 * k / x.positions; });
         plot(dir, x.name + "_readings",
              "set title 'U_mar test: readings against the test mass position'\nset xlabel 'angular position of the test mass (deg)'\n"
              "set ylabel 'reading (g at the test radius)'\nset xtics 45\nset key outside bottom center horizontal\n"
@@ -176,17 +180,8 @@ void BalancingStudy::report_sections(const McResult& mc, const std::string& plot
              "residual unbalance and the machine's error alone: their ratio to their own mean measures noise, "
              "not stability. Put the test mass between or beyond the planes to test both.</small></p>\n";
       }
-      std::ostringstream dat;
-      for (int k = 0; k < x.positions; ++k) {
-        dat << k + 1;
-        for (int p = 1; p <= 2; ++p) {
-          const Band b = band_of(values(x.name + "_p" + std::to_string(p) + "_k" + std::to_string(k) + "_ratio"));
-          dat << ' ' << b.p50 << ' ' << b.p05 << ' ' << b.p95;
-        }
-        dat << '\n';
-      }
       if (plots) {
-        std::ofstream(dir / (x.name + "_ratios.dat")) << dat.str();
+        std::ofstream(dir / (x.name + "_ratios.dat")) << position_bands(x, "_ratio", [](int k) { return k + 1.0; });
         plot(dir, x.name + "_ratios",
              "set title 'Stability test: reading / mean of the plane'\nset xlabel 'hole'\nset ylabel 'reading / mean'\n"
              "set xrange [0.5:" + std::to_string(x.positions) + ".5]\nset key outside bottom center horizontal\n"

@@ -42,12 +42,13 @@
 
 namespace poise::studies {
 
-class BalancingStudy : public ProcedureStudy {
+class BalancingStudy : public ProcedureStudyBase<BalancingStudy> {
  public:
   /// Throws ValidationError if the study does not fit the model (surfaces, paper keys, scopes).
   BalancingStudy(StudyConfig config, BalancingModel model, std::size_t samples, std::uint64_t seed);
 
   const StudyConfig& config() const override { return config_; }
+  std::size_t samples() const { return samples_; }
   const std::vector<std::string>& input_names() const override { return input_names_; }
   const std::vector<std::string>& output_names() const override { return output_names_; }
   std::string model_name() const override { return model_.name; }
@@ -57,9 +58,6 @@ class BalancingStudy : public ProcedureStudy {
   using Workspace = procedures::BalancingWorkspace;
   std::unique_ptr<Workspace> make_workspace() const;
   void compute(std::size_t i, Workspace& ws, SampleResult& out) const;
-  McResult run(int threads, bool progress, const SampleSink& sink,
-               std::span<const SampleResult> done = {}) const override;
-  SampleResult replay(std::size_t i) const override;
   nlohmann::json paper_figures() const override;
   nlohmann::json solver_json(const McResult& mc) const override;
   /// The nominal machine: stiffnesses, masses, natural frequencies, hard-bearing check.

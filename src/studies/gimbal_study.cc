@@ -194,20 +194,6 @@ void GimbalStudy::compute(std::size_t i, Workspace& ws, SampleResult& out) const
   }
 }
 
-McResult GimbalStudy::run(int threads, bool progress, const SampleSink& sink,
-                          std::span<const SampleResult> done) const {
-  return run_procedure_samples(samples_, config_.block, threads, progress, sink, done,
-                               [this] { return make_workspace(); },
-                               [this](std::size_t i, Workspace& ws, SampleResult& res) { compute(i, ws, res); });
-}
-
-SampleResult GimbalStudy::replay(std::size_t i) const {
-  auto ws = make_workspace();
-  SampleResult r;
-  compute(i, *ws, r);
-  return r;
-}
-
 nlohmann::json GimbalStudy::paper_figures() const {
   nlohmann::json out = nlohmann::json::array();
   for (const auto& g : config_.groups) {

@@ -26,13 +26,14 @@
 
 namespace poise::studies {
 
-class GimbalStudy : public ProcedureStudy {
+class GimbalStudy : public ProcedureStudyBase<GimbalStudy> {
  public:
   GimbalStudy(StudyConfig config, GimbalModel model, std::size_t samples, std::uint64_t seed);
 
   const std::vector<std::string>& input_names() const override { return input_names_; }
   const std::vector<std::string>& output_names() const override { return output_names_; }
   const StudyConfig& config() const override { return config_; }
+  std::size_t samples() const { return samples_; }
   std::string model_name() const override { return model_.name; }
   std::string model_source() const override { return model_.source; }
   const GimbalModel& model() const { return model_; }
@@ -41,11 +42,6 @@ class GimbalStudy : public ProcedureStudy {
   std::unique_ptr<Workspace> make_workspace() const;
   /// Sample i alone (replayable): depends only on (seed, samples, method, i).
   void compute(std::size_t i, Workspace& ws, SampleResult& out) const;
-  /// Runs samples [done.size(), samples); `done` are the results of the samples before
-  /// (a resumed run), counted in the statistics but not recomputed nor sent to `sink`.
-  McResult run(int threads, bool progress, const SampleSink& sink,
-               std::span<const SampleResult> done = {}) const override;
-  SampleResult replay(std::size_t i) const override;
   /// The groups' paper_rmse_torque and paper_rmse_angle.
   nlohmann::json paper_figures() const override;
   nlohmann::json solver_json(const McResult& mc) const override;

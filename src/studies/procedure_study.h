@@ -99,4 +99,25 @@ class ProcedureStudy {
                                std::vector<std::string>& /*figures*/, std::ostringstream& /*html*/) const {}
 };
 
+/// run() and replay() of a study that has samples(), config(), make_workspace() and
+/// compute(i, workspace, result) (CRTP): one implementation for every procedure study.
+template <class Derived>
+class ProcedureStudyBase : public ProcedureStudy {
+ public:
+  McResult run(int threads, bool progress, const SampleSink& sink,
+               std::span<const SampleResult> done = {}) const override {
+    const Derived& d = static_cast<const Derived&>(*this);
+    return run_procedure_samples(d.samples(), d.config().block, threads, progress, sink, done,
+                                 [&d] { return d.make_workspace(); },
+                                 [&d](std::size_t i, auto& ws, SampleResult& res) { d.compute(i, ws, res); });
+  }
+  SampleResult replay(std::size_t i) const override {
+    const Derived& d = static_cast<const Derived&>(*this);
+    auto ws = d.make_workspace();
+    SampleResult r;
+    d.compute(i, *ws, r);
+    return r;
+  }
+};
+
 }  // namespace poise::studies
