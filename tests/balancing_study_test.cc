@@ -180,6 +180,31 @@ std::vector<SampleResult> run_all(const BalancingStudy& s, int threads) {
 
 // ---- 1. determinism ------------------------------------------------------------------------
 
+// The machine under its weight, by hand for the model's nominal machine with rotor R:
+// M = 30 + 40 + 47.6 kg on two plates 100 x 150 x 4 mm, torsional plate 80 x 100 x 5 mm at 250 mm.
+TEST(BalancingStudy, StaticsUnderTheWeightByHand) {
+  const BalancingModel m = load_balancing_model(model_path());
+  const BalancingStatics st = machine_statics(m, nominal_as_built(m), m.rotor);
+  const double g = 9.80665, pi = 3.14159265358979323846;
+  const double load = 0.5 * (30 + 40 + 47.6) * g;                            // 576.6 N per plate
+  const double i5 = 0.150 * 0.004 * 0.004 * 0.004 / 12;                      // 8e-10 m^4
+  EXPECT_NEAR(st.buckling_factor, pi * pi * 206e9 * i5 / (0.1 * 0.1) / load, 1e-9 * st.buckling_factor);  // 282
+  EXPECT_NEAR(st.axial_stress, load / (0.150 * 0.004), 1e-6);               // 0.96 MPa
+  EXPECT_NEAR(st.stiffness_loss, 6 * load / (5 * 0.1) / (206e9 * 0.150 * 64e-9 / 1e-3), 1e-3 * st.stiffness_loss);
+  // Swinging part: m = 87.6 kg at H; rotor R (47.6 kg) 1 mm off the axis leans on k6 l^2.
+  const models::SpringPlateMachineParams p = machine_params(m, nominal_as_built(m), m.rotor);
+  const double k_rot = 206e9 * 0.100 * 125e-9 / 512e-6 * 0.25 * 0.25;       // k6 l^2 = 3.14e5 N m/rad
+  const double topple = 87.6 * g * p.mass_centre_height;
+  EXPECT_NEAR(st.pendulum_margin, k_rot / topple, 1e-9 * st.pendulum_margin);
+  EXPECT_NEAR(st.tilt, 47.6 * g * 1e-3 / (k_rot - topple), 1e-12);
+  const double f6 = k_rot / 0.25 * st.tilt;                                 // force on the plate
+  EXPECT_NEAR(st.torsional_stress, 3 * f6 * 0.080 / (0.100 * 0.005 * 0.005), 1e-6 * st.torsional_stress);
+  // With gravity on, the dynamics see the softened plates.
+  const BalancingModel mg = load_balancing_model(model_path(), {{"frame.gravity", "9.80665 m/s^2"}});
+  const models::SpringPlateMachineParams pg = machine_params(mg, nominal_as_built(mg), mg.rotor);
+  EXPECT_NEAR(pg.horizontal_plate_stiffness / p.horizontal_plate_stiffness, 1.0 - st.stiffness_loss, 1e-12);
+}
+
 TEST(BalancingStudy, DeterministicOverThreadsWorkspacesReplayAndSeed) {
   Stopwatch sw("determinism");
   TempDir d;

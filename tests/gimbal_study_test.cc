@@ -2,10 +2,15 @@
 // replay of one sample, strict files, and an ideal rig that balances to within the noise.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <filesystem>
+#include <tuple>
 #include <nlohmann/json.hpp>
 
 #include "studies/gimbal_model.h"
+#include "studies/gimbal_study.h"
+#include "studies/study_config.h"
+#include "studies/study_evaluation.h"
 #include "studies/study_runner.h"
 #include "studies/toml_reader.h"
 #include "test_util.h"
@@ -157,6 +162,84 @@ TEST(GimbalStudy, StrictGroupsAndScopes) {
     FAIL() << "no error";
   } catch (const ValidationError& e) {
     EXPECT_NE(std::string(e.what()).find("an oscillation within +-3 deg"), std::string::npos) << e.what();
+  }
+}
+
+TEST(GimbalStudy, StudyKeysChangeTheTestPlan) {
+  TempDir d;
+  StudyConfig cfg = load_study(tiny_study(d));
+  // Study keys go to the groups; model keys are returned.
+  StudyConfig c = cfg;
+  const auto rest = apply_study_overrides(
+      c, {{"group.positions", "18"}, {"group.g.placement", "back_and_forth"}, {"rotor.mass", "2 kg"}});
+  ASSERT_EQ(rest.size(), 1u);
+  EXPECT_EQ(rest.at("rotor.mass"), "2 kg");
+  EXPECT_EQ(c.groups[0].positions, 18u);
+  EXPECT_EQ(c.groups[0].placement, "back_and_forth");
+  for (const auto& [key, value, expected] :
+       std::vector<std::tuple<std::string, std::string, std::string>>{
+           {"group.positions", "3", "an integer in [4, 3600]"},
+           {"group.positions", "18.5", "an integer in [4, 3600]"},
+           {"group.placement", "random", "one of \"sequential\""},
+           {"group.h.positions", "18", "the name of a [[group]]: g"},
+           {"group.speed", "1", "a study key group[.<name>].positions"}}) {
+    StudyConfig bad = cfg;
+    try {
+      apply_study_overrides(bad, {{key, value}});
+      FAIL() << key;
+    } catch (const ValidationError& e) {
+      EXPECT_NE(std::string(e.what()).find(expected), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find(key), std::string::npos) << e.what();
+    }
+  }
+  // The test time follows the plan: 12 positions of 5 s move, 1 s settle, 0.5 s lead-in, 2 x 4 s.
+  const StudyEvaluation e = evaluate_study(cfg, {{"group.positions", "12"}}, 1, 3, 1);
+  EXPECT_NEAR(e.values[e.index("g_test_time_min")].at(0), 12 * 14.5 / 60.0, 1e-12);
+}
+
+// The rig's disk from its geometry (models/simulator_disk_yang2015.toml, issue 8): each
+// sample's disk unbalance is the face wedge's w R / (8 t) (plus the hole positions' little),
+// towards the thick side; the mass follows the thickness; the run replays.
+TEST(GimbalStudy, DiskFromGeometryCarriesTheWedgeUnbalance) {
+  TempDir d;
+  const std::string path =
+      tiny_study(d, "\n[overrides]\n\"geometry.disk_model\" = \"simulator_disk_yang2015.toml\"\n");
+  const StudyConfig cfg = load_study(path);
+  const GimbalModel model = load_gimbal_model(cfg.model_path, cfg.overrides);
+  ASSERT_TRUE(model.disk_geometry.has_value());
+  EXPECT_TRUE(model.disk_geometry->nominal.clumps.empty());  // the loads are the groups'
+  const GimbalStudy study(cfg, model, 4, 3);
+  auto col = [&](const std::string& name) {
+    const auto& n = study.input_names();
+    const auto it = std::find(n.begin(), n.end(), name);
+    EXPECT_NE(it, n.end()) << name;
+    return static_cast<std::size_t>(it - n.begin());
+  };
+  auto ws = study.make_workspace();
+  const double r = 0.065, t = 0.012;
+  for (std::size_t i = 0; i < 4; ++i) {
+    SampleResult s;
+    study.compute(i, *ws, s);
+    ASSERT_TRUE(s.ok) << s.message;
+    const double w = s.inputs[col("disk_wedge_mm")] * 1e-3, mass = s.inputs[col("disk_mass_g")] * 1e-3;
+    const double u = s.inputs[col("disk_unbalance_gmm")] * 1e-6;
+    EXPECT_NEAR(u, mass * w * r / (8 * t), 0.03 * mass * w * r / (8 * t) + 0.1e-6) << i;
+    if (u > 0.5e-6) {
+      EXPECT_NEAR(std::remainder(s.inputs[col("disk_unbalance_angle_deg")] - s.inputs[col("disk_wedge_angle_deg")], 360.0),
+                  0.0, 10.0) << i;
+    }
+    EXPECT_NEAR(mass / model.disk_nominal_mass, 1.0 + s.inputs[col("disk_thickness_dev_mm")] * 1e-3 / t, 1e-4) << i;
+    SampleResult again;
+    study.compute(i, *ws, again);
+    EXPECT_EQ(again.outputs, s.outputs);
+  }
+  // Off by default; a missing file is refused with the key.
+  EXPECT_FALSE(load_gimbal_model(cfg.model_path).disk_geometry.has_value());
+  try {
+    load_gimbal_model(cfg.model_path, {{"geometry.disk_model", "no_such_disk.toml"}});
+    FAIL() << "no error";
+  } catch (const ValidationError& e) {
+    EXPECT_NE(std::string(e.what()).find("geometry.disk_model"), std::string::npos) << e.what();
   }
 }
 

@@ -184,5 +184,109 @@ TEST(OptimizationStudy, RepositoryOptimizationFilesLoad) {
   }
 }
 
+// Two objectives on a tiny gimbal study: the unbalance error against the test time, with the
+// number of positions a discrete choice. Checks the epsilon-constraint front (non-dominated,
+// ordered, reaching both single-objective optima), the exact test times, and the comparison
+// of the choices on fresh samples.
+TEST(OptimizationStudy, ParetoFrontOfErrorAgainstTestTime) {
+  TempDir d;
+  test::write_text(d.file("study.toml"), R"([study]
+name = "tiny"
+kind = "gimbal_static_unbalance"
+model = ")" + test::source_path("models/gimbal_simulator_yang2015.toml") + R"("
+[sampling]
+method = "monte_carlo"
+samples = 4
+seed = 3
+[[group]]
+name = "g"
+positions = 8
+[[group.load]]
+mass = "25.81 g"
+radius = "51.0 mm"
+angle = "45.50 deg"
+)");
+  test::write_text(d.file("opt.toml"), R"([optimization]
+name = "plan"
+study = "study.toml"
+samples = 4
+seed = 5
+algorithm = "cobyla"
+max_evaluations = 5
+[[variable]]
+parameter = "oscillation.period"
+lower = "1 s"
+upper = "6 s"
+start = "4 s"
+[[choice]]
+parameter = "group.positions"
+values = ["8", "12"]
+[overrides]
+"oscillation.periods" = "1"
+[objective]
+output = "g_rmse_torque_mNm"
+statistic = "p95"
+[pareto]
+output = "g_test_time_min"
+statistic = "max"
+points = 1
+[verification]
+samples = 4
+seed = 9
+)");
+  const OptimizationSpec spec = load_optimization(d.file("opt.toml"));
+  ASSERT_TRUE(spec.pareto.has_value());
+  EXPECT_EQ(spec.overrides.at("oscillation.periods"), "1");
+  const OptimizationOutcome out = optimize(spec, 2, false);
+  ASSERT_TRUE(out.feasible);
+  ASSERT_EQ(out.choices.size(), 2u);
+  ASSERT_FALSE(out.front.empty());
+  // Test time is exact: positions x (5 + 1 + 0.5 + T) s.
+  double min_time = INFINITY, min_obj = INFINITY;
+  for (const auto& p : out.pool) {
+    const double n = std::stod(out.choices[p.choice].at("group.positions"));
+    EXPECT_NEAR(p.second, n * (6.5 + p.x[0]) / 60.0, 1e-9);
+    if (!p.feasible) continue;
+    min_time = std::min(min_time, p.second);
+    min_obj = std::min(min_obj, p.objective);
+  }
+  // The front: increasing time, decreasing error, nobody dominates it, both ends reached.
+  for (std::size_t k = 1; k < out.front.size(); ++k) {
+    EXPECT_GT(out.pool[out.front[k]].second, out.pool[out.front[k - 1]].second);
+    EXPECT_LT(out.pool[out.front[k]].objective, out.pool[out.front[k - 1]].objective);
+  }
+  for (std::size_t f : out.front) {
+    for (const auto& p : out.pool) {
+      if (!p.feasible) continue;
+      EXPECT_FALSE(p.second <= out.pool[f].second && p.objective < out.pool[f].objective &&
+                   (p.second < out.pool[f].second || p.objective < out.pool[f].objective));
+    }
+  }
+  EXPECT_DOUBLE_EQ(out.pool[out.front.front()].second, min_time);
+  EXPECT_DOUBLE_EQ(out.pool[out.front.back()].objective, min_obj);
+  // The shortest test: 8 positions at the shortest period.
+  EXPECT_NEAR(min_time, 8 * 7.5 / 60.0, 1e-9);
+  ASSERT_EQ(out.front_verification.size(), out.front.size());
+  EXPECT_TRUE(out.front_verification[0]["objective"].contains("lo"));
+  // Choices compared on the same fresh samples, also per parameter value.
+  ASSERT_EQ(out.comparison["choices"].size(), 2u);
+  const auto& by = out.comparison["by_parameter"][0];
+  EXPECT_EQ(by["parameter"], "group.positions");
+  ASSERT_EQ(by["values"].size(), 2u);
+  int with_difference = 0;
+  for (const auto& v : by["values"]) with_difference += v.contains("minus_best") ? 1 : 0;
+  EXPECT_EQ(with_difference, 1);
+}
+
+TEST(OptimizationStudy, BootstrapIntervalCoversTheStatistic) {
+  std::vector<double> v;
+  for (int i = 0; i < 200; ++i) v.push_back(std::sin(0.37 * i) + 0.01 * i);
+  const auto j = statistic_with_ci(v, "p95", 1);
+  EXPECT_LE(j["lo"].get<double>(), j["value"].get<double>());
+  EXPECT_GE(j["hi"].get<double>(), j["value"].get<double>());
+  EXPECT_EQ(j, statistic_with_ci(v, "p95", 1));  // deterministic in the seed
+  EXPECT_LT(j["hi"].get<double>() - j["lo"].get<double>(), 0.5);
+}
+
 }  // namespace
 }  // namespace poise::optimize

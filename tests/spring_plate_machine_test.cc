@@ -407,5 +407,49 @@ TEST(SpringPlateMachine, UnbalanceFromPlaneMasses) {
   }
 }
 
+// The weight on the horizontal plates (beam-column): the closed form against an independent
+// shooting solution of E I w'''' + P w'' = 0 with w(0) = w'(0) = w'(L) = 0, w(L) = d (RK4), the
+// small-load limit 12 E I / L^3 - 6 P / (5 L), and zero stiffness at the Euler load.
+TEST(SpringPlate, ColumnUnderAxialLoadMatchesShootingAndLimits) {
+  const SpringPlate plate = horizontal_plate();
+  const double ei = plate.youngs_modulus * plate_second_moment(plate), L = plate.length;
+  const double p_cr = guided_column_buckling_load(plate);
+  EXPECT_NEAR(p_cr, kPi * kPi * ei / (L * L), 1e-9 * p_cr);
+  auto shooting = [&](double load) {
+    // State (w, w', w'', w'''); w'''' = -(P/EI) w''. Unknowns a = w''(0), b = w'''(0).
+    auto end = [&](double a, double b) {
+      std::array<double, 4> y{0, 0, a, b};
+      const int n = 4000;
+      const double h = L / n, q2 = load / ei;
+      auto f = [&](const std::array<double, 4>& s) { return std::array<double, 4>{s[1], s[2], s[3], -q2 * s[2]}; };
+      for (int i = 0; i < n; ++i) {
+        auto add = [](std::array<double, 4> s, const std::array<double, 4>& d, double c) {
+          for (int k = 0; k < 4; ++k) s[k] += c * d[k];
+          return s;
+        };
+        const auto k1 = f(y), k2 = f(add(y, k1, h / 2)), k3 = f(add(y, k2, h / 2)), k4 = f(add(y, k3, h));
+        for (int k = 0; k < 4; ++k) y[k] += h / 6 * (k1[k] + 2 * k2[k] + 2 * k3[k] + k4[k]);
+      }
+      return y;
+    };
+    const auto ya = end(1, 0), yb = end(0, 1);
+    // w(L) = 1e-4, w'(L) = 0.
+    const double d = 1e-4, det = ya[0] * yb[1] - yb[0] * ya[1];
+    const double a = d * yb[1] / det, b = -d * ya[1] / det;
+    (void)a;
+    return std::abs(ei * b) / d;  // end shear over deflection (w'(0) = 0: no P w' term)
+  };
+  for (double share : {0.0, 0.1, 0.5, 0.9}) {
+    const double load = share * p_cr;
+    const double k = guided_column_lateral_stiffness(plate, load);
+    EXPECT_NEAR(k / shooting(load), 1.0, 1e-7) << share;
+  }
+  const double k0 = guided_plate_stiffness(plate), small = 1e-3 * p_cr;
+  EXPECT_NEAR(guided_column_lateral_stiffness(plate, 0.0), k0, 1e-12 * k0);
+  EXPECT_NEAR(guided_column_lateral_stiffness(plate, small), k0 - 6 * small / (5 * L), 1e-6 * k0);
+  EXPECT_NEAR(guided_column_lateral_stiffness(plate, p_cr) / k0, 0.0, 1e-9);
+  EXPECT_LT(guided_column_lateral_stiffness(plate, 1.1 * p_cr), 0.0);
+}
+
 }  // namespace
 }  // namespace poise::models

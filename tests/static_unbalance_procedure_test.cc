@@ -3,6 +3,7 @@
 // says; results are a pure function of the seed.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "core/error.h"
@@ -123,6 +124,76 @@ TEST(StaticUnbalanceProcedure, DeterministicForASeed) {
 
 TEST(StaticUnbalanceProcedure, RefusesTooFewPositions) {
   EXPECT_THROW(measure(ideal_plan(3), ideal_truth(1e-3, 0.0)), Error);
+}
+
+}  // namespace
+}  // namespace poise::procedures
+
+namespace poise::procedures {
+namespace {
+
+TEST(TestPlanPlacement, EveryPlacementVisitsEachPositionOnce) {
+  for (std::size_t n : {4u, 7u, 18u, 36u}) {
+    for (const char* name : {"sequential", "interleaved", "back_and_forth"}) {
+      TestPlan plan;
+      set_positions(plan, n, parse_placement(name));
+      ASSERT_EQ(plan.positions.size(), n) << name;
+      std::vector<double> sorted = plan.positions;
+      std::sort(sorted.begin(), sorted.end());
+      for (std::size_t k = 0; k < n; ++k) {
+        EXPECT_NEAR(sorted[k], 2.0 * units::kPi * static_cast<double>(k) / static_cast<double>(n), 1e-12) << name << n;
+      }
+      EXPECT_TRUE(plan.sweep.empty() || plan.sweep.size() == n);
+    }
+  }
+  TestPlan plan;
+  set_positions(plan, 8, Placement::kInterleaved);  // 0, 180, 90, 270, 45, 225, 135, 315 deg
+  const double expected[] = {0, 4, 2, 6, 1, 5, 3, 7};
+  for (std::size_t k = 0; k < 8; ++k) EXPECT_NEAR(plan.positions[k], expected[k] * units::kPi / 4, 1e-12);
+  set_positions(plan, 6, Placement::kBackAndForth);  // up on 0, 2, 4; back on 5, 3, 1
+  const double bf[] = {0, 2, 4, 5, 3, 1};
+  const int sweep[] = {1, 1, 1, -1, -1, -1};
+  for (std::size_t k = 0; k < 6; ++k) {
+    EXPECT_NEAR(plan.positions[k], bf[k] * units::kPi / 3, 1e-12);
+    EXPECT_EQ(plan.sweep[k], sweep[k]);
+  }
+  EXPECT_THROW(parse_placement("random"), Error);
+}
+
+TEST(TestPlanPlacement, TestDurationMatchesTheProcedureClock) {
+  TestPlan plan = ideal_plan(12);
+  plan.move_time = 3.0;
+  const MeasurementResult m = measure(plan, ideal_truth(1e-3, 0.3));
+  // Each position's time is the middle of its integration window.
+  const OscillationConfig& o = plan.oscillation;
+  const double window_mid = plan.move_time + o.settle_time + o.lead_in + 0.5 * o.periods * o.period;
+  for (std::size_t i = 0; i < m.positions.size(); ++i) {
+    EXPECT_NEAR(m.positions[i].time, static_cast<double>(i) * position_duration(plan) + window_mid, 1e-9);
+  }
+  EXPECT_NEAR(test_duration(plan), 12 * (3.0 + 1.0 + 0.5 + 2 * 4.0), 1e-12);
+}
+
+TEST(TestPlanPlacement, BackAndForthCancelsALinearDrift) {
+  // An offset drifting linearly in time follows the angle in a sequential test and biases
+  // the fit; going up on the even positions and back on the odd ones adds the drift to both
+  // halves with opposite slopes, and it cancels to first order.
+  const double u = 25.81e-3 * 0.051;
+  GimbalTruth truth = ideal_truth(u, 45.5 * kRadPerDeg);
+  truth.disturbances.offset_drift_rate = 2e-5;  // A/s: 1e-3 mN*m/s through K_T 0.05
+  const double ideal = measure(ideal_plan(18), ideal_truth(u, 45.5 * kRadPerDeg)).fit.amplitude;
+  double error[3];
+  int k = 0;
+  for (Placement p : {Placement::kSequential, Placement::kInterleaved, Placement::kBackAndForth}) {
+    TestPlan plan = ideal_plan(18);
+    set_positions(plan, 18, p);
+    const MeasurementResult m = measure(plan, truth);
+    error[k++] = std::abs(m.fit.amplitude - ideal);
+  }
+  EXPECT_GT(error[0], 5e-5);            // sequential: ~0.1 mN*m off
+  EXPECT_LT(error[2], 0.1 * error[0]);  // back and forth: cancelled
+  EXPECT_LT(error[1], error[0]);        // interleaved: decorrelated
+  RecordProperty("errors_mNm", std::to_string(error[0] * 1e3) + " " + std::to_string(error[1] * 1e3) + " " +
+                                   std::to_string(error[2] * 1e3));
 }
 
 }  // namespace

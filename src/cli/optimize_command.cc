@@ -16,7 +16,13 @@ design variables such as bearing spans), constraints (statistics with at_least /
 the NLopt algorithm. Every evaluation runs the base study with the same seed and sample count
 (common random numbers), so the objective is smooth in the design; the optimum is then run
 again with fresh random numbers and more samples ([verification]) and reported with CIs.
-Discrete choices ([[choice]] parameter, values) are enumerated, each with its own search.
+Discrete choices ([[choice]] parameter, values) are enumerated, each with its own search;
+the best design of each is then verified on the same fresh samples and compared with the best
+(paired bootstrap interval of the difference), also per value of each choice parameter ("18 or
+36 positions?"). Besides model keys, a gimbal study takes study keys: group.positions,
+group.placement (sequential, interleaved, back_and_forth), group.repeats. [overrides] sets
+keys for every evaluation. A second objective ([pareto] output, statistic, points) traces the
+Pareto front by the epsilon-constraint method; each front point is verified with CIs.
 
 Algorithms: cobyla (local, derivative-free, native inequality constraints: the default),
 bobyqa (local, smooth objectives; constraints through an augmented Lagrangian), sbplx and
@@ -26,7 +32,8 @@ variables), isres (global, stochastic, native constraints, many evaluations).
 Statistics: mean, std, min, max, p<q> (p50, p95, p99.73), fraction_le:<x>, fraction_ge:<x>.
 
 Writes results/<name>/<run id>/: history.csv (every evaluation), summary.json (runs, optimum,
-verification), plots/convergence.svg, report.html. Exit status 0 with a feasible optimum;
+verification, choices_compared, pareto), pareto.csv, plots/convergence.svg and pareto.svg,
+report.html. Exit status 0 with a feasible optimum;
 1 if no design met the constraints (the folder still holds the history); 2 invalid input.
 
 Examples:

@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "core/error.h"
+#include "core/units.h"
 
 namespace poise::models {
 namespace {
@@ -63,6 +64,21 @@ double guided_plate_max_stress(const SpringPlate& plate, double end_force) {
   check_plate(plate);
   // Moment F L / 2 at each clamp (antisymmetric about mid-length), section modulus w t^2 / 6.
   return 3.0 * std::abs(end_force) * plate.length / (plate.width * plate.thickness * plate.thickness);
+}
+
+double guided_column_buckling_load(const SpringPlate& plate) {
+  return units::kPi * units::kPi * plate.youngs_modulus * plate_second_moment(plate) / (plate.length * plate.length);
+}
+
+double guided_column_lateral_stiffness(const SpringPlate& plate, double axial_load) {
+  const double ei = plate.youngs_modulus * plate_second_moment(plate), length = plate.length;
+  const double u = length * std::sqrt(std::max(axial_load, 0.0) / ei);
+  if (u < 1e-3) {
+    // Series about P = 0 (the closed form cancels catastrophically): 12 EI/L^3 (1 - u^2/10).
+    return 12.0 * ei / (length * length * length) * (1.0 - u * u / 10.0);
+  }
+  const double q = u / length;
+  return ei * q * q * q * std::sin(u) / (2.0 - 2.0 * std::cos(u) - u * std::sin(u));
 }
 
 double rotational_stiffness(double plate_stiffness, double lever) { return plate_stiffness * lever * lever; }

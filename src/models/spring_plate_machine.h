@@ -101,6 +101,15 @@ double guided_plate_stiffness(const SpringPlate& plate);
 double guided_plate_deflection(const SpringPlate& plate, double end_force);
 /// Largest bending stress (Pa), at the clamps: 3 |F| L / (w t^2).
 double guided_plate_max_stress(const SpringPlate& plate, double end_force);
+/// Euler load (N) of the fixed-guided plate compressed along its length: both ends clamped
+/// against rotation, one free to sway (effective length L): P_cr = pi^2 E I / L^2.
+double guided_column_buckling_load(const SpringPlate& plate);
+/// Lateral stiffness (N/m) of the fixed-guided plate carrying an axial compression P (N), from
+/// the beam-column equation E I w^(4) + P w^(2) = 0 with w(0) = w'(0) = w'(L) = 0, w(L) = d:
+///   k = E I q^3 sin(qL) / (2 - 2 cos(qL) - qL sin(qL)),  q = sqrt(P / (E I)).
+/// k = 12 E I / L^3 at P = 0, ~ 12 E I / L^3 - 6 P / (5 L) for small P (the weight softens
+/// the plates), 0 at the Euler load (negative beyond: the plate has buckled).
+double guided_column_lateral_stiffness(const SpringPlate& plate, double axial_load);
 /// Rotational stiffness k6 l^2 (N m/rad) of a plate of stiffness k6 acting at lever l.
 double rotational_stiffness(double plate_stiffness, double lever);
 

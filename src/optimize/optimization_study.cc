@@ -1,6 +1,7 @@
 #include "optimize/optimization_study.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -11,7 +12,9 @@
 #include "core/error.h"
 #include "core/units.h"
 #include "core/version.h"
+#include "sampling/random_stream.h"
 #include "sampling/statistics.h"
+#include "studies/procedure_study.h"
 #include "studies/provenance.h"
 #include "studies/report.h"
 #include "studies/result_io.h"
@@ -45,6 +48,12 @@ std::pair<double, std::string> number_and_unit(TomlReader& t, const std::string&
     }
   }
   return {v, unit};
+}
+
+std::string fmt_pct(double fraction) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.1f%%", 100.0 * fraction);
+  return buf;
 }
 
 std::string override_text(double value, const std::string& unit) {
@@ -137,6 +146,22 @@ OptimizationSpec load_optimization(const std::string& path) {
     if (r.at_least.has_value() == r.at_most.has_value()) c.error("at_least", "", "exactly one of at_least and at_most");
     s.constraints.push_back(r);
   }
+  if (root.has("pareto")) {
+    TomlReader t = root.table("pareto");
+    ParetoSpec p;
+    p.output = t.string("output");
+    p.statistic = t.string("statistic");
+    if (!studies::is_statistic(p.statistic)) {
+      t.error("statistic", "\"" + p.statistic + "\"", "mean, std, min, max, p<q> (p95, p99.73), fraction_le:<x>, fraction_ge:<x>");
+    }
+    p.points = static_cast<int>(t.integer("points", 0, 50, 3));
+    t.string("notes", "");
+    s.pareto = p;
+  }
+  if (root.has("overrides")) {
+    TomlReader t = root.table("overrides");
+    for (const auto& key : t.keys()) s.overrides[key] = t.string(key);
+  }
   if (root.has("verification")) {
     TomlReader t = root.table("verification");
     s.verification_samples = static_cast<std::size_t>(t.integer("samples", 2, 100'000'000));
@@ -149,6 +174,7 @@ OptimizationSpec load_optimization(const std::string& path) {
   for (const auto& v : s.variables) start[v.parameter] = override_text(v.start, v.unit);
   for (const auto& c : s.choices) start[c.parameter] = c.values.front();
   studies::StudyConfig base = s.base;
+  for (const auto& [k, v] : s.overrides) base.overrides[k] = v;
   for (const auto& [k, v] : start) base.overrides[k] = v;
   const std::vector<std::string> names = studies::study_output_names(base);
   std::vector<InputError> errors;
@@ -160,6 +186,7 @@ OptimizationSpec load_optimization(const std::string& path) {
     }
   };
   if (!s.objective_output.empty()) check_output(s.objective_output, "objective.output");
+  if (s.pareto) check_output(s.pareto->output, "pareto.output");
   for (std::size_t i = 0; i < s.constraints.size(); ++i) {
     check_output(s.constraints[i].output, "constraint[" + std::to_string(i) + "].output");
   }
@@ -197,7 +224,8 @@ Evaluation score(const OptimizationSpec& spec, const std::vector<double>& x, con
 
 std::map<std::string, std::string> overrides_of(const OptimizationSpec& spec, const std::vector<double>& x,
                                                 const std::map<std::string, std::string>& choice) {
-  std::map<std::string, std::string> o = choice;
+  std::map<std::string, std::string> o = spec.overrides;
+  for (const auto& [k, v] : choice) o[k] = v;
   for (std::size_t i = 0; i < spec.variables.size(); ++i) {
     o[spec.variables[i].parameter] = override_text(x[i], spec.variables[i].unit);
   }
@@ -229,6 +257,55 @@ std::string describe_choice(const std::map<std::string, std::string>& c) {
 
 }  // namespace
 
+nlohmann::json statistic_with_ci(const std::vector<double>& values, const std::string& stat, std::uint64_t seed,
+                                 int resamples) {
+  json j{{"value", studies::statistic(values, stat)}};
+  if (values.size() < 2) return j;
+  sampling::RandomStream rs(seed, sampling::StreamId::kBootstrap, 0);
+  std::vector<double> boot(static_cast<std::size_t>(resamples)), r(values.size());
+  for (auto& b : boot) {
+    for (auto& v : r) v = values[static_cast<std::size_t>(rs.uniform() * static_cast<double>(values.size()))];
+    b = studies::statistic(r, stat);
+  }
+  std::sort(boot.begin(), boot.end());
+  j["lo"] = sampling::quantile_sorted(boot, 0.025).value;
+  j["hi"] = sampling::quantile_sorted(boot, 0.975).value;
+  return j;
+}
+
+namespace {
+
+// Paired bootstrap of stat(a) - stat(b) over the same samples (a and b from the same random
+// numbers, no failures); unpaired if the sizes differ.
+json paired_difference(const std::vector<double>& a, const std::vector<double>& b, const std::string& stat,
+                       std::uint64_t seed, int resamples = 1000) {
+  const bool paired = a.size() == b.size();
+  json j{{"difference", studies::statistic(a, stat) - studies::statistic(b, stat)}, {"paired", paired}};
+  if (a.size() < 2 || b.size() < 2) return j;
+  sampling::RandomStream rs(seed, sampling::StreamId::kBootstrap, 1);
+  std::vector<double> d(static_cast<std::size_t>(resamples)), ra(a.size()), rb(b.size());
+  std::size_t ahead = 0;
+  for (auto& x : d) {
+    for (std::size_t k = 0; k < ra.size(); ++k) {
+      const auto i = static_cast<std::size_t>(rs.uniform() * static_cast<double>(a.size()));
+      ra[k] = a[i];
+      if (paired) rb[k] = b[i];
+    }
+    if (!paired) {
+      for (auto& v : rb) v = b[static_cast<std::size_t>(rs.uniform() * static_cast<double>(b.size()))];
+    }
+    x = studies::statistic(ra, stat) - studies::statistic(rb, stat);
+    ahead += x > 0 ? 1 : 0;
+  }
+  std::sort(d.begin(), d.end());
+  j["lo"] = sampling::quantile_sorted(d, 0.025).value;
+  j["hi"] = sampling::quantile_sorted(d, 0.975).value;
+  j["share_best_ahead"] = static_cast<double>(ahead) / static_cast<double>(resamples);
+  return j;
+}
+
+}  // namespace
+
 OptimizationOutcome optimize(const OptimizationSpec& spec, int threads, bool progress) {
   OptimizationOutcome out;
   std::vector<Variable> vars;
@@ -239,32 +316,86 @@ OptimizationOutcome optimize(const OptimizationSpec& spec, int threads, bool pro
   opt.xtol_rel = spec.xtol_rel;
   opt.constraints = spec.constraints.size();
   opt.seed = spec.seed;
+  out.choices = combinations(spec.choices);
+  const auto t_start = std::chrono::steady_clock::now();
+  long done = 0;
+  const long planned = static_cast<long>(out.choices.size()) * spec.max_evaluations *
+                       (spec.pareto ? 2 + spec.pareto->points : 1);
+  // Every design evaluated once per choice: the searches of a choice share this cache.
+  struct Scored {
+    Evaluation primary;   // objective + constraints
+    double second = NAN;  // [pareto] statistic
+  };
   double best_f = INFINITY;
-  for (const auto& choice : combinations(spec.choices)) {
+  for (std::size_t ci = 0; ci < out.choices.size(); ++ci) {
+    const auto& choice = out.choices[ci];
+    std::map<std::vector<double>, Scored> cache;
     int count = 0;
-    const Problem f = [&](const std::vector<double>& x) {
-      Evaluation r;
+    std::string label;  // the search running
+    auto evaluate = [&](const std::vector<double>& x) -> const Scored& {
+      if (auto it = cache.find(x); it != cache.end()) return it->second;
+      Scored sc;
       try {
         const studies::StudyEvaluation e =
             studies::evaluate_study(spec.base, overrides_of(spec, x, choice), spec.samples, spec.seed, threads);
-        r = score(spec, x, e);
+        sc.primary = score(spec, x, e);
+        if (spec.pareto && sc.primary.ok) sc.second = studies::statistic(e.values[e.index(spec.pareto->output)], spec.pareto->statistic);
       } catch (const std::exception& ex) {
-        r.ok = false;
-        r.message = ex.what();
+        sc.primary.ok = false;
+        sc.primary.message = ex.what();
       }
       ++count;
+      if (spec.pareto && sc.primary.ok) {
+        ParetoPoint p{ci, label, x, sc.primary.objective, sc.second, true};
+        for (double c : sc.primary.constraints) p.feasible = p.feasible && c <= opt.constraint_tolerance;
+        out.pool.push_back(std::move(p));
+      }
       if (progress) {
         std::string xs;
         for (std::size_t i = 0; i < x.size(); ++i) xs += (i ? ", " : "") + override_text(x[i], spec.variables[i].unit);
-        bool feasible = r.ok;
-        for (double c : r.constraints) feasible = feasible && c <= 0.0;
-        std::fprintf(stderr, "  [%s] evaluation %d/%d: %s -> %s%s\n", describe_choice(choice).c_str(), count,
-                     spec.max_evaluations, xs.c_str(), r.ok ? override_text(r.objective, "").c_str() : r.message.c_str(),
-                     r.ok ? (feasible ? "" : " (infeasible)") : "");
+        bool feasible = sc.primary.ok;
+        for (double c : sc.primary.constraints) feasible = feasible && c <= 0.0;
+        // ETA from the mean evaluation time and the largest number still possible (searches
+        // usually converge before their budget, so it is an upper bound).
+        ++done;
+        const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
+        const double eta = elapsed / static_cast<double>(done) * static_cast<double>(std::max(planned - done, 0L));
+        std::fprintf(stderr, "  [%s] evaluation %d: %s -> %s%s%s  (%.0f s, ETA <= %.0f min)\n", describe_choice(choice).c_str(), count,
+                     xs.c_str(), sc.primary.ok ? override_text(sc.primary.objective, "").c_str() : sc.primary.message.c_str(),
+                     spec.pareto && sc.primary.ok ? (", " + override_text(sc.second, "")).c_str() : "",
+                     sc.primary.ok ? (feasible ? "" : " (infeasible)") : "", elapsed, eta / 60.0);
       }
-      return r;
+      return cache.emplace(x, std::move(sc)).first->second;
     };
-    ChoiceResult cr{choice, minimize(f, vars, opt)};
+    // A search: `what` = objective, second, or the objective with second <= level.
+    auto search = [&](const std::string& what, double level, const std::vector<double>& start) {
+      std::vector<Variable> v = vars;
+      for (std::size_t i = 0; i < v.size(); ++i) v[i].start = start[i];
+      Options o = opt;
+      if (what == "epsilon") o.constraints += 1;
+      const Problem f = [&](const std::vector<double>& x) {
+        const Scored& sc = evaluate(x);
+        Evaluation r = sc.primary;
+        if (!r.ok) return r;
+        if (what == "second") r.objective = sc.second;
+        if (what == "epsilon") r.constraints.push_back(sc.second - level);
+        return r;
+      };
+      label = what == "epsilon" ? "epsilon " + override_text(level, "") : what;
+      return minimize(f, v, o);
+    };
+    std::vector<double> x0;
+    for (const auto& v : vars) x0.push_back(v.start);
+    ChoiceResult cr{choice, search("objective", 0.0, x0)};
+    if (spec.pareto && cr.result.feasible) {
+      const Result second = search("second", 0.0, x0);
+      if (second.feasible) {
+        const double lo = evaluate(second.x).second, hi = evaluate(cr.result.x).second;
+        for (int k = 1; k <= spec.pareto->points && hi > lo; ++k) {
+          search("epsilon", lo + (hi - lo) * k / (spec.pareto->points + 1), second.x);
+        }
+      }
+    }
     if (cr.result.feasible && cr.result.best.objective < best_f) {
       best_f = cr.result.best.objective;
       out.best = out.runs.size();
@@ -303,17 +434,21 @@ OptimizationOutcome optimize(const OptimizationSpec& spec, int threads, bool pro
   const ChoiceResult& best = out.runs[out.best];
   out.optimum = overrides_of(spec, best.result.x, best.choice);
   // Verification with fresh random numbers and more samples.
-  const studies::StudyEvaluation e = studies::evaluate_study(spec.base, out.optimum, spec.verification_samples,
-                                                             spec.verification_seed, threads);
+  auto verify = [&](const std::map<std::string, std::string>& design) {
+    return studies::evaluate_study(spec.base, design, spec.verification_samples, spec.verification_seed, threads);
+  };
+  const studies::StudyEvaluation e = verify(out.optimum);
   json v{{"samples", spec.verification_samples}, {"seed", spec.verification_seed}, {"failures", e.failures}};
   auto add = [&](const std::string& role, const std::string& output, const std::string& stat) {
     const auto& values = e.values[e.index(output)];
     json j{{"role", role}, {"output", output}, {"statistic", stat}, {"value", studies::statistic(values, stat)},
+           {"bootstrap", statistic_with_ci(values, stat, spec.verification_seed)},
            {"summary", studies::summary_json(sampling::summarize(values))}};
     v["figures"].push_back(j);
   };
   if (!spec.objective_output.empty()) add("objective", spec.objective_output, spec.objective_statistic);
   for (const auto& c : spec.constraints) add("constraint", c.output, c.statistic);
+  if (spec.pareto) add("second objective", spec.pareto->output, spec.pareto->statistic);
   bool still = true;
   std::size_t k = spec.objective_output.empty() ? 0 : 1;
   for (const auto& c : spec.constraints) {
@@ -322,6 +457,105 @@ OptimizationOutcome optimize(const OptimizationSpec& spec, int threads, bool pro
   }
   v["constraints_met"] = still;
   out.verification = v;
+  // The choices compared on the same fresh random numbers. The reference is the choice best
+  // on these fresh samples (the optimization's pick may differ: it was chosen on the
+  // optimization samples, whose noise favours it).
+  if (out.runs.size() > 1 && !spec.objective_output.empty()) {
+    std::vector<std::vector<double>> verified(out.runs.size());
+    std::optional<std::size_t> ref;
+    json rows = json::array();
+    for (std::size_t r = 0; r < out.runs.size(); ++r) {
+      const ChoiceResult& run = out.runs[r];
+      json row{{"choice", run.choice}, {"feasible", run.result.feasible}, {"optimization_pick", r == out.best}};
+      if (run.result.feasible) {
+        const studies::StudyEvaluation er = r == out.best ? e : verify(overrides_of(spec, run.result.x, run.choice));
+        verified[r] = er.values[er.index(spec.objective_output)];
+        row["objective"] = statistic_with_ci(verified[r], spec.objective_statistic, spec.verification_seed);
+        row["failures"] = er.failures;
+        if (spec.pareto) {
+          row["second"] = statistic_with_ci(er.values[er.index(spec.pareto->output)], spec.pareto->statistic,
+                                            spec.verification_seed);
+        }
+        if (!ref || row["objective"]["value"].get<double>() < rows[*ref]["objective"]["value"].get<double>()) ref = r;
+      }
+      rows.push_back(row);
+    }
+    for (std::size_t r = 0; r < out.runs.size(); ++r) {
+      rows[r]["best"] = ref && r == *ref;
+      if (ref && r != *ref && !verified[r].empty()) {
+        rows[r]["minus_best"] = paired_difference(verified[r], verified[*ref], spec.objective_statistic, spec.verification_seed);
+      }
+    }
+    out.comparison = {{"output", spec.objective_output}, {"statistic", spec.objective_statistic},
+                      {"samples", spec.verification_samples}, {"seed", spec.verification_seed}, {"choices", rows}};
+    // Per value of each choice parameter, its best combination on the fresh samples, against
+    // the best of all: "18 or 36 positions?" with the other choices at their best.
+    json by = json::array();
+    for (const auto& c : spec.choices) {
+      if (c.values.size() < 2) continue;
+      json values = json::array();
+      for (const auto& val : c.values) {
+        std::optional<std::size_t> pick;
+        for (std::size_t r = 0; r < out.runs.size(); ++r) {
+          if (verified[r].empty() || out.runs[r].choice.at(c.parameter) != val) continue;
+          if (!pick || rows[r]["objective"]["value"].get<double>() < rows[*pick]["objective"]["value"].get<double>()) pick = r;
+        }
+        json j{{"value", val}};
+        if (pick) {
+          j["run"] = *pick;
+          j["choice"] = out.runs[*pick].choice;
+          j["objective"] = rows[*pick]["objective"];
+          if (rows[*pick].contains("minus_best")) j["minus_best"] = rows[*pick]["minus_best"];
+          if (rows[*pick].contains("second")) j["second"] = rows[*pick]["second"];
+        }
+        values.push_back(j);
+      }
+      by.push_back({{"parameter", c.parameter}, {"values", values}});
+    }
+    out.comparison["by_parameter"] = by;
+  }
+  // The Pareto front: feasible evaluations no other beats on both objectives.
+  if (spec.pareto) {
+    std::vector<std::size_t> idx;
+    for (std::size_t i = 0; i < out.pool.size(); ++i) {
+      if (out.pool[i].feasible && std::isfinite(out.pool[i].objective) && std::isfinite(out.pool[i].second)) idx.push_back(i);
+    }
+    std::sort(idx.begin(), idx.end(), [&](std::size_t a, std::size_t b) {
+      const auto &pa = out.pool[a], &pb = out.pool[b];
+      return pa.second != pb.second ? pa.second < pb.second : pa.objective < pb.objective;
+    });
+    double best_obj = INFINITY;
+    for (std::size_t i : idx) {
+      if (out.pool[i].objective < best_obj) {
+        out.front.push_back(i);
+        best_obj = out.pool[i].objective;
+      }
+    }
+    json fv = json::array();
+    for (std::size_t i : out.front) {
+      const ParetoPoint& p = out.pool[i];
+      const studies::StudyEvaluation ef = verify(overrides_of(spec, p.x, out.choices[p.choice]));
+      json j{{"choice", out.choices[p.choice]}, {"x", json::object()}, {"objective_optimization", p.objective},
+             {"second_optimization", p.second}, {"failures", ef.failures}};
+      for (std::size_t q = 0; q < spec.variables.size(); ++q) {
+        j["x"][spec.variables[q].parameter] = override_text(p.x[q], spec.variables[q].unit);
+      }
+      if (!spec.objective_output.empty()) {
+        j["objective"] = statistic_with_ci(ef.values[ef.index(spec.objective_output)], spec.objective_statistic,
+                                           spec.verification_seed);
+      }
+      j["second"] = statistic_with_ci(ef.values[ef.index(spec.pareto->output)], spec.pareto->statistic,
+                                      spec.verification_seed);
+      json cons = json::array();
+      for (const auto& c : spec.constraints) {
+        cons.push_back({{"output", c.output}, {"statistic", c.statistic},
+                        {"value", studies::statistic(ef.values[ef.index(c.output)], c.statistic)}});
+      }
+      j["constraints"] = cons;
+      fv.push_back(j);
+    }
+    out.front_verification = fv;
+  }
   return out;
 }
 
@@ -358,6 +592,20 @@ std::string run_optimization(const std::string& path, const studies::RunOptions&
       }
     }
   }
+  // pareto.csv: every evaluation of every search, with both objectives.
+  if (spec.pareto) {
+    std::ofstream p(fs::path(dir) / "pareto.csv");
+    p << "choice,search";
+    for (const auto& v : spec.variables) p << ',' << v.parameter << (v.unit.empty() ? "" : "_" + v.unit);
+    p << ",objective,second,feasible,on_front\n";
+    for (std::size_t i = 0; i < out.pool.size(); ++i) {
+      const ParetoPoint& q = out.pool[i];
+      p << q.choice << ',' << studies::csv_text(q.search);
+      for (double x : q.x) p << ',' << studies::csv_number(x);
+      p << ',' << studies::csv_number(q.objective) << ',' << studies::csv_number(q.second) << ',' << (q.feasible ? 1 : 0)
+        << ',' << (std::find(out.front.begin(), out.front.end(), i) != out.front.end() ? 1 : 0) << '\n';
+    }
+  }
   // summary.json
   json s;
   s["optimization"] = {{"name", spec.name}, {"title", spec.title}, {"file", spec.file}, {"study", spec.base.file},
@@ -379,6 +627,12 @@ std::string run_optimization(const std::string& path, const studies::RunOptions&
   if (out.feasible) {
     s["optimum"] = out.optimum;
     s["verification"] = out.verification;
+    if (!out.comparison.is_null()) s["choices_compared"] = out.comparison;
+    if (spec.pareto) {
+      s["pareto"] = {{"objective", {{"output", spec.objective_output}, {"statistic", spec.objective_statistic}}},
+                     {"second", {{"output", spec.pareto->output}, {"statistic", spec.pareto->statistic}}},
+                     {"evaluations", out.pool.size()}, {"front", out.front_verification}};
+    }
   } else {
     s["message"] = out.message;
   }
@@ -411,6 +665,32 @@ std::string run_optimization(const std::string& path, const studies::RunOptions&
            "for [i=0:" << out.runs.size() - 1 << "] 'convergence.dat' index i u 1:4 w steps lw 2 title sprintf('best feasible (choice %d)', i)\n";
     std::string why;
     if (studies::run_gnuplot((pdir / "convergence.gp").string(), &why)) figures.push_back("convergence.svg");
+    if (spec.pareto && out.feasible) {
+      std::ofstream d2(pdir / "pareto.dat");
+      for (const auto& q : out.pool) {
+        if (q.feasible) d2 << q.second << ' ' << q.objective << ' ' << q.choice << '\n';
+      }
+      d2 << "\n\n";
+      for (const auto& f : out.front_verification) {
+        const json& o = f["objective"];
+        const json& sd = f["second"];
+        d2 << sd["value"].get<double>() << ' ' << o["value"].get<double>() << ' ' << o.value("lo", o["value"].get<double>())
+           << ' ' << o.value("hi", o["value"].get<double>()) << ' ' << f["objective_optimization"].get<double>() << '\n';
+      }
+      d2.close();
+      const std::string xl = spec.pareto->statistic + " of " + spec.pareto->output + " [" +
+                             studies::unit_of_output(spec.pareto->output) + "]";
+      const std::string yl = spec.objective_statistic + " of " + spec.objective_output + " [" +
+                             studies::unit_of_output(spec.objective_output) + "]";
+      std::ofstream(pdir / "pareto.gp")
+          << "set terminal svg size 760,480 dynamic noenhanced font 'Helvetica,12'\nset output 'pareto.svg'\n"
+             "set grid\nset title 'Pareto front'\nset xlabel '" << xl << "'\nset ylabel '" << yl
+          << "'\nset key outside bottom center horizontal\n"
+             "plot 'pareto.dat' index 0 u 1:2:3 w p pt 7 ps 0.6 lc variable title 'feasible evaluations (colour: choice)', "
+             "'pareto.dat' index 1 u 1:5 w lp pt 6 ps 1.2 lc rgb 'black' title 'front (optimization samples)', "
+             "'pareto.dat' index 1 u 1:2:3:4 w yerrorbars pt 7 lc rgb 'red' title 'front verified, 95% CI'\n";
+      if (studies::run_gnuplot((pdir / "pareto.gp").string(), &why)) figures.push_back("pareto.svg");
+    }
   }
   std::ostringstream h;
   h << "<!DOCTYPE html><html lang='en'><head><meta charset='utf-8'><title>Poise: " << studies::html_escape(spec.name)
@@ -430,6 +710,80 @@ std::string run_optimization(const std::string& path, const studies::RunOptions&
       << "</td><td>" << studies::html_escape(r["objective"].dump()) << "</td></tr>\n";
   }
   h << "</table>\n";
+  auto ci_text = [](const json& e) {
+    char buf[160];
+    if (e.contains("lo")) {
+      std::snprintf(buf, sizeof buf, "%.4g [%.4g, %.4g]", e["value"].get<double>(), e["lo"].get<double>(),
+                    e["hi"].get<double>());
+    } else {
+      std::snprintf(buf, sizeof buf, "%.4g", e["value"].get<double>());
+    }
+    return std::string(buf);
+  };
+  // "minus best [95% CI]" and "best ahead" cells of a compared choice ("(best)" for the best).
+  auto difference_cells = [&](const json& row) {
+    if (!row.contains("minus_best")) return std::string("<td>(best)</td><td></td>");
+    const json& d = row["minus_best"];
+    json dd{{"value", d["difference"]}};
+    if (d.contains("lo")) {
+      dd["lo"] = d["lo"];
+      dd["hi"] = d["hi"];
+    }
+    return "<td>" + ci_text(dd) + "</td><td>" +
+           (d.contains("share_best_ahead") ? fmt_pct(d["share_best_ahead"].get<double>()) : "") + "</td>";
+  };
+  if (!out.comparison.is_null()) {
+    h << "<h2>Choices compared on fresh random numbers</h2>\n<p>The best design of each choice, run with the same "
+      << spec.verification_samples << " fresh samples (seed " << spec.verification_seed << "): " << spec.objective_statistic
+      << " of " << studies::html_escape(spec.objective_output) << " with its bootstrap 95% interval, and its difference "
+         "from the choice best on these samples (paired bootstrap: same samples; 'best ahead' is the share of resamples "
+         "in which that choice stays better). 'picked' marks the optimization's pick, chosen on the optimization "
+         "samples.</p>\n<table><tr><th class='l'>choice</th><th>objective [95% CI]</th>"
+      << (spec.pareto ? "<th>second objective</th>" : "") << "<th>minus best [95% CI]</th><th>best ahead</th></tr>\n";
+    for (const auto& r : out.comparison["choices"]) {
+      h << "<tr><td class='l'>" << studies::html_escape(r["choice"].dump()) << (r["best"].get<bool>() ? " (best)" : "")
+        << (r["optimization_pick"].get<bool>() ? " (picked)" : "") << "</td>";
+      if (!r["feasible"].get<bool>()) {
+        h << "<td colspan='4'>no feasible design</td></tr>\n";
+        continue;
+      }
+      h << "<td>" << ci_text(r["objective"]) << "</td>";
+      if (spec.pareto) h << "<td>" << ci_text(r["second"]) << "</td>";
+      h << difference_cells(r) << "</tr>\n";
+    }
+    h << "</table>\n";
+    for (const auto& p : out.comparison["by_parameter"]) {
+      h << "<p><b>" << studies::html_escape(p["parameter"].get<std::string>())
+        << "</b>, each value with the other choices at their best:</p>\n<table><tr><th class='l'>value</th>"
+           "<th class='l'>best combination</th><th>objective [95% CI]</th>"
+        << (spec.pareto ? "<th>second objective</th>" : "") << "<th>minus best [95% CI]</th><th>best ahead</th></tr>\n";
+      for (const auto& v : p["values"]) {
+        h << "<tr><td class='l'>" << studies::html_escape(v["value"].get<std::string>()) << "</td>";
+        if (!v.contains("run")) {
+          h << "<td colspan='4'>no feasible design</td></tr>\n";
+          continue;
+        }
+        h << "<td class='l'>" << studies::html_escape(v["choice"].dump()) << "</td><td>" << ci_text(v["objective"]) << "</td>";
+        if (spec.pareto) h << "<td>" << ci_text(v["second"]) << "</td>";
+        h << difference_cells(v) << "</tr>\n";
+      }
+      h << "</table>\n";
+    }
+  }
+  if (spec.pareto && out.feasible) {
+    h << "<h2>Pareto front</h2>\n<p>" << out.pool.size() << " evaluations (the objective, the second objective, and "
+      << spec.pareto->points << " epsilon-constrained searches per choice); the front is the feasible evaluations no "
+         "other beats on both. Each front point verified with fresh samples (bootstrap 95% CIs).</p>\n"
+         "<table><tr><th class='l'>choice</th><th class='l'>design</th><th>"
+      << studies::html_escape(spec.pareto->statistic + " " + spec.pareto->output) << "</th><th>"
+      << studies::html_escape(spec.objective_statistic + " " + spec.objective_output) << " (optimization)</th><th>verified [95% CI]</th></tr>\n";
+    for (const auto& f : out.front_verification) {
+      h << "<tr><td class='l'>" << studies::html_escape(f["choice"].dump()) << "</td><td class='l'>"
+        << studies::html_escape(f["x"].dump()) << "</td><td>" << ci_text(f["second"]) << "</td><td>"
+        << ci_text(json{{"value", f["objective_optimization"]}}) << "</td><td>" << ci_text(f["objective"]) << "</td></tr>\n";
+    }
+    h << "</table>\n";
+  }
   if (out.feasible) {
     h << "<h2>Optimum, verified with fresh random numbers</h2>\n<pre>" << studies::html_escape(json(out.optimum).dump(2))
       << "</pre>\n<pre>" << studies::html_escape(out.verification.dump(2)) << "</pre>\n";

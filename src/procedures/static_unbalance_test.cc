@@ -122,14 +122,14 @@ MeasurementResult run_static_unbalance_test(const TestPlan& plan, const GimbalTr
   theta.reserve(plan.positions.size());
   torque.reserve(plan.positions.size());
   const Disturbances& dist = truth.disturbances;
-  const double position_duration = plan.move_time + t2;  // move and lock, then the test
+  const double duration = position_duration(plan);  // move and lock, then the test
   if (record) record->clear();
   for (std::size_t ip = 0; ip < plan.positions.size(); ++ip) {
     const double theta_nominal = plan.positions[ip];
     PositionResult pr;
     pr.theta_nominal = theta_nominal;
     pr.sweep = plan.sweep.empty() ? 1 : plan.sweep[ip];
-    const double t_start = static_cast<double>(ip) * position_duration + plan.move_time;  // test clock
+    const double t_start = static_cast<double>(ip) * duration + plan.move_time;  // test clock
     pr.time = t_start + 0.5 * (t1 + t2);
     pr.theta_true = theta_nominal + truth.turntable_zero + plan.positioning_error * normal.next();
     offset += acq.offset_drift * normal.next();
@@ -192,6 +192,51 @@ MeasurementResult run_static_unbalance_test(const TestPlan& plan, const GimbalTr
   }
   out.fit = estimators::fit_sine(theta, torque);
   return out;
+}
+
+Placement parse_placement(const std::string& name) {
+  if (name == "sequential") return Placement::kSequential;
+  if (name == "interleaved") return Placement::kInterleaved;
+  if (name == "back_and_forth") return Placement::kBackAndForth;
+  throw Error("unknown placement '" + name + "': sequential, interleaved or back_and_forth");
+}
+
+void set_positions(TestPlan& plan, std::size_t n, Placement placement) {
+  std::vector<std::size_t> order;
+  order.reserve(n);
+  std::vector<int> sweep;
+  switch (placement) {
+    case Placement::kSequential:
+      for (std::size_t k = 0; k < n; ++k) order.push_back(k);
+      break;
+    case Placement::kInterleaved: {
+      // Bit-reversed counting over the next power of two, keeping the indices below n.
+      unsigned bits = 0;
+      while ((std::size_t{1} << bits) < n) ++bits;
+      for (std::size_t k = 0; k < (std::size_t{1} << bits); ++k) {
+        std::size_t r = 0;
+        for (unsigned b = 0; b < bits; ++b) r |= ((k >> b) & 1u) << (bits - 1 - b);
+        if (r < n) order.push_back(r);
+      }
+      break;
+    }
+    case Placement::kBackAndForth:
+      for (std::size_t k = 0; k < n; k += 2) {
+        order.push_back(k);
+        sweep.push_back(+1);
+      }
+      for (std::size_t k = (n % 2 == 0 ? n - 1 : n - 2); k < n; k -= 2) {
+        order.push_back(k);
+        sweep.push_back(-1);
+        if (k < 2) break;
+      }
+      break;
+  }
+  plan.positions.clear();
+  for (std::size_t k : order) {
+    plan.positions.push_back(2.0 * units::kPi * static_cast<double>(k) / static_cast<double>(n));
+  }
+  plan.sweep = std::move(sweep);
 }
 
 }  // namespace poise::procedures

@@ -14,6 +14,7 @@
 /// error, gimbal axis tilted against the turntable axis, bearing run-out.
 #include <cstdint>
 #include <span>
+#include <string>
 #include <vector>
 
 #include "estimators/sine_fit.h"
@@ -134,6 +135,30 @@ MeasurementResult run_static_unbalance_test(const TestPlan& plan, const GimbalTr
                                             StaticUnbalanceWorkspace& ws,
                                             int record_position = -1,
                                             std::vector<RecordSample>* record = nullptr);
+
+/// Order in which the turntable visits n positions evenly spaced over 360 deg.
+enum class Placement {
+  kSequential,   ///< 0, 360/n, 2 * 360/n, ... deg
+  kInterleaved,  ///< van der Corput (bit-reversed) order: 0, 180, 90, 270, ... deg, so that a
+                 ///< drift in time is not a function of the angle
+  kBackAndForth, ///< even positions going up, odd ones coming back down (approach -1): a
+                 ///< linear drift then adds the same to both legs' sum at every angle
+};
+Placement parse_placement(const std::string& name);  ///< "sequential" | "interleaved" | "back_and_forth"
+
+/// Sets plan.positions (rad, in test order) and plan.sweep for n positions.
+void set_positions(TestPlan& plan, std::size_t n, Placement placement);
+
+/// Duration of one position (s): move and lock, settle, lead-in, N whole periods.
+inline double position_duration(const TestPlan& plan) {
+  const OscillationConfig& o = plan.oscillation;
+  return plan.move_time + ((o.settle_time + o.lead_in) + o.periods * o.period);
+}
+
+/// Duration of the whole test (s): every position of the plan, one after the other.
+inline double test_duration(const TestPlan& plan) {
+  return static_cast<double>(plan.positions.size()) * position_duration(plan);
+}
 
 /// Eq. 23: counterweight mass for amplitude MT_s at radius R.
 inline double counterweight_mass(double amplitude, double radius, double g) {

@@ -16,6 +16,7 @@ enum class StreamId : std::uint64_t {
   kSobolShift = 4,
   kProcedure = 16,   ///< randomness inside a sample's procedure (noise etc.)
   kNoise = 17,       ///< measurement noise, apart from the procedure's other draws
+  kBootstrap = 18,   ///< bootstrap resampling of results
 };
 
 /// Maps 64 random bits to a double in the open interval (0, 1): the top 52 bits, centred

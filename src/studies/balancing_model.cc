@@ -61,6 +61,11 @@ BalancingModel load_balancing_model(const std::string& path, const std::map<std:
     }
     t.accept_notes();
   }
+  if (root.has("statics")) {
+    TomlReader t = root.table("statics");
+    m.centre_offset = t.quantity("centre_offset", units::kLength, non_negative);
+    t.accept_notes();
+  }
   {
     TomlReader t = root.table("rotor");
     auto& r = m.rotor;
@@ -169,12 +174,38 @@ models::SpringPlateMachineParams machine_params(const BalancingModel& m, const B
   p.total_mass = p.rotating_mass + m.board_mass;
   p.lever = b.lever;
   p.horizontal_plate_stiffness = horizontal_stiffness(b);
+  if (m.gravity > 0.0) {
+    const double load = 0.5 * (p.rotating_mass + m.board_mass) * m.gravity;
+    p.horizontal_plate_stiffness = 0.5 * (models::guided_column_lateral_stiffness(b.horizontal_1, load) +
+                                          models::guided_column_lateral_stiffness(b.horizontal_2, load));
+  }
   p.torsional_plate_stiffness = models::guided_plate_stiffness(b.torsional);
   p.gravity = m.gravity;
   const Eigen::Matrix2d mq = models::mass_matrix(p), k = models::stiffness_matrix(p);
   p.damping_x = 2.0 * m.damping_ratio_x * std::sqrt(k(0, 0) * mq(0, 0));
   p.damping_theta = 2.0 * m.damping_ratio_theta * std::sqrt(std::max(k(1, 1), 0.0) * mq(1, 1));
   return p;
+}
+
+BalancingStatics machine_statics(const BalancingModel& m, const BalancingAsBuilt& b, const BalancingRotor& rotor) {
+  constexpr double g = 9.80665;  // standard gravity: the weight is there even when Eq. 8 drops it
+  const models::SpringPlateMachineParams p = machine_params(m, b, rotor);
+  BalancingStatics s;
+  const double load = 0.5 * p.total_mass * g;
+  s.buckling_factor = std::min(models::guided_column_buckling_load(b.horizontal_1),
+                               models::guided_column_buckling_load(b.horizontal_2)) / load;
+  s.axial_stress = std::max(load / (b.horizontal_1.width * b.horizontal_1.thickness),
+                            load / (b.horizontal_2.width * b.horizontal_2.thickness));
+  s.stiffness_loss = 1.0 - (models::guided_column_lateral_stiffness(b.horizontal_1, load) +
+                            models::guided_column_lateral_stiffness(b.horizontal_2, load)) /
+                               (models::guided_plate_stiffness(b.horizontal_1) + models::guided_plate_stiffness(b.horizontal_2));
+  const double k6 = models::guided_plate_stiffness(b.torsional);
+  const double k_rot = models::rotational_stiffness(k6, b.lever);
+  const double topple = p.rotating_mass * g * p.mass_centre_height;
+  s.pendulum_margin = topple > 0.0 ? k_rot / topple : INFINITY;
+  s.tilt = rotor.mass * g * m.centre_offset / (k_rot - std::max(topple, 0.0));
+  s.torsional_stress = models::guided_plate_max_stress(b.torsional, k6 * b.lever * s.tilt);
+  return s;
 }
 
 }  // namespace poise::studies

@@ -57,6 +57,7 @@ struct BalancingModel {
   procedures::BalancingRunConfig run;
   bool speed_compensation = true;        ///< estimates use the encoder's speed (w^2 scaling)
   double hard_bearing_factor = 3.0;      ///< omega_1 >= factor * omega
+  double centre_offset = 0.0;            ///< [statics] rotor mass centre off the spindle axis (m)
   // Tolerances (SI).
   ScopedTolerance plate_thickness, plate_width, plate_length;  ///< each plate drawn separately (m)
   ScopedTolerance youngs_modulus;        ///< relative, all plates alike (one strip)
@@ -83,7 +84,28 @@ BalancingAsBuilt nominal_as_built(const BalancingModel& m);
 /// Stiffness k5 of the pair: the two horizontal plates in parallel, averaged (N/m each).
 double horizontal_stiffness(const BalancingAsBuilt& b);
 
+/// The machine under the weight of the frame and `rotor` (standard gravity, whatever the
+/// dynamic model's gravity switch):
+///   horizontal plates: columns carrying P = M g / 2 each; buckling factor P_cr / P with
+///     P_cr = pi^2 E I / L^2 (fixed-guided sway column), axial stress P / (w t), and the loss
+///     of lateral stiffness 1 - k(P) / k(0) (beam-column, guided_column_lateral_stiffness);
+///   torsional plate: the rotor's mass centre `centre_offset` off the spindle axis tilts the
+///     swinging part by theta = m_R g e / (k6 l^2 - m g H) (the inverted pendulum of mass m at
+///     H softens it); the plate then carries F = k6 l theta, bending stress 3 F L / (w t^2);
+///   pendulum margin k6 l^2 / (m g H): below 1 the swinging part topples.
+struct BalancingStatics {
+  double buckling_factor = 0.0;      ///< min over the two horizontal plates
+  double axial_stress = 0.0;         ///< Pa, horizontal plates (largest)
+  double stiffness_loss = 0.0;       ///< fraction of k5 lost to the weight
+  double tilt = 0.0;                 ///< rad
+  double torsional_stress = 0.0;     ///< Pa
+  double pendulum_margin = 0.0;      ///< k6 l^2 / (m g H); infinite if H <= 0
+};
+BalancingStatics machine_statics(const BalancingModel& m, const BalancingAsBuilt& b, const BalancingRotor& rotor);
+
 /// The 2-DOF machine carrying `rotor` whose mass centre is raised by `b.piece_centre_offset`.
+/// With gravity on (m.gravity > 0), the pendulum term of Eq. 8 and the weight's softening of
+/// the horizontal plates (P = M g / 2 each) are both in; with gravity 0 neither is.
 models::SpringPlateMachineParams machine_params(const BalancingModel& m, const BalancingAsBuilt& b,
                                                 const BalancingRotor& rotor);
 

@@ -204,7 +204,9 @@ BalancingStudy::BalancingStudy(StudyConfig config, BalancingModel model, std::si
     if (s.magnitude) input_names_.push_back(std::string(s.name) + "_angle_deg");
   }
   // Outputs.
-  output_names_ = {"omega1_Hz", "omega2_Hz", "hard_bearing_ratio"};
+  output_names_ = {"omega1_Hz",           "omega2_Hz",         "hard_bearing_ratio",
+                   "static_buckling_ratio", "static_stress_MPa", "static_tilt_urad",
+                   "weight_stiffness_loss_pct", "pendulum_margin_ratio"};
   for (const auto& x : config_.experiments) {
     const std::string& n = x.name;
     if (x.type == "separation") {
@@ -332,6 +334,12 @@ void BalancingStudy::compute(std::size_t i, Workspace& ws, SampleResult& out) co
     out.outputs[o++] = nf.omega_1 / (2 * kPi);
     out.outputs[o++] = nf.omega_2 / (2 * kPi);
     out.outputs[o++] = nf.omega_1 / bench.omega_nominal;
+    const BalancingStatics st = machine_statics(model_, b, model_.rotor);
+    out.outputs[o++] = st.buckling_factor;
+    out.outputs[o++] = std::max(st.axial_stress, st.torsional_stress) / 1e6;
+    out.outputs[o++] = st.tilt / 1e-6;
+    out.outputs[o++] = 100.0 * st.stiffness_loss;
+    out.outputs[o++] = st.pendulum_margin;
 
     // Influence-coefficient calibration on rotor R (its residual unknown to the machine).
     {

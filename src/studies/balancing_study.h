@@ -14,6 +14,9 @@
 ///   * every run draws its own speed deviation and placement errors (scope "test").
 /// Outputs (names start with the experiment's name; units from the suffix):
 ///   omega1_Hz, omega2_Hz, hard_bearing_ratio         the machine as built with rotor R
+///   static_buckling_ratio, static_stress_MPa (largest plate stress under the weight),
+///   static_tilt_urad, weight_stiffness_loss_pct, pendulum_margin_ratio   the machine as built
+///       under the weight of frame and rotor R (machine_statics in balancing_model.h)
 ///   separation: NAME_s<k>_sensor1_mN, NAME_s<k>_sensor2_mN  effect of the test mass on
 ///       surface k (|A - A_bare|, mean over the holes), NAME_sensor1_spread_pct (max - min over
 ///       the surfaces, of the mean), NAME_sensor2_zero_height_mm (height where the fitted line of

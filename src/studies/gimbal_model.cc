@@ -1,6 +1,10 @@
 #include "studies/gimbal_model.h"
 
+#include <filesystem>
+
 #include "core/units.h"
+#include "geometry/generators.h"
+#include "geometry/mass_properties.h"
 #include "studies/model_overrides.h"
 
 namespace poise::studies {
@@ -17,6 +21,39 @@ const Dimension kAngularRate{{0, 0, -1, 0, 1, 0}};       // rad/s
 const Dimension kTorquePerCurrent{{2, 1, -2, -1, 0, 0}}; // N m/A
 
 }  // namespace
+
+void read_servo_table(TomlReader& t, procedures::ServoConfig& s) {
+  s.bandwidth_hz = t.quantity("bandwidth", units::kFrequency, positive);
+  s.damping = t.number("damping", [](double v) { return v > 0 ? "" : "a positive damping ratio"; });
+  s.integral_ratio = t.number("integral_ratio", [](double v) { return v >= 0 ? "" : "a ratio >= 0"; });
+  t.accept_notes();
+}
+
+void read_oscillation_table(TomlReader& t, procedures::OscillationConfig& o) {
+  o.rate_amplitude = t.quantity("rate_amplitude", kAngularRate, positive);
+  o.period = t.quantity("period", units::kTime, positive);
+  o.periods = static_cast<int>(t.integer("periods", 1, 1000));
+  o.lead_in = t.quantity("lead_in", units::kTime, non_negative);
+  o.settle_time = t.quantity("settle_time", units::kTime, non_negative);
+  o.centre = t.quantity("centre", units::kAngle, {}, 0.0);
+  const double swing = o.rate_amplitude * o.period / (2.0 * units::kPi);
+  if (std::abs(o.centre) + swing > 3.0 * units::kRadPerDeg + 1e-12) {
+    t.error("rate_amplitude", "", "an oscillation within +-3 deg (|centre| + A T / 2 pi = " +
+                                      units::format(std::abs(o.centre) + swing, "deg", 4) + ")");
+  }
+  t.accept_notes();
+}
+
+void read_acquisition_table(TomlReader& t, procedures::AcquisitionConfig& a) {
+  a.rate_hz = t.quantity("rate", units::kFrequency, positive);
+  a.noise_rms = t.quantity("noise_rms", units::kCurrent, non_negative);
+  a.offset = t.quantity("offset", units::kCurrent);
+  a.offset_drift = t.quantity("offset_drift", units::kCurrent, non_negative);
+  a.offset_noise = t.quantity("offset_noise", units::kCurrent, non_negative);
+  a.adc_bits = static_cast<int>(t.integer("adc_bits", 4, 32));
+  a.adc_full_scale = t.quantity("adc_full_scale", units::kCurrent, positive);
+  t.accept_notes();
+}
 
 GimbalModel load_gimbal_model(const std::string& path,
                               const std::map<std::string, std::string>& overrides) {
@@ -53,44 +90,22 @@ GimbalModel load_gimbal_model(const std::string& path,
   }
   {
     TomlReader t = root.table("servo");
-    m.plan.servo.bandwidth_hz = t.quantity("bandwidth", units::kFrequency, positive);
-    m.plan.servo.damping = t.number("damping", [](double v) { return v > 0 ? "" : "a positive damping ratio"; });
-    m.plan.servo.integral_ratio = t.number("integral_ratio", [](double v) { return v >= 0 ? "" : "a ratio >= 0"; });
+    read_servo_table(t, m.plan.servo);
     m.plan.servo.inertia_estimate = t.quantity("inertia_estimate", kInertia, positive);
-    t.accept_notes();
   }
   {
     TomlReader t = root.table("oscillation");
-    auto& o = m.plan.oscillation;
-    o.rate_amplitude = t.quantity("rate_amplitude", kAngularRate, positive);
-    o.period = t.quantity("period", units::kTime, positive);
-    o.periods = static_cast<int>(t.integer("periods", 1, 1000));
-    o.lead_in = t.quantity("lead_in", units::kTime, non_negative);
-    o.settle_time = t.quantity("settle_time", units::kTime, non_negative);
-    o.centre = t.quantity("centre", units::kAngle);
-    const double swing = o.rate_amplitude * o.period / (2.0 * units::kPi);
-    if (std::abs(o.centre) + swing > 3.0 * units::kRadPerDeg + 1e-12) {
-      t.error("rate_amplitude", "", "an oscillation within +-3 deg (|centre| + A T / 2 pi = " +
-                                        units::format(std::abs(o.centre) + swing, "deg", 4) + ")");
-    }
-    t.accept_notes();
+    read_oscillation_table(t, m.plan.oscillation);
   }
   {
     TomlReader t = root.table("acquisition");
-    auto& a = m.plan.acquisition;
-    a.rate_hz = t.quantity("rate", units::kFrequency, positive);
-    a.noise_rms = t.quantity("noise_rms", units::kCurrent, non_negative);
-    a.offset = t.quantity("offset", units::kCurrent);
-    a.offset_drift = t.quantity("offset_drift", units::kCurrent, non_negative);
-    a.offset_noise = t.quantity("offset_noise", units::kCurrent, non_negative);
-    a.adc_bits = static_cast<int>(t.integer("adc_bits", 4, 32));
-    a.adc_full_scale = t.quantity("adc_full_scale", units::kCurrent, positive);
-    t.accept_notes();
+    read_acquisition_table(t, m.plan.acquisition);
   }
   {
     TomlReader t = root.table("turntable");
     m.plan.positioning_error = t.quantity("positioning_error", units::kAngle, non_negative);
     m.plan.gravity = t.quantity("gravity", units::kAcceleration, positive);
+    m.plan.move_time = t.quantity("move_time", units::kTime, non_negative, 5.0);
     t.accept_notes();
   }
   {
@@ -132,7 +147,27 @@ GimbalModel load_gimbal_model(const std::string& path,
     m.counterweight_radius_error = read_scoped_tolerance(t, "counterweight_radius", units::kLength, "mm");
     m.counterweight_angle = read_scoped_tolerance(t, "counterweight_angle", units::kAngle, "deg");
   }
+  std::string disk_model;
+  if (root.has("geometry")) {
+    TomlReader t = root.table("geometry");
+    disk_model = t.string("disk_model");  // "" = off
+    if (!disk_model.empty()) {
+      const std::string resolved = (std::filesystem::path(path).parent_path() / disk_model).lexically_normal().string();
+      if (!std::filesystem::exists(resolved)) {
+        t.error("disk_model", "\"" + disk_model + "\"", "\"\" (off) or an existing disk model file (looked for " + resolved + ")");
+      }
+      disk_model = resolved;
+    }
+    t.accept_notes();
+  }
   finish(doc, *ctx);
+  if (!disk_model.empty()) {
+    m.disk_geometry = load_disk_geometry_model(disk_model);
+    m.disk_geometry->nominal.clumps.clear();
+    const geometry::Moments mo = geometry::exact_moments(geometry::simulator_disk(m.disk_geometry->nominal));
+    m.disk_nominal_mass = mo.mass;
+    m.disk_nominal_inertia = mo.second(0, 0) + mo.second(1, 1);
+  }
   return m;
 }
 

@@ -5,11 +5,14 @@
 ///   scope = "unit"  drawn once per Monte Carlo sample (the hardware as built);
 ///   scope = "test"  drawn again for every test run (repeat or load) of that sample.
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "procedures/static_unbalance_test.h"
+#include "studies/disk_geometry_model.h"
 #include "studies/tolerance_spec.h"
+#include "studies/toml_reader.h"
 
 namespace poise::studies {
 
@@ -33,7 +36,24 @@ struct GimbalModel {
   ScopedTolerance counterweight_mass;   ///< placement: mass deviation (relative)
   ScopedTolerance counterweight_radius_error;  ///< placement: radius deviation (m)
   ScopedTolerance counterweight_angle;  ///< placement: angle deviation (rad)
+  /// [geometry] disk_model ("" = off, else a path relative to this file): the rotor's disk as a
+  /// geometric part (models/simulator_disk_*.toml) drawn as built for every sample (unit
+  /// scope). Its clumps are dropped: the test loads are the study's groups. The as-built
+  /// disk's unbalance (its first moment about the gimbal axis, from the divergence theorem on
+  /// its mesh) adds to residual_unbalance (then the rest of the rotor's), and its mass and
+  /// inertia deviations from the nominal disk add to rotor.mass and rotor.inertia.
+  std::optional<DiskGeometryModel> disk_geometry;
+  double disk_nominal_mass = 0.0;     ///< kg, the nominal disk without clumps
+  double disk_nominal_inertia = 0.0;  ///< kg m^2, about its axis
 };
+
+/// Readers of the test-plan tables the gimbal and platform models share: [servo] bandwidth,
+/// damping, integral_ratio; [oscillation] rate_amplitude, period, periods, lead_in,
+/// settle_time, centre (optional, 0; |centre| + A T / 2 pi within +-3 deg); [acquisition] rate,
+/// noise_rms, offset, offset_drift, offset_noise, adc_bits, adc_full_scale.
+void read_servo_table(TomlReader& t, procedures::ServoConfig& s);
+void read_oscillation_table(TomlReader& t, procedures::OscillationConfig& o);
+void read_acquisition_table(TomlReader& t, procedures::AcquisitionConfig& a);
 
 /// Loads and validates; `overrides` replace values by dotted key. Throws ValidationError.
 GimbalModel load_gimbal_model(const std::string& path,

@@ -3,6 +3,8 @@
 #include <cmath>
 
 #include "core/units.h"
+#include "geometry/generators.h"
+#include "geometry/mass_properties.h"
 #include "sampling/parallel_runner.h"
 #include "sampling/random_stream.h"
 
@@ -62,7 +64,8 @@ GimbalStudy::GimbalStudy(StudyConfig config, GimbalModel model, std::size_t samp
       samples_(samples),
       seed_(seed),
       dimension_(count_dims(model_)),
-      design_(config_.method, seed, samples, std::max<std::size_t>(dimension_, 1)) {
+      disk_(model_.disk_geometry ? std::optional<DiskSampler>(std::in_place, *model_.disk_geometry) : std::nullopt),
+      design_(config_.method, seed, samples, std::max<std::size_t>(dimension_ + (disk_ ? disk_->dimension() : 0), 1)) {
   for (const auto& s : kSlots) {
     const ScopedTolerance& t = model_.*s.tol;
     if (t.per_test) continue;
@@ -74,10 +77,16 @@ GimbalStudy::GimbalStudy(StudyConfig config, GimbalModel model, std::size_t samp
     input_names_.push_back(std::string(s.name) + (unit == "1" ? "" : "_" + u));
     if (s.angle) input_names_.push_back(std::string(s.name) + "_angle_deg");
   }
+  if (disk_) {
+    for (const auto& c : disk_->columns()) input_names_.push_back("disk_" + c.name);
+    for (const char* n : {"disk_unbalance_gmm", "disk_unbalance_angle_deg", "disk_mass_g", "disk_inertia_kgm2"}) {
+      input_names_.push_back(n);
+    }
+  }
   for (const auto& g : config_.groups) {
     for (const char* o : {"rmse_torque_mNm", "rmse_angle_deg", "mean_torque_error_mNm",
                           "mean_angle_error_deg", "sd_torque_mNm", "sd_angle_deg", "mean_offset_mNm",
-                          "max_residual_gmm", "max_swing_deg", "mean_fit_rmse_mNm"}) {
+                          "max_residual_gmm", "max_swing_deg", "mean_fit_rmse_mNm", "test_time_min"}) {
       output_names_.push_back(g.name + "_" + o);
     }
   }
@@ -96,7 +105,7 @@ void GimbalStudy::compute(std::size_t i, Workspace& ws, SampleResult& out) const
   out.solver_steps = out.rhs_evals = 0;
   try {
     // Unit-scope draws from the design point; test-scope ones from the sample's stream.
-    std::vector<double> u(std::max<std::size_t>(dimension_, 1));
+    std::vector<double> u(std::max<std::size_t>(dimension_ + (disk_ ? disk_->dimension() : 0), 1));
     design_.point(i, u);
     sampling::RandomStream rs(seed_, sampling::StreamId::kProcedure, i);
     UnitDraws unit;
@@ -111,6 +120,22 @@ void GimbalStudy::compute(std::size_t i, Workspace& ws, SampleResult& out) const
         out.inputs[col++] = unit.*s.angle / units::kRadPerDeg;
       }
     }
+    // The disk as built: its unbalance about the gimbal axis and its mass and inertia.
+    double disk_ux = 0.0, disk_uy = 0.0, disk_dm = 0.0, disk_dj = 0.0;
+    if (disk_) {
+      std::vector<double> shown(disk_->dimension());
+      const geometry::DiskSpec spec = disk_->draw(std::span<const double>(u).subspan(dimension_, disk_->dimension()), shown);
+      for (double v : shown) out.inputs[col++] = v;
+      const geometry::Moments mo = geometry::exact_moments(geometry::simulator_disk(spec));
+      disk_ux = mo.first.x();
+      disk_uy = mo.first.y();
+      disk_dm = mo.mass - model_.disk_nominal_mass;
+      disk_dj = mo.second(0, 0) + mo.second(1, 1) - model_.disk_nominal_inertia;
+      out.inputs[col++] = std::hypot(disk_ux, disk_uy) * 1e6;
+      out.inputs[col++] = std::atan2(disk_uy, disk_ux) / units::kRadPerDeg;
+      out.inputs[col++] = mo.mass * 1e3;
+      out.inputs[col++] = mo.second(0, 0) + mo.second(1, 1);
+    }
     auto draw_test = [&](UnitDraws d) {
       for (const auto& s : kSlots) {
         const ScopedTolerance& t = model_.*s.tol;
@@ -124,10 +149,7 @@ void GimbalStudy::compute(std::size_t i, Workspace& ws, SampleResult& out) const
     std::size_t o = 0;
     for (const auto& grp : config_.groups) {
       procedures::TestPlan plan = model_.plan;
-      plan.positions.clear();
-      for (std::size_t p = 0; p < grp.positions; ++p) {
-        plan.positions.push_back(2.0 * kPi * static_cast<double>(p) / static_cast<double>(grp.positions));
-      }
+      procedures::set_positions(plan, grp.positions, procedures::parse_placement(grp.placement));
       double se_t = 0, se_a = 0, sum_t = 0, sum_a = 0, sum_mk = 0, max_res = 0, max_phi = 0, sum_fit_rmse = 0;
       std::size_t n = 0;
       for (std::size_t r = 0; r < grp.repeats; ++r) {
@@ -137,16 +159,16 @@ void GimbalStudy::compute(std::size_t i, Workspace& ws, SampleResult& out) const
           const double clump = load.mass + d.clump_mass;
           const double radius = load.radius + d.hole_radius;
           const double angle = load.angle + d.hole_angle;
-          const double m_total = model_.rotor.mass + clump;
-          const double ux = d.residual_unbalance * std::cos(d.residual_angle) + clump * radius * std::cos(angle);
-          const double uy = d.residual_unbalance * std::sin(d.residual_angle) + clump * radius * std::sin(angle);
+          const double m_total = model_.rotor.mass + disk_dm + clump;
+          const double ux = d.residual_unbalance * std::cos(d.residual_angle) + disk_ux + clump * radius * std::cos(angle);
+          const double uy = d.residual_unbalance * std::sin(d.residual_angle) + disk_uy + clump * radius * std::sin(angle);
           // Run-out: the rotation centre is off the geometric centre; it adds m r.
           const double dx = ux + m_total * d.runout * std::cos(d.runout_angle);
           const double dy = uy + m_total * d.runout * std::sin(d.runout_angle);
           procedures::GimbalTruth truth;
           truth.disk = model_.rotor;
           truth.disk.mass = m_total;
-          truth.disk.inertia = model_.rotor.inertia + clump * radius * radius;
+          truth.disk.inertia = model_.rotor.inertia + disk_dj + clump * radius * radius;
           truth.disk.eccentricity = std::hypot(dx, dy) / m_total;
           truth.disk.eccentricity_angle = std::atan2(dy, dx);
           truth.kt_true = model_.plan.servo.kt_nominal * (1.0 + d.kt_calibration) * (1.0 + d.kt_drift);
@@ -185,7 +207,7 @@ void GimbalStudy::compute(std::size_t i, Workspace& ws, SampleResult& out) const
       const double deg = units::kRadPerDeg;
       const double values[] = {std::sqrt(se_t / nn) * 1e3, std::sqrt(se_a / nn) / deg, mean_t * 1e3, mean_a / deg,
                                sd_t * 1e3, sd_a / deg, sum_mk / nn * 1e3, max_res * 1e6, max_phi / deg,
-                               sum_fit_rmse / nn * 1e3};
+                               sum_fit_rmse / nn * 1e3, procedures::test_duration(plan) / 60.0};
       for (double v : values) out.outputs[o++] = v;
     }
   } catch (const std::exception& e) {

@@ -13,7 +13,11 @@
 ///                                           counterweight, about the disk's geometric centre
 ///   g_max_swing_deg                         largest |phi - phi_c| reached (the +-3 deg check)
 ///   g_mean_fit_rmse_mNm                     RMS residual of the Eq. 22 fit (Table 1: 0.23)
+///   g_test_time_min                         duration of one test of the group (min): per
+///                                           position, move and lock, settle, lead-in and
+///                                           the N periods integrated
 #include <functional>
+#include <optional>
 #include <span>
 #include <string>
 #include <vector>
@@ -53,6 +57,7 @@ class GimbalStudy : public ProcedureStudyBase<GimbalStudy> {
   std::uint64_t seed_;
   std::vector<std::string> input_names_, output_names_;
   std::size_t dimension_ = 0;
+  std::optional<DiskSampler> disk_;  ///< the disk as built ([geometry]), after the tolerances' dimensions
   sampling::Design design_;
 };
 

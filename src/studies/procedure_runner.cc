@@ -43,7 +43,8 @@ std::string unit_of_output(const std::string& name) {
   static const std::pair<const char*, const char*> kSuffixes[] = {
       {"_mNm", "mN*m"}, {"_deg", "deg"}, {"_gmm", "g*mm"}, {"_kgm", "kg*m"}, {"_kgm2", "kg*m^2"},
       {"_pct", "%"},    {"_mN", "mN"},   {"_N", "N"},      {"_g", "g"},     {"_mm", "mm"},
-      {"_Hz", "Hz"},    {"_per_mm", "1/mm"}, {"_ratio", "1"}, {"_um", "um"}};
+      {"_arcsec", "arcsec"},
+      {"_Hz", "Hz"},    {"_per_mm", "1/mm"}, {"_ratio", "1"}, {"_um", "um"}, {"_min", "min"}, {"_s", "s"}, {"_MPa", "MPa"}, {"_urad", "urad"}};
   for (const auto& [suffix, unit] : kSuffixes) {
     const std::size_t n = std::char_traits<char>::length(suffix);
     if (name.size() > n && name.compare(name.size() - n, n, suffix) == 0) return unit;

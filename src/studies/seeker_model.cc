@@ -4,6 +4,7 @@
 
 #include "core/units.h"
 #include "studies/model_overrides.h"
+#include "studies/seeker_geometry.h"
 
 namespace poise::studies {
 namespace {
@@ -169,6 +170,7 @@ SeekerModel load_seeker_model(const std::string& path,
     m.optical_axis = read_tolerance(t, "axis_error", kLength, "mm");
   }
   read_declared(root, m);
+  m.geometry = read_seeker_geometry(root, m.yaw.span, m.pitch.span);
   finish(doc, *ctx);
   // Declared keys must name budget terms.
   const models::WangBudget budget = models::compute_wang_budget(m.budget_inputs());

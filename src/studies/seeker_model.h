@@ -15,10 +15,12 @@
 ///                            phase psi; n = `order` (1 turns with the shaft, 0 static)
 ///   load_deformation         k', the paper's load-deformation factor
 #include <map>
+#include <optional>
 #include <span>
 #include <string>
 #include <vector>
 
+#include "geometry/generators.h"
 #include "models/seeker_los_budget.h"
 #include "models/seeker_los_chain.h"
 #include "studies/tolerance_spec.h"
@@ -59,6 +61,8 @@ struct SeekerModel {
   double barrel_length = 0;  ///< L3 (m)
   ToleranceSpec optical_axis;
   std::vector<DeclaredValue> declared;
+  /// Frames and housing ([geometry], optional; studies/seeker_geometry.h), sized from the spans.
+  std::optional<geometry::SeekerGeometry> geometry;
 
   /// Dotted keys of every tolerance table ("yaw.perpendicularity", "yaw.radial_runout", ...).
   std::vector<std::string> tolerance_keys() const;

@@ -14,6 +14,7 @@ void read_gimbal_groups(TomlReader& root, StudyConfig& c) {
     GimbalGroup grp;
     grp.name = g.string("name");
     grp.positions = static_cast<std::size_t>(g.integer("positions", 4, 3600));
+    grp.placement = g.choice("placement", {"sequential", "interleaved", "back_and_forth"}, "sequential");
     grp.repeats = static_cast<std::size_t>(g.integer("repeats", 1, 10000, 1));
     if (g.has("paper_rmse_torque")) grp.paper_rmse_torque = g.quantity("paper_rmse_torque", torque, non_negative);
     if (g.has("paper_rmse_angle")) grp.paper_rmse_angle = g.quantity("paper_rmse_angle", units::kAngle, non_negative);
@@ -92,7 +93,8 @@ StudyConfig load_study(const std::string& path) {
         break;
       }
     }
-    c.kind = t.choice("kind", {"seeker_los", "gimbal_static_unbalance", "balancing_machine"});
+    c.kind = t.choice("kind", {"seeker_los", "gimbal_static_unbalance", "balancing_machine", "platform_balancing",
+                              "geometry_mass_properties", "los_obstruction"});
     const std::string model = t.string("model");
     c.model_path = (std::filesystem::path(path).parent_path() / model).lexically_normal().string();
     if (!model.empty() && !std::filesystem::exists(c.model_path)) {
@@ -108,6 +110,7 @@ StudyConfig load_study(const std::string& path) {
     c.seed = static_cast<std::uint64_t>(t.integer("seed", 0, INT64_MAX));
   }
   if (c.kind == "seeker_los") {
+    read_geometry_study(root, c.kind, c.geometry);  // optional [clearance]
     {
       TomlReader t = root.table("grid");
       c.yaw_points = static_cast<std::size_t>(t.integer("yaw_points", 1, 1001));
@@ -133,6 +136,10 @@ StudyConfig load_study(const std::string& path) {
                     e.what() + ")");
       }
     }
+  } else if (c.kind == "platform_balancing") {
+    read_platform_section(root, path, c.platform);
+  } else if (c.kind == "geometry_mass_properties" || c.kind == "los_obstruction") {
+    read_geometry_study(root, c.kind, c.geometry);
   } else if (c.kind == "balancing_machine") {
     read_balancing_procedure(root, c);
     if (root.has("paper")) {
@@ -163,7 +170,69 @@ StudyConfig load_study(const std::string& path) {
         static_cast<std::size_t>(t.integer("contribution_samples", 0, 1'000'000'000, 4096));
   }
   finish(doc, *ctx);
+  c.overrides = apply_study_overrides(c, c.overrides);  // study keys (group.*) apply here
   return c;
+}
+
+std::map<std::string, std::string> apply_study_overrides(StudyConfig& cfg,
+                                                         const std::map<std::string, std::string>& overrides) {
+  std::map<std::string, std::string> model_keys;
+  std::vector<InputError> errors;
+  const SourceLocation where{cfg.file, 0, 0};
+  for (const auto& [key, value] : overrides) {
+    if (key.rfind("group.", 0) != 0) {
+      model_keys[key] = value;
+      continue;
+    }
+    // "group.<key>" (every group) or "group.<name>.<key>" (one group).
+    std::string rest = key.substr(6), name;
+    if (const auto dot = rest.find('.'); dot != std::string::npos) {
+      name = rest.substr(0, dot);
+      rest = rest.substr(dot + 1);
+    }
+    if (cfg.groups.empty()) {
+      errors.emplace_back(where, key, "\"" + value + "\"", "a study with [[group]] tables (a gimbal study)");
+      continue;
+    }
+    bool found = name.empty();
+    for (auto& g : cfg.groups) {
+      if (!name.empty() && g.name != name) continue;
+      found = true;
+      if (rest == "positions" || rest == "repeats") {
+        std::size_t used = 0;
+        long long n = -1;
+        try {
+          n = std::stoll(value, &used);
+        } catch (const std::exception&) {
+          used = 0;
+        }
+        const long long lo = rest == "positions" ? 4 : 1, hi = rest == "positions" ? 3600 : 10000;
+        if (used != value.size() || n < lo || n > hi) {
+          errors.emplace_back(where, key, "\"" + value + "\"",
+                              "an integer in [" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
+          break;
+        }
+        (rest == "positions" ? g.positions : g.repeats) = static_cast<std::size_t>(n);
+      } else if (rest == "placement") {
+        if (value != "sequential" && value != "interleaved" && value != "back_and_forth") {
+          errors.emplace_back(where, key, "\"" + value + "\"", "one of \"sequential\", \"interleaved\", \"back_and_forth\"");
+          break;
+        }
+        g.placement = value;
+      } else {
+        errors.emplace_back(where, key, "\"" + value + "\"",
+                            "a study key group[.<name>].positions, .placement or .repeats");
+        break;
+      }
+    }
+    if (!found) {
+      std::string names;
+      for (const auto& g : cfg.groups) names += (names.empty() ? "" : ", ") + g.name;
+      errors.emplace_back(where, key, "\"" + value + "\"", "the name of a [[group]]: " + names);
+    }
+  }
+  if (!errors.empty()) throw ValidationError(errors);
+  return model_keys;
 }
 
 }  // namespace poise::studies

@@ -8,10 +8,11 @@
 ///   [sampling]  method = "sobol" | "lhs" | "monte_carlo", samples, seed
 ///   [grid]      yaw_points, pitch_points (over the model's field of regard)
 ///   [requirement] los_error = "1 px" (or any angle)
+///   [clearance] output = true, yaw_points, pitch_points (optional; geometry_study.h)
 ///   [overrides] "dotted.model.key" = "value"      (optional)
 ///   [[sweep]]   parameter = "dotted.model.key", values = [...], samples (optional)
 ///   kind = "gimbal_static_unbalance" replaces [grid]/[requirement] by test groups:
-///   [[group]]   name, positions, repeats, paper_rmse_torque, paper_rmse_angle
+///   [[group]]   name, positions, placement, repeats, paper_rmse_torque, paper_rmse_angle
 ///   [[group.load]] mass, radius, angle, paper_torque, paper_angle
 ///   kind = "balancing_machine" (models/balancing_machine_*.toml) takes instead:
 ///   [procedure]  plane_1_surface, plane_2_surface (correction planes: testing surfaces),
@@ -21,6 +22,11 @@
 ///                "accuracy", and per type: mass, radius, surface, positions, band,
 ///                piece_unbalance, requirement (see BalancingExperiment)
 ///   [paper]      output_name = value in the output's unit (the paper's figure, for the report)
+///   kind = "geometry_mass_properties" (models/simulator_disk_*.toml) takes [mass_properties];
+///   kind = "los_obstruction" (a seeker model with [geometry]) takes [grid], [beam], [clearance]
+///   (see geometry_study.h)
+///   kind = "platform_balancing" (models/platform_three_gimbal.toml) takes [platform] (see
+///   platform_study_config.h): test orders, positions, angle grid, acceleration, profile, shafting
 ///   [output]    plots = true, block = 1024, contribution_samples = 4096  (optional)
 #include <cstdint>
 #include <map>
@@ -29,6 +35,8 @@
 #include <vector>
 
 #include "sampling/design.h"
+#include "studies/platform_study_config.h"
+#include "studies/geometry_study.h"
 
 namespace poise::studies {
 
@@ -52,6 +60,11 @@ struct GimbalLoad {
 struct GimbalGroup {
   std::string name;
   std::size_t positions = 36;   ///< evenly spaced over 360 deg, from 0
+  /// Order in which the turntable visits them: "sequential" (0, 10, 20, ... deg),
+  /// "interleaved" (van der Corput order: 0, 180, 90, 270, ... deg, so that a drift in time
+  /// does not follow the angle) or "back_and_forth" (the even positions going up, the odd
+  /// ones coming back down, approached from the other side).
+  std::string placement = "sequential";
   std::size_t repeats = 1;
   std::vector<GimbalLoad> loads;
   std::optional<double> paper_rmse_torque;  ///< N m
@@ -102,9 +115,19 @@ struct StudyConfig {
     int line = 0;        ///< in the study file
   };
   std::vector<PaperValue> paper;
+  PlatformStudySection platform;  ///< kind = "platform_balancing" (platform_study_config.h)
+  GeometryStudySpec geometry;  ///< kinds "geometry_mass_properties", "los_obstruction" (geometry_study.h)
 };
 
 /// Loads and validates a study file (not its model). Throws ValidationError.
 StudyConfig load_study(const std::string& path);
+
+/// Splits study-level keys off a set of overrides and applies them to `cfg`; returns the
+/// rest (model keys). Study keys: "group.positions", "group.placement", "group.repeats"
+/// (every [[group]]) and "group.<name>.<key>" (one group). They let an optimization vary
+/// the test plan (e.g. a [[choice]] of the number of positions). Throws ValidationError
+/// for an unknown group or key or a bad value.
+std::map<std::string, std::string> apply_study_overrides(StudyConfig& cfg,
+                                                         const std::map<std::string, std::string>& overrides);
 
 }  // namespace poise::studies

@@ -9,6 +9,7 @@
 #include "studies/gimbal_study.h"
 #include "studies/seeker_los_study.h"
 #include "studies/seeker_model.h"
+#include "studies/seeker_clearance.h"
 
 namespace poise::studies {
 
@@ -43,9 +44,10 @@ StudyEvaluation from_procedure(const ProcedureStudy& study, int threads) {
 
 }  // namespace
 
-StudyEvaluation evaluate_study(const StudyConfig& cfg, const std::map<std::string, std::string>& overrides,
+StudyEvaluation evaluate_study(const StudyConfig& base, const std::map<std::string, std::string>& overrides,
                                std::size_t samples, std::uint64_t seed, int threads) {
-  const auto o = merged(cfg, overrides);
+  StudyConfig cfg = base;
+  const auto o = apply_study_overrides(cfg, merged(base, overrides));
   if (cfg.kind == "balancing_machine") {
     return from_procedure(BalancingStudy(cfg, load_balancing_model(cfg.model_path, o), samples, seed), threads);
   }
@@ -68,19 +70,34 @@ StudyEvaluation evaluate_study(const StudyConfig& cfg, const std::map<std::strin
   e.samples = mc.n;
   e.failures = mc.failures;
   e.wall_seconds = mc.wall_seconds;
+  if (cfg.geometry.clearance_output) {  // a design constraint: the same for every sample
+    const double c = nominal_min_clearance(study.model(), cfg.geometry.clearance_yaw_points,
+                                           cfg.geometry.clearance_pitch_points);
+    e.names.emplace_back("min_clearance_mm");
+    e.values.emplace_back(e.values.empty() ? 0 : e.values[0].size(), 1e3 * c);
+  }
   return e;
 }
 
-std::vector<std::string> study_output_names(const StudyConfig& cfg) {
+std::vector<std::string> study_output_names(const StudyConfig& base) {
+  StudyConfig cfg = base;
+  cfg.overrides = apply_study_overrides(cfg, base.overrides);
   if (cfg.kind == "balancing_machine") {
     return BalancingStudy(cfg, load_balancing_model(cfg.model_path, cfg.overrides), 1, cfg.seed).output_names();
   }
   if (cfg.kind == "gimbal_static_unbalance") {
     return GimbalStudy(cfg, load_gimbal_model(cfg.model_path, cfg.overrides), 1, cfg.seed).output_names();
   }
-  load_seeker_model(cfg.model_path, cfg.overrides);
+  const SeekerModel model = load_seeker_model(cfg.model_path, cfg.overrides);
   std::vector<std::string> names;
   for (const auto& d : kSeekerOutputs) names.emplace_back(d.name);
+  if (cfg.geometry.clearance_output) {
+    if (!model.geometry) {
+      throw ValidationError({InputError(SourceLocation{cfg.file, 0, 0}, "clearance.output", "true",
+                                        "a seeker model with a [geometry] section (" + cfg.model_path + " has none)")});
+    }
+    names.emplace_back("min_clearance_mm");
+  }
   return names;
 }
 

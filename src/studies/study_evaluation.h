@@ -24,7 +24,8 @@ struct StudyEvaluation {
 };
 
 /// Runs `cfg` (its model with cfg.overrides, then `overrides` on top) with `samples` samples
-/// and `seed`. Throws ValidationError if an override is not valid for the model.
+/// and `seed`. Study keys among the overrides (group.positions, ...: apply_study_overrides)
+/// change the study's test plan instead of its model. Throws ValidationError if an override is not valid for the model.
 StudyEvaluation evaluate_study(const StudyConfig& cfg, const std::map<std::string, std::string>& overrides,
                                std::size_t samples, std::uint64_t seed, int threads);
 

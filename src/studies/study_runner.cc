@@ -9,7 +9,10 @@
 #include "core/units.h"
 #include "core/version.h"
 #include "studies/balancing_runner.h"
+#include "studies/platform_runner.h"
 #include "studies/gimbal_runner.h"
+#include "studies/geometry_mass_runner.h"
+#include "studies/obstruction_runner.h"
 #include "studies/provenance.h"
 #include "studies/result_io.h"
 #include "studies/report.h"
@@ -93,6 +96,12 @@ std::string validate_study(const std::string& study_path) {
     return validate_gimbal_study(c);
   } else if (c.kind == "balancing_machine") {
     return validate_balancing_study(c);
+  } else if (c.kind == "platform_balancing") {
+    return validate_platform_study(c);
+  } else if (c.kind == "geometry_mass_properties") {
+    return validate_geometry_mass_study(c);
+  } else if (c.kind == "los_obstruction") {
+    return validate_obstruction_study(c);
   }
   auto [cfg, model] = load_all(study_path);
   // Sweep values are validated by loading the model with each of them.
@@ -134,6 +143,12 @@ json replay_sample(const std::string& study_path, std::size_t index, const RunOp
     return replay_gimbal_sample(c, index, options);
   } else if (c.kind == "balancing_machine") {
     return replay_balancing_sample(c, index, options);
+  } else if (c.kind == "platform_balancing") {
+    return replay_platform_sample(c, index, options);
+  } else if (c.kind == "geometry_mass_properties") {
+    return replay_geometry_mass_sample(c, index, options);
+  } else if (c.kind == "los_obstruction") {
+    return replay_obstruction_sample(c, index, options);
   }
   auto [cfg, model] = load_all(study_path);
   const std::size_t n = options.samples.value_or(cfg.samples);
@@ -173,6 +188,15 @@ std::string run_study(const std::string& study_path, const RunOptions& options) 
   } else if (c.kind == "balancing_machine") {
     validate_balancing_study(c);
     return run_balancing_study(c, options);
+  } else if (c.kind == "platform_balancing") {
+    validate_platform_study(c);
+    return run_platform_study(c, options);
+  } else if (c.kind == "geometry_mass_properties") {
+    validate_geometry_mass_study(c);
+    return run_geometry_mass_study(c, options);
+  } else if (c.kind == "los_obstruction") {
+    validate_obstruction_study(c);
+    return run_obstruction_study(c, options);
   }
   if (!options.resume.empty()) {
     throw Error("--resume is for gimbal and balancing-machine studies, whose samples are expensive; a LOS study "

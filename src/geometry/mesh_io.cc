@@ -1,0 +1,279 @@
+#include "geometry/mesh_io.h"
+
+#include <algorithm>
+#include <charconv>
+#include <cmath>
+#include <cstring>
+#include <fstream>
+#include <map>
+#include <sstream>
+#include <vector>
+
+namespace poise::geometry {
+namespace {
+
+std::string lower(std::string s) {
+  std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  return s;
+}
+
+[[noreturn]] void fail_line(const std::string& name, std::size_t line, const std::string& what) {
+  throw MeshFormatError(name + ":" + std::to_string(line) + ": " + what);
+}
+
+bool parse_double(const std::string& tok, double& out) {
+  const char* end = tok.data() + tok.size();
+  auto [p, ec] = std::from_chars(tok.data(), end, out);
+  return ec == std::errc() && p == end;
+}
+
+std::vector<std::string> split(const std::string& line) {
+  std::vector<std::string> out;
+  std::istringstream ss(line);
+  std::string tok;
+  while (ss >> tok) out.push_back(tok);
+  return out;
+}
+
+// Merges equal coordinates (STL stores every triangle's three vertices).
+class VertexWelder {
+ public:
+  explicit VertexWelder(Mesh& mesh) : mesh_(mesh) {}
+  std::uint32_t add(const Eigen::Vector3d& v) {
+    const auto [it, inserted] = index_.try_emplace({v.x(), v.y(), v.z()}, static_cast<std::uint32_t>(mesh_.vertices.size()));
+    if (inserted) mesh_.vertices.push_back(v);
+    return it->second;
+  }
+
+ private:
+  Mesh& mesh_;
+  std::map<std::array<double, 3>, std::uint32_t> index_;
+};
+
+Mesh read_stl_ascii(const std::string& bytes, const std::string& name, double unit_m) {
+  Mesh mesh;
+  mesh.name = name;
+  VertexWelder weld(mesh);
+  std::istringstream in(bytes);
+  std::string line;
+  std::size_t ln = 0;
+  enum class State { kStart, kSolid, kFacet, kLoop, kEndLoop, kEnd } state = State::kStart;
+  std::vector<std::uint32_t> loop;
+  while (std::getline(in, line)) {
+    ++ln;
+    const auto tok = split(line);
+    if (tok.empty()) continue;
+    const std::string kw = lower(tok[0]);
+    auto expect = [&](const std::string& what) {
+      fail_line(name, ln, "expected " + what + ", got '" + line.substr(0, 60) + "'");
+    };
+    switch (state) {
+      case State::kStart:
+        if (kw != "solid") expect("'solid <name>' (ASCII STL)");
+        state = State::kSolid;
+        break;
+      case State::kSolid:
+        if (kw == "endsolid") {
+          state = State::kEnd;
+        } else if (kw == "facet") {
+          if (tok.size() != 5 || lower(tok[1]) != "normal") expect("'facet normal nx ny nz'");
+          for (int k = 2; k < 5; ++k) {
+            double v;
+            if (!parse_double(tok[k], v)) fail_line(name, ln, "facet normal component '" + tok[k] + "' is not a number");
+          }
+          state = State::kFacet;
+        } else {
+          expect("'facet normal nx ny nz' or 'endsolid'");
+        }
+        break;
+      case State::kFacet:
+        if (kw != "outer" || tok.size() != 2 || lower(tok[1]) != "loop") expect("'outer loop'");
+        loop.clear();
+        state = State::kLoop;
+        break;
+      case State::kLoop:
+        if (kw == "endloop") {
+          if (loop.size() != 3) {
+            fail_line(name, ln, "facet has " + std::to_string(loop.size()) + " vertices; STL facets are triangles (3)");
+          }
+          mesh.triangles.push_back({loop[0], loop[1], loop[2]});
+          state = State::kEndLoop;
+        } else if (kw == "vertex") {
+          if (tok.size() != 4) fail_line(name, ln, "vertex needs 3 coordinates, got " + std::to_string(tok.size() - 1));
+          Eigen::Vector3d v;
+          for (int k = 0; k < 3; ++k) {
+            if (!parse_double(tok[k + 1], v[k]) || !std::isfinite(v[k])) {
+              fail_line(name, ln, "vertex coordinate '" + tok[k + 1] + "' is not a finite number");
+            }
+          }
+          if (loop.size() == 3) fail_line(name, ln, "facet has more than 3 vertices; STL facets are triangles");
+          loop.push_back(weld.add(v * unit_m));
+        } else {
+          expect("'vertex x y z' or 'endloop'");
+        }
+        break;
+      case State::kEndLoop:
+        if (kw != "endfacet") expect("'endfacet'");
+        state = State::kSolid;
+        break;
+      case State::kEnd:
+        fail_line(name, ln, "text after 'endsolid'");
+    }
+  }
+  if (state != State::kEnd) {
+    throw MeshFormatError(name + ":" + std::to_string(ln) + ": file ends inside a " +
+                          (state == State::kSolid || state == State::kStart ? "solid (no 'endsolid')" : "facet"));
+  }
+  if (mesh.triangles.empty()) throw MeshFormatError(name + ": no triangles");
+  return mesh;
+}
+
+Mesh read_stl_binary(const std::string& bytes, const std::string& name, double unit_m) {
+  Mesh mesh;
+  mesh.name = name;
+  VertexWelder weld(mesh);
+  std::uint32_t n = 0;
+  std::memcpy(&n, bytes.data() + 80, 4);
+  for (std::uint32_t k = 0; k < n; ++k) {
+    const char* rec = bytes.data() + 84 + 50 * static_cast<std::size_t>(k);
+    std::array<std::uint32_t, 3> idx{};
+    for (int j = 0; j < 3; ++j) {
+      float xyz[3];
+      std::memcpy(xyz, rec + 12 + 12 * j, 12);
+      for (float c : xyz) {
+        if (!std::isfinite(c)) {
+          throw MeshFormatError(name + ": triangle " + std::to_string(k) + ", vertex " + std::to_string(j) +
+                                ": coordinate is not a finite number");
+        }
+      }
+      idx[j] = weld.add(Eigen::Vector3d(xyz[0], xyz[1], xyz[2]) * unit_m);
+    }
+    mesh.triangles.push_back(idx);
+  }
+  if (mesh.triangles.empty()) throw MeshFormatError(name + ": binary STL with no triangles");
+  return mesh;
+}
+
+}  // namespace
+
+Mesh read_obj(std::istream& in, const std::string& name, double unit_m) {
+  Mesh mesh;
+  mesh.name = name;
+  std::string line;
+  std::size_t ln = 0;
+  while (std::getline(in, line)) {
+    ++ln;
+    if (const auto hash = line.find('#'); hash != std::string::npos) line.resize(hash);
+    const auto tok = split(line);
+    if (tok.empty()) continue;
+    const std::string& kw = tok[0];
+    if (kw == "v") {
+      if (tok.size() != 4 && tok.size() != 5) {
+        fail_line(name, ln, "vertex needs 3 coordinates (x y z [w]), got " + std::to_string(tok.size() - 1));
+      }
+      Eigen::Vector3d v;
+      for (int k = 0; k < 3; ++k) {
+        if (!parse_double(tok[k + 1], v[k]) || !std::isfinite(v[k])) {
+          fail_line(name, ln, "vertex coordinate '" + tok[k + 1] + "' is not a finite number");
+        }
+      }
+      mesh.vertices.push_back(v * unit_m);
+    } else if (kw == "f") {
+      if (tok.size() < 4) fail_line(name, ln, "face needs at least 3 vertices, got " + std::to_string(tok.size() - 1));
+      std::vector<std::uint32_t> poly;
+      for (std::size_t k = 1; k < tok.size(); ++k) {
+        const std::string head = tok[k].substr(0, tok[k].find('/'));
+        long long i = 0;
+        auto [p, ec] = std::from_chars(head.data(), head.data() + head.size(), i);
+        if (ec != std::errc() || p != head.data() + head.size() || i == 0) {
+          fail_line(name, ln, "face vertex '" + tok[k] + "' is not a vertex index (1-based, or negative relative)");
+        }
+        const auto nv = static_cast<long long>(mesh.vertices.size());
+        const long long resolved = i > 0 ? i - 1 : nv + i;
+        if (resolved < 0 || resolved >= nv) {
+          fail_line(name, ln, "face vertex index " + std::to_string(i) + " is out of range (" + std::to_string(nv) +
+                                  " vertices defined so far)");
+        }
+        poly.push_back(static_cast<std::uint32_t>(resolved));
+      }
+      for (std::size_t k = 1; k + 1 < poly.size(); ++k) mesh.triangles.push_back({poly[0], poly[k], poly[k + 1]});
+    } else if (kw == "vt" || kw == "vn" || kw == "vp" || kw == "o" || kw == "g" || kw == "s" || kw == "usemtl" ||
+               kw == "mtllib") {
+      continue;
+    } else {
+      fail_line(name, ln, "unknown OBJ statement '" + kw + "' (expected v, f, vt, vn, o, g, s, usemtl, mtllib)");
+    }
+  }
+  if (mesh.triangles.empty()) throw MeshFormatError(name + ": no faces ('f' lines)");
+  return mesh;
+}
+
+Mesh read_stl(const std::string& bytes, const std::string& name, double unit_m) {
+  if (bytes.size() >= 84) {
+    std::uint32_t n = 0;
+    std::memcpy(&n, bytes.data() + 80, 4);
+    if (bytes.size() == 84 + 50 * static_cast<std::size_t>(n)) return read_stl_binary(bytes, name, unit_m);
+  }
+  // Not a well-sized binary file: ASCII, or a truncated/padded binary one.
+  std::size_t first = bytes.find_first_not_of(" \t\r\n");
+  if (first != std::string::npos && lower(bytes.substr(first, 5)) == "solid" &&
+      bytes.find("facet", first) != std::string::npos) {
+    return read_stl_ascii(bytes, name, unit_m);
+  }
+  if (bytes.size() < 84) {
+    throw MeshFormatError(name + ": " + std::to_string(bytes.size()) +
+                          " bytes: too short for a binary STL header (84 bytes) and not ASCII STL ('solid ...')");
+  }
+  std::uint32_t n = 0;
+  std::memcpy(&n, bytes.data() + 80, 4);
+  const std::size_t expected = 84 + 50 * static_cast<std::size_t>(n);
+  const std::size_t whole = (bytes.size() - 84) / 50;
+  throw MeshFormatError(name + ": binary STL header declares " + std::to_string(n) + " triangles (" +
+                        std::to_string(expected) + " bytes) but the file has " + std::to_string(bytes.size()) +
+                        " bytes" + (bytes.size() < expected ? " (truncated in triangle " + std::to_string(whole) + ")" : ""));
+}
+
+Mesh load_mesh(const std::string& path, double unit_m) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw Error("cannot read mesh file " + path);
+  const std::string ext = lower(path.size() >= 4 ? path.substr(path.size() - 4) : "");
+  if (ext == ".obj") return read_obj(in, path, unit_m);
+  if (ext == ".stl") {
+    std::ostringstream ss;
+    ss << in.rdbuf();
+    return read_stl(ss.str(), path, unit_m);
+  }
+  throw Error(path + ": unknown mesh format (expected a .obj or .stl file)");
+}
+
+void write_obj(const Mesh& mesh, const std::string& path, double unit_m) {
+  std::ofstream out(path);
+  if (!out) throw Error("cannot write " + path);
+  out.precision(10);
+  out << "# " << mesh.name << " (Poise), units: " << unit_m << " m\n";
+  for (const auto& v : mesh.vertices) out << "v " << v.x() / unit_m << ' ' << v.y() / unit_m << ' ' << v.z() / unit_m << '\n';
+  for (const auto& t : mesh.triangles) out << "f " << t[0] + 1 << ' ' << t[1] + 1 << ' ' << t[2] + 1 << '\n';
+}
+
+void write_stl(const Mesh& mesh, const std::string& path, double unit_m) {
+  std::ofstream out(path, std::ios::binary);
+  if (!out) throw Error("cannot write " + path);
+  char header[80] = {};
+  std::snprintf(header, sizeof header, "Poise %s", mesh.name.c_str());
+  out.write(header, 80);
+  const auto n = static_cast<std::uint32_t>(mesh.triangles.size());
+  out.write(reinterpret_cast<const char*>(&n), 4);
+  for (std::size_t k = 0; k < mesh.triangles.size(); ++k) {
+    float rec[12];
+    const Eigen::Vector3d nrm = mesh.face_normal(k).normalized();
+    for (int j = 0; j < 3; ++j) rec[j] = static_cast<float>(nrm[j]);
+    for (int i = 0; i < 3; ++i) {
+      for (int j = 0; j < 3; ++j) rec[3 + 3 * i + j] = static_cast<float>(mesh.vertices[mesh.triangles[k][i]][j] / unit_m);
+    }
+    out.write(reinterpret_cast<const char*>(rec), sizeof rec);
+    const std::uint16_t attr = 0;
+    out.write(reinterpret_cast<const char*>(&attr), 2);
+  }
+}
+
+}  // namespace poise::geometry

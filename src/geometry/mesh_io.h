@@ -1,0 +1,40 @@
+#pragma once
+/// Reading and writing meshes: Wavefront OBJ and STL (binary and ASCII).
+///
+/// OBJ: `v x y z [w]` vertices, `f i j k ...` faces (polygons are fanned into triangles;
+/// `i`, `i/t`, `i//n`, `i/t/n` and negative, relative indices accepted); `vt`, `vn`, `o`,
+/// `g`, `s`, `usemtl`, `mtllib` and comments are skipped; any other statement is an error.
+/// STL: binary when the size is exactly 84 + 50 n bytes for the n the header declares,
+/// else ASCII (`solid` ... `facet normal` / `outer loop` / 3 x `vertex` / `endloop` /
+/// `endfacet` ... `endsolid`). STL repeats vertices per triangle; equal coordinates are
+/// merged so the mesh is indexed (and check_closed() can judge it). STL normals are
+/// ignored: orientation comes from the vertex order, as the format specifies.
+///
+/// Lengths in the file are in `unit_m` metres per file unit (CAD exports are usually mm:
+/// pass 1e-3). A malformed file throws MeshFormatError, whose message names the file, the
+/// line (text formats) or triangle index (binary STL) and what is wrong.
+#include <istream>
+#include <string>
+
+#include "core/error.h"
+#include "geometry/mesh.h"
+
+namespace poise::geometry {
+
+class MeshFormatError : public Error {
+ public:
+  using Error::Error;
+};
+
+/// By extension (.obj, .stl, case-insensitive).
+Mesh load_mesh(const std::string& path, double unit_m = 1.0);
+Mesh read_obj(std::istream& in, const std::string& name, double unit_m = 1.0);
+/// `bytes`: the whole file.
+Mesh read_stl(const std::string& bytes, const std::string& name, double unit_m = 1.0);
+
+/// Writes OBJ (vertices in `unit_m` per file unit). Throws poise::Error if unwritable.
+void write_obj(const Mesh& mesh, const std::string& path, double unit_m = 1.0);
+/// Writes binary STL.
+void write_stl(const Mesh& mesh, const std::string& path, double unit_m = 1.0);
+
+}  // namespace poise::geometry

@@ -1,0 +1,211 @@
+// The three-gimbal balancing campaign: an ideal platform balances to within the measurement
+// noise (and, noise off, to within the procedure's own bias), the order matters, samples are
+// the same for any thread count and on replay, and the study and model files are strict.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <nlohmann/json.hpp>
+
+#include "studies/platform_model.h"
+#include "studies/platform_study.h"
+#include "studies/study_config.h"
+#include "studies/study_runner.h"
+#include "studies/toml_reader.h"
+#include "test_util.h"
+
+namespace poise::studies {
+namespace {
+
+using nlohmann::json;
+using test::TempDir;
+
+// Every tolerance but the centroids off; `noise` keeps the acquisition's noise.
+std::string ideal_overrides(bool noise) {
+  std::string ov = "\n[overrides]\n\"oscillation.periods\" = \"1\"\n";
+  const std::pair<const char*, const char*> zeros[] = {
+      {"kt_calibration", "0"}, {"kt_drift", "0"}, {"lock_error", "0 deg"}, {"fixture_tilt", "0 deg"},
+      {"turntable_zero", "0 deg"}, {"gimbal_zero", "0 deg"}, {"counterweight_mass", "0"},
+      {"counterweight_radius", "0 mm"}, {"counterweight_angle", "0 deg"}, {"counterweight_plane", "0 mm"}};
+  for (const auto& [k, v] : zeros) ov.append("\"tolerances.").append(k).append(".tolerance\" = \"").append(v).append("\"\n");
+  if (!noise) {
+    for (const char* k : {"acquisition.noise_rms", "acquisition.offset", "acquisition.offset_drift", "acquisition.offset_noise"}) {
+      ov.append("\"").append(k).append("\" = \"0 A\"\n");
+    }
+    ov += "\"turntable.positioning_error\" = \"0 deg\"\n";
+  }
+  return ov;
+}
+
+std::string tiny_study(const TempDir& d, const std::string& overrides = "\n[overrides]\n\"oscillation.periods\" = \"1\"\n",
+                       const std::string& orders = R"(["inner,middle,outer"])") {
+  const std::string text = R"([study]
+name = "tiny_platform"
+kind = "platform_balancing"
+model = ")" + test::source_path("models/platform_three_gimbal.toml") + R"("
+
+[sampling]
+method = "sobol"
+samples = 4
+seed = 7
+
+[platform]
+orders = )" + orders + R"(
+positions = 8
+outer_min = "-180 deg"
+outer_max = "90 deg"
+outer_points = 4
+middle_min = "-30 deg"
+middle_max = "30 deg"
+middle_points = 3
+inner_min = "-30 deg"
+inner_max = "30 deg"
+inner_points = 3
+acceleration_x = "0 m/s^2"
+acceleration_y = "98 m/s^2"
+acceleration_z = "0 m/s^2"
+
+[platform.profile]
+duration = "0.2 s"
+time_step = "1 ms"
+manoeuvre_x = "0 m/s^2"
+manoeuvre_y = "98 m/s^2"
+manoeuvre_z = "0 m/s^2"
+onset = "0.05 s"
+rise_time = "20 ms"
+
+[[platform.profile.vibration]]
+amplitude_x = "0 m/s^2"
+amplitude_y = "0 m/s^2"
+amplitude_z = "20 m/s^2"
+frequency = "40 Hz"
+)" + overrides + R"(
+[output]
+block = 2
+)";
+  const std::string path = d.file("study.toml");
+  test::write_text(path, text);
+  return path;
+}
+
+// One campaign per order on sample `i`; residual perpendicular first moment per axis (kg m)
+// after it, and the as-built one.
+struct CampaignOutcome {
+  std::array<double, 3> before{}, after{};
+  std::array<std::array<double, 3>, 3> after_by_order{};
+};
+CampaignOutcome campaign(const std::string& study_path, std::size_t i) {
+  const StudyConfig cfg = load_study(study_path);
+  const PlatformStudy study(cfg, load_platform_model(cfg.model_path, cfg.overrides), cfg.samples, cfg.seed);
+  auto ws = study.make_workspace();
+  const PlatformDraws d = study.draws(i);
+  const models::Platform built = study.as_built(d);
+  CampaignOutcome out;
+  out.before = study.residual(built).perpendicular;
+  for (std::size_t o = 0; o < cfg.platform.orders.size(); ++o) {
+    const CampaignResult c = study.run_campaign(i, built, d, cfg.platform.orders[o], *ws);
+    out.after_by_order[o] = study.residual(c.platform).perpendicular;
+  }
+  out.after = out.after_by_order[0];
+  return out;
+}
+
+TEST(PlatformStudy, IdealPlatformNoiseOffBalancesToTheProceduresBias) {
+  TempDir d;
+  const CampaignOutcome c = campaign(tiny_study(d, ideal_overrides(false)), 1);
+  for (std::size_t k = 0; k < 3; ++k) {
+    EXPECT_GT(c.before[k], 50e-6) << k;  // tens of g*mm as built
+    // Noise off, no placement errors: only the oscillation's J0 bias, the cable and
+    // friction and the solver tolerance remain; below 1% of the as-built unbalance.
+    EXPECT_LT(c.after[k], 0.01 * c.before[k]) << "axis " << k << ": " << c.after[k] * 1e6 << " g*mm";
+  }
+}
+
+TEST(PlatformStudy, LockingErrorsBarelyMatterInsideOut) {
+  // Locking errors of 1 deg (3 sigma), noise off: the gimbals that carry the tested one only
+  // tilt its axis (second order); those it carries are already balanced inside-out, so
+  // turning them changes nothing to first order.
+  TempDir d;
+  std::string ov = ideal_overrides(false);
+  ov = test::replace_once(ov, "\"tolerances.lock_error.tolerance\" = \"0 deg\"", "\"tolerances.lock_error.tolerance\" = \"1 deg\"");
+  const CampaignOutcome c = campaign(tiny_study(d, ov), 1);
+  for (std::size_t k = 0; k < 3; ++k) EXPECT_LT(c.after[k], 0.02 * c.before[k]) << k;
+}
+
+TEST(PlatformStudy, IdealPlatformWithNoiseBalancesWithinTheNoise) {
+  TempDir d;
+  const CampaignOutcome c = campaign(tiny_study(d, ideal_overrides(true)), 2);
+  // Noise of one axis test: 4.4 mA position-to-position offset noise, 2 mA white and a
+  // 1 mA/position drift, about 5 mA per position, times K_T; 8 positions fit MT_s to
+  // sigma ~ s_pos sqrt(2/8). Divided by g: 7.6 (inner), 13 (middle), 20 g*mm (outer).
+  const std::array<double, 3> sigma{0.03 * 5e-3 * 0.5 / 9.80665, 0.05 * 5e-3 * 0.5 / 9.80665, 0.08 * 5e-3 * 0.5 / 9.80665};
+  for (std::size_t k = 0; k < 3; ++k) {
+    EXPECT_LT(c.after[k], 5.0 * sigma[k]) << "axis " << k << ": " << c.after[k] * 1e6 << " g*mm vs sigma " << sigma[k] * 1e6;
+    EXPECT_LT(c.after[k], 0.5 * c.before[k]) << k;
+  }
+}
+
+TEST(PlatformStudy, OutsideInLeavesTheOuterAxesUnbalanced) {
+  TempDir d;
+  const CampaignOutcome c =
+      campaign(tiny_study(d, ideal_overrides(false), R"(["inner,middle,outer", "outer,middle,inner"])"), 1);
+  // Outer first: the middle and inner counterweights placed afterwards (and their offsets
+  // along their own axes, which the outer axis sees) unbalance the outer axis again.
+  EXPECT_GT(c.after_by_order[1][2], 10.0 * c.after_by_order[0][2]);
+  EXPECT_GT(c.after_by_order[1][1], 5.0 * c.after_by_order[0][1]);
+  // The inner axis is the same whatever the order: its test sees the inner gimbal alone.
+  EXPECT_NEAR(c.after_by_order[1][0], c.after_by_order[0][0], 1e-12);
+}
+
+TEST(PlatformStudy, SamplesIdenticalForOneAndTwoThreadsAndReplay) {
+  TempDir d;
+  const std::string study = tiny_study(d);
+  run_study(study, test::quiet_run_options(d.file("t1"), 1));
+  run_study(study, test::quiet_run_options(d.file("t2"), 2));
+  const std::string a = test::read_text(d.file("t1/samples.csv"));
+  EXPECT_EQ(a, test::read_text(d.file("t2/samples.csv")));
+  const json s = json::parse(test::read_text(d.file("t1/summary.json")));
+  EXPECT_EQ(s["failures"]["count"], 0) << s["failures"].dump();
+  EXPECT_GT(s["outputs"]["imo_los_max_arcsec"]["mean"]["value"].get<double>(), 0.0);
+  EXPECT_FALSE(s["details"]["los_budget"].empty());
+  const json r = replay_sample(study, 3, test::quiet_run_options("", 1));
+  ASSERT_EQ(r["status"], "ok");
+  std::istringstream in(a);
+  std::string line;
+  for (int k = 0; k <= 4; ++k) std::getline(in, line);  // header, then samples 0..3
+  char buf[40];
+  std::snprintf(buf, sizeof buf, "%.9g", r["outputs"]["imo_outer_residual_gmm"].get<double>());
+  EXPECT_NE(line.find(buf), std::string::npos) << line << " vs " << buf;
+}
+
+TEST(PlatformStudy, StrictStudyAndModelFiles) {
+  TempDir d;
+  const std::string text = test::read_text(tiny_study(d, "", R"(["inner,inner,outer"])"));
+  test::write_text(d.file("bad.toml"), text);
+  try {
+    load_study(d.file("bad.toml"));
+    FAIL() << "no error";
+  } catch (const ValidationError& e) {
+    EXPECT_NE(std::string(e.what()).find("key 'platform.orders' = \"inner,inner,outer\": expected each of inner, middle, outer once"),
+              std::string::npos)
+        << e.what();
+  }
+  try {
+    load_platform_model(test::source_path("models/platform_three_gimbal.toml"), {{"inner.counterweight_radius", "25"}});
+    FAIL() << "no error";
+  } catch (const ValidationError& e) {
+    EXPECT_NE(std::string(e.what()).find("inner.counterweight_radius"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("missing unit"), std::string::npos) << e.what();
+  }
+  const std::string model = test::read_text(test::source_path("models/platform_three_gimbal.toml"));
+  test::write_text(d.file("model.toml"), test::replace_once(model, "lock_angle = \"0 deg\"\nnotes = \"\"\"Detector",
+                                                             "lock_angle = \"0 deg\"\nlock_torque = \"1 N*m\"\nnotes = \"\"\"Detector"));
+  try {
+    load_platform_model(d.file("model.toml"));
+    FAIL() << "no error";
+  } catch (const ValidationError& e) {
+    EXPECT_NE(std::string(e.what()).find("inner.lock_torque"), std::string::npos) << e.what();
+  }
+}
+
+}  // namespace
+}  // namespace poise::studies
