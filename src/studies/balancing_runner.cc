@@ -42,19 +42,6 @@ Band band_of(std::vector<double> v) {
   return b;
 }
 
-bool plot(const fs::path& dir, const std::string& name, const std::string& script, std::vector<std::string>& figures,
-          std::ostringstream& html) {
-  std::ofstream(dir / (name + ".gp")) << "set terminal svg size 720,420 dynamic noenhanced font 'Helvetica,12'\n"
-                                      << "set output '" << name << ".svg'\nset grid\n" << script;
-  std::string why;
-  if (run_gnuplot((dir / (name + ".gp")).string(), &why)) {
-    figures.push_back(name + ".svg");
-    return true;
-  }
-  html << "<p><small>" << html_escape(name) << ": " << html_escape(why) << "</small></p>\n";
-  return false;
-}
-
 }  // namespace
 
 json BalancingStudy::details(const McResult&) const {
@@ -143,7 +130,7 @@ void BalancingStudy::report_sections(const McResult& mc, const std::string& plot
       h << "</table>\n";
       if (plots) {
         std::ofstream(dir / (x.name + "_sensors.dat")) << dat.str();
-        plot(dir, x.name + "_sensors",
+        svg_plot(dir, x.name + "_sensors",
              "set title 'Sensor signals against the height of the test mass'\nset xlabel 'height of the testing surface above the torsion shaft (mm)'\n"
              "set ylabel 'sensor amplitude (mN)'\nset key top left\nset xrange [0:*]\nset yrange [0:*]\n"
              "plot '" + x.name + "_sensors.dat' u 1:2:3:4 w yerrorlines lw 2 pt 7 title 'sensor 1 (horizontal)', '' u 1:5:6:7 w yerrorlines lw 2 pt 5 title 'sensor 2 (torsional)'\n",
@@ -159,7 +146,7 @@ void BalancingStudy::report_sections(const McResult& mc, const std::string& plot
            "residual in that plane plus what the machine adds: compare U<sub>mar,p</sub> with the true residual.</p>\n";
       if (plots) {
         std::ofstream(dir / (x.name + "_readings.dat")) << position_bands(x, "_g", [&](int k) { return 360.0 * k / x.positions; });
-        plot(dir, x.name + "_readings",
+        svg_plot(dir, x.name + "_readings",
              "set title 'U_mar test: readings against the test mass position'\nset xlabel 'angular position of the test mass (deg)'\n"
              "set ylabel 'reading (g at the test radius)'\nset xtics 45\nset key outside bottom center horizontal\n"
              "plot '" + x.name + "_readings.dat' u 1:2:3:4 w yerrorlines lw 2 pt 7 title 'correction plane 1', '' u 1:5:6:7 w yerrorlines lw 2 pt 5 title 'correction plane 2'\n",
@@ -182,7 +169,7 @@ void BalancingStudy::report_sections(const McResult& mc, const std::string& plot
       }
       if (plots) {
         std::ofstream(dir / (x.name + "_ratios.dat")) << position_bands(x, "_ratio", [](int k) { return k + 1.0; });
-        plot(dir, x.name + "_ratios",
+        svg_plot(dir, x.name + "_ratios",
              "set title 'Stability test: reading / mean of the plane'\nset xlabel 'hole'\nset ylabel 'reading / mean'\n"
              "set xrange [0.5:" + std::to_string(x.positions) + ".5]\nset key outside bottom center horizontal\n"
              "lo = " + fmt(1 - x.band) + "\nhi = " + fmt(1 + x.band) + "\n"
@@ -215,7 +202,7 @@ void BalancingStudy::report_sections(const McResult& mc, const std::string& plot
             std::ofstream dd(dir / (n + ".dat"));
             for (double v : values(n)) dd << v << '\n';
           }
-          plot(dir, n,
+          svg_plot(dir, n,
                "set title '" + n + "'\nset xlabel '" + unit_of_output(n) + "'\nset ylabel 'machines'\nstats '" + n +
                    ".dat' u 1 nooutput\nbw = (STATS_max - STATS_min) / 25.0\nif (bw <= 0) bw = 1e-9\n"
                    "bin(x) = bw * floor(x / bw) + bw / 2\nset style fill solid 0.6\nplot '" + n +

@@ -55,6 +55,24 @@ void read_acquisition_table(TomlReader& t, procedures::AcquisitionConfig& a) {
   t.accept_notes();
 }
 
+void read_turntable_table(TomlReader& t, procedures::TestPlan& plan) {
+  plan.positioning_error = t.quantity("positioning_error", units::kAngle, non_negative);
+  plan.gravity = t.quantity("gravity", units::kAcceleration, positive);
+  plan.move_time = t.quantity("move_time", units::kTime, non_negative, 5.0);
+  t.accept_notes();
+}
+
+void read_solver_table(TomlReader& t, solvers::CvodeOptions& solver) {
+  solver.rtol = t.number("rtol", [](double v) { return v > 0 && v < 1 ? "" : "0 < rtol < 1"; });
+  const double atol_angle = t.quantity("atol_angle", units::kAngle, positive);
+  const double atol_length = t.quantity("atol_length", units::kLength, positive);
+  solver.max_order = static_cast<int>(t.integer("max_order", 1, 5));
+  // phi, phidot, y, ydot, z, zdot, integral of the angle error
+  solver.atol_per_state = {atol_angle, 10 * atol_angle, atol_length, 1e3 * atol_length,
+                           atol_length, 1e3 * atol_length, 0.1 * atol_angle};
+  t.accept_notes();
+}
+
 GimbalModel load_gimbal_model(const std::string& path,
                               const std::map<std::string, std::string>& overrides) {
   auto [doc, ctx] = open_model_file(path, overrides);
@@ -103,21 +121,11 @@ GimbalModel load_gimbal_model(const std::string& path,
   }
   {
     TomlReader t = root.table("turntable");
-    m.plan.positioning_error = t.quantity("positioning_error", units::kAngle, non_negative);
-    m.plan.gravity = t.quantity("gravity", units::kAcceleration, positive);
-    m.plan.move_time = t.quantity("move_time", units::kTime, non_negative, 5.0);
-    t.accept_notes();
+    read_turntable_table(t, m.plan);
   }
   {
     TomlReader t = root.table("solver");
-    m.plan.solver.rtol = t.number("rtol", [](double v) { return v > 0 && v < 1 ? "" : "0 < rtol < 1"; });
-    const double atol_angle = t.quantity("atol_angle", units::kAngle, positive);
-    const double atol_length = t.quantity("atol_length", units::kLength, positive);
-    m.plan.solver.max_order = static_cast<int>(t.integer("max_order", 1, 5));
-    // phi, phidot, y, ydot, z, zdot, integral of the angle error
-    m.plan.solver.atol_per_state = {atol_angle, 10 * atol_angle, atol_length, 1e3 * atol_length,
-                                    atol_length, 1e3 * atol_length, 0.1 * atol_angle};
-    t.accept_notes();
+    read_solver_table(t, m.plan.solver);
   }
   m.counterweight_radius = root.table("counterweight").quantity("radius", units::kLength, positive);
   if (root.has("disturbances")) {  // effects the test's model does not declare; off by default

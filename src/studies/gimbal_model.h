@@ -54,6 +54,10 @@ struct GimbalModel {
 void read_servo_table(TomlReader& t, procedures::ServoConfig& s);
 void read_oscillation_table(TomlReader& t, procedures::OscillationConfig& o);
 void read_acquisition_table(TomlReader& t, procedures::AcquisitionConfig& a);
+/// [turntable] positioning_error, gravity, move_time (optional, 5 s); [solver] rtol,
+/// atol_angle, atol_length, max_order (absolute tolerances per state of the disk rotor).
+void read_turntable_table(TomlReader& t, procedures::TestPlan& plan);
+void read_solver_table(TomlReader& t, solvers::CvodeOptions& solver);
 
 /// Loads and validates; `overrides` replace values by dotted key. Throws ValidationError.
 GimbalModel load_gimbal_model(const std::string& path,

@@ -87,22 +87,13 @@ PlatformModel load_platform_model(const std::string& path, const std::map<std::s
   }
   {
     TomlReader t = root.table("turntable");
-    m.plan.positioning_error = t.quantity("positioning_error", units::kAngle, non_negative);
-    m.plan.move_time = t.quantity("move_time", units::kTime, non_negative);
-    m.plan.gravity = t.quantity("gravity", units::kAcceleration, positive);
-    t.accept_notes();
+    read_turntable_table(t, m.plan);
   }
   {
     TomlReader t = root.table("solver");
-    m.plan.solver.rtol = t.number("rtol", [](double v) { return v > 0 && v < 1 ? "" : "0 < rtol < 1"; });
-    const double atol_angle = t.quantity("atol_angle", units::kAngle, positive);
-    const double atol_length = t.quantity("atol_length", units::kLength, positive);
-    m.plan.solver.max_order = static_cast<int>(t.integer("max_order", 1, 5));
-    m.plan.solver.atol_per_state = {atol_angle, 10 * atol_angle, atol_length, 1e3 * atol_length,
-                                    atol_length, 1e3 * atol_length, 0.1 * atol_angle};
+    read_solver_table(t, m.plan.solver);
     const double smoothing = t.quantity("coulomb_smoothing", kAngularRate, positive);
     for (auto& g : m.gimbals) g.bearing.coulomb_smoothing = smoothing;
-    t.accept_notes();
   }
   {
     TomlReader t = root.table("stabilization");

@@ -51,19 +51,6 @@ const std::vector<double>& values_of(const McResult& mc, const std::vector<std::
   return it == names.end() || k >= mc.values.size() ? kEmpty : mc.values[k];
 }
 
-bool plot(const fs::path& dir, const std::string& name, const std::string& script, std::vector<std::string>& figures,
-          std::ostringstream& html) {
-  std::ofstream(dir / (name + ".gp")) << "set terminal svg size 720,420 dynamic noenhanced font 'Helvetica,12'\n"
-                                      << "set output '" << name << ".svg'\nset grid\n" << script;
-  std::string why;
-  if (run_gnuplot((dir / (name + ".gp")).string(), &why)) {
-    figures.push_back(name + ".svg");
-    return true;
-  }
-  html << "<p><small>" << html_escape(name) << ": " << html_escape(why) << "</small></p>\n";
-  return false;
-}
-
 double min_stiffness(const models::StabilizationLoop& l) {
   double k = INFINITY;
   for (double f = 0.1; f < 2000.0; f *= 1.01) k = std::min(k, l.disturbance_stiffness(2 * units::kPi * f));
@@ -244,7 +231,7 @@ void PlatformStudy::report_sections(const McResult& mc, const std::string& plots
         for (std::size_t j = 0; j < v.size(); ++j) f << v[j] << ' ' << (static_cast<double>(j) + 0.5) / static_cast<double>(v.size()) << '\n';
         cmd += std::string(o ? ", " : "") + "'" + file + "' u 1:2 w l lw 2 title '" + ps.order_texts[o] + "'";
       }
-      plot(dir, name, cmd + "\n", figures, h);
+      svg_plot(dir, name, cmd + "\n", figures, h);
     }
   }
   // LOS budget.

@@ -38,6 +38,19 @@ void write_file(const fs::path& p, const std::string& text) {
 
 }  // namespace
 
+bool svg_plot(const std::filesystem::path& dir, const std::string& name, const std::string& script,
+              std::vector<std::string>& figures, std::ostringstream& html) {
+  std::ofstream(dir / (name + ".gp")) << "set terminal svg size 720,420 dynamic noenhanced font 'Helvetica,12'\n"
+                                      << "set output '" << name << ".svg'\nset grid\n" << script;
+  std::string why;
+  if (run_gnuplot((dir / (name + ".gp")).string(), &why)) {
+    figures.push_back(name + ".svg");
+    return true;
+  }
+  html << "<p><small>" << html_escape(name) << ": " << html_escape(why) << "</small></p>\n";
+  return false;
+}
+
 bool run_gnuplot(const std::string& script_path, std::string* why) {
   const fs::path script(script_path);
   const std::string cmd = "cd '" + script.parent_path().string() + "' && gnuplot '" +

@@ -1,6 +1,8 @@
 #pragma once
 /// Plots (gnuplot, headless SVG) and report.html of a LOS study run.
 #include <nlohmann/json.hpp>
+#include <filesystem>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -25,5 +27,11 @@ void write_report(const ReportInputs& in);
 
 /// Runs gnuplot on a script; returns false (and the reason) if it failed or is absent.
 bool run_gnuplot(const std::string& script_path, std::string* why);
+
+/// Writes dir/name.gp (SVG terminal, 720x420, grid, then `script`) and runs gnuplot: on
+/// success appends "name.svg" to `figures`; on failure writes why into `html` (a small note
+/// where the figure would be). Returns whether the figure was made.
+bool svg_plot(const std::filesystem::path& dir, const std::string& name, const std::string& script,
+              std::vector<std::string>& figures, std::ostringstream& html);
 
 }  // namespace poise::studies
