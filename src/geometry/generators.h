@@ -103,7 +103,7 @@ struct SeekerGeometry {
   double ring_section = 0.006;    ///< ring members' thickness (radial)
   double ring_depth = 0.020;      ///< ring extent along x
   double ring_gap = 0.001;        ///< ring top/bottom members to the yaw bearing seats
-  double shaft_radius = 0.005;    ///< yaw and pitch shaft stubs
+  double shaft_radius = 0.005;    ///< yaw and pitch shafts (short journals in the bearings)
   double barrel_radius = 0.020;   ///< optical barrel, outer
   double barrel_wall = 0.002;
   double barrel_back = -0.030;    ///< x of the barrel's ends, pitch frame

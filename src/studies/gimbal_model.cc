@@ -22,6 +22,8 @@ const Dimension kTorquePerCurrent{{2, 1, -2, -1, 0, 0}}; // N m/A
 
 }  // namespace
 
+namespace {
+
 void read_servo_table(TomlReader& t, procedures::ServoConfig& s) {
   s.bandwidth_hz = t.quantity("bandwidth", units::kFrequency, positive);
   s.damping = t.number("damping", [](double v) { return v > 0 ? "" : "a positive damping ratio"; });
@@ -73,6 +75,31 @@ void read_solver_table(TomlReader& t, solvers::CvodeOptions& solver) {
   t.accept_notes();
 }
 
+}  // namespace
+
+void read_test_plan_tables(TomlReader& root, procedures::TestPlan& plan) {
+  {
+    TomlReader t = root.table("servo");
+    read_servo_table(t, plan.servo);
+  }
+  {
+    TomlReader t = root.table("oscillation");
+    read_oscillation_table(t, plan.oscillation);
+  }
+  {
+    TomlReader t = root.table("acquisition");
+    read_acquisition_table(t, plan.acquisition);
+  }
+  {
+    TomlReader t = root.table("turntable");
+    read_turntable_table(t, plan);
+  }
+  {
+    TomlReader t = root.table("solver");
+    read_solver_table(t, plan.solver);
+  }
+}
+
 GimbalModel load_gimbal_model(const std::string& path,
                               const std::map<std::string, std::string>& overrides) {
   auto [doc, ctx] = open_model_file(path, overrides);
@@ -106,26 +133,9 @@ GimbalModel load_gimbal_model(const std::string& path,
     m.plan.servo.current_limit = t.quantity("current_limit", units::kCurrent, positive);
     t.accept_notes();
   }
-  {
-    TomlReader t = root.table("servo");
-    read_servo_table(t, m.plan.servo);
-    m.plan.servo.inertia_estimate = t.quantity("inertia_estimate", kInertia, positive);
-  }
-  {
-    TomlReader t = root.table("oscillation");
-    read_oscillation_table(t, m.plan.oscillation);
-  }
-  {
-    TomlReader t = root.table("acquisition");
-    read_acquisition_table(t, m.plan.acquisition);
-  }
-  {
-    TomlReader t = root.table("turntable");
-    read_turntable_table(t, m.plan);
-  }
-  {
-    TomlReader t = root.table("solver");
-    read_solver_table(t, m.plan.solver);
+  read_test_plan_tables(root, m.plan);
+  if (root.has("servo")) {
+    m.plan.servo.inertia_estimate = root.table("servo").quantity("inertia_estimate", kInertia, positive);
   }
   m.counterweight_radius = root.table("counterweight").quantity("radius", units::kLength, positive);
   if (root.has("disturbances")) {  // effects the test's model does not declare; off by default

@@ -47,17 +47,14 @@ struct GimbalModel {
   double disk_nominal_inertia = 0.0;  ///< kg m^2, about its axis
 };
 
-/// Readers of the test-plan tables the gimbal and platform models share: [servo] bandwidth,
-/// damping, integral_ratio; [oscillation] rate_amplitude, period, periods, lead_in,
+/// Reads the test-plan tables the gimbal and platform models share into `plan`: [servo]
+/// bandwidth, damping, integral_ratio; [oscillation] rate_amplitude, period, periods, lead_in,
 /// settle_time, centre (optional, 0; |centre| + A T / 2 pi within +-3 deg); [acquisition] rate,
-/// noise_rms, offset, offset_drift, offset_noise, adc_bits, adc_full_scale.
-void read_servo_table(TomlReader& t, procedures::ServoConfig& s);
-void read_oscillation_table(TomlReader& t, procedures::OscillationConfig& o);
-void read_acquisition_table(TomlReader& t, procedures::AcquisitionConfig& a);
-/// [turntable] positioning_error, gravity, move_time (optional, 5 s); [solver] rtol,
-/// atol_angle, atol_length, max_order (absolute tolerances per state of the disk rotor).
-void read_turntable_table(TomlReader& t, procedures::TestPlan& plan);
-void read_solver_table(TomlReader& t, solvers::CvodeOptions& solver);
+/// noise_rms, offset, offset_drift, offset_noise, adc_bits, adc_full_scale; [turntable]
+/// positioning_error, gravity, move_time (optional, 5 s); [solver] rtol, atol_angle,
+/// atol_length, max_order (absolute tolerances per state of the disk rotor). A model reads its
+/// own further keys of these tables itself.
+void read_test_plan_tables(TomlReader& root, procedures::TestPlan& plan);
 
 /// Loads and validates; `overrides` replace values by dotted key. Throws ValidationError.
 GimbalModel load_gimbal_model(const std::string& path,

@@ -73,26 +73,9 @@ PlatformModel load_platform_model(const std::string& path, const std::map<std::s
     TomlReader t = root.table(models::axis_name(a));
     m.gimbals[static_cast<std::size_t>(a)] = read_gimbal(t);
   }
-  {
-    TomlReader t = root.table("servo");
-    read_servo_table(t, m.plan.servo);
-  }
-  {
-    TomlReader t = root.table("oscillation");
-    read_oscillation_table(t, m.plan.oscillation);
-  }
-  {
-    TomlReader t = root.table("acquisition");
-    read_acquisition_table(t, m.plan.acquisition);
-  }
-  {
-    TomlReader t = root.table("turntable");
-    read_turntable_table(t, m.plan);
-  }
-  {
-    TomlReader t = root.table("solver");
-    read_solver_table(t, m.plan.solver);
-    const double smoothing = t.quantity("coulomb_smoothing", kAngularRate, positive);
+  read_test_plan_tables(root, m.plan);
+  if (root.has("solver")) {
+    const double smoothing = root.table("solver").quantity("coulomb_smoothing", kAngularRate, positive);
     for (auto& g : m.gimbals) g.bearing.coulomb_smoothing = smoothing;
   }
   {
