@@ -28,6 +28,7 @@
 #include "studies/balancing_model.h"
 #include "studies/balancing_study.h"
 #include "studies/study_config.h"
+#include "studies/result_io.h"
 #include "studies/study_runner.h"
 #include "studies/toml_reader.h"
 #include "test_util.h"
@@ -698,8 +699,7 @@ TEST(BalancingStudy, CommandLineRunAndReplay) {
     const json* v = j["outputs"].contains(names[k]) ? &j["outputs"][names[k]]
                     : j["inputs"].contains(names[k]) ? &j["inputs"][names[k]] : nullptr;
     if (v == nullptr) continue;
-    char buf[40];
-    std::snprintf(buf, sizeof buf, "%.9g", v->get<double>());
+    const std::string buf = poise::studies::csv_number(v->get<double>());
     EXPECT_EQ(cells[k], buf) << names[k];
     ++compared;
   }

@@ -11,6 +11,7 @@
 #include "studies/gimbal_study.h"
 #include "studies/study_config.h"
 #include "studies/study_evaluation.h"
+#include "studies/result_io.h"
 #include "studies/study_runner.h"
 #include "studies/toml_reader.h"
 #include "test_util.h"
@@ -77,8 +78,7 @@ TEST(GimbalStudy, SamplesIdenticalForOneAndTwoThreadsAndReplay) {
   std::getline(in, header);
   for (int k = 0; k <= 3; ++k) std::getline(in, line);
   const double rmse = r["outputs"]["g_rmse_torque_mNm"].get<double>();
-  char buf[40];
-  std::snprintf(buf, sizeof buf, "%.9g", rmse);
+  const std::string buf = poise::studies::csv_number(rmse);
   EXPECT_NE(line.find(buf), std::string::npos) << line << " vs " << buf;
 }
 

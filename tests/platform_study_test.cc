@@ -9,6 +9,7 @@
 #include "studies/platform_model.h"
 #include "studies/platform_study.h"
 #include "studies/study_config.h"
+#include "studies/result_io.h"
 #include "studies/study_runner.h"
 #include "studies/toml_reader.h"
 #include "test_util.h"
@@ -172,8 +173,7 @@ TEST(PlatformStudy, SamplesIdenticalForOneAndTwoThreadsAndReplay) {
   std::istringstream in(a);
   std::string line;
   for (int k = 0; k <= 4; ++k) std::getline(in, line);  // header, then samples 0..3
-  char buf[40];
-  std::snprintf(buf, sizeof buf, "%.9g", r["outputs"]["imo_outer_residual_gmm"].get<double>());
+  const std::string buf = poise::studies::csv_number(r["outputs"]["imo_outer_residual_gmm"].get<double>());
   EXPECT_NE(line.find(buf), std::string::npos) << line << " vs " << buf;
 }
 

@@ -1,6 +1,8 @@
 // poise: command-line entry point. See `poise --help`.
 #include <CLI/CLI.hpp>
+#include <chrono>
 #include <cstdio>
+#include <thread>
 #include <iostream>
 
 #include "cli/diagnose_command.h"
@@ -8,6 +10,7 @@
 #include "cli/optimize_command.h"
 #include "cli/record_command.h"
 #include "core/version.h"
+#include "sampling/distributed.h"
 #include "studies/study_runner.h"
 #include "studies/toml_reader.h"
 
@@ -39,11 +42,49 @@ Examples:
 
 A run writes results/<study>/<run id>/ (never overwriting an earlier run): samples.csv,
 summary.json (statistics with 95% confidence intervals, provenance), plots/ and report.html.
-Exit status: 0 success, 2 invalid input (nothing ran), 1 other failure.)";
+
+Long runs: samples stream to samples.csv as they finish. Ctrl-C (SIGINT) or SIGTERM stops
+after the block in flight and writes the summary of what was done; a second Ctrl-C, or
+kill -9, ends at once, and every finished sample stays on disk either way. Complete the run
+with `poise run STUDY --resume DIR`: the result equals an uninterrupted run's. summary.json,
+run.json and report.html are written atomically (never half a file).
+  poise run studies/los_seeker_wang2011.toml --until "los_max_arcsec.p99_73<=0.5"
+      sample until the 95% interval of p99.73 is 0.5 arcsec wide (Monte Carlo, or lhs/sobol
+      with [sampling] replicate_size: independent randomized replicates, intervals by replicate)
+  poise sensitivity studies/gimbal_unbalance_mc.toml --base 64
+      Sobol first-order and total indices of every output with bootstrap intervals: which
+      tolerance drives which output
+  mpirun -np 4 build/poise run studies/yang2015_repeatability.toml
+      the samples split over 4 MPI ranks (built with Open MPI); same samples.csv and
+      statistics as one process. A sample that fails is kept with its reason; the run stops
+      with an error once more than [sampling] max_failure_share (default 0.05) of it failed.
+
+Exit status: 0 success, 2 invalid input (nothing ran), 1 other failure (too many failed
+samples included), 128 + signal when stopped by SIGINT/SIGTERM (resumable).)";
 
 }  // namespace
 
+int run_main(int argc, char** argv);
+
 int main(int argc, char** argv) {
+  try {
+    poise::sampling::Cluster::init(&argc, &argv);
+  } catch (const std::exception& e) {
+    std::cerr << "poise: error: " << e.what() << '\n';
+    return 1;
+  }
+  const int status = run_main(argc, argv);
+  if (status == 1 && poise::sampling::Cluster::size() > 1) {
+    // An error on one rank (rank 0 writing the folder, say) must not leave the others
+    // waiting for it: end them all, after rank 0 had a moment to print why.
+    if (!poise::sampling::Cluster::root()) std::this_thread::sleep_for(std::chrono::seconds(1));
+    poise::sampling::Cluster::abort(status);
+  }
+  poise::sampling::Cluster::finalize();
+  return status;
+}
+
+int run_main(int argc, char** argv) {
   CLI::App app{kDescription, "poise"};
   app.set_version_flag("--version", std::string("poise ") + poise::kVersion + " (" + poise::kGitCommit + ")");
   app.require_subcommand(1);
@@ -76,8 +117,38 @@ int main(int argc, char** argv) {
       ->excludes("--out")
       ->excludes("--samples")
       ->excludes("--seed");
+  run->add_option("--until", opt.until,
+                  "run until a 95% interval is this narrow: OUTPUT.STAT<=WIDTH (STAT: mean, std, p50, p95, p99_73; "
+                  "WIDTH in the output's unit, or N% of the figure), e.g. \"los_max_arcsec.p99_73<=0.5\". Checked at "
+                  "~10% steps of the sample count; needs monte_carlo, or lhs/sobol with [sampling] replicate_size")
+      ->excludes("--resume")
+      ->excludes("--samples");
+  std::size_t max_samples = 0;
+  run->add_option("--max-samples", max_samples, "cap of an --until run (default 100 x the study's samples)")
+      ->needs("--until")
+      ->check(CLI::PositiveNumber);
   run->add_flag("--quiet,-q", quiet, "no progress on stderr");
   run->add_flag("--no-plots", no_plots, "skip gnuplot figures");
+
+  CLI::App* sens = app.add_subcommand(
+      "sensitivity",
+      "Sobol indices: which tolerance drives each output. Runs the study on the Saltelli layout: base rows of two "
+      "independent designs A and B and, per input, A with that input from B (base x (inputs + 2) samples, plus one "
+      "group for a procedure's own randomness such as noise); first-order (Saltelli 2010) and total (Jansen 1999) "
+      "indices with 95% bootstrap intervals in summary.json \"sensitivity\" and report.html. Resumable like a run "
+      "(--resume), and distributed under mpirun.");
+  std::size_t base = 0;
+  sens->add_option("STUDY", study, "study file (TOML)")->required()->check(CLI::ExistingFile);
+  sens->add_option("--base,-b", base, "base rows N (each index's interval narrows as 1/sqrt(N); 64-256 for a "
+                                      "simulated procedure, 1000+ for a LOS study)")
+      ->check(CLI::PositiveNumber);
+  sens->add_option("--seed,-s", seed, "random seed (overrides [sampling] seed)");
+  sens->add_option("--threads,-j", opt.threads, "worker threads (default: all cores)")->check(CLI::NonNegativeNumber);
+  sens->add_option("--out,-o", opt.out, "result folder (default results/<study>/<run id>)");
+  sens->add_option("--results-root", opt.results_root, "where default result folders go (default: results)");
+  sens->add_option("--resume", opt.resume, "continue an interrupted sensitivity run in this folder")->excludes("--out");
+  sens->add_flag("--quiet,-q", quiet, "no progress on stderr");
+  sens->add_flag("--no-plots", no_plots, "skip gnuplot figures");
 
   CLI::App* validate = app.add_subcommand("validate", "check a study file and its model file; run nothing");
   validate->add_option("STUDY", study, "study file (TOML)")->required()->check(CLI::ExistingFile);
@@ -93,30 +164,50 @@ int main(int argc, char** argv) {
   const poise::cli::OptimizeHandler optimize = poise::cli::add_optimize_command(app);
 
   CLI11_PARSE(app, argc, argv);
+  if (poise::sampling::Cluster::size() > 1 && !*run && !*sens) {
+    if (poise::sampling::Cluster::root()) {
+      std::cerr << "poise: under mpirun only `poise run` and `poise sensitivity` distribute their samples; run "
+                   "this command in one process\n";
+    }
+    return 2;
+  }
   if (const auto status = fit()) return *status;
   if (const auto status = diagnose()) return *status;
   if (const auto status = record()) return *status;
   if (const auto status = optimize()) return *status;
   if (samples > 0) opt.samples = samples;
+  if (max_samples > 0) opt.max_samples = max_samples;
+  if (*sens) {
+    if (base == 0 && opt.resume.empty()) {
+      std::cerr << "poise sensitivity: --base N is required (base rows of the Saltelli layout)\n";
+      return 2;
+    }
+    opt.sensitivity_base = base;
+    if (sens->count("--seed")) opt.seed = seed;
+  }
   if (!run->count("--seed") && !replay->count("--seed")) {
   } else {
     opt.seed = seed;
   }
   opt.progress = !quiet;
   opt.plots = !no_plots;
+  const bool root = poise::sampling::Cluster::root();
 
   try {
     if (*validate) {
       std::cout << poise::studies::validate_study(study) << '\n';
-    } else if (*run) {
+    } else if (*run || *sens) {
       const std::string dir = poise::studies::run_study(study, opt);
-      std::cout << "report: " << dir << "/report.html\n";
+      if (root) std::cout << "report: " << dir << "/report.html\n";
     } else if (*replay) {
       std::cout << poise::studies::replay_sample(study, index, opt).dump(2) << '\n';
     }
   } catch (const poise::studies::ValidationError& e) {
-    std::cerr << "poise: " << e.what() << "\nNothing was run.\n";
+    if (root) std::cerr << "poise: " << e.what() << "\nNothing was run.\n";
     return 2;
+  } catch (const poise::studies::Interrupted& e) {
+    if (root) std::cerr << "\npoise: " << e.what() << '\n';
+    return 128 + e.signal;
   } catch (const std::exception& e) {
     std::cerr << "poise: error: " << e.what() << '\n';
     return 1;

@@ -70,10 +70,13 @@ const std::map<std::string, UnitDef, std::less<>>& unit_table() {
   return table;
 }
 
-Dimension combine(const Dimension& a, const Dimension& b, int power) {
+Dimension combine(const Dimension& a, const Dimension& b, int power, std::string_view text) {
   Dimension out = a;
   for (std::size_t i = 0; i < out.e.size(); ++i) {
-    out.e[i] = static_cast<std::int8_t>(out.e[i] + power * b.e[i]);
+    const int e = out.e[i] + power * b.e[i];
+    // Exponents beyond +-12 are no physical unit (and would wrap around in int8).
+    if (e < -12 || e > 12) throw Error("exponent out of range in unit \"" + std::string(text) + "\"");
+    out.e[i] = static_cast<std::int8_t>(e);
   }
   return out;
 }
@@ -111,7 +114,7 @@ UnitDef parse_unit(std::string_view text) {
       throw Error("unknown unit \"" + std::string(factor) + "\"");
     }
     out.factor *= std::pow(it->second.factor, sign * power);
-    out.dim = combine(out.dim, it->second.dim, sign * power);
+    out.dim = combine(out.dim, it->second.dim, sign * power, text);
     if (next == std::string_view::npos) break;
     sign = text[next] == '/' ? -1 : +1;
     pos = next + 1;
@@ -172,6 +175,9 @@ Quantity parse_quantity(std::string_view text) {
   double number = 0.0;
   if (s.size() > 1 && s.front() == '+') s.remove_prefix(1);  // from_chars refuses '+'
   auto res = std::from_chars(s.data(), s.data() + s.size(), number);
+  if (res.ec == std::errc::result_out_of_range) {
+    throw Error("number out of range (beyond 1e308 or below 1e-308) in \"" + std::string(text) + "\"");
+  }
   if (res.ec != std::errc()) {
     throw Error("no number at the start of \"" + std::string(text) + "\"");
   }
@@ -181,7 +187,11 @@ Quantity parse_quantity(std::string_view text) {
     throw Error("expected a space between number and unit in \"" + std::string(text) + "\"");
   }
   UnitDef u = parse_unit(rest);
-  return {number * u.factor, u.dim};
+  const double value = number * u.factor;
+  if (!std::isfinite(value) || (value == 0.0 && number != 0.0)) {
+    throw Error("number out of range once converted to SI units in \"" + std::string(text) + "\"");
+  }
+  return {value, u.dim};
 }
 
 double parse_as(std::string_view text, const Dimension& expected) {

@@ -640,7 +640,7 @@ std::string run_optimization(const std::string& path, const studies::RunOptions&
                      {"optimization_file_sha1", studies::file_sha1(spec.file)},
                      {"study_file_sha1", studies::file_sha1(spec.base.file)}, {"threads", threads},
                      {"started", started}, {"finished", studies::now_iso8601()}};
-  std::ofstream(fs::path(dir) / "summary.json") << s.dump(2) << '\n';
+  studies::write_file_atomic((fs::path(dir) / "summary.json").string(), s.dump(2) + "\n");
   // Convergence plot and report.
   const fs::path pdir = fs::path(dir) / "plots";
   fs::create_directories(pdir);
@@ -793,7 +793,7 @@ std::string run_optimization(const std::string& path, const studies::RunOptions&
   for (const auto& f : figures) h << "<p><img src='plots/" << f << "' alt='" << f << "'></p>\n";
   if (!spec.notes.empty()) h << "<h2>Notes</h2>\n<pre>" << studies::html_escape(spec.notes) << "</pre>\n";
   h << "</body></html>\n";
-  std::ofstream(fs::path(dir) / "report.html") << h.str();
+  studies::write_file_atomic((fs::path(dir) / "report.html").string(), h.str());
   if (!out.feasible) throw Error(out.message + " (history in " + dir + ")");
   return dir;
 }

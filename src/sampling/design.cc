@@ -2,6 +2,8 @@
 
 #include <boost/random/sobol.hpp>
 #include <algorithm>
+#include <bit>
+#include <mutex>
 #include <numeric>
 
 #include "core/error.h"
@@ -26,10 +28,30 @@ std::string to_string(SamplingMethod method) {
   return "?";
 }
 
+struct Design::Replicates {
+  std::mutex mutex;
+  std::vector<std::shared_ptr<const Design>> designs;  // [replicate], built on first use
+};
+
 Design::Design(SamplingMethod method, std::uint64_t seed, std::size_t n_samples,
-               std::size_t dimension)
-    : method_(method), seed_(seed), n_samples_(n_samples), dimension_(dimension) {
+               std::size_t dimension, const DesignOptions& options)
+    : method_(method), seed_(seed), n_samples_(n_samples), dimension_(dimension), options_(options) {
   require(n_samples > 0, "a design needs at least one sample");
+  require(options.replicate_size == 0 || options.saltelli_base == 0,
+          "a design has replicates or the Saltelli layout, not both");
+  if (options.replicate_size > 0) {
+    require(method != SamplingMethod::kSobol || std::has_single_bit(options.replicate_size),
+            "a Sobol replicate needs a power of two points, got " + std::to_string(options.replicate_size));
+    replicates_ = std::make_shared<Replicates>();
+    return;
+  }
+  if (options.saltelli_base > 0) {
+    const std::size_t groups = saltelli_groups();
+    require(n_samples == options.saltelli_base * (groups + 2),
+            "the Saltelli layout needs base x (groups + 2) samples");
+    saltelli_base_ = std::make_shared<const Design>(method, seed, options.saltelli_base, 2 * dimension);
+    return;
+  }
   if (method == SamplingMethod::kLatinHypercube) {
     require(n_samples <= 0xffffffffu, "Latin hypercube limited to 2^32 samples");
     lhs_permutation_.resize(dimension);
@@ -51,11 +73,67 @@ Design::Design(SamplingMethod method, std::uint64_t seed, std::size_t n_samples,
     RandomStream rs(seed, StreamId::kSobolShift, 0);
     sobol_shift_.resize(dimension);
     for (auto& s : sobol_shift_) s = rs.next_bits();
+    if (options.scramble) {
+      // Row k of the lower-triangular matrix (bit 63 - k is the k-th most significant):
+      // random bits above bit 63 - k (the more significant input bits), 1 on the diagonal.
+      RandomStream ls(seed, StreamId::kSobolScramble, 0);
+      sobol_scramble_.resize(dimension * 64);
+      for (std::size_t d = 0; d < dimension; ++d) {
+        for (int k = 0; k < 64; ++k) {
+          const std::uint64_t diag = std::uint64_t{1} << (63 - k);
+          const std::uint64_t above = k == 0 ? 0 : ~((diag << 1) - 1);
+          sobol_scramble_[d * 64 + static_cast<std::size_t>(k)] = (ls.next_bits() & above) | diag;
+        }
+      }
+    }
   }
+}
+
+std::uint64_t Design::stream_index(std::size_t i) const {
+  if (!saltelli_base_) return i;
+  const std::size_t n = options_.saltelli_base, m = i / n, j = i % n;
+  const bool from_b = m == 1 || (options_.saltelli_noise_group && m == 2 + dimension_);
+  // B's keys lie above every index of the run, apart from A's.
+  return from_b ? n_samples_ + j : j;
 }
 
 void Design::point(std::size_t i, std::span<double> u) const {
   require(u.size() == dimension_, "design point buffer has the wrong size");
+  if (replicates_) {
+    const std::size_t m = options_.replicate_size, r = i / m;
+    // The last replicate this thread used (holding its owner alive, so no other design
+    // can reuse the owner's address while it is cached).
+    thread_local std::shared_ptr<Replicates> last_owner;
+    thread_local std::size_t last_r = 0;
+    thread_local std::shared_ptr<const Design> last;
+    if (last_owner != replicates_ || last_r != r || !last) {
+      std::lock_guard lock(replicates_->mutex);
+      auto& designs = replicates_->designs;
+      if (designs.size() <= r) designs.resize(r + 1);
+      if (!designs[r]) {
+        DesignOptions inner;
+        inner.scramble = method_ == SamplingMethod::kSobol;
+        const std::uint64_t seed_r = RandomStream(seed_, StreamId::kReplicateSeed, r).next_bits();
+        designs[r] = std::make_shared<const Design>(method_, seed_r, m, dimension_, inner);
+      }
+      last = designs[r];
+      last_owner = replicates_;
+      last_r = r;
+    }
+    last->point(i % m, u);
+    return;
+  }
+  if (saltelli_base_) {
+    const std::size_t n = options_.saltelli_base, m = i / n, j = i % n;
+    thread_local std::vector<double> ab;
+    ab.resize(2 * dimension_);
+    saltelli_base_->point(j, ab);
+    for (std::size_t d = 0; d < dimension_; ++d) {
+      const bool from_b = m == 1 || m == 2 + d;
+      u[d] = ab[from_b ? dimension_ + d : d];
+    }
+    return;
+  }
   switch (method_) {
     case SamplingMethod::kMonteCarlo: {
       RandomStream rs(seed_, StreamId::kDesign, i);
@@ -81,7 +159,15 @@ void Design::point(std::size_t i, std::span<double> u) const {
       if (engine.dimension() != dimension_) engine = boost::random::sobol(dimension_);
       if (i > 0) engine.seed(static_cast<boost::uint_least64_t>(i) - 1);
       for (std::size_t d = 0; d < dimension_; ++d) {
-        const std::uint64_t raw = i > 0 ? static_cast<std::uint64_t>(engine()) : 0;
+        std::uint64_t raw = i > 0 ? static_cast<std::uint64_t>(engine()) : 0;
+        if (!sobol_scramble_.empty()) {
+          std::uint64_t y = 0;
+          for (int k = 0; k < 64; ++k) {
+            const auto bit = static_cast<std::uint64_t>(std::popcount(raw & sobol_scramble_[d * 64 + static_cast<std::size_t>(k)]) & 1);
+            y |= bit << (63 - k);
+          }
+          raw = y;
+        }
         u[d] = to_open_unit(raw ^ sobol_shift_[d]);
       }
       break;

@@ -8,8 +8,26 @@
 ///                 (point 0 is the origin), randomized by a digital shift per dimension
 ///                 drawn from the seed, so seeds give independent replicas and every
 ///                 elementary interval of a 2^m-point prefix keeps exactly one point.
+///
+/// Options (DesignOptions):
+///   replicate_size M : randomized replicates for honest confidence intervals with lhs and
+///                 sobol (whose points are not independent): sample i belongs to replicate
+///                 r = i / M, point j = i % M of an independent design of M points with
+///                 seed_r drawn from (seed, r). For sobol a replicate is scrambled by a
+///                 random linear matrix scramble plus digital shift (Matousek 1998; as
+///                 scipy's scramble=True), for lhs it has its own permutations and jitter.
+///                 Replicates are i.i.d., so the spread of a statistic across them gives
+///                 its interval, and a run can grow replicate by replicate (--until).
+///   saltelli_base N : the radial (Saltelli 2010) layout for Sobol sensitivity indices:
+///                 sample i = m * N + j is row j of matrix m, where m = 0 is A, m = 1 is B
+///                 and m = 2 + g is A with the dimensions of group g taken from B. Group g
+///                 is dimension g; with saltelli_noise_group the last group (g = dimension)
+///                 is the within-sample randomness, whose key stream_index() gives: A's for
+///                 A and every AB_g but the noise group's, B's for B and AB_noise. A and B
+///                 are the two halves of one design of 2 x dimension over N points.
 #include <cstddef>
 #include <cstdint>
+#include <memory>
 #include <span>
 #include <string>
 #include <string_view>
@@ -19,12 +37,20 @@ namespace poise::sampling {
 
 enum class SamplingMethod { kMonteCarlo, kLatinHypercube, kSobol };
 
+struct DesignOptions {
+  std::size_t replicate_size = 0;  ///< 0: one design of all samples
+  std::size_t saltelli_base = 0;   ///< 0: no sensitivity layout
+  bool saltelli_noise_group = false;
+  bool scramble = false;           ///< sobol: linear matrix scramble (set for replicates)
+};
+
 SamplingMethod parse_sampling_method(std::string_view name);  // "monte_carlo", "lhs", "sobol"
 std::string to_string(SamplingMethod method);
 
 class Design {
  public:
-  Design(SamplingMethod method, std::uint64_t seed, std::size_t n_samples, std::size_t dimension);
+  Design(SamplingMethod method, std::uint64_t seed, std::size_t n_samples, std::size_t dimension,
+         const DesignOptions& options = {});
 
   /// Fills u (size dimension()) with the design point of sample i, each in (0, 1).
   /// Thread-safe.
@@ -33,14 +59,26 @@ class Design {
   std::size_t dimension() const { return dimension_; }
   std::size_t size() const { return n_samples_; }
   SamplingMethod method() const { return method_; }
+  const DesignOptions& options() const { return options_; }
+
+  /// The key of sample i's own random streams (procedure draws, noise): i itself, except
+  /// in the Saltelli layout (see above).
+  std::uint64_t stream_index(std::size_t i) const;
+  /// Saltelli layout: the number of groups (dimension, plus one for the noise group).
+  std::size_t saltelli_groups() const { return dimension_ + (options_.saltelli_noise_group ? 1 : 0); }
 
  private:
+  struct Replicates;  // lazily built designs of the replicates, shared by copies
   SamplingMethod method_;
   std::uint64_t seed_;
   std::size_t n_samples_;
   std::size_t dimension_;
   std::vector<std::vector<std::uint32_t>> lhs_permutation_;  // [dimension][sample]
   std::vector<std::uint64_t> sobol_shift_;                   // [dimension]
+  std::vector<std::uint64_t> sobol_scramble_;                // [dimension][64] row masks
+  DesignOptions options_;
+  std::shared_ptr<Replicates> replicates_;
+  std::shared_ptr<const Design> saltelli_base_;              // 2 x dimension, N points
 };
 
 }  // namespace poise::sampling

@@ -14,6 +14,8 @@ enum class StreamId : std::uint64_t {
   kLhsPermutation = 2,
   kLhsJitter = 3,
   kSobolShift = 4,
+  kReplicateSeed = 5,  ///< seed of each randomized replicate of a design
+  kSobolScramble = 6,  ///< linear matrix scramble of a Sobol replicate
   kProcedure = 16,   ///< randomness inside a sample's procedure (noise etc.)
   kNoise = 17,       ///< measurement noise, apart from the procedure's other draws
   kBootstrap = 18,   ///< bootstrap resampling of results

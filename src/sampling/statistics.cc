@@ -140,3 +140,41 @@ Summary summarize(std::span<const double> values) {
 }
 
 }  // namespace poise::sampling
+
+namespace poise::sampling {
+
+Summary summarize_replicates(std::span<const double> values, std::span<const std::size_t> replicate_of) {
+  require(values.size() == replicate_of.size(), "one replicate number per value");
+  Summary pooled = summarize(values);
+  std::vector<std::vector<double>> groups;
+  for (std::size_t k = 0; k < values.size(); ++k) {
+    if (groups.size() <= replicate_of[k]) groups.resize(replicate_of[k] + 1);
+    groups[replicate_of[k]].push_back(values[k]);
+  }
+  std::vector<Summary> per;
+  for (const auto& g : groups) {
+    if (g.size() >= 2) per.push_back(summarize(g));
+  }
+  const std::size_t r = per.size();
+  auto by_replicates = [&](Estimate& e, Estimate Summary::*field) {
+    e.lo.reset();
+    e.hi.reset();
+    if (r < 2) return;
+    double mean = 0.0, m2 = 0.0;
+    for (const auto& s : per) mean += (s.*field).value;
+    mean /= static_cast<double>(r);
+    for (const auto& s : per) m2 += ((s.*field).value - mean) * ((s.*field).value - mean);
+    const double se = std::sqrt(m2 / static_cast<double>(r - 1) / static_cast<double>(r));
+    const double half = boost::math::quantile(boost::math::students_t(static_cast<double>(r - 1)), 0.975) * se;
+    e.lo = e.value - half;
+    e.hi = e.value + half;
+  };
+  by_replicates(pooled.mean, &Summary::mean);
+  by_replicates(pooled.std, &Summary::std);
+  by_replicates(pooled.p50, &Summary::p50);
+  by_replicates(pooled.p95, &Summary::p95);
+  by_replicates(pooled.p99_73, &Summary::p99_73);
+  return pooled;  // max keeps its order-statistic bound
+}
+
+}  // namespace poise::sampling

@@ -32,6 +32,13 @@ struct Summary {
 /// Summary of the values (order does not matter). Throws if values is empty.
 Summary summarize(std::span<const double> values);
 
+/// Summary of values from independent randomized replicates (design.h replicate_size):
+/// each figure is the pooled one, its 95% interval pooled +- t(0.975, R-1) x the standard
+/// error of the R replicates' own figures (R >= 2 replicates of 2 or more values; otherwise
+/// no interval). Honest for lhs and scrambled Sobol points, which are not independent
+/// within a replicate. The max keeps its order-statistic bound.
+Summary summarize_replicates(std::span<const double> values, std::span<const std::size_t> replicate_of);
+
 /// Quantile of sorted values (type 7 / linear interpolation) with its binomial CI.
 Estimate quantile_sorted(std::span<const double> sorted, double p);
 

@@ -242,7 +242,7 @@ json replay_balancing_sample(const StudyConfig& cfg, std::size_t index, const Ru
 std::string run_balancing_study(const StudyConfig& cfg, const RunOptions& options) {
   const BalancingModel model = load_balancing_model(cfg.model_path, cfg.overrides);
   return run_procedure_study(
-      cfg, [&](std::size_t n, std::uint64_t seed) { return std::make_unique<BalancingStudy>(cfg, model, n, seed); },
+      cfg, [&](const StudyConfig& c, std::size_t n, std::uint64_t seed) { return std::make_unique<BalancingStudy>(c, model, n, seed); },
       options);
 }
 

@@ -171,7 +171,7 @@ BalancingStudy::BalancingStudy(StudyConfig config, BalancingModel model, std::si
       samples_(samples),
       seed_(seed),
       dimension_(unit_dimensions(model_)),
-      design_(config_.method, seed_, samples_, std::max<std::size_t>(dimension_, 1)) {
+      design_(make_design(config_, seed_, samples_, std::max<std::size_t>(dimension_, 1))) {
   std::vector<InputError> errors;
   auto refuse = [&](int line, const std::string& key, const std::string& value, const std::string& expected) {
     errors.emplace_back(SourceLocation{config_.file, line, 0}, key, value, expected);
@@ -279,8 +279,8 @@ void BalancingStudy::compute(std::size_t i, Workspace& ws, SampleResult& out) co
   out.inputs.assign(input_names_.size(), NAN);
   out.outputs.assign(output_names_.size(), NAN);
   out.solver_steps = out.rhs_evals = 0;
-  sampling::RandomStream rs(seed_, sampling::StreamId::kProcedure, i);
-  sampling::RandomStream noise(seed_, sampling::StreamId::kNoise, i);
+  sampling::RandomStream rs(seed_, sampling::StreamId::kProcedure, design_.stream_index(i));
+  sampling::RandomStream noise(seed_, sampling::StreamId::kNoise, design_.stream_index(i));
   Draws d(model_, rs);
   long steps = 0, rhs = 0;
   try {

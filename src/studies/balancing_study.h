@@ -53,6 +53,7 @@ class BalancingStudy : public ProcedureStudyBase<BalancingStudy> {
   const StudyConfig& config() const override { return config_; }
   std::size_t samples() const { return samples_; }
   const std::vector<std::string>& input_names() const override { return input_names_; }
+  std::size_t design_dimension() const { return design_.dimension(); }
   const std::vector<std::string>& output_names() const override { return output_names_; }
   std::string model_name() const override { return model_.name; }
   std::string model_source() const override { return model_.source; }

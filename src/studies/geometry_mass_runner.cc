@@ -51,7 +51,7 @@ class MassStudy {
  public:
   MassStudy(const StudyConfig& cfg, std::size_t n, std::uint64_t seed)
       : cfg_(cfg), model_(load_disk_geometry_model(cfg.model_path, cfg.overrides)), sampler_(model_),
-        design_(cfg.method, seed, n, sampler_.dimension()) {}
+        design_(make_design(cfg, seed, n, sampler_.dimension())) {}
 
   const DiskGeometryModel& model() const { return model_; }
   const DiskSampler& sampler() const { return sampler_; }

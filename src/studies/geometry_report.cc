@@ -88,7 +88,7 @@ void write_geometry_report(const GeometryReport& r) {
   }
   if (!plot_note.empty()) h << "<p><small>" << html_escape(plot_note) << "</small></p>\n";
   h << "<h2>Provenance</h2>\n<pre>" << html_escape(s["provenance"].dump(2)) << "</pre>\n</body></html>\n";
-  std::ofstream(dir / "report.html") << h.str();
+  write_file_atomic((dir / "report.html").string(), h.str());
 }
 
 }  // namespace poise::studies

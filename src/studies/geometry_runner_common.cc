@@ -107,7 +107,7 @@ void write_geometry_summary(json& summary, const StudyConfig& cfg, const Geometr
                            {"seed", run.size.seed}, {"samples", run.size.samples}, {"threads", run.size.threads},
                            {"wall_time_s", results.wall_s}, {"started", run.started}, {"finished", now_iso8601()},
                            {"libraries", library_versions()}};
-  std::ofstream(fs::path(run.dir) / "summary.json") << summary.dump(2) << '\n';
+  write_file_atomic((fs::path(run.dir) / "summary.json").string(), summary.dump(2) + "\n");
 }
 
 void finish_geometry_report(const StudyConfig& cfg, const RunOptions& options, const GeometryRun& run,

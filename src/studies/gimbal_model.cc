@@ -171,8 +171,9 @@ GimbalModel load_gimbal_model(const std::string& path,
     disk_model = t.string("disk_model");  // "" = off
     if (!disk_model.empty()) {
       const std::string resolved = (std::filesystem::path(path).parent_path() / disk_model).lexically_normal().string();
-      if (!std::filesystem::exists(resolved)) {
-        t.error("disk_model", "\"" + disk_model + "\"", "\"\" (off) or an existing disk model file (looked for " + resolved + ")");
+      std::error_code ec;  // a name too long for the file system is a missing file, not an exception
+      if (!std::filesystem::is_regular_file(resolved, ec)) {
+        t.error("disk_model", quote_value(disk_model), "\"\" (off) or an existing disk model file (looked for " + resolved + ")");
       }
       disk_model = resolved;
     }

@@ -46,7 +46,7 @@ json replay_gimbal_sample(const StudyConfig& cfg, std::size_t index, const RunOp
 std::string run_gimbal_study(const StudyConfig& cfg, const RunOptions& options) {
   const GimbalModel model = load_gimbal_model(cfg.model_path, cfg.overrides);
   return run_procedure_study(
-      cfg, [&](std::size_t n, std::uint64_t seed) { return std::make_unique<GimbalStudy>(cfg, model, n, seed); },
+      cfg, [&](const StudyConfig& c, std::size_t n, std::uint64_t seed) { return std::make_unique<GimbalStudy>(c, model, n, seed); },
       options);
 }
 

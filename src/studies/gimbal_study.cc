@@ -65,7 +65,7 @@ GimbalStudy::GimbalStudy(StudyConfig config, GimbalModel model, std::size_t samp
       seed_(seed),
       dimension_(count_dims(model_)),
       disk_(model_.disk_geometry ? std::optional<DiskSampler>(std::in_place, *model_.disk_geometry) : std::nullopt),
-      design_(config_.method, seed, samples, std::max<std::size_t>(dimension_ + (disk_ ? disk_->dimension() : 0), 1)) {
+      design_(make_design(config_, seed, samples, std::max<std::size_t>(dimension_ + (disk_ ? disk_->dimension() : 0), 1))) {
   for (const auto& s : kSlots) {
     const ScopedTolerance& t = model_.*s.tol;
     if (t.per_test) continue;
@@ -107,7 +107,7 @@ void GimbalStudy::compute(std::size_t i, Workspace& ws, SampleResult& out) const
     // Unit-scope draws from the design point; test-scope ones from the sample's stream.
     std::vector<double> u(std::max<std::size_t>(dimension_ + (disk_ ? disk_->dimension() : 0), 1));
     design_.point(i, u);
-    sampling::RandomStream rs(seed_, sampling::StreamId::kProcedure, i);
+    sampling::RandomStream rs(seed_, sampling::StreamId::kProcedure, design_.stream_index(i));
     UnitDraws unit;
     std::size_t k = 0, col = 0;
     for (const auto& s : kSlots) {

@@ -35,6 +35,7 @@ class GimbalStudy : public ProcedureStudyBase<GimbalStudy> {
   GimbalStudy(StudyConfig config, GimbalModel model, std::size_t samples, std::uint64_t seed);
 
   const std::vector<std::string>& input_names() const override { return input_names_; }
+  std::size_t design_dimension() const { return design_.dimension(); }
   const std::vector<std::string>& output_names() const override { return output_names_; }
   const StudyConfig& config() const override { return config_; }
   std::size_t samples() const { return samples_; }

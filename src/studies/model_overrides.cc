@@ -13,7 +13,7 @@ void apply_one(toml::table& root, const std::string& dotted, const std::string& 
     const std::string part = dotted.substr(pos, dot == std::string::npos ? std::string::npos : dot - pos);
     toml::node* n = t->get(part);
     if (!n) {
-      ctx.errors.emplace_back(SourceLocation{ctx.file, 0, 0}, dotted, "\"" + text + "\"",
+      ctx.errors.emplace_back(SourceLocation{ctx.file, 0, 0}, dotted, quote_value(text),
                               "an override of a key that exists in the model file");
       return;
     }
@@ -25,14 +25,14 @@ void apply_one(toml::table& root, const std::string& dotted, const std::string& 
           if (used != text.size()) throw std::invalid_argument(text);
           t->insert_or_assign(part, static_cast<std::int64_t>(v));
         } catch (...) {
-          ctx.errors.emplace_back(SourceLocation{ctx.file, 0, 0}, dotted, "\"" + text + "\"",
+          ctx.errors.emplace_back(SourceLocation{ctx.file, 0, 0}, dotted, quote_value(text),
                                   "an integer (the model's value is an integer)");
         }
       } else if (n->is_number()) {
         try {
           t->insert_or_assign(part, std::stod(text));
         } catch (...) {
-          ctx.errors.emplace_back(SourceLocation{ctx.file, 0, 0}, dotted, "\"" + text + "\"",
+          ctx.errors.emplace_back(SourceLocation{ctx.file, 0, 0}, dotted, quote_value(text),
                                   "a plain number (the model's value is a number)");
         }
       } else {
@@ -42,7 +42,7 @@ void apply_one(toml::table& root, const std::string& dotted, const std::string& 
     }
     t = n->as_table();
     if (!t) {
-      ctx.errors.emplace_back(SourceLocation{ctx.file, 0, 0}, dotted, "\"" + text + "\"",
+      ctx.errors.emplace_back(SourceLocation{ctx.file, 0, 0}, dotted, quote_value(text),
                               "a dotted key through tables of the model file");
       return;
     }
@@ -65,8 +65,12 @@ ModelDocument open_model_file(const std::string& path, const std::map<std::strin
 }
 
 ModelHeader read_model_header(TomlReader& root, const std::string& kind) {
+  const std::size_t errors_before = root.context().errors.size();
   TomlReader t = root.table("model");
   t.choice("kind", {kind});
+  // Not a model of this kind (or no model file at all, e.g. a study): say so alone, rather
+  // than listing every key such a model would have.
+  if (root.context().errors.size() != errors_before) throw ValidationError(root.context().errors);
   ModelHeader h;
   h.name = t.string("name");
   h.title = t.string("title", "");

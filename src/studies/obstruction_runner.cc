@@ -41,7 +41,7 @@ class ObstructionStudy {
  public:
   ObstructionStudy(const StudyConfig& cfg, std::size_t n, std::uint64_t seed)
       : cfg_(cfg), model_(load_seeker_model(cfg.model_path, cfg.overrides)), sampler_(model_),
-        design_(cfg.method, seed, n, sampler_.dimension()) {
+        design_(make_design(cfg, seed, n, sampler_.dimension())) {
     if (!model_.geometry) {
       throw ValidationError({InputError(SourceLocation{cfg.file, 0, 0}, "study.model", "\"" + cfg.model_path + "\"",
                                         "a seeker model with a [geometry] section (frames and housing)")});

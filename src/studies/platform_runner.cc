@@ -295,8 +295,8 @@ std::string run_platform_study(const StudyConfig& cfg, const RunOptions& options
   const ShaftingLos shafting = compute_shafting_los(cfg, threads);
   return run_procedure_study(
       cfg,
-      [&](std::size_t n, std::uint64_t seed) {
-        return std::make_unique<PlatformStudy>(cfg, model, n, seed, shafting.los_max_arcsec, shafting.pixel_arcsec);
+      [&](const StudyConfig& c, std::size_t n, std::uint64_t seed) {
+        return std::make_unique<PlatformStudy>(c, model, n, seed, shafting.los_max_arcsec, shafting.pixel_arcsec);
       },
       options);
 }

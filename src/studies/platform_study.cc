@@ -106,7 +106,7 @@ PlatformStudy::PlatformStudy(StudyConfig config, PlatformModel model, std::size_
       pixel_arcsec_(pixel_arcsec),
       unit_slots_(unit_slot_list(model_)),
       dimension_(unit_dimension(unit_slots_)),
-      design_(config_.method, seed, samples, std::max<std::size_t>(dimension_, 1)) {
+      design_(make_design(config_, seed, samples, std::max<std::size_t>(dimension_, 1))) {
   shafting_sorted_ = shafting_;
   std::sort(shafting_sorted_.begin(), shafting_sorted_.end());
   for (const auto& [s, k] : unit_slots_) {
@@ -172,7 +172,7 @@ PlatformDraws PlatformStudy::draws(std::size_t i) const {
   PlatformDraws d;
   std::vector<double> u(std::max<std::size_t>(dimension_, 1));
   design_.point(i, u);
-  sampling::RandomStream rs(seed_, sampling::StreamId::kProcedure, i);
+  sampling::RandomStream rs(seed_, sampling::StreamId::kProcedure, design_.stream_index(i));
   std::size_t k = 0;
   for (int s = 0; s < Slot::kNumSlots; ++s) {
     const ScopedTolerance& t = tolerance_of(model_, s);
@@ -241,7 +241,7 @@ CampaignResult PlatformStudy::run_campaign(std::size_t i, const models::Platform
     plan.servo.current_limit = gim.current_limit;
     plan.servo.inertia_estimate = axis_inertia_[ia];
     plan.oscillation.centre = d.value[Slot::kGimbalZero][ia];
-    sampling::RandomStream noise(seed_, static_cast<sampling::StreamId>(kAxisNoiseStream + ia), i);
+    sampling::RandomStream noise(seed_, static_cast<sampling::StreamId>(kAxisNoiseStream + ia), design_.stream_index(i));
     const procedures::MeasurementResult m = procedures::run_static_unbalance_test(plan, truth, noise, ws);
     r.solver_steps += m.solver.steps;
     r.rhs_evals += m.solver.rhs_evals;

@@ -78,6 +78,7 @@ class PlatformStudy : public ProcedureStudyBase<PlatformStudy> {
                 std::vector<double> shafting_los_arcsec = {}, double pixel_arcsec = 0.0);
 
   const std::vector<std::string>& input_names() const override { return input_names_; }
+  std::size_t design_dimension() const { return design_.dimension(); }
   const std::vector<std::string>& output_names() const override { return output_names_; }
   const StudyConfig& config() const override { return config_; }
   std::size_t samples() const { return samples_; }

@@ -43,13 +43,13 @@ void read_platform_section(TomlReader& root, const std::string& study_path, Plat
     bool ok = false;
     const auto order = parse_order(text, &ok);
     if (!ok) {
-      t.error("orders", "\"" + text + "\"", "each of inner, middle, outer once, comma-separated, e.g. \"inner,middle,outer\"");
+      t.error("orders", quote_value(text), "each of inner, middle, outer once, comma-separated, e.g. \"inner,middle,outer\"");
       continue;
     }
     std::string label;
     for (int a : order) label += a == 0 ? 'i' : (a == 1 ? 'm' : 'o');
     for (const auto& l : c.order_labels) {
-      if (l == label) t.error("orders", "\"" + text + "\"", "an order not listed twice");
+      if (l == label) t.error("orders", quote_value(text), "an order not listed twice");
     }
     c.orders.push_back(order);
     c.order_labels.push_back(label);
@@ -92,8 +92,9 @@ void read_platform_section(TomlReader& root, const std::string& study_path, Plat
     TomlReader s = t.table("shafting");
     const std::string rel = s.string("study");
     c.shafting_study = (std::filesystem::path(study_path).parent_path() / rel).lexically_normal().string();
-    if (!std::filesystem::exists(c.shafting_study)) {
-      s.error("study", "\"" + rel + "\"", "an existing seeker_los study file (looked for " + c.shafting_study + ")");
+    std::error_code ec;  // a name too long for the file system is a missing file, not an exception
+    if (!std::filesystem::is_regular_file(c.shafting_study, ec)) {
+      s.error("study", quote_value(rel), "an existing seeker_los study file (looked for " + c.shafting_study + ")");
     }
     c.shafting_samples = static_cast<std::size_t>(s.integer("samples", 16, 10'000'000, 4096));
   }

@@ -11,7 +11,10 @@
 
 #include "core/units.h"
 #include "core/version.h"
+#include "sampling/interrupt.h"
+#include "studies/convergence.h"
 #include "studies/provenance.h"
+#include "studies/sensitivity_output.h"
 #include "studies/report.h"
 #include "studies/result_io.h"
 
@@ -30,13 +33,34 @@ void collect_samples(McResult& r, std::span<const SampleResult> block) {
     }
     if (r.values.size() < s.outputs.size()) r.values.resize(s.outputs.size());
     for (std::size_t k = 0; k < s.outputs.size(); ++k) r.values[k].push_back(s.outputs[k]);
+    r.ok_index.push_back(s.index);
   }
 }
 
 void summarize_outputs(McResult& r) {
   r.outputs.clear();
   if (r.values.empty() || r.values[0].empty()) return;
-  for (const auto& v : r.values) r.outputs.push_back(sampling::summarize(v));
+  for (const auto& v : r.values) r.outputs.push_back(summarize_output(v, r.ok_index, r.replicate_size));
+}
+
+void encode_result(const SampleResult& r, ByteWriter& w) {
+  w.put(r.index);
+  w.put(r.ok);
+  w.put_string(r.message);
+  w.put_vector(r.inputs);
+  w.put_vector(r.outputs);
+  w.put(r.solver_steps);
+  w.put(r.rhs_evals);
+}
+
+void decode_result(ByteReader& rd, SampleResult& r) {
+  r.index = rd.get<std::size_t>();
+  r.ok = rd.get<bool>();
+  rd.get_string(r.message);
+  rd.get_vector(r.inputs);
+  rd.get_vector(r.outputs);
+  r.solver_steps = rd.get<long>();
+  r.rhs_evals = rd.get<long>();
 }
 
 std::string unit_of_output(const std::string& name) {
@@ -87,7 +111,7 @@ std::vector<SampleResult> read_done_samples(const std::string& csv_path, const s
   }
   if (complete + 1 != text.size()) {  // cut the partial line an interruption left
     text.resize(complete + 1);
-    std::ofstream(csv_path, std::ios::binary | std::ios::trunc) << text;
+    write_file_atomic(csv_path, text);
   }
   std::vector<SampleResult> done;
   std::istringstream lines(text.substr(header.size() + 1));
@@ -117,10 +141,19 @@ std::vector<SampleResult> read_done_samples(const std::string& csv_path, const s
 
 }  // namespace
 
-std::string run_procedure_study(const StudyConfig& cfg, const StudyFactory& make_study, const RunOptions& options) {
+std::string run_procedure_study(const StudyConfig& cfg_in, const StudyFactory& make_study, const RunOptions& options) {
+  StudyConfig cfg = cfg_in;
+  const bool root = sampling::Cluster::root();
+  const int ranks = sampling::Cluster::size();
   std::size_t n = options.samples.value_or(cfg.samples);
   std::uint64_t seed = options.seed.value_or(cfg.seed);
-  const int threads = options.threads > 0 ? options.threads : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  std::string until_text = options.until;
+  std::size_t sensitivity_base = options.sensitivity_base;
+  // Default threads: this machine's cores shared among the ranks on it.
+  const int threads = options.threads > 0
+                          ? options.threads
+                          : std::max(1, static_cast<int>(std::max(1u, std::thread::hardware_concurrency())) /
+                                            std::max(1, sampling::Cluster::local_size()));
   std::string dir;
   json manifest;
   if (!options.resume.empty()) {
@@ -134,20 +167,50 @@ std::string run_procedure_study(const StudyConfig& cfg, const StudyFactory& make
     }
     n = manifest.at("samples").get<std::size_t>();
     seed = manifest.at("seed").get<std::uint64_t>();
-  } else {
-    dir = make_run_folder(options.results_root, cfg.name, options.out);
+    until_text = manifest.value("until", "");
+    sensitivity_base = manifest.value("sensitivity_base", std::size_t{0});
+  }
+  // The sensitivity layout: base rows x (groups + 2) samples; its groups need the study's
+  // dimension, which a study of the plain layout tells.
+  if (sensitivity_base > 0) {
+    const auto probe = make_study(cfg, 1, seed);
+    cfg.saltelli_base = sensitivity_base;
+    cfg.saltelli_noise_group = probe->has_own_randomness();
+    cfg.replicate_size = 0;
+    n = sensitivity_base * (probe->design_dimension_names().size() + (cfg.saltelli_noise_group ? 1 : 0) + 2);
+  }
+  std::optional<UntilTarget> until;
+  if (!until_text.empty()) {
+    if (sensitivity_base > 0) throw Error("--until does not apply to a sensitivity run (its size is set by --base)");
+    if (cfg.method != sampling::SamplingMethod::kMonteCarlo && cfg.replicate_size == 0) {
+      throw Error("--until needs samples that can grow: method = \"monte_carlo\", or lhs/sobol with [sampling] "
+                  "replicate_size (independent randomized replicates; an lhs or sobol design of N points is not "
+                  "the first N points of a larger one)");
+    }
+    if (options.resume.empty()) n = options.max_samples.value_or(100 * cfg.samples);
+    if (cfg.replicate_size > 0) n = std::max(cfg.replicate_size, n / cfg.replicate_size * cfg.replicate_size);
+  }
+  if (options.resume.empty()) {
+    if (root) dir = make_run_folder(options.results_root, cfg.name, options.out);
     manifest = {{"kind", cfg.kind}, {"study_file_sha1", file_sha1(cfg.file)},
                 {"model_file_sha1", file_sha1(cfg.model_path)}, {"samples", n}, {"seed", seed},
-                {"method", sampling::to_string(cfg.method)}, {"poise_version", kVersion}, {"started", now_iso8601()}};
-    std::ofstream(fs::path(dir) / "run.json") << manifest.dump(2) << '\n';
+                {"method", sampling::to_string(cfg.method)}, {"replicate_size", cfg.replicate_size},
+                {"until", until_text}, {"sensitivity_base", sensitivity_base},
+                {"poise_version", kVersion}, {"started", now_iso8601()}, {"status", "running"}};
+    if (root) write_file_atomic((fs::path(dir) / "run.json").string(), manifest.dump(2) + "\n");
   }
   const std::string started = manifest.value("started", now_iso8601());
-  if (options.progress) {
-    std::fprintf(stderr, "poise: study %s -> %s\n  %zu samples (%s, seed %llu) on %d thread(s)\n", cfg.name.c_str(),
-                 dir.c_str(), n, sampling::to_string(cfg.method).c_str(), static_cast<unsigned long long>(seed), threads);
-  }
-  const std::unique_ptr<ProcedureStudy> owned = make_study(n, seed);
+  const std::unique_ptr<ProcedureStudy> owned = make_study(cfg, n, seed);
   const ProcedureStudy& study = *owned;
+  if (!until_text.empty()) until = parse_until(until_text, study.output_names());
+  if (options.progress && root) {
+    std::fprintf(stderr, "poise: study %s -> %s\n  %zu samples%s (%s%s, seed %llu) on %d thread(s)%s\n", cfg.name.c_str(),
+                 dir.c_str(), n, until ? (" at most, until " + until->text).c_str() : "",
+                 sampling::to_string(cfg.method).c_str(),
+                 cfg.replicate_size > 0 ? (", replicates of " + std::to_string(cfg.replicate_size)).c_str() : "",
+                 static_cast<unsigned long long>(seed), threads,
+                 ranks > 1 ? (" x " + std::to_string(ranks) + " MPI ranks").c_str() : "");
+  }
   std::string header = "sample,status";
   for (const auto& c : study.input_names()) header += "," + c;
   for (const auto& c : study.output_names()) header += "," + c;
@@ -156,12 +219,21 @@ std::string run_procedure_study(const StudyConfig& cfg, const StudyFactory& make
   std::vector<SampleResult> done;
   if (!options.resume.empty()) {
     done = read_done_samples(csv_path, header, study.input_names().size(), study.output_names().size());
-    if (options.progress) std::fprintf(stderr, "  resuming: %zu of %zu samples already done\n", done.size(), n);
+    if (options.progress && root) std::fprintf(stderr, "  resuming: %zu of %zu samples already done\n", done.size(), n);
   }
-  std::ofstream csv(csv_path, options.resume.empty() ? std::ios::trunc : std::ios::app);
-  if (!csv) throw Error("cannot write " + csv_path);
-  if (options.resume.empty()) csv << header << '\n';
-  const McResult mc = study.run(threads, options.progress, [&](std::span<const SampleResult> block) {
+  std::ofstream csv;
+  if (root) {
+    csv.open(csv_path, options.resume.empty() ? std::ios::trunc : std::ios::app);
+    if (!csv) throw Error("cannot write " + csv_path);
+    if (options.resume.empty()) csv << header << '\n' << std::flush;
+  }
+  sampling::InterruptGuard interrupts;
+  auto rule = std::make_shared<StopRule>(study.output_names(), n, cfg.max_failure_share, until, cfg.replicate_size,
+                                         options.progress && root);
+  RunControl control;
+  control.distributed = true;
+  control.stop = [rule](const McResult& r) { return (*rule)(r.values, r.ok_index, r.failures, r.ok_index.size() + r.failures); };
+  McResult mc = study.run(threads, options.progress, [&](std::span<const SampleResult> block) {
     for (const auto& s : block) {
       csv << s.index << ',' << (s.ok ? "ok" : "failed");
       for (double v : s.inputs) csv << ',' << csv_number(v);
@@ -169,16 +241,28 @@ std::string run_procedure_study(const StudyConfig& cfg, const StudyFactory& make
       csv << ',' << s.solver_steps << ',' << csv_text(s.message) << '\n';
     }
     csv.flush();
-  }, done);
+  }, done, control);
+  if (!root) return "";  // rank 0 writes the folder
   csv.close();
+  const std::size_t ran = mc.completed;
+  const std::string status = mc.interrupted ? "interrupted" : rule->failed() ? "failed" : "complete";
+  manifest["status"] = status;
+  manifest["completed"] = ran;
+  write_file_atomic((fs::path(dir) / "run.json").string(), manifest.dump(2) + "\n");
 
   json s;
+  s["status"] = status;
+  if (!mc.stop_reason.empty()) s["stop_reason"] = mc.stop_reason;
   s["study"] = {{"name", cfg.name}, {"title", cfg.title}, {"kind", cfg.kind}, {"file", cfg.file},
                 {"model_file", cfg.model_path}, {"model_name", study.model_name()}, {"model_source", study.model_source()},
                 {"notes", cfg.notes}, {"overrides", cfg.overrides}};
-  s["sampling"] = {{"method", sampling::to_string(cfg.method)}, {"samples", n}, {"seed", seed}, {"threads", threads},
-                   {"inputs", study.input_names()},
-                   {"ci_note", "95% intervals assume independent samples; for lhs and sobol designs they are conservative"}};
+  s["sampling"] = {{"method", sampling::to_string(cfg.method)}, {"samples", ran}, {"planned_samples", n}, {"seed", seed},
+                   {"threads", threads}, {"mpi_ranks", ranks}, {"replicate_size", cfg.replicate_size},
+                   {"max_failure_share", cfg.max_failure_share}, {"inputs", study.input_names()},
+                   {"ci_note", cfg.replicate_size > 0
+                                   ? "95% intervals from the spread of the independent randomized replicates"
+                                   : "95% intervals assume independent samples; for lhs and sobol designs without "
+                                     "replicates they are conservative"}};
   json outputs;
   for (std::size_t k = 0; k < mc.outputs.size(); ++k) {
     json o = summary_json(mc.outputs[k]);
@@ -202,19 +286,28 @@ std::string run_procedure_study(const StudyConfig& cfg, const StudyFactory& make
     cmp.push_back(c);
   }
   s["paper_comparison"] = cmp;
-  s["failures"] = {{"count", mc.failures}, {"first", json::array()}};
-  for (const auto& [i, why] : mc.failed) s["failures"]["first"].push_back({{"sample", i}, {"reason", why}});
+  s["failures"] = failures_json(mc.failures, ran, mc.failed, seed, cfg.file);
+  s["convergence"] = convergence_json(study.output_names(), mc.outputs, ran, cfg.replicate_size, rule->until_json());
+  if (sensitivity_base > 0 && status == "complete") {
+    const auto names = study.design_dimension_names();
+    std::vector<std::string> groups = names;
+    if (cfg.saltelli_noise_group) groups.push_back("(within-sample randomness: per-test draws, noise)");
+    // Every sample's value of output k (NaN where it failed), by sample index.
+    std::vector<std::vector<double>> by_index(study.output_names().size(), std::vector<double>(ran, NAN));
+    for (std::size_t k = 0; k < mc.values.size(); ++k) {
+      for (std::size_t m = 0; m < mc.ok_index.size(); ++m) by_index[k][mc.ok_index[m]] = mc.values[k][m];
+    }
+    s["sensitivity"] = sensitivity_json(study.output_names(), groups, sensitivity_base, by_index, seed);
+  }
   s["solver"] = study.solver_json(mc);
   if (const json d = study.details(mc); !d.is_null()) s["details"] = d;
   s["provenance"] = {{"poise_version", kVersion}, {"git_commit", git_commit()},
                      {"study_file_sha1", file_sha1(cfg.file)}, {"model_file_sha1", file_sha1(cfg.model_path)},
-                     {"seed", seed}, {"samples", n}, {"threads", threads}, {"wall_time_s", mc.wall_seconds},
+                     {"seed", seed}, {"samples", ran}, {"threads", threads}, {"mpi_ranks", ranks},
+                     {"wall_time_s", mc.wall_seconds},
                      {"started", started}, {"finished", now_iso8601()}, {"libraries", library_versions()},
                      {"resumed_after_sample", options.resume.empty() ? json(nullptr) : json(done.size())}};
-  {
-    std::ofstream js(fs::path(dir) / "summary.json");
-    js << s.dump(2) << '\n';
-  }
+  write_file_atomic((fs::path(dir) / "summary.json").string(), s.dump(2) + "\n");
 
   // Plots: one histogram per compared figure, with the paper's value as a line.
   const fs::path pdir = fs::path(dir) / "plots";
@@ -256,8 +349,13 @@ std::string run_procedure_study(const StudyConfig& cfg, const StudyFactory& make
        "th{background:#eef}td.l,th.l{text-align:left}small{color:#666}pre{background:#f6f6f6;padding:0.8em;"
        "white-space:pre-wrap}</style></head><body>\n<h1>"
     << html_escape(cfg.title.empty() ? cfg.name : cfg.title) << "</h1>\n<p>Study <code>" << html_escape(cfg.file) << "</code>, model <code>"
-    << html_escape(cfg.model_path) << "</code> (" << html_escape(study.model_source()) << "). " << n << " simulated samples ("
+    << html_escape(cfg.model_path) << "</code> (" << html_escape(study.model_source()) << "). " << ran << " simulated samples ("
     << sampling::to_string(cfg.method) << ", seed " << seed << "), " << mc.failures << " failed.</p>\n";
+  if (status != "complete") {
+    h << "<p><b>This run is " << status << "</b>: " << html_escape(mc.stop_reason.empty() ? "stopped by a signal" : mc.stop_reason)
+      << ". The figures below cover the " << ran << " samples that ran.</p>\n";
+  }
+  if (s.contains("sensitivity")) h << sensitivity_html(s["sensitivity"]);
   auto cell = [](const json& e) {
     std::string out = fmt(e["value"].get<double>(), 4) + " <small>[";
     out += e["ci95"][0].is_number() ? fmt(e["ci95"][0].get<double>(), 4) : std::string("&ndash;");
@@ -285,14 +383,15 @@ std::string run_procedure_study(const StudyConfig& cfg, const StudyFactory& make
       << cell(o["mean"]) << "</td><td>" << cell(o["std"]) << "</td><td>" << cell(o["p50"]) << "</td><td>"
       << cell(o["p95"]) << "</td><td>" << cell(o["p99_73"]) << "</td><td>" << cell(o["max"]) << "</td></tr>\n";
   }
-  h << "</table>\n<h2>Figures</h2>\n";
+  h << "</table>\n" << convergence_html(s["convergence"]) << "<h2>Figures</h2>\n";
   if (!plot_note.empty()) h << "<p>" << html_escape(plot_note) << "</p>\n";
   for (const auto& f : figures) h << "<p><img src='plots/" << f << "' alt='" << f << "'></p>\n";
   if (!cfg.notes.empty()) h << "<h2>Notes of the study</h2>\n<pre>" << html_escape(cfg.notes) << "</pre>\n";
   h << "<h2>Provenance</h2>\n<pre>" << html_escape(s["provenance"].dump(2)) << "\n" << html_escape(s["solver"].dump(2))
     << "</pre>\n</body></html>\n";
-  std::ofstream(fs::path(dir) / "report.html") << h.str();
+  write_file_atomic((fs::path(dir) / "report.html").string(), h.str());
   if (options.progress) std::fprintf(stderr, "poise: report %s\n", (fs::path(dir) / "report.html").c_str());
+  finish_run_status(status, mc.stop_reason, mc.signal, ran, n, mc.failures, dir, cfg.file);
   return dir;
 }
 

@@ -16,7 +16,10 @@ namespace poise::studies {
 
 /// Builds the study for a sample count and seed (those of a resumed run may differ from
 /// the study file's).
-using StudyFactory = std::function<std::unique_ptr<ProcedureStudy>(std::size_t samples, std::uint64_t seed)>;
+/// Builds the study for a config (the study file's, with the run's design settings: the
+/// sensitivity layout is set here), a sample count and a seed (those of a resumed run may
+/// differ from the study file's).
+using StudyFactory = std::function<std::unique_ptr<ProcedureStudy>(const StudyConfig& cfg, std::size_t samples, std::uint64_t seed)>;
 
 std::string run_procedure_study(const StudyConfig& cfg, const StudyFactory& make_study, const RunOptions& options);
 

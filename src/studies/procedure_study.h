@@ -13,9 +13,9 @@
 
 #include <nlohmann/json.hpp>
 
-#include "sampling/parallel_runner.h"
 #include "sampling/progress.h"
 #include "sampling/statistics.h"
+#include "studies/sample_driver.h"
 #include "studies/study_config.h"
 
 namespace poise::studies {
@@ -34,11 +34,29 @@ struct McResult {
   std::vector<std::pair<std::size_t, std::string>> failed;
   std::vector<sampling::Summary> outputs;
   std::vector<std::vector<double>> values;  ///< per output, ok samples in order
+  std::vector<std::size_t> ok_index;        ///< sample index of each ok sample (values' order)
   double wall_seconds = 0.0;
   long solver_steps = 0, rhs_evals = 0;
+  std::size_t completed = 0;                ///< samples [0, completed) ran (n unless stopped)
+  bool interrupted = false;                 ///< stopped by SIGINT / SIGTERM
+  int signal = 0;
+  std::string stop_reason;                  ///< why the run stopped before n ("" = it did not)
+  std::size_t replicate_size = 0;           ///< summaries by replicate (design.h) when > 0
 };
 
 using SampleSink = std::function<void(std::span<const SampleResult>)>;
+
+/// How a run is driven beyond its sample range: over MPI ranks (the run's main loop only)
+/// and with a stop rule checked on rank 0 after each chunk on the results so far.
+struct RunControl {
+  bool distributed = false;
+  std::size_t replicate_size = 0;  ///< set from the study's config by ProcedureStudyBase::run
+  std::function<std::string(const McResult&)> stop;  ///< "" = go on
+};
+
+/// A SampleResult's trip between MPI ranks.
+void encode_result(const SampleResult& r, ByteWriter& w);
+void decode_result(ByteReader& rd, SampleResult& r);
 
 /// Accumulates finished samples into an McResult (counts failures, keeps ok outputs).
 void collect_samples(McResult& r, std::span<const SampleResult> block);
@@ -54,22 +72,39 @@ std::string unit_of_output(const std::string& name);
 template <class MakeWorkspace, class Compute>
 McResult run_procedure_samples(std::size_t samples, std::size_t block, int threads, bool progress,
                                const SampleSink& sink, std::span<const SampleResult> done,
-                               MakeWorkspace make_workspace, Compute compute) {
+                               MakeWorkspace make_workspace, Compute compute, const RunControl& control = {}) {
   McResult r;
   r.n = samples;
-  collect_samples(r, done);
+  r.replicate_size = control.replicate_size;
+  const std::size_t chunk = std::min<std::size_t>(block, 8);
+  // A resumed run's samples pass the stop rule chunk by chunk as they did the first time, so
+  // a run that had already met its stop point is not continued past it.
+  for (std::size_t start = 0; start < done.size(); start += chunk) {
+    collect_samples(r, done.subspan(start, std::min(chunk, done.size() - start)));
+    if (control.stop && r.stop_reason.empty()) r.stop_reason = control.stop(r);
+  }
   const std::size_t first = std::min(done.size(), samples);
-  sampling::Progress bar("samples", samples - first, progress);
-  sampling::RunShape shape{first, samples - first, threads, std::min<std::size_t>(block, 8), 1};
-  sampling::run_in_blocks<SampleResult>(
-      shape, make_workspace, [&](std::size_t i, auto& ws, SampleResult& res) { compute(i, *ws, res); },
+  if (!r.stop_reason.empty()) {
+    r.completed = first;
+    summarize_outputs(r);
+    return r;
+  }
+  sampling::Progress bar("samples", samples - first, progress && sampling::Cluster::root());
+  DriveSpec spec{first, samples, chunk, 1, threads, control.distributed};
+  const DriveOutcome o = drive_samples<SampleResult>(
+      spec, make_workspace, [&](std::size_t i, auto& ws, SampleResult& res) { compute(i, *ws, res); },
       [&](std::size_t, std::span<const SampleResult> finished) {
         if (sink) sink(finished);
         collect_samples(r, finished);
       },
+      [&](std::size_t) { return control.stop ? control.stop(r) : std::string(); }, encode_result, decode_result,
       &bar);
   bar.finish();
   r.wall_seconds = bar.elapsed_seconds();
+  r.completed = o.completed;
+  r.interrupted = o.interrupted;
+  r.signal = o.signal;
+  r.stop_reason = o.stop_reason;
   summarize_outputs(r);
   return r;
 }
@@ -84,7 +119,12 @@ class ProcedureStudy {
   virtual std::string model_source() const = 0;
   /// Runs samples [done.size(), n); `done` (a resumed run's samples) are counted, not rerun.
   virtual McResult run(int threads, bool progress, const SampleSink& sink,
-                       std::span<const SampleResult> done) const = 0;
+                       std::span<const SampleResult> done, const RunControl& control = {}) const = 0;
+  /// Dimensions of the design point (for sensitivity indices: the first of input_names()
+  /// unless a study says otherwise) and whether a sample has randomness of its own beyond
+  /// its design point (per-test draws, noise).
+  virtual std::vector<std::string> design_dimension_names() const = 0;
+  virtual bool has_own_randomness() const { return true; }
   /// Sample i alone (depends only on seed, sample count, method and i).
   virtual SampleResult replay(std::size_t i) const = 0;
   /// The paper's figures: [{"group", "figure", "output", "unit", "paper"}] (paper in the unit).
@@ -104,12 +144,22 @@ class ProcedureStudy {
 template <class Derived>
 class ProcedureStudyBase : public ProcedureStudy {
  public:
-  McResult run(int threads, bool progress, const SampleSink& sink,
-               std::span<const SampleResult> done = {}) const override {
+  McResult run(int threads, bool progress, const SampleSink& sink, std::span<const SampleResult> done = {},
+               const RunControl& control = {}) const override {
     const Derived& d = static_cast<const Derived&>(*this);
+    RunControl c = control;
+    c.replicate_size = d.config().replicate_size;
     return run_procedure_samples(d.samples(), d.config().block, threads, progress, sink, done,
                                  [&d] { return d.make_workspace(); },
-                                 [&d](std::size_t i, auto& ws, SampleResult& res) { d.compute(i, ws, res); });
+                                 [&d](std::size_t i, auto& ws, SampleResult& res) { d.compute(i, ws, res); }, c);
+  }
+  std::vector<std::string> design_dimension_names() const override {
+    const Derived& d = static_cast<const Derived&>(*this);
+    std::vector<std::string> names(d.design_dimension());
+    for (std::size_t k = 0; k < names.size(); ++k) {
+      names[k] = k < d.input_names().size() ? d.input_names()[k] : "(unused dimension " + std::to_string(k) + ")";
+    }
+    return names;
   }
   SampleResult replay(std::size_t i) const override {
     const Derived& d = static_cast<const Derived&>(*this);

@@ -7,7 +7,9 @@
 #include <sstream>
 
 #include "core/units.h"
+#include "studies/convergence.h"
 #include "studies/result_io.h"
+#include "studies/sensitivity_output.h"
 
 namespace poise::studies {
 namespace {
@@ -31,10 +33,7 @@ std::string with_ci(const json& e, int prec = 4) {
          num_json(e["ci95"][1], prec) + "]</small>";
 }
 
-void write_file(const fs::path& p, const std::string& text) {
-  std::ofstream o(p);
-  o << text;
-}
+void write_file(const fs::path& p, const std::string& text) { write_file_atomic(p.string(), text); }
 
 }  // namespace
 
@@ -208,6 +207,11 @@ void write_report(const ReportInputs& in) {
     << html_escape(st["model_file"].get<std::string>()) << "</code> (" << html_escape(st["model_source"].get<std::string>())
     << ").</p>\n";
 
+  if (s.value("status", "complete") != "complete") {
+    h << "<p class='bad'><b>This run is " << html_escape(s["status"].get<std::string>()) << "</b>: "
+      << html_escape(s.value("stop_reason", std::string("stopped by a signal"))) << ". The figures cover the "
+      << s["sampling"]["samples"].get<std::size_t>() << " samples that ran.</p>\n";
+  }
   // Verdict.
   const auto& req_j = s["requirement"];
   h << "<h2>Verdict</h2>\n";
@@ -307,6 +311,8 @@ void write_report(const ReportInputs& in) {
     h << "</table>\n<p><small>arcsec, greatest total LOS error over the field of regard.</small></p>\n";
   }
 
+  if (s.contains("sensitivity")) h << sensitivity_html(s["sensitivity"]);
+
   // Figures.
   h << "<h2>Figures</h2>\n";
   if (!plot_note.empty()) h << "<p class='bad'>" << html_escape(plot_note) << "</p>\n";
@@ -324,6 +330,7 @@ void write_report(const ReportInputs& in) {
       << "</td><td>" << with_ci(o["p99_73"]) << "</td><td>" << with_ci(o["max"]) << "</td></tr>\n";
   }
   h << "</table>\n";
+  if (s.contains("convergence")) h << convergence_html(s["convergence"]);
 
   // Sweeps.
   for (const auto& sw : s["sweeps"]) {

@@ -1,5 +1,12 @@
 #include "studies/result_io.h"
 
+#include <charconv>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+
+#include "core/error.h"
+
 #include <cstdio>
 
 namespace poise::studies {
@@ -20,9 +27,25 @@ nlohmann::json summary_json(const sampling::Summary& s) {
 }
 
 std::string csv_number(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.9g", v);
-  return buf;
+  // Shortest text that reads back to the same double: a resumed run's statistics, computed
+  // from samples.csv, are then exactly those of an uninterrupted run.
+  if (std::isnan(v)) return "nan";
+  char buf[40];
+  const auto res = std::to_chars(buf, buf + sizeof buf, v);
+  return std::string(buf, res.ptr);
+}
+
+void write_file_atomic(const std::string& path, const std::string& text) {
+  const std::string tmp = path + ".tmp";
+  {
+    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
+    out << text;
+    out.flush();
+    if (!out) throw Error("cannot write " + tmp);
+  }
+  std::error_code ec;
+  std::filesystem::rename(tmp, path, ec);
+  if (ec) throw Error("cannot move " + tmp + " to " + path + ": " + ec.message());
 }
 
 std::string csv_text(std::string s) {

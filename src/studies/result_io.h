@@ -12,10 +12,13 @@ namespace poise::studies {
 nlohmann::json estimate_json(const sampling::Estimate& e);
 /// {"n", "mean", "std", "p50", "p95", "p99_73", "max"}, each an estimate_json.
 nlohmann::json summary_json(const sampling::Summary& s);
-/// A number for samples.csv: 9 significant digits, enough to replay-compare.
+/// A number for samples.csv: the shortest text that reads back to the same double ("nan" for NaN).
 std::string csv_number(double v);
 /// Free text for one CSV cell: quotes, commas and newlines become spaces.
 std::string csv_text(std::string s);
+/// Writes a whole file atomically: to a temporary beside it, flushed, then renamed over the
+/// target, so a reader (or a run killed meanwhile) never sees half a file. Throws on failure.
+void write_file_atomic(const std::string& path, const std::string& text);
 /// Text for HTML.
 std::string html_escape(const std::string& s);
 

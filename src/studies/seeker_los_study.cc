@@ -6,7 +6,8 @@
 #include "core/units.h"
 #include <tbb/parallel_invoke.h>
 
-#include "sampling/parallel_runner.h"
+#include "studies/convergence.h"
+#include "studies/sample_driver.h"
 
 namespace poise::studies {
 namespace {
@@ -23,7 +24,7 @@ SeekerLosStudy::SeekerLosStudy(StudyConfig config, SeekerModel model, std::size_
       sampler_(model_),
       samples_(samples),
       seed_(seed),
-      design_(config_.method, seed, samples, sampler_.dimension()),
+      design_(make_design(config_, seed, samples, sampler_.dimension())),
       grid_(models::linspace(model_.yaw_min, model_.yaw_max, config_.yaw_points),
             models::linspace(model_.pitch_min, model_.pitch_max, config_.pitch_points)),
       requirement_rad_(config_.requirement_in_pixels ? config_.requirement * model_.pixel_ifov
@@ -85,9 +86,28 @@ std::vector<models::PointingError> SeekerLosStudy::grid_errors(std::size_t i) co
   return ws.errors;
 }
 
+namespace {
+void encode_seeker(const SeekerSampleResult& r, ByteWriter& w) {
+  w.put(r.index);
+  w.put(r.ok);
+  w.put_string(r.message);
+  w.put_vector(r.inputs);
+  w.put_vector(r.outputs);
+  w.put_vector(r.grid_total_arcsec);
+}
+void decode_seeker(ByteReader& rd, SeekerSampleResult& r) {
+  r.index = rd.get<std::size_t>();
+  r.ok = rd.get<bool>();
+  rd.get_string(r.message);
+  rd.get_vector(r.inputs);
+  rd.get_vector(r.outputs);
+  rd.get_vector(r.grid_total_arcsec);
+}
+}  // namespace
+
 SeekerMcResult SeekerLosStudy::run(
     int threads, bool progress,
-    const std::function<void(std::span<const SeekerSampleResult>)>& sink) const {
+    const std::function<void(std::span<const SeekerSampleResult>)>& sink, const SeekerRunControl& control) const {
   SeekerMcResult r;
   r.n = samples_;
   const std::size_t g = grid_.size();
@@ -97,10 +117,10 @@ SeekerMcResult SeekerLosStudy::run(
   std::vector<std::vector<double>> out_values(kNumSeekerOutputs);
   std::size_t n_ok = 0, n_all_ok = 0;
 
-  sampling::Progress bar("samples", samples_, progress);
-  sampling::RunShape shape{0, samples_, threads, config_.block};
-  sampling::run_in_blocks<SeekerSampleResult>(
-      shape, [this] { return make_workspace(); },
+  sampling::Progress bar("samples", samples_, progress && (!control.distributed || sampling::Cluster::root()));
+  DriveSpec spec{0, samples_, config_.block, 16, threads, control.distributed};
+  const DriveOutcome outcome = drive_samples<SeekerSampleResult>(
+      spec, [this] { return make_workspace(); },
       [this](std::size_t i, Workspace& ws, SeekerSampleResult& res) { compute(i, ws, res); },
       [&](std::size_t, std::span<const SeekerSampleResult> block) {
         if (sink) sink(block);
@@ -111,6 +131,7 @@ SeekerMcResult SeekerLosStudy::run(
             continue;
           }
           ++n_ok;
+          r.ok_index.push_back(s.index);
           for (std::size_t k = 0; k < kNumSeekerOutputs; ++k) out_values[k].push_back(s.outputs[k]);
           if (s.outputs[0] <= requirement_rad_ * kArcsec) ++n_all_ok;
           if (grid_values.size() < stored * g) {
@@ -119,11 +140,18 @@ SeekerMcResult SeekerLosStudy::run(
           }
         }
       },
-      &bar);
+      [&](std::size_t completed) {
+        return control.stop ? control.stop(out_values, r.ok_index, r.failures, completed) : std::string();
+      },
+      encode_seeker, decode_seeker, &bar);
   bar.finish();
   r.wall_seconds = bar.elapsed_seconds();
+  r.completed = outcome.completed;
+  r.interrupted = outcome.interrupted;
+  r.signal = outcome.signal;
+  r.stop_reason = outcome.stop_reason;
   if (n_ok == 0) return r;
-  for (auto& v : out_values) r.outputs.push_back(sampling::summarize(v));
+  for (auto& v : out_values) r.outputs.push_back(summarize_output(v, r.ok_index, config_.replicate_size));
   r.fraction_samples_ok = sampling::fraction_wilson(n_all_ok, n_ok);
   const auto& field = r.outputs[5];
   r.fraction_field_ok = field.mean;
@@ -151,6 +179,7 @@ SeekerMcResult SeekerLosStudy::run(
   });
   r.los_max_sorted = out_values[0];
   std::sort(r.los_max_sorted.begin(), r.los_max_sorted.end());
+  r.values = std::move(out_values);
   return r;
 }
 

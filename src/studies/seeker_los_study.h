@@ -66,6 +66,21 @@ struct SeekerMcResult {
   std::vector<double> map_p50, map_p95, map_p99_73;  ///< per grid point, arcsec
   std::vector<double> los_max_sorted;      ///< for histogram/CDF
   double wall_seconds = 0.0;
+  std::vector<std::vector<double>> values;  ///< per output, ok samples in order
+  std::vector<std::size_t> ok_index;        ///< sample index of each ok sample
+  std::size_t completed = 0;                ///< samples [0, completed) ran
+  bool interrupted = false;
+  int signal = 0;
+  std::string stop_reason;
+};
+
+/// How SeekerLosStudy::run is driven: over MPI ranks (a run's main loop only) and with a
+/// stop rule (convergence.h) checked on rank 0 after each block.
+struct SeekerRunControl {
+  bool distributed = false;
+  std::function<std::string(const std::vector<std::vector<double>>& values, const std::vector<std::size_t>& ok_index,
+                            std::size_t failures, std::size_t completed)>
+      stop;
 };
 
 /// A study ready to run: model, sampler, design and grid built and validated.
@@ -94,7 +109,8 @@ class SeekerLosStudy {
 
   /// Runs all samples on `threads` threads; each finished block goes to `sink` in order.
   SeekerMcResult run(int threads, bool progress,
-                     const std::function<void(std::span<const SeekerSampleResult>)>& sink) const;
+                     const std::function<void(std::span<const SeekerSampleResult>)>& sink,
+                     const SeekerRunControl& control = {}) const;
 
  private:
   StudyConfig config_;

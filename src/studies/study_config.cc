@@ -77,6 +77,14 @@ void read_balancing_procedure(TomlReader& root, StudyConfig& c) {
 
 }  // namespace
 
+sampling::Design make_design(const StudyConfig& cfg, std::uint64_t seed, std::size_t samples, std::size_t dimension) {
+  sampling::DesignOptions o;
+  o.replicate_size = cfg.replicate_size;
+  o.saltelli_base = cfg.saltelli_base;
+  o.saltelli_noise_group = cfg.saltelli_noise_group;
+  return sampling::Design(cfg.method, seed, samples, dimension, o);
+}
+
 StudyConfig load_study(const std::string& path) {
   toml::table doc = parse_toml_file(path);
   auto ctx = std::make_shared<ReadContext>();
@@ -108,6 +116,20 @@ StudyConfig load_study(const std::string& path) {
     c.method = sampling::parse_sampling_method(t.choice("method", {"sobol", "lhs", "monte_carlo"}));
     c.samples = static_cast<std::size_t>(t.integer("samples", 1, 1'000'000'000));
     c.seed = static_cast<std::uint64_t>(t.integer("seed", 0, INT64_MAX));
+    c.replicate_size = static_cast<std::size_t>(t.integer("replicate_size", 0, 1'000'000'000, 0));
+    if (c.replicate_size > 0 && c.samples % c.replicate_size != 0) {
+      t.error("replicate_size", std::to_string(c.replicate_size),
+              "a divisor of samples (" + std::to_string(c.samples) + "): whole replicates only");
+    } else if (c.replicate_size > 0 && c.method == sampling::SamplingMethod::kSobol &&
+               (c.replicate_size & (c.replicate_size - 1)) != 0) {
+      t.error("replicate_size", std::to_string(c.replicate_size),
+              "a power of two for sobol (a scrambled Sobol replicate is a 2^m net), e.g. 256 or 1024");
+    }
+    if (t.has("max_failure_share")) {
+      c.max_failure_share = t.number("max_failure_share", [](double v) {
+        return v >= 0.0 && v <= 1.0 ? std::string() : std::string("a share between 0 and 1, e.g. 0.05");
+      });
+    }
   }
   if (c.kind == "seeker_los") {
     read_geometry_study(root, c.kind, c.geometry);  // optional [clearance]

@@ -5,7 +5,8 @@
 ///
 ///   [study]     name, kind = "seeker_los", model (path relative to the study file),
 ///               title, notes
-///   [sampling]  method = "sobol" | "lhs" | "monte_carlo", samples, seed
+///   [sampling]  method = "sobol" | "lhs" | "monte_carlo", samples, seed,
+///               replicate_size (optional), max_failure_share (optional, default 0.05)
 ///   [grid]      yaw_points, pitch_points (over the model's field of regard)
 ///   [requirement] los_error = "1 px" (or any angle)
 ///   [clearance] output = true, yaw_points, pitch_points (optional; geometry_study.h)
@@ -92,6 +93,17 @@ struct StudyConfig {
   sampling::SamplingMethod method = sampling::SamplingMethod::kSobol;
   std::size_t samples = 0;
   std::uint64_t seed = 0;
+  /// [sampling] replicate_size: lhs and sobol in independent randomized replicates of this
+  /// many points (sobol: a power of two), so that intervals come from their spread and
+  /// --until can grow the run replicate by replicate; samples must be a multiple. 0 = off.
+  std::size_t replicate_size = 0;
+  /// [sampling] max_failure_share: the run stops with an error once more than this share
+  /// of its samples has failed (default 0.05).
+  double max_failure_share = 0.05;
+  /// Not a file key: set by `poise sensitivity`, the base rows of the Saltelli layout
+  /// (sampling/design.h) and whether the within-sample randomness is a group of its own.
+  std::size_t saltelli_base = 0;
+  bool saltelli_noise_group = false;
   std::size_t yaw_points = 13, pitch_points = 13;
   double requirement = 0.0;       ///< as written, in its unit's SI (rad or px)
   bool requirement_in_pixels = true;
@@ -118,6 +130,9 @@ struct StudyConfig {
   PlatformStudySection platform;  ///< kind = "platform_balancing" (platform_study_config.h)
   GeometryStudySpec geometry;  ///< kinds "geometry_mass_properties", "los_obstruction" (geometry_study.h)
 };
+
+/// The design of a study's samples: method, seed, replicates and Saltelli layout as configured.
+sampling::Design make_design(const StudyConfig& cfg, std::uint64_t seed, std::size_t samples, std::size_t dimension);
 
 /// Loads and validates a study file (not its model). Throws ValidationError.
 StudyConfig load_study(const std::string& path);

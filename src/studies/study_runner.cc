@@ -4,11 +4,17 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
+#include <algorithm>
 #include <thread>
 
 #include "core/units.h"
 #include "core/version.h"
+#include "sampling/distributed.h"
+#include "sampling/interrupt.h"
 #include "studies/balancing_runner.h"
+#include "studies/convergence.h"
+#include "studies/sensitivity_output.h"
 #include "studies/platform_runner.h"
 #include "studies/gimbal_runner.h"
 #include "studies/geometry_mass_runner.h"
@@ -40,6 +46,24 @@ std::pair<StudyConfig, SeekerModel> load_all(const std::string& path,
   for (const auto& [k, v] : extra) overrides[k] = v;
   SeekerModel model = load_seeker_model(cfg.model_path, overrides);
   return {std::move(cfg), std::move(model)};
+}
+
+// Complete rows of an interrupted run's samples.csv (a partial last line is cut off the
+// file). Throws if the header is not this study's.
+std::size_t count_complete_rows(const std::string& csv_path, const std::string& header) {
+  std::ifstream in(csv_path, std::ios::binary);
+  if (!in) throw Error("--resume: cannot read " + csv_path);
+  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  in.close();
+  const std::size_t complete = text.rfind('\n');
+  if (complete == std::string::npos || text.compare(0, header.size() + 1, header + "\n") != 0) {
+    throw Error("--resume: " + csv_path + " does not start with this study's header");
+  }
+  if (complete + 1 != text.size()) {
+    text.resize(complete + 1);
+    write_file_atomic(csv_path, text);
+  }
+  return static_cast<std::size_t>(std::count(text.begin(), text.end(), '\n')) - 1;
 }
 
 int resolve_threads(int requested) {
@@ -191,57 +215,133 @@ std::string run_study(const std::string& study_path, const RunOptions& options) 
   } else if (c.kind == "platform_balancing") {
     validate_platform_study(c);
     return run_platform_study(c, options);
-  } else if (c.kind == "geometry_mass_properties") {
-    validate_geometry_mass_study(c);
-    return run_geometry_mass_study(c, options);
-  } else if (c.kind == "los_obstruction") {
+  } else if (c.kind == "geometry_mass_properties" || c.kind == "los_obstruction") {
+    if (!options.resume.empty() || !options.until.empty() || options.sensitivity_base > 0 ||
+        sampling::Cluster::size() > 1) {
+      throw Error("--resume, --until, `poise sensitivity` and MPI runs are for the seeker_los, "
+                  "gimbal_static_unbalance, balancing_machine and platform_balancing kinds; a " + c.kind +
+                  " study runs in one process in seconds to minutes");
+    }
+    if (c.kind == "geometry_mass_properties") {
+      validate_geometry_mass_study(c);
+      return run_geometry_mass_study(c, options);
+    }
     validate_obstruction_study(c);
     return run_obstruction_study(c, options);
   }
-  if (!options.resume.empty()) {
-    throw Error("--resume is for gimbal and balancing-machine studies, whose samples are expensive; a LOS study "
-                "re-runs in seconds");
-  }
   auto [cfg, model] = load_all(study_path);
   validate_study(study_path);  // sweeps too: nothing runs until everything validates
-  const std::size_t n = options.samples.value_or(cfg.samples);
-  const std::uint64_t seed = options.seed.value_or(cfg.seed);
-  const int threads = resolve_threads(options.threads);
+  const bool root = sampling::Cluster::root();
+  const int ranks = sampling::Cluster::size();
+  std::size_t n = options.samples.value_or(cfg.samples);
+  std::uint64_t seed = options.seed.value_or(cfg.seed);
+  std::string until_text = options.until;
+  std::size_t sensitivity_base = options.sensitivity_base;
+  const int threads = options.threads > 0 ? options.threads
+                                          : std::max(1, resolve_threads(0) / std::max(1, sampling::Cluster::local_size()));
   if (n == 0) throw Error("--samples must be at least 1");
-
-  const std::string dir = make_run_folder(options.results_root, cfg.name, options.out);
-  const std::string started = now_iso8601();
-  if (options.progress) {
-    std::fprintf(stderr, "poise: study %s -> %s\n  %zu samples (%s, seed %llu) on %d thread(s)\n",
-                 cfg.name.c_str(), dir.c_str(), n, sampling::to_string(cfg.method).c_str(),
-                 static_cast<unsigned long long>(seed), threads);
+  std::string dir;
+  json manifest;
+  std::size_t rows_on_disk = 0;  // a resumed run's complete samples.csv rows
+  if (!options.resume.empty()) {
+    dir = options.resume;
+    std::ifstream mf(fs::path(dir) / "run.json");
+    if (!mf) throw Error("--resume " + dir + ": no run.json there (not a run folder of Poise)");
+    manifest = json::parse(mf);
+    if (manifest.value("study_file_sha1", "") != file_sha1(cfg.file) ||
+        manifest.value("model_file_sha1", "") != file_sha1(cfg.model_path)) {
+      throw Error("--resume " + dir + ": the study or model file changed since the run began; start a new run");
+    }
+    n = manifest.at("samples").get<std::size_t>();
+    seed = manifest.at("seed").get<std::uint64_t>();
+    until_text = manifest.value("until", "");
+    sensitivity_base = manifest.value("sensitivity_base", std::size_t{0});
+  }
+  if (sensitivity_base > 0) {
+    cfg.saltelli_base = sensitivity_base;
+    cfg.saltelli_noise_group = false;  // a LOS sample is a pure function of its design point
+    cfg.replicate_size = 0;
+    n = sensitivity_base * (SeekerSampler(model).dimension() + 2);
+  }
+  if (!until_text.empty()) {
+    if (sensitivity_base > 0) throw Error("--until does not apply to a sensitivity run (its size is set by --base)");
+    if (cfg.method != sampling::SamplingMethod::kMonteCarlo && cfg.replicate_size == 0) {
+      throw Error("--until needs samples that can grow: method = \"monte_carlo\", or lhs/sobol with [sampling] "
+                  "replicate_size (independent randomized replicates; an lhs or sobol design of N points is not "
+                  "the first N points of a larger one)");
+    }
+    if (options.resume.empty()) n = options.max_samples.value_or(100 * cfg.samples);
+    if (cfg.replicate_size > 0) n = std::max(cfg.replicate_size, n / cfg.replicate_size * cfg.replicate_size);
+  }
+  std::vector<std::string> output_names;
+  for (const auto& o : kSeekerOutputs) output_names.emplace_back(o.name);
+  std::optional<UntilTarget> until;
+  if (!until_text.empty()) until = parse_until(until_text, output_names);
+  if (options.resume.empty()) {
+    if (root) dir = make_run_folder(options.results_root, cfg.name, options.out);
+    manifest = {{"kind", cfg.kind}, {"study_file_sha1", file_sha1(cfg.file)},
+                {"model_file_sha1", file_sha1(cfg.model_path)}, {"samples", n}, {"seed", seed},
+                {"method", sampling::to_string(cfg.method)}, {"replicate_size", cfg.replicate_size},
+                {"until", until_text}, {"sensitivity_base", sensitivity_base},
+                {"poise_version", kVersion}, {"started", now_iso8601()}, {"status", "running"}};
+    if (root) write_file_atomic((fs::path(dir) / "run.json").string(), manifest.dump(2) + "\n");
+  }
+  const std::string started = manifest.value("started", now_iso8601());
+  if (options.progress && root) {
+    std::fprintf(stderr, "poise: study %s -> %s\n  %zu samples%s (%s, seed %llu) on %d thread(s)%s\n",
+                 cfg.name.c_str(), dir.c_str(), n, until ? (" at most, until " + until->text).c_str() : "",
+                 sampling::to_string(cfg.method).c_str(), static_cast<unsigned long long>(seed), threads,
+                 ranks > 1 ? (" x " + std::to_string(ranks) + " MPI ranks").c_str() : "");
   }
   SeekerLosStudy study(cfg, model, n, seed);
 
-  // samples.csv, streamed in sample order.
-  std::ofstream csv(fs::path(dir) / "samples.csv");
-  if (!csv) throw Error("cannot write " + (fs::path(dir) / "samples.csv").string());
-  csv << "sample,status";
-  for (const auto& c : study.sampler().columns()) csv << ',' << c.name;
-  for (const auto& o : kSeekerOutputs) csv << ',' << o.name;
-  csv << ",message\n";
+  // samples.csv, streamed in sample order. A resumed run recomputes its samples (a LOS
+  // sample takes microseconds and the pooled field statistics need every grid value) and
+  // appends the rows the file lacks.
+  std::string header = "sample,status";
+  for (const auto& c : study.sampler().columns()) header += "," + c.name;
+  for (const auto& o : kSeekerOutputs) header += std::string(",") + o.name;
+  header += ",message";
+  const std::string csv_path = (fs::path(dir) / "samples.csv").string();
+  if (!options.resume.empty() && root) rows_on_disk = count_complete_rows(csv_path, header);
+  std::ofstream csv;
+  if (root) {
+    csv.open(csv_path, options.resume.empty() ? std::ios::trunc : std::ios::app);
+    if (!csv) throw Error("cannot write " + csv_path);
+    if (options.resume.empty()) csv << header << '\n' << std::flush;
+  }
+  sampling::InterruptGuard interrupts;
+  auto rule = std::make_shared<StopRule>(output_names, n, cfg.max_failure_share, until, cfg.replicate_size,
+                                         options.progress && root);
+  SeekerRunControl control;
+  control.distributed = true;
+  control.stop = [rule](const std::vector<std::vector<double>>& v, const std::vector<std::size_t>& ok, std::size_t f,
+                        std::size_t c) { return (*rule)(v, ok, f, c); };
   const SeekerMcResult mc = study.run(threads, options.progress, [&](std::span<const SeekerSampleResult> block) {
     for (const auto& s : block) {
+      if (s.index < rows_on_disk) continue;
       csv << s.index << ',' << (s.ok ? "ok" : "failed");
       for (double v : s.inputs) csv << ',' << csv_number(v);
       for (double v : s.outputs) csv << ',' << csv_number(v);
       csv << ',' << csv_text(s.message) << '\n';
     }
     csv.flush();
-  });
+  }, control);
+  if (!root) return "";  // rank 0 writes the folder
   csv.close();
+  const std::size_t ran = mc.completed;
+  const std::string status = mc.interrupted ? "interrupted" : rule->failed() ? "failed" : "complete";
+  manifest["status"] = status;
+  manifest["completed"] = ran;
+  write_file_atomic((fs::path(dir) / "run.json").string(), manifest.dump(2) + "\n");
+  const bool extras = status == "complete" && sensitivity_base == 0;  // sweeps and contributions
 
   const models::WangBudget budget = models::compute_wang_budget(model.budget_inputs());
 
   // Sweeps: the same seed at every value (common random numbers), so differences between
   // values are the design's, not the sampling noise's.
   json sweeps = json::array();
-  for (const auto& sw : cfg.sweeps) {
+  for (const auto& sw : extras ? cfg.sweeps : std::vector<SweepSpec>{}) {
     json js{{"parameter", sw.parameter}, {"samples", sw.samples}, {"points", json::array()}};
     for (const auto& v : sw.values) {
       auto [cfg_v, model_v] = load_all(study_path, {{sw.parameter, v}});
@@ -266,8 +366,8 @@ std::string run_study(const std::string& study_path, const RunOptions& options) 
   // Contributions: each tolerance set to zero in turn, same seed (common random numbers);
   // the drop of the statistics is that tolerance's share of the error.
   json contributions = json::array();
-  if (cfg.contribution_samples > 0) {
-    const std::size_t nc = std::min(cfg.contribution_samples, n);
+  if (extras && cfg.contribution_samples > 0) {
+    const std::size_t nc = std::min(cfg.contribution_samples, ran);
     if (options.progress) {
       std::fprintf(stderr, "  contributions: %zu tolerances, %zu samples each\n", model.tolerance_keys().size(), nc);
     }
@@ -314,13 +414,20 @@ std::string run_study(const std::string& study_path, const RunOptions& options) 
                src.spec);
     }
   }
-  s["sampling"] = {{"method", sampling::to_string(cfg.method)}, {"samples", n}, {"seed", seed},
-                   {"threads", threads}, {"dimension", study.sampler().dimension()},
+  s["status"] = status;
+  if (!mc.stop_reason.empty()) s["stop_reason"] = mc.stop_reason;
+  s["sampling"] = {{"method", sampling::to_string(cfg.method)}, {"samples", ran}, {"planned_samples", n}, {"seed", seed},
+                   {"threads", threads}, {"mpi_ranks", ranks}, {"replicate_size", cfg.replicate_size},
+                   {"max_failure_share", cfg.max_failure_share}, {"dimension", study.sampler().dimension()},
                    {"grid", {{"yaw_points", cfg.yaw_points}, {"pitch_points", cfg.pitch_points},
                              {"yaw_deg", {model.yaw_min / units::kRadPerDeg, model.yaw_max / units::kRadPerDeg}},
                              {"pitch_deg", {model.pitch_min / units::kRadPerDeg, model.pitch_max / units::kRadPerDeg}}}},
                    {"inputs", inputs},
-                   {"ci_note", "95% intervals assume independent samples; for lhs and sobol designs they are conservative"}};
+                   {"ci_note", cfg.replicate_size > 0
+                                   ? "95% intervals of the per-sample outputs from the spread of the independent "
+                                     "randomized replicates; pooled field figures assume independent samples"
+                                   : "95% intervals assume independent samples; for lhs and sobol designs without "
+                                     "replicates they are conservative"}};
   json outputs;
   for (std::size_t k = 0; k < mc.outputs.size(); ++k) {
     outputs[kSeekerOutputs[k].name] = summary_json(mc.outputs[k], kSeekerOutputs[k].unit, kSeekerOutputs[k].description);
@@ -332,24 +439,31 @@ std::string run_study(const std::string& study_path, const RunOptions& options) 
     s["fraction_field_meeting"] = estimate_json(mc.fraction_field_ok);
   }
   s["budget"] = budget_json(budget, model);
-  s["failures"] = {{"count", mc.failures}, {"first", json::array()}};
-  for (const auto& [i, why] : mc.failed) s["failures"]["first"].push_back({{"sample", i}, {"reason", why}});
+  s["failures"] = failures_json(mc.failures, ran, mc.failed, seed, cfg.file);
+  s["convergence"] = convergence_json(output_names, mc.outputs, ran, cfg.replicate_size, rule->until_json());
+  if (sensitivity_base > 0 && status == "complete") {
+    std::vector<std::string> groups;
+    for (const auto& c : study.sampler().columns()) groups.push_back(c.name);
+    std::vector<std::vector<double>> by_index(output_names.size(), std::vector<double>(ran, NAN));
+    for (std::size_t k = 0; k < mc.values.size(); ++k) {
+      for (std::size_t m = 0; m < mc.ok_index.size(); ++m) by_index[k][mc.ok_index[m]] = mc.values[k][m];
+    }
+    s["sensitivity"] = sensitivity_json(output_names, groups, sensitivity_base, by_index, seed);
+  }
   s["sweeps"] = sweeps;
   s["provenance"] = {{"poise_version", kVersion}, {"git_commit", git_commit()},
                      {"study_file_sha1", file_sha1(cfg.file)}, {"model_file_sha1", file_sha1(cfg.model_path)},
-                     {"seed", seed}, {"samples", n}, {"threads", threads},
+                     {"seed", seed}, {"samples", ran}, {"threads", threads}, {"mpi_ranks", ranks},
                      {"wall_time_s", mc.wall_seconds}, {"started", started}, {"finished", now_iso8601()},
                      {"command_line_overrides", {{"samples", options.samples.has_value()}, {"seed", options.seed.has_value()}}},
                      {"libraries", library_versions()}};
-  {
-    std::ofstream js(fs::path(dir) / "summary.json");
-    js << s.dump(2) << '\n';
-  }
+  write_file_atomic((fs::path(dir) / "summary.json").string(), s.dump(2) + "\n");
   ReportInputs rep{dir, s, budget, mc, study.grid().alpha(), study.grid().beta(), options.plots && cfg.plots};
   write_report(rep);
   if (options.progress) {
     std::fprintf(stderr, "poise: report %s\n", (fs::path(dir) / "report.html").c_str());
   }
+  finish_run_status(status, mc.stop_reason, mc.signal, ran, n, mc.failures, dir, cfg.file);
   return dir;
 }
 

@@ -7,6 +7,7 @@
 ///   report.html   the report a reviewer reads
 #include <cstdint>
 #include <optional>
+#include <stdexcept>
 #include <string>
 
 #include <nlohmann/json.hpp>
@@ -25,6 +26,18 @@ struct RunOptions {
   /// its samples.csv are kept, the rest computed and appended. The study and model files
   /// must be unchanged (run.json holds their SHA-1); seed and sample count are the run's.
   std::string resume;
+  /// "OUTPUT.STAT<=WIDTH[%]": run until that 95% interval is that narrow (convergence.h);
+  /// the sample count is then the cap (max_samples, default 100 x the study's samples).
+  std::string until;
+  std::optional<std::size_t> max_samples;
+  /// > 0: `poise sensitivity`: Sobol indices from this many base rows (Saltelli layout).
+  std::size_t sensitivity_base = 0;
+};
+
+/// A run stopped by SIGINT or SIGTERM after writing what it had done.
+struct Interrupted : std::runtime_error {
+  Interrupted(const std::string& what, int signal_number) : std::runtime_error(what), signal(signal_number) {}
+  int signal;
 };
 
 /// Loads, validates (study and model), runs and writes the folder. Returns its path.

@@ -8,6 +8,7 @@ ToleranceSpec read_tolerance(TomlReader& parent, const std::string& key, const u
   spec.display_unit = display_unit;
   spec.display_factor = display_unit.empty() ? 1.0 : units::unit_factor(display_unit);
   TomlReader t = parent.table(key);
+  const std::size_t errors_before = t.context().errors.size();
   spec.source = t.string("source", "");
   const std::string kind_name = t.choice(
       "distribution", {"normal", "uniform", "arcsine", "truncated_normal", "fixed"});
@@ -32,6 +33,9 @@ ToleranceSpec read_tolerance(TomlReader& parent, const std::string& key, const u
     convention = sampling::parse_convention(conv);
   }
   spec.tolerance = tol;
+  // A refused distribution, tolerance or bound is reported once, not again as a distribution
+  // built from the stand-in values.
+  if (t.context().errors.size() != errors_before) return spec;
   try {
     spec.dist = sampling::Distribution(kind, nominal, tol, convention);
   } catch (const Error& e) {

@@ -1,5 +1,7 @@
 #include "studies/toml_reader.h"
 
+#include <cmath>
+#include <filesystem>
 #include <sstream>
 
 namespace poise::studies {
@@ -44,14 +46,23 @@ void walk_unknown(const toml::table& t, const std::string& prefix, ReadContext& 
 ValidationError::ValidationError(std::vector<InputError> errors)
     : Error(join_errors(errors)), errors_(std::move(errors)) {}
 
+std::string quote_value(const std::string& v) {
+  constexpr std::size_t kMaxQuoted = 80;
+  if (v.size() <= kMaxQuoted) return "\"" + v + "\"";
+  std::size_t cut = kMaxQuoted;
+  while (cut > 0 && (static_cast<unsigned char>(v[cut]) & 0xC0) == 0x80) --cut;  // whole UTF-8 characters
+  return "\"" + v.substr(0, cut) + "...\" (" + std::to_string(v.size()) + " bytes)";
+}
+
 std::string describe_node(const toml::node& n) {
-  if (const auto* s = n.as_string()) return "\"" + s->get() + "\"";
+  if (const auto* s = n.as_string()) return quote_value(s->get());
   if (n.is_table()) return "{...}";
   if (n.is_array()) return "[...]";
   std::ostringstream os;
   n.visit([&os](const auto& v) {
     if constexpr (toml::is_integer<decltype(v)> || toml::is_floating_point<decltype(v)> ||
-                  toml::is_boolean<decltype(v)>) {
+                  toml::is_boolean<decltype(v)> || toml::is_date<decltype(v)> ||
+                  toml::is_time<decltype(v)> || toml::is_date_time<decltype(v)>) {
       os << v.get();
     } else {
       os << "(value)";
@@ -61,6 +72,27 @@ std::string describe_node(const toml::node& n) {
 }
 
 toml::table parse_toml_file(const std::string& path) {
+  // Only regular files of sane size: a directory would read as an empty file, a device
+  // such as /dev/zero or a FIFO would be read forever.
+  std::error_code ec;
+  const auto status = std::filesystem::status(path, ec);
+  std::string problem;
+  if (ec && ec != std::errc::no_such_file_or_directory) {
+    problem = "cannot be read: " + ec.message();  // e.g. "File name too long"
+  } else if (!std::filesystem::exists(status)) {
+    problem = "no such file";
+  } else if (std::filesystem::is_directory(status)) {
+    problem = "a directory";
+  } else if (!std::filesystem::is_regular_file(status)) {
+    problem = "not a regular file (a device, FIFO or socket)";
+  } else if (const auto size = std::filesystem::file_size(path, ec); !ec && size > kMaxInputFileBytes) {
+    problem = std::to_string(size) + " bytes";
+  }
+  if (!problem.empty()) {
+    throw ValidationError({InputError(SourceLocation{path, 0, 0}, "(file)", problem,
+                                      "a readable TOML file (a regular file of at most " +
+                                          std::to_string(kMaxInputFileBytes >> 20) + " MiB)")});
+  }
   try {
     return toml::parse_file(path);
   } catch (const toml::parse_error& e) {
@@ -174,7 +206,7 @@ std::string TomlReader::choice(const std::string& key, const std::vector<std::st
   }
   std::string list;
   for (const auto& c : choices) list += (list.empty() ? "\"" : ", \"") + c + "\"";
-  error(key, "\"" + v + "\"", "one of " + list);
+  error(key, quote_value(v), "one of " + list);
   return choices.front();
 }
 
@@ -233,6 +265,10 @@ double TomlReader::number(const std::string& key, const std::function<std::strin
   if (const auto* i = n->as_integer()) v = static_cast<double>(i->get());
   if (!v) {
     error(key, describe_node(*n), "a plain number (no unit), e.g. 0.4");
+    return fallback.value_or(0.0);
+  }
+  if (!std::isfinite(*v)) {  // TOML has nan and inf; no input of Poise means them
+    error(key, describe_node(*n), "a finite number");
     return fallback.value_or(0.0);
   }
   if (check) {

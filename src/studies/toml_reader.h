@@ -8,6 +8,7 @@
 /// whole file validates.
 #include <toml++/toml.h>
 
+#include <cstdint>
 #include <functional>
 #include <memory>
 #include <optional>
@@ -30,7 +31,12 @@ class ValidationError : public Error {
   std::vector<InputError> errors_;
 };
 
-/// Parses a TOML file; syntax errors become a ValidationError with file:line:col.
+/// Largest study or model file read (a bigger one is refused, not loaded into memory).
+inline constexpr std::uintmax_t kMaxInputFileBytes = std::uintmax_t{64} << 20;
+
+/// Parses a TOML file; syntax errors become a ValidationError with file:line:col. A path
+/// that is not a regular file (directory, device, FIFO) or is larger than
+/// kMaxInputFileBytes is refused with a ValidationError.
 toml::table parse_toml_file(const std::string& path);
 
 /// Shared state of one file's reading: file name, used keys, errors.
@@ -101,7 +107,11 @@ void finish(const toml::table& root, ReadContext& ctx);
 std::string positive(double v);
 std::string non_negative(double v);
 
-/// Describes a TOML node's value as written ("\"82\"", "82", "[...]").
+/// Describes a TOML node's value as written ("\"82\"", "82", "[...]"); strings as quote_value().
 std::string describe_node(const toml::node& n);
+
+/// A string value in quotes for a message: "82 mm", or its first 80 bytes and its length when
+/// longer ("aaaa..." (200000 bytes)), so a message stays readable whatever the file holds.
+std::string quote_value(const std::string& value);
 
 }  // namespace poise::studies

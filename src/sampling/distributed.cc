@@ -1,0 +1,105 @@
+#include "sampling/distributed.h"
+
+#include <cstdlib>
+#include <stdexcept>
+
+#ifdef POISE_WITH_MPI
+#include <mpi.h>
+#endif
+
+namespace poise::sampling {
+namespace {
+bool g_mpi = false;
+int g_rank = 0, g_size = 1, g_local = 1;
+
+int env_int(const char* name, int fallback) {
+  const char* v = std::getenv(name);
+  return v ? std::atoi(v) : fallback;
+}
+}  // namespace
+
+bool Cluster::built_with_mpi() {
+#ifdef POISE_WITH_MPI
+  return true;
+#else
+  return false;
+#endif
+}
+
+void Cluster::init([[maybe_unused]] int* argc, [[maybe_unused]] char*** argv) {
+  const bool launched = std::getenv("OMPI_COMM_WORLD_SIZE") || std::getenv("PMIX_RANK") || std::getenv("PMI_SIZE");
+  if (!launched) return;
+#ifdef POISE_WITH_MPI
+  int provided = 0;
+  MPI_Init_thread(argc, argv, MPI_THREAD_FUNNELED, &provided);
+  g_mpi = true;
+  MPI_Comm_rank(MPI_COMM_WORLD, &g_rank);
+  MPI_Comm_size(MPI_COMM_WORLD, &g_size);
+  g_local = env_int("OMPI_COMM_WORLD_LOCAL_SIZE", g_size);
+#else
+  if (env_int("OMPI_COMM_WORLD_SIZE", 1) > 1) {
+    throw std::runtime_error(
+        "started by mpirun with several ranks, but this poise was built without MPI (install libopenmpi-dev "
+        "and rebuild: scripts/build.sh); every rank would run the whole study");
+  }
+#endif
+}
+
+void Cluster::finalize() {
+#ifdef POISE_WITH_MPI
+  if (g_mpi) MPI_Finalize();
+  g_mpi = false;
+#endif
+}
+
+void Cluster::abort(int status) {
+#ifdef POISE_WITH_MPI
+  if (g_mpi && g_size > 1) MPI_Abort(MPI_COMM_WORLD, status);
+#endif
+  std::exit(status);
+}
+
+int Cluster::rank() { return g_rank; }
+int Cluster::size() { return g_size; }
+int Cluster::local_size() { return g_local; }
+
+std::vector<std::string> Cluster::gather(const std::string& local) {
+  if (g_size == 1) return {local};
+#ifdef POISE_WITH_MPI
+  int n = static_cast<int>(local.size());
+  std::vector<int> sizes(g_rank == 0 ? static_cast<std::size_t>(g_size) : 0);
+  MPI_Gather(&n, 1, MPI_INT, sizes.data(), 1, MPI_INT, 0, MPI_COMM_WORLD);
+  std::vector<int> offsets;
+  std::string all;
+  if (g_rank == 0) {
+    offsets.resize(sizes.size());
+    int total = 0;
+    for (std::size_t q = 0; q < sizes.size(); ++q) {
+      offsets[q] = total;
+      total += sizes[q];
+    }
+    all.resize(static_cast<std::size_t>(total));
+  }
+  MPI_Gatherv(local.data(), n, MPI_CHAR, all.data(), sizes.data(), offsets.data(), MPI_CHAR, 0, MPI_COMM_WORLD);
+  std::vector<std::string> out;
+  for (std::size_t q = 0; q < sizes.size(); ++q) {
+    out.push_back(all.substr(static_cast<std::size_t>(offsets[q]), static_cast<std::size_t>(sizes[q])));
+  }
+  return out;
+#else
+  return {local};
+#endif
+}
+
+bool Cluster::any(bool flag) {
+  if (g_size == 1) return flag;
+#ifdef POISE_WITH_MPI
+  int in = flag ? 1 : 0, out = 0;
+  MPI_Allreduce(&in, &out, 1, MPI_INT, MPI_LOR, MPI_COMM_WORLD);
+  return out != 0;
+#else
+  return flag;
+#endif
+}
+
+}  // namespace poise::sampling

@@ -1,0 +1,35 @@
+#pragma once
+/// The processes of a run. Built with Open MPI (POISE_WITH_MPI) and started by mpirun,
+/// `poise run` splits its samples over the ranks: round by round, rank p computes chunk
+/// (round x size + p) of the sample order on its own threads, and rank 0 gathers the
+/// chunks, writes them in order and makes every decision (stop at a target interval, too
+/// many failures, a signal), which all ranks then share. Every sample depends only on
+/// (seed, index), so the samples and statistics equal a one-process run's. Without MPI, or
+/// when not started by mpirun, there is one rank and every call is trivial.
+#include <string>
+#include <vector>
+
+namespace poise::sampling {
+
+class Cluster {
+ public:
+  /// Starts MPI when built with it and launched by mpirun (OMPI_COMM_WORLD_SIZE or
+  /// PMIX_RANK set); a no-op otherwise. Call once, from main, before any other use.
+  static void init(int* argc, char*** argv);
+  static void finalize();
+  /// Ends every rank (after an error on one of them), with this exit status.
+  [[noreturn]] static void abort(int status);
+  static int rank();
+  static int size();
+  static bool root() { return rank() == 0; }
+  /// Ranks on this machine (to share its cores between them).
+  static int local_size();
+  /// Whether this binary was built with MPI.
+  static bool built_with_mpi();
+  /// Each rank's bytes, gathered at rank 0 in rank order; other ranks get an empty vector.
+  static std::vector<std::string> gather(const std::string& local);
+  /// Logical OR of every rank's flag, on every rank.
+  static bool any(bool flag);
+};
+
+}  // namespace poise::sampling

@@ -1,0 +1,225 @@
+// libFuzzer target for the study and model parsers (issue 9, "Bad input").
+//
+// The first input byte selects what is fuzzed (byte % 8); the rest is the file text:
+//   0  a study file, through validate_study() (what `poise validate` does)
+//   1  a seeker model file          (load_seeker_model)
+//   2  a gimbal model file          (load_gimbal_model)
+//   3  a balancing-machine model    (load_balancing_model)
+//   4  a platform model             (load_platform_model)
+//   5  a simulator-disk model       (load_disk_geometry_model)
+//   6  a quantity "<number> <unit>" (units::parse_quantity, parse_as, unit_factor, format)
+//   7  a study file and a model file, split at the line "#---model---"; the model is written
+//      next to the study as fuzz_model.toml (reference it with model = "fuzz_model.toml")
+// Files are written to a private temporary folder laid out like the repository: the study
+// goes to <tmp>/studies/, which also holds links to the repository's studies, and
+// <tmp>/models links to the repository's models/, so "../models/x.toml" resolves.
+//
+// Refusals are expected: poise::Error (ValidationError included) and a few standard
+// exceptions with a clear message. Crashes, sanitizer reports, hangs, memory blow-ups and
+// any other exception are findings: the target aborts with the exception's type and text.
+//
+// With POISE_FUZZ_WRITE_SEEDS=<dir> set, the program writes the seed corpus (the repository's
+// studies and models and tests/data/malformed, each with its selector byte) to <dir> and exits.
+#include <unistd.h>
+
+#include <cstdint>
+#include <cstdio>
+#include <cstdlib>
+#include <exception>
+#include <filesystem>
+#include <fstream>
+#include <ios>
+#include <sstream>
+#include <string>
+#include <string_view>
+#include <typeinfo>
+
+#include "core/error.h"
+#include "core/units.h"
+#include "studies/balancing_model.h"
+#include "studies/disk_geometry_model.h"
+#include "studies/gimbal_model.h"
+#include "studies/platform_model.h"
+#include "studies/seeker_model.h"
+#include "studies/study_runner.h"
+#include "studies/toml_reader.h"
+
+namespace fs = std::filesystem;
+
+namespace {
+
+const fs::path kSource = POISE_SOURCE_DIR;
+constexpr std::string_view kModelSeparator = "\n#---model---\n";
+fs::path g_dir;  // private temporary folder
+
+void write_file(const fs::path& path, std::string_view text) {
+  std::ofstream out(path, std::ios::binary | std::ios::trunc);
+  out.write(text.data(), static_cast<std::streamsize>(text.size()));
+}
+
+std::string read_file(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+// Selector of a model file by its [model] kind.
+char model_selector(const std::string& text) {
+  if (text.find("\"gimbal_static_unbalance\"") != std::string::npos) return '2';
+  if (text.find("\"balancing_machine\"") != std::string::npos) return '3';
+  if (text.find("\"platform_three_gimbal\"") != std::string::npos) return '4';
+  if (text.find("\"simulator_disk\"") != std::string::npos) return '5';
+  return '1';
+}
+
+void write_seeds(const fs::path& out) {
+  fs::create_directories(out);
+  int n = 0;
+  auto add = [&](char selector, const std::string& text) {
+    write_file(out / ("seed_" + std::to_string(n++)), std::string(1, selector) + text);
+  };
+  for (const auto& e : fs::directory_iterator(kSource / "studies")) {
+    if (e.path().extension() == ".toml") add('0', read_file(e.path()));
+  }
+  for (const auto& e : fs::directory_iterator(kSource / "models")) {
+    if (e.path().extension() != ".toml") continue;
+    const std::string text = read_file(e.path());
+    add(model_selector(text), text);
+    // The same model beside a study that uses it (selector 7).
+    add('7', "[study]\nname = \"s\"\nkind = \"seeker_los\"\nmodel = \"fuzz_model.toml\"\n"
+             "[sampling]\nmethod = \"sobol\"\nsamples = 8\nseed = 1\n[grid]\nyaw_points = 3\n"
+             "pitch_points = 3\n[requirement]\nlos_error = \"1 px\"" +
+                 std::string(kModelSeparator) + text);
+  }
+  const fs::path malformed = kSource / "tests/data/malformed";
+  if (fs::is_directory(malformed)) {
+    for (const auto& e : fs::recursive_directory_iterator(malformed)) {
+      if (!e.is_regular_file() || e.path().extension() == ".md") continue;
+      const std::string text = read_file(e.path());
+      const bool model = e.path().parent_path().filename() == "models";
+      add(model ? model_selector(text) : '0', text);
+    }
+  }
+  for (const char* q : {"82 mm", "0.004 mm", "30 deg", "4 arcsec", "12.91 mN*m", "1e-3 kg*m^2", "3000 r/min",
+                        "9.81 m/s^2", "200 GPa", "1 px", "5 %", "0.5 N*m/A", "1e308 km", "1 m^13", "nan mm"}) {
+    add('6', q);
+  }
+  std::printf("wrote %d seeds to %s\n", n, out.c_str());
+}
+
+// Exceptions a user may see: poise's own, and standard ones whose message says what is wrong.
+bool acceptable(const std::exception& e) {
+  if (dynamic_cast<const poise::Error*>(&e)) return true;
+  if (dynamic_cast<const fs::filesystem_error*>(&e)) return true;  // "filesystem error: ... [path]"
+  return false;
+}
+
+[[noreturn]] void finding(const char* type, const char* what) {
+  std::fprintf(stderr, "\nFUZZ FINDING: uncaught exception of type %s: %s\n", type, what);
+  std::fflush(stderr);
+  std::abort();
+}
+
+void fuzz_units(std::string_view text) {
+  using namespace poise::units;
+  try {
+    const Quantity q = parse_quantity(text);
+    (void)dimension_name(q.dim);
+    (void)example_unit(q.dim);
+  } catch (const poise::Error&) {
+  }
+  for (const Dimension& d : {kDimensionless, kLength, kAngle, kTorque, kPressure, kAcceleration}) {
+    try {
+      (void)parse_as(text, d);
+    } catch (const poise::Error&) {
+    }
+  }
+  // The text as a unit alone (the part after the number).
+  try {
+    (void)unit_factor(text);
+    (void)format(1.5, text);
+  } catch (const poise::Error&) {
+  }
+}
+
+void run_one(unsigned selector, std::string_view text) {
+  using namespace poise::studies;
+  const fs::path study = g_dir / "studies" / "fuzz_study.toml";
+  const fs::path model = g_dir / "studies" / "fuzz_model.toml";
+  switch (selector) {
+    case 0:
+      write_file(study, text);
+      (void)validate_study(study.string());
+      break;
+    case 7: {
+      const auto split = text.find(kModelSeparator);
+      write_file(study, text.substr(0, split));
+      write_file(model, split == std::string_view::npos ? std::string_view() : text.substr(split + kModelSeparator.size()));
+      (void)validate_study(study.string());
+      break;
+    }
+    case 1:
+      write_file(model, text);
+      (void)load_seeker_model(model.string());
+      break;
+    case 2:
+      write_file(model, text);
+      (void)load_gimbal_model(model.string());
+      break;
+    case 3:
+      write_file(model, text);
+      (void)load_balancing_model(model.string());
+      break;
+    case 4:
+      write_file(model, text);
+      (void)load_platform_model(model.string());
+      break;
+    case 5:
+      write_file(model, text);
+      (void)load_disk_geometry_model(model.string());
+      break;
+    default:
+      fuzz_units(text);
+      break;
+  }
+}
+
+}  // namespace
+
+extern "C" int LLVMFuzzerInitialize(int*, char***) {
+  if (const char* seeds = std::getenv("POISE_FUZZ_WRITE_SEEDS")) {
+    write_seeds(seeds);
+    std::exit(0);
+  }
+  char templ[] = "/tmp/poise_fuzz_XXXXXX";
+  if (!::mkdtemp(templ)) {
+    std::perror("mkdtemp");
+    std::abort();
+  }
+  g_dir = templ;
+  fs::create_directories(g_dir / "studies");
+  fs::create_directory_symlink(kSource / "models", g_dir / "models");
+  for (const auto& e : fs::directory_iterator(kSource / "studies")) {
+    fs::create_symlink(e.path(), g_dir / "studies" / e.path().filename());
+  }
+  // Removed at exit (also after a finding's abort the folder is small and in /tmp).
+  std::atexit([] {
+    std::error_code ec;
+    fs::remove_all(g_dir, ec);
+  });
+  return 0;
+}
+
+extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+  if (size < 1) return 0;
+  const std::string_view text(reinterpret_cast<const char*>(data) + 1, size - 1);
+  try {
+    run_one(data[0] % 8u, text);
+  } catch (const std::exception& e) {
+    if (!acceptable(e)) finding(typeid(e).name(), e.what());
+  } catch (...) {
+    finding("(not a std::exception)", "");
+  }
+  return 0;
+}
