@@ -14,6 +14,7 @@
 #include "sampling/interrupt.h"
 #include "studies/convergence.h"
 #include "studies/provenance.h"
+#include "studies/run_plan.h"
 #include "studies/sensitivity_output.h"
 #include "studies/report.h"
 #include "studies/result_io.h"
@@ -101,20 +102,8 @@ namespace {
 // 0; a partial last line is cut off the file. Throws if the header is not this study's.
 std::vector<SampleResult> read_done_samples(const std::string& csv_path, const std::string& header,
                                                   std::size_t n_inputs, std::size_t n_outputs) {
-  std::ifstream in(csv_path, std::ios::binary);
-  if (!in) throw Error("--resume: cannot read " + csv_path);
-  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  in.close();
-  const std::size_t complete = text.rfind('\n');
-  if (complete == std::string::npos || text.compare(0, header.size() + 1, header + "\n") != 0) {
-    throw Error("--resume: " + csv_path + " does not start with this study's header");
-  }
-  if (complete + 1 != text.size()) {  // cut the partial line an interruption left
-    text.resize(complete + 1);
-    write_file_atomic(csv_path, text);
-  }
   std::vector<SampleResult> done;
-  std::istringstream lines(text.substr(header.size() + 1));
+  std::istringstream lines(read_complete_rows(csv_path, header));
   std::string line;
   while (std::getline(lines, line)) {
     std::vector<std::string> cells;
@@ -145,72 +134,20 @@ std::string run_procedure_study(const StudyConfig& cfg_in, const StudyFactory& m
   StudyConfig cfg = cfg_in;
   const bool root = sampling::Cluster::root();
   const int ranks = sampling::Cluster::size();
-  std::size_t n = options.samples.value_or(cfg.samples);
-  std::uint64_t seed = options.seed.value_or(cfg.seed);
-  std::string until_text = options.until;
-  std::size_t sensitivity_base = options.sensitivity_base;
-  // Default threads: this machine's cores shared among the ranks on it.
-  const int threads = options.threads > 0
-                          ? options.threads
-                          : std::max(1, static_cast<int>(std::max(1u, std::thread::hardware_concurrency())) /
-                                            std::max(1, sampling::Cluster::local_size()));
-  std::string dir;
-  json manifest;
-  if (!options.resume.empty()) {
-    dir = options.resume;
-    std::ifstream mf(fs::path(dir) / "run.json");
-    if (!mf) throw Error("--resume " + dir + ": no run.json there (not a run folder of Poise)");
-    manifest = json::parse(mf);
-    if (manifest.value("study_file_sha1", "") != file_sha1(cfg.file) ||
-        manifest.value("model_file_sha1", "") != file_sha1(cfg.model_path)) {
-      throw Error("--resume " + dir + ": the study or model file changed since the run began; start a new run");
-    }
-    n = manifest.at("samples").get<std::size_t>();
-    seed = manifest.at("seed").get<std::uint64_t>();
-    until_text = manifest.value("until", "");
-    sensitivity_base = manifest.value("sensitivity_base", std::size_t{0});
-  }
-  // The sensitivity layout: base rows x (groups + 2) samples; its groups need the study's
-  // dimension, which a study of the plain layout tells.
-  if (sensitivity_base > 0) {
-    const auto probe = make_study(cfg, 1, seed);
-    cfg.saltelli_base = sensitivity_base;
-    cfg.saltelli_noise_group = probe->has_own_randomness();
-    cfg.replicate_size = 0;
-    n = sensitivity_base * (probe->design_dimension_names().size() + (cfg.saltelli_noise_group ? 1 : 0) + 2);
-  }
-  std::optional<UntilTarget> until;
-  if (!until_text.empty()) {
-    if (sensitivity_base > 0) throw Error("--until does not apply to a sensitivity run (its size is set by --base)");
-    if (cfg.method != sampling::SamplingMethod::kMonteCarlo && cfg.replicate_size == 0) {
-      throw Error("--until needs samples that can grow: method = \"monte_carlo\", or lhs/sobol with [sampling] "
-                  "replicate_size (independent randomized replicates; an lhs or sobol design of N points is not "
-                  "the first N points of a larger one)");
-    }
-    if (options.resume.empty()) n = options.max_samples.value_or(100 * cfg.samples);
-    if (cfg.replicate_size > 0) n = std::max(cfg.replicate_size, n / cfg.replicate_size * cfg.replicate_size);
-  }
-  if (options.resume.empty()) {
-    if (root) dir = make_run_folder(options.results_root, cfg.name, options.out);
-    manifest = {{"kind", cfg.kind}, {"study_file_sha1", file_sha1(cfg.file)},
-                {"model_file_sha1", file_sha1(cfg.model_path)}, {"samples", n}, {"seed", seed},
-                {"method", sampling::to_string(cfg.method)}, {"replicate_size", cfg.replicate_size},
-                {"until", until_text}, {"sensitivity_base", sensitivity_base},
-                {"poise_version", kVersion}, {"started", now_iso8601()}, {"status", "running"}};
-    if (root) write_file_atomic((fs::path(dir) / "run.json").string(), manifest.dump(2) + "\n");
-  }
-  const std::string started = manifest.value("started", now_iso8601());
+  RunPlan plan = plan_run(cfg, options, [&] {
+    const auto probe = make_study(cfg, 1, cfg.seed);
+    return std::make_pair(probe->design_dimension_names().size(), probe->has_own_randomness());
+  });
+  const std::size_t n = plan.samples;
+  const std::uint64_t seed = plan.seed;
+  const int threads = plan.threads;
+  const std::string& dir = plan.dir;
+  const std::string& started = plan.started;
+  const std::size_t sensitivity_base = plan.sensitivity_base;
   const std::unique_ptr<ProcedureStudy> owned = make_study(cfg, n, seed);
   const ProcedureStudy& study = *owned;
-  if (!until_text.empty()) until = parse_until(until_text, study.output_names());
-  if (options.progress && root) {
-    std::fprintf(stderr, "poise: study %s -> %s\n  %zu samples%s (%s%s, seed %llu) on %d thread(s)%s\n", cfg.name.c_str(),
-                 dir.c_str(), n, until ? (" at most, until " + until->text).c_str() : "",
-                 sampling::to_string(cfg.method).c_str(),
-                 cfg.replicate_size > 0 ? (", replicates of " + std::to_string(cfg.replicate_size)).c_str() : "",
-                 static_cast<unsigned long long>(seed), threads,
-                 ranks > 1 ? (" x " + std::to_string(ranks) + " MPI ranks").c_str() : "");
-  }
+  const std::optional<UntilTarget> until = plan_until(plan, study.output_names());
+  announce_run(cfg, plan, until, options.progress);
   std::string header = "sample,status";
   for (const auto& c : study.input_names()) header += "," + c;
   for (const auto& c : study.output_names()) header += "," + c;
@@ -221,12 +158,7 @@ std::string run_procedure_study(const StudyConfig& cfg_in, const StudyFactory& m
     done = read_done_samples(csv_path, header, study.input_names().size(), study.output_names().size());
     if (options.progress && root) std::fprintf(stderr, "  resuming: %zu of %zu samples already done\n", done.size(), n);
   }
-  std::ofstream csv;
-  if (root) {
-    csv.open(csv_path, options.resume.empty() ? std::ios::trunc : std::ios::app);
-    if (!csv) throw Error("cannot write " + csv_path);
-    if (options.resume.empty()) csv << header << '\n' << std::flush;
-  }
+  std::ofstream csv = open_samples_csv(plan, header, !options.resume.empty());
   sampling::InterruptGuard interrupts;
   auto rule = std::make_shared<StopRule>(study.output_names(), n, cfg.max_failure_share, until, cfg.replicate_size,
                                          options.progress && root);
@@ -246,9 +178,7 @@ std::string run_procedure_study(const StudyConfig& cfg_in, const StudyFactory& m
   csv.close();
   const std::size_t ran = mc.completed;
   const std::string status = mc.interrupted ? "interrupted" : rule->failed() ? "failed" : "complete";
-  manifest["status"] = status;
-  manifest["completed"] = ran;
-  write_file_atomic((fs::path(dir) / "run.json").string(), manifest.dump(2) + "\n");
+  finish_manifest(plan, status, ran);
 
   json s;
   s["status"] = status;

@@ -20,6 +20,7 @@
 #include "studies/geometry_mass_runner.h"
 #include "studies/obstruction_runner.h"
 #include "studies/provenance.h"
+#include "studies/run_plan.h"
 #include "studies/result_io.h"
 #include "studies/report.h"
 #include "studies/seeker_los_study.h"
@@ -46,29 +47,6 @@ std::pair<StudyConfig, SeekerModel> load_all(const std::string& path,
   for (const auto& [k, v] : extra) overrides[k] = v;
   SeekerModel model = load_seeker_model(cfg.model_path, overrides);
   return {std::move(cfg), std::move(model)};
-}
-
-// Complete rows of an interrupted run's samples.csv (a partial last line is cut off the
-// file). Throws if the header is not this study's.
-std::size_t count_complete_rows(const std::string& csv_path, const std::string& header) {
-  std::ifstream in(csv_path, std::ios::binary);
-  if (!in) throw Error("--resume: cannot read " + csv_path);
-  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  in.close();
-  const std::size_t complete = text.rfind('\n');
-  if (complete == std::string::npos || text.compare(0, header.size() + 1, header + "\n") != 0) {
-    throw Error("--resume: " + csv_path + " does not start with this study's header");
-  }
-  if (complete + 1 != text.size()) {
-    text.resize(complete + 1);
-    write_file_atomic(csv_path, text);
-  }
-  return static_cast<std::size_t>(std::count(text.begin(), text.end(), '\n')) - 1;
-}
-
-int resolve_threads(int requested) {
-  if (requested > 0) return requested;
-  return std::max(1u, std::thread::hardware_concurrency());
 }
 
 json budget_json(const models::WangBudget& b, const SeekerModel& m) {
@@ -233,66 +211,21 @@ std::string run_study(const std::string& study_path, const RunOptions& options) 
   validate_study(study_path);  // sweeps too: nothing runs until everything validates
   const bool root = sampling::Cluster::root();
   const int ranks = sampling::Cluster::size();
-  std::size_t n = options.samples.value_or(cfg.samples);
-  std::uint64_t seed = options.seed.value_or(cfg.seed);
-  std::string until_text = options.until;
-  std::size_t sensitivity_base = options.sensitivity_base;
-  const int threads = options.threads > 0 ? options.threads
-                                          : std::max(1, resolve_threads(0) / std::max(1, sampling::Cluster::local_size()));
-  if (n == 0) throw Error("--samples must be at least 1");
-  std::string dir;
-  json manifest;
+  RunPlan plan = plan_run(cfg, options, [&] {
+    // A LOS sample is a pure function of its design point: no randomness of its own.
+    return std::make_pair(SeekerSampler(model).dimension(), false);
+  });
+  const std::size_t n = plan.samples;
+  const std::uint64_t seed = plan.seed;
+  const int threads = plan.threads;
+  const std::string& dir = plan.dir;
+  const std::string& started = plan.started;
+  const std::size_t sensitivity_base = plan.sensitivity_base;
   std::size_t rows_on_disk = 0;  // a resumed run's complete samples.csv rows
-  if (!options.resume.empty()) {
-    dir = options.resume;
-    std::ifstream mf(fs::path(dir) / "run.json");
-    if (!mf) throw Error("--resume " + dir + ": no run.json there (not a run folder of Poise)");
-    manifest = json::parse(mf);
-    if (manifest.value("study_file_sha1", "") != file_sha1(cfg.file) ||
-        manifest.value("model_file_sha1", "") != file_sha1(cfg.model_path)) {
-      throw Error("--resume " + dir + ": the study or model file changed since the run began; start a new run");
-    }
-    n = manifest.at("samples").get<std::size_t>();
-    seed = manifest.at("seed").get<std::uint64_t>();
-    until_text = manifest.value("until", "");
-    sensitivity_base = manifest.value("sensitivity_base", std::size_t{0});
-  }
-  if (sensitivity_base > 0) {
-    cfg.saltelli_base = sensitivity_base;
-    cfg.saltelli_noise_group = false;  // a LOS sample is a pure function of its design point
-    cfg.replicate_size = 0;
-    n = sensitivity_base * (SeekerSampler(model).dimension() + 2);
-  }
-  if (!until_text.empty()) {
-    if (sensitivity_base > 0) throw Error("--until does not apply to a sensitivity run (its size is set by --base)");
-    if (cfg.method != sampling::SamplingMethod::kMonteCarlo && cfg.replicate_size == 0) {
-      throw Error("--until needs samples that can grow: method = \"monte_carlo\", or lhs/sobol with [sampling] "
-                  "replicate_size (independent randomized replicates; an lhs or sobol design of N points is not "
-                  "the first N points of a larger one)");
-    }
-    if (options.resume.empty()) n = options.max_samples.value_or(100 * cfg.samples);
-    if (cfg.replicate_size > 0) n = std::max(cfg.replicate_size, n / cfg.replicate_size * cfg.replicate_size);
-  }
   std::vector<std::string> output_names;
   for (const auto& o : kSeekerOutputs) output_names.emplace_back(o.name);
-  std::optional<UntilTarget> until;
-  if (!until_text.empty()) until = parse_until(until_text, output_names);
-  if (options.resume.empty()) {
-    if (root) dir = make_run_folder(options.results_root, cfg.name, options.out);
-    manifest = {{"kind", cfg.kind}, {"study_file_sha1", file_sha1(cfg.file)},
-                {"model_file_sha1", file_sha1(cfg.model_path)}, {"samples", n}, {"seed", seed},
-                {"method", sampling::to_string(cfg.method)}, {"replicate_size", cfg.replicate_size},
-                {"until", until_text}, {"sensitivity_base", sensitivity_base},
-                {"poise_version", kVersion}, {"started", now_iso8601()}, {"status", "running"}};
-    if (root) write_file_atomic((fs::path(dir) / "run.json").string(), manifest.dump(2) + "\n");
-  }
-  const std::string started = manifest.value("started", now_iso8601());
-  if (options.progress && root) {
-    std::fprintf(stderr, "poise: study %s -> %s\n  %zu samples%s (%s, seed %llu) on %d thread(s)%s\n",
-                 cfg.name.c_str(), dir.c_str(), n, until ? (" at most, until " + until->text).c_str() : "",
-                 sampling::to_string(cfg.method).c_str(), static_cast<unsigned long long>(seed), threads,
-                 ranks > 1 ? (" x " + std::to_string(ranks) + " MPI ranks").c_str() : "");
-  }
+  const std::optional<UntilTarget> until = plan_until(plan, output_names);
+  announce_run(cfg, plan, until, options.progress);
   SeekerLosStudy study(cfg, model, n, seed);
 
   // samples.csv, streamed in sample order. A resumed run recomputes its samples (a LOS
@@ -303,13 +236,11 @@ std::string run_study(const std::string& study_path, const RunOptions& options) 
   for (const auto& o : kSeekerOutputs) header += std::string(",") + o.name;
   header += ",message";
   const std::string csv_path = (fs::path(dir) / "samples.csv").string();
-  if (!options.resume.empty() && root) rows_on_disk = count_complete_rows(csv_path, header);
-  std::ofstream csv;
-  if (root) {
-    csv.open(csv_path, options.resume.empty() ? std::ios::trunc : std::ios::app);
-    if (!csv) throw Error("cannot write " + csv_path);
-    if (options.resume.empty()) csv << header << '\n' << std::flush;
+  if (!options.resume.empty() && root) {
+    const std::string rows = read_complete_rows(csv_path, header);
+    rows_on_disk = static_cast<std::size_t>(std::count(rows.begin(), rows.end(), '\n'));
   }
+  std::ofstream csv = open_samples_csv(plan, header, !options.resume.empty());
   sampling::InterruptGuard interrupts;
   auto rule = std::make_shared<StopRule>(output_names, n, cfg.max_failure_share, until, cfg.replicate_size,
                                          options.progress && root);
@@ -331,9 +262,7 @@ std::string run_study(const std::string& study_path, const RunOptions& options) 
   csv.close();
   const std::size_t ran = mc.completed;
   const std::string status = mc.interrupted ? "interrupted" : rule->failed() ? "failed" : "complete";
-  manifest["status"] = status;
-  manifest["completed"] = ran;
-  write_file_atomic((fs::path(dir) / "run.json").string(), manifest.dump(2) + "\n");
+  finish_manifest(plan, status, ran);
   const bool extras = status == "complete" && sensitivity_base == 0;  // sweeps and contributions
 
   const models::WangBudget budget = models::compute_wang_budget(model.budget_inputs());
