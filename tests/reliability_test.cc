@@ -331,7 +331,7 @@ TEST(Until, StopsAtTheSameReplicateForAnyThreadCount) {
   ASSERT_EQ(r2.status, 0) << r2.err;
   const json s = comparable(d.file("t1"));
   EXPECT_EQ(s, comparable(d.file("t2")));
-  const json& u = s["convergence"]["until"];
+  const json& u = s["sample_convergence"]["until"];
   ASSERT_TRUE(u["met"].get<bool>()) << u.dump();
   const std::size_t n = u["met_at_samples"].get<std::size_t>();
   EXPECT_EQ(n % 512, 0u);
@@ -397,6 +397,30 @@ TEST(Sensitivity, TheDominantToleranceDrivesTheLosError) {
     }
   }
   EXPECT_NE(poise::test::read_text(d.file("s/report.html")).find("Sobol indices"), std::string::npos);
+}
+
+TEST(Sensitivity, GeometryStudyThicknessDrivesTheDiskMass) {
+  // Any study kind: the simulator disk as built (coarse ray grid, few base rows). Its mass and
+  // polar inertia follow the thickness tolerance; a hole position barely matters.
+  TempDir d;
+  std::string text = poise::test::read_text(poise::test::source_path("studies/geometry_mass_properties.toml"));
+  text = poise::test::replace_once(text, "model = \"../models/", "model = \"" + poise::test::source_path("models") + "/");
+  text = poise::test::replace_once(text, "rays_per_side = 200", "rays_per_side = 16");
+  text = poise::test::replace_once(text, "convergence = [25, 50, 100, 200, 400]", "convergence = [8]");
+  text = poise::test::replace_once(text, "export_mesh = true", "export_mesh = false");
+  poise::test::write_text(d.file("disk.toml"), text);
+  auto r = poise::test::run_poise(d, "sensitivity '" + d.file("disk.toml") + "' --base 16 -q --no-plots --out '" +
+                                         d.file("s") + "'");
+  ASSERT_EQ(r.status, 0) << r.err;
+  const json s = json::parse(poise::test::read_text(d.file("s/summary.json")));
+  EXPECT_EQ(s["status"], "complete");
+  const std::size_t groups = s["sensitivity"]["groups"].size();
+  EXPECT_EQ(s["sampling"]["samples"].get<std::size_t>(), 16 * (groups + 2));
+  for (const char* out : {"mass_g", "Jzz_kgm2"}) {
+    const json& top = s["sensitivity"]["outputs"][out]["indices"][0];
+    EXPECT_EQ(top["group"], "thickness_dev_mm") << out;
+    EXPECT_GT(top["total"]["value"].get<double>(), 0.9) << out;
+  }
 }
 
 TEST(Mpi, TwoRanksGiveTheSamplesAndStatisticsOfOneProcess) {

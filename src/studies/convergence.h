@@ -72,7 +72,7 @@ class StopRule {
   nlohmann::json checks_ = nlohmann::json::array();
 };
 
-/// summary.json "convergence": per output and figure, its interval's relative half-width
+/// summary.json "sample_convergence": per output and figure, its interval's relative half-width
 /// and the samples a +-1% and a +-5% interval would need (half-width ~ 1/sqrt(n)), so that
 /// a reader sees how many samples each figure needed; plus the --until record.
 nlohmann::json convergence_json(const std::vector<std::string>& outputs, const std::vector<sampling::Summary>& summaries,

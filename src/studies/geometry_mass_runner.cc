@@ -150,9 +150,11 @@ json replay_geometry_mass_sample(const StudyConfig& cfg, std::size_t index, cons
   return geometry_replay_json(index, r, study.sampler().columns(), kOutputs);
 }
 
-std::string run_geometry_mass_study(const StudyConfig& cfg, const RunOptions& options) {
-  const GeometryRunSize size =
-      geometry_run_size(cfg, options, "--resume is not needed for a geometry study; it re-runs in seconds");
+std::string run_geometry_mass_study(const StudyConfig& study_cfg, const RunOptions& options) {
+  StudyConfig cfg = study_cfg;
+  const GeometryRunSize size = geometry_run_size(cfg, options, "--resume is not needed for a geometry study; it re-runs in seconds", [&] {
+    return MassStudy(study_cfg, 1, study_cfg.seed).sampler().dimension();
+  });
   const MassStudy study(cfg, size.samples, size.seed);
   const GeometryRun run = start_geometry_run(cfg, options, size);
   const int threads = size.threads;
@@ -210,7 +212,7 @@ std::string run_geometry_mass_study(const StudyConfig& cfg, const RunOptions& op
                                     {exact.inertia(2, 0), exact.inertia(2, 1), exact.inertia(2, 2)}}},
                   {"closed_form_check", closed}};
   s["convergence"] = convergence;
-  write_geometry_summary(s, cfg, run, kOutputs, results);
+  write_geometry_summary(s, cfg, run, kOutputs, results, study.sampler().columns());
   if (cfg.geometry.export_mesh) {
     const geometry::Mesh merged = geometry::merge(nominal, study.model().name);
     geometry::write_stl(merged, (fs::path(run.dir) / "nominal_disk.stl").string(), 1e-3);

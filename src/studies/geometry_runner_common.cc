@@ -12,18 +12,30 @@
 #include "sampling/parallel_runner.h"
 #include "sampling/statistics.h"
 #include "studies/provenance.h"
+#include "sampling/interrupt.h"
+#include "studies/convergence.h"
 #include "studies/result_io.h"
+#include "studies/sample_driver.h"
+#include "studies/sensitivity_output.h"
 
 namespace poise::studies {
 namespace fs = std::filesystem;
 using nlohmann::json;
 
-GeometryRunSize geometry_run_size(const StudyConfig& cfg, const RunOptions& options, const std::string& resume_message) {
+GeometryRunSize geometry_run_size(StudyConfig& cfg, const RunOptions& options, const std::string& resume_message,
+                                  const std::function<std::size_t()>& dimension) {
   if (!options.resume.empty()) throw Error(resume_message);
+  if (!options.until.empty()) throw Error("--until is for the seeker, gimbal, balancing-machine and platform kinds");
   GeometryRunSize size;
   size.samples = options.samples.value_or(cfg.samples);
   size.seed = options.seed.value_or(cfg.seed);
   if (size.samples == 0) throw Error("--samples must be at least 1");
+  if (options.sensitivity_base > 0) {
+    cfg.saltelli_base = options.sensitivity_base;
+    cfg.saltelli_noise_group = false;  // a geometry sample is a pure function of its design point
+    cfg.replicate_size = 0;
+    size.samples = options.sensitivity_base * (dimension() + 2);
+  }
   size.threads = options.threads > 0 ? options.threads : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
   return size;
 }
@@ -55,9 +67,11 @@ GeometrySampleResults run_geometry_samples(const StudyConfig& cfg, const Geometr
   csv << ",message\n";
   GeometrySampleResults res;
   res.values.resize(outputs.size());
-  const sampling::RunShape shape{0, run.size.samples, run.size.threads, cfg.block, 1};
-  sampling::run_in_blocks<GeometrySample>(
-      shape, [] { return 0; }, [&](std::size_t i, int&, GeometrySample& r) { compute(i, r); },
+  sampling::InterruptGuard interrupts;
+  StopRule rule({}, run.size.samples, cfg.max_failure_share, std::nullopt, 0, false);
+  const DriveOutcome o = drive_samples<GeometrySample>(
+      DriveSpec{0, run.size.samples, cfg.block, 1, run.size.threads, false}, [] { return 0; },
+      [&](std::size_t i, int&, GeometrySample& r) { compute(i, r); },
       [&](std::size_t, std::span<const GeometrySample> block) {
         for (const auto& s : block) {
           csv << s.index << ',' << (s.ok ? "ok" : "failed");
@@ -70,10 +84,17 @@ GeometrySampleResults run_geometry_samples(const StudyConfig& cfg, const Geometr
             continue;
           }
           for (std::size_t k = 0; k < outputs.size(); ++k) res.values[k].push_back(s.outputs[k]);
+          res.ok_index.push_back(s.index);
           on_ok(s);
         }
         csv.flush();
-      });
+      },
+      [&](std::size_t completed) { return rule(res.values, res.ok_index, res.failures, completed); },
+      [](const GeometrySample&, ByteWriter&) {}, [](ByteReader&, GeometrySample&) {});
+  res.completed = o.completed;
+  res.stop_reason = o.stop_reason;
+  res.signal = o.signal;
+  res.status = o.interrupted ? "interrupted" : rule.failed() ? "failed" : "complete";
   csv.close();
   res.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - run.t0).count();
   return res;
@@ -91,17 +112,38 @@ json geometry_sampling_json(const StudyConfig& cfg, const GeometryRun& run, std:
 }
 
 void write_geometry_summary(json& summary, const StudyConfig& cfg, const GeometryRun& run,
-                            std::span<const GeometryOutputDef> outputs, const GeometrySampleResults& results) {
+                            std::span<const GeometryOutputDef> outputs, const GeometrySampleResults& results,
+                            const std::vector<InputColumn>& groups) {
   json out;
+  std::vector<std::string> names;
+  std::vector<sampling::Summary> summaries;
   for (std::size_t k = 0; k < outputs.size(); ++k) {
     if (results.values[k].empty()) continue;
-    json j = summary_json(sampling::summarize(results.values[k]));
+    summaries.push_back(sampling::summarize(results.values[k]));
+    names.emplace_back(outputs[k].name);
+    json j = summary_json(summaries.back());
     j["unit"] = outputs[k].unit;
     j["description"] = outputs[k].description;
     out[outputs[k].name] = j;
   }
+  summary["status"] = results.status;
+  if (results.signal != 0) summary["signal"] = results.signal;
+  if (!results.stop_reason.empty()) summary["stop_reason"] = results.stop_reason;
+  summary["sampling"]["samples"] = results.completed;
+  summary["sampling"]["max_failure_share"] = cfg.max_failure_share;
   summary["outputs"] = out;
   summary["failures"] = {{"count", results.failures}, {"first", results.failed}};
+  summary["sample_convergence"] = convergence_json(names, summaries, results.completed, 0, nullptr);
+  if (cfg.saltelli_base > 0 && results.status == "complete") {
+    std::vector<std::string> output_names, group_names;
+    std::vector<std::vector<double>> by_index(outputs.size(), std::vector<double>(results.completed, NAN));
+    for (std::size_t k = 0; k < outputs.size(); ++k) {
+      output_names.emplace_back(outputs[k].name);
+      for (std::size_t m = 0; m < results.ok_index.size(); ++m) by_index[k][results.ok_index[m]] = results.values[k][m];
+    }
+    for (const auto& g : groups) group_names.push_back(g.name);
+    summary["sensitivity"] = sensitivity_json(output_names, group_names, cfg.saltelli_base, by_index, run.size.seed);
+  }
   summary["provenance"] = {{"poise_version", kVersion}, {"git_commit", git_commit()},
                            {"study_file_sha1", file_sha1(cfg.file)}, {"model_file_sha1", file_sha1(cfg.model_path)},
                            {"seed", run.size.seed}, {"samples", run.size.samples}, {"threads", run.size.threads},
@@ -112,8 +154,18 @@ void write_geometry_summary(json& summary, const StudyConfig& cfg, const Geometr
 
 void finish_geometry_report(const StudyConfig& cfg, const RunOptions& options, const GeometryRun& run,
                             const json& summary, std::vector<std::string> tables, std::vector<GeometryPlot> plots) {
+  if (summary.contains("sensitivity")) tables.insert(tables.begin(), sensitivity_html(summary["sensitivity"]));
+  if (summary["status"] != "complete") {
+    tables.insert(tables.begin(), "<p><b>This run is " + summary["status"].get<std::string>() + "</b>: " +
+                                      html_escape(summary.value("stop_reason", std::string("stopped by a signal"))) +
+                                      ". The figures cover the samples that ran.</p>\n");
+  }
+  tables.push_back(convergence_html(summary["sample_convergence"]));
   write_geometry_report({run.dir, summary, std::move(tables), std::move(plots), options.plots && cfg.plots});
   if (options.progress) std::fprintf(stderr, "poise: report %s\n", (fs::path(run.dir) / "report.html").c_str());
+  finish_run_status(summary["status"].get<std::string>(), summary.value("stop_reason", std::string()),
+                    summary.value("signal", 0), summary["sampling"]["samples"].get<std::size_t>(), run.size.samples,
+                    summary["failures"]["count"].get<std::size_t>(), run.dir, cfg.file);
 }
 
 std::size_t geometry_replay_samples(const StudyConfig& cfg, std::size_t index, const RunOptions& options) {

@@ -64,8 +64,10 @@ struct GeometryRunSize {
 };
 
 /// Sample count, seed and threads from the options over the study. Throws on --resume (with
-/// `resume_message`) and on zero samples.
-GeometryRunSize geometry_run_size(const StudyConfig& cfg, const RunOptions& options, const std::string& resume_message);
+/// `resume_message`), --until and on zero samples. For `poise sensitivity` it sets `cfg` up
+/// for the Saltelli layout (base x (dimension + 2) samples; `dimension()` is the study's).
+GeometryRunSize geometry_run_size(StudyConfig& cfg, const RunOptions& options, const std::string& resume_message,
+                                  const std::function<std::size_t()>& dimension);
 
 struct GeometryRun {
   GeometryRunSize size;
@@ -79,13 +81,20 @@ GeometryRun start_geometry_run(const StudyConfig& cfg, const RunOptions& options
 
 struct GeometrySampleResults {
   std::vector<std::vector<double>> values;  ///< per output, over the samples that passed
+  std::vector<std::size_t> ok_index;        ///< their sample indices
+  std::size_t completed = 0;                ///< samples run (fewer when stopped)
+  std::string status = "complete";          ///< complete | interrupted | failed
+  std::string stop_reason;
+  int signal = 0;
   std::size_t failures = 0;
   nlohmann::json failed = nlohmann::json::array();  ///< the first 100 failures
   double wall_s = 0;                                ///< since the run's start, at the loop's end
 };
 
 /// Computes every sample in blocks on the run's threads and streams samples.csv in sample
-/// order; `on_ok` sees each sample that passed, in order (for the runner's plot data).
+/// order; `on_ok` sees each sample that passed, in order (for the runner's plot data). A
+/// signal stops it after the block in flight, and so does a failure share above
+/// [sampling] max_failure_share (sample_driver.h, convergence.h).
 GeometrySampleResults run_geometry_samples(const StudyConfig& cfg, const GeometryRun& run,
                                            const std::vector<InputColumn>& inputs,
                                            std::span<const GeometryOutputDef> outputs,
@@ -97,11 +106,16 @@ nlohmann::json geometry_study_json(const StudyConfig& cfg, const std::string& mo
 /// summary.json's "sampling" section (a runner may add to it).
 nlohmann::json geometry_sampling_json(const StudyConfig& cfg, const GeometryRun& run, std::size_t dimension);
 
-/// Adds "outputs", "failures" and "provenance" to `summary` and writes summary.json.
+/// Adds "outputs", "failures", "sample_convergence", "status", the Sobol indices of a sensitivity
+/// run and "provenance" to `summary` and writes summary.json; `groups` names the design's
+/// dimensions. Throws Interrupted or Error (finish_run_status) after the report when the run
+/// stopped early: call finish_geometry_status after the report.
 void write_geometry_summary(nlohmann::json& summary, const StudyConfig& cfg, const GeometryRun& run,
-                            std::span<const GeometryOutputDef> outputs, const GeometrySampleResults& results);
+                            std::span<const GeometryOutputDef> outputs, const GeometrySampleResults& results,
+                            const std::vector<InputColumn>& groups);
 
-/// Writes plots/ and report.html (write_geometry_report) and prints the progress line.
+/// Writes plots/ and report.html (write_geometry_report) and prints the progress line; then
+/// ends an interrupted or failed run with its error (finish_run_status).
 void finish_geometry_report(const StudyConfig& cfg, const RunOptions& options, const GeometryRun& run,
                             const nlohmann::json& summary, std::vector<std::string> tables,
                             std::vector<GeometryPlot> plots);

@@ -132,8 +132,11 @@ json replay_obstruction_sample(const StudyConfig& cfg, std::size_t index, const 
   return geometry_replay_json(index, r, study.sampler().columns(), kOutputs);
 }
 
-std::string run_obstruction_study(const StudyConfig& cfg, const RunOptions& options) {
-  const GeometryRunSize size = geometry_run_size(cfg, options, "--resume is not needed for a geometry study");
+std::string run_obstruction_study(const StudyConfig& study_cfg, const RunOptions& options) {
+  StudyConfig cfg = study_cfg;
+  const GeometryRunSize size = geometry_run_size(cfg, options, "--resume is not needed for a geometry study", [&] {
+    return ObstructionStudy(study_cfg, 1, study_cfg.seed).sampler().dimension();
+  });
   const ObstructionStudy study(cfg, size.samples, size.seed);
   const GeometryRun run = start_geometry_run(cfg, options, size);
   const FieldResult nominal_field = study.field(models::SeekerErrorState{}, true);
@@ -184,7 +187,7 @@ std::string run_obstruction_study(const StudyConfig& cfg, const RunOptions& opti
                                    {"housing_radius", 1e3 * g.housing_radius}, {"window_radius", 1e3 * g.window_radius},
                                    {"aperture_radius", 1e3 * g.aperture_radius}, {"front_x", 1e3 * g.front_x}}},
                   {"clearance_below_warning", nominal[4] < 1e3 * cfg.geometry.clearance_warn}};
-  write_geometry_summary(s, cfg, run, kOutputs, results);
+  write_geometry_summary(s, cfg, run, kOutputs, results, study.sampler().columns());
 
   // Report.
   std::ostringstream t1;

@@ -217,7 +217,7 @@ std::string run_procedure_study(const StudyConfig& cfg_in, const StudyFactory& m
   }
   s["paper_comparison"] = cmp;
   s["failures"] = failures_json(mc.failures, ran, mc.failed, seed, cfg.file);
-  s["convergence"] = convergence_json(study.output_names(), mc.outputs, ran, cfg.replicate_size, rule->until_json());
+  s["sample_convergence"] = convergence_json(study.output_names(), mc.outputs, ran, cfg.replicate_size, rule->until_json());
   if (sensitivity_base > 0 && status == "complete") {
     const auto names = study.design_dimension_names();
     std::vector<std::string> groups = names;
@@ -313,7 +313,7 @@ std::string run_procedure_study(const StudyConfig& cfg_in, const StudyFactory& m
       << cell(o["mean"]) << "</td><td>" << cell(o["std"]) << "</td><td>" << cell(o["p50"]) << "</td><td>"
       << cell(o["p95"]) << "</td><td>" << cell(o["p99_73"]) << "</td><td>" << cell(o["max"]) << "</td></tr>\n";
   }
-  h << "</table>\n" << convergence_html(s["convergence"]) << "<h2>Figures</h2>\n";
+  h << "</table>\n" << convergence_html(s["sample_convergence"]) << "<h2>Figures</h2>\n";
   if (!plot_note.empty()) h << "<p>" << html_escape(plot_note) << "</p>\n";
   for (const auto& f : figures) h << "<p><img src='plots/" << f << "' alt='" << f << "'></p>\n";
   if (!cfg.notes.empty()) h << "<h2>Notes of the study</h2>\n<pre>" << html_escape(cfg.notes) << "</pre>\n";

@@ -330,7 +330,7 @@ void write_report(const ReportInputs& in) {
       << "</td><td>" << with_ci(o["p99_73"]) << "</td><td>" << with_ci(o["max"]) << "</td></tr>\n";
   }
   h << "</table>\n";
-  if (s.contains("convergence")) h << convergence_html(s["convergence"]);
+  if (s.contains("sample_convergence")) h << convergence_html(s["sample_convergence"]);
 
   // Sweeps.
   for (const auto& sw : s["sweeps"]) {

@@ -97,7 +97,7 @@ StudyConfig load_study(const std::string& path) {
     c.name = t.string("name");
     for (char ch : c.name) {
       if (!(std::isalnum(static_cast<unsigned char>(ch)) || ch == '_' || ch == '-')) {
-        t.error("name", "\"" + c.name + "\"", "a name of letters, digits, '_' and '-' (it names a folder)");
+        t.error("name", quote_value(c.name), "a name of letters, digits, '_' and '-' (it names a folder)");
         break;
       }
     }
@@ -105,8 +105,11 @@ StudyConfig load_study(const std::string& path) {
                               "geometry_mass_properties", "los_obstruction"});
     const std::string model = t.string("model");
     c.model_path = (std::filesystem::path(path).parent_path() / model).lexically_normal().string();
-    if (!model.empty() && !std::filesystem::exists(c.model_path)) {
-      t.error("model", "\"" + model + "\"", "an existing model file (looked for " + c.model_path + ")");
+    std::error_code ec;  // a name too long for the file system is a missing file, not an exception (exit 1)
+    if (model.empty() && t.has("model") && t.raw()["model"].is_string()) {
+      t.error("model", "\"\"", "the path of the model file, e.g. \"../models/seeker_two_axis_wang2011.toml\"");
+    } else if (!model.empty() && !std::filesystem::is_regular_file(c.model_path, ec)) {
+      t.error("model", quote_value(model), "an existing model file (looked for " + c.model_path + ")");
     }
     c.title = t.string("title", "");
     c.notes = t.string("notes", "");
@@ -141,21 +144,23 @@ StudyConfig load_study(const std::string& path) {
     {
       TomlReader t = root.table("requirement");
       c.requirement_text = t.string("los_error");
-      try {
-        const units::Quantity q = units::parse_quantity(c.requirement_text);
-        if (q.dim == units::kPixel) {
-          c.requirement_in_pixels = true;
-        } else if (q.dim == units::kAngle) {
-          c.requirement_in_pixels = false;
-        } else {
-          throw Error("got " + units::dimension_name(q.dim));
+      if (t.has("los_error") && t.raw()["los_error"].is_string()) {  // else: t.string reported it
+        try {
+          const units::Quantity q = units::parse_quantity(c.requirement_text);
+          if (q.dim == units::kPixel) {
+            c.requirement_in_pixels = true;
+          } else if (q.dim == units::kAngle) {
+            c.requirement_in_pixels = false;
+          } else {
+            throw Error("got " + units::dimension_name(q.dim));
+          }
+          if (!(q.value > 0)) throw Error("not positive");
+          c.requirement = q.value;
+        } catch (const Error& e) {
+          t.error("los_error", quote_value(c.requirement_text),
+                  std::string("a positive angle or pixel count, e.g. \"1 px\" or \"18 arcsec\" (") +
+                      e.what() + ")");
         }
-        if (!(q.value > 0)) throw Error("not positive");
-        c.requirement = q.value;
-      } catch (const Error& e) {
-        t.error("los_error", "\"" + c.requirement_text + "\"",
-                std::string("a positive angle or pixel count, e.g. \"1 px\" or \"18 arcsec\" (") +
-                    e.what() + ")");
       }
     }
   } else if (c.kind == "platform_balancing") {

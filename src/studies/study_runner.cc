@@ -194,11 +194,10 @@ std::string run_study(const std::string& study_path, const RunOptions& options) 
     validate_platform_study(c);
     return run_platform_study(c, options);
   } else if (c.kind == "geometry_mass_properties" || c.kind == "los_obstruction") {
-    if (!options.resume.empty() || !options.until.empty() || options.sensitivity_base > 0 ||
-        sampling::Cluster::size() > 1) {
-      throw Error("--resume, --until, `poise sensitivity` and MPI runs are for the seeker_los, "
-                  "gimbal_static_unbalance, balancing_machine and platform_balancing kinds; a " + c.kind +
-                  " study runs in one process in seconds to minutes");
+    if (!options.resume.empty() || !options.until.empty() || sampling::Cluster::size() > 1) {
+      throw Error("--resume, --until and MPI runs are for the seeker_los, gimbal_static_unbalance, "
+                  "balancing_machine and platform_balancing kinds; a " + c.kind +
+                  " study runs in one process in seconds to minutes (Ctrl-C still stops it cleanly)");
     }
     if (c.kind == "geometry_mass_properties") {
       validate_geometry_mass_study(c);
@@ -369,7 +368,7 @@ std::string run_study(const std::string& study_path, const RunOptions& options) 
   }
   s["budget"] = budget_json(budget, model);
   s["failures"] = failures_json(mc.failures, ran, mc.failed, seed, cfg.file);
-  s["convergence"] = convergence_json(output_names, mc.outputs, ran, cfg.replicate_size, rule->until_json());
+  s["sample_convergence"] = convergence_json(output_names, mc.outputs, ran, cfg.replicate_size, rule->until_json());
   if (sensitivity_base > 0 && status == "complete") {
     std::vector<std::string> groups;
     for (const auto& c : study.sampler().columns()) groups.push_back(c.name);
