@@ -9,7 +9,8 @@
 ///            n/(n+1), upper end unknown (no distribution-free upper bound exists).
 ///   fraction (of successes): Wilson score interval.
 /// Intervals assume independent samples; for Latin hypercube and Sobol designs they are
-/// conservative (those designs have lower variance than independent sampling).
+/// conservative for the mean (those designs lower its variance) but not necessarily for tail
+/// quantiles: randomized replicates (summarize_replicates) give honest intervals there.
 #include <cstddef>
 #include <optional>
 #include <span>

@@ -191,8 +191,10 @@ std::string run_procedure_study(const StudyConfig& cfg_in, const StudyFactory& m
                    {"max_failure_share", cfg.max_failure_share}, {"inputs", study.input_names()},
                    {"ci_note", cfg.replicate_size > 0
                                    ? "95% intervals from the spread of the independent randomized replicates"
-                                   : "95% intervals assume independent samples; for lhs and sobol designs without "
-                                     "replicates they are conservative"}};
+                                   : "95% intervals assume independent samples; for lhs and sobol designs they are "
+                                     "conservative for the mean, not necessarily for tail quantiles (measured on the "
+                                     "LOS study: replicate p99.73 interval wider than this one); [sampling] "
+                                     "replicate_size gives honest intervals"}};
   json outputs;
   for (std::size_t k = 0; k < mc.outputs.size(); ++k) {
     json o = summary_json(mc.outputs[k]);
