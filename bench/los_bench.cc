@@ -26,7 +26,7 @@
 
 #include "models/seeker_los_chain.h"
 #include "sampling/design.h"
-#include "sampling/parallel_runner.h"
+#include "studies/sample_driver.h"
 #include "studies/seeker_los_study.h"
 #include "studies/seeker_model.h"
 #include "studies/study_config.h"
@@ -184,16 +184,18 @@ BENCHMARK(BM_StudyRun)->ArgName("threads")->Arg(1)->Arg(2)
 // (aggregation, pooled summary and per-grid-point quantile maps) that run() adds.
 void BM_StudyComputeOnly(benchmark::State& state) {
   const SeekerLosStudy& study = setup().study;
-  const poise::sampling::RunShape shape{0, study.samples(), static_cast<int>(state.range(0)),
-                                        study.config().block};
+  const poise::studies::DriveSpec spec{0, study.samples(), study.config().block, 16, static_cast<int>(state.range(0)),
+                                       false};
   for (auto _ : state) {
-    poise::sampling::run_in_blocks<SeekerSampleResult>(
-        shape, [&] { return study.make_workspace(); },
+    poise::studies::drive_samples<SeekerSampleResult>(
+        spec, [&] { return study.make_workspace(); },
         [&](std::size_t i, SeekerLosStudy::Workspace& ws, SeekerSampleResult& r) {
           study.compute(i, ws, r);
           benchmark::DoNotOptimize(r.outputs.data());
         },
-        [](std::size_t, std::span<const SeekerSampleResult>) {});
+        [](std::size_t, std::span<const SeekerSampleResult>) {}, [](std::size_t) { return std::string(); },
+        [](const SeekerSampleResult&, poise::studies::ByteWriter&) {},
+        [](poise::studies::ByteReader&, SeekerSampleResult&) {});
   }
   rate(state, "samples_per_s", study.samples());
 }

@@ -236,8 +236,7 @@ TEST(BalancingStudy, DeterministicOverThreadsWorkspacesReplayAndSeed) {
     EXPECT_EQ(r.solver_steps, one[i].solver_steps);
   }
   // compute() itself is thread-safe: two threads, each with its own workspace, in reverse order.
-  // (run() with 2 threads does not split a block: blocks are capped at 8 samples and
-  // run_in_blocks' grain is 16, so this is where samples really are computed concurrently.)
+  // (Here compute() is called from two threads directly, apart from the run loop.)
   std::vector<SampleResult> par(one.size());
   {
     auto work = [&](std::size_t parity) {

@@ -6,7 +6,6 @@
 #include <fstream>
 
 #include "core/units.h"
-#include "sampling/parallel_runner.h"
 #include "sampling/random_stream.h"
 #include "studies/report.h"
 #include "studies/result_io.h"

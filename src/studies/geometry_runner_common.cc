@@ -9,7 +9,6 @@
 
 #include "core/error.h"
 #include "core/version.h"
-#include "sampling/parallel_runner.h"
 #include "sampling/statistics.h"
 #include "studies/provenance.h"
 #include "sampling/interrupt.h"

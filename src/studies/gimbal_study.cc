@@ -5,7 +5,6 @@
 #include "core/units.h"
 #include "geometry/generators.h"
 #include "geometry/mass_properties.h"
-#include "sampling/parallel_runner.h"
 #include "sampling/random_stream.h"
 
 namespace poise::studies {
