@@ -18,14 +18,6 @@ int env_int(const char* name, int fallback) {
 }
 }  // namespace
 
-bool Cluster::built_with_mpi() {
-#ifdef POISE_WITH_MPI
-  return true;
-#else
-  return false;
-#endif
-}
-
 void Cluster::init([[maybe_unused]] int* argc, [[maybe_unused]] char*** argv) {
   const bool launched = std::getenv("OMPI_COMM_WORLD_SIZE") || std::getenv("PMIX_RANK") || std::getenv("PMI_SIZE");
   if (!launched) return;

@@ -24,8 +24,6 @@ class Cluster {
   static bool root() { return rank() == 0; }
   /// Ranks on this machine (to share its cores between them).
   static int local_size();
-  /// Whether this binary was built with MPI.
-  static bool built_with_mpi();
   /// Each rank's bytes, gathered at rank 0 in rank order; other ranks get an empty vector.
   static std::vector<std::string> gather(const std::string& local);
   /// Logical OR of every rank's flag, on every rank.

@@ -34,7 +34,5 @@ InterruptGuard::~InterruptGuard() {
 
 bool interrupt_requested() { return g_signal.load() != 0; }
 int interrupt_signal() { return g_signal.load(); }
-void request_interrupt(int signal) { g_signal.store(signal); }
-void clear_interrupt() { g_signal.store(0); }
 
 }  // namespace poise::sampling

@@ -20,8 +20,5 @@ class InterruptGuard {
 bool interrupt_requested();
 /// The signal that asked for the stop (0 if none).
 int interrupt_signal();
-/// Asks for a stop as the signal would (tests; and the MPI ranks agreeing on a stop).
-void request_interrupt(int signal);
-void clear_interrupt();
 
 }  // namespace poise::sampling

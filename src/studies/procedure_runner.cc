@@ -45,21 +45,13 @@ void summarize_outputs(McResult& r) {
 }
 
 void encode_result(const SampleResult& r, ByteWriter& w) {
-  w.put(r.index);
-  w.put(r.ok);
-  w.put_string(r.message);
-  w.put_vector(r.inputs);
-  w.put_vector(r.outputs);
+  encode_sample_fields(r, w);
   w.put(r.solver_steps);
   w.put(r.rhs_evals);
 }
 
 void decode_result(ByteReader& rd, SampleResult& r) {
-  r.index = rd.get<std::size_t>();
-  r.ok = rd.get<bool>();
-  rd.get_string(r.message);
-  rd.get_vector(r.inputs);
-  rd.get_vector(r.outputs);
+  decode_sample_fields(rd, r);
   r.solver_steps = rd.get<long>();
   r.rhs_evals = rd.get<long>();
 }

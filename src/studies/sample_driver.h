@@ -97,6 +97,25 @@ class ByteReader {
   std::size_t pos_ = 0;
 };
 
+/// The fields every sample result has (index, ok, message, inputs, outputs), for the
+/// encode/decode of a result type.
+template <class Result>
+void encode_sample_fields(const Result& r, ByteWriter& w) {
+  w.put(r.index);
+  w.put(r.ok);
+  w.put_string(r.message);
+  w.put_vector(r.inputs);
+  w.put_vector(r.outputs);
+}
+template <class Result>
+void decode_sample_fields(ByteReader& rd, Result& r) {
+  r.index = rd.get<std::size_t>();
+  r.ok = rd.get<bool>();
+  rd.get_string(r.message);
+  rd.get_vector(r.inputs);
+  rd.get_vector(r.outputs);
+}
+
 /// Runs the samples. compute(i, workspace, result); sink(first_index, span of results) on
 /// rank 0 in order; stop(completed) on rank 0 after each chunk, returning a reason to stop
 /// ("" to go on); encode(result, ByteWriter&) and decode(ByteReader&, result) carry results

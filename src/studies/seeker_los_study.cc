@@ -88,19 +88,11 @@ std::vector<models::PointingError> SeekerLosStudy::grid_errors(std::size_t i) co
 
 namespace {
 void encode_seeker(const SeekerSampleResult& r, ByteWriter& w) {
-  w.put(r.index);
-  w.put(r.ok);
-  w.put_string(r.message);
-  w.put_vector(r.inputs);
-  w.put_vector(r.outputs);
+  encode_sample_fields(r, w);
   w.put_vector(r.grid_total_arcsec);
 }
 void decode_seeker(ByteReader& rd, SeekerSampleResult& r) {
-  r.index = rd.get<std::size_t>();
-  r.ok = rd.get<bool>();
-  rd.get_string(r.message);
-  rd.get_vector(r.inputs);
-  rd.get_vector(r.outputs);
+  decode_sample_fields(rd, r);
   rd.get_vector(r.grid_total_arcsec);
 }
 }  // namespace
