@@ -57,7 +57,7 @@
 #include "models/spring_plate_machine.h"
 #include "procedures/balancing_measurement.h"
 #include "sampling/random_stream.h"
-#include "studies/balancing_model.h"
+#include "kinds/balancing_machine/balancing_model.h"
 
 #ifndef POISE_SOURCE_DIR
 #error "POISE_SOURCE_DIR must be defined (bench/CMakeLists.txt)"

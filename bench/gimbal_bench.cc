@@ -1,6 +1,6 @@
 /// Benchmarks of one simulated static-unbalance measurement (Google Benchmark 1.7.1).
 ///
-///   BM_Measurement36/rate:R  procedures::run_static_unbalance_test with 36 turntable positions
+///   BM_Measurement36/rate:R  procedures::run_static_unbalance_procedure with 36 turntable positions
 ///     (each: settle, lead-in, 2 x 4 s oscillation of the full nonlinear disk rotor under its
 ///     PID servo, CVODE BDF2), current sampled at R Hz, then the sine fit. R = 500 (the
 ///     model's rate) and 50: the difference is the acquisition loop's share (per-sample
@@ -12,7 +12,7 @@
 ///
 /// Counters per measurement: ms_per_meas (wall), steps, rhs_evals (incl. finite-difference
 /// Jacobians), jac_evals, rhs_ns (mean cost of one RHS call), rhs_share = rhs_evals x rhs_ns
-/// / ms_per_meas. RHS cost method: the RHS is internal to static_unbalance_test.cc, so
+/// / ms_per_meas. RHS cost method: the RHS is internal to static_unbalance_procedure.cc, so
 /// replica_rhs copies its arithmetic; at startup it drives a CvodeIntegrator through one
 /// position (theta = 45 deg, model solver settings) recording the (t, y) of every call, and
 /// those realistic inputs are then replayed through a function pointer and timed. Not
@@ -36,10 +36,10 @@
 
 #include "core/units.h"
 #include "models/disk_rotor.h"
-#include "procedures/static_unbalance_test.h"
+#include "procedures/static_unbalance_procedure.h"
 #include "sampling/random_stream.h"
 #include "solvers/cvode_integrator.h"
-#include "studies/gimbal_model.h"
+#include "kinds/gimbal_static_unbalance/gimbal_model.h"
 
 namespace {
 
@@ -58,7 +58,7 @@ std::filesystem::path source_dir() {  // $POISE_SOURCE_DIR, else bench/.. (__FIL
 
 double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
-// ---- REPLICA of the right-hand side of procedures/static_unbalance_test.cc, FOR TIMING
+// ---- REPLICA of the right-hand side of procedures/static_unbalance_procedure.cc, FOR TIMING
 // ONLY (reference, PID + feed-forward clamped current, disk_accelerations, conditional
 // integral, finiteness check). Keep in step with that file. `record` is null when timed.
 struct RhsReplica {
@@ -103,14 +103,14 @@ pr::TestPlan make_plan(const poise::studies::GimbalModel& m, int positions, doub
 pr::MeasurementResult measure(const pr::TestPlan& plan, const pr::GimbalTruth& truth) {
   pr::StaticUnbalanceWorkspace ws(plan.solver);
   poise::sampling::RandomStream rs(kSeed, poise::sampling::StreamId::kProcedure, 0);
-  return pr::run_static_unbalance_test(plan, truth, rs, ws);
+  return pr::run_static_unbalance_procedure(plan, truth, rs, ws);
 }
 
 // Mean cost (ns) of one RHS call, by the record-and-replay method described above.
 double rhs_cost_ns(const pr::TestPlan& plan, const pr::GimbalTruth& truth, long* calls_per_position) {
   const pr::ServoConfig& sv = plan.servo;
   const pr::OscillationConfig& osc = plan.oscillation;
-  RhsReplica c;  // the same set-up as run_static_unbalance_test
+  RhsReplica c;  // the same set-up as run_static_unbalance_procedure
   const double wc = 2.0 * kPi * sv.bandwidth_hz;
   c.disk = truth.disk, c.gravity = poise::models::gravity_in_gimbal(plan.gravity, 45.0 * kRadPerDeg);
   c.kp = sv.inertia_estimate * wc * wc, c.kd = 2.0 * sv.damping * sv.inertia_estimate * wc;
@@ -200,7 +200,7 @@ void measurement(benchmark::State& state, int positions) {
     for (auto _ : state) {
       poise::sampling::RandomStream rs(kSeed, poise::sampling::StreamId::kProcedure, 0);
       const auto t0 = Clock::now();
-      m = pr::run_static_unbalance_test(plan, sp->truth, rs, ws);
+      m = pr::run_static_unbalance_procedure(plan, sp->truth, rs, ws);
       seconds += seconds_since(t0);
       benchmark::DoNotOptimize(m.fit.amplitude);
     }

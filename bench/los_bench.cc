@@ -26,10 +26,10 @@
 
 #include "models/seeker_los_chain.h"
 #include "sampling/design.h"
-#include "studies/sample_driver.h"
-#include "studies/seeker_los_study.h"
-#include "studies/seeker_model.h"
-#include "studies/study_config.h"
+#include "engine/sample_driver.h"
+#include "kinds/seeker_los/seeker_los_study.h"
+#include "kinds/seeker_los/seeker_model.h"
+#include "engine/study_config.h"
 
 namespace {
 

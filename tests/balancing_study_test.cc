@@ -25,12 +25,12 @@
 
 #include "models/spring_plate_machine.h"
 #include "procedures/balancing_measurement.h"
-#include "studies/balancing_model.h"
-#include "studies/balancing_study.h"
-#include "studies/study_config.h"
-#include "studies/result_io.h"
-#include "studies/study_runner.h"
-#include "studies/toml_reader.h"
+#include "kinds/balancing_machine/balancing_model.h"
+#include "kinds/balancing_machine/balancing_study.h"
+#include "engine/study_config.h"
+#include "engine/result_io.h"
+#include "engine/study_runner.h"
+#include "engine/toml_reader.h"
 #include "test_util.h"
 
 namespace poise::studies {

@@ -5,11 +5,11 @@
 
 #include <nlohmann/json.hpp>
 
-#include "studies/disk_geometry_model.h"
-#include "studies/study_config.h"
-#include "studies/result_io.h"
-#include "studies/study_evaluation.h"
-#include "studies/study_runner.h"
+#include "kinds/geometry_mass_properties/disk_geometry_model.h"
+#include "engine/study_config.h"
+#include "engine/result_io.h"
+#include "engine/study_evaluation.h"
+#include "engine/study_runner.h"
 #include "test_util.h"
 
 namespace poise::studies {

@@ -7,13 +7,13 @@
 #include <tuple>
 #include <nlohmann/json.hpp>
 
-#include "studies/gimbal_model.h"
-#include "studies/gimbal_study.h"
-#include "studies/study_config.h"
-#include "studies/study_evaluation.h"
-#include "studies/result_io.h"
-#include "studies/study_runner.h"
-#include "studies/toml_reader.h"
+#include "kinds/gimbal_static_unbalance/gimbal_model.h"
+#include "kinds/gimbal_static_unbalance/gimbal_study.h"
+#include "engine/study_config.h"
+#include "engine/study_evaluation.h"
+#include "engine/result_io.h"
+#include "engine/study_runner.h"
+#include "engine/toml_reader.h"
 #include "test_util.h"
 
 namespace poise::studies {

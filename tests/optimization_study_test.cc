@@ -8,8 +8,8 @@
 
 #include "core/error.h"
 #include "optimize/optimization_study.h"
-#include "studies/study_evaluation.h"
-#include "studies/toml_reader.h"
+#include "engine/study_evaluation.h"
+#include "engine/toml_reader.h"
 #include "test_util.h"
 
 namespace poise::optimize {

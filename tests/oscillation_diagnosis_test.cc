@@ -8,7 +8,7 @@
 #include "core/error.h"
 #include "core/units.h"
 #include "estimators/oscillation_diagnosis.h"
-#include "procedures/static_unbalance_test.h"
+#include "procedures/static_unbalance_procedure.h"
 
 namespace poise::estimators {
 namespace {
@@ -64,7 +64,7 @@ OscillationRecord record(const TestPlan& plan, const GimbalTruth& truth, std::ui
   procedures::StaticUnbalanceWorkspace ws(plan.solver);
   sampling::RandomStream rs(seed, sampling::StreamId::kProcedure, 0);
   std::vector<RecordSample> raw;
-  procedures::run_static_unbalance_test(plan, truth, rs, ws, 0, &raw);
+  procedures::run_static_unbalance_procedure(plan, truth, rs, ws, 0, &raw);
   OscillationRecord r;
   for (const auto& s : raw) {
     r.t.push_back(s.t);

@@ -6,12 +6,12 @@
 #include <cmath>
 #include <nlohmann/json.hpp>
 
-#include "studies/platform_model.h"
-#include "studies/platform_study.h"
-#include "studies/study_config.h"
-#include "studies/result_io.h"
-#include "studies/study_runner.h"
-#include "studies/toml_reader.h"
+#include "kinds/platform_balancing/platform_model.h"
+#include "kinds/platform_balancing/platform_study.h"
+#include "engine/study_config.h"
+#include "engine/result_io.h"
+#include "engine/study_runner.h"
+#include "engine/toml_reader.h"
 #include "test_util.h"
 
 namespace poise::studies {

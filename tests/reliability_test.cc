@@ -24,8 +24,8 @@
 #include "sampling/design.h"
 #include "sampling/random_stream.h"
 #include "sampling/statistics.h"
-#include "studies/convergence.h"
-#include "studies/result_io.h"
+#include "engine/convergence.h"
+#include "engine/result_io.h"
 #include "test_util.h"
 
 namespace {

@@ -8,7 +8,7 @@
 
 #include "core/error.h"
 #include "core/units.h"
-#include "procedures/static_unbalance_test.h"
+#include "procedures/static_unbalance_procedure.h"
 
 namespace poise::procedures {
 namespace {
@@ -52,7 +52,7 @@ GimbalTruth ideal_truth(double unbalance_kgm, double angle) {
 MeasurementResult measure(const TestPlan& plan, const GimbalTruth& truth, std::uint64_t seed = 1) {
   StaticUnbalanceWorkspace ws(plan.solver);
   sampling::RandomStream rs(seed, sampling::StreamId::kProcedure, 0);
-  return run_static_unbalance_test(plan, truth, rs, ws);
+  return run_static_unbalance_procedure(plan, truth, rs, ws);
 }
 
 TEST(StaticUnbalanceProcedure, IdealRigReturnsTheTrueUnbalance) {

@@ -4,10 +4,10 @@
 
 #include <filesystem>
 
-#include "studies/seeker_model.h"
-#include "studies/study_config.h"
-#include "studies/study_runner.h"
-#include "studies/toml_reader.h"
+#include "kinds/seeker_los/seeker_model.h"
+#include "engine/study_config.h"
+#include "engine/study_runner.h"
+#include "engine/toml_reader.h"
 #include "test_util.h"
 
 namespace poise::studies {

@@ -10,8 +10,8 @@
 #include <map>
 #include <nlohmann/json.hpp>
 
-#include "studies/study_runner.h"
-#include "studies/toml_reader.h"
+#include "engine/study_runner.h"
+#include "engine/toml_reader.h"
 #include "test_util.h"
 
 namespace poise::studies {

@@ -11,7 +11,7 @@
 #include <cstdlib>
 #include <string>
 
-#include "studies/study_runner.h"
+#include "engine/study_runner.h"
 
 namespace poise::test {
 

@@ -7,7 +7,7 @@
 
 #include "core/units.h"
 #include "estimators/residual_diagnosis.h"
-#include "procedures/static_unbalance_test.h"
+#include "procedures/static_unbalance_procedure.h"
 
 namespace poise::estimators {
 namespace {
@@ -69,7 +69,7 @@ TorqueTable simulate(const Disturbances& d, std::uint64_t seed) {
   const TestPlan plan = plan36();
   procedures::StaticUnbalanceWorkspace ws(plan.solver);
   sampling::RandomStream rs(seed, sampling::StreamId::kProcedure, 0);
-  const auto m = procedures::run_static_unbalance_test(plan, truth(d), rs, ws);
+  const auto m = procedures::run_static_unbalance_procedure(plan, truth(d), rs, ws);
   TorqueTable t;
   t.file = "(simulated)";
   t.torque_column = "torque_mNm";

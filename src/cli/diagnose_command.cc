@@ -18,7 +18,7 @@
 #include "core/units.h"
 #include "estimators/residual_diagnosis.h"
 #include "estimators/torque_table.h"
-#include "studies/report.h"
+#include "engine/report_plot.h"
 
 namespace poise::cli {
 namespace {

@@ -11,8 +11,9 @@
 #include "cli/record_command.h"
 #include "core/version.h"
 #include "sampling/distributed.h"
-#include "studies/study_runner.h"
-#include "studies/toml_reader.h"
+#include "engine/study_runner.h"
+#include "engine/toml_reader.h"
+#include "kinds/registry.h"
 
 namespace {
 
@@ -67,6 +68,7 @@ samples included), 128 + signal when stopped by SIGINT/SIGTERM (resumable).)";
 int run_main(int argc, char** argv);
 
 int main(int argc, char** argv) {
+  poise::studies::register_study_kinds();
   try {
     poise::sampling::Cluster::init(&argc, &argv);
   } catch (const std::exception& e) {

@@ -4,7 +4,7 @@
 #include <memory>
 
 #include "optimize/optimization_study.h"
-#include "studies/toml_reader.h"
+#include "engine/toml_reader.h"
 
 namespace poise::cli {
 namespace {

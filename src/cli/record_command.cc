@@ -11,8 +11,8 @@
 #include "core/error.h"
 #include "core/units.h"
 #include "estimators/oscillation_diagnosis.h"
-#include "studies/gimbal_model.h"
-#include "studies/toml_reader.h"
+#include "kinds/gimbal_static_unbalance/gimbal_model.h"
+#include "engine/toml_reader.h"
 
 namespace poise::cli {
 namespace {
@@ -95,7 +95,7 @@ int simulate(const Args& a) {
   procedures::StaticUnbalanceWorkspace ws(plan.solver);
   sampling::RandomStream rs(a.seed, sampling::StreamId::kProcedure, 0);
   std::vector<procedures::RecordSample> rec;
-  const auto res = procedures::run_static_unbalance_test(plan, truth, rs, ws, 0, &rec);
+  const auto res = procedures::run_static_unbalance_procedure(plan, truth, rs, ws, 0, &rec);
   std::ofstream out(a.out);
   if (!out) throw Error("cannot write " + a.out);
   out << "time_s,current_A,phi_deg\n";

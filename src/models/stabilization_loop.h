@@ -1,7 +1,7 @@
 #pragma once
 /// How a disturbance torque on a gimbal axis becomes a pointing error: the axis' stabilization
 /// loop, stated here as a PID position loop on the axis inertia (the loop of the test servo,
-/// procedures/static_unbalance_test.h, with the platform's own gains),
+/// procedures/static_unbalance_procedure.h, with the platform's own gains),
 ///   J th'' = T(t) - (K_p th + K_d th' + K_i int th),
 ///   K_p = J w_c^2,  K_d = 2 zeta J w_c,  K_i = K_p w_c rho,   w_c = 2 pi f_c,
 /// with th the axis' angle error against its command. Its disturbance stiffness

@@ -14,12 +14,12 @@
 #include "core/version.h"
 #include "sampling/random_stream.h"
 #include "sampling/statistics.h"
-#include "studies/procedure_study.h"
-#include "studies/provenance.h"
-#include "studies/report.h"
-#include "studies/result_io.h"
-#include "studies/study_evaluation.h"
-#include "studies/toml_reader.h"
+#include "engine/procedure_study.h"
+#include "engine/provenance.h"
+#include "engine/report_plot.h"
+#include "engine/result_io.h"
+#include "engine/study_evaluation.h"
+#include "engine/toml_reader.h"
 
 namespace poise::optimize {
 namespace {
@@ -790,7 +790,7 @@ std::string run_optimization(const std::string& path, const studies::RunOptions&
   } else {
     h << "<h2>No feasible design</h2>\n<p>" << studies::html_escape(out.message) << "</p>\n";
   }
-  for (const auto& f : figures) h << "<p><img src='plots/" << f << "' alt='" << f << "'></p>\n";
+  h << studies::figures_html(pdir, figures);
   if (!spec.notes.empty()) h << "<h2>Notes</h2>\n<pre>" << studies::html_escape(spec.notes) << "</pre>\n";
   h << "</body></html>\n";
   studies::write_file_atomic((fs::path(dir) / "report.html").string(), h.str());

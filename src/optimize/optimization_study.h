@@ -36,8 +36,8 @@
 #include <nlohmann/json.hpp>
 
 #include "optimize/optimizer.h"
-#include "studies/study_config.h"
-#include "studies/study_runner.h"
+#include "engine/study_config.h"
+#include "engine/study_runner.h"
 
 namespace poise::optimize {
 

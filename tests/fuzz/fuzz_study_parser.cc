@@ -36,13 +36,14 @@
 
 #include "core/error.h"
 #include "core/units.h"
-#include "studies/balancing_model.h"
-#include "studies/disk_geometry_model.h"
-#include "studies/gimbal_model.h"
-#include "studies/platform_model.h"
-#include "studies/seeker_model.h"
-#include "studies/study_runner.h"
-#include "studies/toml_reader.h"
+#include "kinds/balancing_machine/balancing_model.h"
+#include "kinds/geometry_mass_properties/disk_geometry_model.h"
+#include "kinds/gimbal_static_unbalance/gimbal_model.h"
+#include "kinds/platform_balancing/platform_model.h"
+#include "kinds/seeker_los/seeker_model.h"
+#include "engine/study_runner.h"
+#include "engine/toml_reader.h"
+#include "kinds/registry.h"
 
 namespace fs = std::filesystem;
 
@@ -188,6 +189,7 @@ void run_one(unsigned selector, std::string_view text) {
 }  // namespace
 
 extern "C" int LLVMFuzzerInitialize(int*, char***) {
+  poise::studies::register_study_kinds();
   if (const char* seeds = std::getenv("POISE_FUZZ_WRITE_SEEDS")) {
     write_seeds(seeds);
     std::exit(0);

@@ -1,0 +1,33 @@
+#pragma once
+/// A study kind whose samples are whole simulated procedures (engine/procedure_study.h):
+/// the module makes one ProcedureStudy for a configuration, and the engine does the rest:
+/// run (engine/procedure_runner.h: samples.csv streamed, resume, MPI, --until, summary,
+/// report), replay, outputs with units, and the optimizer's in-memory evaluation.
+#include <map>
+#include <memory>
+#include <string>
+
+#include "engine/procedure_study.h"
+#include "engine/study_kind.h"
+
+namespace poise::studies {
+
+class ProcedureKind : public StudyKind {
+ public:
+  /// The study of `cfg` on its model loaded with `model_overrides`, for `samples` samples
+  /// and `seed` (a resumed run's may differ from the file's).
+  virtual std::unique_ptr<ProcedureStudy> make_study(const StudyConfig& cfg,
+                                                     const std::map<std::string, std::string>& model_overrides,
+                                                     std::size_t samples, std::uint64_t seed) const = 0;
+
+  std::vector<OutputSpec> outputs(const StudyConfig& cfg) const override;
+  std::string run(const StudyConfig& cfg, const RunOptions& options) const override;
+  nlohmann::json replay(const StudyConfig& cfg, std::size_t index, const RunOptions& options) const override;
+  StudyEvaluation evaluate(const StudyConfig& cfg, const std::map<std::string, std::string>& model_overrides,
+                           std::size_t samples, std::uint64_t seed, int threads) const override;
+};
+
+/// The optimizer's view of one in-memory run of a procedure study.
+StudyEvaluation evaluate_procedure(const ProcedureStudy& study, int threads);
+
+}  // namespace poise::studies

@@ -1,0 +1,170 @@
+#pragma once
+/// What the result-folder writer (procedure_runner.h) needs from a Monte Carlo study of a
+/// simulated procedure (the gimbal static-unbalance test, the balancing machine): named
+/// inputs and outputs per sample, a parallel run that streams finished samples in order,
+/// a single-sample replay and the study's own report sections.
+#include <functional>
+#include <memory>
+#include <span>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "sampling/progress.h"
+#include "sampling/statistics.h"
+#include "engine/sample_driver.h"
+#include "engine/study_config.h"
+
+namespace poise::studies {
+
+struct SampleResult {
+  std::size_t index = 0;
+  bool ok = true;
+  std::string message;
+  std::vector<double> inputs;   ///< unit-scope draws, display units
+  std::vector<double> outputs;  ///< output_names() order
+  long solver_steps = 0, rhs_evals = 0;
+};
+
+struct McResult {
+  std::size_t n = 0, failures = 0;
+  std::vector<std::pair<std::size_t, std::string>> failed;
+  std::vector<sampling::Summary> outputs;
+  std::vector<std::vector<double>> values;  ///< per output, ok samples in order
+  std::vector<std::size_t> ok_index;        ///< sample index of each ok sample (values' order)
+  double wall_seconds = 0.0;
+  long solver_steps = 0, rhs_evals = 0;
+  std::size_t completed = 0;                ///< samples [0, completed) ran (n unless stopped)
+  bool interrupted = false;                 ///< stopped by SIGINT / SIGTERM
+  int signal = 0;
+  std::string stop_reason;                  ///< why the run stopped before n ("" = it did not)
+  std::size_t replicate_size = 0;           ///< summaries by replicate (design.h) when > 0
+};
+
+using SampleSink = std::function<void(std::span<const SampleResult>)>;
+
+/// How a run is driven beyond its sample range: over MPI ranks (the run's main loop only)
+/// and with a stop rule checked on rank 0 after each chunk on the results so far.
+struct RunControl {
+  bool distributed = false;
+  std::size_t replicate_size = 0;  ///< set from the study's config by ProcedureStudyBase::run
+  std::function<std::string(const McResult&)> stop;  ///< "" = go on
+};
+
+/// A SampleResult's trip between MPI ranks.
+void encode_result(const SampleResult& r, ByteWriter& w);
+void decode_result(ByteReader& rd, SampleResult& r);
+
+/// Accumulates finished samples into an McResult (counts failures, keeps ok outputs).
+void collect_samples(McResult& r, std::span<const SampleResult> block);
+/// Statistics of every output once all samples are collected.
+void summarize_outputs(McResult& r);
+
+/// Display unit of an output from its name's suffix ("_mNm" -> "mN*m", "_pct" -> "%", ...).
+std::string unit_of_output(const std::string& name);
+
+/// The parallel run every procedure study shares: samples [done.size(), samples) in small
+/// in-order blocks (whole procedures are slow: progress and the CSV move often), one
+/// workspace per thread; `done` (a resumed run's samples) counted but not recomputed.
+template <class MakeWorkspace, class Compute>
+McResult run_procedure_samples(std::size_t samples, std::size_t block, int threads, bool progress,
+                               const SampleSink& sink, std::span<const SampleResult> done,
+                               MakeWorkspace make_workspace, Compute compute, const RunControl& control = {}) {
+  McResult r;
+  r.n = samples;
+  r.replicate_size = control.replicate_size;
+  const std::size_t chunk = std::min<std::size_t>(block, 8);
+  // A resumed run's samples pass the stop rule chunk by chunk as they did the first time, so
+  // a run that had already met its stop point is not continued past it.
+  for (std::size_t start = 0; start < done.size(); start += chunk) {
+    collect_samples(r, done.subspan(start, std::min(chunk, done.size() - start)));
+    if (control.stop && r.stop_reason.empty()) r.stop_reason = control.stop(r);
+  }
+  const std::size_t first = std::min(done.size(), samples);
+  if (!r.stop_reason.empty()) {
+    r.completed = first;
+    summarize_outputs(r);
+    return r;
+  }
+  sampling::Progress bar("samples", samples - first, progress && sampling::Cluster::root());
+  DriveSpec spec{first, samples, chunk, 1, threads, control.distributed};
+  const DriveOutcome o = drive_samples<SampleResult>(
+      spec, make_workspace, [&](std::size_t i, auto& ws, SampleResult& res) { compute(i, *ws, res); },
+      [&](std::size_t, std::span<const SampleResult> finished) {
+        if (sink) sink(finished);
+        collect_samples(r, finished);
+      },
+      [&](std::size_t) { return control.stop ? control.stop(r) : std::string(); }, encode_result, decode_result,
+      &bar);
+  bar.finish();
+  r.wall_seconds = bar.elapsed_seconds();
+  r.completed = o.completed;
+  r.interrupted = o.interrupted;
+  r.signal = o.signal;
+  r.stop_reason = o.stop_reason;
+  summarize_outputs(r);
+  return r;
+}
+
+class ProcedureStudy {
+ public:
+  virtual ~ProcedureStudy() = default;
+  virtual const StudyConfig& config() const = 0;
+  virtual const std::vector<std::string>& input_names() const = 0;
+  virtual const std::vector<std::string>& output_names() const = 0;
+  virtual std::string model_name() const = 0;
+  virtual std::string model_source() const = 0;
+  /// Runs samples [done.size(), n); `done` (a resumed run's samples) are counted, not rerun.
+  virtual McResult run(int threads, bool progress, const SampleSink& sink,
+                       std::span<const SampleResult> done, const RunControl& control = {}) const = 0;
+  /// Dimensions of the design point (for sensitivity indices: the first of input_names()
+  /// unless a study says otherwise) and whether a sample has randomness of its own beyond
+  /// its design point (per-test draws, noise).
+  virtual std::vector<std::string> design_dimension_names() const = 0;
+  virtual bool has_own_randomness() const { return true; }
+  /// Sample i alone (depends only on seed, sample count, method and i).
+  virtual SampleResult replay(std::size_t i) const = 0;
+  /// Solver settings and counters for summary.json.
+  virtual nlohmann::json solver_json(const McResult& mc) const = 0;
+  /// Study-specific summary.json content (null if none), e.g. the nominal machine.
+  virtual nlohmann::json details(const McResult&) const { return nullptr; }
+  /// Study-specific figures (written into plots_dir; names of the SVGs made are appended to
+  /// `figures`) and HTML sections for report.html.
+  virtual void report_sections(const McResult&, const std::string& /*plots_dir*/, bool /*plots*/,
+                               std::vector<std::string>& /*figures*/, std::ostringstream& /*html*/) const {}
+};
+
+/// run() and replay() of a study that has samples(), config(), make_workspace() and
+/// compute(i, workspace, result) (CRTP): one implementation for every procedure study.
+template <class Derived>
+class ProcedureStudyBase : public ProcedureStudy {
+ public:
+  McResult run(int threads, bool progress, const SampleSink& sink, std::span<const SampleResult> done = {},
+               const RunControl& control = {}) const override {
+    const Derived& d = static_cast<const Derived&>(*this);
+    RunControl c = control;
+    c.replicate_size = d.config().replicate_size;
+    return run_procedure_samples(d.samples(), d.config().block, threads, progress, sink, done,
+                                 [&d] { return d.make_workspace(); },
+                                 [&d](std::size_t i, auto& ws, SampleResult& res) { d.compute(i, ws, res); }, c);
+  }
+  std::vector<std::string> design_dimension_names() const override {
+    const Derived& d = static_cast<const Derived&>(*this);
+    std::vector<std::string> names(d.design_dimension());
+    for (std::size_t k = 0; k < names.size(); ++k) {
+      names[k] = k < d.input_names().size() ? d.input_names()[k] : "(unused dimension " + std::to_string(k) + ")";
+    }
+    return names;
+  }
+  SampleResult replay(std::size_t i) const override {
+    const Derived& d = static_cast<const Derived&>(*this);
+    auto ws = d.make_workspace();
+    SampleResult r;
+    d.compute(i, *ws, r);
+    return r;
+  }
+};
+
+}  // namespace poise::studies

@@ -1,0 +1,178 @@
+#include "engine/report_figures.h"
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <sstream>
+
+#include "engine/report_plot.h"
+#include "sampling/statistics.h"
+
+namespace poise::studies {
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+namespace {
+
+constexpr const char* kTerminal = "set terminal svg size 720,420 dynamic noenhanced font 'Helvetica,12'\n";
+
+std::string quoted(const std::string& s) {
+  std::string out = "'";
+  for (char c : s) out += c == '\'' ? std::string("''") : std::string(1, c);
+  return out + "'";
+}
+
+bool run(const fs::path& dir, const std::string& name, const std::string& script, std::vector<std::string>& figures,
+         std::string& why) {
+  std::ofstream(dir / (name + ".gp")) << kTerminal << "set output '" << name << ".svg'\nset grid\n" << script;
+  if (!run_gnuplot((dir / (name + ".gp")).string(), &why)) return false;
+  figures.push_back(name + ".svg");
+  return true;
+}
+
+std::string vertical_lines(const std::vector<FigureLine>& lines) {
+  std::ostringstream g;
+  int i = 0;
+  for (const auto& l : lines) {
+    g << "set arrow from " << l.x << ", graph 0 to " << l.x << ", graph 1 nohead lw 2 lc rgb '" << l.colour << "'\n"
+      << "set label " << quoted(l.label) << " at " << l.x << ", graph " << (0.95 - 0.08 * (i++ % 6))
+      << " offset 0.5,0 tc rgb '" << l.colour << "'\n";
+  }
+  return g.str();
+}
+
+}  // namespace
+
+std::vector<std::string> main_outputs(const std::vector<std::string>& outputs, const json& references, std::size_t limit) {
+  std::vector<std::string> out;
+  if (references.is_array()) {
+    for (const auto& r : references) {
+      const std::string o = r.value("output", "");
+      if (!o.empty() && std::find(out.begin(), out.end(), o) == out.end()) out.push_back(o);
+    }
+  }
+  for (const auto& o : outputs) {
+    if (out.size() >= std::max(limit, out.size())) break;
+    if (std::find(out.begin(), out.end(), o) == out.end()) out.push_back(o);
+  }
+  return out;
+}
+
+bool distribution_figures(const fs::path& dir, const std::string& output, const std::string& unit,
+                          const std::vector<double>& values, const std::vector<std::size_t>& order,
+                          const std::vector<FigureLine>& lines, std::vector<std::string>& figures, std::string& why) {
+  std::vector<double> v;
+  for (double x : values) {
+    if (std::isfinite(x)) v.push_back(x);
+  }
+  if (v.size() < 2) return true;
+  std::vector<double> sorted = v;
+  std::sort(sorted.begin(), sorted.end());
+  const double n = static_cast<double>(sorted.size());
+  // DKW: P(sup |F_n - F| > eps) <= 2 exp(-2 n eps^2) = 0.05.
+  const double eps = std::sqrt(std::log(2.0 / 0.05) / (2.0 * n));
+  {
+    std::ofstream d(dir / (output + "_cdf.dat"));
+    d << "# " << output << " [" << unit << "]  empirical_cdf  band_lo  band_hi (DKW 95%)\n";
+    for (std::size_t i = 0; i < sorted.size(); ++i) {
+      const double f = (static_cast<double>(i) + 1.0) / n;
+      d << sorted[i] << ' ' << f << ' ' << std::max(0.0, f - eps) << ' ' << std::min(1.0, f + eps) << '\n';
+    }
+  }
+  const std::string xl = output + (unit.empty() ? "" : " [" + unit + "]");
+  std::ostringstream hist;
+  hist << "set title " << quoted("Distribution of " + output + " over " + std::to_string(sorted.size()) + " samples")
+       << "\nset xlabel " << quoted(xl) << "\nset ylabel 'samples'\nset key outside bottom center horizontal\n"
+       << "stats '" << output << "_cdf.dat' u 1 nooutput\nbw = (STATS_max - STATS_min) / 30.0\n"
+       << "if (bw <= 0) bw = (abs(STATS_max) > 0 ? abs(STATS_max) * 1e-3 : 1e-9)\n"
+       << "bin(x) = bw * floor(x / bw) + bw / 2\nset style fill solid 0.6\n" << vertical_lines(lines)
+       << "plot '" << output << "_cdf.dat' u (bin($1)):(1.0) smooth freq with boxes lc rgb '#4477aa' title 'simulated'\n";
+  if (!run(dir, output + "_hist", hist.str(), figures, why)) return false;
+  std::ostringstream cdf;
+  cdf << "set title " << quoted("CDF of " + output + " with its 95% band (DKW)") << "\nset xlabel " << quoted(xl)
+      << "\nset ylabel 'share of samples at or below'\nset yrange [0:1]\nset key outside bottom center horizontal\n"
+      << vertical_lines(lines) << "plot '" << output
+      << "_cdf.dat' u 1:3:4 with filledcurves lc rgb '#bbccee' title '95% band', '' u 1:2 with steps lw 2 lc rgb "
+         "'#4477aa' title 'empirical CDF'\n";
+  if (!run(dir, output + "_cdf", cdf.str(), figures, why)) return false;
+  // Statistics against sample count (in sample order): mean with its t interval and p95
+  // with its binomial order-statistic interval, at geometrically spaced counts.
+  if (v.size() >= 8) {
+    std::ofstream d(dir / (output + "_convergence.dat"));
+    d << "# samples  mean  mean_lo  mean_hi  p95  p95_lo  p95_hi  [" << unit << "]\n";
+    std::vector<std::pair<std::size_t, double>> by_order;
+    for (std::size_t i = 0; i < values.size(); ++i) {
+      if (std::isfinite(values[i])) by_order.emplace_back(i < order.size() ? order[i] : i, values[i]);
+    }
+    std::sort(by_order.begin(), by_order.end());
+    std::vector<std::size_t> counts;
+    for (double c = static_cast<double>(by_order.size()); c >= 8; c /= 1.5) counts.push_back(static_cast<std::size_t>(c));
+    std::reverse(counts.begin(), counts.end());
+    for (std::size_t c : counts) {
+      std::vector<double> head;
+      for (std::size_t i = 0; i < c; ++i) head.push_back(by_order[i].second);
+      const sampling::Summary s = sampling::summarize(head);
+      auto end = [](const std::optional<double>& e, double fallback) { return e ? *e : fallback; };
+      d << c << ' ' << s.mean.value << ' ' << end(s.mean.lo, s.mean.value) << ' ' << end(s.mean.hi, s.mean.value) << ' '
+        << s.p95.value << ' ' << end(s.p95.lo, s.p95.value) << ' ' << end(s.p95.hi, s.p95.value) << '\n';
+    }
+    std::ostringstream conv;
+    conv << "set title " << quoted(output + ": mean and p95 against sample count (95% intervals)")
+         << "\nset xlabel 'samples'\nset logscale x\nset ylabel " << quoted(unit.empty() ? output : unit)
+         << "\nset key outside bottom center horizontal\nplot '" << output
+         << "_convergence.dat' u 1:2:3:4 with yerrorlines lw 2 lc rgb '#4477aa' title 'mean', '' u 1:5:6:7 with "
+            "yerrorlines lw 2 lc rgb '#ee7733' title 'p95'\n";
+    if (!run(dir, output + "_convergence", conv.str(), figures, why)) return false;
+  }
+  return true;
+}
+
+bool tornado_figure(const fs::path& dir, const std::string& name, const std::string& title, const std::string& xlabel,
+                    const std::vector<std::pair<std::string, double>>& bars, std::vector<std::string>& figures,
+                    std::string& why) {
+  if (bars.empty()) return true;
+  {
+    std::ofstream d(dir / (name + ".dat"));
+    d << "# rank  value  label\n";
+    for (std::size_t i = 0; i < bars.size(); ++i) d << i << ' ' << bars[i].second << ' ' << quoted(bars[i].first) << '\n';
+  }
+  std::ostringstream g;
+  g << "set title " << quoted(title) << "\nset xlabel " << quoted(xlabel) << "\nset yrange [" << bars.size()
+    << "-0.5:-0.5]\nset ytics scale 0\nset style fill solid 0.7\nunset key\nset lmargin 34\n"
+    << "plot '" << name << ".dat' u ($2/2):1:(abs($2)/2):(0.35):ytic(3) with boxxyerror lc rgb '#4477aa'\n";
+  return run(dir, name, g.str(), figures, why);
+}
+
+bool sensitivity_tornado(const fs::path& dir, const json& sensitivity, const std::string& output,
+                         std::vector<std::string>& figures, std::string& why) {
+  if (!sensitivity.contains("outputs") || !sensitivity["outputs"].contains(output)) return true;
+  const json& idx = sensitivity["outputs"][output]["indices"];
+  const std::string name = output + "_sobol";
+  {
+    std::ofstream d(dir / (name + ".dat"));
+    d << "# rank  total total_lo total_hi  first first_lo first_hi  group\n";
+    std::size_t i = 0;
+    for (const auto& g : idx) {
+      if (i >= 12) break;
+      auto val = [](const json& e, int k) {
+        if (k < 0) return e["value"].is_number() ? e["value"].get<double>() : 0.0;
+        return e["ci95"][k].is_number() ? e["ci95"][k].get<double>() : (e["value"].is_number() ? e["value"].get<double>() : 0.0);
+      };
+      d << i++ << ' ' << val(g["total"], -1) << ' ' << val(g["total"], 0) << ' ' << val(g["total"], 1) << ' '
+        << val(g["first"], -1) << ' ' << val(g["first"], 0) << ' ' << val(g["first"], 1) << ' '
+        << quoted(g["group"].get<std::string>()) << '\n';
+    }
+    if (i == 0) return true;
+  }
+  std::ostringstream g;
+  g << "set title " << quoted("Which inputs drive " + output + ": Sobol indices (95% intervals)")
+    << "\nset xlabel 'index (share of the variance)'\nset yrange [*:*] reverse\nset ytics scale 0\nset lmargin 34\n"
+    << "set style fill solid 0.7\nset key outside bottom center horizontal\nset xrange [0:*]\n"
+    << "plot '" << name << ".dat' u ($2/2):($1-0.18):($2/2):(0.16):ytic(8) with boxxyerror lc rgb '#4477aa' title 'total', "
+    << "'' u 2:($1-0.18):3:4 with xerrorbars lc rgb '#222222' pt 0 notitle, "
+    << "'' u ($5/2):($1+0.18):($5/2):(0.16) with boxxyerror lc rgb '#ee7733' title 'first order', "
+    << "'' u 5:($1+0.18):6:7 with xerrorbars lc rgb '#222222' pt 0 notitle\n";
+  return run(dir, name, g.str(), figures, why);
+}
+
+}  // namespace poise::studies

@@ -1,0 +1,73 @@
+#include "engine/result_io.h"
+
+#include <charconv>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+
+#include "core/error.h"
+
+#include <cstdio>
+
+namespace poise::studies {
+
+nlohmann::json estimate_json(const sampling::Estimate& e) {
+  using nlohmann::json;
+  return {{"value", e.value}, {"ci95", {e.lo ? json(*e.lo) : json(nullptr), e.hi ? json(*e.hi) : json(nullptr)}}};
+}
+
+nlohmann::json summary_json(const sampling::Summary& s) {
+  return {{"n", s.n},
+          {"mean", estimate_json(s.mean)},
+          {"std", estimate_json(s.std)},
+          {"p50", estimate_json(s.p50)},
+          {"p95", estimate_json(s.p95)},
+          {"p99_73", estimate_json(s.p99_73)},
+          {"max", estimate_json(s.max)}};
+}
+
+std::string csv_number(double v) {
+  // Shortest text that reads back to the same double: a resumed run's statistics, computed
+  // from samples.csv, are then exactly those of an uninterrupted run.
+  if (std::isnan(v)) return "nan";
+  char buf[40];
+  const auto res = std::to_chars(buf, buf + sizeof buf, v);
+  return std::string(buf, res.ptr);
+}
+
+void write_file_atomic(const std::string& path, const std::string& text) {
+  const std::string tmp = path + ".tmp";
+  {
+    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
+    out << text;
+    out.flush();
+    if (!out) throw Error("cannot write " + tmp);
+  }
+  std::error_code ec;
+  std::filesystem::rename(tmp, path, ec);
+  if (ec) throw Error("cannot move " + tmp + " to " + path + ": " + ec.message());
+}
+
+std::string csv_text(std::string s) {
+  for (auto& ch : s) {
+    if (ch == '"' || ch == ',' || ch == '\n' || ch == '\r') ch = ' ';
+  }
+  return s;
+}
+
+std::string html_escape(const std::string& s) {
+  std::string o;
+  o.reserve(s.size());
+  for (char c : s) {
+    switch (c) {
+      case '<': o += "&lt;"; break;
+      case '>': o += "&gt;"; break;
+      case '&': o += "&amp;"; break;
+      case '"': o += "&quot;"; break;
+      default: o += c;
+    }
+  }
+  return o;
+}
+
+}  // namespace poise::studies

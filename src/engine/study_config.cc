@@ -1,0 +1,120 @@
+#include "engine/study_config.h"
+
+#include <cctype>
+#include <filesystem>
+
+#include "engine/references.h"
+#include "engine/study_kind.h"
+#include "engine/toml_reader.h"
+
+namespace poise::studies {
+
+StudyConfig& StudyConfig::operator=(const StudyConfig& o) {
+  if (this == &o) return *this;
+  file = o.file;
+  name = o.name;
+  kind = o.kind;
+  title = o.title;
+  notes = o.notes;
+  model_path = o.model_path;
+  method = o.method;
+  samples = o.samples;
+  seed = o.seed;
+  replicate_size = o.replicate_size;
+  max_failure_share = o.max_failure_share;
+  saltelli_base = o.saltelli_base;
+  saltelli_noise_group = o.saltelli_noise_group;
+  overrides = o.overrides;
+  plots = o.plots;
+  block = o.block;
+  references = o.references;
+  sections = o.sections ? o.sections->clone() : nullptr;
+  return *this;
+}
+
+void throw_wrong_sections(const StudyConfig& cfg) {
+  throw Error(cfg.file + ": the sections of a '" + cfg.kind + "' study were asked for as another kind's");
+}
+
+sampling::Design make_design(const StudyConfig& cfg, std::uint64_t seed, std::size_t samples, std::size_t dimension) {
+  sampling::DesignOptions o;
+  o.replicate_size = cfg.replicate_size;
+  o.saltelli_base = cfg.saltelli_base;
+  o.saltelli_noise_group = cfg.saltelli_noise_group;
+  return sampling::Design(cfg.method, seed, samples, dimension, o);
+}
+
+StudyConfig load_study(const std::string& path) {
+  toml::table doc = parse_toml_file(path);
+  auto ctx = std::make_shared<ReadContext>();
+  ctx->file = path;
+  TomlReader root(doc, ctx);
+  StudyConfig c;
+  c.file = path;
+  const StudyKind* kind = nullptr;
+  {
+    TomlReader t = root.table("study");
+    c.name = t.string("name");
+    if (t.has("name") && t.raw()["name"].is_string()) {
+      bool ok = !c.name.empty() && c.name.size() <= 100;
+      for (char ch : c.name) ok = ok && (std::isalnum(static_cast<unsigned char>(ch)) || ch == '_' || ch == '-');
+      if (!ok) {
+        t.error("name", quote_value(c.name),
+                "a name of 1 to 100 letters, digits, '_' and '-' (it names the results folder)");
+      }
+    }
+    c.kind = t.choice("kind", study_kind_names());
+    if (!c.kind.empty()) kind = &study_kind(c.kind);
+    const std::string model = t.string("model");
+    c.model_path = (std::filesystem::path(path).parent_path() / model).lexically_normal().string();
+    std::error_code ec;  // a name too long for the file system is a missing file, not an exception (exit 1)
+    if (model.empty() && t.has("model") && t.raw()["model"].is_string()) {
+      t.error("model", "\"\"", "the path of the model file, e.g. \"../models/seeker_two_axis_wang2011.toml\"");
+    } else if (!model.empty() && !std::filesystem::is_regular_file(c.model_path, ec)) {
+      t.error("model", quote_value(model), "an existing model file (looked for " + c.model_path + ")");
+    }
+    c.title = t.string("title", "");
+    c.notes = t.string("notes", "");
+  }
+  {
+    TomlReader t = root.table("sampling");
+    c.method = sampling::parse_sampling_method(t.choice("method", {"sobol", "lhs", "monte_carlo"}));
+    c.samples = static_cast<std::size_t>(t.integer("samples", 1, 1'000'000'000));
+    c.seed = static_cast<std::uint64_t>(t.integer("seed", 0, INT64_MAX));
+    c.replicate_size = static_cast<std::size_t>(t.integer("replicate_size", 0, 1'000'000'000, 0));
+    if (c.replicate_size > 0 && c.samples % c.replicate_size != 0) {
+      t.error("replicate_size", std::to_string(c.replicate_size),
+              "a divisor of samples (" + std::to_string(c.samples) + "): whole replicates only");
+    } else if (c.replicate_size > 0 && c.method == sampling::SamplingMethod::kSobol &&
+               (c.replicate_size & (c.replicate_size - 1)) != 0) {
+      t.error("replicate_size", std::to_string(c.replicate_size),
+              "a power of two for sobol (a scrambled Sobol replicate is a 2^m net), e.g. 256 or 1024");
+    }
+    if (t.has("max_failure_share")) {
+      c.max_failure_share = t.number("max_failure_share", [](double v) {
+        return v >= 0.0 && v <= 1.0 ? std::string() : std::string("a share between 0 and 1, e.g. 0.05");
+      });
+    }
+  }
+  if (kind) c.sections = kind->read_sections(root, c);
+  if (root.has("overrides")) {
+    TomlReader t = root.table("overrides");
+    for (const auto& key : t.keys()) c.overrides[key] = t.string(key);
+  }
+  if (root.has("output")) {
+    TomlReader t = root.table("output");
+    c.plots = t.boolean("plots", true);
+    c.block = static_cast<std::size_t>(t.integer("block", 1, 1'000'000, 1024));
+  }
+  c.references = read_references(root);
+  finish(doc, *ctx);
+  c.overrides = apply_study_overrides(c, c.overrides);  // the kind's study keys apply here
+  return c;
+}
+
+std::map<std::string, std::string> apply_study_overrides(StudyConfig& cfg,
+                                                         const std::map<std::string, std::string>& overrides) {
+  return study_kind(cfg.kind).apply_study_overrides(cfg, overrides);
+}
+
+}  // namespace poise::studies

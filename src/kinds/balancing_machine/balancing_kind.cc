@@ -1,0 +1,52 @@
+#include "kinds/balancing_machine/balancing_kind.h"
+
+#include <cstdio>
+
+#include "engine/procedure_kind.h"
+#include "kinds/balancing_machine/balancing_model.h"
+#include "kinds/balancing_machine/balancing_study.h"
+#include "kinds/balancing_machine/balancing_sections.h"
+
+namespace poise::studies {
+namespace {
+using nlohmann::json;
+
+class BalancingMachineKind final : public ProcedureKind {
+ public:
+  std::string name() const override { return "balancing_machine"; }
+  std::string summary() const override {
+    return "the spring-plate vertical balancing machine (Wang 2014): every balancing run integrated with CVODE "
+           "from rest to steady state, sensors with gain error and noise, synchronous demodulation, closed-form "
+           "and influence-coefficient estimates; the separation, U_mar, stability, URR and accuracy experiments "
+           "(model: a balancing-machine model, e.g. models/balancing_machine_wang2014.toml)";
+  }
+  std::unique_ptr<KindSections> read_sections(TomlReader& root, const StudyConfig& cfg) const override {
+    return read_balancing_sections(root, cfg);
+  }
+  std::unique_ptr<ProcedureStudy> make_study(const StudyConfig& cfg, const std::map<std::string, std::string>& o,
+                                             std::size_t samples, std::uint64_t seed) const override {
+    return std::make_unique<BalancingStudy>(cfg, load_balancing_model(cfg.model_path, o), samples, seed);
+  }
+  std::string validate(const StudyConfig& cfg) const override {
+    const BalancingModel model = load_balancing_model(cfg.model_path, cfg.overrides);
+    const BalancingStudy study(cfg, model, cfg.samples, cfg.seed);
+    const json d = study.details({});
+    char buf[768];
+    std::snprintf(buf, sizeof buf,
+                  "%s: valid. Study '%s' (%s) on model '%s': %zu unit-scope random inputs, %s design, %zu samples, "
+                  "seed %llu; per sample %zu experiment(s), %zu simulated balancing runs. Machine: %.3g and %.3g Hz at "
+                  "%.4g r/min, hard-bearing check %s.",
+                  cfg.file.c_str(), cfg.name.c_str(), cfg.kind.c_str(), model.name.c_str(), study.input_names().size(),
+                  sampling::to_string(cfg.method).c_str(), cfg.samples, static_cast<unsigned long long>(cfg.seed),
+                  balancing_sections(cfg).experiments.size(), study.runs_per_sample(),
+                  d["nominal_machine"]["omega_1_Hz"].get<double>(), d["nominal_machine"]["omega_2_Hz"].get<double>(),
+                  model.run.speed_rpm, d["hard_bearing"]["ok"].get<bool>() ? "passes" : "FAILS");
+    return buf;
+  }
+};
+
+}  // namespace
+
+std::unique_ptr<StudyKind> make_balancing_machine_kind() { return std::make_unique<BalancingMachineKind>(); }
+
+}  // namespace poise::studies

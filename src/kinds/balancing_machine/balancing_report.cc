@@ -1,0 +1,218 @@
+#include "kinds/balancing_machine/balancing_study.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+
+#include "core/units.h"
+#include "engine/procedure_runner.h"
+#include "engine/report_plot.h"
+#include "engine/result_io.h"
+#include "kinds/balancing_machine/balancing_sections.h"
+
+namespace poise::studies {
+namespace {
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+std::string fmt(double v, int prec = 4) {
+  char buf[40];
+  std::snprintf(buf, sizeof buf, "%.*g", prec, v);
+  return buf;
+}
+
+std::size_t index_of(const std::vector<std::string>& names, const std::string& name) {
+  return static_cast<std::size_t>(std::find(names.begin(), names.end(), name) - names.begin());
+}
+
+// Median and 5th / 95th percentiles of one output over the ok samples.
+struct Band {
+  double p05 = NAN, p50 = NAN, p95 = NAN;
+};
+Band band_of(std::vector<double> v) {
+  Band b;
+  if (v.empty()) return b;
+  std::sort(v.begin(), v.end());
+  auto q = [&](double p) { return v[static_cast<std::size_t>(std::lround(p * static_cast<double>(v.size() - 1)))]; };
+  b.p05 = q(0.05);
+  b.p50 = q(0.5);
+  b.p95 = q(0.95);
+  return b;
+}
+
+}  // namespace
+
+json BalancingStudy::details(const McResult&) const {
+  const BalancingAsBuilt b = nominal_as_built(model_);
+  const models::SpringPlateMachineParams p = machine_params(model_, b, model_.rotor);
+  const double omega = models::rpm_to_rad_per_s(model_.run.speed_rpm);
+  const models::NaturalFrequencies nf = models::natural_frequencies(p);
+  const models::HardBearingCheck hb = models::check_hard_bearing(p, omega, model_.hard_bearing_factor);
+  const double weight = model_.rotor.mass * 9.80665;
+  return {{"nominal_machine",
+           {{"k5_N_per_m", p.horizontal_plate_stiffness}, {"k6_N_per_m", p.torsional_plate_stiffness},
+            {"k6_l2_N_m_per_rad", p.torsional_plate_stiffness * p.lever * p.lever}, {"lever_m", p.lever},
+            {"total_mass_kg", p.total_mass}, {"rotating_mass_kg", p.rotating_mass},
+            {"mass_centre_height_m", p.mass_centre_height}, {"inertia_about_centre_kg_m2", p.inertia},
+            {"damping_x_N_s_per_m", p.damping_x}, {"damping_theta_N_m_s_per_rad", p.damping_theta},
+            {"omega_1_Hz", nf.omega_1 / (2 * units::kPi)}, {"omega_2_Hz", nf.omega_2 / (2 * units::kPi)},
+            {"omega_x_uncoupled_Hz", nf.omega_x / (2 * units::kPi)},
+            {"omega_theta_uncoupled_Hz", nf.omega_theta / (2 * units::kPi)},
+            {"speed_rpm", model_.run.speed_rpm}, {"speed_Hz", omega / (2 * units::kPi)},
+            {"horizontal_plate_stress_per_N_Pa", models::guided_plate_max_stress(b.horizontal_1, 1.0)},
+            {"rotor_weight_N", weight}}},
+          {"hard_bearing",
+           {{"ok", hb.ok}, {"factor", model_.hard_bearing_factor}, {"omega_1_over_omega", hb.ratio},
+            {"deviation_from_limit", hb.deviation}, {"message", hb.message}}},
+          {"estimator_displayed", balancing_sections(config_).estimator},
+          {"correction_planes",
+           {{"plane_1_surface", balancing_sections(config_).plane_1_surface}, {"plane_1_height_m", model_.rotor.surface_height(balancing_sections(config_).plane_1_surface)},
+            {"plane_2_surface", balancing_sections(config_).plane_2_surface}, {"plane_2_height_m", model_.rotor.surface_height(balancing_sections(config_).plane_2_surface)}}}};
+}
+
+void BalancingStudy::report_sections(const McResult& mc, const std::string& plots_dir, bool plots,
+                                     std::vector<std::string>& figures, std::ostringstream& h) const {
+  const json d = details(mc);
+  const json& nm = d["nominal_machine"];
+  const json& hb = d["hard_bearing"];
+  h << "<h2>The machine (nominal)</h2>\n<table>"
+    << "<tr><th class='l'>horizontal plates k5 (each)</th><td>" << fmt(nm["k5_N_per_m"].get<double>()) << " N/m</td></tr>"
+    << "<tr><th class='l'>torsional plate k6, lever l, k6 l&sup2;</th><td>" << fmt(nm["k6_N_per_m"].get<double>()) << " N/m, "
+    << fmt(nm["lever_m"].get<double>() * 1e3) << " mm, " << fmt(nm["k6_l2_N_m_per_rad"].get<double>()) << " N m/rad</td></tr>"
+    << "<tr><th class='l'>M, m, H, J (rotor R on)</th><td>" << fmt(nm["total_mass_kg"].get<double>()) << " kg, "
+    << fmt(nm["rotating_mass_kg"].get<double>()) << " kg, " << fmt(nm["mass_centre_height_m"].get<double>() * 1e3)
+    << " mm, " << fmt(nm["inertia_about_centre_kg_m2"].get<double>()) << " kg m&sup2;</td></tr>"
+    << "<tr><th class='l'>natural frequencies (coupled)</th><td>" << fmt(nm["omega_1_Hz"].get<double>()) << " Hz, "
+    << fmt(nm["omega_2_Hz"].get<double>()) << " Hz (uncoupled " << fmt(nm["omega_x_uncoupled_Hz"].get<double>())
+    << ", " << fmt(nm["omega_theta_uncoupled_Hz"].get<double>()) << " Hz)</td></tr>"
+    << "<tr><th class='l'>speed</th><td>" << fmt(nm["speed_rpm"].get<double>()) << " r/min = "
+    << fmt(nm["speed_Hz"].get<double>()) << " Hz</td></tr>"
+    << "<tr><th class='l'>hard-bearing check</th><td>" << (hb["ok"].get<bool>() ? "passes" : "FAILS") << ": "
+    << html_escape(hb["message"].get<std::string>()) << "</td></tr></table>\n";
+
+  const auto& names = output_names_;
+  const fs::path dir(plots_dir);
+  for (const auto& x : balancing_sections(config_).experiments) {
+    if (mc.outputs.empty()) break;
+    auto values = [&](const std::string& n) { return mc.values[index_of(names, n)]; };
+    // Per position k, "x(k) p50 p05 p95" of NAME_p1_k<k><suffix>, then of plane 2 (gnuplot data).
+    auto position_bands = [&](const BalancingExperiment& e, const std::string& suffix, auto x_of) {
+      std::ostringstream dat;
+      for (int k = 0; k < e.positions; ++k) {
+        dat << x_of(k);
+        for (int p = 1; p <= 2; ++p) {
+          const Band b = band_of(values(e.name + "_p" + std::to_string(p) + "_k" + std::to_string(k) + suffix));
+          dat << ' ' << b.p50 << ' ' << b.p05 << ' ' << b.p95;
+        }
+        dat << '\n';
+      }
+      return dat.str();
+    };
+    if (x.type == "separation") {
+      h << "<h2>Separation of static and couple unbalance (" << html_escape(x.name) << ")</h2>\n"
+        << "<p>" << fmt(x.mass * 1e3) << " g at r = " << fmt(x.radius * 1e3) << " mm on each testing surface in "
+        << x.positions << " holes, " << fmt(model_.run.speed_rpm) << " r/min; effect on each sensor "
+        << "(|A - A<sub>bare</sub>|, mean over the holes), median and 5-95% over the machines as built. "
+        << "Sensor 1 should stay flat, sensor 2 grow in proportion to the height (Wang 2014 Fig. 9, Eq. 17 "
+        << "corrected).</p>\n<table><tr><th>surface</th><th>height (mm)</th><th>sensor 1 (mN)</th><th>sensor 2 (mN)</th></tr>\n";
+      std::ostringstream dat;
+      for (int s = 1; s <= model_.rotor.surfaces; ++s) {
+        const std::string base = x.name + "_s" + std::to_string(s);
+        const Band b1 = band_of(values(base + "_sensor1_mN")), b2 = band_of(values(base + "_sensor2_mN"));
+        const double z = model_.rotor.surface_height(s) * 1e3;
+        h << "<tr><td>" << s << "</td><td>" << fmt(z) << "</td><td>" << fmt(b1.p50) << " <small>[" << fmt(b1.p05)
+          << ", " << fmt(b1.p95) << "]</small></td><td>" << fmt(b2.p50) << " <small>[" << fmt(b2.p05) << ", "
+          << fmt(b2.p95) << "]</small></td></tr>\n";
+        dat << z << ' ' << b1.p50 << ' ' << b1.p05 << ' ' << b1.p95 << ' ' << b2.p50 << ' ' << b2.p05 << ' ' << b2.p95 << '\n';
+      }
+      h << "</table>\n";
+      if (plots) {
+        std::ofstream(dir / (x.name + "_sensors.dat")) << dat.str();
+        svg_plot(dir, x.name + "_sensors",
+             "set title 'Sensor signals against the height of the test mass'\nset xlabel 'height of the testing surface above the torsion shaft (mm)'\n"
+             "set ylabel 'sensor amplitude (mN)'\nset key top left\nset xrange [0:*]\nset yrange [0:*]\n"
+             "plot '" + x.name + "_sensors.dat' u 1:2:3:4 w yerrorlines lw 2 pt 7 title 'sensor 1 (horizontal)', '' u 1:5:6:7 w yerrorlines lw 2 pt 5 title 'sensor 2 (torsional)'\n",
+             figures, h);
+      }
+    } else if (x.type == "umar") {
+      h << "<h2>Minimum achievable residual unbalance U<sub>mar</sub> (" << html_escape(x.name) << ")</h2>\n<p>"
+        << fmt(x.mass * 1e3) << " g at r = " << fmt(x.radius * 1e3) << " mm in " << x.positions
+        << " angular positions of each correction plane (surfaces " << balancing_sections(config_).plane_1_surface << " and "
+        << balancing_sections(config_).plane_2_surface << "); U<sub>mar,p</sub> = (X<sub>max</sub> - X<sub>min</sub>) r / 2, U<sub>mar</sub> = "
+           "U<sub>mar1</sub> + U<sub>mar2</sub> (Eq. 18: e = U<sub>mar1</sub>/M<sub>1</sub> = U<sub>mar2</sub>/M<sub>2</sub>, "
+           "M<sub>1</sub> + M<sub>2</sub> = M<sub>R</sub>). The spread X<sub>max</sub> - X<sub>min</sub> is twice the rotor's own "
+           "residual in that plane plus what the machine adds: compare U<sub>mar,p</sub> with the true residual.</p>\n";
+      if (plots) {
+        std::ofstream(dir / (x.name + "_readings.dat")) << position_bands(x, "_g", [&](int k) { return 360.0 * k / x.positions; });
+        svg_plot(dir, x.name + "_readings",
+             "set title 'U_mar test: readings against the test mass position'\nset xlabel 'angular position of the test mass (deg)'\n"
+             "set ylabel 'reading (g at the test radius)'\nset xtics 45\nset key outside bottom center horizontal\n"
+             "plot '" + x.name + "_readings.dat' u 1:2:3:4 w yerrorlines lw 2 pt 7 title 'correction plane 1', '' u 1:5:6:7 w yerrorlines lw 2 pt 5 title 'correction plane 2'\n",
+             figures, h);
+      }
+    } else if (x.type == "stability") {
+      const Band b1 = band_of(values(x.name + "_plane1_max_dev_pct")), b2 = band_of(values(x.name + "_plane2_max_dev_pct"));
+      double pass = 0.0;
+      for (double v : values(x.name + "_pass_ratio")) pass += v / static_cast<double>(values(x.name + "_pass_ratio").size());
+      h << "<h2>Stability of the readings (" << html_escape(x.name) << ")</h2>\n<p>" << fmt(x.mass * 1e3) << " g at r = "
+        << fmt(x.radius * 1e3) << " mm on surface " << x.surface << " in " << x.positions << " holes"
+        << (x.balance_first ? ", the rotor first balanced with the machine" : "")
+        << "; each plane's readings divided by their mean must lie within &plusmn;" << fmt(x.band * 100) << "%. "
+        << "Largest deviation: plane 1 " << fmt(b1.p50) << "% (p95 " << fmt(b1.p95) << "%), plane 2 " << fmt(b2.p50)
+        << "% (p95 " << fmt(b2.p95) << "%); " << fmt(pass * 100, 3) << "% of the machines pass.</p>\n";
+      if (x.surface == balancing_sections(config_).plane_1_surface || x.surface == balancing_sections(config_).plane_2_surface) {
+        h << "<p><small>The test mass sits in a correction plane, so the other plane's readings are its "
+             "residual unbalance and the machine's error alone: their ratio to their own mean measures noise, "
+             "not stability. Put the test mass between or beyond the planes to test both.</small></p>\n";
+      }
+      if (plots) {
+        std::ofstream(dir / (x.name + "_ratios.dat")) << position_bands(x, "_ratio", [](int k) { return k + 1.0; });
+        svg_plot(dir, x.name + "_ratios",
+             "set title 'Stability test: reading / mean of the plane'\nset xlabel 'hole'\nset ylabel 'reading / mean'\n"
+             "set xrange [0.5:" + std::to_string(x.positions) + ".5]\nset key outside bottom center horizontal\n"
+             "lo = " + fmt(1 - x.band) + "\nhi = " + fmt(1 + x.band) + "\n"
+             "plot lo w l dt 2 lc rgb 'red' title 'band', hi w l dt 2 lc rgb 'red' notitle, '" + x.name +
+                 "_ratios.dat' u 1:2:3:4 w yerrorlines lw 2 pt 7 title 'plane 1', '' u 1:5:6:7 w yerrorlines lw 2 pt 5 title 'plane 2'\n",
+             figures, h);
+      }
+    } else if (x.type == "urr") {
+      const Band b = band_of(values(x.name + "_min_pct"));
+      double pass = 0.0;
+      for (double v : values(x.name + "_pass_ratio")) pass += v / static_cast<double>(values(x.name + "_pass_ratio").size());
+      h << "<h2>Unbalance reduction ratio (" << html_escape(x.name) << ")</h2>\n<p>" << fmt(x.mass * 1e3)
+        << " g at r = " << fmt(x.radius * 1e3) << " mm in each correction plane (0 and 90 deg), one measuring run, "
+        << "one correction with the placement tolerances. URR = 1 - |U after| / |U before| (true unbalances), the "
+        << "smaller of the two planes: median " << fmt(b.p50) << "%, 5% quantile " << fmt(b.p05) << "%; "
+        << fmt(pass * 100, 3) << "% of the machines reach the required " << fmt(x.requirement * 100) << "%.</p>\n";
+    } else if (x.type == "accuracy") {
+      h << "<h2>Estimation error and couple interference (" << html_escape(x.name) << ")</h2>\n<p>A test piece with "
+        << fmt(x.piece_unbalance * 1e6) << " g mm in each plane (random angles) and its mass centre "
+        << "moved by the piece_centre_height tolerance, on the machine calibrated with rotor R. ic: influence "
+           "coefficients (calibrated on the machine as built); cf: the corrected closed form with the design "
+           "values of plates and lever. Interference I<sub>s,c</sub>: static unbalance indicated per couple "
+           "unbalance (1/mm), from a pure couple of "
+        << fmt(x.mass * 1e3) << " g at " << fmt(x.radius * 1e3) << " mm in the two planes.</p>\n";
+      if (plots) {
+        for (const std::string o : {"_u_error_ic_gmm", "_u_error_cf_gmm", "_v_error_ic_gmm", "_v_error_cf_gmm", "_plane_error_ic_pct", "_plane_error_cf_pct",
+                                    "_interference_ic_per_mm", "_interference_cf_per_mm"}) {
+          const std::string n = x.name + o;
+          {
+            std::ofstream dd(dir / (n + ".dat"));
+            for (double v : values(n)) dd << v << '\n';
+          }
+          svg_plot(dir, n,
+               "set title '" + n + "'\nset xlabel '" + unit_of_output(n) + "'\nset ylabel 'machines'\nstats '" + n +
+                   ".dat' u 1 nooutput\nbw = (STATS_max - STATS_min) / 25.0\nif (bw <= 0) bw = 1e-9\n"
+                   "bin(x) = bw * floor(x / bw) + bw / 2\nset style fill solid 0.6\nplot '" + n +
+                   ".dat' u (bin($1)):(1.0) smooth freq with boxes lc rgb '#4477aa' notitle\n",
+               figures, h);
+        }
+      }
+    }
+  }
+}
+
+
+}  // namespace poise::studies

@@ -1,0 +1,43 @@
+#pragma once
+/// The sections of a balancing_machine study file (the shared ones are in
+/// engine/study_config.h):
+///   [procedure]     plane_1_surface, plane_2_surface (correction planes: testing surfaces),
+///                   estimator = "influence" | "closed_form" (what the machine displays),
+///                   calibration_mass, calibration_radius (influence-coefficient test masses)
+///   [[experiment]]  name (output prefix), type = "separation" | "umar" | "stability" | "urr" |
+///                   "accuracy", and per type: mass, radius, surface, positions, band,
+///                   balance_first, piece_unbalance, requirement (see BalancingExperiment)
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "engine/study_config.h"
+
+namespace poise::studies {
+
+/// One experiment of a balancing-machine study (Wang 2014 Sec. 5, ISO 21940-21 tests).
+struct BalancingExperiment {
+  std::string name;            ///< output prefix
+  std::string type;            ///< separation | umar | stability | urr | accuracy
+  double mass = 0.0;           ///< test mass (kg)
+  double radius = 0.0;         ///< its radius (m)
+  int surface = 0;             ///< stability: surface carrying the test mass
+  int positions = 8;           ///< angular positions (holes) used, evenly spaced from 0 deg
+  double band = 0.12;          ///< stability: readings within +-band of their mean
+  bool balance_first = true;   ///< stability: correct the rotor with the machine first
+  double piece_unbalance = 0;  ///< accuracy: plane unbalance of the test piece (kg m), random angles
+  double requirement = 0.0;    ///< urr: required reduction ratio (fraction)
+};
+
+struct BalancingSections : KindSectionsOf<BalancingSections> {
+  int plane_1_surface = 0, plane_2_surface = 0;
+  std::string estimator = "influence";
+  double calibration_mass = 0.0, calibration_radius = 0.0;
+  std::vector<BalancingExperiment> experiments;
+};
+
+std::unique_ptr<KindSections> read_balancing_sections(TomlReader& root, const StudyConfig& cfg);
+
+inline const BalancingSections& balancing_sections(const StudyConfig& cfg) { return sections_of<BalancingSections>(cfg); }
+
+}  // namespace poise::studies

@@ -1,0 +1,84 @@
+#pragma once
+/// The balancing-machine study (Wang & Wang 2014, ISO 21940-21 tests): Monte Carlo over the
+/// machine's tolerances, each sample one machine as built running the study's experiments
+/// end to end (every run: CVODE from rest through the start transient, sensors with gain
+/// error and noise, synchronous demodulation; then the estimator the machine displays).
+///
+/// Per sample:
+///   * the machine as built: each of the three plates' thickness, width and length drawn
+///     separately, E, lever, sensor 1's height, sensor gains, the standard rotor's residual
+///     unbalance in the two correction planes (at random angles);
+///   * calibration by influence coefficients on rotor R with the calibration mass in each
+///     correction plane (as production machines do); the closed form uses the machine's
+///     design values (nominal plates and lever), as the paper does;
+///   * every run draws its own speed deviation and placement errors (scope "test").
+/// Outputs (names start with the experiment's name; units from the suffix):
+///   omega1_Hz, omega2_Hz, hard_bearing_ratio         the machine as built with rotor R
+///   static_buckling_ratio, static_stress_MPa (largest plate stress under the weight),
+///   static_tilt_urad, weight_stiffness_loss_pct, pendulum_margin_ratio   the machine as built
+///       under the weight of frame and rotor R (machine_statics in balancing_model.h)
+///   separation: NAME_s<k>_sensor1_mN, NAME_s<k>_sensor2_mN  effect of the test mass on
+///       surface k (|A - A_bare|, mean over the holes), NAME_sensor1_spread_pct (max - min over
+///       the surfaces, of the mean), NAME_sensor2_zero_height_mm (height where the fitted line of
+///       sensor 2 against height crosses 0: the torsion centre), NAME_sensor2_linearity_pct
+///   umar: NAME_plane<p>_kgm = (X_max - X_min) r / 2 of plane p, NAME_kgm (Eq. 18: their sum),
+///       NAME_xmax<p>_g, NAME_xmin<p>_g, NAME_p<p>_k<k>_g the readings, NAME_true_residual<p>_kgm
+///       (the rotor's residual, what U_mar estimates), NAME_max_reading_error_g
+///   stability: NAME_residual_gmm (largest plane residual after balancing first),
+///       NAME_plane<p>_max_dev_pct, NAME_p<p>_k<k>_ratio (reading / mean), NAME_pass_ratio (1/0)
+///   urr: NAME_plane<p>_pct (unbalance reduction ratio, true), NAME_min_pct, NAME_pass_ratio
+///   accuracy: NAME_u_error_{ic,cf}_gmm = |U^ - U| (g mm), NAME_v_error_{ic,cf}_gmm =
+///       |V^ - V| / (z2 - z1) (the couple error as equal and opposite unbalances in the two
+///       planes, g mm), NAME_plane_error_{ic,cf}_pct (|U_p^ - U_p| / |U_p|, the larger of the
+///       two planes), NAME_interference_{ic,cf}_per_mm (static unbalance
+///       indicated per unit of a pure couple unbalance, ISO 21940-21's I_s,c),
+///       NAME_x_amplitude_um (amplitude of the horizontal plates' motion for a static
+///       unbalance of piece_unbalance)
+///   ic: influence coefficients; cf: the corrected closed form (Eq. 13).
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "sampling/design.h"
+#include "kinds/balancing_machine/balancing_model.h"
+#include "engine/procedure_study.h"
+
+namespace poise::studies {
+
+class BalancingStudy : public ProcedureStudyBase<BalancingStudy> {
+ public:
+  /// Throws ValidationError if the study does not fit the model (surfaces, paper keys, scopes).
+  BalancingStudy(StudyConfig config, BalancingModel model, std::size_t samples, std::uint64_t seed);
+
+  const StudyConfig& config() const override { return config_; }
+  std::size_t samples() const { return samples_; }
+  const std::vector<std::string>& input_names() const override { return input_names_; }
+  std::size_t design_dimension() const { return design_.dimension(); }
+  const std::vector<std::string>& output_names() const override { return output_names_; }
+  std::string model_name() const override { return model_.name; }
+  std::string model_source() const override { return model_.source; }
+  const BalancingModel& model() const { return model_; }
+
+  using Workspace = procedures::BalancingWorkspace;
+  std::unique_ptr<Workspace> make_workspace() const;
+  void compute(std::size_t i, Workspace& ws, SampleResult& out) const;
+  nlohmann::json solver_json(const McResult& mc) const override;
+  /// The nominal machine: stiffnesses, masses, natural frequencies, hard-bearing check.
+  nlohmann::json details(const McResult& mc) const override;
+  void report_sections(const McResult& mc, const std::string& plots_dir, bool plots,
+                       std::vector<std::string>& figures, std::ostringstream& html) const override;
+
+  /// Runs per sample (for the progress estimate and the validate summary).
+  std::size_t runs_per_sample() const;
+
+ private:
+  StudyConfig config_;
+  BalancingModel model_;
+  std::size_t samples_;
+  std::uint64_t seed_;
+  std::vector<std::string> input_names_, output_names_;
+  std::size_t dimension_ = 0;
+  sampling::Design design_;
+};
+
+}  // namespace poise::studies

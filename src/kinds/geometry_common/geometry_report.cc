@@ -1,0 +1,93 @@
+#include "kinds/geometry_common/geometry_report.h"
+
+#include <fstream>
+#include <sstream>
+
+#include "engine/report_plot.h"
+#include "engine/result_io.h"
+
+namespace poise::studies {
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+namespace {
+
+std::string cell(const json& e) {
+  if (!e.is_object() || !e.contains("value") || e["value"].is_null()) return "<td>-</td>";
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.6g", e["value"].get<double>());
+  return std::string("<td>") + buf + "</td>";
+}
+
+}  // namespace
+
+std::string histogram_script(const std::string& dat, int column, const std::string& title, const std::string& xlabel) {
+  std::ostringstream g;
+  g << "set title '" << title << "'\nset xlabel '" << xlabel << "'\nset ylabel 'samples'\n"
+    << "stats '" << dat << "' u " << column << " nooutput\n"
+    << "bw = (STATS_max - STATS_min) / 40.0\nif (bw <= 0) bw = (abs(STATS_max) > 0 ? abs(STATS_max) * 1e-3 : 1e-9)\n"
+    << "bin(x) = bw * floor(x / bw) + bw / 2\nset style fill solid 0.6\nset grid\n"
+    << "plot '" << dat << "' u (bin($" << column << ")):(1.0) smooth freq with boxes lc rgb '#4477aa' notitle\n";
+  return g.str();
+}
+
+void write_geometry_report(const GeometryReport& r) {
+  const json& s = r.summary;
+  const fs::path dir(r.dir), pdir = dir / "plots";
+  std::vector<std::pair<std::string, std::string>> figures;  // (svg, caption)
+  std::string plot_note;
+  if (r.make_plots && !r.plots.empty()) {
+    fs::create_directories(pdir);
+    for (const auto& p : r.plots) {
+      std::ofstream(pdir / (p.name + ".dat")) << p.data;
+      std::ofstream(pdir / (p.name + ".gp"))
+          << "set terminal svg size 760,480 dynamic noenhanced font 'Helvetica,12'\nset output '" << p.name
+          << ".svg'\n"
+          << p.script;
+      std::string why;
+      if (run_gnuplot((pdir / (p.name + ".gp")).string(), &why)) {
+        figures.emplace_back(p.name + ".svg", p.caption);
+      } else {
+        plot_note = why;
+      }
+    }
+  } else if (!r.make_plots) {
+    plot_note = "plots were switched off for this run";
+  }
+  std::ostringstream h;
+  const auto& st = s["study"];
+  const std::string title = st.value("title", "").empty() ? st.value("name", "") : st.value("title", "");
+  h << "<!DOCTYPE html><html lang='en'><head><meta charset='utf-8'><title>Poise: " << html_escape(st.value("name", ""))
+    << "</title><style>"
+    << "body{font-family:Helvetica,Arial,sans-serif;max-width:1100px;margin:2em auto;color:#222;line-height:1.4}"
+    << "table{border-collapse:collapse;margin:0.6em 0}td,th{border:1px solid #bbb;padding:3px 8px;text-align:right}"
+    << "th{background:#eef}td.l,th.l{text-align:left}.bad{background:#fdd}.ok{background:#dfd}"
+    << "small{color:#666}pre{background:#f6f6f6;padding:0.8em;white-space:pre-wrap}img{max-width:100%}"
+    << "</style></head><body>\n<h1>" << html_escape(title) << "</h1>\n<p>Study <code>"
+    << html_escape(st.value("file", "")) << "</code>, model <code>" << html_escape(st.value("model_file", ""))
+    << "</code> (" << html_escape(st.value("model_source", "")) << ").</p>\n";
+  if (!st.value("notes", "").empty()) h << "<pre>" << html_escape(st.value("notes", "")) << "</pre>\n";
+  for (const auto& t : r.tables) h << t << '\n';
+  h << "<h2>Per-sample outputs</h2>\n<table><tr><th class='l'>output</th><th>unit</th><th>mean</th><th>std</th>"
+    << "<th>p50</th><th>p95</th><th>p99.73</th><th>max</th><th class='l'>what</th></tr>\n";
+  if (s.contains("outputs")) {
+    for (const auto& [name, o] : s["outputs"].items()) {
+      h << "<tr><td class='l'>" << html_escape(name) << "</td><td>" << html_escape(o.value("unit", "")) << "</td>"
+        << cell(o["mean"]) << cell(o["std"]) << cell(o["p50"]) << cell(o["p95"]) << cell(o["p99_73"]) << cell(o["max"])
+        << "<td class='l'>" << html_escape(o.value("description", "")) << "</td></tr>\n";
+    }
+  }
+  h << "</table>\n<p><small>Samples: " << s["sampling"].value("samples", 0) << " ("
+    << html_escape(s["sampling"].value("method", "")) << ", seed " << s["sampling"].value("seed", 0)
+    << "); failures: " << s["failures"].value("count", 0) << ". Every sample is in samples.csv; "
+    << "<code>poise replay</code> recomputes one alone.</small></p>\n";
+  if (!figures.empty()) h << "<h2>Figures</h2>\n";
+  for (const auto& [svg, caption] : figures) {
+    h << inline_svg(dir / "plots" / svg, caption);
+  }
+  if (!plot_note.empty()) h << "<p><small>" << html_escape(plot_note) << "</small></p>\n";
+  h << "<h2>Provenance</h2>\n<pre>" << html_escape(s["provenance"].dump(2)) << "</pre>\n</body></html>\n";
+  write_file_atomic((dir / "report.html").string(), h.str());
+}
+
+}  // namespace poise::studies

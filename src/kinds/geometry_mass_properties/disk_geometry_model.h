@@ -1,0 +1,47 @@
+#pragma once
+/// The simulator disk as built (models/simulator_disk_*.toml): the drawing (disk, the two
+/// circles of eight holes, clump weights) and the tolerances of its making, drawn per
+/// Monte Carlo sample into one as-built DiskSpec:
+///   tolerances.hole_position  deviation of each hole centre along x and along y (two draws
+///                             per hole: a true-position error in a random direction)
+///   tolerances.clump_mass     deviation of each clump weight's mass
+///   tolerances.thickness      deviation of the disk's thickness
+///   tolerances.wedge          face parallelism: thickness difference across the diameter
+///                             (magnitude), towards a uniformly random direction
+/// The disk's frame: z its axis (the gimbal axis of the test), x towards hole 0 of circle C_A.
+#include <map>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "geometry/generators.h"
+#include "kinds/seeker_los/seeker_model.h"
+#include "engine/tolerance_spec.h"
+
+namespace poise::studies {
+
+struct DiskGeometryModel {
+  std::string file, name, title, source;
+  geometry::DiskSpec nominal;
+  ToleranceSpec hole_position, clump_mass, thickness, wedge;
+};
+
+/// Loads and validates; `overrides` replace values by dotted key. Throws ValidationError.
+DiskGeometryModel load_disk_geometry_model(const std::string& path,
+                                           const std::map<std::string, std::string>& overrides = {});
+
+/// Maps design points to as-built disks. Immutable, thread-safe.
+class DiskSampler {
+ public:
+  explicit DiskSampler(const DiskGeometryModel& model);
+  std::size_t dimension() const { return columns_.size(); }
+  const std::vector<InputColumn>& columns() const { return columns_; }
+  /// u: design point (size dimension()); values: drawn inputs in display units.
+  geometry::DiskSpec draw(std::span<const double> u, std::span<double> values) const;
+
+ private:
+  DiskGeometryModel model_;
+  std::vector<InputColumn> columns_;
+};
+
+}  // namespace poise::studies

@@ -1,0 +1,58 @@
+#include "kinds/gimbal_static_unbalance/gimbal_kind.h"
+
+#include <cstdio>
+
+#include "engine/procedure_kind.h"
+#include "kinds/gimbal_static_unbalance/gimbal_model.h"
+#include "kinds/gimbal_static_unbalance/gimbal_sections.h"
+#include "kinds/gimbal_static_unbalance/gimbal_study.h"
+
+namespace poise::studies {
+namespace {
+
+class GimbalStaticUnbalanceKind final : public ProcedureKind {
+ public:
+  std::string name() const override { return "gimbal_static_unbalance"; }
+  std::string summary() const override {
+    return "the static-unbalance test of a gimbal axis on a turntable simulated end to end (disk rotor's "
+           "Lagrange equations with CVODE, servo-driven oscillation at each position, current integration, "
+           "sine fit, counterweight) over the rig's tolerances (model: a gimbal model, e.g. "
+           "models/gimbal_simulator_yang2015.toml)";
+  }
+  std::unique_ptr<KindSections> read_sections(TomlReader& root, const StudyConfig& cfg) const override {
+    return read_gimbal_sections(root, cfg);
+  }
+  std::map<std::string, std::string> apply_study_overrides(
+      StudyConfig& cfg, const std::map<std::string, std::string>& overrides) const override {
+    return apply_gimbal_study_overrides(cfg, overrides);
+  }
+  std::unique_ptr<ProcedureStudy> make_study(const StudyConfig& cfg, const std::map<std::string, std::string>& o,
+                                             std::size_t samples, std::uint64_t seed) const override {
+    return std::make_unique<GimbalStudy>(cfg, load_gimbal_model(cfg.model_path, o), samples, seed);
+  }
+  std::string validate(const StudyConfig& cfg) const override {
+    const GimbalModel model = load_gimbal_model(cfg.model_path, cfg.overrides);
+    GimbalStudy study(cfg, model, cfg.samples, cfg.seed);
+    std::size_t tests = 0, positions = 0;
+    for (const auto& g : gimbal_sections(cfg).groups) {
+      tests += g.repeats * g.loads.size();
+      positions += g.repeats * g.loads.size() * g.positions;
+    }
+    char buf[512];
+    std::snprintf(buf, sizeof buf,
+                  "%s: valid. Study '%s' (%s) on model '%s': %zu unit-scope random inputs, %s design, %zu "
+                  "samples, seed %llu; per sample %zu group(s), %zu simulated tests, %zu turntable positions.",
+                  cfg.file.c_str(), cfg.name.c_str(), cfg.kind.c_str(), model.name.c_str(), study.input_names().size(),
+                  sampling::to_string(cfg.method).c_str(), cfg.samples, static_cast<unsigned long long>(cfg.seed),
+                  gimbal_sections(cfg).groups.size(), tests, positions);
+    return buf;
+  }
+};
+
+}  // namespace
+
+std::unique_ptr<StudyKind> make_gimbal_static_unbalance_kind() {
+  return std::make_unique<GimbalStaticUnbalanceKind>();
+}
+
+}  // namespace poise::studies

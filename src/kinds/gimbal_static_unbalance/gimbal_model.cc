@@ -1,0 +1,193 @@
+#include "kinds/gimbal_static_unbalance/gimbal_model.h"
+
+#include <filesystem>
+
+#include "core/units.h"
+#include "geometry/generators.h"
+#include "geometry/mass_properties.h"
+#include "engine/model_overrides.h"
+
+namespace poise::studies {
+namespace {
+using units::Dimension;
+
+const Dimension kUnbalance{{1, 1, 0, 0, 0, 0}};          // kg m
+const Dimension kInertia{{2, 1, 0, 0, 0, 0}};            // kg m^2
+const Dimension kStiffness{{0, 1, -2, 0, 0, 0}};         // N/m
+const Dimension kDamping{{0, 1, -1, 0, 0, 0}};           // N s/m
+const Dimension kRotDamping{{2, 1, -1, 0, -1, 0}};       // N m s/rad
+const Dimension kRotStiffness{{2, 1, -2, 0, -1, 0}};     // N m/rad
+const Dimension kAngularRate{{0, 0, -1, 0, 1, 0}};       // rad/s
+const Dimension kTorquePerCurrent{{2, 1, -2, -1, 0, 0}}; // N m/A
+
+}  // namespace
+
+namespace {
+
+void read_servo_table(TomlReader& t, procedures::ServoConfig& s) {
+  s.bandwidth_hz = t.quantity("bandwidth", units::kFrequency, positive);
+  s.damping = t.number("damping", [](double v) { return v > 0 ? "" : "a positive damping ratio"; });
+  s.integral_ratio = t.number("integral_ratio", [](double v) { return v >= 0 ? "" : "a ratio >= 0"; });
+  t.accept_notes();
+}
+
+void read_oscillation_table(TomlReader& t, procedures::OscillationConfig& o) {
+  o.rate_amplitude = t.quantity("rate_amplitude", kAngularRate, positive);
+  o.period = t.quantity("period", units::kTime, positive);
+  o.periods = static_cast<int>(t.integer("periods", 1, 1000));
+  o.lead_in = t.quantity("lead_in", units::kTime, non_negative);
+  o.settle_time = t.quantity("settle_time", units::kTime, non_negative);
+  o.centre = t.quantity("centre", units::kAngle, {}, 0.0);
+  const double swing = o.rate_amplitude * o.period / (2.0 * units::kPi);
+  if (std::abs(o.centre) + swing > 3.0 * units::kRadPerDeg + 1e-12) {
+    t.error("rate_amplitude", "", "an oscillation within +-3 deg (|centre| + A T / 2 pi = " +
+                                      units::format(std::abs(o.centre) + swing, "deg", 4) + ")");
+  }
+  t.accept_notes();
+}
+
+void read_acquisition_table(TomlReader& t, procedures::AcquisitionConfig& a) {
+  a.rate_hz = t.quantity("rate", units::kFrequency, positive);
+  a.noise_rms = t.quantity("noise_rms", units::kCurrent, non_negative);
+  a.offset = t.quantity("offset", units::kCurrent);
+  a.offset_drift = t.quantity("offset_drift", units::kCurrent, non_negative);
+  a.offset_noise = t.quantity("offset_noise", units::kCurrent, non_negative);
+  a.adc_bits = static_cast<int>(t.integer("adc_bits", 4, 32));
+  a.adc_full_scale = t.quantity("adc_full_scale", units::kCurrent, positive);
+  t.accept_notes();
+}
+
+void read_turntable_table(TomlReader& t, procedures::TestPlan& plan) {
+  plan.positioning_error = t.quantity("positioning_error", units::kAngle, non_negative);
+  plan.gravity = t.quantity("gravity", units::kAcceleration, positive);
+  plan.move_time = t.quantity("move_time", units::kTime, non_negative, 5.0);
+  t.accept_notes();
+}
+
+void read_solver_table(TomlReader& t, solvers::CvodeOptions& solver) {
+  solver.rtol = t.number("rtol", [](double v) { return v > 0 && v < 1 ? "" : "0 < rtol < 1"; });
+  const double atol_angle = t.quantity("atol_angle", units::kAngle, positive);
+  const double atol_length = t.quantity("atol_length", units::kLength, positive);
+  solver.max_order = static_cast<int>(t.integer("max_order", 1, 5));
+  // phi, phidot, y, ydot, z, zdot, integral of the angle error
+  solver.atol_per_state = {atol_angle, 10 * atol_angle, atol_length, 1e3 * atol_length,
+                           atol_length, 1e3 * atol_length, 0.1 * atol_angle};
+  t.accept_notes();
+}
+
+}  // namespace
+
+void read_test_plan_tables(TomlReader& root, procedures::TestPlan& plan) {
+  {
+    TomlReader t = root.table("servo");
+    read_servo_table(t, plan.servo);
+  }
+  {
+    TomlReader t = root.table("oscillation");
+    read_oscillation_table(t, plan.oscillation);
+  }
+  {
+    TomlReader t = root.table("acquisition");
+    read_acquisition_table(t, plan.acquisition);
+  }
+  {
+    TomlReader t = root.table("turntable");
+    read_turntable_table(t, plan);
+  }
+  {
+    TomlReader t = root.table("solver");
+    read_solver_table(t, plan.solver);
+  }
+}
+
+GimbalModel load_gimbal_model(const std::string& path,
+                              const std::map<std::string, std::string>& overrides) {
+  auto [doc, ctx] = open_model_file(path, overrides);
+  TomlReader root(doc, ctx);
+  GimbalModel m;
+  m.file = path;
+  const ModelHeader header = read_model_header(root, "gimbal_static_unbalance");
+  m.name = header.name;
+  m.title = header.title;
+  m.source = header.source;
+  {
+    TomlReader t = root.table("rotor");
+    auto& r = m.rotor;
+    r.mass = t.quantity("mass", units::kMass, positive);
+    r.inertia = t.quantity("inertia", kInertia, positive);
+    r.support_stiffness = t.quantity("support_stiffness", kStiffness, positive);
+    r.support_damping = t.quantity("support_damping", kDamping, non_negative);
+    r.viscous_friction = t.quantity("viscous_friction", kRotDamping, non_negative);
+    r.coulomb_friction = t.quantity("coulomb_friction", units::kTorque, non_negative);
+    r.coulomb_smoothing = t.quantity("coulomb_smoothing", kAngularRate, positive);
+    r.torsion_stiffness = t.quantity("torsion_stiffness", kRotStiffness, non_negative);
+    r.torsion_zero = t.quantity("torsion_zero", units::kAngle);
+    r.cogging_torque = t.quantity("cogging_torque", units::kTorque, non_negative, 0.0);
+    r.cogging_order = static_cast<int>(t.integer("cogging_order", 0, 100000, 0));
+    r.cogging_phase = t.quantity("cogging_phase", units::kAngle, {}, 0.0);
+    t.accept_notes();
+  }
+  {
+    TomlReader t = root.table("motor");
+    m.plan.servo.kt_nominal = t.quantity("kt_nominal", kTorquePerCurrent, positive);
+    m.plan.servo.current_limit = t.quantity("current_limit", units::kCurrent, positive);
+    t.accept_notes();
+  }
+  read_test_plan_tables(root, m.plan);
+  if (root.has("servo")) {
+    m.plan.servo.inertia_estimate = root.table("servo").quantity("inertia_estimate", kInertia, positive);
+  }
+  m.counterweight_radius = root.table("counterweight").quantity("radius", units::kLength, positive);
+  if (root.has("disturbances")) {  // effects the test's model does not declare; off by default
+    TomlReader t = root.table("disturbances");
+    auto& d = m.disturbances;
+    d.offset_drift_rate = t.quantity("offset_drift_rate", units::Dimension{{0, 0, -1, 1, 0, 0}}, {}, 0.0);
+    d.harmonic2_torque = t.quantity("harmonic2_torque", units::kTorque, non_negative, 0.0);
+    d.harmonic2_phase = t.quantity("harmonic2_phase", units::kAngle, {}, 0.0);
+    d.direction_torque = t.quantity("direction_torque", units::kTorque, {}, 0.0);
+    d.bump_position = static_cast<int>(t.integer("bump_position", -1, 100000, -1));
+    d.bump_torque = t.quantity("bump_torque", units::kTorque, {}, 0.0);
+    t.accept_notes();
+  }
+  {
+    TomlReader t = root.table("tolerances");
+    m.residual_unbalance = read_scoped_tolerance(t, "residual_unbalance", kUnbalance, "g*mm");
+    m.runout = read_scoped_tolerance(t, "runout", units::kLength, "um");
+    m.clump_mass = read_scoped_tolerance(t, "clump_mass", units::kMass, "g");
+    m.hole_radius = read_scoped_tolerance(t, "hole_radius", units::kLength, "mm");
+    m.hole_angle = read_scoped_tolerance(t, "hole_angle", units::kAngle, "deg");
+    m.kt_calibration = read_scoped_tolerance(t, "kt_calibration", units::kDimensionless, "");
+    m.kt_drift = read_scoped_tolerance(t, "kt_drift", units::kDimensionless, "");
+    m.turntable_zero = read_scoped_tolerance(t, "turntable_zero", units::kAngle, "deg");
+    m.gimbal_zero = read_scoped_tolerance(t, "gimbal_zero", units::kAngle, "deg");
+    m.axis_tilt = read_scoped_tolerance(t, "axis_tilt", units::kAngle, "arcmin");
+    m.counterweight_mass = read_scoped_tolerance(t, "counterweight_mass", units::kDimensionless, "");
+    m.counterweight_radius_error = read_scoped_tolerance(t, "counterweight_radius", units::kLength, "mm");
+    m.counterweight_angle = read_scoped_tolerance(t, "counterweight_angle", units::kAngle, "deg");
+  }
+  std::string disk_model;
+  if (root.has("geometry")) {
+    TomlReader t = root.table("geometry");
+    disk_model = t.string("disk_model");  // "" = off
+    if (!disk_model.empty()) {
+      const std::string resolved = (std::filesystem::path(path).parent_path() / disk_model).lexically_normal().string();
+      std::error_code ec;  // a name too long for the file system is a missing file, not an exception
+      if (!std::filesystem::is_regular_file(resolved, ec)) {
+        t.error("disk_model", quote_value(disk_model), "\"\" (off) or an existing disk model file (looked for " + resolved + ")");
+      }
+      disk_model = resolved;
+    }
+    t.accept_notes();
+  }
+  finish(doc, *ctx);
+  if (!disk_model.empty()) {
+    m.disk_geometry = load_disk_geometry_model(disk_model);
+    m.disk_geometry->nominal.clumps.clear();
+    const geometry::Moments mo = geometry::exact_moments(geometry::simulator_disk(m.disk_geometry->nominal));
+    m.disk_nominal_mass = mo.mass;
+    m.disk_nominal_inertia = mo.second(0, 0) + mo.second(1, 1);
+  }
+  return m;
+}
+
+}  // namespace poise::studies

@@ -1,0 +1,63 @@
+#pragma once
+/// The gimbal static-unbalance test rig (models/gimbal_simulator_*.toml): the disk rotor
+/// of the axis under test, its instruments, the test plan, and every tolerance with its
+/// distribution and scope:
+///   scope = "unit"  drawn once per Monte Carlo sample (the hardware as built);
+///   scope = "test"  drawn again for every test run (repeat or load) of that sample.
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "procedures/static_unbalance_procedure.h"
+#include "kinds/geometry_mass_properties/disk_geometry_model.h"
+#include "engine/tolerance_spec.h"
+#include "engine/toml_reader.h"
+
+namespace poise::studies {
+
+struct GimbalModel {
+  std::string file, name, title, source;
+  models::DiskRotorParams rotor;   ///< eccentricity comes from the sampled unbalance
+  procedures::TestPlan plan;       ///< positions are set per test group
+  double counterweight_radius = 0; ///< R of Eq. 23 (m)
+  procedures::Disturbances disturbances;  ///< undeclared effects, off unless [disturbances] sets them
+  // Tolerances (SI). Magnitudes for vectors; their directions are uniform.
+  ScopedTolerance residual_unbalance;   ///< simulator's own unbalance (kg m), random angle
+  ScopedTolerance runout;               ///< bearing run-out (m), random angle
+  ScopedTolerance clump_mass;           ///< deviation of the test mass (kg)
+  ScopedTolerance hole_radius;          ///< deviation of the hole radius (m)
+  ScopedTolerance hole_angle;           ///< deviation of the hole angle (rad)
+  ScopedTolerance kt_calibration;       ///< K_T true / nominal - 1
+  ScopedTolerance kt_drift;             ///< further K_T change between tests
+  ScopedTolerance turntable_zero;       ///< registration error of the turntable zero (rad)
+  ScopedTolerance gimbal_zero;          ///< registration error of the gimbal zero (rad)
+  ScopedTolerance axis_tilt;            ///< gimbal axis vs turntable axis (rad), random azimuth
+  ScopedTolerance counterweight_mass;   ///< placement: mass deviation (relative)
+  ScopedTolerance counterweight_radius_error;  ///< placement: radius deviation (m)
+  ScopedTolerance counterweight_angle;  ///< placement: angle deviation (rad)
+  /// [geometry] disk_model ("" = off, else a path relative to this file): the rotor's disk as a
+  /// geometric part (models/simulator_disk_*.toml) drawn as built for every sample (unit
+  /// scope). Its clumps are dropped: the test loads are the study's groups. The as-built
+  /// disk's unbalance (its first moment about the gimbal axis, from the divergence theorem on
+  /// its mesh) adds to residual_unbalance (then the rest of the rotor's), and its mass and
+  /// inertia deviations from the nominal disk add to rotor.mass and rotor.inertia.
+  std::optional<DiskGeometryModel> disk_geometry;
+  double disk_nominal_mass = 0.0;     ///< kg, the nominal disk without clumps
+  double disk_nominal_inertia = 0.0;  ///< kg m^2, about its axis
+};
+
+/// Reads the test-plan tables the gimbal and platform models share into `plan`: [servo]
+/// bandwidth, damping, integral_ratio; [oscillation] rate_amplitude, period, periods, lead_in,
+/// settle_time, centre (optional, 0; |centre| + A T / 2 pi within +-3 deg); [acquisition] rate,
+/// noise_rms, offset, offset_drift, offset_noise, adc_bits, adc_full_scale; [turntable]
+/// positioning_error, gravity, move_time (optional, 5 s); [solver] rtol, atol_angle,
+/// atol_length, max_order (absolute tolerances per state of the disk rotor). A model reads its
+/// own further keys of these tables itself.
+void read_test_plan_tables(TomlReader& root, procedures::TestPlan& plan);
+
+/// Loads and validates; `overrides` replace values by dotted key. Throws ValidationError.
+GimbalModel load_gimbal_model(const std::string& path,
+                              const std::map<std::string, std::string>& overrides = {});
+
+}  // namespace poise::studies

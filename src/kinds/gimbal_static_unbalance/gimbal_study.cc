@@ -1,0 +1,224 @@
+#include "kinds/gimbal_static_unbalance/gimbal_study.h"
+
+#include <cmath>
+
+#include "core/units.h"
+#include "geometry/generators.h"
+#include "geometry/mass_properties.h"
+#include "sampling/random_stream.h"
+#include "kinds/gimbal_static_unbalance/gimbal_sections.h"
+
+namespace poise::studies {
+namespace {
+
+using units::kPi;
+
+// The unit-scope draws, in design-dimension order: scalars take one dimension, vectors a
+// magnitude and a uniform direction.
+struct UnitDraws {
+  double residual_unbalance = 0, residual_angle = 0, runout = 0, runout_angle = 0;
+  double clump_mass = 0, hole_radius = 0, hole_angle = 0, kt_calibration = 0, kt_drift = 0;
+  double turntable_zero = 0, gimbal_zero = 0, axis_tilt = 0, tilt_azimuth = 0;
+  double cw_mass = 0, cw_radius = 0, cw_angle = 0;
+};
+
+struct Slot {
+  const char* name;
+  const ScopedTolerance GimbalModel::*tol;
+  double UnitDraws::*value;
+  double UnitDraws::*angle;  // nullptr for scalars
+  bool magnitude;
+};
+
+const Slot kSlots[] = {
+    {"residual_unbalance", &GimbalModel::residual_unbalance, &UnitDraws::residual_unbalance, &UnitDraws::residual_angle, true},
+    {"runout", &GimbalModel::runout, &UnitDraws::runout, &UnitDraws::runout_angle, true},
+    {"clump_mass", &GimbalModel::clump_mass, &UnitDraws::clump_mass, nullptr, false},
+    {"hole_radius", &GimbalModel::hole_radius, &UnitDraws::hole_radius, nullptr, false},
+    {"hole_angle", &GimbalModel::hole_angle, &UnitDraws::hole_angle, nullptr, false},
+    {"kt_calibration", &GimbalModel::kt_calibration, &UnitDraws::kt_calibration, nullptr, false},
+    {"kt_drift", &GimbalModel::kt_drift, &UnitDraws::kt_drift, nullptr, false},
+    {"turntable_zero", &GimbalModel::turntable_zero, &UnitDraws::turntable_zero, nullptr, false},
+    {"gimbal_zero", &GimbalModel::gimbal_zero, &UnitDraws::gimbal_zero, nullptr, false},
+    {"axis_tilt", &GimbalModel::axis_tilt, &UnitDraws::axis_tilt, &UnitDraws::tilt_azimuth, true},
+    {"counterweight_mass", &GimbalModel::counterweight_mass, &UnitDraws::cw_mass, nullptr, false},
+    {"counterweight_radius", &GimbalModel::counterweight_radius_error, &UnitDraws::cw_radius, nullptr, false},
+    {"counterweight_angle", &GimbalModel::counterweight_angle, &UnitDraws::cw_angle, nullptr, false},
+};
+
+double wrap_pi(double a) { return std::remainder(a, 2.0 * kPi); }
+
+std::size_t count_dims(const GimbalModel& m) {
+  std::size_t d = 0;
+  for (const auto& s : kSlots) {
+    if (!(m.*s.tol).per_test) d += s.angle ? 2 : 1;
+  }
+  return d;
+}
+
+}  // namespace
+
+GimbalStudy::GimbalStudy(StudyConfig config, GimbalModel model, std::size_t samples, std::uint64_t seed)
+    : config_(std::move(config)),
+      model_(std::move(model)),
+      samples_(samples),
+      seed_(seed),
+      dimension_(count_dims(model_)),
+      disk_(model_.disk_geometry ? std::optional<DiskSampler>(std::in_place, *model_.disk_geometry) : std::nullopt),
+      design_(make_design(config_, seed, samples, std::max<std::size_t>(dimension_ + (disk_ ? disk_->dimension() : 0), 1))) {
+  for (const auto& s : kSlots) {
+    const ScopedTolerance& t = model_.*s.tol;
+    if (t.per_test) continue;
+    const std::string unit = t.spec.display_unit.empty() ? "1" : t.spec.display_unit;
+    std::string u = unit;
+    for (auto& ch : u) {
+      if (ch == '*') ch = '_';
+    }
+    input_names_.push_back(std::string(s.name) + (unit == "1" ? "" : "_" + u));
+    if (s.angle) input_names_.push_back(std::string(s.name) + "_angle_deg");
+  }
+  if (disk_) {
+    for (const auto& c : disk_->columns()) input_names_.push_back("disk_" + c.name);
+    for (const char* n : {"disk_unbalance_gmm", "disk_unbalance_angle_deg", "disk_mass_g", "disk_inertia_kgm2"}) {
+      input_names_.push_back(n);
+    }
+  }
+  for (const auto& g : gimbal_sections(config_).groups) {
+    for (const char* o : {"rmse_torque_mNm", "rmse_angle_deg", "mean_torque_error_mNm",
+                          "mean_angle_error_deg", "sd_torque_mNm", "sd_angle_deg", "mean_offset_mNm",
+                          "max_residual_gmm", "max_swing_deg", "mean_fit_rmse_mNm", "test_time_min"}) {
+      output_names_.push_back(g.name + "_" + o);
+    }
+  }
+}
+
+std::unique_ptr<GimbalStudy::Workspace> GimbalStudy::make_workspace() const {
+  return std::make_unique<Workspace>(model_.plan.solver);
+}
+
+void GimbalStudy::compute(std::size_t i, Workspace& ws, SampleResult& out) const {
+  out.index = i;
+  out.ok = true;
+  out.message.clear();
+  out.inputs.assign(input_names_.size(), NAN);
+  out.outputs.assign(output_names_.size(), NAN);
+  out.solver_steps = out.rhs_evals = 0;
+  try {
+    // Unit-scope draws from the design point; test-scope ones from the sample's stream.
+    std::vector<double> u(std::max<std::size_t>(dimension_ + (disk_ ? disk_->dimension() : 0), 1));
+    design_.point(i, u);
+    sampling::RandomStream rs(seed_, sampling::StreamId::kProcedure, design_.stream_index(i));
+    UnitDraws unit;
+    std::size_t k = 0, col = 0;
+    for (const auto& s : kSlots) {
+      const ScopedTolerance& t = model_.*s.tol;
+      if (t.per_test) continue;
+      unit.*s.value = s.magnitude ? t.spec.dist.magnitude_quantile(u[k++]) : t.spec.dist.quantile(u[k++]);
+      out.inputs[col++] = unit.*s.value / t.spec.display_factor;
+      if (s.angle) {
+        unit.*s.angle = 2.0 * kPi * u[k++];
+        out.inputs[col++] = unit.*s.angle / units::kRadPerDeg;
+      }
+    }
+    // The disk as built: its unbalance about the gimbal axis and its mass and inertia.
+    double disk_ux = 0.0, disk_uy = 0.0, disk_dm = 0.0, disk_dj = 0.0;
+    if (disk_) {
+      std::vector<double> shown(disk_->dimension());
+      const geometry::DiskSpec spec = disk_->draw(std::span<const double>(u).subspan(dimension_, disk_->dimension()), shown);
+      for (double v : shown) out.inputs[col++] = v;
+      const geometry::Moments mo = geometry::exact_moments(geometry::simulator_disk(spec));
+      disk_ux = mo.first.x();
+      disk_uy = mo.first.y();
+      disk_dm = mo.mass - model_.disk_nominal_mass;
+      disk_dj = mo.second(0, 0) + mo.second(1, 1) - model_.disk_nominal_inertia;
+      out.inputs[col++] = std::hypot(disk_ux, disk_uy) * 1e6;
+      out.inputs[col++] = std::atan2(disk_uy, disk_ux) / units::kRadPerDeg;
+      out.inputs[col++] = mo.mass * 1e3;
+      out.inputs[col++] = mo.second(0, 0) + mo.second(1, 1);
+    }
+    auto draw_test = [&](UnitDraws d) {
+      for (const auto& s : kSlots) {
+        const ScopedTolerance& t = model_.*s.tol;
+        if (!t.per_test) continue;
+        d.*s.value = s.magnitude ? t.spec.dist.magnitude_quantile(rs.uniform()) : t.spec.dist.quantile(rs.uniform());
+        if (s.angle) d.*s.angle = 2.0 * kPi * rs.uniform();
+      }
+      return d;
+    };
+    const double g0 = model_.plan.gravity;
+    std::size_t o = 0;
+    for (const auto& grp : gimbal_sections(config_).groups) {
+      procedures::TestPlan plan = model_.plan;
+      procedures::set_positions(plan, grp.positions, procedures::parse_placement(grp.placement));
+      double se_t = 0, se_a = 0, sum_t = 0, sum_a = 0, sum_mk = 0, max_res = 0, max_phi = 0, sum_fit_rmse = 0;
+      std::size_t n = 0;
+      for (std::size_t r = 0; r < grp.repeats; ++r) {
+        for (const auto& load : grp.loads) {
+          const UnitDraws d = draw_test(unit);
+          // The rig as built for this test.
+          const double clump = load.mass + d.clump_mass;
+          const double radius = load.radius + d.hole_radius;
+          const double angle = load.angle + d.hole_angle;
+          const double m_total = model_.rotor.mass + disk_dm + clump;
+          const double ux = d.residual_unbalance * std::cos(d.residual_angle) + disk_ux + clump * radius * std::cos(angle);
+          const double uy = d.residual_unbalance * std::sin(d.residual_angle) + disk_uy + clump * radius * std::sin(angle);
+          // Run-out: the rotation centre is off the geometric centre; it adds m r.
+          const double dx = ux + m_total * d.runout * std::cos(d.runout_angle);
+          const double dy = uy + m_total * d.runout * std::sin(d.runout_angle);
+          procedures::GimbalTruth truth;
+          truth.disk = model_.rotor;
+          truth.disk.mass = m_total;
+          truth.disk.inertia = model_.rotor.inertia + disk_dj + clump * radius * radius;
+          truth.disk.eccentricity = std::hypot(dx, dy) / m_total;
+          truth.disk.eccentricity_angle = std::atan2(dy, dx);
+          truth.kt_true = model_.plan.servo.kt_nominal * (1.0 + d.kt_calibration) * (1.0 + d.kt_drift);
+          truth.axis_tilt = d.axis_tilt;
+          truth.axis_tilt_azimuth = d.tilt_azimuth;
+          truth.turntable_zero = d.turntable_zero;
+          truth.disturbances = model_.disturbances;
+          plan.oscillation.centre = model_.plan.oscillation.centre + d.gimbal_zero;
+          const procedures::MeasurementResult m = procedures::run_static_unbalance_procedure(plan, truth, rs, ws);
+          out.solver_steps += m.solver.steps;
+          out.rhs_evals += m.solver.rhs_evals;
+          const double load_torque = load.mass * g0 * load.radius;  // what the test claims to load
+          const double et = m.fit.amplitude - load_torque;
+          const double ea = wrap_pi(m.fit.phase - load.angle);
+          se_t += et * et;
+          se_a += ea * ea;
+          sum_t += et;
+          sum_a += ea;
+          sum_mk += m.fit.offset;
+          sum_fit_rmse += m.fit.rmse;
+          // Eq. 23 counterweight opposite the fitted unbalance, placed with its tolerances.
+          const double m_cw = procedures::counterweight_mass(m.fit.amplitude, model_.counterweight_radius, g0) *
+                              (1.0 + d.cw_mass);
+          const double r_cw = model_.counterweight_radius + d.cw_radius;
+          const double a_cw = m.fit.phase + kPi + d.cw_angle;
+          const double rx = ux + m_cw * r_cw * std::cos(a_cw), ry = uy + m_cw * r_cw * std::sin(a_cw);
+          max_res = std::max(max_res, std::hypot(rx, ry));
+          for (const auto& p : m.positions) max_phi = std::max(max_phi, p.max_abs_phi);
+          ++n;
+        }
+      }
+      const double nn = static_cast<double>(n);
+      const double mean_t = sum_t / nn, mean_a = sum_a / nn;
+      const double sd_t = n > 1 ? std::sqrt(std::max(0.0, (se_t - nn * mean_t * mean_t) / (nn - 1))) : 0.0;
+      const double sd_a = n > 1 ? std::sqrt(std::max(0.0, (se_a - nn * mean_a * mean_a) / (nn - 1))) : 0.0;
+      const double deg = units::kRadPerDeg;
+      const double values[] = {std::sqrt(se_t / nn) * 1e3, std::sqrt(se_a / nn) / deg, mean_t * 1e3, mean_a / deg,
+                               sd_t * 1e3, sd_a / deg, sum_mk / nn * 1e3, max_res * 1e6, max_phi / deg,
+                               sum_fit_rmse / nn * 1e3, procedures::test_duration(plan) / 60.0};
+      for (double v : values) out.outputs[o++] = v;
+    }
+  } catch (const std::exception& e) {
+    out.ok = false;
+    out.message = e.what();
+  }
+}
+
+nlohmann::json GimbalStudy::solver_json(const McResult& mc) const {
+  return {{"steps", mc.solver_steps}, {"rhs_evals", mc.rhs_evals}, {"rtol", model_.plan.solver.rtol},
+          {"max_order", model_.plan.solver.max_order}};
+}
+
+}  // namespace poise::studies

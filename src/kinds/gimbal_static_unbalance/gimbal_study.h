@@ -1,0 +1,64 @@
+#pragma once
+/// The gimbal static-unbalance study: Monte Carlo over the rig's tolerances of whole test
+/// campaigns (groups of loads x repeats, each a complete simulated measurement: turntable
+/// positions, servo-driven oscillation, current acquisition, Eq. 21, fit Eq. 22,
+/// counterweight Eq. 23 placed with its tolerances).
+///
+/// Per sample (one campaign on one as-built rig) and per group g, the outputs are
+///   g_rmse_torque_mNm, g_rmse_angle_deg     RMSE of MT_s and b against the loads (the
+///                                           paper's Eqs. 25-28)
+///   g_mean_torque_error_mNm, g_mean_angle_error_deg, g_sd_torque_mNm, g_sd_angle_deg
+///   g_mean_offset_mNm                       mean fitted MK
+///   g_max_residual_gmm                      largest residual unbalance after the
+///                                           counterweight, about the disk's geometric centre
+///   g_max_swing_deg                         largest |phi - phi_c| reached (the +-3 deg check)
+///   g_mean_fit_rmse_mNm                     RMS residual of the Eq. 22 fit (Table 1: 0.23)
+///   g_test_time_min                         duration of one test of the group (min): per
+///                                           position, move and lock, settle, lead-in and
+///                                           the N periods integrated
+#include <functional>
+#include <optional>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "sampling/design.h"
+#include "sampling/statistics.h"
+#include "kinds/gimbal_static_unbalance/gimbal_model.h"
+#include "engine/procedure_study.h"
+#include "engine/study_config.h"
+
+namespace poise::studies {
+
+class GimbalStudy : public ProcedureStudyBase<GimbalStudy> {
+ public:
+  GimbalStudy(StudyConfig config, GimbalModel model, std::size_t samples, std::uint64_t seed);
+
+  const std::vector<std::string>& input_names() const override { return input_names_; }
+  std::size_t design_dimension() const { return design_.dimension(); }
+  const std::vector<std::string>& output_names() const override { return output_names_; }
+  const StudyConfig& config() const override { return config_; }
+  std::size_t samples() const { return samples_; }
+  std::string model_name() const override { return model_.name; }
+  std::string model_source() const override { return model_.source; }
+  const GimbalModel& model() const { return model_; }
+
+  using Workspace = procedures::StaticUnbalanceWorkspace;
+  std::unique_ptr<Workspace> make_workspace() const;
+  /// Sample i alone (replayable): depends only on (seed, samples, method, i).
+  void compute(std::size_t i, Workspace& ws, SampleResult& out) const;
+  /// The groups' paper_rmse_torque and paper_rmse_angle.
+  nlohmann::json solver_json(const McResult& mc) const override;
+
+ private:
+  StudyConfig config_;
+  GimbalModel model_;
+  std::size_t samples_;
+  std::uint64_t seed_;
+  std::vector<std::string> input_names_, output_names_;
+  std::size_t dimension_ = 0;
+  std::optional<DiskSampler> disk_;  ///< the disk as built ([geometry]), after the tolerances' dimensions
+  sampling::Design design_;
+};
+
+}  // namespace poise::studies

@@ -1,0 +1,78 @@
+#include "kinds/platform_balancing/platform_kind.h"
+
+#include <cstdio>
+
+#include "engine/procedure_kind.h"
+#include "kinds/platform_balancing/platform_model.h"
+#include "kinds/platform_balancing/platform_study.h"
+#include "kinds/platform_balancing/platform_report.h"
+#include "kinds/platform_balancing/platform_study_config.h"
+#include "engine/procedure_runner.h"
+#include "kinds/seeker_los/seeker_model.h"
+#include <algorithm>
+#include <thread>
+
+namespace poise::studies {
+namespace {
+using nlohmann::json;
+
+class PlatformBalancingKind final : public ProcedureKind {
+ public:
+  std::string name() const override { return "platform_balancing"; }
+  std::string summary() const override {
+    return "a three-gimbal seeker platform balanced axis by axis (inner -> middle -> outer and other orders), each "
+           "axis measured with the simulated single-axis test, residual torque over the angle range and its LOS "
+           "error through the stabilization loops (model: a platform model, e.g. models/platform_three_gimbal.toml)";
+  }
+  std::unique_ptr<KindSections> read_sections(TomlReader& root, const StudyConfig& cfg) const override {
+    return read_platform_sections(root, cfg);
+  }
+  std::unique_ptr<ProcedureStudy> make_study(const StudyConfig& cfg, const std::map<std::string, std::string>& o,
+                                             std::size_t samples, std::uint64_t seed) const override {
+    return std::make_unique<PlatformStudy>(cfg, load_platform_model(cfg.model_path, o), samples, seed);
+  }
+  // The run first computes the shafting LOS line of [platform.shafting] (a seeker_los
+  // study), which every sample combines with its balancing residual.
+  std::string run(const StudyConfig& cfg, const RunOptions& options) const override {
+    const PlatformModel model = load_platform_model(cfg.model_path, cfg.overrides);
+    const int threads =
+        options.threads > 0 ? options.threads : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+    const PlatformStudySection& ps = platform_sections(cfg).platform;
+    if (options.progress && !ps.shafting_study.empty()) {
+      std::fprintf(stderr, "poise: shafting LOS line from %s (%zu samples)\n", ps.shafting_study.c_str(),
+                   ps.shafting_samples);
+    }
+    const ShaftingLos shafting = compute_shafting_los(cfg, threads);
+    return run_procedure_study(
+        cfg,
+        [&](const StudyConfig& c, std::size_t n, std::uint64_t seed) {
+          return std::make_unique<PlatformStudy>(c, model, n, seed, shafting.los_max_arcsec, shafting.pixel_arcsec);
+        },
+        options);
+  }
+  std::string validate(const StudyConfig& cfg) const override {
+    const PlatformModel model = load_platform_model(cfg.model_path, cfg.overrides);
+    if (!platform_sections(cfg).platform.shafting_study.empty()) {
+      const StudyConfig sc = load_study(platform_sections(cfg).platform.shafting_study);
+      if (sc.kind != "seeker_los") {
+        throw Error(cfg.file + ": [platform.shafting] study " + sc.file + " is of kind '" + sc.kind + "', expected 'seeker_los'");
+      }
+      load_seeker_model(sc.model_path, sc.overrides);
+    }
+    PlatformStudy study(cfg, model, cfg.samples, cfg.seed);
+    char buf[512];
+    std::snprintf(buf, sizeof buf,
+                  "%s: valid. Study '%s' (%s) on model '%s': %zu unit-scope random inputs, %s design, %zu samples, seed "
+                  "%llu; per sample %zu test order(s) x 3 axis tests of %zu turntable positions.",
+                  cfg.file.c_str(), cfg.name.c_str(), cfg.kind.c_str(), model.name.c_str(), study.input_names().size(),
+                  sampling::to_string(cfg.method).c_str(), cfg.samples, static_cast<unsigned long long>(cfg.seed),
+                  platform_sections(cfg).platform.orders.size(), platform_sections(cfg).platform.positions);
+    return buf;
+  }
+};
+
+}  // namespace
+
+std::unique_ptr<StudyKind> make_platform_balancing_kind() { return std::make_unique<PlatformBalancingKind>(); }
+
+}  // namespace poise::studies

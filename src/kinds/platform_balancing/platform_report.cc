@@ -1,0 +1,256 @@
+#include "kinds/platform_balancing/platform_report.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <thread>
+
+#include "core/units.h"
+#include "sampling/random_stream.h"
+#include "sampling/statistics.h"
+#include "kinds/platform_balancing/platform_study.h"
+#include "engine/procedure_runner.h"
+#include "engine/report_plot.h"
+#include "engine/result_io.h"
+#include "kinds/seeker_los/seeker_los_study.h"
+#include "kinds/seeker_los/seeker_model.h"
+#include "kinds/platform_balancing/platform_study_config.h"
+
+namespace poise::studies {
+namespace {
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+// Pairs a platform sample with a unit of the shafting study: an independent draw.
+constexpr std::uint64_t kPairingStream = 0x1F0;
+
+std::string fmt(double v, int prec = 4) {
+  char buf[40];
+  std::snprintf(buf, sizeof buf, "%.*g", prec, v);
+  return buf;
+}
+
+struct Quantiles {
+  double p50 = NAN, p95 = NAN, p9973 = NAN;
+};
+Quantiles quantiles(std::vector<double> v) {
+  Quantiles q;
+  if (v.empty()) return q;
+  q.p50 = sampling::quantile_value(v, 0.5);
+  q.p95 = sampling::quantile_value(v, 0.95);
+  q.p9973 = sampling::quantile_value(v, 0.9973);
+  return q;
+}
+json quantiles_json(const Quantiles& q) { return {{"p50", q.p50}, {"p95", q.p95}, {"p99_73", q.p9973}}; }
+
+const std::vector<double>& values_of(const McResult& mc, const std::vector<std::string>& names, const std::string& n) {
+  static const std::vector<double> kEmpty;
+  const auto it = std::find(names.begin(), names.end(), n);
+  const auto k = static_cast<std::size_t>(it - names.begin());
+  return it == names.end() || k >= mc.values.size() ? kEmpty : mc.values[k];
+}
+
+double min_stiffness(const models::StabilizationLoop& l) {
+  double k = INFINITY;
+  for (double f = 0.1; f < 2000.0; f *= 1.01) k = std::min(k, l.disturbance_stiffness(2 * units::kPi * f));
+  return k;
+}
+
+}  // namespace
+
+ShaftingLos compute_shafting_los(const StudyConfig& cfg, int threads) {
+  ShaftingLos out;
+  if (platform_sections(cfg).platform.shafting_study.empty()) return out;
+  const StudyConfig sc = load_study(platform_sections(cfg).platform.shafting_study);
+  if (sc.kind != "seeker_los") {
+    throw Error(cfg.file + ": [platform.shafting] study " + sc.file + " is of kind '" + sc.kind + "', expected 'seeker_los'");
+  }
+  const SeekerModel model = load_seeker_model(sc.model_path, sc.overrides);
+  const SeekerLosStudy study(sc, model, platform_sections(cfg).platform.shafting_samples, sc.seed);
+  const SeekerMcResult r = study.run(threads, false, {});
+  out.los_max_arcsec = r.los_max_sorted;
+  out.pixel_arcsec = model.pixel_ifov * units::kArcsecPerRad;
+  return out;
+}
+
+json PlatformStudy::details(const McResult& mc) const {
+  json d;
+  const PlatformStudySection& ps = platform_sections(config_).platform;
+  json gimbals = json::array();
+  for (models::Axis a : models::kAllAxes) {
+    const auto ia = static_cast<std::size_t>(a);
+    const PlatformGimbal& g = model_.gimbal(a);
+    json lines = json::array();
+    for (const auto& v : ps.vibration) {
+      lines.push_back({{"frequency_Hz", v.frequency},
+                       {"stiffness_N_m_per_rad", loops_[ia].disturbance_stiffness(2 * units::kPi * v.frequency)}});
+    }
+    gimbals.push_back({{"axis", models::axis_name(a)}, {"mass_kg", g.mass}, {"axis_inertia_kg_m2", axis_inertia_[ia]},
+                       {"kt_nominal_N_m_per_A", g.kt_nominal}, {"counterweight_radius_m", g.counterweight_radius},
+                       {"counterweight_plane_m", g.counterweight_plane}, {"lock_angle_deg", g.lock_angle / units::kRadPerDeg},
+                       {"loop_min_stiffness_N_m_per_rad", min_stiffness(loops_[ia])},
+                       {"loop_stiffness_at_vibration_lines", lines}});
+  }
+  d["gimbals"] = gimbals;
+  d["grid"] = {{"outer_deg", {ps.outer_min / units::kRadPerDeg, ps.outer_max / units::kRadPerDeg, ps.outer_points}},
+               {"middle_deg", {ps.middle_min / units::kRadPerDeg, ps.middle_max / units::kRadPerDeg, ps.middle_points}},
+               {"inner_deg", {ps.inner_min / units::kRadPerDeg, ps.inner_max / units::kRadPerDeg, ps.inner_points}},
+               {"points", grid_.size()}};
+  d["stated_acceleration_m_s2"] = ps.acceleration;
+  d["orders"] = json::array();
+  for (std::size_t o = 0; o < ps.orders.size(); ++o) d["orders"].push_back({{"label", ps.order_labels[o]}, {"order", ps.order_texts[o]}});
+  const auto& names = output_names_;
+  json res;
+  for (models::Axis a : models::kAllAxes) {
+    const std::string ax = models::axis_name(a);
+    res[ax]["initial_torque_max_mNm"] = quantiles_json(quantiles(values_of(mc, names, "initial_" + ax + "_torque_max_mNm")));
+    for (const auto& l : ps.order_labels) {
+      for (const char* o : {"residual_gmm", "torque_max_mNm", "torque_rms_mNm", "torque_max_acc_mNm", "torque_rms_acc_mNm"}) {
+        res[ax][l][o] = quantiles_json(quantiles(values_of(mc, names, l + "_" + ax + "_" + o)));
+      }
+    }
+  }
+  d["residual_by_order"] = res;
+  // The combined LOS budget (reference order = the first).
+  json budget = json::array();
+  const std::string ref = ps.order_labels.empty() ? "" : ps.order_labels[0];
+  const std::vector<double>& peak = values_of(mc, names, ref + "_los_max_arcsec");
+  const std::vector<double>& rms = values_of(mc, names, ref + "_los_rms_arcsec");
+  Quantiles qs;
+  if (!shafting_sorted_.empty()) {
+    qs = quantiles(shafting_sorted_);
+    budget.push_back({{"line", "shafting geometric error of the seeker study named in [platform.shafting] (exact chain), greatest over the field of regard: a pairing assumed by the study, not measured on this platform"},
+                      {"nature", "ensemble over units; static (a function of the gimbal angles, no time)"},
+                      {"samples", shafting_sorted_.size()}, {"arcsec", quantiles_json(qs)}});
+  }
+  const Quantiles qp = quantiles(peak), qr = quantiles(rms);
+  budget.push_back({{"line", "residual unbalance under the carrier profile: peak over the profile, worst grid point (order " + ref + ")"},
+                    {"nature", "temporal peak per unit; ensemble over units"}, {"samples", peak.size()}, {"arcsec", quantiles_json(qp)}});
+  budget.push_back({{"line", "residual unbalance under the carrier profile: RMS over the profile, worst grid point (order " + ref + ")"},
+                    {"nature", "temporal RMS per unit; ensemble over units"}, {"samples", rms.size()}, {"arcsec", quantiles_json(qr)}});
+  if (!shafting_sorted_.empty() && !peak.empty()) {
+    // Each platform unit paired with K independent shafting units (K ~ the shafting count
+    // over the platform count), so the combined tails rest on as many pairs as the larger study.
+    const std::size_t k_pairs = std::max<std::size_t>(1, shafting_sorted_.size() / peak.size());
+    std::vector<double> lin, rss;
+    lin.reserve(peak.size() * k_pairs);
+    rss.reserve(peak.size() * k_pairs);
+    for (std::size_t j = 0; j < peak.size(); ++j) {
+      sampling::RandomStream rs(seed_, static_cast<sampling::StreamId>(kPairingStream), j);
+      for (std::size_t m = 0; m < k_pairs; ++m) {
+        const double s = shafting_sorted_[rs.next_bits() % shafting_sorted_.size()];
+        lin.push_back(s + peak[j]);
+        rss.push_back(std::hypot(s, peak[j]));
+      }
+    }
+    budget.push_back({{"line", "combined per unit: shafting + unbalance peak, added linearly (each platform paired with " + std::to_string(k_pairs) + " random shafting units)"},
+                      {"nature", "ensemble over units of (static + temporal peak); upper bound on the instantaneous error"},
+                      {"samples", lin.size()}, {"arcsec", quantiles_json(quantiles(lin))}});
+    budget.push_back({{"line", "combined per unit: root sum of squares of shafting and unbalance peak"},
+                      {"nature", "ensemble over units; the two errors as perpendicular on the sky"},
+                      {"samples", rss.size()}, {"arcsec", quantiles_json(quantiles(rss))}});
+    budget.push_back({{"line", "p99.73 lines stacked: shafting p99.73 + unbalance peak p99.73"},
+                      {"nature", "worst-case stacking of two ensemble p99.73s (conservative)"},
+                      {"arcsec", {{"p99_73", qs.p9973 + qp.p9973}}}});
+  }
+  d["los_budget"] = budget;
+  d["pixel_arcsec"] = pixel_arcsec_;
+  return d;
+}
+
+void PlatformStudy::report_sections(const McResult& mc, const std::string& plots_dir, bool plots,
+                                    std::vector<std::string>& figures, std::ostringstream& h) const {
+  const json d = details(mc);
+  const PlatformStudySection& ps = platform_sections(config_).platform;
+  h << "<h2>The platform and its test campaign</h2>\n<table><tr><th class='l'>gimbal (axis)</th><th>mass (kg)</th>"
+       "<th>inertia about the axis, outboard (kg m&sup2;)</th><th>K<sub>T</sub> (N m/A)</th><th>counterweight R / plane h (mm)</th>"
+       "<th>stabilization: least disturbance stiffness (N m/rad)</th></tr>\n";
+  for (const auto& g : d["gimbals"]) {
+    h << "<tr><td class='l'>" << g["axis"].get<std::string>() << "</td><td>" << fmt(g["mass_kg"].get<double>()) << "</td><td>"
+      << fmt(g["axis_inertia_kg_m2"].get<double>()) << "</td><td>" << fmt(g["kt_nominal_N_m_per_A"].get<double>()) << "</td><td>"
+      << fmt(g["counterweight_radius_m"].get<double>() * 1e3) << " / " << fmt(g["counterweight_plane_m"].get<double>() * 1e3)
+      << "</td><td>" << fmt(g["loop_min_stiffness_N_m_per_rad"].get<double>()) << "</td></tr>\n";
+  }
+  h << "</table>\n<p>Each axis test is the complete simulated single-axis procedure (" << ps.positions
+    << " turntable positions, servo-driven oscillation integrated with CVODE, sampled current, Eq. 21, Eq. 22 fit, Eq. 23 "
+       "counterweight with its placement tolerances in the gimbal's correction plane) on the assembly that turns about "
+       "the axis, the other gimbals locked with their locking errors. Residual torque: the exact statics on a grid of "
+    << d["grid"]["points"].get<std::size_t>() << " gimbal angles (outer " << fmt(d["grid"]["outer_deg"][0].get<double>()) << " to "
+    << fmt(d["grid"]["outer_deg"][1].get<double>()) << " deg, middle " << fmt(d["grid"]["middle_deg"][0].get<double>()) << " to "
+    << fmt(d["grid"]["middle_deg"][1].get<double>()) << " deg, inner " << fmt(d["grid"]["inner_deg"][0].get<double>()) << " to "
+    << fmt(d["grid"]["inner_deg"][1].get<double>()) << " deg), under gravity and under gravity plus the stated carrier "
+       "acceleration (" << fmt(ps.acceleration[0]) << ", " << fmt(ps.acceleration[1]) << ", " << fmt(ps.acceleration[2])
+    << ") m/s&sup2; in the base frame.</p>\n";
+  // Residual torques per axis and order.
+  h << "<h2>Residual unbalance torque per axis and test order</h2>\n<table><tr><th class='l'>axis</th><th class='l'>order</th>"
+       "<th>residual S<sub>&perp;</sub> p50 / p95 (g mm)</th><th>max over grid, gravity: p50 / p95 / p99.73 (mN m)</th>"
+       "<th>RMS over grid, gravity p50 (mN m)</th><th>max, gravity + acceleration: p50 / p95 / p99.73 (mN m)</th></tr>\n";
+  for (models::Axis a : models::kAllAxes) {
+    const std::string ax = models::axis_name(a);
+    const json& r = d["residual_by_order"][ax];
+    const json& ini = r["initial_torque_max_mNm"];
+    h << "<tr><td class='l'>" << ax << "</td><td class='l'>before balancing</td><td></td><td>" << fmt(ini["p50"].get<double>())
+      << " / " << fmt(ini["p95"].get<double>()) << " / " << fmt(ini["p99_73"].get<double>()) << "</td><td></td><td></td></tr>\n";
+    for (std::size_t o = 0; o < ps.order_labels.size(); ++o) {
+      const json& x = r[ps.order_labels[o]];
+      h << "<tr><td class='l'>" << ax << "</td><td class='l'>" << html_escape(ps.order_texts[o]) << "</td><td>"
+        << fmt(x["residual_gmm"]["p50"].get<double>()) << " / " << fmt(x["residual_gmm"]["p95"].get<double>()) << "</td><td>"
+        << fmt(x["torque_max_mNm"]["p50"].get<double>()) << " / " << fmt(x["torque_max_mNm"]["p95"].get<double>()) << " / "
+        << fmt(x["torque_max_mNm"]["p99_73"].get<double>()) << "</td><td>" << fmt(x["torque_rms_mNm"]["p50"].get<double>())
+        << "</td><td>" << fmt(x["torque_max_acc_mNm"]["p50"].get<double>()) << " / "
+        << fmt(x["torque_max_acc_mNm"]["p95"].get<double>()) << " / " << fmt(x["torque_max_acc_mNm"]["p99_73"].get<double>())
+        << "</td></tr>\n";
+    }
+  }
+  h << "</table>\n<p><small>Why the order matters: an axis test sees only the part of the outboard first moment "
+       "perpendicular to its axis, with the carried gimbals at their lock angles. Testing outer or middle before the "
+       "gimbals they carry balances them against an unbalance that later moves (the inner gimbal's x/z offset turns with "
+       "gamma) or is changed afterwards (the later counterweights, and their offsets along their own axes), so they end "
+       "unbalanced over the range of angles. Inside to outside, each counterweight's side effects land on axes still to "
+       "be tested.</small></p>\n";
+  if (plots && !mc.values.empty()) {
+    const fs::path dir(plots_dir);
+    for (models::Axis a : models::kAllAxes) {
+      const std::string ax = models::axis_name(a), name = "residual_" + ax;
+      std::string cmd = "set title 'Residual torque on the " + ax + " axis: max over the angle grid, gravity + acceleration'\n"
+                        "set xlabel 'residual torque (mN m)'\nset ylabel 'fraction of platforms'\nset logscale x\n"
+                        "set key bottom right\nset yrange [0:1]\nplot ";
+      for (std::size_t o = 0; o < ps.order_labels.size(); ++o) {
+        std::vector<double> v = values_of(mc, output_names_, ps.order_labels[o] + "_" + ax + "_torque_max_acc_mNm");
+        std::sort(v.begin(), v.end());
+        const std::string file = name + "_" + ps.order_labels[o] + ".dat";
+        std::ofstream f(dir / file);
+        for (std::size_t j = 0; j < v.size(); ++j) f << v[j] << ' ' << (static_cast<double>(j) + 0.5) / static_cast<double>(v.size()) << '\n';
+        cmd += std::string(o ? ", " : "") + "'" + file + "' u 1:2 w l lw 2 title '" + ps.order_texts[o] + "'";
+      }
+      svg_plot(dir, name, cmd + "\n", figures, h);
+    }
+  }
+  // LOS budget.
+  const double px = d["pixel_arcsec"].get<double>();
+  h << "<h2>Combined LOS budget</h2>\n<p>Residual unbalance torque c<sub>k</sub>&middot;(g - a(t)) on each axis through "
+       "its stabilization loop (PID on the outboard inertia, " << fmt(model_.stabilization.bandwidth_hz) << " Hz, &zeta; = "
+    << fmt(model_.stabilization.damping) << ", integral ratio " << fmt(model_.stabilization.integral_ratio)
+    << "), LOS error |&delta;&omega; &times; d| at each grid point over a profile of " << fmt(ps.duration) << " s: a manoeuvre ("
+    << fmt(ps.manoeuvre[0]) << ", " << fmt(ps.manoeuvre[1]) << ", " << fmt(ps.manoeuvre[2]) << ") m/s&sup2; from "
+    << fmt(ps.onset) << " s over " << fmt(ps.rise_time) << " s, and " << ps.vibration.size()
+    << " vibration line(s). The gimbals hold their angles during the profile. Temporal: over the profile of one unit; "
+       "ensemble: over the units (samples).</p>\n<table><tr><th class='l'>line</th><th class='l'>nature</th><th>p50</th>"
+       "<th>p95</th><th>p99.73 (arcsec)</th>" << (px > 0 ? "<th>p99.73 (px)</th>" : "") << "</tr>\n";
+  for (const auto& l : d["los_budget"]) {
+    const json& q = l["arcsec"];
+    auto cell = [&](const char* k) { return q.contains(k) ? fmt(q[k].get<double>()) : std::string(""); };
+    h << "<tr><td class='l'>" << html_escape(l["line"].get<std::string>()) << "</td><td class='l'>"
+      << html_escape(l["nature"].get<std::string>()) << "</td><td>" << cell("p50") << "</td><td>" << cell("p95") << "</td><td>"
+      << cell("p99_73") << "</td>";
+    if (px > 0) h << "<td>" << fmt(q["p99_73"].get<double>() / px) << "</td>";
+    h << "</tr>\n";
+  }
+  h << "</table>\n";
+  if (ps.shafting_study.empty()) h << "<p><small>No [platform.shafting] study: the budget has no shafting line.</small></p>\n";
+}
+
+
+}  // namespace poise::studies

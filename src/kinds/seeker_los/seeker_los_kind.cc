@@ -1,0 +1,78 @@
+#include "kinds/seeker_los/seeker_los_kind.h"
+
+#include <span>
+
+#include "kinds/seeker_los/seeker_clearance.h"
+#include "kinds/seeker_los/seeker_los_sections.h"
+#include "kinds/seeker_los/seeker_los_study.h"
+#include "kinds/seeker_los/seeker_model.h"
+#include "kinds/seeker_los/seeker_runner.h"
+
+namespace poise::studies {
+namespace {
+
+class SeekerLosKind final : public StudyKind {
+ public:
+  std::string name() const override { return "seeker_los"; }
+  std::string summary() const override {
+    return "LOS pointing error of a two-axis seeker from its shafting tolerances (bearing run-out, "
+           "perpendicularity, optical axis): Monte Carlo of the exact kinematic chain over the field of "
+           "regard, contributions, sweeps (model: a seeker model, e.g. models/seeker_two_axis_wang2011.toml)";
+  }
+  std::unique_ptr<KindSections> read_sections(TomlReader& root, const StudyConfig& cfg) const override {
+    return read_seeker_los_sections(root, cfg);
+  }
+  std::string validate(const StudyConfig& cfg) const override { return validate_seeker_study(cfg); }
+  std::vector<OutputSpec> outputs(const StudyConfig& cfg) const override {
+    std::vector<OutputSpec> out;
+    for (const auto& o : kSeekerOutputs) out.push_back({o.name, o.unit, o.description});
+    if (seeker_sections(cfg).geometry.clearance_output) {
+      const SeekerModel model = load_seeker_model(cfg.model_path, cfg.overrides);
+      if (!model.geometry) {
+        throw ValidationError({InputError(SourceLocation{cfg.file, 0, 0}, "clearance.output", "true",
+                                          "a seeker model with a [geometry] section (" + cfg.model_path +
+                                              " has none)")});
+      }
+      out.push_back({"min_clearance_mm", "mm", "least clearance of the nominal frames to the housing"});
+    }
+    return out;
+  }
+  std::string run(const StudyConfig& cfg, const RunOptions& options) const override {
+    return run_seeker_study(cfg, options);
+  }
+  nlohmann::json replay(const StudyConfig& cfg, std::size_t index, const RunOptions& options) const override {
+    return replay_seeker_sample(cfg, index, options);
+  }
+  StudyEvaluation evaluate(const StudyConfig& cfg, const std::map<std::string, std::string>& model_overrides,
+                           std::size_t samples, std::uint64_t seed, int threads) const override {
+    const SeekerLosStudy study(cfg, load_seeker_model(cfg.model_path, model_overrides), samples, seed);
+    StudyEvaluation e;
+    for (const auto& d : kSeekerOutputs) e.names.emplace_back(d.name);
+    e.values.resize(e.names.size());
+    const SeekerMcResult mc = study.run(threads, false, [&](std::span<const SeekerSampleResult> block) {
+      for (const auto& s : block) {
+        if (!s.ok) {
+          if (e.first_failure.empty()) e.first_failure = s.message;
+          continue;
+        }
+        for (std::size_t k = 0; k < e.names.size(); ++k) e.values[k].push_back(s.outputs[k]);
+      }
+    });
+    e.samples = mc.n;
+    e.failures = mc.failures;
+    e.wall_seconds = mc.wall_seconds;
+    const GeometryStudySpec& g = seeker_sections(cfg).geometry;
+    if (g.clearance_output) {  // a design constraint: the same for every sample
+      const double c = nominal_min_clearance(study.model(), g.clearance_yaw_points, g.clearance_pitch_points);
+      e.names.emplace_back("min_clearance_mm");
+      e.values.emplace_back(e.values.empty() ? 0 : e.values[0].size(), 1e3 * c);
+    }
+    return e;
+  }
+};
+
+}  // namespace
+
+std::unique_ptr<StudyKind> make_seeker_los_kind() { return std::make_unique<SeekerLosKind>(); }
+
+}  // namespace poise::studies

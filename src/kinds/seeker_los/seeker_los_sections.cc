@@ -1,0 +1,53 @@
+#include "kinds/seeker_los/seeker_los_sections.h"
+
+#include "core/units.h"
+#include "engine/toml_reader.h"
+
+namespace poise::studies {
+
+std::unique_ptr<KindSections> read_seeker_los_sections(TomlReader& root, const StudyConfig& cfg) {
+  auto c = std::make_unique<SeekerLosSections>();
+  read_geometry_study(root, "seeker_los", c->geometry);  // optional [clearance]
+  {
+    TomlReader t = root.table("grid");
+    c->yaw_points = static_cast<std::size_t>(t.integer("yaw_points", 1, 1001));
+    c->pitch_points = static_cast<std::size_t>(t.integer("pitch_points", 1, 1001));
+  }
+  {
+    TomlReader t = root.table("requirement");
+    c->requirement_text = t.string("los_error");
+    if (t.has("los_error") && t.raw()["los_error"].is_string()) {  // else: t.string reported it
+      try {
+        const units::Quantity q = units::parse_quantity(c->requirement_text);
+        if (q.dim == units::kPixel) {
+          c->requirement_in_pixels = true;
+        } else if (q.dim == units::kAngle) {
+          c->requirement_in_pixels = false;
+        } else {
+          throw Error("got " + units::dimension_name(q.dim));
+        }
+        if (!(q.value > 0)) throw Error("not positive");
+        c->requirement = q.value;
+      } catch (const Error& e) {
+        t.error("los_error", quote_value(c->requirement_text),
+                std::string("a positive angle or pixel count, e.g. \"1 px\" or \"18 arcsec\" (") + e.what() + ")");
+      }
+    }
+  }
+  for (auto& s : root.table_array("sweep")) {
+    SweepSpec sw;
+    sw.parameter = s.string("parameter");
+    sw.values = s.string_array("values");
+    if (sw.values.empty()) s.error("values", "[]", "at least one value");
+    sw.samples =
+        static_cast<std::size_t>(s.integer("samples", 1, 1'000'000'000, static_cast<std::int64_t>(cfg.samples)));
+    c->sweeps.push_back(sw);
+  }
+  if (root.has("output")) {
+    TomlReader t = root.table("output");
+    c->contribution_samples = static_cast<std::size_t>(t.integer("contribution_samples", 0, 1'000'000'000, 4096));
+  }
+  return c;
+}
+
+}  // namespace poise::studies

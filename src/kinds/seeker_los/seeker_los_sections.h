@@ -1,0 +1,40 @@
+#pragma once
+/// The sections of a seeker_los study file (the shared ones are in engine/study_config.h):
+///   [grid]         yaw_points, pitch_points (over the model's field of regard)
+///   [requirement]  los_error = "1 px" (or any angle)
+///   [clearance]    output = true, yaw_points, pitch_points (optional; the nominal frames'
+///                  least clearance to the housing as an output: geometry_study.h)
+///   [[sweep]]      parameter = "dotted.model.key", values = [...], samples (optional)
+///   [output]       contribution_samples = 4096 (each tolerance set to zero in turn; 0 = off)
+#include <string>
+#include <vector>
+
+#include "engine/study_config.h"
+#include "kinds/geometry_common/geometry_study.h"
+
+namespace poise::studies {
+
+struct SweepSpec {
+  std::string parameter;
+  std::vector<std::string> values;
+  std::size_t samples = 0;
+};
+
+struct SeekerLosSections : KindSectionsOf<SeekerLosSections> {
+  std::size_t yaw_points = 13, pitch_points = 13;
+  double requirement = 0.0;  ///< as written, in its unit's SI (rad or px)
+  bool requirement_in_pixels = true;
+  std::string requirement_text;
+  std::vector<SweepSpec> sweeps;
+  /// Contribution of each tolerance: the study re-run with that tolerance set to zero
+  /// (same random numbers), with this many samples; 0 switches it off.
+  std::size_t contribution_samples = 4096;
+  GeometryStudySpec geometry;  ///< [clearance]
+};
+
+/// Reads the seeker_los sections (errors recorded on `root`).
+std::unique_ptr<KindSections> read_seeker_los_sections(TomlReader& root, const StudyConfig& cfg);
+
+inline const SeekerLosSections& seeker_sections(const StudyConfig& cfg) { return sections_of<SeekerLosSections>(cfg); }
+
+}  // namespace poise::studies

@@ -1,0 +1,242 @@
+#include "kinds/seeker_los/seeker_model.h"
+
+#include <cmath>
+
+#include "core/units.h"
+#include "engine/model_overrides.h"
+#include "kinds/seeker_los/seeker_geometry.h"
+
+namespace poise::studies {
+namespace {
+
+using units::kAngle;
+using units::kLength;
+
+struct SourceDef {
+  const char* name;
+  double default_order;
+  bool load_scaled;
+};
+// The paper's run-out terms (Sec. 2.1.1 (3)) are scaled by k'; its random wobble terms
+// (Sec. 2.1.1 (4)) are not. Default orders: inner-ring eccentricity and face wobble turn
+// with the shaft (1), clearance sets a static offset (0), an oval bore and seat give 2,
+// ball form error is taken at the cage's ball-pass order (3 by default; set `order`).
+constexpr SourceDef kBearingSources[] = {
+    {"radial_runout", 1.0, true},  {"face_runout", 1.0, true},   {"clearance", 0.0, true},
+    {"bore_roundness", 2.0, true}, {"ball_roundness", 3.0, false}, {"seat_deformation", 2.0, false},
+};
+
+SeekerAxis read_axis(TomlReader& root, const std::string& name) {
+  SeekerAxis axis;
+  TomlReader t = root.table(name);
+  axis.span = t.quantity("bearing_span", kLength, positive);
+  t.string("span_source", "");
+  axis.perpendicularity = read_tolerance(t, "perpendicularity", kLength, "mm");
+  for (const auto& def : kBearingSources) {
+    if (!t.has(def.name)) continue;
+    BearingSource src;
+    src.name = def.name;
+    src.load_scaled = def.load_scaled;
+    src.spec = read_tolerance(t, def.name, kLength, "mm");
+    TomlReader st = t.table(def.name);
+    src.order = st.number("order", [](double v) { return v >= 0 ? "" : "an order >= 0"; },
+                          def.default_order);
+    axis.bearing_sources.push_back(src);
+  }
+  return axis;
+}
+
+units::Dimension declared_dimension(const std::string& key) {
+  if (key == "delta_16" || key == "delta_26") return kLength;
+  if (key.size() > 3 && key.compare(key.size() - 3, 3, "_px") == 0) return units::kPixel;
+  return kAngle;
+}
+
+// Half a unit of the last printed digit of the number in `text`, in SI.
+double rounding_of(const std::string& text, double unit_si) {
+  const auto start = text.find_first_of("0123456789");
+  const auto dot = text.find('.', start);
+  const auto end = text.find_first_not_of("0123456789.", start);
+  int decimals = 0;
+  if (dot != std::string::npos && (end == std::string::npos || dot < end)) {
+    decimals = static_cast<int>((end == std::string::npos ? text.size() : end) - dot - 1);
+  }
+  return 0.5 * std::pow(10.0, -decimals) * unit_si;
+}
+
+void read_declared(TomlReader& root, SeekerModel& m) {
+  if (!root.has("declared")) return;
+  TomlReader d = root.table("declared");
+  for (const auto& key : d.keys()) {
+    DeclaredValue v;
+    v.key = key;
+    const units::Dimension dim = declared_dimension(key);
+    TomlReader entry = d.table(key);
+    const double si = entry.quantity("value", dim);
+    v.as_written = entry.string("value", "");
+    v.source = entry.string("source", "");
+    double term_unit = 1.0;
+    if (dim == kAngle) term_unit = units::kRadPerArcsec;
+    if (dim == kLength) term_unit = 1e-3;
+    v.value = si / term_unit;
+    std::string unit_text = v.as_written.substr(v.as_written.find(' ') == std::string::npos
+                                                    ? v.as_written.size()
+                                                    : v.as_written.find(' ') + 1);
+    double written_unit = 1.0;
+    try {
+      written_unit = units::unit_factor(unit_text);
+    } catch (const Error&) {
+    }
+    v.rounding = rounding_of(v.as_written, written_unit) / term_unit;
+    m.declared.push_back(v);
+  }
+}
+
+}  // namespace
+
+std::vector<std::string> SeekerModel::tolerance_keys() const {
+  std::vector<std::string> keys = {"yaw.perpendicularity"};
+  for (const auto& src : yaw.bearing_sources) keys.push_back("yaw." + src.name);
+  keys.push_back("pitch.perpendicularity");
+  for (const auto& src : pitch.bearing_sources) keys.push_back("pitch." + src.name);
+  keys.push_back("optics.axis_error");
+  return keys;
+}
+
+models::WangBudgetInputs SeekerModel::budget_inputs() const {
+  models::WangBudgetInputs in;
+  auto axis_in = [](const SeekerAxis& a) {
+    models::WangBudgetAxisInputs x;
+    x.span = a.span;
+    x.perpendicularity = a.perpendicularity.tolerance;
+    for (const auto& s : a.bearing_sources) {
+      if (s.name == "radial_runout") x.radial_runout = s.spec.tolerance;
+      if (s.name == "face_runout") x.face_runout = s.spec.tolerance;
+      if (s.name == "clearance") x.clearance = s.spec.tolerance;
+      if (s.name == "bore_roundness") x.bore_roundness = s.spec.tolerance;
+      if (s.name == "ball_roundness") x.ball_roundness = s.spec.tolerance;
+      if (s.name == "seat_deformation") x.seat_deformation = s.spec.tolerance;
+    }
+    return x;
+  };
+  in.yaw = axis_in(yaw);
+  in.pitch = axis_in(pitch);
+  in.k_min = load_deformation.dist.lower();
+  in.k_max = load_deformation.dist.upper();
+  in.optical_axis_error = optical_axis.tolerance;
+  in.barrel_length = barrel_length;
+  in.alpha_min = yaw_min;
+  in.alpha_max = yaw_max;
+  in.beta_min = pitch_min;
+  in.beta_max = pitch_max;
+  in.pixel_ifov = pixel_ifov;
+  return in;
+}
+
+SeekerModel load_seeker_model(const std::string& path,
+                              const std::map<std::string, std::string>& overrides) {
+  auto [doc, ctx] = open_model_file(path, overrides);
+  TomlReader root(doc, ctx);
+  SeekerModel m;
+  m.file = path;
+  const ModelHeader header = read_model_header(root, "seeker_two_axis");
+  m.name = header.name;
+  m.title = header.title;
+  m.source = header.source;
+  {
+    TomlReader t = root.table("field_of_regard");
+    m.yaw_min = t.quantity("yaw_min", kAngle);
+    m.yaw_max = t.quantity("yaw_max", kAngle);
+    m.pitch_min = t.quantity("pitch_min", kAngle);
+    m.pitch_max = t.quantity("pitch_max", kAngle);
+    const double lim = 89.0 * units::kRadPerDeg;
+    if (m.yaw_max < m.yaw_min) t.error("yaw_max", "", "yaw_max >= yaw_min");
+    if (m.pitch_max < m.pitch_min) t.error("pitch_max", "", "pitch_max >= pitch_min");
+    if (std::abs(m.pitch_min) > lim || std::abs(m.pitch_max) > lim) {
+      t.error("pitch_max", "", "pitch angles within +-89 deg (the yaw error grows as tan(pitch))");
+    }
+    m.pixel_ifov = t.quantity("pixel_ifov", kAngle, positive);
+    m.pixel_ifov_source = t.string("pixel_ifov_source", "");
+  }
+  m.load_deformation = read_tolerance(root, "load_deformation", units::kDimensionless, "");
+  if (m.load_deformation.dist.lower() < 0) {
+    root.table("load_deformation").error("min", "", "a load-deformation factor k' >= 0");
+  }
+  m.yaw = read_axis(root, "yaw");
+  m.pitch = read_axis(root, "pitch");
+  {
+    TomlReader t = root.table("optics");
+    m.barrel_length = t.quantity("barrel_length", kLength, positive);
+    m.optical_axis = read_tolerance(t, "axis_error", kLength, "mm");
+  }
+  read_declared(root, m);
+  m.geometry = read_seeker_geometry(root, m.yaw.span, m.pitch.span);
+  finish(doc, *ctx);
+  // Declared keys must name budget terms.
+  const models::WangBudget budget = models::compute_wang_budget(m.budget_inputs());
+  for (const auto& d : m.declared) {
+    bool known = false;
+    std::string list;
+    for (const auto& t : budget.terms) {
+      known = known || t.key == d.key;
+      list += (list.empty() ? "" : ", ") + t.key;
+    }
+    if (!known) {
+      ctx->errors.emplace_back(SourceLocation{path, root.table("declared").line_of(d.key), 0},
+                               "declared." + d.key, "", "a budget term, one of: " + list);
+    }
+  }
+  if (!ctx->errors.empty()) throw ValidationError(ctx->errors);
+  return m;
+}
+
+SeekerSampler::SeekerSampler(const SeekerModel& model) : model_(model) {
+  auto add = [&](std::string name, double factor) { columns_.push_back({std::move(name), factor}); };
+  add("k_load", 1.0);
+  add("yaw_perpendicularity_tilt_arcsec", units::kRadPerArcsec);
+  add("yaw_perpendicularity_azimuth_deg", units::kRadPerDeg);
+  add("pitch_perpendicularity_arcsec", units::kRadPerArcsec);
+  add("optics_collimation_arcsec", units::kRadPerArcsec);
+  for (const auto* axis : {"yaw", "pitch"}) {
+    const SeekerAxis& a = std::string(axis) == "yaw" ? model_.yaw : model_.pitch;
+    for (const auto& s : a.bearing_sources) {
+      for (const char* bearing : {"A", "B"}) {
+        add(std::string(axis) + "_" + s.name + "_" + bearing + "_um", 1e-6);
+        add(std::string(axis) + "_" + s.name + "_" + bearing + "_phase_deg", units::kRadPerDeg);
+      }
+    }
+  }
+}
+
+models::SeekerErrorState SeekerSampler::draw(std::span<const double> u,
+                                             std::span<double> values) const {
+  require(u.size() == dimension() && values.size() == dimension(),
+          "seeker sampler: design point of the wrong size");
+  models::SeekerErrorState s;
+  std::size_t k = 0;
+  // Drawn values go to `values` in SI first, converted to display units at the end.
+  auto take = [&](double v) { values[k++] = v; return v; };
+  const double k_load = take(model_.load_deformation.dist.quantile(u[k]));
+  // Yaw axis perpendicularity: magnitude over the span towards a random azimuth.
+  const double tilt = take(model_.yaw.perpendicularity.dist.magnitude_quantile(u[k]) / model_.yaw.span);
+  const double azimuth = take(2.0 * units::kPi * u[k]);
+  s.yaw.static_tilt = {tilt * std::cos(azimuth), tilt * std::sin(azimuth)};
+  s.pitch.static_tilt = {0.0, take(model_.pitch.perpendicularity.dist.quantile(u[k]) / model_.pitch.span)};
+  s.collimation = take(model_.optical_axis.dist.quantile(u[k]) / model_.barrel_length);
+  for (int axis = 0; axis < 2; ++axis) {
+    const SeekerAxis& a = axis == 0 ? model_.yaw : model_.pitch;
+    models::AxisErrorState& st = axis == 0 ? s.yaw : s.pitch;
+    for (const auto& src : a.bearing_sources) {
+      const double scale = (src.load_scaled ? k_load : 1.0) / a.span;
+      for (double sign : {-1.0, +1.0}) {  // bearing A at -L/2, bearing B at +L/2
+        const double amp = take(src.spec.dist.magnitude_quantile(u[k]));
+        const double phase = take(2.0 * units::kPi * u[k]);
+        st.add({sign * scale * amp, src.order, phase});
+      }
+    }
+  }
+  for (std::size_t i = 0; i < values.size(); ++i) values[i] /= columns_[i].display_factor;
+  return s;
+}
+
+}  // namespace poise::studies

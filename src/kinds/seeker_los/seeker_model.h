@@ -1,0 +1,98 @@
+#pragma once
+/// The two-axis seeker model file (models/seeker_two_axis_*.toml): geometry, every
+/// tolerance with its distribution, the values a source document declares, and the
+/// mapping from a design point to one realization of the errors (SeekerErrorState).
+///
+/// Error sources and their geometric meaning (see models/seeker_los_chain.h):
+///   yaw.perpendicularity     Delta over the yaw span L1 -> static tilt |X|/L1 of the yaw
+///                            axis towards a uniformly random azimuth
+///   pitch.perpendicularity   X/L2 -> pitch axis tilt towards the yaw axis (signed)
+///   optics.axis_error        X/L3 -> optical axis off perpendicular to the pitch axis
+///   <axis>.radial_runout, face_runout, clearance, bore_roundness (scaled by k'):
+///   <axis>.ball_roundness, seat_deformation (not scaled):
+///                            at each of the two bearings a shaft-centre displacement
+///                            |X| (cos(n phi + psi), sin(n phi + psi)) with its own random
+///                            phase psi; n = `order` (1 turns with the shaft, 0 static)
+///   load_deformation         k', the paper's load-deformation factor
+#include <map>
+#include <optional>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "geometry/generators.h"
+#include "models/seeker_los_budget.h"
+#include "models/seeker_los_chain.h"
+#include "engine/tolerance_spec.h"
+
+namespace poise::studies {
+
+/// A displacement source at the bearings of one axis.
+struct BearingSource {
+  std::string name;      ///< "radial_runout", ...
+  ToleranceSpec spec;    ///< amplitude per bearing (m)
+  double order = 1.0;    ///< cycles per shaft turn
+  bool load_scaled = false;  ///< multiplied by k'
+};
+
+struct SeekerAxis {
+  double span = 0.0;  ///< bearing span L (m)
+  ToleranceSpec perpendicularity;
+  std::vector<BearingSource> bearing_sources;
+};
+
+/// A value a document declares, to be set beside Poise's recomputation.
+struct DeclaredValue {
+  std::string key;    ///< budget term key, e.g. "sigma_21"
+  double value = 0.0; ///< in the term's unit (arcsec, mm, px)
+  std::string as_written;
+  double rounding = 0.0;  ///< half a unit of the last printed digit
+  std::string source;
+};
+
+struct SeekerModel {
+  std::string file;
+  std::string name, title, source;
+  double yaw_min = 0, yaw_max = 0, pitch_min = 0, pitch_max = 0;  ///< rad
+  double pixel_ifov = 0;   ///< rad per pixel
+  std::string pixel_ifov_source;
+  ToleranceSpec load_deformation;  ///< k'
+  SeekerAxis yaw, pitch;
+  double barrel_length = 0;  ///< L3 (m)
+  ToleranceSpec optical_axis;
+  std::vector<DeclaredValue> declared;
+  /// Frames and housing ([geometry], optional; studies/seeker_geometry.h), sized from the spans.
+  std::optional<geometry::SeekerGeometry> geometry;
+
+  /// Dotted keys of every tolerance table ("yaw.perpendicularity", "yaw.radial_runout", ...).
+  std::vector<std::string> tolerance_keys() const;
+  /// Inputs of the paper's analytic budget, from the same numbers.
+  models::WangBudgetInputs budget_inputs() const;
+};
+
+/// Loads and validates a model file; `overrides` replace values by dotted key before
+/// validation ("yaw.bearing_span" -> "100 mm"). Throws ValidationError with every problem.
+SeekerModel load_seeker_model(const std::string& path,
+                              const std::map<std::string, std::string>& overrides = {});
+
+/// One sampled input, as a column of samples.csv.
+struct InputColumn {
+  std::string name;  ///< e.g. "yaw_radial_runout_A_um"
+  double display_factor = 1.0;
+};
+
+/// Maps unit-hypercube points to error realizations. Immutable, thread-safe.
+class SeekerSampler {
+ public:
+  explicit SeekerSampler(const SeekerModel& model);
+  std::size_t dimension() const { return columns_.size(); }
+  const std::vector<InputColumn>& columns() const { return columns_; }
+  /// u: design point (size dimension()); values: drawn inputs in display units (same size).
+  models::SeekerErrorState draw(std::span<const double> u, std::span<double> values) const;
+
+ private:
+  SeekerModel model_;
+  std::vector<InputColumn> columns_;
+};
+
+}  // namespace poise::studies

@@ -1,0 +1,372 @@
+#include "kinds/seeker_los/seeker_report.h"
+#include "engine/references.h"
+#include "engine/report_plot.h"
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "core/units.h"
+#include "engine/convergence.h"
+#include "engine/result_io.h"
+#include "engine/sensitivity_output.h"
+
+namespace poise::studies {
+namespace {
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+std::string num(double v, int prec = 4) {
+  if (!std::isfinite(v)) return "&ndash;";
+  char buf[48];
+  std::snprintf(buf, sizeof buf, "%.*g", prec, v);
+  return buf;
+}
+
+std::string num_json(const json& j, int prec = 4) {
+  return j.is_number() ? num(j.get<double>(), prec) : std::string("&ndash;");
+}
+
+
+std::string with_ci(const json& e, int prec = 4) {
+  return num_json(e["value"], prec) + " <small>[" + num_json(e["ci95"][0], prec) + ", " +
+         num_json(e["ci95"][1], prec) + "]</small>";
+}
+
+void write_file(const fs::path& p, const std::string& text) { write_file_atomic(p.string(), text); }
+
+}  // namespace
+
+void write_report(const ReportInputs& in) {
+  const json& s = in.summary;
+  const fs::path dir(in.dir);
+  const fs::path pdir = dir / "plots";
+  fs::create_directories(pdir);
+  const double req = s["requirement"]["arcsec"].get<double>();
+  const bool has_budget = s.contains("budget");  // the model declares a budget to check
+  const double eq8max = in.budget.term("los_eq8_max").value;
+  const double rssmax = in.budget.term("los_max").value;
+  const double gcmax = in.budget.term("los_gc_max").value;
+  std::vector<std::string> figures;  // (svg file names)
+  std::string plot_note;
+
+  if (in.plots && !in.mc.los_max_sorted.empty()) {
+    // Data.
+    {
+      std::ofstream d(pdir / "los_max.dat");
+      d << "# los_max_arcsec  empirical_cdf\n";
+      const auto& v = in.mc.los_max_sorted;
+      for (std::size_t i = 0; i < v.size(); ++i) {
+        d << v[i] << ' ' << (static_cast<double>(i) + 0.5) / static_cast<double>(v.size()) << '\n';
+      }
+    }
+    {
+      std::ofstream d(pdir / "map.dat");
+      d << "# yaw_deg pitch_deg p50_arcsec p95_arcsec p99_73_arcsec budget_eq8_kmax_arcsec\n";
+      const std::size_t nb = in.beta.size();
+      for (std::size_t ia = 0; ia < in.alpha.size(); ++ia) {
+        for (std::size_t ib = 0; ib < nb; ++ib) {
+          const std::size_t k = ia * nb + ib;
+          d << in.alpha[ia] / units::kRadPerDeg << ' ' << in.beta[ib] / units::kRadPerDeg << ' '
+            << in.mc.map_p50[k] << ' ' << in.mc.map_p95[k] << ' ' << in.mc.map_p99_73[k] << '\n';
+        }
+        d << '\n';
+      }
+    }
+    {
+      std::ofstream d(pdir / "budget_map.dat");
+      d << "# yaw_deg pitch_deg eq8_kmax_arcsec great_circle_kmax_arcsec paper_method_kmax_arcsec (budget)\n";
+      const std::size_t nb = in.budget.beta.size();
+      for (std::size_t ia = 0; ia < in.budget.alpha.size(); ++ia) {
+        for (std::size_t ib = 0; ib < nb; ++ib) {
+          const std::size_t k = ia * nb + ib;
+          const double e8 = in.budget.eq8_map_kmax[k];
+          d << in.budget.alpha[ia] / units::kRadPerDeg << ' ' << in.budget.beta[ib] / units::kRadPerDeg
+            << ' ' << (std::isfinite(e8) ? e8 : 0.0) << ' ' << in.budget.great_circle_map_kmax[k] << ' '
+            << in.budget.rss_map_kmax[k] << '\n';
+        }
+        d << '\n';
+      }
+    }
+    const std::string head = "set terminal svg size 760,480 dynamic noenhanced font 'Helvetica,12'\n";
+    std::ostringstream hist;
+    hist << head << "set output 'hist_los_max.svg'\n"
+         << "set title 'Greatest LOS error over the field of regard, per sample'\n"
+         << "set xlabel 'LOS error, greatest over the field [arcsec]'\nset ylabel 'samples'\n"
+         << "stats 'los_max.dat' u 1 nooutput\nbw = (STATS_max - STATS_min) / 50.0\n"
+         << "if (bw <= 0) bw = 1\nbin(x) = bw * floor(x / bw) + bw / 2\n"
+         << "set style fill solid 0.6\nset arrow from " << req << ", graph 0 to " << req
+         << ", graph 1 nohead lw 2 lc rgb 'red'\n"
+         << "set label 'requirement " << num(req) << "\"' at " << req << ", graph 0.95 offset 0.5,0 tc rgb 'red'\n"
+         << "set xrange [0:*]\n"
+         << "plot 'los_max.dat' u (bin($1)):(1.0) smooth freq with boxes lc rgb '#4477aa' title 'Monte Carlo'\n";
+    write_file(pdir / "hist_los_max.gp", hist.str());
+    std::ostringstream cdf;
+    cdf << head << "set output 'cdf_los_max.svg'\n"
+        << "set title 'CDF of the greatest LOS error over the field, with budget figures'\n"
+        << "set xlabel 'LOS error [arcsec]'\nset ylabel 'fraction of samples'\nset key bottom right\n"
+        << "set yrange [0:1]\nset grid\nset xrange [0:*]\n"
+        << "set arrow from " << req << ", graph 0 to " << req << ", graph 1 nohead lw 2 lc rgb 'red'\n"
+        << "set label 'requirement' at " << req << ", graph 0.5 offset 0.5,0 tc rgb 'red'\n"
+        << (has_budget ? "set arrow from " + num(rssmax, 8) + ", graph 0 to " + num(rssmax, 8) +
+                             ", graph 1 nohead dt 2 lc rgb '#228833'\nset label 'declared budget, RSS method, max' at " +
+                             num(rssmax, 8) + ", graph 0.3 offset 0.5,0 tc rgb '#228833'\nset arrow from " + num(gcmax, 8) +
+                             ", graph 0 to " + num(gcmax, 8) + ", graph 1 nohead dt 3 lc rgb '#aa3377'\nset label "
+                             "'great-circle RSS max' at " + num(gcmax, 8) + ", graph 0.15 offset 0.5,0 tc rgb '#aa3377'\n"
+                       : std::string())
+        << "plot 'los_max.dat' u 1:2 with lines lw 2 lc rgb '#4477aa' title 'Monte Carlo (exact chain)'\n";
+    write_file(pdir / "cdf_los_max.gp", cdf.str());
+    std::ostringstream map;
+    map << head << "set output 'map_p95.svg'\n"
+        << "set title 'p95 over samples of the total LOS error at each gimbal angle [arcsec]'\n"
+        << "set xlabel 'yaw [deg]'\nset ylabel 'pitch [deg]'\nset view map\nset pm3d map interpolate 4,4\n"
+        << kViridisPalette << "set cblabel 'arcsec'\n"
+        << "splot 'map.dat' u 1:2:4 with pm3d notitle\n";
+    write_file(pdir / "map_p95.gp", map.str());
+    std::ostringstream bmap;
+    bmap << head << "set output 'budget_map.svg'\n"
+         << "set title \"Budget over the field, paper's method sqrt(Da^2 + Db^2), k' = k_max [arcsec]\"\n"
+         << "set xlabel 'yaw [deg]'\nset ylabel 'pitch [deg]'\nset view map\nset pm3d map\n"
+         << kViridisPalette << "set cblabel 'arcsec'\n"
+         << "splot 'budget_map.dat' u 1:2:5 with pm3d notitle\n";
+    write_file(pdir / "budget_map.gp", bmap.str());
+    std::vector<std::string> scripts = {"hist_los_max", "cdf_los_max", "map_p95"};
+    if (has_budget) scripts.push_back("budget_map");
+    // Sweeps.
+    int si = 0;
+    for (const auto& sw : s["sweeps"]) {
+      const std::string base = "sweep_" + std::to_string(si++);
+      std::ofstream d(pdir / (base + ".dat"));
+      d << "# " << sw["parameter"].get<std::string>()
+        << " value_as_written | p50 p95 p99_73 of los_max [arcsec] | budget max (paper method) | great-circle max\n";
+      for (const auto& p : sw["points"]) {
+        if (!p.contains("los_max_arcsec")) continue;
+        const auto& l = p["los_max_arcsec"];
+        d << '"' << p["value"].get<std::string>() << "\" " << num_json(l["p50"]["value"], 8) << ' '
+          << num_json(l["p95"]["value"], 8) << ' ' << num_json(l["p99_73"]["value"], 8) << ' '
+          << p["budget_rss_max_arcsec"].get<double>() << ' '
+          << p["budget_great_circle_max_arcsec"].get<double>() << '\n';
+      }
+      std::ostringstream g;
+      g << head << "set output '" << base << ".svg'\n"
+        << "set title 'Greatest LOS error over the field vs " << sw["parameter"].get<std::string>() << "'\n"
+        << "set xlabel '" << sw["parameter"].get<std::string>() << "'\nset ylabel 'arcsec'\nset grid\n"
+        << "set key top right\nset yrange [0:*]\n"
+        << "plot '" << base << ".dat' u 0:2:xtic(1) w lp lw 2 t 'MC p50', '' u 0:3 w lp lw 2 t 'MC p95', "
+        << "'' u 0:4 w lp lw 2 t 'MC p99.73', "
+        << (has_budget ? "'' u 0:5 w lp dt 2 t 'RSS budget max', '' u 0:6 w lp dt 3 t 'great-circle RSS max', " : "")
+        << req << " w l lc rgb 'red' lw 2 t 'requirement'\n";
+      write_file(pdir / (base + ".gp"), g.str());
+      scripts.push_back(base);
+    }
+    for (const auto& sc : scripts) {
+      std::string why;
+      if (run_gnuplot((pdir / (sc + ".gp")).string(), &why)) {
+        figures.push_back(sc + ".svg");
+      } else {
+        plot_note = why;
+      }
+    }
+  } else if (!in.plots) {
+    plot_note = "plots were switched off for this run";
+  }
+
+  // ---- report.html
+  std::ostringstream h;
+  const auto& st = s["study"];
+  h << "<!DOCTYPE html><html lang='en'><head><meta charset='utf-8'><title>Poise: "
+    << html_escape(st["name"].get<std::string>()) << "</title><style>"
+    << "body{font-family:Helvetica,Arial,sans-serif;max-width:1100px;margin:2em auto;color:#222;line-height:1.4}"
+    << "table{border-collapse:collapse;margin:0.6em 0}td,th{border:1px solid #bbb;padding:3px 8px;text-align:right}"
+    << "th{background:#eef}td.l,th.l{text-align:left}.bad{background:#fdd}.close{background:#ffe9b3}.ok{background:#dfd}"
+    << "small{color:#666}pre{background:#f6f6f6;padding:0.8em;white-space:pre-wrap}img{max-width:100%}"
+    << "</style></head><body>\n";
+  h << "<h1>" << html_escape(st["title"].get<std::string>().empty() ? st["name"].get<std::string>()
+                                                           : st["title"].get<std::string>())
+    << "</h1>\n<p>Study <code>" << html_escape(st["file"].get<std::string>()) << "</code>, model <code>"
+    << html_escape(st["model_file"].get<std::string>()) << "</code> (" << html_escape(st["model_source"].get<std::string>())
+    << ").</p>\n";
+
+  if (s.value("status", "complete") != "complete") {
+    h << "<p class='bad'><b>This run is " << html_escape(s["status"].get<std::string>()) << "</b>: "
+      << html_escape(s.value("stop_reason", std::string("stopped by a signal"))) << ". The figures cover the "
+      << s["sampling"]["samples"].get<std::size_t>() << " samples that ran.</p>\n";
+  }
+  // Verdict.
+  const auto& req_j = s["requirement"];
+  h << "<h2>Verdict</h2>\n";
+  if (s.contains("fraction_samples_meeting")) {
+    const auto& fs_ = s["fraction_samples_meeting"];
+    const auto& ff = s["fraction_field_meeting"];
+    const auto& lm = s["outputs"]["los_max_arcsec"];
+    h << "<p>Requirement: LOS error &le; <b>" << html_escape(req_j["as_written"].get<std::string>()) << "</b> = "
+      << num(req_j["arcsec"].get<double>()) << " arcsec (pixel IFOV " << num(req_j["pixel_ifov_arcsec"].get<double>())
+      << " arcsec; " << html_escape(req_j["pixel_ifov_source"].get<std::string>()) << ").</p>\n<ul>"
+      << "<li>Fraction of samples (units) that meet it over the <i>whole</i> field of regard: <b>"
+      << num(100 * fs_["value"].get<double>(), 4) << "%</b> <small>(95% CI " << num(100 * fs_["ci95"][0].get<double>(), 4)
+      << "&ndash;" << num(100 * fs_["ci95"][1].get<double>(), 4) << "%)</small></li>"
+      << "<li>Fraction of the field of regard that meets it, averaged over samples: <b>"
+      << num(100 * ff["value"].get<double>(), 4) << "%</b> <small>(95% CI " << num_json(ff["ci95"][0].is_number() ? json(100 * ff["ci95"][0].get<double>()) : json(nullptr))
+      << "&ndash;" << num_json(ff["ci95"][1].is_number() ? json(100 * ff["ci95"][1].get<double>()) : json(nullptr)) << "%)</small></li>"
+      << "<li>Greatest LOS error over the field: p50 " << num_json(lm["p50"]["value"]) << ", p95 "
+      << num_json(lm["p95"]["value"]) << ", p99.73 " << num_json(lm["p99_73"]["value"]) << " arcsec.</li></ul>\n";
+  }
+  if (s["failures"]["count"].get<std::size_t>() > 0) {
+    h << "<p class='bad'>" << s["failures"]["count"].get<std::size_t>()
+      << " sample(s) failed; their reasons are in samples.csv and summary.json.</p>\n";
+  }
+
+  h << references_html(s.value("references", json::array()));
+
+  // The declared budget against the Monte Carlo (only when the model declares one).
+  const double ifov = req_j["pixel_ifov_arcsec"].get<double>();
+  auto row = [&](const std::string& what, double v) {
+    h << "<tr><td class='l'>" << what << "</td><td>" << num(v) << "</td><td>" << num(v / ifov, 3)
+      << "</td></tr>\n";
+  };
+  if (s.contains("budget")) {
+    const auto& b = s["budget"];
+    h << "<h2>The model's declared budget and the Monte Carlo side by side</h2>\n<table><tr><th class='l'>figure</th>"
+      << "<th>arcsec</th><th>px</th></tr>\n";
+    for (const auto& t : b["terms"]) {
+      const std::string key = t["key"].get<std::string>();
+      if ((key == "los_min" || key == "los_max") && t.contains("declared")) {
+        row("declared (" + html_escape(t["declared_source"].get<std::string>()) + "): " +
+                (key == "los_min" ? "least" : "greatest") + " over the field",
+            t["declared"].get<double>());
+      }
+    }
+    if (b.contains("from_declared_deltas")) {
+      const auto& fd = b["from_declared_deltas"];
+      row("RSS method sqrt(Da^2+Db^2) from the declared delta_1..3: least", fd["los_min"].get<double>());
+      row("RSS method sqrt(Da^2+Db^2) from the declared delta_1..3: greatest", fd["los_max"].get<double>());
+    }
+    row("RSS method recomputed from the model's tolerances: least (k' = k_min)", in.budget.term("los_min").value);
+    row("RSS method recomputed from the model's tolerances: greatest (k' = k_max)", rssmax);
+    row("Eq. 8 as printed, recomputed: least (k' = k_min)", in.budget.term("los_eq8_min").value);
+    row("Eq. 8 as printed, recomputed: greatest (k' = k_max)", eq8max);
+    row("great-circle combination, least (k' = k_min)", in.budget.term("los_gc_min").value);
+    row("great-circle combination, greatest (k' = k_max)", gcmax);
+  } else {
+    h << "<h2>Monte Carlo figures</h2>\n<table><tr><th class='l'>figure</th><th>arcsec</th><th>px</th></tr>\n";
+  }
+  if (s.contains("pooled_field_arcsec")) {
+    const auto& p = s["pooled_field_arcsec"];
+    row("MC, error at a random gimbal angle of a random unit: p50", p["p50"]["value"].get<double>());
+    row("MC, error at a random gimbal angle of a random unit: p95", p["p95"]["value"].get<double>());
+    row("MC, error at a random gimbal angle of a random unit: p99.73", p["p99_73"]["value"].get<double>());
+    const auto& lm = s["outputs"]["los_max_arcsec"];
+    row("MC, greatest over the field of a unit: p50", lm["p50"]["value"].get<double>());
+    row("MC, greatest over the field of a unit: p95", lm["p95"]["value"].get<double>());
+    row("MC, greatest over the field of a unit: p99.73", lm["p99_73"]["value"].get<double>());
+  }
+  h << "</table>\n";
+  if (s.contains("budget")) {
+    h << "<p><small>Declared rows are the model file's [declared] values. The budget's terms are "
+         "1-sigma-like figures combined by RSS; the Monte Carlo composes the exact rotations with "
+         "every tolerance drawn from its stated distribution.</small></p>\n";
+    // Budget table.
+    const auto& b = s["budget"];
+    h << "<h2>Declared budget recomputed term by term</h2>\n<p>" << b["disagreements"].get<int>()
+      << " declared value(s) disagree with the recomputation (red); " << b["close"].get<int>()
+      << " are within 1% but beyond the rounding of their printed digits (amber: a rounded "
+         "intermediate carried on); green rows agree to the printed digits.</p>\n<table><tr><th class='l'>term</th><th class='l'>meaning</th><th class='l'>source</th>"
+         "<th>recomputed</th><th>declared</th><th>difference</th><th class='l'>unit</th></tr>\n";
+    for (const auto& t : b["terms"]) {
+      const bool has_decl = t.contains("declared");
+      const std::string verdict = has_decl ? t["verdict"].get<std::string>() : "";
+      const std::string cls = !has_decl ? "" : verdict == "agrees" ? " class='ok'" : verdict == "close" ? " class='close'" : " class='bad'";
+      h << "<tr" << cls << "><td class='l'><code>" << html_escape(t["key"].get<std::string>()) << "</code></td><td class='l'>"
+        << html_escape(t["description"].get<std::string>()) << "</td><td class='l'>" << html_escape(t["equation"].get<std::string>())
+        << "</td><td>" << num(t["recomputed"].get<double>(), 5) << "</td><td>"
+        << (has_decl ? html_escape(t["declared_as_written"].get<std::string>()) : "&ndash;") << "</td><td>"
+        << (has_decl ? num(t["difference"].get<double>(), 3) : "&ndash;") << "</td><td class='l'>"
+        << html_escape(t["unit"].get<std::string>()) << "</td></tr>\n";
+    }
+    h << "</table>\n";
+  }
+
+  // Contributions.
+  if (s.contains("contributions") && s["contributions"].size() > 1) {
+    const auto& c = s["contributions"];
+    const auto& base = c[0]["stats"];
+    h << "<h2>Which tolerance drives the error</h2>\n<p>The study re-run with one tolerance set "
+         "to zero at a time (" << c[0]["samples"].get<std::size_t>() << " samples, the same random "
+         "numbers), so the drop is that tolerance's share of the error.</p>\n<table><tr><th class='l'>"
+         "tolerance set to zero</th><th>greatest over field p50</th><th>p95</th><th>drop of p95</th>"
+         "<th>p99.73</th><th>units meeting</th></tr>\n";
+    for (const auto& row_j : c) {
+      const auto& st_ = row_j["stats"];
+      h << "<tr><td class='l'>" << html_escape(row_j["without"].get<std::string>()) << "</td><td>"
+        << num(st_["los_max_p50"].get<double>()) << "</td><td>" << num(st_["los_max_p95"].get<double>())
+        << "</td><td>" << num(base["los_max_p95"].get<double>() - st_["los_max_p95"].get<double>(), 3)
+        << "</td><td>" << num(st_["los_max_p99_73"].get<double>()) << "</td><td>"
+        << num(100 * st_["fraction_samples_meeting"].get<double>(), 4) << "%</td></tr>\n";
+    }
+    h << "</table>\n<p><small>arcsec, greatest total LOS error over the field of regard.</small></p>\n";
+  }
+
+  if (s.contains("sensitivity")) h << sensitivity_html(s["sensitivity"]);
+
+  // Figures.
+  h << "<h2>Figures</h2>\n";
+  if (!plot_note.empty()) h << "<p class='bad'>" << html_escape(plot_note) << "</p>\n";
+  h << figures_html(pdir, figures);
+
+  // Outputs.
+  h << "<h2>Per-sample outputs</h2>\n<p><small>value [95% confidence interval]; a missing end needs "
+       "more samples. " << html_escape(s["sampling"]["ci_note"].get<std::string>()) << ".</small></p>\n"
+    << "<table><tr><th class='l'>output</th><th class='l'>unit</th><th>mean</th><th>std</th><th>p50</th>"
+       "<th>p95</th><th>p99.73</th><th>max</th></tr>\n";
+  for (const auto& [name, o] : s["outputs"].items()) {
+    h << "<tr><td class='l'><code>" << html_escape(name) << "</code><br><small>" << html_escape(o["description"].get<std::string>())
+      << "</small></td><td class='l'>" << html_escape(o["unit"].get<std::string>()) << "</td><td>" << with_ci(o["mean"])
+      << "</td><td>" << with_ci(o["std"]) << "</td><td>" << with_ci(o["p50"]) << "</td><td>" << with_ci(o["p95"])
+      << "</td><td>" << with_ci(o["p99_73"]) << "</td><td>" << with_ci(o["max"]) << "</td></tr>\n";
+  }
+  h << "</table>\n";
+  if (s.contains("sample_convergence")) h << convergence_html(s["sample_convergence"]);
+
+  // Sweeps.
+  for (const auto& sw : s["sweeps"]) {
+    h << "<h2>Sweep of <code>" << html_escape(sw["parameter"].get<std::string>()) << "</code></h2>\n<p>"
+      << sw["samples"].get<std::size_t>() << " samples per value, same seed at every value (common random "
+         "numbers).</p>\n<table><tr><th class='l'>value</th><th>MC p50</th><th>MC p95</th><th>MC p99.73</th>"
+         "<th>samples meeting</th>" << (has_budget ? "<th>RSS budget max</th><th>Eq. 8 max</th><th>great-circle max</th>" : "") << "</tr>\n";
+    for (const auto& p : sw["points"]) {
+      if (!p.contains("los_max_arcsec")) continue;
+      const auto& l = p["los_max_arcsec"];
+      h << "<tr><td class='l'>" << html_escape(p["value"].get<std::string>()) << "</td><td>" << num_json(l["p50"]["value"])
+        << "</td><td>" << num_json(l["p95"]["value"]) << "</td><td>" << num_json(l["p99_73"]["value"]) << "</td><td>"
+        << num(100 * p["fraction_samples_meeting"]["value"].get<double>(), 4) << "%</td>";
+      if (has_budget) {
+        h << "<td>" << num(p["budget_rss_max_arcsec"].get<double>()) << "</td><td>"
+          << num(p["budget_eq8_max_arcsec"].get<double>()) << "</td><td>"
+          << num(p["budget_great_circle_max_arcsec"].get<double>()) << "</td>";
+      }
+      h << "</tr>\n";
+    }
+    h << "</table>\n<p><small>arcsec, greatest LOS error over the field of regard.</small></p>\n";
+  }
+
+  // Inputs.
+  h << "<h2>Tolerances sampled</h2>\n<table><tr><th class='l'>input</th><th class='l'>distribution</th>"
+       "<th class='l'>source</th></tr>\n";
+  for (const auto& i : s["sampling"]["inputs"]) {
+    h << "<tr><td class='l'>" << html_escape(i["name"].get<std::string>()) << "</td><td class='l'>"
+      << html_escape(i["distribution"].get<std::string>()) << "</td><td class='l'>" << html_escape(i["source"].get<std::string>())
+      << "</td></tr>\n";
+  }
+  h << "</table>\n";
+  if (!st["notes"].get<std::string>().empty()) {
+    h << "<h2>Notes of the study</h2>\n<pre>" << html_escape(st["notes"].get<std::string>()) << "</pre>\n";
+  }
+  h << "<h2>Provenance</h2>\n<pre>" << html_escape(s["provenance"].dump(2)) << "</pre>\n"
+    << "<p><small>Files: samples.csv (one row per sample), summary.json, plots/ (data, gnuplot "
+       "scripts, SVG).</small></p>\n</body></html>\n";
+  write_file(dir / "report.html", h.str());
+}
+
+}  // namespace poise::studies

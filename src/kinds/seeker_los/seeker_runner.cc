@@ -1,0 +1,365 @@
+#include "kinds/seeker_los/seeker_runner.h"
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <algorithm>
+#include <thread>
+
+#include "core/units.h"
+#include "core/version.h"
+#include "sampling/distributed.h"
+#include "sampling/interrupt.h"
+#include "engine/convergence.h"
+#include "engine/provenance.h"
+#include "engine/references.h"
+#include "engine/study_kind.h"
+#include "engine/result_io.h"
+#include "engine/run_plan.h"
+#include "engine/sensitivity_output.h"
+#include "engine/toml_reader.h"
+#include "kinds/seeker_los/seeker_los_sections.h"
+#include "kinds/seeker_los/seeker_los_study.h"
+#include "kinds/seeker_los/seeker_report.h"
+
+namespace poise::studies {
+namespace {
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+json summary_json(const sampling::Summary& s, const std::string& unit, const std::string& desc) {
+  json j = studies::summary_json(s);
+  j["unit"] = unit;
+  if (!desc.empty()) j["description"] = desc;
+  return j;
+}
+
+
+// The study's model with its overrides and `extra` on top.
+SeekerModel load_model(const StudyConfig& cfg, const std::map<std::string, std::string>& extra = {}) {
+  auto overrides = cfg.overrides;
+  for (const auto& [k, v] : extra) overrides[k] = v;
+  return load_seeker_model(cfg.model_path, overrides);
+}
+
+json budget_json(const models::WangBudget& b, const SeekerModel& m) {
+  json terms = json::array();
+  int disagreements = 0, close_count = 0;
+  for (const auto& t : b.terms) {
+    json j{{"key", t.key}, {"description", t.description}, {"equation", t.equation},
+           {"recomputed", t.value}, {"unit", t.unit}};
+    for (const auto& d : m.declared) {
+      if (d.key != t.key) continue;
+      // "agrees": the recomputed value rounds to the printed one (half a unit of the
+      // printed last digit, plus 1e-9 relative for binary representation); "close": within
+      // 1% (typically a rounded intermediate carried on); else "disagrees".
+      const double diff = std::abs(t.value - d.value);
+      const bool agrees = diff <= d.rounding + 1e-9 * std::abs(d.value);
+      const bool close = diff <= 0.01 * std::abs(d.value) + d.rounding;
+      j["declared"] = d.value;
+      j["declared_as_written"] = d.as_written;
+      j["declared_source"] = d.source;
+      j["difference"] = t.value - d.value;
+      j["agrees"] = agrees;
+      j["verdict"] = agrees ? "agrees" : (close ? "close" : "disagrees");
+      disagreements += close ? 0 : 1;
+      close_count += (!agrees && close) ? 1 : 0;
+    }
+    terms.push_back(j);
+  }
+  json out{{"terms", terms}, {"disagreements", disagreements}, {"close", close_count}};
+  // Do the printed axis totals reproduce the printed range? Recompute the field figures
+  // from the declared delta_1, delta_2, delta_3 (when all are declared).
+  std::map<std::string, double> dv;
+  for (const auto& d : m.declared) dv[d.key] = d.value;
+  if (dv.count("delta_1_min") && dv.count("delta_1_max") && dv.count("delta_2_min") &&
+      dv.count("delta_2_max") && dv.count("delta_3")) {
+    const models::WangGridFigures g = models::wang_grid_figures(
+        dv["delta_1_min"], dv["delta_1_max"], dv["delta_2_min"], dv["delta_2_max"], dv["delta_3"],
+        m.budget_inputs());
+    out["from_declared_deltas"] = {{"los_min", g.rss_min}, {"los_max", g.rss_max},
+                                   {"los_eq8_min", g.eq8_min}, {"los_eq8_max", g.eq8_max},
+                                   {"los_gc_min", g.gc_min}, {"los_gc_max", g.gc_max}};
+  }
+  return out;
+}
+
+}  // namespace
+
+std::string validate_seeker_study(const StudyConfig& cfg) {
+  const SeekerModel model = load_model(cfg);
+  const SeekerLosSections& sec = seeker_sections(cfg);
+  // Sweep values are validated by loading the model with each of them.
+  std::vector<InputError> errors;
+  for (const auto& sw : sec.sweeps) {
+    for (const auto& v : sw.values) {
+      try {
+        load_seeker_model(cfg.model_path, [&] {
+          auto o = cfg.overrides;
+          o[sw.parameter] = v;
+          return o;
+        }());
+      } catch (const ValidationError& e) {
+        for (const auto& err : e.errors()) {
+          errors.emplace_back(SourceLocation{cfg.file, 0, 0}, "sweep " + sw.parameter, "\"" + v + "\"",
+                              std::string("a value the model accepts: ") + err.what());
+        }
+      }
+    }
+  }
+  if (!errors.empty()) throw ValidationError(errors);
+  SeekerSampler sampler(model);
+  char buf[512];
+  std::snprintf(buf, sizeof buf,
+                "%s: valid. Study '%s' (%s) on model '%s': %zu random inputs, %s design, %zu "
+                "samples, seed %llu, grid %zu x %zu over yaw [%g, %g] deg, pitch [%g, %g] deg, "
+                "requirement %s, %zu sweep(s).",
+                cfg.file.c_str(), cfg.name.c_str(), cfg.kind.c_str(), model.name.c_str(),
+                sampler.dimension(), sampling::to_string(cfg.method).c_str(), cfg.samples,
+                static_cast<unsigned long long>(cfg.seed), sec.yaw_points, sec.pitch_points,
+                model.yaw_min / units::kRadPerDeg, model.yaw_max / units::kRadPerDeg,
+                model.pitch_min / units::kRadPerDeg, model.pitch_max / units::kRadPerDeg,
+                sec.requirement_text.c_str(), sec.sweeps.size());
+  return buf;
+}
+
+json replay_seeker_sample(const StudyConfig& cfg, std::size_t index, const RunOptions& options) {
+  const SeekerModel model = load_model(cfg);
+  const std::size_t n = options.samples.value_or(cfg.samples);
+  if (index >= n) throw Error("sample index " + std::to_string(index) + " is outside 0.." + std::to_string(n - 1));
+  SeekerLosStudy study(cfg, model, n, options.seed.value_or(cfg.seed));
+  auto ws = study.make_workspace();
+  SeekerSampleResult r;
+  study.compute(index, ws, r);
+  json j;
+  j["sample"] = index;
+  j["status"] = r.ok ? "ok" : "failed";
+  if (!r.ok) j["message"] = r.message;
+  for (std::size_t k = 0; k < r.inputs.size(); ++k) j["inputs"][study.sampler().columns()[k].name] = r.inputs[k];
+  for (std::size_t k = 0; k < kNumSeekerOutputs; ++k) j["outputs"][kSeekerOutputs[k].name] = r.outputs[k];
+  if (r.ok) {
+    const auto errs = study.grid_errors(index);
+    json grid = json::array();
+    for (std::size_t ia = 0; ia < study.grid().alpha().size(); ++ia) {
+      for (std::size_t ib = 0; ib < study.grid().beta().size(); ++ib) {
+        const auto& e = errs[study.grid().index(ia, ib)];
+        grid.push_back({{"yaw_deg", study.grid().alpha()[ia] / units::kRadPerDeg},
+                        {"pitch_deg", study.grid().beta()[ib] / units::kRadPerDeg},
+                        {"total_arcsec", e.total * units::kArcsecPerRad},
+                        {"yaw_arcsec", e.yaw * units::kArcsecPerRad},
+                        {"pitch_arcsec", e.pitch * units::kArcsecPerRad}});
+      }
+    }
+    j["grid"] = grid;
+  }
+  return j;
+}
+
+std::string run_seeker_study(const StudyConfig& file_cfg, const RunOptions& options) {
+  StudyConfig cfg = file_cfg;
+  const SeekerModel model = load_model(cfg);
+  const SeekerLosSections& sec = seeker_sections(cfg);
+  const bool root = sampling::Cluster::root();
+  const int ranks = sampling::Cluster::size();
+  RunPlan plan = plan_run(cfg, options, [&] {
+    // A LOS sample is a pure function of its design point: no randomness of its own.
+    return std::make_pair(SeekerSampler(model).dimension(), false);
+  });
+  const std::size_t n = plan.samples;
+  const std::uint64_t seed = plan.seed;
+  const int threads = plan.threads;
+  const std::string& dir = plan.dir;
+  const std::string& started = plan.started;
+  const std::size_t sensitivity_base = plan.sensitivity_base;
+  std::size_t rows_on_disk = 0;  // a resumed run's complete samples.csv rows
+  std::vector<std::string> output_names;
+  for (const auto& o : kSeekerOutputs) output_names.emplace_back(o.name);
+  const std::optional<UntilTarget> until = plan_until(plan, output_names);
+  announce_run(cfg, plan, until, options.progress);
+  SeekerLosStudy study(cfg, model, n, seed);
+
+  // samples.csv, streamed in sample order. A resumed run recomputes its samples (a LOS
+  // sample takes microseconds and the pooled field statistics need every grid value) and
+  // appends the rows the file lacks.
+  std::string header = "sample,status";
+  for (const auto& c : study.sampler().columns()) header += "," + c.name;
+  for (const auto& o : kSeekerOutputs) header += std::string(",") + o.name;
+  header += ",message";
+  const std::string csv_path = (fs::path(dir) / "samples.csv").string();
+  if (!options.resume.empty() && root) {
+    const std::string rows = read_complete_rows(csv_path, header);
+    rows_on_disk = static_cast<std::size_t>(std::count(rows.begin(), rows.end(), '\n'));
+  }
+  std::ofstream csv = open_samples_csv(plan, header, !options.resume.empty());
+  sampling::InterruptGuard interrupts;
+  auto rule = std::make_shared<StopRule>(output_names, n, cfg.max_failure_share, until, cfg.replicate_size,
+                                         options.progress && root);
+  SeekerRunControl control;
+  control.distributed = true;
+  control.stop = [rule](const std::vector<std::vector<double>>& v, const std::vector<std::size_t>& ok, std::size_t f,
+                        std::size_t c) { return (*rule)(v, ok, f, c); };
+  const SeekerMcResult mc = study.run(threads, options.progress, [&](std::span<const SeekerSampleResult> block) {
+    for (const auto& s : block) {
+      if (s.index < rows_on_disk) continue;
+      csv << s.index << ',' << (s.ok ? "ok" : "failed");
+      for (double v : s.inputs) csv << ',' << csv_number(v);
+      for (double v : s.outputs) csv << ',' << csv_number(v);
+      csv << ',' << csv_text(s.message) << '\n';
+    }
+    csv.flush();
+  }, control);
+  if (!root) return "";  // rank 0 writes the folder
+  csv.close();
+  const std::size_t ran = mc.completed;
+  const std::string status = mc.interrupted ? "interrupted" : rule->failed() ? "failed" : "complete";
+  finish_manifest(plan, status, ran);
+  const bool extras = status == "complete" && sensitivity_base == 0;  // sweeps and contributions
+
+  const models::WangBudget budget = models::compute_wang_budget(model.budget_inputs());
+
+  // Sweeps: the same seed at every value (common random numbers), so differences between
+  // values are the design's, not the sampling noise's.
+  json sweeps = json::array();
+  for (const auto& sw : extras ? sec.sweeps : std::vector<SweepSpec>{}) {
+    json js{{"parameter", sw.parameter}, {"samples", sw.samples}, {"points", json::array()}};
+    for (const auto& v : sw.values) {
+      const SeekerModel model_v = load_model(cfg, {{sw.parameter, v}});
+      SeekerLosStudy sv(cfg, model_v, sw.samples, seed);
+      if (options.progress) std::fprintf(stderr, "  sweep %s = %s\n", sw.parameter.c_str(), v.c_str());
+      const SeekerMcResult r = sv.run(threads, false, {});
+      const models::WangBudget bv = models::compute_wang_budget(model_v.budget_inputs());
+      json p{{"value", v}, {"value_si", units::parse_quantity(v).value}, {"failures", r.failures}};
+      if (!r.outputs.empty()) {
+        p["los_max_arcsec"] = summary_json(r.outputs[0], "arcsec", "");
+        p["fraction_samples_meeting"] = estimate_json(r.fraction_samples_ok);
+        p["pooled_arcsec"] = summary_json(r.pooled, "arcsec", "");
+      }
+      p["budget_eq8_max_arcsec"] = bv.term("los_eq8_max").value;
+      p["budget_rss_max_arcsec"] = bv.term("los_max").value;
+      p["budget_great_circle_max_arcsec"] = bv.term("los_gc_max").value;
+      js["points"].push_back(p);
+    }
+    sweeps.push_back(js);
+  }
+
+  // Contributions: each tolerance set to zero in turn, same seed (common random numbers);
+  // the drop of the statistics is that tolerance's share of the error.
+  json contributions = json::array();
+  if (extras && sec.contribution_samples > 0) {
+    const std::size_t nc = std::min(sec.contribution_samples, ran);
+    if (options.progress) {
+      std::fprintf(stderr, "  contributions: %zu tolerances, %zu samples each\n", model.tolerance_keys().size(), nc);
+    }
+    auto stats = [&](const SeekerMcResult& r) {
+      return json{{"los_max_p50", r.outputs[0].p50.value}, {"los_max_p95", r.outputs[0].p95.value},
+                  {"los_max_p99_73", r.outputs[0].p99_73.value}, {"pooled_p95", r.pooled.p95.value},
+                  {"fraction_samples_meeting", r.fraction_samples_ok.value}};
+    };
+    const SeekerMcResult all = SeekerLosStudy(cfg, model, nc, seed).run(threads, false, {});
+    if (!all.outputs.empty()) {
+      contributions.push_back({{"without", "(nothing: all tolerances)"}, {"samples", nc}, {"stats", stats(all)}});
+      for (const auto& key : model.tolerance_keys()) {
+        const SeekerModel model_v = load_model(cfg, {{key + ".tolerance", "0 mm"}});
+        const SeekerMcResult r = SeekerLosStudy(cfg, model_v, nc, seed).run(threads, false, {});
+        if (!r.outputs.empty()) contributions.push_back({{"without", key}, {"samples", nc}, {"stats", stats(r)}});
+      }
+    }
+  }
+
+  json s;
+  s["contributions"] = contributions;
+  s["study"] = {{"name", cfg.name}, {"title", cfg.title}, {"kind", cfg.kind}, {"file", cfg.file},
+                {"model_file", cfg.model_path}, {"model_name", model.name}, {"model_source", model.source},
+                {"notes", cfg.notes}, {"overrides", cfg.overrides}};
+  const double req_arcsec = study.requirement_rad() * units::kArcsecPerRad;
+  s["requirement"] = {{"as_written", sec.requirement_text}, {"arcsec", req_arcsec},
+                      {"px", study.requirement_rad() / model.pixel_ifov},
+                      {"pixel_ifov_arcsec", model.pixel_ifov * units::kArcsecPerRad},
+                      {"pixel_ifov_source", model.pixel_ifov_source}};
+  json inputs = json::array();
+  inputs.push_back({{"name", "load_deformation (k')"}, {"distribution", model.load_deformation.dist.describe(1.0, "")},
+                    {"source", model.load_deformation.source}});
+  auto tol_json = [&](const std::string& name, const ToleranceSpec& t) {
+    inputs.push_back({{"name", name}, {"distribution", t.dist.describe(t.display_factor, t.display_unit)},
+                      {"source", t.source}});
+  };
+  tol_json("yaw.perpendicularity (over " + units::format(model.yaw.span, "mm") + ")", model.yaw.perpendicularity);
+  tol_json("pitch.perpendicularity (over " + units::format(model.pitch.span, "mm") + ")", model.pitch.perpendicularity);
+  tol_json("optics.axis_error (over " + units::format(model.barrel_length, "mm") + ")", model.optical_axis);
+  for (const auto* a : {&model.yaw, &model.pitch}) {
+    for (const auto& src : a->bearing_sources) {
+      tol_json(std::string(a == &model.yaw ? "yaw." : "pitch.") + src.name + " (per bearing, order " +
+                   csv_number(src.order) + (src.load_scaled ? ", x k')" : ")"),
+               src.spec);
+    }
+  }
+  s["status"] = status;
+  if (!mc.stop_reason.empty()) s["stop_reason"] = mc.stop_reason;
+  s["sampling"] = {{"method", sampling::to_string(cfg.method)}, {"samples", ran}, {"planned_samples", n}, {"seed", seed},
+                   {"threads", threads}, {"mpi_ranks", ranks}, {"replicate_size", cfg.replicate_size},
+                   {"max_failure_share", cfg.max_failure_share}, {"dimension", study.sampler().dimension()},
+                   {"grid", {{"yaw_points", sec.yaw_points}, {"pitch_points", sec.pitch_points},
+                             {"yaw_deg", {model.yaw_min / units::kRadPerDeg, model.yaw_max / units::kRadPerDeg}},
+                             {"pitch_deg", {model.pitch_min / units::kRadPerDeg, model.pitch_max / units::kRadPerDeg}}}},
+                   {"inputs", inputs},
+                   {"ci_note", cfg.replicate_size > 0
+                                   ? "95% intervals of the per-sample outputs from the spread of the independent "
+                                     "randomized replicates; pooled field figures assume independent samples"
+                                   : "95% intervals assume independent samples; for lhs and sobol designs they are "
+                                     "conservative for the mean, not necessarily for tail quantiles (measured on the "
+                                     "LOS study: replicate p99.73 interval wider than this one); [sampling] "
+                                     "replicate_size gives honest intervals"}};
+  json outputs;
+  for (std::size_t k = 0; k < mc.outputs.size(); ++k) {
+    outputs[kSeekerOutputs[k].name] = summary_json(mc.outputs[k], kSeekerOutputs[k].unit, kSeekerOutputs[k].description);
+  }
+  s["outputs"] = outputs;
+  if (mc.outputs.size() == kNumSeekerOutputs) {
+    s["pooled_field_arcsec"] = summary_json(mc.pooled, "arcsec", "total LOS error over every (sample, grid point)");
+    s["fraction_samples_meeting"] = estimate_json(mc.fraction_samples_ok);
+    s["fraction_field_meeting"] = estimate_json(mc.fraction_field_ok);
+  }
+  // The analytic budget (Wang 2011's RSS method recomputed from the model's tolerances) is
+  // set beside the Monte Carlo only when the model declares a budget to check ([declared]).
+  if (!model.declared.empty()) s["budget"] = budget_json(budget, model);
+  {
+    std::vector<OutputSpec> specs;
+    for (const auto& o : kSeekerOutputs) specs.push_back({o.name, o.unit, o.description});
+    std::map<std::string, const std::vector<double>*> by_name;
+    for (std::size_t k = 0; k < mc.values.size() && k < kNumSeekerOutputs; ++k) by_name[kSeekerOutputs[k].name] = &mc.values[k];
+    s["references"] = compare_references(declared_references(cfg, specs), specs, s["outputs"], [&](const std::string& n) {
+      const auto it = by_name.find(n);
+      return it == by_name.end() ? nullptr : it->second;
+    });
+  }
+  s["failures"] = failures_json(mc.failures, ran, mc.failed, seed, cfg.file);
+  s["sample_convergence"] = convergence_json(output_names, mc.outputs, ran, cfg.replicate_size, rule->until_json());
+  if (sensitivity_base > 0 && status == "complete") {
+    std::vector<std::string> groups;
+    for (const auto& c : study.sampler().columns()) groups.push_back(c.name);
+    std::vector<std::vector<double>> by_index(output_names.size(), std::vector<double>(ran, NAN));
+    for (std::size_t k = 0; k < mc.values.size(); ++k) {
+      for (std::size_t m = 0; m < mc.ok_index.size(); ++m) by_index[k][mc.ok_index[m]] = mc.values[k][m];
+    }
+    s["sensitivity"] = sensitivity_json(output_names, groups, sensitivity_base, by_index, seed);
+  }
+  s["sweeps"] = sweeps;
+  s["provenance"] = {{"poise_version", kVersion}, {"git_commit", git_commit()},
+                     {"study_file_sha1", file_sha1(cfg.file)}, {"model_file_sha1", file_sha1(cfg.model_path)},
+                     {"seed", seed}, {"samples", ran}, {"threads", threads}, {"mpi_ranks", ranks},
+                     {"wall_time_s", mc.wall_seconds}, {"started", started}, {"finished", now_iso8601()},
+                     {"command_line_overrides", {{"samples", options.samples.has_value()}, {"seed", options.seed.has_value()}}},
+                     {"libraries", library_versions()}};
+  write_file_atomic((fs::path(dir) / "summary.json").string(), s.dump(2) + "\n");
+  ReportInputs rep{dir, s, budget, mc, study.grid().alpha(), study.grid().beta(), options.plots && cfg.plots};
+  write_report(rep);
+  if (options.progress) {
+    std::fprintf(stderr, "poise: report %s\n", (fs::path(dir) / "report.html").c_str());
+  }
+  finish_run_status(status, mc.stop_reason, mc.signal, ran, n, mc.failures, dir, cfg.file);
+  return dir;
+}
+
+}  // namespace poise::studies

@@ -1,0 +1,11 @@
+// The tests' main: the study kinds are registered with the engine (as the CLI does), then
+// GoogleTest runs.
+#include <gtest/gtest.h>
+
+#include "kinds/registry.h"
+
+int main(int argc, char** argv) {
+  poise::studies::register_study_kinds();
+  ::testing::InitGoogleTest(&argc, argv);
+  return RUN_ALL_TESTS();
+}
