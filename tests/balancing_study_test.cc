@@ -597,15 +597,23 @@ positions = 2
 )");
   e = validation_message(d.file("stab9.toml"));
   EXPECT_NE(e.find("surface' = 9"), std::string::npos) << e;
-  // A [paper] value for an output the study does not have: named with its line.
-  const std::string with_paper = good + "\n[paper]\nacc_plane_error_ic_pct = 1.0\nurr_min_percent = 90\n";
-  test::write_text(d.file("paper.toml"), with_paper);
+  // A declared reference figure for an output the study does not have: named with its line.
+  const std::string with_reference = good +
+                                     "\n[[reference]]\nname = \"ISO URR\"\noutput = \"urr_min_percent\"\nvalue = "
+                                     "\"90 %\"\nsource = \"a customer\"\nrole = \"validation\"\n";
+  test::write_text(d.file("reference.toml"), with_reference);
   int line = 1;
-  for (std::size_t pos = 0; pos < with_paper.find("urr_min_percent"); ++pos) line += with_paper[pos] == '\n' ? 1 : 0;
-  e = validation_message(d.file("paper.toml"));
-  EXPECT_NE(e.find(d.file("paper.toml") + ":" + std::to_string(line) + ": key 'paper.urr_min_percent'"),
+  for (std::size_t pos = 0; pos < with_reference.find("output = \"urr_min_percent"); ++pos) {
+    line += with_reference[pos] == '\n' ? 1 : 0;
+  }
+  e = validation_message(d.file("reference.toml"));
+  EXPECT_NE(e.find(d.file("reference.toml") + ":" + std::to_string(line) + ": key 'reference.output' = \"urr_min_percent\""),
             std::string::npos) << e << " (line " << line << ")";
-  EXPECT_EQ(e.find("paper.acc_plane_error_ic_pct"), std::string::npos) << e;  // a real output is fine
+  EXPECT_NE(e.find("acc_plane_error_ic_pct"), std::string::npos) << e;  // the outputs it could name
+  // A [paper] table is no longer read: declared figures are [[reference]] tables.
+  test::write_text(d.file("paper.toml"), good + "\n[paper]\nacc_plane_error_ic_pct = 1.0\n");
+  e = validation_message(d.file("paper.toml"));
+  EXPECT_NE(e.find("key 'paper'"), std::string::npos) << e;
   // Hardware tolerances are properties of the machine as built: scope "unit" only.
   test::write_text(d.file("scope.toml"), good + "\n[overrides]\n\"tolerances.plate_thickness.scope\" = \"test\"\n");
   e = validation_message(d.file("scope.toml"));

@@ -14,6 +14,7 @@
 #include "engine/result_io.h"
 #include "engine/study_runner.h"
 #include "engine/toml_reader.h"
+#include "kinds/gimbal_static_unbalance/gimbal_sections.h"
 #include "test_util.h"
 
 namespace poise::studies {
@@ -40,7 +41,6 @@ block = 2
 name = "g"
 positions = 8
 repeats = 1
-paper_rmse_torque = "0.5 mN*m"
 
 [[group.load]]
 mass = "25.81 g"
@@ -51,6 +51,13 @@ angle = "45.50 deg"
 mass = "15.53 g"
 radius = "35.0 mm"
 angle = "270.30 deg"
+
+[[reference]]
+name = "a measured campaign's RMSE of MT_s"
+output = "g_rmse_torque_mNm"
+value = "0.5 mN*m"
+source = "test"
+role = "validation"
 )";
   const std::string path = d.file("study.toml");
   test::write_text(path, text);
@@ -69,7 +76,10 @@ TEST(GimbalStudy, SamplesIdenticalForOneAndTwoThreadsAndReplay) {
   EXPECT_NE(a.find("g_rmse_torque_mNm"), std::string::npos);
   const json s = json::parse(test::read_text(d.file("t1/summary.json")));
   EXPECT_EQ(s["failures"]["count"], 0);
-  EXPECT_EQ(s["paper_comparison"].size(), 1u);
+  ASSERT_EQ(s["references"].size(), 1u);
+  EXPECT_EQ(s["references"][0]["output"], "g_rmse_torque_mNm");
+  EXPECT_NEAR(s["references"][0]["reference"].get<double>(), 0.5, 1e-12);  // in the output's unit, mN*m
+  EXPECT_TRUE(s["references"][0]["verdict"] == "agrees" || s["references"][0]["verdict"] == "disagrees");
   const json r = replay_sample(study, 3, options("", 1));
   EXPECT_EQ(r["status"], "ok");
   // Row 3 of samples.csv holds the same RMSE.
@@ -174,8 +184,8 @@ TEST(GimbalStudy, StudyKeysChangeTheTestPlan) {
       c, {{"group.positions", "18"}, {"group.g.placement", "back_and_forth"}, {"rotor.mass", "2 kg"}});
   ASSERT_EQ(rest.size(), 1u);
   EXPECT_EQ(rest.at("rotor.mass"), "2 kg");
-  EXPECT_EQ(c.groups[0].positions, 18u);
-  EXPECT_EQ(c.groups[0].placement, "back_and_forth");
+  EXPECT_EQ(gimbal_sections(c).groups[0].positions, 18u);
+  EXPECT_EQ(gimbal_sections(c).groups[0].placement, "back_and_forth");
   for (const auto& [key, value, expected] :
        std::vector<std::tuple<std::string, std::string, std::string>>{
            {"group.positions", "3", "an integer in [4, 3600]"},

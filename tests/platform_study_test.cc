@@ -8,6 +8,7 @@
 
 #include "kinds/platform_balancing/platform_model.h"
 #include "kinds/platform_balancing/platform_study.h"
+#include "kinds/platform_balancing/platform_study_config.h"
 #include "engine/study_config.h"
 #include "engine/result_io.h"
 #include "engine/study_runner.h"
@@ -102,8 +103,8 @@ CampaignOutcome campaign(const std::string& study_path, std::size_t i) {
   const models::Platform built = study.as_built(d);
   CampaignOutcome out;
   out.before = study.residual(built).perpendicular;
-  for (std::size_t o = 0; o < cfg.platform.orders.size(); ++o) {
-    const CampaignResult c = study.run_campaign(i, built, d, cfg.platform.orders[o], *ws);
+  for (std::size_t o = 0; o < platform_sections(cfg).platform.orders.size(); ++o) {
+    const CampaignResult c = study.run_campaign(i, built, d, platform_sections(cfg).platform.orders[o], *ws);
     out.after_by_order[o] = study.residual(c.platform).perpendicular;
   }
   out.after = out.after_by_order[0];

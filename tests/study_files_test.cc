@@ -8,6 +8,7 @@
 #include "engine/study_config.h"
 #include "engine/study_runner.h"
 #include "engine/toml_reader.h"
+#include "kinds/seeker_los/seeker_los_sections.h"
 #include "test_util.h"
 
 namespace poise::studies {
@@ -190,8 +191,8 @@ TEST(StudyFile, ValidStudyLoads) {
   EXPECT_EQ(study_error(d, study_text()), "(no error)");
   const StudyConfig c = load_study(d.file("study.toml"));
   EXPECT_EQ(c.samples, 64u);
-  EXPECT_TRUE(c.requirement_in_pixels);
-  EXPECT_DOUBLE_EQ(c.requirement, 1.0);
+  EXPECT_TRUE(seeker_sections(c).requirement_in_pixels);
+  EXPECT_DOUBLE_EQ(seeker_sections(c).requirement, 1.0);
 }
 
 TEST(StudyFile, UnknownKeyWithLine) {

@@ -7,6 +7,7 @@
 
 #include "cli/diagnose_command.h"
 #include "cli/fit_command.h"
+#include "cli/keys_command.h"
 #include "cli/optimize_command.h"
 #include "cli/record_command.h"
 #include "core/version.h"
@@ -23,14 +24,8 @@ A study file (TOML) names a model file, how to sample its tolerances and what to
 Every value carries its unit ("0.004 mm", "82 mm", "30 deg", "4 arcsec"); unknown keys,
 missing units and non-physical values are refused with file, line, key and what was expected.
 
-Study kinds: seeker_los (LOS error of a two-axis seeker from shafting tolerances, Wang 2011),
-gimbal_static_unbalance (the static-unbalance test of a gimbal axis simulated end to end
-with SUNDIALS: turntable positions, servo-driven oscillation, current integration, sine fit,
-counterweight; Yang 2015) and balancing_machine (the spring-plate vertical balancing machine
-of Wang 2014: every run integrated from rest to steady state, sensors with gain error and
-noise, synchronous demodulation, closed-form and influence-coefficient estimates; the
-separation, U_mar, stability, URR and accuracy experiments).
-
+Study kinds (each a module; `poise keys KIND` lists its study and model keys):
+%KINDS%
 Examples:
   poise validate studies/los_seeker_wang2011.toml
   poise run studies/los_seeker_wang2011.toml
@@ -87,7 +82,9 @@ int main(int argc, char** argv) {
 }
 
 int run_main(int argc, char** argv) {
-  CLI::App app{kDescription, "poise"};
+  std::string description = kDescription;
+  description.replace(description.find("%KINDS%"), 7, poise::cli::study_kinds_text());
+  CLI::App app{description, "poise"};
   app.set_version_flag("--version", std::string("poise ") + poise::kVersion + " (" + poise::kGitCommit + ")");
   app.require_subcommand(1);
 
@@ -114,7 +111,7 @@ int run_main(int argc, char** argv) {
   run->add_option("--out,-o", opt.out, "result folder (default results/<study>/<run id>); must not hold a run");
   run->add_option("--results-root", opt.results_root, "where default result folders go (default: results)");
   run->add_option("--resume", opt.resume,
-                  "continue an interrupted gimbal or balancing-machine run in this folder: keeps its samples.csv rows, "
+                  "continue an interrupted run in this folder: keeps its samples.csv rows, "
                   "computes the rest (same seed and sample count; the study files must be unchanged)")
       ->excludes("--out")
       ->excludes("--samples")
@@ -164,6 +161,7 @@ int run_main(int argc, char** argv) {
   const poise::cli::DiagnoseHandler diagnose = poise::cli::add_diagnose_command(app);
   const auto record = poise::cli::add_record_commands(app);
   const poise::cli::OptimizeHandler optimize = poise::cli::add_optimize_command(app);
+  const poise::cli::KeysHandler keys = poise::cli::add_keys_command(app);
 
   CLI11_PARSE(app, argc, argv);
   if (poise::sampling::Cluster::size() > 1 && !*run && !*sens) {
@@ -177,6 +175,7 @@ int run_main(int argc, char** argv) {
   if (const auto status = diagnose()) return *status;
   if (const auto status = record()) return *status;
   if (const auto status = optimize()) return *status;
+  if (const auto status = keys()) return *status;
   if (samples > 0) opt.samples = samples;
   if (max_samples > 0) opt.max_samples = max_samples;
   if (*sens) {

@@ -1,5 +1,7 @@
 #include "engine/model_overrides.h"
 
+#include "engine/references.h"
+
 namespace poise::studies {
 namespace {
 
@@ -75,6 +77,8 @@ ModelHeader read_model_header(TomlReader& root, const std::string& kind) {
   h.name = t.string("name");
   h.title = t.string("title", "");
   h.source = t.string("source", "");
+  // [[reference]] tables: figures to compare with, read by the engine (engine/references.h).
+  read_references(root);
   return h;
 }
 

@@ -20,7 +20,8 @@ struct ModelDocument {
 };
 ModelDocument open_model_file(const std::string& path, const std::map<std::string, std::string>& overrides);
 
-/// The [model] table every model file starts with; `kind` is the only accepted kind.
+/// The [model] table every model file starts with; `kind` is the only accepted kind. Also
+/// reads the file's [[reference]] tables (their errors are the file's).
 struct ModelHeader {
   std::string name, title, source;
 };

@@ -258,11 +258,7 @@ std::string run_procedure_study(const StudyConfig& cfg_in, const StudyFactory& m
   }
   // Report.
   std::ostringstream h;
-  h << "<!DOCTYPE html><html lang='en'><head><meta charset='utf-8'><title>Poise: " << html_escape(cfg.name)
-    << "</title><style>body{font-family:Helvetica,Arial,sans-serif;max-width:1100px;margin:2em auto;color:#222}"
-       "table{border-collapse:collapse}td,th{border:1px solid #bbb;padding:3px 8px;text-align:right}"
-       "th{background:#eef}td.l,th.l{text-align:left}small{color:#666}pre{background:#f6f6f6;padding:0.8em;"
-       "white-space:pre-wrap}</style></head><body>\n<h1>"
+  h << report_page_head(cfg.name) << "<h1>"
     << html_escape(cfg.title.empty() ? cfg.name : cfg.title) << "</h1>\n<p>Study <code>" << html_escape(cfg.file) << "</code>, model <code>"
     << html_escape(cfg.model_path) << "</code> (" << html_escape(study.model_source()) << "). " << ran << " simulated samples ("
     << sampling::to_string(cfg.method) << ", seed " << seed << "), " << mc.failures << " failed.</p>\n";
@@ -291,7 +287,7 @@ std::string run_procedure_study(const StudyConfig& cfg_in, const StudyFactory& m
   if (!plot_note.empty()) h << "<p>" << html_escape(plot_note) << "</p>\n";
   h << figures_html(pdir, figures);
   if (!cfg.notes.empty()) h << "<h2>Notes of the study</h2>\n<pre>" << html_escape(cfg.notes) << "</pre>\n";
-  h << "<h2>Provenance</h2>\n<pre>" << html_escape(s["provenance"].dump(2)) << "\n" << html_escape(s["solver"].dump(2))
+  h << provenance_html(s["provenance"]) << "<h3>Solver</h3>\n<pre>" << html_escape(s["solver"].dump(2))
     << "</pre>\n</body></html>\n";
   write_file_atomic((fs::path(dir) / "report.html").string(), h.str());
   if (options.progress) std::fprintf(stderr, "poise: report %s\n", (fs::path(dir) / "report.html").c_str());

@@ -37,7 +37,7 @@ std::vector<ReferenceFigure> read_references(TomlReader& root) {
   for (auto& t : root.table_array("reference")) {
     ReferenceFigure r;
     r.file = t.context().file;
-    r.line = t.line_of("value");
+    r.line = t.line_of("output") > 0 ? t.line_of("output") : t.line_of("value");
     r.name = t.string("name");
     r.output = t.string("output", r.name);
     r.statistic = t.choice("statistic", kStatistics, "sample");

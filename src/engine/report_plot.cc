@@ -87,4 +87,41 @@ std::string figures_html(const std::filesystem::path& plots_dir, const std::vect
   return h;
 }
 
+std::string report_page_head(const std::string& title) {
+  return "<!DOCTYPE html><html lang='en'><head><meta charset='utf-8'><meta name='viewport' "
+         "content='width=device-width, initial-scale=1'><title>Poise: " +
+         html_escape(title) +
+         "</title><style>"
+         "body{font-family:Helvetica,Arial,sans-serif;max-width:1100px;margin:2em auto;padding:0 1em;color:#222;"
+         "line-height:1.4}"
+         "table{border-collapse:collapse;margin:0.6em 0;display:block;max-width:100%;overflow-x:auto}"
+         "td,th{border:1px solid #bbb;padding:3px 8px;text-align:right;vertical-align:top}"
+         "th{background:#eef}td.l,th.l{text-align:left}"
+         ".bad{background:#fdd}.close{background:#ffe9b3}.ok{background:#dfd}.target{background:#eee}"
+         ".answer{font-size:1.1em;border-left:4px solid #4477aa;padding:0.4em 0.8em;background:#f4f7fb}"
+         "small{color:#666}pre{background:#f6f6f6;padding:0.8em;white-space:pre-wrap}"
+         "figure.fig{margin:1em 0}figure.fig svg{max-width:100%;height:auto}"
+         "figcaption{color:#555;font-size:0.9em}"
+         "</style></head><body>\n";
+}
+
+std::string provenance_html(const nlohmann::json& p) {
+  std::string h = "<h2>Provenance</h2>\n<table>";
+  for (const auto& [key, value] : p.items()) {
+    std::string v;
+    if (value.is_string()) {
+      v = html_escape(value.get<std::string>());
+    } else if (value.is_object()) {
+      for (const auto& [k2, v2] : value.items()) {
+        v += "<code>" + html_escape(k2) + "</code> " + html_escape(v2.is_string() ? v2.get<std::string>() : v2.dump()) +
+             "<br>";
+      }
+    } else {
+      v = html_escape(value.dump());
+    }
+    h += "<tr><th class='l'>" + html_escape(key) + "</th><td class='l'>" + v + "</td></tr>\n";
+  }
+  return h + "</table>\n";
+}
+
 }  // namespace poise::studies

@@ -6,6 +6,8 @@
 #include <string>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
 namespace poise::studies {
 
 /// A perceptually uniform palette for field maps (viridis' anchor colours), as a gnuplot
@@ -28,5 +30,12 @@ bool svg_plot(const std::filesystem::path& dir, const std::string& name, const s
 std::string inline_svg(const std::filesystem::path& svg_file, const std::string& caption);
 /// inline_svg of each of `figures` (file names in plots_dir).
 std::string figures_html(const std::filesystem::path& plots_dir, const std::vector<std::string>& figures);
+
+/// The opening of every report.html: the page head with the shared style sheet (tables that
+/// fit the page, figures scaled to it, verdict colours) and the title.
+std::string report_page_head(const std::string& title);
+
+/// summary.json's "provenance" as a readable two-column table (libraries as a nested list).
+std::string provenance_html(const nlohmann::json& provenance);
 
 }  // namespace poise::studies

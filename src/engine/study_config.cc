@@ -90,18 +90,19 @@ StudyConfig load_study(const std::string& path) {
       t.error("replicate_size", std::to_string(c.replicate_size),
               "a power of two for sobol (a scrambled Sobol replicate is a 2^m net), e.g. 256 or 1024");
     }
-    if (t.has("max_failure_share")) {
-      c.max_failure_share = t.number("max_failure_share", [](double v) {
-        return v >= 0.0 && v <= 1.0 ? std::string() : std::string("a share between 0 and 1, e.g. 0.05");
-      });
+    if (t.has_or_schema("max_failure_share")) {
+      c.max_failure_share = t.number(
+          "max_failure_share",
+          [](double v) { return v >= 0.0 && v <= 1.0 ? std::string() : std::string("a share between 0 and 1, e.g. 0.05"); },
+          0.05);
     }
   }
   if (kind) c.sections = kind->read_sections(root, c);
-  if (root.has("overrides")) {
+  if (root.has_or_schema("overrides")) {
     TomlReader t = root.table("overrides");
     for (const auto& key : t.keys()) c.overrides[key] = t.string(key);
   }
-  if (root.has("output")) {
+  if (root.has_or_schema("output")) {
     TomlReader t = root.table("output");
     c.plots = t.boolean("plots", true);
     c.block = static_cast<std::size_t>(t.integer("block", 1, 1'000'000, 1024));

@@ -16,6 +16,15 @@ ToleranceSpec read_tolerance(TomlReader& parent, const std::string& key, const u
   const bool dimensionless = dim == units::kDimensionless;
   double nominal = 0.0, tol = 0.0;
   auto convention = sampling::ToleranceConvention::kBounds;
+  if (t.schema_only()) {  // `poise keys`: both forms of a tolerance
+    if (dimensionless) {
+      t.number("min");
+      t.number("max");
+    } else {
+      t.quantity("min", dim);
+      t.quantity("max", dim);
+    }
+  }
   if (t.has("min") || t.has("max")) {
     const double lo = dimensionless ? t.number("min") : t.quantity("min", dim);
     const double hi = dimensionless ? t.number("max") : t.quantity("max", dim);

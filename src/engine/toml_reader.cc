@@ -1,5 +1,6 @@
 #include "engine/toml_reader.h"
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <sstream>
@@ -22,13 +23,71 @@ SourceLocation location_of(const std::string& file, const toml::node* n) {
   return loc;
 }
 
+thread_local KeySchemaRecorder* g_recorder = nullptr;
+
+std::string describe_number(double v) {
+  std::ostringstream os;
+  os << v;
+  return os.str();
+}
+
+// "group[3].load[0].mass" -> "group[].load[].mass": the schema's form of a path.
+std::string schema_path(const std::string& path) {
+  std::string out;
+  for (std::size_t i = 0; i < path.size(); ++i) {
+    out += path[i];
+    if (path[i] == '[') {
+      while (i + 1 < path.size() && path[i + 1] != ']') ++i;
+    }
+  }
+  return out;
+}
+
+std::size_t edit_distance(const std::string& a, const std::string& b) {
+  std::vector<std::size_t> row(b.size() + 1);
+  for (std::size_t j = 0; j <= b.size(); ++j) row[j] = j;
+  for (std::size_t i = 1; i <= a.size(); ++i) {
+    std::size_t diag = row[0];
+    row[0] = i;
+    for (std::size_t j = 1; j <= b.size(); ++j) {
+      const std::size_t up = row[j];
+      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diag + (a[i - 1] == b[j - 1] ? 0 : 1)});
+      diag = up;
+    }
+  }
+  return row[b.size()];
+}
+
+// The key asked for at the same place as the unknown `path` whose name is nearest to it.
+std::string nearest_key(const std::string& path, const ReadContext& ctx) {
+  const std::string sp = schema_path(path);
+  const auto dot = sp.rfind('.');
+  const std::string parent = dot == std::string::npos ? "" : sp.substr(0, dot);
+  const std::string name = dot == std::string::npos ? sp : sp.substr(dot + 1);
+  std::string best;
+  std::size_t best_d = std::max<std::size_t>(2, name.size() / 3) + 1;
+  for (const auto& k : ctx.asked) {
+    const auto kd = k.path.rfind('.');
+    const std::string kp = kd == std::string::npos ? "" : k.path.substr(0, kd);
+    const std::string kn = kd == std::string::npos ? k.path : k.path.substr(kd + 1);
+    if (kp != parent || kn == name) continue;
+    const std::size_t d = edit_distance(name, kn);
+    if (d < best_d) {
+      best_d = d;
+      best = kn;
+    }
+  }
+  return best;
+}
+
 void walk_unknown(const toml::table& t, const std::string& prefix, ReadContext& ctx) {
   for (const auto& [k, v] : t) {
     const std::string path = prefix.empty() ? std::string(k.str()) : prefix + "." + std::string(k.str());
     if (!ctx.used.count(path)) {
+      const std::string near = nearest_key(path, ctx);
       ctx.errors.emplace_back(location_of(ctx.file, &v), path, describe_node(v),
-                              "no such key here (unknown key; check the spelling against the "
-                              "documented keys)");
+                              near.empty() ? "no such key here (unknown key; `poise keys KIND` lists the keys)"
+                                           : "no such key here (unknown key); did you mean '" + near + "'?");
       continue;
     }
     if (const auto* sub = v.as_table()) walk_unknown(*sub, path, ctx);
@@ -71,7 +130,25 @@ std::string describe_node(const toml::node& n) {
   return os.str();
 }
 
+KeySchemaRecorder::KeySchemaRecorder(std::string kind) : kind_(std::move(kind)), previous_(g_recorder) {
+  g_recorder = this;
+}
+KeySchemaRecorder::~KeySchemaRecorder() { g_recorder = previous_; }
+KeySchemaRecorder* KeySchemaRecorder::active() { return g_recorder; }
+
+void KeySchemaRecorder::add(const ReadContext& ctx) {
+  auto& into = ctx.file == kSchemaStudyFile ? study_keys : model_keys;
+  for (const auto& k : ctx.asked) {
+    if (std::none_of(into.begin(), into.end(), [&](const KeyDoc& d) { return d.path == k.path; })) into.push_back(k);
+  }
+}
+
 toml::table parse_toml_file(const std::string& path) {
+  if (const KeySchemaRecorder* rec = KeySchemaRecorder::active()) {
+    toml::table t;
+    if (path == kSchemaStudyFile) t.insert("study", toml::table{{"kind", rec->kind()}});
+    return t;
+  }
   // Only regular files of sane size: a directory would read as an empty file, a device
   // such as /dev/zero or a FIFO would be read forever.
   std::error_code ec;
@@ -122,6 +199,14 @@ int TomlReader::line_of(const std::string& key) const {
   return n ? static_cast<int>(n->source().begin.line) : 0;
 }
 
+void TomlReader::ask(const std::string& key, const std::string& expected, const std::string& fallback, bool required) {
+  const std::string p = schema_path(path(key));
+  for (const auto& k : ctx_->asked) {
+    if (k.path == p) return;
+  }
+  ctx_->asked.push_back({p, expected, fallback, required});
+}
+
 const toml::node* TomlReader::node(const std::string& key) {
   const toml::node* n = table_->get(key);
   if (n) ctx_->used.insert(path(key));
@@ -130,6 +215,7 @@ const toml::node* TomlReader::node(const std::string& key) {
 
 void TomlReader::error(const std::string& key, const std::string& value,
                        const std::string& expected) {
+  if (schema_only()) return;
   const toml::node* n = table_->get(key);
   SourceLocation loc = location_of(ctx_->file, n);
   if (!n) {  // missing key: point at the table
@@ -141,6 +227,7 @@ void TomlReader::error(const std::string& key, const std::string& value,
 
 TomlReader TomlReader::table(const std::string& key, bool required) {
   static const toml::table kEmpty;
+  ask(key, "a table [" + schema_path(path(key)) + "]", required ? "" : "(optional)", required);
   const toml::node* n = node(key);
   if (!n) {
     if (required) error(key, "", "a table [" + path(key) + "] (missing)");
@@ -165,8 +252,11 @@ std::vector<std::string> TomlReader::keys() const {
 }
 
 std::vector<TomlReader> TomlReader::table_array(const std::string& key) {
+  static const toml::table kEmpty;
   std::vector<TomlReader> out;
+  ask(key, "tables [[" + schema_path(path(key)) + "]]", "(optional)", false);
   const toml::node* n = node(key);
+  if (!n && schema_only()) out.emplace_back(kEmpty, ctx_, path(key) + "[]");  // its keys, for the schema
   if (!n) return out;
   const auto* arr = n->as_array();
   if (!arr || !arr->is_array_of_tables()) {
@@ -181,6 +271,7 @@ std::vector<TomlReader> TomlReader::table_array(const std::string& key) {
 }
 
 std::string TomlReader::string(const std::string& key, std::optional<std::string> fallback) {
+  ask(key, "a string", fallback ? (fallback->empty() ? "\"\"" : "\"" + *fallback + "\"") : "", !fallback);
   const toml::node* n = node(key);
   if (!n) {
     if (!fallback) error(key, "", "a string (missing)");
@@ -193,6 +284,14 @@ std::string TomlReader::string(const std::string& key, std::optional<std::string
 
 std::string TomlReader::choice(const std::string& key, const std::vector<std::string>& choices,
                                std::optional<std::string> fallback) {
+  std::string options;
+  for (const auto& c : choices) options += (options.empty() ? "\"" : " | \"") + c + "\"";
+  ask(key, "one of " + options, fallback ? "\"" + *fallback + "\"" : "", !fallback);
+  if (schema_only()) {
+    const toml::node* n = node(key);
+    if (n && n->is_string()) return n->as_string()->get();
+    return fallback ? *fallback : choices.front();
+  }
   const bool present = has(key);
   std::string v = string(key, fallback ? fallback : std::optional<std::string>(""));
   if (!present && !fallback) {
@@ -214,6 +313,16 @@ double TomlReader::quantity(const std::string& key, const units::Dimension& dim,
                             const std::function<std::string(double)>& check,
                             std::optional<double> fallback) {
   const std::string example = units::example_unit(dim);
+  ask(key, units::dimension_name(dim) + " with its unit, e.g. \"1 " + example + "\"",
+      fallback ? units::format(*fallback, example) : "", !fallback);
+  if (schema_only()) {  // a value the check accepts, so that readers go on
+    node(key);
+    if (fallback) return *fallback;
+    for (double v : {1.0, 0.5, 0.0, -1.0}) {
+      if (!check || check(v).empty()) return v;
+    }
+    return 1.0;
+  }
   const toml::node* n = node(key);
   if (!n) {
     if (!fallback) {
@@ -255,6 +364,15 @@ double TomlReader::quantity(const std::string& key, const units::Dimension& dim,
 
 double TomlReader::number(const std::string& key, const std::function<std::string(double)>& check,
                           std::optional<double> fallback) {
+  ask(key, "a plain number (no unit)", fallback ? describe_number(*fallback) : "", !fallback);
+  if (schema_only()) {
+    node(key);
+    if (fallback) return *fallback;
+    for (double v : {1.0, 0.5, 0.0, -1.0}) {
+      if (!check || check(v).empty()) return v;
+    }
+    return 1.0;
+  }
   const toml::node* n = node(key);
   if (!n) {
     if (!fallback) error(key, "", "a number (missing)");
@@ -284,6 +402,7 @@ double TomlReader::number(const std::string& key, const std::function<std::strin
 std::int64_t TomlReader::integer(const std::string& key, std::int64_t min, std::int64_t max,
                                  std::optional<std::int64_t> fallback) {
   const std::string range = "an integer from " + std::to_string(min) + " to " + std::to_string(max);
+  ask(key, range, fallback ? std::to_string(*fallback) : "", !fallback);
   const toml::node* n = node(key);
   if (!n) {
     if (!fallback) error(key, "", range + " (missing)");
@@ -298,6 +417,7 @@ std::int64_t TomlReader::integer(const std::string& key, std::int64_t min, std::
 }
 
 bool TomlReader::boolean(const std::string& key, std::optional<bool> fallback) {
+  ask(key, "true or false", fallback ? (*fallback ? "true" : "false") : "", !fallback);
   const toml::node* n = node(key);
   if (!n) {
     if (!fallback) error(key, "", "true or false (missing)");
@@ -310,6 +430,7 @@ bool TomlReader::boolean(const std::string& key, std::optional<bool> fallback) {
 
 std::vector<std::string> TomlReader::string_array(const std::string& key) {
   std::vector<std::string> out;
+  ask(key, "an array of strings", "", true);
   const toml::node* n = node(key);
   if (!n) {
     error(key, "", "an array of strings (missing)");
@@ -343,6 +464,10 @@ void TomlReader::accept_notes() {
 }
 
 void finish(const toml::table& root, ReadContext& ctx) {
+  if (KeySchemaRecorder* rec = KeySchemaRecorder::active()) {
+    rec->add(ctx);
+    return;
+  }
   walk_unknown(root, "", ctx);
   if (!ctx.errors.empty()) {
     std::stable_sort(ctx.errors.begin(), ctx.errors.end(), [](const InputError& a, const InputError& b) {

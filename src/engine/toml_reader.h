@@ -39,12 +39,46 @@ inline constexpr std::uintmax_t kMaxInputFileBytes = std::uintmax_t{64} << 20;
 /// kMaxInputFileBytes is refused with a ValidationError.
 toml::table parse_toml_file(const std::string& path);
 
-/// Shared state of one file's reading: file name, used keys, errors.
+/// A key a reader asked for: the code's own schema of a file (`poise keys`, "did you mean").
+struct KeyDoc {
+  std::string path;      ///< dotted, arrays of tables as "group[].load[].mass"
+  std::string expected;  ///< what the value must be ("a length with its unit, e.g. \"1 mm\"")
+  std::string fallback;  ///< the default when absent ("" = required or none)
+  bool required = false;
+};
+
+/// Shared state of one file's reading: file name, used keys, keys asked for, errors.
 struct ReadContext {
   std::string file;
   std::set<std::string> used;
   std::vector<InputError> errors;
+  std::vector<KeyDoc> asked;  ///< every key asked for, in order (first ask of each path)
 };
+
+/// Records the schema of the files read on this thread while it lives (`poise keys`): every
+/// file reads as an empty document (a study file as one whose [study] kind is `kind`), every
+/// key asked for is recorded, and no error is reported.
+class KeySchemaRecorder {
+ public:
+  explicit KeySchemaRecorder(std::string kind);
+  ~KeySchemaRecorder();
+  KeySchemaRecorder(const KeySchemaRecorder&) = delete;
+  KeySchemaRecorder& operator=(const KeySchemaRecorder&) = delete;
+  /// The recorder of this thread, or nullptr.
+  static KeySchemaRecorder* active();
+  const std::string& kind() const { return kind_; }
+  /// Keys of the study file and of the model file, in the order they were asked for.
+  std::vector<KeyDoc> study_keys, model_keys;
+  /// Adds what a reading context asked (study or model file by its name).
+  void add(const ReadContext& ctx);
+
+ private:
+  std::string kind_;
+  KeySchemaRecorder* previous_;
+};
+
+/// The file name a study file is read under while a KeySchemaRecorder is active.
+inline constexpr const char* kSchemaStudyFile = "(study file)";
 
 /// A view of one table with a dotted path prefix ("yaw.perpendicularity").
 class TomlReader {
@@ -52,6 +86,9 @@ class TomlReader {
   TomlReader(const toml::table& table, std::shared_ptr<ReadContext> ctx, std::string prefix = "");
 
   bool has(const std::string& key) const;
+  /// has(key), or true while the schema is recorded (so that an optional section's keys are
+  /// listed by `poise keys`): the gate of an optional table or key.
+  bool has_or_schema(const std::string& key) const { return has(key) || schema_only(); }
   /// A sub-table; a missing required one is an error (an empty view is returned).
   TomlReader table(const std::string& key, bool required = true);
   /// Keys of this table in file order.
@@ -84,6 +121,11 @@ class TomlReader {
   void accept_all();
   /// Reads the optional free-text keys `notes` and `source` (a model's reasoning).
   void accept_notes();
+  /// Records that `key` is read here (its schema: what is expected, its default), for a
+  /// key read from raw() rather than through an accessor, which records its own.
+  void ask(const std::string& key, const std::string& expected, const std::string& fallback, bool required);
+  /// Whether this reading only records the schema (KeySchemaRecorder).
+  bool schema_only() const { return KeySchemaRecorder::active() != nullptr; }
   /// Line of key in the file (0 if absent).
   int line_of(const std::string& key) const;
   const std::string& prefix() const { return prefix_; }
@@ -99,8 +141,10 @@ class TomlReader {
   std::string prefix_;
 };
 
-/// Walks the document and records an "unknown key" error for every key not read,
-/// then throws ValidationError if the context holds any error.
+/// Walks the document and records an "unknown key" error for every key not read (with the
+/// nearest key the reader asked for at that place: "did you mean ..."), then throws
+/// ValidationError if the context holds any error. Under a KeySchemaRecorder it records
+/// the keys asked for instead and throws nothing.
 void finish(const toml::table& root, ReadContext& ctx);
 
 /// Checks for quantity(): positive, non-negative.

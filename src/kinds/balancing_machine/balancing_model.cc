@@ -61,7 +61,7 @@ BalancingModel load_balancing_model(const std::string& path, const std::map<std:
     }
     t.accept_notes();
   }
-  if (root.has("statics")) {
+  if (root.has_or_schema("statics")) {
     TomlReader t = root.table("statics");
     m.centre_offset = t.quantity("centre_offset", units::kLength, non_negative);
     t.accept_notes();

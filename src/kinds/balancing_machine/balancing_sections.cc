@@ -29,16 +29,17 @@ std::unique_ptr<KindSections> read_balancing_sections(TomlReader& root, const St
     }
     x.mass = e.quantity("mass", units::kMass, positive);
     x.radius = e.quantity("radius", units::kLength, positive);
-    if (x.type == "separation" || x.type == "umar" || x.type == "stability") {
+    const bool schema = e.schema_only();  // `poise keys`: every type's keys
+    if (schema || x.type == "separation" || x.type == "umar" || x.type == "stability") {
       x.positions = static_cast<int>(e.integer("positions", 1, 360, 8));
     }
-    if (x.type == "stability") {
+    if (schema || x.type == "stability") {
       x.surface = static_cast<int>(e.integer("surface", 1, 1000));
       x.band = e.number("band", [](double v) { return v > 0 && v < 1 ? "" : "a fraction in (0, 1), e.g. 0.12"; }, 0.12);
       x.balance_first = e.boolean("balance_first", true);
     }
-    if (x.type == "accuracy") x.piece_unbalance = e.quantity("piece_unbalance", unbalance, positive);
-    if (x.type == "urr") {
+    if (schema || x.type == "accuracy") x.piece_unbalance = e.quantity("piece_unbalance", unbalance, positive);
+    if (schema || x.type == "urr") {
       x.requirement = e.number("requirement", [](double v) { return v > 0 && v < 1 ? "" : "a fraction in (0, 1), e.g. 0.9"; });
     }
     e.string("notes", "");

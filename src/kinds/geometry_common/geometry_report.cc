@@ -57,13 +57,8 @@ void write_geometry_report(const GeometryReport& r) {
   std::ostringstream h;
   const auto& st = s["study"];
   const std::string title = st.value("title", "").empty() ? st.value("name", "") : st.value("title", "");
-  h << "<!DOCTYPE html><html lang='en'><head><meta charset='utf-8'><title>Poise: " << html_escape(st.value("name", ""))
-    << "</title><style>"
-    << "body{font-family:Helvetica,Arial,sans-serif;max-width:1100px;margin:2em auto;color:#222;line-height:1.4}"
-    << "table{border-collapse:collapse;margin:0.6em 0}td,th{border:1px solid #bbb;padding:3px 8px;text-align:right}"
-    << "th{background:#eef}td.l,th.l{text-align:left}.bad{background:#fdd}.ok{background:#dfd}"
-    << "small{color:#666}pre{background:#f6f6f6;padding:0.8em;white-space:pre-wrap}img{max-width:100%}"
-    << "</style></head><body>\n<h1>" << html_escape(title) << "</h1>\n<p>Study <code>"
+  h << report_page_head(st.value("name", ""))
+    << "<h1>" << html_escape(title) << "</h1>\n<p>Study <code>"
     << html_escape(st.value("file", "")) << "</code>, model <code>" << html_escape(st.value("model_file", ""))
     << "</code> (" << html_escape(st.value("model_source", "")) << ").</p>\n";
   if (!st.value("notes", "").empty()) h << "<pre>" << html_escape(st.value("notes", "")) << "</pre>\n";
@@ -86,7 +81,7 @@ void write_geometry_report(const GeometryReport& r) {
     h << inline_svg(dir / "plots" / svg, caption);
   }
   if (!plot_note.empty()) h << "<p><small>" << html_escape(plot_note) << "</small></p>\n";
-  h << "<h2>Provenance</h2>\n<pre>" << html_escape(s["provenance"].dump(2)) << "</pre>\n</body></html>\n";
+  h << provenance_html(s["provenance"]) << "</body></html>\n";
   write_file_atomic((dir / "report.html").string(), h.str());
 }
 

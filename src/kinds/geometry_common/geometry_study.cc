@@ -11,6 +11,7 @@ void read_geometry_study(TomlReader& root, const std::string& kind, GeometryStud
     s.rays_per_side = static_cast<int>(t.integer("rays_per_side", 4, 20000, 200));
     s.per_part = t.choice("grid", {"per_part", "one_scene"}, "per_part") == "per_part";
     s.export_mesh = t.boolean("export_mesh", true);
+    t.ask("convergence", "an array of ray counts per side, each 4..4000", "[25, 50, 100, 200, 400]", false);
     if (t.has("convergence")) {
       s.convergence.clear();
       const toml::array* a = t.raw()["convergence"].as_array();
@@ -29,7 +30,7 @@ void read_geometry_study(TomlReader& root, const std::string& kind, GeometryStud
       if (!ok) t.error("convergence", "", "an array of ray counts per side, each 4..4000, e.g. [25, 50, 100, 200]");
     }
   } else if (kind == "seeker_los") {
-    if (root.has("clearance")) {
+    if (root.has_or_schema("clearance")) {
       TomlReader t = root.table("clearance");
       s.clearance_output = t.boolean("output");
       s.clearance_yaw_points = static_cast<std::size_t>(t.integer("yaw_points", 1, 101, 3));
@@ -45,7 +46,7 @@ void read_geometry_study(TomlReader& root, const std::string& kind, GeometryStud
       TomlReader t = root.table("beam");
       s.beam_rays = static_cast<int>(t.integer("rays", 16, 1'000'000, 1024));
     }
-    if (root.has("clearance")) {
+    if (root.has_or_schema("clearance")) {
       TomlReader t = root.table("clearance");
       s.clearance_per_sample = t.boolean("per_sample", true);
       s.clearance_warn = t.quantity("warn_below", units::kLength, non_negative, 0.5e-3);

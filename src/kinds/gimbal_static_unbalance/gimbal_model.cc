@@ -134,11 +134,11 @@ GimbalModel load_gimbal_model(const std::string& path,
     t.accept_notes();
   }
   read_test_plan_tables(root, m.plan);
-  if (root.has("servo")) {
+  if (root.has_or_schema("servo")) {
     m.plan.servo.inertia_estimate = root.table("servo").quantity("inertia_estimate", kInertia, positive);
   }
   m.counterweight_radius = root.table("counterweight").quantity("radius", units::kLength, positive);
-  if (root.has("disturbances")) {  // effects the test's model does not declare; off by default
+  if (root.has_or_schema("disturbances")) {  // effects the test's model does not declare; off by default
     TomlReader t = root.table("disturbances");
     auto& d = m.disturbances;
     d.offset_drift_rate = t.quantity("offset_drift_rate", units::Dimension{{0, 0, -1, 1, 0, 0}}, {}, 0.0);
@@ -166,7 +166,7 @@ GimbalModel load_gimbal_model(const std::string& path,
     m.counterweight_angle = read_scoped_tolerance(t, "counterweight_angle", units::kAngle, "deg");
   }
   std::string disk_model;
-  if (root.has("geometry")) {
+  if (root.has_or_schema("geometry")) {
     TomlReader t = root.table("geometry");
     disk_model = t.string("disk_model");  // "" = off
     if (!disk_model.empty()) {

@@ -74,7 +74,7 @@ PlatformModel load_platform_model(const std::string& path, const std::map<std::s
     m.gimbals[static_cast<std::size_t>(a)] = read_gimbal(t);
   }
   read_test_plan_tables(root, m.plan);
-  if (root.has("solver")) {
+  if (root.has_or_schema("solver")) {
     const double smoothing = root.table("solver").quantity("coulomb_smoothing", kAngularRate, positive);
     for (auto& g : m.gimbals) g.bearing.coulomb_smoothing = smoothing;
   }

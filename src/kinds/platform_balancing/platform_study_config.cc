@@ -88,7 +88,7 @@ void read_platform_section(TomlReader& root, const std::string& study_path, Plat
       c.vibration.push_back(line);
     }
   }
-  if (t.has("shafting")) {
+  if (t.has_or_schema("shafting")) {
     TomlReader s = t.table("shafting");
     const std::string rel = s.string("study");
     c.shafting_study = (std::filesystem::path(study_path).parent_path() / rel).lexically_normal().string();

@@ -3,7 +3,7 @@
 namespace poise::studies {
 
 std::optional<geometry::SeekerGeometry> read_seeker_geometry(TomlReader& root, double yaw_span, double pitch_span) {
-  if (!root.has("geometry")) return std::nullopt;
+  if (!root.has_or_schema("geometry")) return std::nullopt;
   TomlReader t = root.table("geometry");
   geometry::SeekerGeometry g;
   g.yaw_span = yaw_span;

@@ -26,8 +26,8 @@ class SeekerLosKind final : public StudyKind {
   std::vector<OutputSpec> outputs(const StudyConfig& cfg) const override {
     std::vector<OutputSpec> out;
     for (const auto& o : kSeekerOutputs) out.push_back({o.name, o.unit, o.description});
+    const SeekerModel model = load_seeker_model(cfg.model_path, cfg.overrides);  // validates the overrides
     if (seeker_sections(cfg).geometry.clearance_output) {
-      const SeekerModel model = load_seeker_model(cfg.model_path, cfg.overrides);
       if (!model.geometry) {
         throw ValidationError({InputError(SourceLocation{cfg.file, 0, 0}, "clearance.output", "true",
                                           "a seeker model with a [geometry] section (" + cfg.model_path +

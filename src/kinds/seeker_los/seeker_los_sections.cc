@@ -43,7 +43,7 @@ std::unique_ptr<KindSections> read_seeker_los_sections(TomlReader& root, const S
         static_cast<std::size_t>(s.integer("samples", 1, 1'000'000'000, static_cast<std::int64_t>(cfg.samples)));
     c->sweeps.push_back(sw);
   }
-  if (root.has("output")) {
+  if (root.has_or_schema("output")) {
     TomlReader t = root.table("output");
     c->contribution_samples = static_cast<std::size_t>(t.integer("contribution_samples", 0, 1'000'000'000, 4096));
   }

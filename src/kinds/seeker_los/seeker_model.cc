@@ -33,7 +33,7 @@ SeekerAxis read_axis(TomlReader& root, const std::string& name) {
   t.string("span_source", "");
   axis.perpendicularity = read_tolerance(t, "perpendicularity", kLength, "mm");
   for (const auto& def : kBearingSources) {
-    if (!t.has(def.name)) continue;
+    if (!t.has_or_schema(def.name)) continue;
     BearingSource src;
     src.name = def.name;
     src.load_scaled = def.load_scaled;

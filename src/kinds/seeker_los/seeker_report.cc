@@ -1,7 +1,9 @@
 #include "kinds/seeker_los/seeker_report.h"
 #include "engine/references.h"
+#include "engine/report_figures.h"
 #include "engine/report_plot.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -52,16 +54,8 @@ void write_report(const ReportInputs& in) {
   std::vector<std::string> figures;  // (svg file names)
   std::string plot_note;
 
-  if (in.plots && !in.mc.los_max_sorted.empty()) {
+  if (in.plots && !in.mc.values.empty()) {
     // Data.
-    {
-      std::ofstream d(pdir / "los_max.dat");
-      d << "# los_max_arcsec  empirical_cdf\n";
-      const auto& v = in.mc.los_max_sorted;
-      for (std::size_t i = 0; i < v.size(); ++i) {
-        d << v[i] << ' ' << (static_cast<double>(i) + 0.5) / static_cast<double>(v.size()) << '\n';
-      }
-    }
     {
       std::ofstream d(pdir / "map.dat");
       d << "# yaw_deg pitch_deg p50_arcsec p95_arcsec p99_73_arcsec budget_eq8_kmax_arcsec\n";
@@ -91,33 +85,6 @@ void write_report(const ReportInputs& in) {
       }
     }
     const std::string head = "set terminal svg size 760,480 dynamic noenhanced font 'Helvetica,12'\n";
-    std::ostringstream hist;
-    hist << head << "set output 'hist_los_max.svg'\n"
-         << "set title 'Greatest LOS error over the field of regard, per sample'\n"
-         << "set xlabel 'LOS error, greatest over the field [arcsec]'\nset ylabel 'samples'\n"
-         << "stats 'los_max.dat' u 1 nooutput\nbw = (STATS_max - STATS_min) / 50.0\n"
-         << "if (bw <= 0) bw = 1\nbin(x) = bw * floor(x / bw) + bw / 2\n"
-         << "set style fill solid 0.6\nset arrow from " << req << ", graph 0 to " << req
-         << ", graph 1 nohead lw 2 lc rgb 'red'\n"
-         << "set label 'requirement " << num(req) << "\"' at " << req << ", graph 0.95 offset 0.5,0 tc rgb 'red'\n"
-         << "set xrange [0:*]\n"
-         << "plot 'los_max.dat' u (bin($1)):(1.0) smooth freq with boxes lc rgb '#4477aa' title 'Monte Carlo'\n";
-    write_file(pdir / "hist_los_max.gp", hist.str());
-    std::ostringstream cdf;
-    cdf << head << "set output 'cdf_los_max.svg'\n"
-        << "set title 'CDF of the greatest LOS error over the field, with budget figures'\n"
-        << "set xlabel 'LOS error [arcsec]'\nset ylabel 'fraction of samples'\nset key bottom right\n"
-        << "set yrange [0:1]\nset grid\nset xrange [0:*]\n"
-        << "set arrow from " << req << ", graph 0 to " << req << ", graph 1 nohead lw 2 lc rgb 'red'\n"
-        << "set label 'requirement' at " << req << ", graph 0.5 offset 0.5,0 tc rgb 'red'\n"
-        << (has_budget ? "set arrow from " + num(rssmax, 8) + ", graph 0 to " + num(rssmax, 8) +
-                             ", graph 1 nohead dt 2 lc rgb '#228833'\nset label 'declared budget, RSS method, max' at " +
-                             num(rssmax, 8) + ", graph 0.3 offset 0.5,0 tc rgb '#228833'\nset arrow from " + num(gcmax, 8) +
-                             ", graph 0 to " + num(gcmax, 8) + ", graph 1 nohead dt 3 lc rgb '#aa3377'\nset label "
-                             "'great-circle RSS max' at " + num(gcmax, 8) + ", graph 0.15 offset 0.5,0 tc rgb '#aa3377'\n"
-                       : std::string())
-        << "plot 'los_max.dat' u 1:2 with lines lw 2 lc rgb '#4477aa' title 'Monte Carlo (exact chain)'\n";
-    write_file(pdir / "cdf_los_max.gp", cdf.str());
     std::ostringstream map;
     map << head << "set output 'map_p95.svg'\n"
         << "set title 'p95 over samples of the total LOS error at each gimbal angle [arcsec]'\n"
@@ -132,7 +99,7 @@ void write_report(const ReportInputs& in) {
          << kViridisPalette << "set cblabel 'arcsec'\n"
          << "splot 'budget_map.dat' u 1:2:5 with pm3d notitle\n";
     write_file(pdir / "budget_map.gp", bmap.str());
-    std::vector<std::string> scripts = {"hist_los_max", "cdf_los_max", "map_p95"};
+    std::vector<std::string> scripts = {"map_p95"};
     if (has_budget) scripts.push_back("budget_map");
     // Sweeps.
     int si = 0;
@@ -140,26 +107,60 @@ void write_report(const ReportInputs& in) {
       const std::string base = "sweep_" + std::to_string(si++);
       std::ofstream d(pdir / (base + ".dat"));
       d << "# " << sw["parameter"].get<std::string>()
-        << " value_as_written | p50 p95 p99_73 of los_max [arcsec] | budget max (paper method) | great-circle max\n";
+        << " value_si value_as_written | p50 p95 p95_lo p95_hi p99_73 of los_max [arcsec] | RSS budget max | great-circle max\n";
       for (const auto& p : sw["points"]) {
         if (!p.contains("los_max_arcsec")) continue;
         const auto& l = p["los_max_arcsec"];
-        d << '"' << p["value"].get<std::string>() << "\" " << num_json(l["p50"]["value"], 8) << ' '
-          << num_json(l["p95"]["value"], 8) << ' ' << num_json(l["p99_73"]["value"], 8) << ' '
-          << p["budget_rss_max_arcsec"].get<double>() << ' '
-          << p["budget_great_circle_max_arcsec"].get<double>() << '\n';
+        auto end = [&](const json& e, int k) { return e["ci95"][k].is_number() ? e["ci95"][k] : e["value"]; };
+        d << p["value_si"].get<double>() << " \"" << p["value"].get<std::string>() << "\" " << num_json(l["p50"]["value"], 8)
+          << ' ' << num_json(l["p95"]["value"], 8) << ' ' << num_json(end(l["p95"], 0), 8) << ' '
+          << num_json(end(l["p95"], 1), 8) << ' ' << num_json(l["p99_73"]["value"], 8) << ' '
+          << p["budget_rss_max_arcsec"].get<double>() << ' ' << p["budget_great_circle_max_arcsec"].get<double>() << '\n';
       }
       std::ostringstream g;
       g << head << "set output '" << base << ".svg'\n"
         << "set title 'Greatest LOS error over the field vs " << sw["parameter"].get<std::string>() << "'\n"
-        << "set xlabel '" << sw["parameter"].get<std::string>() << "'\nset ylabel 'arcsec'\nset grid\n"
-        << "set key top right\nset yrange [0:*]\n"
-        << "plot '" << base << ".dat' u 0:2:xtic(1) w lp lw 2 t 'MC p50', '' u 0:3 w lp lw 2 t 'MC p95', "
-        << "'' u 0:4 w lp lw 2 t 'MC p99.73', "
-        << (has_budget ? "'' u 0:5 w lp dt 2 t 'RSS budget max', '' u 0:6 w lp dt 3 t 'great-circle RSS max', " : "")
-        << req << " w l lc rgb 'red' lw 2 t 'requirement'\n";
+        << "set xlabel '" << sw["parameter"].get<std::string>() << " [SI]'\nset ylabel 'arcsec'\nset grid\n"
+        << "set key outside bottom center horizontal\nset yrange [0:*]\n"
+        << "plot '" << base << ".dat' u 1:5:6 with filledcurves lc rgb '#bbccee' t 'p95, 95% interval', "
+        << "'' u 1:3 w lp lw 2 t 'MC p50', '' u 1:4 w lp lw 2 t 'MC p95', '' u 1:7 w lp lw 2 t 'MC p99.73', "
+        << (has_budget ? "'' u 1:8 w lp dt 2 t 'RSS budget max', '' u 1:9 w lp dt 3 t 'great-circle RSS max', " : "")
+        << req << " w l lc rgb '#cc3311' lw 2 t 'requirement'\n";
       write_file(pdir / (base + ".gp"), g.str());
       scripts.push_back(base);
+    }
+    // The distribution of the main output with the requirement (and a declared budget) as lines.
+    if (!in.mc.values.empty()) {
+      std::vector<FigureLine> lines{{req, "requirement", "#cc3311"}};
+      if (has_budget) {
+        lines.push_back({rssmax, "declared budget, RSS method, max", "#228833"});
+        lines.push_back({gcmax, "great-circle RSS max", "#aa3377"});
+      }
+      for (const auto& c : s.value("references", json::array())) {
+        if (c["output"] == "los_max_arcsec") lines.push_back({c["reference"].get<double>(), c["name"].get<std::string>(), "#999999"});
+      }
+      std::string why;
+      if (!distribution_figures(pdir, "los_max_arcsec", "arcsec", in.mc.values[0], in.mc.ok_index, lines, figures, why)) {
+        plot_note = why;
+      }
+    }
+    if (s.contains("contributions") && s["contributions"].size() > 1) {
+      const double base_p95 = s["contributions"][0]["stats"]["los_max_p95"].get<double>();
+      std::vector<std::pair<std::string, double>> bars;
+      for (std::size_t i = 1; i < s["contributions"].size(); ++i) {
+        const auto& c = s["contributions"][i];
+        bars.emplace_back(c["without"].get<std::string>(), base_p95 - c["stats"]["los_max_p95"].get<double>());
+      }
+      std::stable_sort(bars.begin(), bars.end(), [](const auto& x, const auto& y) { return std::abs(x.second) > std::abs(y.second); });
+      std::string why;
+      if (!tornado_figure(pdir, "contributions", "Which tolerance drives the error: drop of p95 with it set to zero",
+                          "drop of p95 of the greatest LOS error [arcsec]", bars, figures, why)) {
+        plot_note = why;
+      }
+    }
+    if (s.contains("sensitivity")) {
+      std::string why;
+      if (!sensitivity_tornado(pdir, s["sensitivity"], "los_max_arcsec", figures, why)) plot_note = why;
     }
     for (const auto& sc : scripts) {
       std::string why;
@@ -176,13 +177,7 @@ void write_report(const ReportInputs& in) {
   // ---- report.html
   std::ostringstream h;
   const auto& st = s["study"];
-  h << "<!DOCTYPE html><html lang='en'><head><meta charset='utf-8'><title>Poise: "
-    << html_escape(st["name"].get<std::string>()) << "</title><style>"
-    << "body{font-family:Helvetica,Arial,sans-serif;max-width:1100px;margin:2em auto;color:#222;line-height:1.4}"
-    << "table{border-collapse:collapse;margin:0.6em 0}td,th{border:1px solid #bbb;padding:3px 8px;text-align:right}"
-    << "th{background:#eef}td.l,th.l{text-align:left}.bad{background:#fdd}.close{background:#ffe9b3}.ok{background:#dfd}"
-    << "small{color:#666}pre{background:#f6f6f6;padding:0.8em;white-space:pre-wrap}img{max-width:100%}"
-    << "</style></head><body>\n";
+  h << report_page_head(st["name"].get<std::string>());
   h << "<h1>" << html_escape(st["title"].get<std::string>().empty() ? st["name"].get<std::string>()
                                                            : st["title"].get<std::string>())
     << "</h1>\n<p>Study <code>" << html_escape(st["file"].get<std::string>()) << "</code>, model <code>"
@@ -363,7 +358,7 @@ void write_report(const ReportInputs& in) {
   if (!st["notes"].get<std::string>().empty()) {
     h << "<h2>Notes of the study</h2>\n<pre>" << html_escape(st["notes"].get<std::string>()) << "</pre>\n";
   }
-  h << "<h2>Provenance</h2>\n<pre>" << html_escape(s["provenance"].dump(2)) << "</pre>\n"
+  h << provenance_html(s["provenance"])
     << "<p><small>Files: samples.csv (one row per sample), summary.json, plots/ (data, gnuplot "
        "scripts, SVG).</small></p>\n</body></html>\n";
   write_file(dir / "report.html", h.str());

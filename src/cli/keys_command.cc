@@ -1,0 +1,61 @@
+#include "cli/keys_command.h"
+
+#include <iostream>
+#include <memory>
+
+#include <nlohmann/json.hpp>
+
+#include "engine/study_keys.h"
+#include "engine/study_kind.h"
+
+namespace poise::cli {
+
+std::string study_kinds_text() {
+  std::string out;
+  for (const auto* k : studies::study_kinds()) out += "  " + k->name() + ": " + k->summary() + ".\n";
+  return out;
+}
+
+KeysHandler add_keys_command(CLI::App& app) {
+  struct Options {
+    std::string kind;
+    bool json = false;
+  };
+  auto opt = std::make_shared<Options>();
+  CLI::App* sub = app.add_subcommand(
+      "keys", "list every key of a study kind's study and model files (generated from the program's own reading)");
+  sub->add_option("KIND", opt->kind, "a study kind (without it: the kinds)");
+  sub->add_flag("--json", opt->json, "print the keys as JSON");
+  sub->footer("Example: poise keys gimbal_static_unbalance");
+  return [sub, opt]() -> std::optional<int> {
+    if (!*sub) return std::nullopt;
+    if (opt->kind.empty()) {
+      std::cout << "Study kinds ([study] kind = ...):\n" << study_kinds_text()
+                << "\n`poise keys KIND` lists the keys of a kind's study and model files.\n";
+      return 0;
+    }
+    try {
+      studies::study_kind(opt->kind);
+    } catch (const std::exception& e) {
+      std::cerr << "poise keys: " << e.what() << '\n';
+      return 2;
+    }
+    const studies::KindKeys keys = studies::kind_keys(opt->kind);
+    if (opt->json) {
+      auto to_json = [](const std::vector<studies::KeyDoc>& v) {
+        nlohmann::json a = nlohmann::json::array();
+        for (const auto& k : v) {
+          a.push_back({{"key", k.path}, {"expected", k.expected}, {"required", k.required}, {"default", k.fallback}});
+        }
+        return a;
+      };
+      std::cout << nlohmann::json{{"kind", opt->kind}, {"study", to_json(keys.study)}, {"model", to_json(keys.model)}}.dump(2)
+                << '\n';
+    } else {
+      std::cout << studies::keys_text(opt->kind, keys);
+    }
+    return 0;
+  };
+}
+
+}  // namespace poise::cli
