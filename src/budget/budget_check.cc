@@ -36,6 +36,8 @@ Verdict compare(const Declared& d, const Range& r) {
     v.compared = "least and greatest";
     v.relative_difference_least = relative(d.least, r.least);
     v.relative_difference_greatest = relative(d.greatest, r.greatest);
+    v.verdict_least = end_agrees(d.least, r.least) ? "agrees" : "disagrees";
+    v.verdict_greatest = end_agrees(d.greatest, r.greatest) ? "agrees" : "disagrees";
     const auto& a = v.relative_difference_least;
     const auto& b = v.relative_difference_greatest;
     if (a && b) {

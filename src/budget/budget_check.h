@@ -23,6 +23,7 @@ struct Verdict {
   /// nothing is compared or the recomputed value is zero.
   std::optional<double> relative_difference;
   std::optional<double> relative_difference_least, relative_difference_greatest;  ///< ranged
+  std::string verdict_least, verdict_greatest;  ///< ranged: the verdict of each end alone
   std::string compared;  ///< "value", "least and greatest", "greatest"
   std::string slip;      ///< likely slip, when one explains the disagreement
 };

@@ -112,7 +112,10 @@ void read_field(TomlReader& root, BudgetSpec& b) {
 void read_model_part(TomlReader& t, BudgetSpec& b) {
   if (!t.has("model")) {
     for (const char* key : {"output", "samples", "seed"}) {
-      if (t.has(key)) t.error(key, "", "a model to sample: [budget] model = \"../models/x.toml\" (missing)");
+      if (t.has(key)) {
+        t.error(key, "", "a model to sample: [budget] model = \"../models/x.toml\" (missing)");
+        t.context().used.insert(t.path(key));  // said once, not again as an unknown key
+      }
     }
     return;
   }

@@ -63,6 +63,7 @@ struct LineSpec {
   std::string name;
   std::string path;  ///< "line[3]", for messages
   int line = 0;      ///< in the file
+  int name_line = 0;
   LineKind kind = LineKind::kRandom;
   bool given = false;  ///< a `value` line
   double value = 0.0;  ///< SI, when given
@@ -84,6 +85,7 @@ struct GroupSpec {
   std::string name;
   std::string path;
   int line = 0;
+  int name_line = 0, members_line = 0;
   std::vector<std::string> members;
   Combination combination = Combination::kRss;
   std::string propagation;

@@ -70,7 +70,10 @@ std::optional<double> read_value(TomlReader& t, const std::string& key, const Un
     const units::Quantity q = units::parse_quantity(s->get());
     if (q.dim == u.dimension) return q.value;
     if (allow_pixels && u.pixel && q.dim == units::kPixel) return q.value * *u.pixel;
-    t.error(key, quote_value(s->get()), what + " (" + units::dimension_name(q.dim) + " given)");
+    const bool px_hint = allow_pixels && q.dim == units::kPixel;
+    t.error(key, quote_value(s->get()),
+            what + " (" + units::dimension_name(q.dim) + " given" +
+                (px_hint ? "; [budget] pixel = \"<IFOV>\", e.g. \"18.75 arcsec\", converts pixels" : "") + ")");
   } catch (const Error& e) {
     t.error(key, quote_value(s->get()), what + " (" + e.what() + ")");
   }
@@ -130,6 +133,7 @@ LineSpec read_line(TomlReader& t, const Units& u, const std::vector<std::string>
   l.path = t.prefix();
   l.line = static_cast<int>(t.raw().source().begin.line);
   l.name = t.string("name");
+  l.name_line = t.line_of("name");
   l.kind = t.choice("kind", {"random", "bias"}, "random") == "bias" ? LineKind::kBias : LineKind::kRandom;
   t.accept_notes();
   l.model_key = t.string("model_key", "");
@@ -139,12 +143,15 @@ LineSpec read_line(TomlReader& t, const Units& u, const std::vector<std::string>
   if (t.has("value")) {
     l.given = true;
     l.value = read_value(t, "value", u, false).value_or(0.0);
+    bool extra = false;
     for (const char* key : {"tolerance", "lever", "distribution", "tolerance_is", "gain", "declared"}) {
       if (t.has(key)) {
         t.error(key, "", std::string("no ") + key + " in a line given as a value (a value line has nothing to "
                                                      "recompute; remove value or " + key + ")");
+        extra = true;
       }
     }
+    if (extra) t.accept_all();  // said once above, not again as unknown keys
     return l;
   }
   const bool angle_budget = u.dimension == units::kAngle;
@@ -156,11 +163,16 @@ LineSpec read_line(TomlReader& t, const Units& u, const std::vector<std::string>
       t.error("tolerance", "", "a tolerance (with distribution and tolerance_is), or a value: the line's "
                                "contribution as given (both missing)");
     }
+    t.accept_all();  // the line's other keys are not checked further
     return l;
   }
-  l.tolerance_text = t.string("tolerance", "");
+  auto text_of = [&](const char* key) {
+    const auto* s = t.raw().get(key) ? t.raw().get(key)->as_string() : nullptr;
+    return s ? s->get() : std::string();
+  };
+  l.tolerance_text = text_of("tolerance");
   if (t.has("lever")) {
-    l.lever_text = t.string("lever", "");
+    l.lever_text = text_of("lever");
     if (!angle_budget) {
       t.error("lever", quote_value(l.lever_text),
               "no lever in a budget in " + u.unit + " (a lever turns a length into an angle; the budget's unit is "
@@ -201,6 +213,8 @@ GroupSpec read_group(TomlReader& t, const Units& u, const std::vector<std::strin
   g.path = t.prefix();
   g.line = static_cast<int>(t.raw().source().begin.line);
   g.name = t.string("name");
+  g.name_line = t.line_of("name");
+  g.members_line = t.line_of("members");
   t.accept_notes();
   g.members = t.string_array("members");
   if (t.has("members") && g.members.empty()) t.error("members", "[]", "the names of its lines or groups (none given)");
@@ -221,18 +235,18 @@ void check_structure(const BudgetSpec& b, studies::ReadContext& ctx) {
                               "a name no other line or group has (" + it->second + " has it)");
     }
   };
-  for (const auto& l : b.lines) add(l.name, l.path, l.line);
-  for (const auto& g : b.groups) add(g.name, g.path, g.line);
+  for (const auto& l : b.lines) add(l.name, l.path, l.name_line ? l.name_line : l.line);
+  for (const auto& g : b.groups) add(g.name, g.path, g.name_line ? g.name_line : g.line);
   std::map<std::string, std::string> parent;  // member -> group
   std::map<std::string, const GroupSpec*> groups;
   for (const auto& g : b.groups) groups[g.name] = &g;
   for (const auto& g : b.groups) {
     for (const auto& m : g.members) {
       if (!where.count(m)) {
-        ctx.errors.emplace_back(SourceLocation{b.file, g.line, 0}, g.path + ".members", quote_value(m),
+        ctx.errors.emplace_back(SourceLocation{b.file, g.members_line, 0}, g.path + ".members", quote_value(m),
                                 "the name of a [[line]] or [[group]] of this file (no such name)");
       } else if (const auto [it, fresh] = parent.emplace(m, g.name); !fresh) {
-        ctx.errors.emplace_back(SourceLocation{b.file, g.line, 0}, g.path + ".members", quote_value(m),
+        ctx.errors.emplace_back(SourceLocation{b.file, g.members_line, 0}, g.path + ".members", quote_value(m),
                                 "a member of one group only (already in group \"" + it->second + "\")");
       }
     }
@@ -243,7 +257,7 @@ void check_structure(const BudgetSpec& b, studies::ReadContext& ctx) {
     for (std::size_t steps = 0; parent.count(at) && steps <= b.groups.size(); ++steps) {
       at = parent.at(at);
       if (at == g.name) {
-        ctx.errors.emplace_back(SourceLocation{b.file, g.line, 0}, g.path + ".members", quote_value(g.name),
+        ctx.errors.emplace_back(SourceLocation{b.file, g.members_line, 0}, g.path + ".members", quote_value(g.name),
                                 "groups that do not contain themselves (a cycle through group \"" + g.name + "\")");
         break;
       }

@@ -22,6 +22,8 @@ void put_verdict(json& j, const Verdict& v) {
   if (v.relative_difference_least || v.relative_difference_greatest) {
     j["relative_difference_least"] = optional_number(v.relative_difference_least);
     j["relative_difference_greatest"] = optional_number(v.relative_difference_greatest);
+    j["verdict_least"] = v.verdict_least;
+    j["verdict_greatest"] = v.verdict_greatest;
   }
   if (!v.compared.empty()) j["compared"] = v.compared;
   j["verdict"] = v.verdict;

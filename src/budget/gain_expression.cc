@@ -29,7 +29,13 @@ GainExpression::GainExpression(const std::string& text, const std::vector<std::s
     for (std::size_t i = 0; i < names.size(); ++i) parser_->DefineVar(names[i], &(*values_)[i]);
     parser_->SetExpr(text);
     // GetUsedVar parses the whole expression: syntax errors and unknown names surface here.
+    // GetUsedVar lists every name the expression uses, defined or not.
     const auto& used = parser_->GetUsedVar();
+    for (const auto& [name, address] : used) {
+      if (std::find(names.begin(), names.end(), name) == names.end()) {
+        throw Error("unknown variable '" + name + "' (the [field] defines: " + joined(names) + ")");
+      }
+    }
     for (std::size_t i = 0; i < names.size(); ++i) {
       if (used.count(names[i])) used_.push_back(i);
     }

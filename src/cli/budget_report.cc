@@ -29,6 +29,12 @@ double nice_step(double span) {
   return 10 * p;
 }
 
+std::string tick_text(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%g", std::abs(v) < 1e-12 ? 0.0 : v);
+  return buf;
+}
+
 std::string verdict_cell(const std::string& v) {
   const char* color = v == "agrees" ? "#1b7837" : v == "disagrees" ? "#b2182b" : "#555";
   return "<td style='color:" + std::string(color) + ";font-weight:bold'>" + html_escape(v) + "</td>";
@@ -75,7 +81,7 @@ std::string budget_plot_svg(const json& j, const std::vector<double>& mc) {
   for (double t = 0; t <= xmax + 1e-12; t += step) {
     s << "<line x1='" << f2(X(t)) << "' y1='" << T + ph << "' x2='" << f2(X(t)) << "' y2='" << T + ph + 5
       << "' stroke='#444'/><text x='" << f2(X(t)) << "' y='" << T + ph + 18 << "' text-anchor='middle'>"
-      << budget_number(t) << "</text>\n";
+      << tick_text(t) << "</text>\n";
   }
   for (int k = 0; k <= 4; ++k) {
     const double p = k / 4.0;

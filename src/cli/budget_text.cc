@@ -30,7 +30,12 @@ void print_item(const json& it, const std::string& unit, std::ostream& out) {
   out << ", declared " << declared_text(it["declared"], unit);
   const std::string rd = percent(it["relative_difference"]);
   if (!rd.empty()) out << " (" << rd << ")";
-  out << ": " << (verdict == "agrees" ? "agrees (within 1%)" : "DISAGREES") << '\n';
+  out << ": " << (verdict == "agrees" ? "agrees (within 1%)" : "DISAGREES");
+  if (verdict == "disagrees" && it.contains("verdict_least")) {
+    out << " (least " << it["verdict_least"].get<std::string>() << ", greatest " << it["verdict_greatest"].get<std::string>()
+        << ")";
+  }
+  out << '\n';
   if (it.contains("slip")) out << "      likely slip: " << it["slip"].get<std::string>() << '\n';
   if (it.contains("from_members_declared") && verdict == "disagrees") {
     out << "      its members' declared values give " << budget_number(it["from_members_declared"]["least"]) << " to "
@@ -109,6 +114,10 @@ void print_budget_text(const json& j, std::ostream& out) {
     const std::string rd = percent(c["relative_difference"]);
     if (!rd.empty()) out << " (" << rd << ")";
     out << ": " << (c["verdict"] == "agrees" ? "agrees" : "DISAGREES");
+    if (c["verdict"] == "disagrees" && c.contains("verdict_least")) {
+      out << " (least " << c["verdict_least"].get<std::string>() << ", greatest "
+          << c["verdict_greatest"].get<std::string>() << ")";
+    }
   }
   out << '\n';
   if (c.contains("slip")) out << "      likely slip: " << c["slip"].get<std::string>() << '\n';
