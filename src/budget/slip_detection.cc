@@ -111,12 +111,13 @@ std::string convention_slip(const BudgetEvaluator& ev, const LineSpec& l, const 
 std::string gain_slip(const BudgetEvaluator& ev, const LineSpec& l, const Declared& d) {
   const std::string& g = l.gain;
   if (g == "1") return "";
+  const std::string the_gain = "the gain (" + g + ")";
   LineSpec v = l;
-  v.gain = "1";
-  if (agrees(d, ev.line_range_as(v))) return "the gain (" + g + ") left out";
+  v.gain.assign(1, '1');  // not = "1": GCC 12's -Wrestrict false positive (PR 105329) on that assignment
+  if (agrees(d, ev.line_range_as(v))) return the_gain + " left out";
   v.gain = "1/(" + g + ")";
   try {
-    if (agrees(d, ev.line_range_as(v))) return "the gain (" + g + ") inverted: divided by where it multiplies";
+    if (agrees(d, ev.line_range_as(v))) return the_gain + " inverted: divided by where it multiplies";
   } catch (const Error&) {
   }
   const auto& field = ev.spec().field;
@@ -129,7 +130,7 @@ std::string gain_slip(const BudgetEvaluator& ev, const LineSpec& l, const Declar
     }
   }
   if (any_angle && agrees(d, ev.line_range_as(l, &scale))) {
-    return "the gain (" + g + ") evaluated with the angles in degrees as if they were radians";
+    return the_gain + " evaluated with the angles in degrees as if they were radians";
   }
   return "";
 }
