@@ -319,6 +319,61 @@ TEST(BudgetSlips, GroupFollowsFromAWrongMember) {
   EXPECT_NEAR(line(r, "g").from_members_declared->greatest / kArcsec, std::sqrt(52.0), 1e-9);
 }
 
+TEST(BudgetCombination, GroupsPropagationAndBiasesByHand) {
+  poise::test::TempDir dir;
+  // Random a (3) and b (4) in group g (rss, 5), entering with propagation 2 (10); bias c (2,
+  // fixed) and random d (normal 3sigma of 6 arcsec: 2) at the top; bias_linear_random_rss:
+  // combined = 2 + sqrt(10^2 + 2^2); at 0.9973 the random ones x m, the bias not.
+  const BudgetResult r = check_budget(load_text(dir, head("bias_linear_random_rss") + R"T(
+[[line]]
+name = "a"
+value = "3 arcsec"
+[[line]]
+name = "b"
+tolerance = "4 arcsec"
+distribution = "normal"
+tolerance_is = "1sigma"
+[[group]]
+name = "g"
+members = ["a", "b"]
+combination = "rss"
+propagation = "2"
+declared = "5 arcsec"
+[[line]]
+name = "c"
+kind = "bias"
+tolerance = "2 arcsec"
+distribution = "fixed"
+[[line]]
+name = "d"
+tolerance = "6 arcsec"
+distribution = "normal"
+tolerance_is = "3sigma"
+)T"));
+  const double m = confidence_multiple(0.9973);
+  EXPECT_EQ(line(r, "g").verdict.verdict, "agrees");  // the propagation is not part of its declared value
+  EXPECT_NEAR(r.combined.greatest / kArcsec, 2.0 + std::sqrt(100.0 + 4.0), 1e-9);
+  EXPECT_NEAR(r.at_confidence.greatest / kArcsec, 2.0 + m * std::sqrt(100.0 + 4.0), 1e-9);
+  // A group of random lines is random; a group of biases would be a bias.
+  EXPECT_FALSE(line(r, "g").bias);
+}
+
+TEST(BudgetVerdicts, OneDeclaredValueOverAFieldIsTheGreatest) {
+  const ItemResult r = one_line(R"T(
+[[line]]
+name = "x"
+tolerance = "2 arcsec"
+distribution = "normal"
+tolerance_is = "1sigma"
+gain = "1/cos(pitch)"
+declared = "2.3094 arcsec"
+)T", "[field]\npitch = [\"-30 deg\", \"30 deg\"]\n");
+  EXPECT_EQ(r.verdict.compared, "greatest");
+  EXPECT_EQ(r.verdict.verdict, "agrees");
+  EXPECT_TRUE(r.recomputed.varies());
+  EXPECT_NEAR(r.recomputed.least / kArcsec, 2.0, 1e-12);
+}
+
 // ---- The Wang 2011 budget as a file, against the built-in recomputation it replaces ----
 
 class WangBudget : public ::testing::Test {

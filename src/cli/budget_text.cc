@@ -128,7 +128,12 @@ void print_budget_text(const json& j, std::ostream& out) {
   if (c.contains("in_pixels")) {
     out << "      in pixels: " << budget_number(c["least_px"]) << " to " << budget_number(c["greatest_px"])
         << " px; declared " << declared_text(c["in_pixels"]["declared"], "px") << ": "
-        << (c["in_pixels"]["verdict"] == "agrees" ? "agrees" : "DISAGREES") << '\n';
+        << (c["in_pixels"]["verdict"] == "agrees" ? "agrees" : "DISAGREES");
+    if (c["in_pixels"]["verdict"] == "disagrees" && c["in_pixels"].contains("verdict_least")) {
+      out << " (least " << c["in_pixels"]["verdict_least"].get<std::string>() << ", greatest "
+          << c["in_pixels"]["verdict_greatest"].get<std::string>() << ")";
+    }
+    out << '\n';
   }
   const json& a = j["at_confidence"];
   char mult[32];
