@@ -260,6 +260,12 @@ void write_budget_report(const std::string& path, const json& j, const std::vect
     h << "<p><b>Warning</b>: " << html_escape(k["in"].get<std::string>()) << " names <code>"
       << html_escape(k["key"].get<std::string>()) << "</code>, which the model does not have.</p>\n";
   }
+  if (!b["notes"].get<std::string>().empty()) {
+    h << "<h2>Notes of the budget</h2>\n<pre>" << html_escape(b["notes"].get<std::string>()) << "</pre>\n";
+  }
+  if (!b["source"].get<std::string>().empty()) {
+    h << "<p><small>Source: " << html_escape(b["source"].get<std::string>()) << "</small></p>\n";
+  }
   h << "</body></html>\n";
   studies::write_file_atomic(path, h.str());
 }
