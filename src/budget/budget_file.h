@@ -9,7 +9,8 @@
 ///              requirement (optional), confidence (0 < p < 1; two-sided normal multiple),
 ///              model, output, samples, seed (optional: the Monte Carlo beside the budget),
 ///              declared = "x" or ["least", "greatest"] (optional: the author's combined figure),
-///              pixel = "18.75 arcsec" (optional IFOV: requirement and declared_in_pixels in px),
+///              pixel = "18.75 arcsec" (optional IFOV: requirement in px, and
+///              declared_in_pixels = ["0.56 px", "0.95 px"], the author's figure in pixels),
 ///              field_points (optional, default 13: grid points per [field] variable),
 ///              notes, source (free text)
 ///   [field]    variable = ["-30 deg", "30 deg"] (or [0.4, 0.96]), or

@@ -13,6 +13,7 @@ class Parser;
 
 namespace poise::budget {
 
+/// Not thread-safe: evaluate() writes the point into the variables muParser reads.
 class GainExpression {
  public:
   /// Compiles `text` over the variables `names` (values passed to evaluate() in that order).

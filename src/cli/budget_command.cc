@@ -41,12 +41,15 @@ Budget file (TOML; every value with its unit):
   requirement = "25 arcsec"    # optional
   confidence = 0.9973          # the requirement's probability: random lines x 3.0 / level
   declared = ["10 arcsec", "18 arcsec"]   # optional: the author's combined figure
+  pixel = "18.75 arcsec"       # optional IFOV: requirement = "1 px", declared_in_pixels = [...]
+  field_points = 13            # optional: grid points per [field] variable
   model = "../models/seeker_two_axis_wang2011.toml"   # optional, with output, samples, seed
   output = "los_max_arcsec"
   samples = 4000
   seed = 7
   [field]                      # optional: variables of the gains, with their ranges
   pitch = ["-30 deg", "30 deg"]
+  k = { range = [0.4, 0.96], model_key = "load_deformation" }   # a sampled model parameter
   [[line]]
   name = "pitch axis perpendicularity"
   kind = "random"              # random | bias
