@@ -116,6 +116,30 @@ TEST(BudgetCommand, UnmappedToleranceAndUnknownModelKeyAreListed) {
       << r.err;
 }
 
+TEST(BudgetCommand, MonteCarloInTheBudgetsUnit) {
+  // The same budget in urad: every figure, the Monte Carlo's included, converted (1 arcsec =
+  // 4.8481 urad); same seed, same samples, so the same quantile.
+  TempDir dir;
+  std::string text = poise::test::read_text(kWang);
+  text = poise::test::replace_once(text, "model = \"../models/seeker_two_axis_wang2011.toml\"",
+                                   "model = \"" + kModel + "\"");
+  text = poise::test::replace_once(text, "samples = 4000", "samples = 300");
+  poise::test::write_text(dir.file("arcsec.toml"), text);
+  poise::test::write_text(dir.file("urad.toml"), poise::test::replace_once(text, "unit = \"arcsec\"", "unit = \"urad\""));
+  const RunResult a = run_poise(dir, "budget '" + dir.file("arcsec.toml") + "' --json");
+  const RunResult u = run_poise(dir, "budget '" + dir.file("urad.toml") + "' --json");
+  ASSERT_EQ(a.status, 0) << a.err;
+  ASSERT_EQ(u.status, 0) << u.err;
+  const nlohmann::json ja = nlohmann::json::parse(a.out), ju = nlohmann::json::parse(u.out);
+  const double urad_per_arcsec = 1e6 / 206264.80624709636;
+  EXPECT_NEAR(ju["monte_carlo"]["value"].get<double>(), ja["monte_carlo"]["value"].get<double>() * urad_per_arcsec, 1e-9);
+  EXPECT_NEAR(ju["combined"]["greatest"].get<double>(), ja["combined"]["greatest"].get<double>() * urad_per_arcsec, 1e-9);
+  EXPECT_EQ(ju["monte_carlo"]["unit"], "urad");
+  EXPECT_EQ(ju["budget_vs_monte_carlo"], ja["budget_vs_monte_carlo"]);
+  // Verdicts do not depend on the unit.
+  for (std::size_t i = 0; i < ja["lines"].size(); ++i) EXPECT_EQ(ju["lines"][i]["verdict"], ja["lines"][i]["verdict"]);
+}
+
 // ---- bad input: file, line, key and what was expected; exit 2 ----
 
 const std::string kBase = R"T([budget]
