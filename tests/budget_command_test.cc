@@ -232,6 +232,19 @@ INSTANTIATE_TEST_SUITE_P(
                 "key 'budget.model' = \"no_such_model.toml\": expected an existing model file"}),
     [](const auto& param_info) { return param_info.param.name; });
 
+TEST(BudgetBadInput, NotABudgetFile) {
+  TempDir dir;
+  const std::string study = poise::test::source_path("studies/los_seeker_wang2011.toml");
+  const RunResult r = run_poise(dir, "budget '" + study + "'");
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.err.find("1 error in the input:\n  " + study + ":1: key 'budget': expected a table [budget] (missing)"),
+            std::string::npos)
+      << r.err;
+  const RunResult missing = run_poise(dir, "budget '" + dir.file("none.toml") + "'");
+  EXPECT_EQ(missing.status, 2);
+  EXPECT_NE(missing.err.find("no such file"), std::string::npos) << missing.err;
+}
+
 TEST(BudgetBadInput, UnknownMonteCarloOutput) {
   TempDir dir;
   const std::string text =

@@ -156,6 +156,10 @@ BudgetSpec load_budget(const std::string& path) {
   TomlReader root(doc, ctx);
   BudgetSpec b;
   b.file = path;
+  if (!root.has("budget")) {  // not a budget file (a study or model file, say): say that alone
+    root.table("budget");
+    throw studies::ValidationError(ctx->errors);
+  }
   TomlReader t = root.table("budget");
   b.name = t.string("name");
   b.title = t.string("title", "");
