@@ -5,6 +5,7 @@ PKGS=(
   build-essential cmake git pkg-config
   libeigen3-dev libsundials-dev libnlopt-cxx-dev libembree-dev libtbb-dev
   libcli11-dev libtomlplusplus-dev nlohmann-json3-dev librandom123-dev libboost-dev
+  libmuparser-dev  # expressions of budget gains (poise budget)
   libgtest-dev libbenchmark-dev libopenmpi-dev openmpi-bin gnuplot-nox
   clang-14 libclang-rt-14-dev  # tests/fuzz: libFuzzer, ASan, UBSan (clang++-14 -fsanitize=fuzzer)
 )

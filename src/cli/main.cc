@@ -5,6 +5,7 @@
 #include <thread>
 #include <iostream>
 
+#include "cli/budget_command.h"
 #include "cli/diagnose_command.h"
 #include "cli/fit_command.h"
 #include "cli/keys_command.h"
@@ -35,6 +36,9 @@ Examples:
   poise run studies/los_seeker_wang2011.toml --samples 100000 --seed 7 --threads 2 --out /tmp/los
   poise replay studies/los_seeker_wang2011.toml --sample 42
   poise optimize studies/bearing_span_sizing.toml
+  poise budget studies/wang2011_budget.toml --out /tmp/budget
+      a reviewer's error budget: every line recomputed from its inputs, verdicts and likely
+      slips, the combined figure at the requirement's confidence, the Monte Carlo beside it
 
 A run writes results/<study>/<run id>/ (never overwriting an earlier run): samples.csv,
 summary.json (statistics with 95% confidence intervals, provenance), plots/ and report.html.
@@ -162,6 +166,7 @@ int run_main(int argc, char** argv) {
   const auto record = poise::cli::add_record_commands(app);
   const poise::cli::OptimizeHandler optimize = poise::cli::add_optimize_command(app);
   const poise::cli::KeysHandler keys = poise::cli::add_keys_command(app);
+  const poise::cli::BudgetHandler budget = poise::cli::add_budget_command(app);
 
   CLI11_PARSE(app, argc, argv);
   if (poise::sampling::Cluster::size() > 1 && !*run && !*sens) {
@@ -176,6 +181,7 @@ int run_main(int argc, char** argv) {
   if (const auto status = record()) return *status;
   if (const auto status = optimize()) return *status;
   if (const auto status = keys()) return *status;
+  if (const auto status = budget()) return *status;
   if (samples > 0) opt.samples = samples;
   if (max_samples > 0) opt.max_samples = max_samples;
   if (*sens) {
