@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <charconv>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <fstream>
 #include <map>
@@ -59,6 +60,7 @@ Mesh read_stl_ascii(const std::string& bytes, const std::string& name, double un
   std::size_t ln = 0;
   enum class State { kStart, kSolid, kFacet, kLoop, kEndLoop, kEnd } state = State::kStart;
   std::vector<std::uint32_t> loop;
+  std::size_t facet_line = 0;
   while (std::getline(in, line)) {
     ++ln;
     const auto tok = split(line);
@@ -81,6 +83,7 @@ Mesh read_stl_ascii(const std::string& bytes, const std::string& name, double un
             double v;
             if (!parse_double(tok[k], v)) fail_line(name, ln, "facet normal component '" + tok[k] + "' is not a number");
           }
+          facet_line = ln;
           state = State::kFacet;
         } else {
           expect("'facet normal nx ny nz' or 'endsolid'");
@@ -97,6 +100,7 @@ Mesh read_stl_ascii(const std::string& bytes, const std::string& name, double un
             fail_line(name, ln, "facet has " + std::to_string(loop.size()) + " vertices; STL facets are triangles (3)");
           }
           mesh.triangles.push_back({loop[0], loop[1], loop[2]});
+          mesh.triangle_lines.push_back(facet_line);
           state = State::kEndLoop;
         } else if (kw == "vertex") {
           if (tok.size() != 4) fail_line(name, ln, "vertex needs 3 coordinates, got " + std::to_string(tok.size() - 1));
@@ -117,7 +121,10 @@ Mesh read_stl_ascii(const std::string& bytes, const std::string& name, double un
         state = State::kSolid;
         break;
       case State::kEnd:
-        fail_line(name, ln, "text after 'endsolid'");
+        // CAD systems write an assembly as several solids in one file: one part, one mesh.
+        if (kw != "solid") expect("'solid <name>' or the end of the file after 'endsolid'");
+        state = State::kSolid;
+        break;
     }
   }
   if (state != State::kEnd) {
@@ -168,8 +175,9 @@ Mesh read_obj(std::istream& in, const std::string& name, double unit_m) {
     if (tok.empty()) continue;
     const std::string& kw = tok[0];
     if (kw == "v") {
-      if (tok.size() != 4 && tok.size() != 5) {
-        fail_line(name, ln, "vertex needs 3 coordinates (x y z [w]), got " + std::to_string(tok.size() - 1));
+      // x y z, x y z w, or x y z r g b (vertex colours, as MeshLab writes them).
+      if (tok.size() != 4 && tok.size() != 5 && tok.size() != 7) {
+        fail_line(name, ln, "vertex needs 3 coordinates (x y z [w] or x y z r g b), got " + std::to_string(tok.size() - 1));
       }
       Eigen::Vector3d v;
       for (int k = 0; k < 3; ++k) {
@@ -196,12 +204,15 @@ Mesh read_obj(std::istream& in, const std::string& name, double unit_m) {
         }
         poly.push_back(static_cast<std::uint32_t>(resolved));
       }
-      for (std::size_t k = 1; k + 1 < poly.size(); ++k) mesh.triangles.push_back({poly[0], poly[k], poly[k + 1]});
+      for (std::size_t k = 1; k + 1 < poly.size(); ++k) {
+        mesh.triangles.push_back({poly[0], poly[k], poly[k + 1]});
+        mesh.triangle_lines.push_back(ln);
+      }
     } else if (kw == "vt" || kw == "vn" || kw == "vp" || kw == "o" || kw == "g" || kw == "s" || kw == "usemtl" ||
-               kw == "mtllib") {
-      continue;
+               kw == "mtllib" || kw == "l" || kw == "p") {
+      continue;  // texture, normals, groups, materials; lines and points have no volume
     } else {
-      fail_line(name, ln, "unknown OBJ statement '" + kw + "' (expected v, f, vt, vn, o, g, s, usemtl, mtllib)");
+      fail_line(name, ln, "unknown OBJ statement '" + kw + "' (expected v, f, vt, vn, o, g, s, usemtl, mtllib, l, p)");
     }
   }
   if (mesh.triangles.empty()) throw MeshFormatError(name + ": no faces ('f' lines)");
@@ -274,6 +285,27 @@ void write_stl(const Mesh& mesh, const std::string& path, double unit_m) {
     const std::uint16_t attr = 0;
     out.write(reinterpret_cast<const char*>(&attr), 2);
   }
+}
+
+void write_ascii_stl(const Mesh& mesh, const std::string& path, double unit_m) {
+  std::ofstream out(path);
+  if (!out) throw Error("cannot write " + path);
+  const std::string name = mesh.name.empty() ? "part" : mesh.name;
+  out << "solid " << name << '\n';
+  char buf[200];
+  for (std::size_t k = 0; k < mesh.triangles.size(); ++k) {
+    const Eigen::Vector3d n = mesh.face_normal(k).normalized();
+    std::snprintf(buf, sizeof buf, "  facet normal %.9g %.9g %.9g\n    outer loop\n", n.x(), n.y(), n.z());
+    out << buf;
+    for (int i = 0; i < 3; ++i) {
+      const Eigen::Vector3d v = mesh.vertices[mesh.triangles[k][i]] / unit_m;
+      std::snprintf(buf, sizeof buf, "      vertex %.17g %.17g %.17g\n", v.x(), v.y(), v.z());
+      out << buf;
+    }
+    out << "    endloop\n  endfacet\n";
+  }
+  out << "endsolid " << name << '\n';
+  if (!out) throw Error("cannot write " + path);
 }
 
 }  // namespace poise::geometry
