@@ -7,6 +7,7 @@
 
 #include "cli/diagnose_command.h"
 #include "cli/fit_command.h"
+#include "cli/mass_properties_command.h"
 #include "cli/optimize_command.h"
 #include "cli/record_command.h"
 #include "core/version.h"
@@ -36,6 +37,7 @@ Examples:
   poise run studies/yang2015_repeatability.toml --samples 8
   poise run studies/wang2014_umar.toml
   poise fit data/yang2015/table1_loading_test_36pt.csv --json
+  poise mass-properties rotor_disk.stl --unit mm --density "2700 kg/m^3"
   poise run studies/los_seeker_wang2011.toml --samples 100000 --seed 7 --threads 2 --out /tmp/los
   poise replay studies/los_seeker_wang2011.toml --sample 42
   poise optimize studies/bearing_span_sizing.toml
@@ -162,6 +164,7 @@ int run_main(int argc, char** argv) {
   const poise::cli::DiagnoseHandler diagnose = poise::cli::add_diagnose_command(app);
   const auto record = poise::cli::add_record_commands(app);
   const poise::cli::OptimizeHandler optimize = poise::cli::add_optimize_command(app);
+  const poise::cli::MassPropertiesHandler mass_properties = poise::cli::add_mass_properties_command(app);
 
   CLI11_PARSE(app, argc, argv);
   if (poise::sampling::Cluster::size() > 1 && !*run && !*sens) {
@@ -175,6 +178,7 @@ int run_main(int argc, char** argv) {
   if (const auto status = diagnose()) return *status;
   if (const auto status = record()) return *status;
   if (const auto status = optimize()) return *status;
+  if (const auto status = mass_properties()) return *status;
   if (samples > 0) opt.samples = samples;
   if (max_samples > 0) opt.max_samples = max_samples;
   if (*sens) {
