@@ -1,6 +1,7 @@
 #include "geometry/mesh_check.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <limits>
@@ -10,8 +11,10 @@
 namespace poise::geometry {
 namespace {
 
+// An edge of a triangle: key = lo << 32 | hi (vertex indices, lo < hi); sorted by key, then
+// triangle, so equal edges are adjacent and listed from their lowest triangle.
 struct HalfEdge {
-  std::uint32_t lo, hi;  // vertex indices, lo < hi
+  std::uint64_t key;
   std::uint32_t tri;
   bool forward;  // the triangle runs lo -> hi
 };
@@ -85,11 +88,12 @@ MeshCheck check_mesh(const Mesh& mesh) {
     if (mesh.face_normal(k).norm() <= 1e-12 * lmax2) note(r.degenerate_triangles, k);
     for (int e = 0; e < 3; ++e) {
       const std::uint32_t p = t[e], q = t[(e + 1) % 3];
-      edges.push_back({std::min(p, q), std::max(p, q), static_cast<std::uint32_t>(k), p < q});
+      const std::uint64_t key = static_cast<std::uint64_t>(std::min(p, q)) << 32 | std::max(p, q);
+      edges.push_back({key, static_cast<std::uint32_t>(k), p < q});
     }
   }
   std::sort(edges.begin(), edges.end(), [](const HalfEdge& x, const HalfEdge& y) {
-    return x.lo != y.lo ? x.lo < y.lo : x.hi != y.hi ? x.hi < y.hi : x.tri < y.tri;
+    return x.key != y.key ? x.key < y.key : x.tri < y.tri;
   });
 
   UnionFind shells(n);
@@ -97,10 +101,12 @@ MeshCheck check_mesh(const Mesh& mesh) {
     std::uint32_t other;
     bool same_way;  // both triangles run the shared edge the same way: one of them is flipped
   };
-  std::vector<std::vector<Link>> links(n);
+  // At most three two-triangle edges per triangle: fixed slots, no allocation per triangle.
+  std::vector<std::array<Link, 3>> links(n);
+  std::vector<std::uint8_t> link_count(n, 0);
   for (std::size_t i = 0; i < edges.size();) {
     std::size_t j = i + 1;
-    while (j < edges.size() && edges[j].lo == edges[i].lo && edges[j].hi == edges[i].hi) ++j;
+    while (j < edges.size() && edges[j].key == edges[i].key) ++j;
     const std::size_t uses = j - i;
     const std::size_t first = edges[i].tri;  // sorted by triangle within the edge
     if (uses == 1) {
@@ -109,8 +115,8 @@ MeshCheck check_mesh(const Mesh& mesh) {
       note(r.non_manifold_edges, first);
     } else {
       const bool same = edges[i].forward == edges[i + 1].forward;
-      links[edges[i].tri].push_back({edges[i + 1].tri, same});
-      links[edges[i + 1].tri].push_back({edges[i].tri, same});
+      links[edges[i].tri][link_count[edges[i].tri]++] = {edges[i + 1].tri, same};
+      links[edges[i + 1].tri][link_count[edges[i + 1].tri]++] = {edges[i].tri, same};
     }
     for (std::size_t k = i + 1; k < j; ++k) shells.unite(edges[i].tri, edges[k].tri);
     i = j;
@@ -145,7 +151,8 @@ MeshCheck check_mesh(const Mesh& mesh) {
       const std::uint32_t k = stack.back();
       stack.pop_back();
       members.push_back(k);
-      for (const Link& l : links[k]) {
+      for (std::uint8_t j = 0; j < link_count[k]; ++j) {
+        const Link& l = links[k][j];
         const signed char want = static_cast<signed char>(parity[k] ^ (l.same_way ? 1 : 0));
         if (parity[l.other] < 0) {
           parity[l.other] = want;

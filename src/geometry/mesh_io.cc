@@ -8,6 +8,7 @@
 #include <fstream>
 #include <map>
 #include <sstream>
+#include <unordered_map>
 #include <vector>
 
 namespace poise::geometry {
@@ -40,15 +41,34 @@ std::vector<std::string> split(const std::string& line) {
 class VertexWelder {
  public:
   explicit VertexWelder(Mesh& mesh) : mesh_(mesh) {}
+  /// A closed mesh of n triangles has about n/2 vertices.
+  void reserve(std::size_t triangles) {
+    index_.reserve(triangles / 2 + 16);
+    mesh_.vertices.reserve(triangles / 2 + 16);
+  }
   std::uint32_t add(const Eigen::Vector3d& v) {
-    const auto [it, inserted] = index_.try_emplace({v.x(), v.y(), v.z()}, static_cast<std::uint32_t>(mesh_.vertices.size()));
+    // + 0.0 turns -0.0 into 0.0, so equal coordinates have equal bits for the hash.
+    const auto [it, inserted] =
+        index_.try_emplace({v.x() + 0.0, v.y() + 0.0, v.z() + 0.0}, static_cast<std::uint32_t>(mesh_.vertices.size()));
     if (inserted) mesh_.vertices.push_back(v);
     return it->second;
   }
 
  private:
   Mesh& mesh_;
-  std::map<std::array<double, 3>, std::uint32_t> index_;
+  struct Hash {
+    std::size_t operator()(const std::array<double, 3>& p) const {
+      std::uint64_t h = 0x9e3779b97f4a7c15ull;
+      for (double c : p) {
+        std::uint64_t b;
+        std::memcpy(&b, &c, 8);
+        h = (h ^ b) * 0xff51afd7ed558ccdull;
+        h ^= h >> 32;
+      }
+      return static_cast<std::size_t>(h);
+    }
+  };
+  std::unordered_map<std::array<double, 3>, std::uint32_t, Hash> index_;
 };
 
 Mesh read_stl_ascii(const std::string& bytes, const std::string& name, double unit_m) {
@@ -141,6 +161,8 @@ Mesh read_stl_binary(const std::string& bytes, const std::string& name, double u
   VertexWelder weld(mesh);
   std::uint32_t n = 0;
   std::memcpy(&n, bytes.data() + 80, 4);
+  weld.reserve(n);
+  mesh.triangles.reserve(n);
   for (std::uint32_t k = 0; k < n; ++k) {
     const char* rec = bytes.data() + 84 + 50 * static_cast<std::size_t>(k);
     std::array<std::uint32_t, 3> idx{};
