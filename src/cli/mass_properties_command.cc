@@ -1,5 +1,6 @@
 #include "cli/mass_properties_command.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -107,8 +108,13 @@ std::string g(double v, int digits = 6) {
 
 void print_properties(const geometry::MassProperties& p, double volume, const RaycastDifference& d,
                       const std::string& unit, double unit_m, std::ostream& out) {
-  const geometry::PrincipalAxes pa = geometry::principal_axes(p.inertia);
-  const Eigen::Vector3d c = p.com / unit_m;
+  // Rounding residue (1e-17 mm where symmetry puts a zero) is shown as 0.
+  auto clean = [](double v, double scale) { return std::abs(v) <= 1e-12 * scale ? 0.0 : v; };
+  const double size = std::sqrt(std::abs(p.inertia.trace()) / std::max(std::abs(p.mass), 1e-300));
+  const Eigen::Vector3d c = (p.com / unit_m).unaryExpr([&](double v) { return clean(v, size / unit_m); });
+  const Eigen::Matrix3d inertia = p.inertia.unaryExpr([&](double v) { return clean(v, p.inertia.norm()); });
+  geometry::PrincipalAxes pa = geometry::principal_axes(p.inertia);
+  pa.axes = pa.axes.unaryExpr([&](double v) { return clean(v, 1e3); });
   char line[200];
   out << "  volume          " << g(volume) << " m^3 (" << g(volume / (unit_m * unit_m * unit_m)) << " " << unit
       << "^3)\n";
@@ -117,7 +123,7 @@ void print_properties(const geometry::MassProperties& p, double volume, const Ra
   out << line;
   out << "  inertia about the centre of mass, kg m^2 (Ixx Ixy Ixz / Iyx Iyy Iyz / Izx Izy Izz):\n";
   for (int i = 0; i < 3; ++i) {
-    std::snprintf(line, sizeof line, "    %14.6e %14.6e %14.6e\n", p.inertia(i, 0), p.inertia(i, 1), p.inertia(i, 2));
+    std::snprintf(line, sizeof line, "    %14.6e %14.6e %14.6e\n", inertia(i, 0), inertia(i, 1), inertia(i, 2));
     out << line;
   }
   out << "  principal moments and axes (in the mesh's frame):\n";

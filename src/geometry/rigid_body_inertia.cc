@@ -1,6 +1,8 @@
 #include "geometry/rigid_body_inertia.h"
 
 #include <Eigen/Eigenvalues>
+#include <cmath>
+#include <utility>
 
 namespace poise::geometry {
 
@@ -10,12 +12,25 @@ PrincipalAxes principal_axes(const Eigen::Matrix3d& inertia) {
   PrincipalAxes p;
   p.moments = solver.eigenvalues();
   p.axes = solver.eigenvectors();
-  for (int k = 0; k < 2; ++k) {
+  for (int k = 0; k < 3; ++k) {
     Eigen::Index i;
     p.axes.col(k).cwiseAbs().maxCoeff(&i);
     if (p.axes(i, k) < 0.0) p.axes.col(k) *= -1.0;
   }
-  p.axes.col(2) = p.axes.col(0).cross(p.axes.col(1));
+  if (p.axes.determinant() < 0.0) {
+    // Two equal moments (a body of revolution): any basis of their plane is principal, so
+    // swapping them makes the frame right-handed with every axis still pointing "forward".
+    const double tol = 1e-9 * p.moments.cwiseAbs().maxCoeff();
+    if (std::abs(p.moments[0] - p.moments[1]) <= tol) {
+      p.axes.col(0).swap(p.axes.col(1));
+      std::swap(p.moments[0], p.moments[1]);
+    } else if (std::abs(p.moments[1] - p.moments[2]) <= tol) {
+      p.axes.col(1).swap(p.axes.col(2));
+      std::swap(p.moments[1], p.moments[2]);
+    } else {
+      p.axes.col(2) *= -1.0;
+    }
+  }
   return p;
 }
 

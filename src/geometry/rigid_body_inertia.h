@@ -16,8 +16,9 @@
 namespace poise::geometry {
 
 /// Principal moments in ascending order and their axes: column k of `axes` is the unit axis
-/// of moments[k]; the axes form a right-handed frame (det = +1) and each axis has its
-/// largest-magnitude component positive (then the third is fixed by the handedness).
+/// of moments[k]; the axes form a right-handed frame (det = +1). Each axis has its
+/// largest-magnitude component positive, except the third when no two moments are equal
+/// (then the handedness fixes it); two equal moments may be listed in either order.
 struct PrincipalAxes {
   Eigen::Vector3d moments = Eigen::Vector3d::Zero();  ///< kg m^2
   Eigen::Matrix3d axes = Eigen::Matrix3d::Identity();
