@@ -1,13 +1,12 @@
 // Mesh checks: each defect is found and named with the file, what is wrong and where; closed
 // parts with several shells and cavities pass; a size that suggests the wrong unit warns.
-#include "geometry/mesh_check.h"
-
 #include <gtest/gtest.h>
 
 #include <sstream>
 
 #include "closed_form_meshes.h"
 #include "geometry/generators.h"
+#include "geometry/mesh_check.h"
 #include "geometry/mesh_io.h"
 
 namespace poise::geometry {
@@ -162,8 +161,9 @@ TEST(MeshLoaders, SeveralAsciiSolidsAndObjVertexColours) {
   EXPECT_TRUE(c.ok());
   EXPECT_EQ(c.shells.size(), 2u);
   EXPECT_EQ(m.triangle_lines.at(12), 88u);  // solid 1: lines 1-86 (12 facets of 7 lines); solid 2 from 87
-  std::istringstream in("v 0 0 0 1 0 0\nv 1 0 0 1 0 0\nv 0 1 0 0 1 0\nv 0 0 1 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n"
-                        "l 1 2\n");
+  std::istringstream in(
+      "v 0 0 0 1 0 0\nv 1 0 0 1 0 0\nv 0 1 0 0 1 0\nv 0 0 1 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n"
+      "l 1 2\n");
   EXPECT_NEAR(check_mesh(read_obj(in, "colours.obj")).volume_m3, 1.0 / 6.0, 1e-15);
 }
 

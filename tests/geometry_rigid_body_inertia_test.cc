@@ -1,7 +1,5 @@
 // Mass properties against closed forms (a disk with an off-centre hole, a box, a faceted
 // cylinder), moved and turned (R I R^T, parallel axis), scaled, and assembled.
-#include "geometry/rigid_body_inertia.h"
-
 #include <gtest/gtest.h>
 
 #include <numbers>
@@ -9,6 +7,7 @@
 #include "closed_form_meshes.h"
 #include "geometry/generators.h"
 #include "geometry/mass_properties.h"
+#include "geometry/rigid_body_inertia.h"
 
 namespace poise::geometry {
 namespace {

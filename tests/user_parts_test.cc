@@ -68,7 +68,8 @@ TEST(UserParts, ExampleAsDrawnAndAsBuilt) {
   // The clump (12.6 g on the 51 mm circle) is the whole static unbalance about z.
   const double clump_mass = exact_of(clump, 7850).mass;
   EXPECT_NEAR(clump_mass, 7850 * std::numbers::pi * 0.008 * 0.008 * 0.008, 1e-6 * clump_mass);  // rounding of float32
-  const Eigen::Vector3d u_nominal = geometry::static_unbalance(nominal, Eigen::Vector3d::Zero(), Eigen::Vector3d::UnitZ());
+  const Eigen::Vector3d u_nominal =
+      geometry::static_unbalance(nominal, Eigen::Vector3d::Zero(), Eigen::Vector3d::UnitZ());
   EXPECT_NEAR(u_nominal.norm(), clump_mass * 0.051, 1e-9);
   EXPECT_NEAR(u_nominal.z(), 0.0, 1e-18);
 
@@ -118,14 +119,16 @@ TEST(UserParts, RefusedAtTheirKey) {
   open.triangles.pop_back();
   geometry::write_obj(open, dir.file("meshes/rotor/hub_open.obj"));
   std::string e = error_of(test::replace_once(text, "meshes/rotor/hub.obj", "meshes/rotor/hub_open.obj"));
-  EXPECT_NE(e.find(path + ":47:8: key 'geometry.part[1].mesh' = \"meshes/rotor/hub_open.obj\": expected a closed, "
-                          "consistently oriented mesh file (STL or OBJ): " +
+  EXPECT_NE(e.find(path +
+                   ":47:8: key 'geometry.part[1].mesh' = \"meshes/rotor/hub_open.obj\": expected a closed, "
+                   "consistently oriented mesh file (STL or OBJ): " +
                    dir.file("meshes/rotor/hub_open.obj") + ": not closed: 3 open edges, the first at triangle "),
             std::string::npos)
       << e;
   e = error_of(test::replace_once(text, "meshes/rotor/shaft.stl", "meshes/rotor/none.stl"));
   EXPECT_NE(e.find("key 'geometry.part[2].mesh' = \"meshes/rotor/none.stl\": expected a closed, consistently oriented "
-                   "mesh file (STL or OBJ): " + dir.file("meshes/rotor/none.stl") + ": no such mesh file"),
+                   "mesh file (STL or OBJ): " +
+                   dir.file("meshes/rotor/none.stl") + ": no such mesh file"),
             std::string::npos)
       << e;
   e = error_of(test::replace_once(text, "translation = [\"51 mm\", \"0 mm\", \"12 mm\"]",

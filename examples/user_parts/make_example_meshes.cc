@@ -51,9 +51,9 @@ int main(int argc, char** argv) {
     write_stl(clump, (out / "rotor" / "clump_weight.stl").string(), kMm);
 
     const SeekerMeshes s = seeker_meshes(SeekerGeometry{});
-    const std::pair<const char*, const Mesh*> seeker[] = {{"ring", &s.ring},       {"barrel", &s.barrel},
-                                                          {"pitch_shafts", &s.pitch_shafts}, {"housing", &s.housing},
-                                                          {"posts", &s.posts},     {"window", &s.window}};
+    const std::pair<const char*, const Mesh*> seeker[] = {
+        {"ring", &s.ring},       {"barrel", &s.barrel}, {"pitch_shafts", &s.pitch_shafts},
+        {"housing", &s.housing}, {"posts", &s.posts},   {"window", &s.window}};
     for (const auto& [name, mesh] : seeker) {
       checked(*mesh);
       write_stl(*mesh, (out / "seeker" / (std::string(name) + ".stl")).string(), kMm);

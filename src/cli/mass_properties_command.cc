@@ -79,8 +79,7 @@ RaycastDifference difference(const geometry::MassProperties& exact, const geomet
 
 nlohmann::json vec(const Eigen::Vector3d& v) { return {v.x(), v.y(), v.z()}; }
 
-nlohmann::json properties_json(const geometry::MassProperties& p, double volume, const RaycastDifference& d,
-                               int rays) {
+nlohmann::json properties_json(const geometry::MassProperties& p, double volume, const RaycastDifference& d, int rays) {
   const geometry::PrincipalAxes pa = geometry::principal_axes(p.inertia);
   nlohmann::json inertia = nlohmann::json::array(), axes = nlohmann::json::array();
   for (int i = 0; i < 3; ++i) {
@@ -144,8 +143,9 @@ double unit_size(const std::string& unit) {
   if (unit == "m") return 1.0;
   if (unit == "in") return 0.0254;
   if (unit.empty()) {
-    refuse("--unit is required: the length unit the mesh was exported in (mm, cm, m or in); STL and OBJ files do "
-           "not say");
+    refuse(
+        "--unit is required: the length unit the mesh was exported in (mm, cm, m or in); STL and OBJ files do "
+        "not say");
   }
   refuse("--unit '" + unit + "': expected mm, cm, m or in (the length unit the mesh was exported in)");
 }

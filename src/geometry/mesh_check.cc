@@ -92,9 +92,8 @@ MeshCheck check_mesh(const Mesh& mesh) {
       edges.push_back({key, static_cast<std::uint32_t>(k), p < q});
     }
   }
-  std::sort(edges.begin(), edges.end(), [](const HalfEdge& x, const HalfEdge& y) {
-    return x.key != y.key ? x.key < y.key : x.tri < y.tri;
-  });
+  std::sort(edges.begin(), edges.end(),
+            [](const HalfEdge& x, const HalfEdge& y) { return x.key != y.key ? x.key < y.key : x.tri < y.tri; });
 
   UnionFind shells(n);
   struct Link {
@@ -177,20 +176,18 @@ MeshCheck check_mesh(const Mesh& mesh) {
                        ", the first at " + describe_triangle(mesh, r.open_edges.first_triangle));
   }
   if (r.non_manifold_edges.count) {
-    r.errors.push_back(name + ": not manifold: " +
-                       plural(r.non_manifold_edges.count, "edge shared", "edges shared") +
+    r.errors.push_back(name + ": not manifold: " + plural(r.non_manifold_edges.count, "edge shared", "edges shared") +
                        " by three or more triangles, the first at " +
                        describe_triangle(mesh, r.non_manifold_edges.first_triangle));
   }
   if (r.flipped_triangles.count) {
-    r.errors.push_back(name + ": inconsistent orientation: " +
-                       plural(r.flipped_triangles.count, "triangle is", "triangles are") +
-                       " flipped against their neighbours (their normals point the other way), the first is " +
-                       describe_triangle(mesh, r.flipped_triangles.first_triangle));
+    r.errors.push_back(
+        name + ": inconsistent orientation: " + plural(r.flipped_triangles.count, "triangle is", "triangles are") +
+        " flipped against their neighbours (their normals point the other way), the first is " +
+        describe_triangle(mesh, r.flipped_triangles.first_triangle));
   }
   if (r.non_orientable_shells.count) {
-    r.errors.push_back(name + ": not orientable: " +
-                       plural(r.non_orientable_shells.count, "shell has", "shells have") +
+    r.errors.push_back(name + ": not orientable: " + plural(r.non_orientable_shells.count, "shell has", "shells have") +
                        " no consistent inside (a one-sided surface), the first from " +
                        describe_triangle(mesh, r.non_orientable_shells.first_triangle));
   }
@@ -230,10 +227,10 @@ MeshCheck check_mesh(const Mesh& mesh) {
       s.cavity = true;
       continue;
     }
-    r.errors.push_back(name + ": shell " + std::to_string(i + 1) + " of " + std::to_string(r.shells.size()) +
-                       " (" + plural(s.triangles, "triangle", "triangles") + " from " +
-                       describe_triangle(mesh, s.first_triangle) + ") has negative volume (" +
-                       number(s.volume_m3) + " m^3) and lies inside no other shell: it is inside out "
+    r.errors.push_back(name + ": shell " + std::to_string(i + 1) + " of " + std::to_string(r.shells.size()) + " (" +
+                       plural(s.triangles, "triangle", "triangles") + " from " +
+                       describe_triangle(mesh, s.first_triangle) + ") has negative volume (" + number(s.volume_m3) +
+                       " m^3) and lies inside no other shell: it is inside out "
                        "(its normals point inwards)");
   }
   if (r.errors.empty() && !(r.volume_m3 > 0.0)) {
@@ -258,8 +255,9 @@ std::string unit_warning(const Mesh& mesh, const std::string& unit, double unit_
   constexpr double kLargest = 5.0, kSmallest = 0.5e-3;
   if (side <= kLargest && side >= kSmallest) return "";
   const double in_file = side / unit_m;  // the number written in the file
-  std::string msg = mesh.name + ": " + number(in_file) + " " + unit + " across (the largest side of its bounding box), " +
-                    (side > kLargest ? "large" : "small") + " for a part: is --unit " + unit + " right?";
+  std::string msg = mesh.name + ": " + number(in_file) + " " + unit +
+                    " across (the largest side of its bounding box), " + (side > kLargest ? "large" : "small") +
+                    " for a part: is --unit " + unit + " right?";
   static const std::pair<const char*, double> kUnits[] = {{"mm", 1e-3}, {"m", 1.0}, {"in", 0.0254}, {"cm", 1e-2}};
   for (const auto& [name, size] : kUnits) {
     const double other = in_file * size;

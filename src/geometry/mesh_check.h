@@ -33,8 +33,8 @@ class MeshCheckError : public Error {
 struct Shell {
   std::size_t first_triangle = 0;  ///< lowest triangle index of the shell
   std::size_t triangles = 0;
-  double volume_m3 = 0.0;          ///< signed: positive when its normals point outwards
-  bool cavity = false;             ///< negative volume, inside another shell: an internal void
+  double volume_m3 = 0.0;  ///< signed: positive when its normals point outwards
+  bool cavity = false;     ///< negative volume, inside another shell: an internal void
 };
 
 /// A count of one kind of defect and the first triangle that shows it.

@@ -199,7 +199,8 @@ Mesh read_obj(std::istream& in, const std::string& name, double unit_m) {
     if (kw == "v") {
       // x y z, x y z w, or x y z r g b (vertex colours, as MeshLab writes them).
       if (tok.size() != 4 && tok.size() != 5 && tok.size() != 7) {
-        fail_line(name, ln, "vertex needs 3 coordinates (x y z [w] or x y z r g b), got " + std::to_string(tok.size() - 1));
+        fail_line(name, ln,
+                  "vertex needs 3 coordinates (x y z [w] or x y z r g b), got " + std::to_string(tok.size() - 1));
       }
       Eigen::Vector3d v;
       for (int k = 0; k < 3; ++k) {

@@ -25,7 +25,7 @@ namespace poise::geometry {
 
 struct AssemblyPart {
   std::string name;
-  double density = 0.0;                                   ///< kg/m^3, nominal
+  double density = 0.0;                                         ///< kg/m^3, nominal
   Eigen::Isometry3d placement = Eigen::Isometry3d::Identity();  ///< part frame -> assembly
   MassProperties unit_density;  ///< of the mesh in the part's frame at 1 kg/m^3 (mass = volume, m^3)
 };
@@ -36,10 +36,10 @@ AssemblyPart make_assembly_part(const std::string& name, const Mesh& mesh, doubl
 
 /// One sample's deviations of one part from its drawing (zero: as drawn).
 struct PartDeviation {
-  double density = 0.0;                                       ///< kg/m^3, added to the nominal
-  Eigen::Vector3d translation = Eigen::Vector3d::Zero();      ///< m, assembly axes
-  Eigen::Vector3d rotation = Eigen::Vector3d::Zero();         ///< rad, rotation vector, assembly axes
-  double scale = 0.0;                                         ///< relative size error e (s = 1 + e)
+  double density = 0.0;                                   ///< kg/m^3, added to the nominal
+  Eigen::Vector3d translation = Eigen::Vector3d::Zero();  ///< m, assembly axes
+  Eigen::Vector3d rotation = Eigen::Vector3d::Zero();     ///< rad, rotation vector, assembly axes
+  double scale = 0.0;                                     ///< relative size error e (s = 1 + e)
 };
 
 /// The part's pose as built: translation t + dt, rotation R(dtheta) R0.

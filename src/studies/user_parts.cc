@@ -53,7 +53,8 @@ UserParts read_user_parts(TomlReader& table, const std::string& base_dir) {
     const std::string mesh = t.string("mesh");
     p.unit = t.choice("unit", {"mm", "cm", "m", "in"});
     p.part.density = t.quantity("density", kDensity, positive);
-    const Eigen::Vector3d translation = read_triple(t, "translation", units::kLength, "[\"0 mm\", \"0 mm\", \"12 mm\"]");
+    const Eigen::Vector3d translation =
+        read_triple(t, "translation", units::kLength, "[\"0 mm\", \"0 mm\", \"12 mm\"]");
     const Eigen::Vector3d rotation = read_triple(t, "rotation", units::kAngle, "[\"0 deg\", \"0 deg\", \"30 deg\"]");
     p.part.placement = Eigen::Isometry3d::Identity();
     p.part.placement.linear() = (Eigen::AngleAxisd(rotation.z(), Eigen::Vector3d::UnitZ()) *
@@ -88,7 +89,8 @@ UserParts read_user_parts(TomlReader& table, const std::string& base_dir) {
       if (const std::string w = geometry::unit_warning(m, p.unit, unit_m); !w.empty()) out.warnings.push_back(w);
       p.part = geometry::make_assembly_part(p.part.name, m, p.part.density, p.part.placement);
     } catch (const Error& e) {
-      t.error("mesh", quote_value(mesh), std::string("a closed, consistently oriented mesh file (STL or OBJ): ") + e.what());
+      t.error("mesh", quote_value(mesh),
+              std::string("a closed, consistently oriented mesh file (STL or OBJ): ") + e.what());
     }
     out.parts.push_back(std::move(p));
   }
