@@ -114,6 +114,10 @@ TEST(MassPropertiesCommand, RefusalsExitTwoWithTheirMessage) {
   geometry::Mesh open = disk();
   open.triangles.erase(open.triangles.begin() + 100);
   geometry::write_stl(open, dir.file("open.stl"), 1e-3);
+  // Two boxes exported into one another: each closed, their common cube counted twice.
+  geometry::Mesh overlap = geometry::box(Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(0.02, 0.02, 0.02), 1, "a");
+  overlap.append(geometry::box(Eigen::Vector3d(0.01, 0.01, 0.01), Eigen::Vector3d(0.03, 0.03, 0.03), 1, "b"));
+  geometry::write_obj(overlap, dir.file("overlap.obj"), 1e-3);
   test::write_text(dir.file("bad.stl"), "solid x\n facet normal 0 0 1\n  outer loop\n   vertex 0 0\n");
   const std::string d = dir.file("disk.stl");
   const std::pair<std::string, std::string> cases[] = {
@@ -137,6 +141,8 @@ TEST(MassPropertiesCommand, RefusalsExitTwoWithTheirMessage) {
        "poise mass-properties: " + dir.file("open.stl") + ": not closed: 3 open edges, the first at triangle "},
       {dir.file("bad.stl") + " --unit mm --density \"2700 kg/m^3\"",
        "poise mass-properties: " + dir.file("bad.stl") + ":4: vertex needs 3 coordinates, got 2\n"},
+      {dir.file("overlap.obj") + " --unit mm --density \"2700 kg/m^3\"",
+       "poise mass-properties: " + dir.file("overlap.obj") + ": shells overlap: "},
       {d + " --unit mm --density \"2700 kg/m^3\" --rays 2",
        "poise mass-properties: --rays 2: expected 8 to 4096 rays across the part\n"},
   };

@@ -125,6 +125,18 @@ TEST(UserParts, RefusedAtTheirKey) {
                    dir.file("meshes/rotor/hub_open.obj") + ": not closed: 3 open edges, the first at triangle "),
             std::string::npos)
       << e;
+  // Two closed shells enclosing common material.
+  geometry::Mesh twice = geometry::load_mesh(dir.file("meshes/rotor/hub.obj"));
+  geometry::Mesh moved = twice;
+  moved.transform(Eigen::Isometry3d(Eigen::Translation3d(0.0, 0.0, 0.005)));
+  twice.append(moved);
+  geometry::write_obj(twice, dir.file("meshes/rotor/hub_twice.obj"));
+  e = error_of(test::replace_once(text, "meshes/rotor/hub.obj", "meshes/rotor/hub_twice.obj"));
+  EXPECT_NE(e.find("key 'geometry.part[1].mesh' = \"meshes/rotor/hub_twice.obj\": expected a closed, consistently "
+                   "oriented mesh file (STL or OBJ): " +
+                   dir.file("meshes/rotor/hub_twice.obj") + ": shells overlap: "),
+            std::string::npos)
+      << e;
   e = error_of(test::replace_once(text, "meshes/rotor/shaft.stl", "meshes/rotor/none.stl"));
   EXPECT_NE(e.find("key 'geometry.part[2].mesh' = \"meshes/rotor/none.stl\": expected a closed, consistently oriented "
                    "mesh file (STL or OBJ): " +

@@ -37,7 +37,7 @@ const char* kMassPropertiesHelp = R"(What it does:
 Checks (a bad mesh is refused with exit status 2, naming the file, what is wrong, where):
   open edges (not closed), edges of three or more triangles (not manifold), triangles
   flipped against their neighbours, degenerate triangles, a shell of negative volume that
-  is inside no other shell (inside out). A part larger than 5 m or smaller than 0.5 mm is
+  is inside no other shell (inside out), shells that overlap (found by the check's rays). A part larger than 5 m or smaller than 0.5 mm is
   a warning: --unit is probably wrong.
 
 Examples:
@@ -213,7 +213,16 @@ int run(const Options& opt) {
       const std::string warning = geometry::unit_warning(p.mesh, opt.unit, unit_m);
       if (!warning.empty()) std::cerr << "poise mass-properties: warning: " << warning << '\n';
       p.exact = geometry::to_mass_properties(geometry::exact_moments(p.mesh, p.density));
-      p.raycast = geometry::to_mass_properties(geometry::raycast_moments({{p.mesh, p.density}}, grid));
+      geometry::RayCastStats stats;
+      p.raycast = geometry::to_mass_properties(geometry::raycast_moments({{p.mesh, p.density}}, grid, &stats));
+      if (stats.overlap_rays > 0) {
+        // Each shell is closed, but two of them enclose common material: the divergence
+        // theorem (and the rays) would count it twice.
+        refuse(p.file + ": shells overlap: " + std::to_string(stats.overlap_rays) + " of " +
+               std::to_string(stats.rays) +
+               " check rays pass through material enclosed by two shells (solids exported into one another); unite "
+               "them in CAD, or export them as separate files");
+      }
       exact.push_back(p.exact);
       ray.push_back(p.raycast);
       volume += p.check.volume_m3;
@@ -259,6 +268,9 @@ int run(const Options& opt) {
       std::cout << "assembly of " << parts.size() << " parts (parallel-axis sum):\n";
       print_properties(total, volume, total_diff, opt.unit, unit_m, std::cout);
     }
+  } catch (const geometry::MeshCheckError& e) {
+    std::cerr << "poise mass-properties: " << e.what() << "\nNothing was computed.\n";
+    return 2;
   } catch (const std::exception& e) {
     std::cerr << "poise mass-properties: error: " << e.what() << '\n';
     return 1;

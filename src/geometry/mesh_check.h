@@ -14,6 +14,8 @@
 ///                       volumes: one of negative volume is inside out, unless it lies inside
 ///                       another shell (the wall of an internal cavity, which removes material)
 /// Several closed shells in one file are one part (a screw and its washer, a frame in pieces).
+/// Shells that overlap (two solids exported into one another) are not found here: the ray
+/// cast finds them (RayCastStats::overlap_rays, mass_properties.h).
 #include <cstddef>
 #include <string>
 #include <vector>

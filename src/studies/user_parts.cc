@@ -5,6 +5,7 @@
 #include <set>
 
 #include "core/units.h"
+#include "geometry/mass_properties.h"
 #include "geometry/mesh_check.h"
 #include "geometry/mesh_io.h"
 #include "studies/model_overrides.h"
@@ -84,6 +85,15 @@ UserParts read_user_parts(TomlReader& table, const std::string& base_dir) {
       const double unit_m = unit_size(p.unit);
       const geometry::Mesh m = geometry::load_mesh(p.mesh_file, unit_m);
       const geometry::MeshCheck check = geometry::require_valid_mesh(m);
+      // Closed shells that enclose common material would count it twice: found by rays.
+      geometry::RayGridOptions grid;
+      grid.rays_per_side = 96;
+      geometry::RayCastStats stats;
+      geometry::raycast_moments({{m, 1.0}}, grid, &stats);
+      if (stats.overlap_rays > 0) {
+        throw Error(p.mesh_file + ": shells overlap: " + std::to_string(stats.overlap_rays) + " of " +
+                    std::to_string(stats.rays) + " rays pass through material enclosed by two shells");
+      }
       p.triangles = m.triangles.size();
       p.shells = check.shells.size();
       if (const std::string w = geometry::unit_warning(m, p.unit, unit_m); !w.empty()) out.warnings.push_back(w);
