@@ -144,7 +144,11 @@ TEST(MassPropertiesCommand, RefusalsExitTwoWithTheirMessage) {
       {dir.file("overlap.obj") + " --unit mm --density \"2700 kg/m^3\"",
        "poise mass-properties: " + dir.file("overlap.obj") + ": shells overlap: "},
       {d + " --unit mm --density \"2700 kg/m^3\" --rays 2",
-       "poise mass-properties: --rays 2: expected 8 to 4096 rays across the part\n"},
+       "poise mass-properties: --rays 2: expected a whole number from 8 to 4096 (rays across the part)\n"},
+      {d + " --unit mm --density \"2700 kg/m^3\" --rays abc",
+       "poise mass-properties: --rays abc: expected a whole number from 8 to 4096 (rays across the part)\n"},
+      {d + " --unit mm --density \"2700 kg/m^3\" --bogus",
+       "poise mass-properties: unknown argument '--bogus' (see poise mass-properties --help)\n"},
   };
   for (const auto& [args, message] : cases) {
     const auto r = run_poise(dir, "mass-properties " + args);

@@ -1,6 +1,7 @@
 #include "cli/mass_properties_command.h"
 
 #include <algorithm>
+#include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -37,8 +38,8 @@ const char* kMassPropertiesHelp = R"(What it does:
 Checks (a bad mesh is refused with exit status 2, naming the file, what is wrong, where):
   open edges (not closed), edges of three or more triangles (not manifold), triangles
   flipped against their neighbours, degenerate triangles, a shell of negative volume that
-  is inside no other shell (inside out), shells that overlap (found by the check's rays). A part larger than 5 m or smaller than 0.5 mm is
-  a warning: --unit is probably wrong.
+  is inside no other shell (inside out), shells that overlap (found by the check's rays).
+  A part larger than 5 m or smaller than 0.5 mm is a warning: --unit is probably wrong.
 
 Examples:
   poise mass-properties rotor_disk.stl --unit mm --density "2700 kg/m^3"
@@ -154,9 +155,18 @@ struct Options {
   std::vector<std::string> meshes;
   std::string unit;
   std::vector<std::string> densities;
-  int rays = 256;
+  std::string rays = "256";
   bool json = false;
+  std::vector<std::string> extras;  // arguments CLI11 did not recognise
 };
+
+// --rays as a number from 8 to 4096, or -1.
+int rays_per_side(const Options& opt) {
+  int n = 0;
+  const char* end = opt.rays.data() + opt.rays.size();
+  const auto [p, ec] = std::from_chars(opt.rays.data(), end, n);
+  return ec == std::errc() && p == end && n >= 8 && n <= 4096 ? n : -1;
+}
 
 std::vector<Part> read_parts(const Options& opt, double unit_m) {
   if (opt.meshes.empty()) refuse("no mesh given: poise mass-properties MESH... --unit mm --density \"2700 kg/m^3\"");
@@ -165,9 +175,11 @@ std::vector<Part> read_parts(const Options& opt, double unit_m) {
     refuse("--density given " + std::to_string(opt.densities.size()) + " times for " +
            std::to_string(opt.meshes.size()) + " meshes: give one for all, or one per mesh in their order");
   }
-  if (opt.rays < 8 || opt.rays > 4096) {
-    refuse("--rays " + std::to_string(opt.rays) + ": expected 8 to 4096 rays across the part");
+  if (!opt.extras.empty()) {
+    refuse("unknown argument '" + opt.extras.front() + "' (see poise mass-properties --help)");
   }
+  if (rays_per_side(opt) < 0)
+    refuse("--rays " + opt.rays + ": expected a whole number from 8 to 4096 (rays across the part)");
   std::vector<Part> parts;
   for (std::size_t i = 0; i < opt.meshes.size(); ++i) {
     Part p;
@@ -206,7 +218,7 @@ int run(const Options& opt) {
   }
   try {
     geometry::RayGridOptions grid;
-    grid.rays_per_side = opt.rays;
+    grid.rays_per_side = rays_per_side(opt);
     std::vector<geometry::MassProperties> exact, ray;
     double volume = 0.0;
     for (auto& p : parts) {
@@ -234,11 +246,12 @@ int run(const Options& opt) {
                 << g(100.0 * total_diff.mass, 3) << " %: raise --rays for a part with thin walls\n";
     }
     if (opt.json) {
-      nlohmann::json out = properties_json(total, volume, total_diff, opt.rays);
+      nlohmann::json out = properties_json(total, volume, total_diff, grid.rays_per_side);
       if (parts.size() > 1) {
         nlohmann::json list = nlohmann::json::array();
         for (const auto& p : parts) {
-          nlohmann::json j = properties_json(p.exact, p.check.volume_m3, difference(p.exact, p.raycast), opt.rays);
+          nlohmann::json j =
+              properties_json(p.exact, p.check.volume_m3, difference(p.exact, p.raycast), grid.rays_per_side);
           std::size_t cavities = 0;
           for (const auto& s : p.check.shells) cavities += s.cavity;
           j["file"] = p.file;
@@ -294,9 +307,11 @@ MassPropertiesHandler add_mass_properties_command(CLI::App& app) {
                   "mesh in their order (required)");
   sub->add_option("--rays", opt->rays, "rays per side of the ray-cast check grid (default 256)");
   sub->add_flag("--json", opt->json, "print one JSON object");
+  sub->allow_extras();  // an unknown option is refused by the handler, with exit status 2
   sub->footer(kMassPropertiesHelp);
   return [sub, opt]() -> std::optional<int> {
     if (!*sub) return std::nullopt;
+    opt->extras = sub->remaining();
     return run(*opt);
   };
 }
