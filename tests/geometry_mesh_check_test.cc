@@ -72,7 +72,9 @@ TEST(MeshCheck, NonManifoldEdge) {
   EXPECT_EQ(c.non_manifold_edges.count, 1u);
   ASSERT_GE(c.errors.size(), 2u);
   EXPECT_EQ(c.errors[0], "tet.obj: not closed: 2 open edges, the first at triangle 4");
-  EXPECT_EQ(c.errors[1], "tet.obj: not manifold: 1 edge shared by three or more triangles, the first at triangle 0");
+  EXPECT_EQ(c.errors[1],
+            "tet.obj: not manifold: 1 edge shared by three or more triangles that do not pair up (as many running each "
+            "way), the first at triangle 0");
 }
 
 TEST(MeshCheck, DegenerateTriangles) {
@@ -131,6 +133,26 @@ TEST(MeshCheck, CavityAndSeveralShellsAreOnePart) {
   const MeshCheck dc = check_mesh(disk);
   EXPECT_TRUE(dc.ok()) << dc.errors.front();
   EXPECT_EQ(dc.shells.size(), 17u);
+}
+
+TEST(MeshCheck, SolidsTouchingAlongAnEdgeOrAFaceAreAccepted) {
+  // Welded in one STL: boxes meeting along the edge x = y = 1, and along the face x = 3.
+  const std::string text = test::ascii_stl(unit_box("a"), 1.0) +
+                           test::ascii_stl(unit_box("b", Eigen::Vector3d(1, 1, 0)), 1.0) +
+                           test::ascii_stl(unit_box("c", Eigen::Vector3d(2, 0, 0)), 1.0) +
+                           test::ascii_stl(unit_box("d", Eigen::Vector3d(3, 0, 0)), 1.0);
+  const Mesh m = read_stl(text, "touching.stl");
+  const MeshCheck c = check_mesh(m);
+  EXPECT_TRUE(c.ok()) << c.errors.front();
+  EXPECT_GE(c.shared_edges.count, 2u);  // the edge x = y = 1 and the face x = 3's edges
+  EXPECT_NEAR(c.volume_m3, 4.0, 1e-12);
+  // A fourth triangle on a shared edge unbalances it: not manifold.
+  Mesh bad = m;
+  bad.triangle_lines.clear();
+  const Triangle& t = bad.triangles[c.shared_edges.first_triangle];
+  bad.vertices.emplace_back(9, 9, 9);
+  bad.triangles.push_back({t[0], t[1], static_cast<std::uint32_t>(bad.vertices.size() - 1)});
+  EXPECT_EQ(check_mesh(bad).non_manifold_edges.count, 1u);
 }
 
 TEST(MeshCheck, GenusOneDiskIsOneShell) {

@@ -25,8 +25,12 @@ namespace {
 using namespace poise::geometry;
 constexpr double kMm = 1e-3;
 
-// Every mesh written passes the check `poise mass-properties` applies.
-void checked(const Mesh& m) { require_valid_mesh(m); }
+// Every file written, read back as `poise mass-properties` reads it (float32 STL, vertices
+// welded), passes its check.
+void check_file(const std::string& path) {
+  const Mesh m = load_mesh(path, kMm);
+  require_valid_mesh(m);
+}
 
 }  // namespace
 
@@ -44,19 +48,22 @@ int main(int argc, char** argv) {
     const Mesh hub = tube(8 * kMm, 20 * kMm, 12 * kMm, 30 * kMm, n, "hub");
     const Mesh shaft = cylinder(8 * kMm, -20 * kMm, 60 * kMm, n, "shaft");
     const Mesh clump = cylinder(8 * kMm, 0.0, 8 * kMm, 48, "clump_weight");
-    for (const Mesh* m : {&disk, &hub, &shaft, &clump}) checked(*m);
     write_stl(disk, (out / "rotor" / "rotor_disk.stl").string(), kMm);
     write_obj(hub, (out / "rotor" / "hub.obj").string(), kMm);
     write_ascii_stl(shaft, (out / "rotor" / "shaft.stl").string(), kMm);
     write_stl(clump, (out / "rotor" / "clump_weight.stl").string(), kMm);
+    for (const char* f : {"rotor_disk.stl", "hub.obj", "shaft.stl", "clump_weight.stl"}) {
+      check_file((out / "rotor" / f).string());
+    }
 
     const SeekerMeshes s = seeker_meshes(SeekerGeometry{});
     const std::pair<const char*, const Mesh*> seeker[] = {
         {"ring", &s.ring},       {"barrel", &s.barrel}, {"pitch_shafts", &s.pitch_shafts},
         {"housing", &s.housing}, {"posts", &s.posts},   {"window", &s.window}};
     for (const auto& [name, mesh] : seeker) {
-      checked(*mesh);
-      write_stl(*mesh, (out / "seeker" / (std::string(name) + ".stl")).string(), kMm);
+      const std::string path = (out / "seeker" / (std::string(name) + ".stl")).string();
+      write_stl(*mesh, path, kMm);
+      check_file(path);
     }
     std::cout << "wrote the example meshes (mm) to " << out.string() << "/rotor and " << out.string() << "/seeker\n";
   } catch (const std::exception& e) {

@@ -32,13 +32,15 @@ const char* kMassPropertiesHelp = R"(What it does:
   V = a.(b x c)/6, int x dV = V (a+b+c)/4, int x x^T dV = V/20 (aa^T + bb^T + cc^T + ss^T)
   with s = a+b+c (divergence theorem). Checked by an independent integration: parallel
   rays (Embree) through a grid of --rays cells per side, each segment inside the part
-  integrated exactly; the relative differences are printed. A faceted export of a round
-  part is a polygon: its figures are the polygon's, not the drawing's circle's.
+  integrated exactly, the rays along the part's thinnest side; the relative differences
+  are printed. A faceted export of a round part is a polygon: its figures are the
+  polygon's, not the drawing's circle's.
 
 Checks (a bad mesh is refused with exit status 2, naming the file, what is wrong, where):
-  open edges (not closed), edges of three or more triangles (not manifold), triangles
-  flipped against their neighbours, degenerate triangles, a shell of negative volume that
-  is inside no other shell (inside out), shells that overlap (found by the check's rays).
+  open edges (not closed), edges of three or more triangles that do not pair up (not
+  manifold; solids touching along an edge or a face pass), triangles flipped against
+  their neighbours, degenerate triangles, a shell of negative volume that is inside no
+  other shell (inside out), shells that overlap (found by the check's rays).
   A part larger than 5 m or smaller than 0.5 mm is a warning: --unit is probably wrong.
 
 Examples:
@@ -225,6 +227,9 @@ int run(const Options& opt) {
       const std::string warning = geometry::unit_warning(p.mesh, opt.unit, unit_m);
       if (!warning.empty()) std::cerr << "poise mass-properties: warning: " << warning << '\n';
       p.exact = geometry::to_mass_properties(geometry::exact_moments(p.mesh, p.density));
+      // Rays along the part's thinnest side: a plate is crossed through its thickness, where
+      // each segment is integrated exactly, and sampled across its face.
+      p.mesh.bounds().sizes().minCoeff(&grid.axis);
       geometry::RayCastStats stats;
       p.raycast = geometry::to_mass_properties(geometry::raycast_moments({{p.mesh, p.density}}, grid, &stats));
       if (stats.overlap_rays > 0) {
@@ -241,7 +246,7 @@ int run(const Options& opt) {
     }
     const geometry::MassProperties total = geometry::assemble(exact);
     const RaycastDifference total_diff = difference(total, geometry::assemble(ray));
-    if (total_diff.mass > 0.01) {
+    if (total_diff.mass > 0.02) {  // thin members at 256 rays agree to about 1 %
       std::cerr << "poise mass-properties: warning: the ray-cast check differs from the exact mass by "
                 << g(100.0 * total_diff.mass, 3) << " %: raise --rays for a part with thin walls\n";
     }

@@ -111,7 +111,11 @@ MeshCheck check_mesh(const Mesh& mesh) {
     if (uses == 1) {
       note(r.open_edges, first);
     } else if (uses > 2) {
-      note(r.non_manifold_edges, first);
+      // Closed solids meeting along an edge (touching bodies in one export) use it as often
+      // in each direction: the surface still bounds a region. Otherwise it is not manifold.
+      std::size_t forward = 0;
+      for (std::size_t k = i; k < j; ++k) forward += edges[k].forward;
+      note(2 * forward == uses ? r.shared_edges : r.non_manifold_edges, first);
     } else {
       const bool same = edges[i].forward == edges[i + 1].forward;
       links[edges[i].tri][link_count[edges[i].tri]++] = {edges[i + 1].tri, same};
@@ -139,12 +143,14 @@ MeshCheck check_mesh(const Mesh& mesh) {
   }
   for (const Shell& s : r.shells) r.volume_m3 += s.volume_m3;
 
-  // Orientation: walk each shell from its first triangle, flipping the parity across every
-  // edge run the same way; the triangles of the smaller parity class are the flipped ones.
+  // Orientation: walk each patch (triangles joined by two-triangle edges) from its first
+  // triangle, flipping the parity across every edge run the same way; the triangles of the
+  // smaller parity class are the flipped ones.
   std::vector<signed char> parity(n, -1);
-  for (const Shell& s : r.shells) {
-    std::vector<std::uint32_t> stack{static_cast<std::uint32_t>(s.first_triangle)}, members;
-    parity[s.first_triangle] = 0;
+  for (std::size_t start = 0; start < n; ++start) {
+    if (!usable[start] || parity[start] >= 0) continue;
+    std::vector<std::uint32_t> stack{static_cast<std::uint32_t>(start)}, members;
+    parity[start] = 0;
     bool orientable = true;
     while (!stack.empty()) {
       const std::uint32_t k = stack.back();
@@ -167,7 +173,7 @@ MeshCheck check_mesh(const Mesh& mesh) {
     for (const auto k : members) {
       if (!orientable ? false : parity[k] == minority) note(r.flipped_triangles, k);
     }
-    if (!orientable) note(r.non_orientable_shells, s.first_triangle);
+    if (!orientable) note(r.non_orientable_shells, start);
   }
 
   const std::string& name = mesh.name;
@@ -177,7 +183,7 @@ MeshCheck check_mesh(const Mesh& mesh) {
   }
   if (r.non_manifold_edges.count) {
     r.errors.push_back(name + ": not manifold: " + plural(r.non_manifold_edges.count, "edge shared", "edges shared") +
-                       " by three or more triangles, the first at " +
+                       " by three or more triangles that do not pair up (as many running each way), the first at " +
                        describe_triangle(mesh, r.non_manifold_edges.first_triangle));
   }
   if (r.flipped_triangles.count) {

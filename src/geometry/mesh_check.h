@@ -5,7 +5,9 @@
 /// over the region of winding number 1, which is the part only when the surface is closed,
 /// two-manifold and consistently oriented. check_mesh() finds what breaks that:
 ///   open edge           an edge of one triangle only (a hole in the surface)
-///   non-manifold edge   an edge of three or more triangles
+///   non-manifold edge   an edge of three or more triangles that do not run it as often in
+///                       each direction (two closed solids touching along an edge do: those
+///                       edges are counted as shared_edges and accepted)
 ///   inconsistent        triangles wound against their neighbours (an edge both its
 ///     orientation       triangles run the same way): the minority of the shell is flipped
 ///   degenerate          a triangle with a repeated vertex or of zero area (collinear
@@ -47,11 +49,14 @@ struct Defect {
 
 struct MeshCheck {
   Defect open_edges, non_manifold_edges, degenerate_triangles;
+  /// Edges of four or more triangles, run as often each way: closed solids touching along an
+  /// edge or a face (bodies exported together). Not an error: the surface bounds a region.
+  Defect shared_edges;
   /// Triangles whose winding disagrees with the majority of their shell (found by walking
   /// the shell across its two-triangle edges); shells where no consistent winding exists.
-  Defect flipped_triangles, non_orientable_shells;
-  std::vector<Shell> shells;  ///< in order of their first triangle
-  double volume_m3 = 0.0;     ///< sum of the shells' signed volumes
+  Defect flipped_triangles, non_orientable_shells;  ///< "shells" here: patches joined by two-triangle edges
+  std::vector<Shell> shells;                        ///< in order of their first triangle
+  double volume_m3 = 0.0;                           ///< sum of the shells' signed volumes
   /// One sentence per defect, each starting "<mesh name>: ", e.g.
   /// "disk.stl: not closed: 3 open edges, the first at triangle 1799 (line 12596)".
   std::vector<std::string> errors;

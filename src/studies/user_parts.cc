@@ -88,6 +88,7 @@ UserParts read_user_parts(TomlReader& table, const std::string& base_dir) {
       // Closed shells that enclose common material would count it twice: found by rays.
       geometry::RayGridOptions grid;
       grid.rays_per_side = 96;
+      m.bounds().sizes().minCoeff(&grid.axis);
       geometry::RayCastStats stats;
       geometry::raycast_moments({{m, 1.0}}, grid, &stats);
       if (stats.overlap_rays > 0) {
