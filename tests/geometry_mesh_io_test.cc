@@ -74,12 +74,12 @@ TEST(MeshIo, MalformedObjCorpus) {
   EXPECT_EQ(load_error(corpus("bad_obj_index.obj")),
             corpus("bad_obj_index.obj") + ":4: face vertex index 4 is out of range (3 vertices defined so far)");
   EXPECT_EQ(load_error(corpus("bad_obj_short_vertex.obj")),
-            corpus("bad_obj_short_vertex.obj") + ":2: vertex needs 3 coordinates (x y z [w]), got 2");
+            corpus("bad_obj_short_vertex.obj") + ":2: vertex needs 3 coordinates (x y z [w] or x y z r g b), got 2");
   EXPECT_EQ(load_error(corpus("bad_obj_number.obj")),
             corpus("bad_obj_number.obj") + ":3: vertex coordinate '1.5.2' is not a finite number");
   EXPECT_EQ(load_error(corpus("bad_obj_statement.obj")),
             corpus("bad_obj_statement.obj") +
-                ":4: unknown OBJ statement 'curv' (expected v, f, vt, vn, o, g, s, usemtl, mtllib)");
+                ":4: unknown OBJ statement 'curv' (expected v, f, vt, vn, o, g, s, usemtl, mtllib, l, p)");
   EXPECT_EQ(load_error(corpus("bad_obj_face_size.obj")),
             corpus("bad_obj_face_size.obj") + ":4: face needs at least 3 vertices, got 2");
   EXPECT_EQ(load_error(corpus("bad_obj_no_faces.obj")), corpus("bad_obj_no_faces.obj") + ": no faces ('f' lines)");

@@ -9,6 +9,7 @@
 #include "cli/diagnose_command.h"
 #include "cli/fit_command.h"
 #include "cli/keys_command.h"
+#include "cli/mass_properties_command.h"
 #include "cli/optimize_command.h"
 #include "cli/record_command.h"
 #include "core/version.h"
@@ -33,6 +34,7 @@ Examples:
   poise run studies/yang2015_repeatability.toml --samples 8
   poise run studies/wang2014_umar.toml
   poise fit data/yang2015/table1_loading_test_36pt.csv --json
+  poise mass-properties rotor_disk.stl --unit mm --density "2700 kg/m^3"
   poise run studies/los_seeker_wang2011.toml --samples 100000 --seed 7 --threads 2 --out /tmp/los
   poise replay studies/los_seeker_wang2011.toml --sample 42
   poise optimize studies/bearing_span_sizing.toml
@@ -167,6 +169,7 @@ int run_main(int argc, char** argv) {
   const poise::cli::OptimizeHandler optimize = poise::cli::add_optimize_command(app);
   const poise::cli::KeysHandler keys = poise::cli::add_keys_command(app);
   const poise::cli::BudgetHandler budget = poise::cli::add_budget_command(app);
+  const poise::cli::MassPropertiesHandler mass_properties = poise::cli::add_mass_properties_command(app);
 
   CLI11_PARSE(app, argc, argv);
   if (poise::sampling::Cluster::size() > 1 && !*run && !*sens) {
@@ -182,6 +185,7 @@ int run_main(int argc, char** argv) {
   if (const auto status = optimize()) return *status;
   if (const auto status = keys()) return *status;
   if (const auto status = budget()) return *status;
+  if (const auto status = mass_properties()) return *status;
   if (samples > 0) opt.samples = samples;
   if (max_samples > 0) opt.max_samples = max_samples;
   if (*sens) {

@@ -91,10 +91,12 @@ Moments raycast_moments(const EmbreeScene& scene, const std::vector<double>& den
       // Winding per geometry: each mesh's own shells define its inside.
       double w_rho = 0.0;  // sum over meshes of density * winding
       int w_total = 0;
+      bool overlap = false;
       for (std::size_t k = 0; k + 1 < xs.size(); ++k) {
         w_rho += xs[k].sign * densities[xs[k].geom];
         w_total += xs[k].sign;
         const double t0 = xs[k].t, t1 = xs[k + 1].t;
+        if (w_total >= 2 && t1 - t0 > merge_tol) overlap = true;
         if (w_rho == 0.0 || t1 <= t0) continue;
         const double len = t1 - t0, q2 = (t1 * t1 - t0 * t0) / 2.0, q3 = (t1 * t1 * t1 - t0 * t0 * t0) / 3.0;
         const double wgt = w_rho * dA;
@@ -105,6 +107,7 @@ Moments raycast_moments(const EmbreeScene& scene, const std::vector<double>& den
       }
       if (!xs.empty()) w_total += xs.back().sign;
       if (w_total != 0) ++st.open_rays;
+      if (overlap) ++st.overlap_rays;
     }
   });
   RayCastStats s;
@@ -113,11 +116,13 @@ Moments raycast_moments(const EmbreeScene& scene, const std::vector<double>& den
     s.rays += row_stats[i].rays;
     s.crossings += row_stats[i].crossings;
     s.open_rays += row_stats[i].open_rays;
+    s.overlap_rays += row_stats[i].overlap_rays;
   }
   if (stats) {
     stats->rays += s.rays;
     stats->crossings += s.crossings;
     stats->open_rays += s.open_rays;
+    stats->overlap_rays += s.overlap_rays;
   }
   return total;
 }

@@ -55,6 +55,9 @@ struct RayCastStats {
   std::size_t rays = 0;       ///< cast
   std::size_t crossings = 0;  ///< surface crossings found
   std::size_t open_rays = 0;  ///< rays whose winding did not return to 0 (mesh not closed)
+  /// Rays that pass through material of winding 2 or more over a non-zero length: shells of
+  /// one mesh that overlap (their common material would count twice).
+  std::size_t overlap_rays = 0;
 };
 
 /// Ray-cast moments of every mesh of a scene built with collect_all_hits (densities per

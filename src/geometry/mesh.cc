@@ -8,6 +8,12 @@ namespace poise::geometry {
 
 void Mesh::append(const Mesh& other) {
   const auto base = static_cast<std::uint32_t>(vertices.size());
+  if (triangle_lines.size() == triangles.size() && other.triangle_lines.size() == other.triangles.size() &&
+      !(triangles.empty() && other.triangles.empty())) {
+    triangle_lines.insert(triangle_lines.end(), other.triangle_lines.begin(), other.triangle_lines.end());
+  } else {
+    triangle_lines.clear();
+  }
   vertices.insert(vertices.end(), other.vertices.begin(), other.vertices.end());
   for (const Triangle& t : other.triangles) triangles.push_back({t[0] + base, t[1] + base, t[2] + base});
 }
@@ -57,7 +63,20 @@ std::string check_closed(const Mesh& mesh) {
 }
 
 void remove_degenerate(Mesh& mesh) {
-  std::erase_if(mesh.triangles, [](const Triangle& t) { return t[0] == t[1] || t[1] == t[2] || t[0] == t[2]; });
+  auto bad = [](const Triangle& t) { return t[0] == t[1] || t[1] == t[2] || t[0] == t[2]; };
+  if (mesh.triangle_lines.size() == mesh.triangles.size()) {
+    std::size_t out = 0;
+    for (std::size_t k = 0; k < mesh.triangles.size(); ++k) {
+      if (bad(mesh.triangles[k])) continue;
+      mesh.triangles[out] = mesh.triangles[k];
+      mesh.triangle_lines[out++] = mesh.triangle_lines[k];
+    }
+    mesh.triangles.resize(out);
+    mesh.triangle_lines.resize(out);
+    return;
+  }
+  mesh.triangle_lines.clear();
+  std::erase_if(mesh.triangles, bad);
 }
 
 }  // namespace poise::geometry

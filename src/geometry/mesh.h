@@ -22,6 +22,9 @@ struct Mesh {
   std::string name;
   std::vector<Eigen::Vector3d> vertices;
   std::vector<Triangle> triangles;
+  /// Line of the file each triangle came from (OBJ face, ASCII STL facet); empty when the
+  /// mesh was generated or read from binary STL. Messages about a triangle name its line.
+  std::vector<std::size_t> triangle_lines;
 
   /// Appends another mesh's vertices and triangles (indices shifted).
   void append(const Mesh& other);

@@ -3,10 +3,12 @@
 #include <algorithm>
 #include <charconv>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <fstream>
 #include <map>
 #include <sstream>
+#include <unordered_map>
 #include <vector>
 
 namespace poise::geometry {
@@ -39,15 +41,34 @@ std::vector<std::string> split(const std::string& line) {
 class VertexWelder {
  public:
   explicit VertexWelder(Mesh& mesh) : mesh_(mesh) {}
+  /// A closed mesh of n triangles has about n/2 vertices.
+  void reserve(std::size_t triangles) {
+    index_.reserve(triangles / 2 + 16);
+    mesh_.vertices.reserve(triangles / 2 + 16);
+  }
   std::uint32_t add(const Eigen::Vector3d& v) {
-    const auto [it, inserted] = index_.try_emplace({v.x(), v.y(), v.z()}, static_cast<std::uint32_t>(mesh_.vertices.size()));
+    // + 0.0 turns -0.0 into 0.0, so equal coordinates have equal bits for the hash.
+    const auto [it, inserted] =
+        index_.try_emplace({v.x() + 0.0, v.y() + 0.0, v.z() + 0.0}, static_cast<std::uint32_t>(mesh_.vertices.size()));
     if (inserted) mesh_.vertices.push_back(v);
     return it->second;
   }
 
  private:
   Mesh& mesh_;
-  std::map<std::array<double, 3>, std::uint32_t> index_;
+  struct Hash {
+    std::size_t operator()(const std::array<double, 3>& p) const {
+      std::uint64_t h = 0x9e3779b97f4a7c15ull;
+      for (double c : p) {
+        std::uint64_t b;
+        std::memcpy(&b, &c, 8);
+        h = (h ^ b) * 0xff51afd7ed558ccdull;
+        h ^= h >> 32;
+      }
+      return static_cast<std::size_t>(h);
+    }
+  };
+  std::unordered_map<std::array<double, 3>, std::uint32_t, Hash> index_;
 };
 
 Mesh read_stl_ascii(const std::string& bytes, const std::string& name, double unit_m) {
@@ -59,6 +80,7 @@ Mesh read_stl_ascii(const std::string& bytes, const std::string& name, double un
   std::size_t ln = 0;
   enum class State { kStart, kSolid, kFacet, kLoop, kEndLoop, kEnd } state = State::kStart;
   std::vector<std::uint32_t> loop;
+  std::size_t facet_line = 0;
   while (std::getline(in, line)) {
     ++ln;
     const auto tok = split(line);
@@ -81,6 +103,7 @@ Mesh read_stl_ascii(const std::string& bytes, const std::string& name, double un
             double v;
             if (!parse_double(tok[k], v)) fail_line(name, ln, "facet normal component '" + tok[k] + "' is not a number");
           }
+          facet_line = ln;
           state = State::kFacet;
         } else {
           expect("'facet normal nx ny nz' or 'endsolid'");
@@ -97,6 +120,7 @@ Mesh read_stl_ascii(const std::string& bytes, const std::string& name, double un
             fail_line(name, ln, "facet has " + std::to_string(loop.size()) + " vertices; STL facets are triangles (3)");
           }
           mesh.triangles.push_back({loop[0], loop[1], loop[2]});
+          mesh.triangle_lines.push_back(facet_line);
           state = State::kEndLoop;
         } else if (kw == "vertex") {
           if (tok.size() != 4) fail_line(name, ln, "vertex needs 3 coordinates, got " + std::to_string(tok.size() - 1));
@@ -117,7 +141,10 @@ Mesh read_stl_ascii(const std::string& bytes, const std::string& name, double un
         state = State::kSolid;
         break;
       case State::kEnd:
-        fail_line(name, ln, "text after 'endsolid'");
+        // CAD systems write an assembly as several solids in one file: one part, one mesh.
+        if (kw != "solid") expect("'solid <name>' or the end of the file after 'endsolid'");
+        state = State::kSolid;
+        break;
     }
   }
   if (state != State::kEnd) {
@@ -134,6 +161,8 @@ Mesh read_stl_binary(const std::string& bytes, const std::string& name, double u
   VertexWelder weld(mesh);
   std::uint32_t n = 0;
   std::memcpy(&n, bytes.data() + 80, 4);
+  weld.reserve(n);
+  mesh.triangles.reserve(n);
   for (std::uint32_t k = 0; k < n; ++k) {
     const char* rec = bytes.data() + 84 + 50 * static_cast<std::size_t>(k);
     std::array<std::uint32_t, 3> idx{};
@@ -168,8 +197,10 @@ Mesh read_obj(std::istream& in, const std::string& name, double unit_m) {
     if (tok.empty()) continue;
     const std::string& kw = tok[0];
     if (kw == "v") {
-      if (tok.size() != 4 && tok.size() != 5) {
-        fail_line(name, ln, "vertex needs 3 coordinates (x y z [w]), got " + std::to_string(tok.size() - 1));
+      // x y z, x y z w, or x y z r g b (vertex colours, as MeshLab writes them).
+      if (tok.size() != 4 && tok.size() != 5 && tok.size() != 7) {
+        fail_line(name, ln,
+                  "vertex needs 3 coordinates (x y z [w] or x y z r g b), got " + std::to_string(tok.size() - 1));
       }
       Eigen::Vector3d v;
       for (int k = 0; k < 3; ++k) {
@@ -196,12 +227,15 @@ Mesh read_obj(std::istream& in, const std::string& name, double unit_m) {
         }
         poly.push_back(static_cast<std::uint32_t>(resolved));
       }
-      for (std::size_t k = 1; k + 1 < poly.size(); ++k) mesh.triangles.push_back({poly[0], poly[k], poly[k + 1]});
+      for (std::size_t k = 1; k + 1 < poly.size(); ++k) {
+        mesh.triangles.push_back({poly[0], poly[k], poly[k + 1]});
+        mesh.triangle_lines.push_back(ln);
+      }
     } else if (kw == "vt" || kw == "vn" || kw == "vp" || kw == "o" || kw == "g" || kw == "s" || kw == "usemtl" ||
-               kw == "mtllib") {
-      continue;
+               kw == "mtllib" || kw == "l" || kw == "p") {
+      continue;  // texture, normals, groups, materials; lines and points have no volume
     } else {
-      fail_line(name, ln, "unknown OBJ statement '" + kw + "' (expected v, f, vt, vn, o, g, s, usemtl, mtllib)");
+      fail_line(name, ln, "unknown OBJ statement '" + kw + "' (expected v, f, vt, vn, o, g, s, usemtl, mtllib, l, p)");
     }
   }
   if (mesh.triangles.empty()) throw MeshFormatError(name + ": no faces ('f' lines)");
@@ -274,6 +308,27 @@ void write_stl(const Mesh& mesh, const std::string& path, double unit_m) {
     const std::uint16_t attr = 0;
     out.write(reinterpret_cast<const char*>(&attr), 2);
   }
+}
+
+void write_ascii_stl(const Mesh& mesh, const std::string& path, double unit_m) {
+  std::ofstream out(path);
+  if (!out) throw Error("cannot write " + path);
+  const std::string name = mesh.name.empty() ? "part" : mesh.name;
+  out << "solid " << name << '\n';
+  char buf[200];
+  for (std::size_t k = 0; k < mesh.triangles.size(); ++k) {
+    const Eigen::Vector3d n = mesh.face_normal(k).normalized();
+    std::snprintf(buf, sizeof buf, "  facet normal %.9g %.9g %.9g\n    outer loop\n", n.x(), n.y(), n.z());
+    out << buf;
+    for (int i = 0; i < 3; ++i) {
+      const Eigen::Vector3d v = mesh.vertices[mesh.triangles[k][i]] / unit_m;
+      std::snprintf(buf, sizeof buf, "      vertex %.17g %.17g %.17g\n", v.x(), v.y(), v.z());
+      out << buf;
+    }
+    out << "    endloop\n  endfacet\n";
+  }
+  out << "endsolid " << name << '\n';
+  if (!out) throw Error("cannot write " + path);
 }
 
 }  // namespace poise::geometry

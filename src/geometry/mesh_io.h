@@ -1,12 +1,13 @@
 #pragma once
 /// Reading and writing meshes: Wavefront OBJ and STL (binary and ASCII).
 ///
-/// OBJ: `v x y z [w]` vertices, `f i j k ...` faces (polygons are fanned into triangles;
-/// `i`, `i/t`, `i//n`, `i/t/n` and negative, relative indices accepted); `vt`, `vn`, `o`,
-/// `g`, `s`, `usemtl`, `mtllib` and comments are skipped; any other statement is an error.
+/// OBJ: `v x y z [w]` (or `v x y z r g b`) vertices, `f i j k ...` faces (polygons are
+/// fanned into triangles; `i`, `i/t`, `i//n`, `i/t/n` and negative, relative indices
+/// accepted); `vt`, `vn`, `vp`, `o`, `g`, `s`, `usemtl`, `mtllib`, `l`, `p` and comments
+/// are skipped; any other statement is an error.
 /// STL: binary when the size is exactly 84 + 50 n bytes for the n the header declares,
 /// else ASCII (`solid` ... `facet normal` / `outer loop` / 3 x `vertex` / `endloop` /
-/// `endfacet` ... `endsolid`). STL repeats vertices per triangle; equal coordinates are
+/// `endfacet` ... `endsolid`, possibly several solids one after another: one mesh). STL repeats vertices per triangle; equal coordinates are
 /// merged so the mesh is indexed (and check_closed() can judge it). STL normals are
 /// ignored: orientation comes from the vertex order, as the format specifies.
 ///
@@ -36,5 +37,7 @@ Mesh read_stl(const std::string& bytes, const std::string& name, double unit_m =
 void write_obj(const Mesh& mesh, const std::string& path, double unit_m = 1.0);
 /// Writes binary STL.
 void write_stl(const Mesh& mesh, const std::string& path, double unit_m = 1.0);
+/// Writes ASCII STL (17 significant digits, so it reads back to the same doubles).
+void write_ascii_stl(const Mesh& mesh, const std::string& path, double unit_m = 1.0);
 
 }  // namespace poise::geometry
