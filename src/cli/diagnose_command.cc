@@ -30,13 +30,22 @@ const char* kDiagnoseHelp = R"(What it does:
   Looks in a measured static unbalance table for effects that the Eq. 22 model
   M(theta) = MT_s sin(theta + b) + MK (Yang et al. 2015) lacks, and shows what they do to
   the unbalance estimate. Candidates: harmonics 2..K of the turntable angle, a time drift
-  (linear, then quadratic), a direction offset between sweep directions, one outlier at a
-  time, AR(1) errors in measurement order. Forward stepwise: each round tests every
-  candidate (F test of the nested linear model; Bonferroni-adjusted largest studentized
-  residual for outliers; restricted likelihood ratio of Prais-Winsten GLS for AR(1)),
-  adjusts the round's p-values with Holm, and adds the best one only if its adjusted p <
-  alpha AND it lowers the BIC. On data with none of these effects it adds one in at most
-  about alpha of the cases.
+  (linear, then quadratic), a direction offset between sweep directions, a step (scanned
+  over change points), a saturating exponential drift (scanned over time constants), a drift
+  of the torque constant scaling the whole M(theta), one outlier at a time, AR(1) errors in
+  measurement order. Forward stepwise: each round tests every candidate (F test of the nested
+  linear model; Bonferroni over a scanned family; restricted likelihood ratio of
+  Prais-Winsten GLS for AR(1)), adjusts the round's p-values with Holm, and adds the best
+  one only if its adjusted p < alpha AND it lowers the BIC. On data with none of these
+  effects it adds one in at most about alpha of the cases.
+  Then: what this plan cannot tell apart (candidates collinear with each other or with the
+  first harmonic are reported together, with the estimate under each reading and a plan that
+  would separate them); how far each effect moves the estimate in standard errors; an
+  omnibus check of the final residual (lack of fit against repeated positions or --noise,
+  Ljung-Box and runs tests in measurement order, CUSUM step scan) that reports "unexplained
+  structure" and where it sits. The estimate reported ("after") takes an ambiguous effect as
+  the mean of its readings with their spread in its uncertainty, and ignores an outlier found
+  in correlated noise; "selected model" is the estimate with every effect found.
 
 Data file: as for `poise fit` (theta_deg and torque_mNm or torque_Nm). Optional columns:
   time_s (time of each point, s; without it, time = row order) and sweep (+1/-1, turntable
@@ -49,8 +58,9 @@ Example (Table 1 of the paper, 25.81 g at 45.50 deg on r = 5.10 cm: 12.91 mN*m):
 Output: the base fit, each effect found with its parameters +- SE, p, Holm-adjusted p,
 delta_BIC and physical causes, rmse and the unbalance estimate before and after, the errors
 against the known load, and the candidates tested but not added. --json prints one object
-(effects, rmse_before, rmse_after, estimate_before, estimate_after, unit, n_points and, with
-a load, load, error_before, error_after). --out DIR also writes diagnosis.json, plot.svg
+(effects, rmse_before, rmse_after, estimate_before, estimate_after, unit, n_points,
+estimate_selected_model, plan, omnibus, ambiguous, collinearity, not_identifiable, notes
+and, with a load, load, error_before, error_after). --out DIR also writes diagnosis.json, plot.svg
 (gnuplot; .gp and .dat kept) and report.html.
 Exit status: 0 success, 2 invalid input (the message names the file, line and column),
 1 the output folder cannot be written.
@@ -63,6 +73,7 @@ struct Options {
   bool json = false;
   double alpha = 0.05;
   int max_harmonic = 6;
+  std::string noise;
 };
 
 struct Load {
@@ -112,8 +123,44 @@ json to_json(const est::TorqueTable& t, const est::DiagnosisResult& r,
               {"p_value", e.p_value},     {"p_adjusted", e.p_adjusted},
               {"delta_bic", e.delta_bic}, {"causes", e.causes}};
     if (e.name == "harmonic") j["order"] = e.order;
-    if (e.name == "outlier") j["index"] = e.index, j["line"] = e.line;
+    if (e.name == "outlier" || e.name == "step") j["index"] = e.index, j["line"] = e.line;
+    j["shift_se"] = e.shift_se;
+    j["r_first_harmonic"] = e.r_first_harmonic;
+    j["moves_estimate"] = e.moves_estimate;
+    if (!e.estimate_note.empty()) j["estimate_note"] = e.estimate_note;
     effects.push_back(std::move(j));
+  }
+  json omnibus = {{"p_value", r.omnibus.p_value},
+                  {"unexplained_structure", r.omnibus.unexplained},
+                  {"where", r.omnibus.where},
+                  {"message", r.omnibus.message},
+                  {"tests", json::array()}};
+  for (const est::StructureTest& st : r.omnibus.tests) {
+    json tj = {{"name", st.name}, {"examined", st.examined}, {"note", st.note}};
+    if (st.examined) tj["statistic"] = st.statistic, tj["p_value"] = st.p_value;
+    omnibus["tests"].push_back(std::move(tj));
+  }
+  json ambiguous = json::array();
+  for (const est::AmbiguousFinding& a : r.ambiguous) {
+    json readings = json::array();
+    for (const est::Reading& rd : a.readings) {
+      readings.push_back(
+          {{"effects", rd.effects}, {"delta_bic", rd.delta_bic}, {"estimate", estimate_json(rd.estimate)}});
+    }
+    ambiguous.push_back(
+        {{"readings", readings}, {"correlation", a.correlation}, {"why", a.why}, {"plan", a.plan}});
+  }
+  json collinearity = json::array();
+  for (const est::CandidateCollinearity& c : r.collinearity) {
+    collinearity.push_back({{"candidate", c.candidate},
+                            {"r_first_harmonic", c.r_first_harmonic},
+                            {"vif_base", std::isfinite(c.vif_base) ? json(c.vif_base) : json("inf")},
+                            {"most_collinear_with", c.most_collinear_with},
+                            {"r_other", c.r_other}});
+  }
+  json not_identifiable = json::array();
+  for (const auto& [name, why] : r.not_identifiable) {
+    not_identifiable.push_back({{"name", name}, {"why", why}});
   }
   json out = {{"effects", effects},
               {"rmse_before", r.rmse_before},
@@ -121,7 +168,14 @@ json to_json(const est::TorqueTable& t, const est::DiagnosisResult& r,
               {"estimate_before", estimate_json(r.estimate_before)},
               {"estimate_after", estimate_json(r.estimate_after)},
               {"unit", t.unit},
-              {"n_points", t.size()}};
+              {"n_points", t.size()},
+              {"estimate_selected_model", estimate_json(r.estimate_selected)},
+              {"plan", r.plan},
+              {"omnibus", omnibus},
+              {"ambiguous", ambiguous},
+              {"collinearity", collinearity},
+              {"not_identifiable", not_identifiable},
+              {"notes", r.notes}};
   if (load) {
     const est::KnownLoadErrors k = est::known_load_errors(r, load->torque, load->angle_rad);
     out["load"] = {{"torque", load->torque}, {"angle_deg", load->angle_rad * kDegPerRad}};
@@ -144,6 +198,10 @@ std::string effect_title(const est::Effect& e) {
   if (e.name == "harmonic") return "harmonic " + std::to_string(e.order);
   if (e.name == "outlier") {
     return "outlier at row " + std::to_string(e.index) + " (file line " + std::to_string(e.line) +
+           ")";
+  }
+  if (e.name == "step") {
+    return "step before row " + std::to_string(e.index) + " (file line " + std::to_string(e.line) +
            ")";
   }
   return e.name;
@@ -179,16 +237,42 @@ void print_text(const est::TorqueTable& t, const est::DiagnosisResult& r, double
     out << "  " << i + 1 << ". " << effect_title(e) << ": " << params_text(e, ", ") << "\n"
         << "     p = " << num(e.p_value, 3) << ", Holm-adjusted p = " << num(e.p_adjusted, 3)
         << ", delta_BIC = " << num(e.delta_bic, 3) << "\n"
-        << "     causes: " << e.causes << "\n";
+        << "     causes: " << e.causes << "\n"
+        << "     moves the unbalance estimate by " << num(e.shift_se, 3)
+        << " SE; trades off with the first harmonic at r = " << num(e.r_first_harmonic, 3)
+        << (e.moves_estimate ? "" : "; " + e.estimate_note) << "\n";
   }
   for (const auto& s : r.notes) out << "  note: " << s << "\n";
+  out << "\nPlan: " << r.plan << "\n";
+  for (std::size_t i = 0; i < r.ambiguous.size(); ++i) {
+    const est::AmbiguousFinding& a = r.ambiguous[i];
+    out << "Ambiguous finding " << i + 1 << ": " << a.why << "\n";
+    for (const est::Reading& rd : a.readings) {
+      out << "  reading " << rd.effects << " (delta_BIC " << num(rd.delta_bic, 3)
+          << "): " << estimate_text(rd.estimate, u) << "\n";
+    }
+    out << "  a plan that would separate them: " << a.plan << "\n";
+  }
+  out << "\nOmnibus check of the final residual: " << r.omnibus.message << "\n";
+  for (const est::StructureTest& st : r.omnibus.tests) {
+    out << "  " << st.name << ": "
+        << (st.examined ? "statistic " + num(st.statistic, 4) + ", p = " + num(st.p_value, 3) +
+                              (st.note.empty() ? "" : " (" + st.note + ")")
+                        : st.note)
+        << "\n";
+  }
+  for (const auto& [name, why] : r.not_identifiable) {
+    out << "Not identifiable from one test: " << name << ": " << why << "\n";
+  }
   out << "\nCandidates tested in the last round, not added:\n";
   for (const auto& s : r.tested) out << "  " << s << "\n";
   out << "\nrmse (sqrt(RSS/n)): before " << num(r.rmse_before) << " " << u << ", after "
       << num(r.rmse_after) << " " << u << "\n"
       << "Unbalance estimate (first harmonic, +- 1 SE):\n"
       << "  before: " << estimate_text(r.estimate_before, u) << "\n"
-      << "  after:  " << estimate_text(r.estimate_after, u) << "\n";
+      << "  selected model: " << estimate_text(r.estimate_selected, u) << "\n"
+      << "  after:  " << estimate_text(r.estimate_after, u)
+      << " (the estimate reported: see the effects' notes)\n";
   if (load) {
     const est::KnownLoadErrors k = est::known_load_errors(r, load->torque, load->angle_rad);
     out << "Error against the known load " << num(load->torque) << " " << u << " at "
@@ -356,6 +440,16 @@ int run_diagnose(const Options& o) {
     est::DiagnosisOptions opt;
     opt.alpha = o.alpha;
     opt.max_harmonic = o.max_harmonic;
+    if (!o.noise.empty()) {
+      try {
+        opt.noise = units::parse_as(o.noise, units::kTorque) / table.unit_factor;
+      } catch (const Error& e) {
+        throw Error("--noise '" + o.noise + "': " + e.what());
+      }
+      if (!(opt.noise > 0.0) || !std::isfinite(opt.noise)) {
+        throw Error("--noise '" + o.noise + "': expected a torque > 0, e.g. \"0.2 mN*m\"");
+      }
+    }
     result = est::diagnose_residuals(table, opt);
   } catch (const Error& e) {
     std::cerr << "poise: " << e.what() << "\nNothing was diagnosed.\n";
@@ -399,6 +493,8 @@ DiagnoseHandler add_diagnose_command(CLI::App& app) {
   sub->add_option("--alpha", opt->alpha, "familywise level per round (Holm), default 0.05");
   sub->add_option("--max-harmonic", opt->max_harmonic,
                   "highest harmonic tried, default 6 (capped to keep 5 residual dof)");
+  sub->add_option("--noise", opt->noise,
+                  "independent noise level of one point, e.g. \"0.2 mN*m\" (lack-of-fit test)");
   sub->add_option("--load-torque", opt->load_torque, "known load torque, e.g. \"12.91 mN*m\"");
   sub->add_option("--load-angle", opt->load_angle, "angle of the known load, e.g. \"45.5 deg\"");
   sub->add_option("--out", opt->out,

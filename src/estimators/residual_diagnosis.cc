@@ -11,6 +11,8 @@
 #include <utility>
 
 #include "core/error.h"
+#include "estimators/residual_assessment.h"
+#include "estimators/residual_candidates.h"
 #include "estimators/residual_diagnosis_model.h"
 #include "estimators/sine_fit.h"
 
@@ -38,8 +40,9 @@ constexpr double kPi = std::numbers::pi;
 constexpr double kDegPerRad = 180.0 / kPi;
 constexpr int kMaxRounds = 200;  // the search ends long before: each round adds a column set
 constexpr const char* kCauseHarmonic2 =
-    "Gimbal axis not parallel to the turntable axis, an out-of-round bearing or race under the "
-    "gravity load, or anisotropic support stiffness.";
+    "Anisotropic elastic sag of the rotor or frame under gravity (quadratic in gravity), an "
+    "out-of-round bearing or race under the gravity load, or a current or torque sensor "
+    "nonlinear (quadratic) in torque. Not an axis tilt: that changes the first harmonic only.";
 constexpr const char* kCauseHarmonicHigh =
     "Race waviness, cogging of the turntable drive, or a mass distribution with higher moments "
     "coupled through compliance.";
@@ -51,6 +54,15 @@ constexpr const char* kCauseOutlier =
     "A disturbed point: turntable not settled or not locked, a bump, or a missed period.";
 constexpr const char* kCauseAr =
     "A slow disturbance spanning several positions: thermal drift, or settling not complete.";
+constexpr const char* kCauseStep =
+    "A level shift: the amplifier or current sensor re-zeroed, a knock that moved a lead or a "
+    "cable, a range switch of the acquisition.";
+constexpr const char* kCauseExponential =
+    "Thermal settling after switch-on: motor winding, amplifier or bearing grease warming to "
+    "equilibrium (a first-order lag).";
+constexpr const char* kCauseKt =
+    "The torque constant changing during the test (magnet and winding temperature: NdFeB about "
+    "-0.1 %/K), scaling the whole measured torque.";
 
 double wrap_two_pi(double x) {
   double w = std::fmod(x, 2.0 * kPi);
@@ -59,7 +71,8 @@ double wrap_two_pi(double x) {
 }
 
 std::vector<Term> round_candidates(const Model& m, const Data& d, const TorqueTable& table,
-                                   const std::vector<double>& t_c, int max_harmonic) {
+                                   const std::vector<double>& t_c, int max_harmonic,
+                                   bool kt) {
   const Index n = d.n;
   std::vector<Term> c;
   for (int k = 2; k <= max_harmonic; ++k) {
@@ -82,6 +95,7 @@ std::vector<Term> round_candidates(const Model& m, const Data& d, const TorqueTa
   if (m.has("time_drift") && !m.has("time_drift_quadratic")) {
     column_term("time_drift_quadratic", [&](std::size_t i) { return t_c[i] * t_c[i]; });
   }
+  if (!m.has("kt_drift") && kt) c.push_back(detail::kt_drift_term(m, d, t_c));
   const bool both = !table.sweep.empty() &&
                     std::count(table.sweep.begin(), table.sweep.end(), 1) > 0 &&
                     std::count(table.sweep.begin(), table.sweep.end(), -1) > 0;
@@ -136,6 +150,28 @@ Effect to_effect(const Term& t, const Model& m, const LinearFit& f, const Torque
     p.unit = u + per + (quad ? "^2" : "");
     e.params = {p};
     e.causes = kCauseDrift;
+  } else if (t.name == "step") {
+    EffectParam p = coef(0);
+    p.name = "level_change";
+    const auto row = static_cast<std::size_t>(t.index);
+    const double at = table.time_s.empty() ? static_cast<double>(row) : table.time_s[row];
+    e.params = {p, {"first_row_after", static_cast<double>(row), 0.0, ""},
+                {"at_time", at, std::numeric_limits<double>::quiet_NaN(),
+                 table.time_s.empty() ? "measurement" : "s"}};
+    e.line = row < table.rows.size() ? table.rows[row] : 0;
+    e.causes = kCauseStep;
+  } else if (t.name == "exponential_drift") {
+    EffectParam p = coef(0);
+    p.name = "initial_excess";
+    e.params = {p, {"tau", t.param, std::numeric_limits<double>::quiet_NaN(),
+                    table.time_s.empty() ? "measurement" : "s"}};
+    e.causes = kCauseExponential;
+  } else if (t.name == "kt_drift") {
+    EffectParam p = coef(0);
+    p.name = "relative_rate";
+    p.unit = per.substr(1) == "s" ? "1/s" : "1/measurement";
+    e.params = {p};
+    e.causes = kCauseKt;
   } else if (t.name == "direction_offset") {
     EffectParam p = coef(0);
     p.name = "half_difference";
@@ -187,6 +223,143 @@ struct Search {
   double bic = 0.0;  // -2 ln L + k ln n of the final model (ML form, rho at its estimate)
 };
 
+bool is_time_shape(const std::string& n) {
+  return n == "time_drift" || n == "time_drift_quadratic" || n == "exponential_drift" ||
+         n == "step" || n == "kt_drift";
+}
+
+// Every column candidate for a model (families: the best member), examined ones only.
+detail::CandidatePool make_pool(const SearchInputs& in) {
+  return [&in](const Model& m) {
+    std::vector<Term> c =
+        round_candidates(m, in.d, in.table, in.t, in.max_harmonic, in.options.kt_drift);
+    std::vector<Term> out;
+    for (Term& t : c) {
+      if (t.note.empty() && nested_test(m, in.d, t)) out.push_back(std::move(t));
+    }
+    if (in.options.steps && !m.has("step")) out.push_back(detail::step_family(m, in.d));
+    if (in.options.exponential && !m.has("exponential_drift")) {
+      out.push_back(detail::exponential_family(m, in.d, in.t));
+    }
+    out.erase(std::remove_if(out.begin(), out.end(), [](const Term& t) { return !t.examined; }),
+              out.end());
+    return out;
+  };
+}
+
+// The time-shaped effects the search added (linear and quadratic drift, step, settling, K_T
+// drift) are compared, as a group, with each single time shape on the rest of the model;
+// the lowest BIC (scanned tau or change point counted as a parameter) is kept. A saturating
+// drift then is not left as linear plus quadratic, nor a K_T drift as an additive one.
+void compare_time_shapes(const SearchInputs& in, Model& m, std::vector<std::string>& notes) {
+  std::vector<std::size_t> group;
+  for (std::size_t i = 0; i < m.terms.size(); ++i) {
+    if (is_time_shape(m.terms[i].name)) group.push_back(i);
+  }
+  if (group.empty()) return;
+  Model rest = m;
+  for (auto it = group.rbegin(); it != group.rend(); ++it) rest = detail::without_term(rest, *it);
+  const double bic_now = detail::model_bic(m, in.d);
+  double best_bic = bic_now;
+  Model best;
+  std::string best_label;
+  for (Term& c : make_pool(in)(rest)) {
+    if (!is_time_shape(c.name) || c.name == "time_drift_quadratic") continue;
+    Model alt = rest;
+    c.first = alt.x.cols();
+    c.round = m.terms[group.back()].round;
+    c.p_adj = c.p;
+    alt.x = with_columns(alt.x, c.cols);
+    alt.terms.push_back(c);
+    if (alt.ar) alt.rho = fit_rho(alt.x, in.d);
+    const double b = detail::model_bic(alt, in.d);
+    if (b < best_bic - 1e-9) best_bic = b, best = alt, best_label = c.label;
+  }
+  if (best_label.empty()) return;
+  std::string was;
+  for (std::size_t i : group) was += (was.empty() ? "" : " + ") + m.terms[i].label;
+  char buf[300];
+  std::snprintf(buf, sizeof buf,
+                "the time-shaped effects %s were replaced by %s alone: lower BIC (%.2f against "
+                "%.2f, a scanned time constant or change point counted as a parameter)",
+                was.c_str(), best_label.c_str(), best_bic, bic_now);
+  notes.emplace_back(buf);
+  m = std::move(best);
+}
+
+// Spearman rank correlation of the angle with the measurement order.
+double order_angle_correlation(const TorqueTable& table, const std::vector<std::size_t>& order) {
+  const std::size_t n = order.size();
+  std::vector<std::size_t> by_angle(n);
+  std::iota(by_angle.begin(), by_angle.end(), std::size_t{0});
+  std::stable_sort(by_angle.begin(), by_angle.end(),
+                   [&](auto a, auto b) { return table.theta_rad[a] < table.theta_rad[b]; });
+  std::vector<double> rank_angle(n), rank_time(n);
+  for (std::size_t k = 0; k < n; ++k) rank_angle[by_angle[k]] = static_cast<double>(k);
+  for (std::size_t k = 0; k < n; ++k) rank_time[order[k]] = static_cast<double>(k);
+  const double mean = 0.5 * static_cast<double>(n - 1);
+  double sxy = 0.0, sxx = 0.0;
+  for (std::size_t i = 0; i < n; ++i) {
+    sxy += (rank_angle[i] - mean) * (rank_time[i] - mean);
+    sxx += (rank_time[i] - mean) * (rank_time[i] - mean);
+  }
+  return sxx > 0.0 ? sxy / sxx : 0.0;
+}
+
+bool monotone_plan(const TorqueTable& table, const std::vector<std::size_t>& order) {
+  return std::abs(order_angle_correlation(table, order)) > 0.95;
+}
+
+std::string describe_plan(const TorqueTable& table, const std::vector<std::size_t>& order,
+                          bool monotone) {
+  const std::size_t positions = count_distinct_angles(table.theta_rad);
+  const long up = std::count(table.sweep.begin(), table.sweep.end(), 1);
+  const long down = std::count(table.sweep.begin(), table.sweep.end(), -1);
+  char buf[400];
+  std::snprintf(buf, sizeof buf,
+                "%zu points at %zu positions%s; %s; measurement order from %s; rank correlation "
+                "of angle with measurement order %.2f%s",
+                table.size(), positions, positions < table.size() ? " (some repeated)" : "",
+                table.sweep.empty() ? "no sweep column"
+                : (up > 0 && down > 0)
+                    ? ("both directions (" + std::to_string(up) + " +, " + std::to_string(down) +
+                       " -)").c_str()
+                    : "one direction",
+                table.time_s.empty() ? "the row order" : "time_s",
+                order_angle_correlation(table, order),
+                monotone ? ": time order follows angle order, so any smooth function of time is "
+                           "one of angle (harmonics, drifts and correlated noise are confounded)"
+                         : "");
+  return buf;
+}
+
+// Backward elimination after the forward search: an effect whose removal lowers the BIC of
+// the final model (AR(1) refitted) is dropped, with a note. A step or an outlier picked early
+// in correlated noise is then not kept once AR(1) explains the noise.
+void drop_redundant(const SearchInputs& in, Model& m, std::vector<std::string>& notes) {
+  for (;;) {
+    const double now = detail::model_bic(m, in.d);
+    double best = now;
+    std::size_t pick = m.terms.size();
+    Model best_model;
+    for (std::size_t i = 0; i < m.terms.size(); ++i) {
+      if (m.terms[i].name == "autocorrelation") continue;
+      Model alt = detail::without_term(m, i);
+      if (alt.ar) alt.rho = fit_rho(alt.x, in.d);
+      const double b = detail::model_bic(alt, in.d);
+      if (b < best - 1e-9) best = b, pick = i, best_model = std::move(alt);
+    }
+    if (pick == m.terms.size()) return;
+    char buf[240];
+    std::snprintf(buf, sizeof buf,
+                  "%s, added in round %d, was dropped from the final model: without it the BIC is "
+                  "lower (%.2f against %.2f)",
+                  m.terms[pick].label.c_str(), m.terms[pick].round, best, now);
+    notes.emplace_back(buf);
+    m = std::move(best_model);
+  }
+}
+
 // Forward stepwise search from `start` (the rounds described in residual_diagnosis.h). With
 // ar_last, AR(1) is picked only in a round where no column candidate qualifies.
 Search search(const SearchInputs& in, const Model& start, bool ar_last) {
@@ -197,9 +370,14 @@ Search search(const SearchInputs& in, const Model& start, bool ar_last) {
   Model& m = s.m;
   while (s.rounds < kMaxRounds) {
     ++s.rounds;
-    std::vector<Term> c = round_candidates(m, d, in.table, in.t, in.max_harmonic);
+    std::vector<Term> c =
+        round_candidates(m, d, in.table, in.t, in.max_harmonic, in.options.kt_drift);
     for (Term& term : c) {
       if (term.note.empty()) nested_test(m, d, term);
+    }
+    if (in.options.steps && !m.has("step")) c.push_back(detail::step_family(m, d));
+    if (in.options.exponential && !m.has("exponential_drift")) {
+      c.push_back(detail::exponential_family(m, d, in.t));
     }
     if (in.options.outliers) c.push_back(outlier_family(m, d));
     if (in.options.autocorrelation && !m.ar) c.push_back(autocorrelation_test(m, d));
@@ -249,6 +427,8 @@ Search search(const SearchInputs& in, const Model& start, bool ar_last) {
     m.ar = false;
     m.rho = RhoFit{};
   }
+  drop_redundant(in, m, s.notes);
+  compare_time_shapes(in, m, s.notes);
   for (const Term& term : m.terms) {
     s.found.push_back(term.name == "outlier" ? "outlier at row " + std::to_string(term.index)
                                              : term.label);
@@ -256,11 +436,7 @@ Search search(const SearchInputs& in, const Model& start, bool ar_last) {
   }
   std::sort(s.found.begin(), s.found.end());
   if (s.summary.empty()) s.summary = "no effect";
-  const LinearFit f = fit_linear(m.x, d, m.ar, m.rho.rho);
-  const double n = static_cast<double>(d.n);
-  const double loglik = -0.5 * n * std::log(std::max(f.rss, d.rss_floor) / n) +
-                        (m.ar ? 0.5 * std::log(1.0 - m.rho.rho * m.rho.rho) : 0.0);
-  s.bic = -2.0 * loglik + static_cast<double>(m.x.cols() + (m.ar ? 1 : 0)) * std::log(n);
+  s.bic = detail::model_bic(m, d);
   return s;
 }
 
@@ -323,8 +499,8 @@ DiagnosisResult diagnose_residuals(const TorqueTable& table, const DiagnosisOpti
   res.estimate_before = {base.amplitude,    base.phase,    base.offset,
                          base.se_amplitude, base.se_phase, base.se_offset};
   const Polar p = polar(f.beta(0), f.beta(1), f.cov.block<2, 2>(0, 0));
-  res.estimate_after = {p.amplitude,    p.phase,    f.beta(2),
-                        p.se_amplitude, p.se_phase, std::sqrt(f.cov(2, 2))};
+  res.estimate_selected = {p.amplitude,    p.phase,    f.beta(2),
+                           p.se_amplitude, p.se_phase, std::sqrt(f.cov(2, 2))};
   for (std::size_t i = 0; i < n; ++i) {
     const auto k = static_cast<Index>(i);
     res.fitted_before.push_back(sine_fit_predict(base, table.theta_rad[i]));
@@ -332,6 +508,44 @@ DiagnosisResult diagnose_residuals(const TorqueTable& table, const DiagnosisOpti
     res.residual_after.push_back(f.resid(k));
     res.fitted_after.push_back(table.torque[i] - f.resid(k));
   }
+
+  // The plan as the data show it.
+  const bool monotone = monotone_plan(table, d.order);
+  res.plan = describe_plan(table, d.order, monotone);
+  const detail::CandidatePool pool = make_pool(in);
+  res.collinearity = detail::plan_collinearity(start, d, pool);
+
+  // Omnibus check of the final residual, then what the estimate takes.
+  OmnibusInput oi;
+  oi.residual = res.residual_after;
+  oi.order = d.order;
+  oi.theta_deg = table.theta_deg.empty() ? std::vector<double>(n) : table.theta_deg;
+  if (table.theta_deg.empty()) {
+    for (std::size_t i = 0; i < n; ++i) oi.theta_deg[i] = table.theta_rad[i] * kDegPerRad;
+  }
+  oi.time_s = table.time_s;
+  oi.lines = table.rows.size() == n ? table.rows : std::vector<std::size_t>{};
+  oi.parameters = static_cast<std::size_t>(m.x.cols());
+  oi.ar = m.ar;
+  oi.noise = options.noise;
+  oi.alpha = options.alpha;
+  res.omnibus = omnibus_check(oi);
+  bool correlated = false;
+  for (const StructureTest& st : res.omnibus.tests) {
+    if ((st.name == "ljung_box" || st.name == "runs") && st.examined && st.p_value < options.alpha) {
+      correlated = true;
+    }
+  }
+  detail::assess(m, {d, pool, monotone, correlated}, res);
+  res.not_identifiable.emplace_back(
+      "turntable_angle_scale",
+      "a scale error of the turntable angle (or an error of its zero) changes the first harmonic "
+      "itself: the unbalance phase and amplitude carry it and no residual of one test shows it; "
+      "it needs a calibration of the turntable against an angle standard (polygon and "
+      "autocollimator, or an encoder of known accuracy)");
+  res.not_identifiable.emplace_back(
+      "kt_scale", "a constant error of K_T scales the whole torque: it needs a calibration with a "
+                  "known load (--load-torque), not a residual");
   return res;
 }
 

@@ -11,8 +11,26 @@
 ///   time_drift              t - mean(t)                       slope (per s or per measurement)
 ///   time_drift_quadratic    (t - mean(t))^2, only after time_drift      curvature
 ///   direction_offset        sweep (+1 / -1), only if both directions occur   half_difference
+///   step                    [measured at or after point k], k scanned   level_change, row, time
+///   exponential_drift       exp(-(t - t_first) / tau), tau scanned      initial_excess, tau
+///   kt_drift                (t - mean t) M(theta) of the current model  relative_rate
 ///   outlier                 indicator of one point             offset (index, file line)
 ///   autocorrelation         AR(1) errors in measurement order   rho
+/// (families step and exponential_drift, their scans and the K_T drift: residual_candidates.h)
+///
+/// Why harmonic 2 is not an axis tilt. With the turntable at theta, gravity in the turntable
+/// frame is g_T(theta) = g (cos theta u + sin theta v) + g_w w for fixed unit vectors u, v, w
+/// (g_w != 0 when the turntable axis is not horizontal). The unbalance torque about the gimbal
+/// axis a is m (r x g_T(theta)) . a = m (a x r) . g_T(theta) with r the fixed centre of mass:
+/// linear in g_T, so a sin theta + c cos theta + constant for ANY direction of a: a tilt of
+/// the gimbal axis against the turntable axis changes a, c and the constant only. A 2nd
+/// harmonic needs a term quadratic in g_T(theta): a centre of mass that moves with the load,
+/// r(theta) = r0 + C m g_T(theta) (anisotropic elastic sag of the rotor or frame, C not a
+/// multiple of the identity: m^2 (a x C g_T) . g_T holds cos^2, sin^2, sin cos = 2nd harmonic),
+/// an out-of-round bearing whose contact point shifts with the load direction (friction
+/// and run-out torques following the load at twice per turn for an oval race), or a sensor
+/// reading T + q T^2 with T = A sin(theta + b) + K (q A^2 / 2 cos(2 theta + 2 b)). These are
+/// the causes reported for it.
 ///
 /// t is time_s when the table has it, else the row number (measurement order = row order);
 /// the measurement order is the rows sorted by t. K = min(max_harmonic, floor((n - 6) / 2)),
@@ -56,11 +74,38 @@
 /// Measured: 178 of 4000 white-noise records (4.45 %) of 36 points with time_s and an
 /// alternating sweep got an effect at alpha = 0.05; tests/residual_diagnosis_test.cc.
 ///
-/// Limits. Effects collinear over the design cannot be told apart (after a forward sweep a
-/// return sweep makes the direction offset a step in time, partly confounded with a drift; on
-/// an evenly spaced full turn harmonics are orthogonal to the first and cannot bias it). A
-/// K_T scale error or a turntable angle-zero error changes the first harmonic itself and leaves
-/// no trace in the residuals: no residual diagnosis finds those.
+/// Time shapes. After the search, the time-shaped effects it added (drift, quadratic drift,
+/// step, exponential settling, K_T drift) are compared as a group with each single shape
+/// alone; the lowest BIC is kept (a scanned tau or change point counted as a parameter).
+///
+/// Identifiability (residual_assessment.h). Before testing, each candidate's canonical
+/// correlation with (sin, cos) and its variance inflation against (sin, cos, 1), and its
+/// largest canonical correlation with every other candidate (base projected out), are computed
+/// under this data's plan (angle order, time order, sweep). After selection, every effect is
+/// compared with every candidate on the rest of the model: those with canonical correlation
+/// >= 0.9 (VIF >= 5.3) and BIC within 6, or correlation >= 0.5 and BIC within 2, are reported
+/// together as one ambiguous finding with the unbalance under each reading and a plan that
+/// would separate them. On a plan where time order follows angle order, AR(1) errors are a
+/// reading of every harmonic. An effect whose columns trade off with the first harmonic
+/// (correlation >= 0.9 given the rest) is identified only when its drop-one p < 1e-4;
+/// otherwise "no effect" is one of its readings.
+///
+/// Never worse. For each effect, shift_se = how far (a, c) moves when it is dropped from the
+/// selected model, in the selected model's standard errors along the move. estimate_after is
+/// estimate_selected except: an ambiguous effect contributes the mean of its readings, with
+/// half their largest spread added in quadrature to the standard errors (an allowance for what
+/// the data cannot tell apart); an outlier in correlated noise (AR(1) in the model or the
+/// whiteness tests failing) does not move the estimate. (Contributions of several such
+/// effects are added, a first-order approximation.)
+///
+/// Omnibus (residual_omnibus.h): the final residual is tested for structure no effect
+/// explains (lack of fit against repeated positions or a declared noise, Ljung-Box and runs in
+/// measurement order, CUSUM level-shift scan); a failure is reported as unexplained structure,
+/// with where it sits.
+///
+/// Limits. A K_T scale error or a turntable angle-zero or angle-scale error changes the first
+/// harmonic itself and leaves no trace in the residuals: they are listed as not identifiable
+/// and need a calibration (known load; angle standard).
 ///
 /// Reported parameters are those of the final model (all effects estimated together), with
 /// standard errors from sigma^2 (X^T X)^-1 of the (transformed) final fit and the delta method.
@@ -68,6 +113,7 @@
 #include <string>
 #include <vector>
 
+#include "estimators/residual_omnibus.h"
 #include "estimators/torque_table.h"
 
 namespace poise::estimators {
@@ -78,6 +124,19 @@ struct DiagnosisOptions {
   int max_harmonic = 6;     ///< highest harmonic tried (>= 1; 1 = none), capped as above
   bool outliers = true;     ///< try the outlier family
   bool autocorrelation = true;  ///< try AR(1) errors
+  bool steps = true;            ///< try the step family
+  bool exponential = true;      ///< try the exponential settling family
+  bool kt_drift = true;         ///< try the multiplicative drift of K_T
+  /// Independent noise level (sd of one point, table unit) for the omnibus lack-of-fit test,
+  /// e.g. the scatter of the period integrals within a position / sqrt(periods); 0 = none.
+  double noise = 0.0;
+};
+
+/// The once-per-turn unbalance: amplitude MT_s >= 0, phase b (rad, [0, 2 pi)), offset MK,
+/// with standard errors (phase in rad), in the table's torque unit.
+struct UnbalanceEstimate {
+  double amplitude = 0.0, phase = 0.0, offset = 0.0;
+  double se_amplitude = 0.0, se_phase = 0.0, se_offset = 0.0;
 };
 
 /// One parameter of an effect, in the final model.
@@ -100,13 +159,40 @@ struct Effect {
   double p_adjusted = 1.0;  ///< Holm-adjusted p of its round
   double delta_bic = 0.0;   ///< BIC(with) - BIC(without) in its round; < 0 favours it
   std::string causes;       ///< the physical causes that produce such an effect
+  /// How far the first harmonic (a, c) moves when this effect is dropped from the selected
+  /// model, in standard errors of the selected model along that move.
+  double shift_se = 0.0;
+  /// Largest canonical correlation of its columns with sin theta, cos theta given the rest
+  /// of the selected model: how much it trades off with the unbalance.
+  double r_first_harmonic = 0.0;
+  bool moves_estimate = true;  ///< false: estimate_after does not take it (note says why)
+  std::string estimate_note;
 };
 
-/// The once-per-turn unbalance: amplitude MT_s >= 0, phase b (rad, [0, 2 pi)), offset MK,
-/// with standard errors (phase in rad), in the table's torque unit.
-struct UnbalanceEstimate {
-  double amplitude = 0.0, phase = 0.0, offset = 0.0;
-  double se_amplitude = 0.0, se_phase = 0.0, se_offset = 0.0;
+/// Collinearity of one candidate with the base model and the other candidates under this
+/// data's plan (angle order, time order, sweep), before any test.
+struct CandidateCollinearity {
+  std::string candidate;           ///< e.g. "harmonic 3", "time_drift", "step at mid-run"
+  double r_first_harmonic = 0.0;   ///< canonical correlation with (sin, cos), constant removed
+  double vif_base = 1.0;           ///< 1 / (1 - R^2) against (sin, cos, 1)
+  std::string most_collinear_with; ///< the other candidate it is closest to ("" none)
+  double r_other = 0.0;            ///< their canonical correlation, base projected out
+};
+
+/// One reading of an ambiguous finding: the selected model with the finding's effect
+/// replaced by another candidate (or by nothing).
+struct Reading {
+  std::string effects;         ///< e.g. "direction_offset", "time_drift", "no effect"
+  double delta_bic = 0.0;      ///< BIC(reading) - BIC(selected model)
+  UnbalanceEstimate estimate;  ///< the unbalance under this reading
+};
+
+/// Candidates the data cannot tell apart, reported together.
+struct AmbiguousFinding {
+  std::vector<Reading> readings;  ///< the selected one first
+  double correlation = 0.0;       ///< largest canonical correlation between them
+  std::string why;                ///< what in the plan confounds them
+  std::string plan;               ///< a test plan that would separate them
 };
 
 /// Result of diagnose_residuals. Torques in the table's unit (TorqueTable::unit).
@@ -127,6 +213,16 @@ struct DiagnosisResult {
   std::vector<std::string> notes;   ///< e.g. AR(1) removed once columns explained it
   int rounds = 0;                   ///< rounds run, the last one adding nothing
   int max_harmonic = 0;             ///< highest harmonic examined after the cap
+  /// The unbalance under the whole selected model. estimate_after differs from it where an
+  /// effect is ambiguous, trades off with the first harmonic without being identified, or is
+  /// an outlier in correlated noise (see "Never worse" above).
+  UnbalanceEstimate estimate_selected;
+  std::string plan;                                 ///< the plan as the data show it
+  std::vector<CandidateCollinearity> collinearity;  ///< every candidate under this plan
+  std::vector<AmbiguousFinding> ambiguous;
+  OmnibusResult omnibus;                            ///< structure left in residual_after
+  /// Effects no residual of one test can reveal, with why and what would (candidate, why).
+  std::vector<std::pair<std::string, std::string>> not_identifiable;
 };
 
 /// Runs the diagnosis (method above) on table.torque (the file's unit) against
