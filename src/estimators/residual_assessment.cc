@@ -3,6 +3,7 @@
 #include <Eigen/QR>
 #include <Eigen/SVD>
 #include <algorithm>
+#include <array>
 #include <boost/math/distributions/fisher_f.hpp>
 #include <cmath>
 #include <cstdio>
@@ -67,10 +68,11 @@ double drop_one_p(const Model& m, const ModelData& d, std::size_t i) {
 }
 
 // (a, c, K) of the model.
+UnbalanceEstimate estimate_of_model(const Model& m, const ModelData& d);
+
 Eigen::Vector3d coefficients(const Model& m, const ModelData& d) {
-  const LinearFit f = fit_linear(m.x, d, m.ar, m.rho.rho);
-  if (!f.ok) return Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN());
-  return f.beta.head<3>();
+  const UnbalanceEstimate e = estimate_of_model(m, d);
+  return {e.amplitude * std::cos(e.phase), e.amplitude * std::sin(e.phase), e.offset};
 }
 
 Model with_term(const Model& m, const ModelData& d, Term t) {
@@ -84,6 +86,31 @@ Model with_term(const Model& m, const ModelData& d, Term t) {
   out.terms.push_back(std::move(t));
   if (out.ar) out.rho = fit_rho(out.x, d);
   return out;
+}
+
+UnbalanceEstimate estimate_of_model(const Model& m, const ModelData& d) { return estimate_of(m, d); }
+
+// Bayesian model averaging over the readings with BIC weights w_i ~ exp(-delta_BIC_i / 2)
+// (Raftery 1995): the mean's move from the selected model goes into delta, the between-
+// readings variance sum w_i |x_i - mean|^2 (first harmonic) into allowance2.
+void average_readings(const AmbiguousFinding& a, const Eigen::Vector3d& coef_sel,
+                      Eigen::Vector3d& delta, double& allowance2) {
+  double wsum = 0.0;
+  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+  std::vector<std::pair<double, Eigen::Vector3d>> v;
+  for (const Reading& r : a.readings) {
+    const double w = std::exp(-0.5 * std::max(r.delta_bic, -50.0));
+    const Eigen::Vector3d x(r.estimate.amplitude * std::cos(r.estimate.phase),
+                            r.estimate.amplitude * std::sin(r.estimate.phase), r.estimate.offset);
+    v.emplace_back(w, x);
+    wsum += w;
+    mean += w * x;
+  }
+  mean /= wsum;
+  double between = 0.0;
+  for (const auto& [w, x] : v) between += w / wsum * (x.head<2>() - mean.head<2>()).squaredNorm();
+  delta += mean - coef_sel;
+  allowance2 += between;
 }
 
 }  // namespace
@@ -136,17 +163,40 @@ UnbalanceEstimate estimate_of(const Model& m, const ModelData& d) {
   const LinearFit f = fit_linear(m.x, d, m.ar, m.rho.rho);
   UnbalanceEstimate e;
   if (!f.ok) return e;
-  const double a = f.beta(0), c = f.beta(1);
+  // (a, c, K) and their covariance; with a K_T drift referred to the first measurement,
+  // where K_T is the calibrated (cold) one: (a, c, K) (1 + kappa t_start), delta method.
+  Eigen::Vector3d v = f.beta.head<3>();
+  Eigen::Matrix3d cov = f.cov.block<3, 3>(0, 0);
+  const auto kt = std::find_if(m.terms.begin(), m.terms.end(),
+                               [](const Term& t) { return t.name == "kt_drift"; });
+  if (kt != m.terms.end()) {
+    const Index j = kt->first;
+    const double s = 1.0 + f.beta(j) * d.t_start;
+    Eigen::Matrix<double, 3, 4> jac = Eigen::Matrix<double, 3, 4>::Zero();
+    jac.leftCols<3>() = s * Eigen::Matrix3d::Identity();
+    jac.col(3) = v * d.t_start;
+    Eigen::Matrix4d c4;
+    const std::array<Index, 4> idx{0, 1, 2, j};
+    for (int r = 0; r < 4; ++r) {
+      for (int c = 0; c < 4; ++c) c4(r, c) = f.cov(idx[r], idx[c]);
+    }
+    cov = jac * c4 * jac.transpose();
+    v *= s;
+  }
+  const double a = v(0), c = v(1);
   e.amplitude = std::hypot(a, c);
   e.phase = wrap_two_pi(std::atan2(c, a));
-  e.offset = f.beta(2);
-  const Eigen::Matrix2d cov = f.cov.block<2, 2>(0, 0);
+  e.offset = v(2);
+  const Eigen::Matrix2d cov2 = cov.block<2, 2>(0, 0);
   if (e.amplitude > 0.0) {
     const Eigen::Vector2d ua(a / e.amplitude, c / e.amplitude), up(-ua(1), ua(0));
-    e.se_amplitude = std::sqrt(std::max(0.0, ua.dot(cov * ua)));
-    e.se_phase = std::sqrt(std::max(0.0, up.dot(cov * up))) / e.amplitude;
+    e.se_amplitude = std::sqrt(std::max(0.0, ua.dot(cov2 * ua)));
+    e.se_phase = std::sqrt(std::max(0.0, up.dot(cov2 * up))) / e.amplitude;
+  } else {
+    e.se_amplitude = std::sqrt(0.5 * (cov2(0, 0) + cov2(1, 1)));
+    e.se_phase = std::numeric_limits<double>::infinity();
   }
-  e.se_offset = std::sqrt(std::max(0.0, f.cov(2, 2)));
+  e.se_offset = std::sqrt(std::max(0.0, cov(2, 2)));
   return e;
 }
 
@@ -244,15 +294,6 @@ void assess(const Model& m, const AssessmentInputs& in, DiagnosisResult& res) {
         if (r > a.correlation) a.correlation = r, other_name = c.name;
       }
     }
-    if (t.name == "harmonic" && in.monotone_plan && !m.ar) {
-      Term ar("autocorrelation", "autocorrelation");
-      const Model alt = with_term(rest, d, ar);
-      const double db = model_bic(alt, d) - bic_sel;
-      if (db < kBicStrong) {
-        a.readings.push_back({"autocorrelation (AR(1) errors)", db, estimate_of(alt, d)});
-        if (other_name.empty()) other_name = "autocorrelation";
-      }
-    }
     const bool harmonic_confounded =
         e.r_first_harmonic >= kConfounded && drop_one_p(m, d, i) >= kIdentifiedP;
     if (harmonic_confounded) {
@@ -269,22 +310,8 @@ void assess(const Model& m, const AssessmentInputs& in, DiagnosisResult& res) {
               (in.monotone_plan ? "; time order follows angle order" : "");
       a.plan = separating_plan(t.name == "harmonic" ? "harmonic" : t.name,
                                other_name == "harmonic" ? "harmonic" : other_name);
-      // The estimate: mean over the readings, with half their spread as an allowance.
-      Eigen::Vector3d mean = Eigen::Vector3d::Zero();
-      std::vector<Eigen::Vector3d> v;
-      for (const Reading& r : a.readings) {
-        const Eigen::Vector3d x(r.estimate.amplitude * std::cos(r.estimate.phase),
-                                r.estimate.amplitude * std::sin(r.estimate.phase), r.estimate.offset);
-        v.push_back(x);
-        mean += x / static_cast<double>(a.readings.size());
-      }
-      double spread = 0.0;
-      for (const auto& x : v) {
-        for (const auto& y : v) spread = std::max(spread, (x.head<2>() - y.head<2>()).norm());
-      }
-      delta += mean - coef_sel;
-      allowance2 += 0.25 * spread * spread;
-      e.estimate_note = "ambiguous: the estimate is the mean of the readings, with half their "
+      average_readings(a, coef_sel, delta, allowance2);
+      e.estimate_note = "ambiguous: the estimate averages the readings with BIC weights, their "
                         "spread added to its uncertainty";
       res.ambiguous.push_back(std::move(a));
     } else if (correlated_outlier) {
@@ -293,6 +320,43 @@ void assess(const Model& m, const AssessmentInputs& in, DiagnosisResult& res) {
       allowance2 += 0.25 * mv.squaredNorm();
       e.estimate_note = "in correlated noise a single excursion is not told from the noise's own: "
                         "tentative, the estimate does not take it";
+    }
+  }
+  // On a plan where time follows angle, the harmonics found (together) against AR(1) errors
+  // in their place: a smooth function of angle is then a smooth function of time, and only a
+  // repeated or reordered sweep tells a deterministic harmonic from correlated noise.
+  if (in.monotone_plan && !m.ar) {
+    Model alt = m;
+    std::string names;
+    std::vector<std::size_t> members;
+    for (std::size_t i = m.terms.size(); i-- > 0;) {
+      if (m.terms[i].name != "harmonic" || !res.effects[i].moves_estimate) continue;
+      names = m.terms[i].label + (names.empty() ? "" : ", " + names);
+      members.push_back(i);
+      alt = without_term(alt, i);
+    }
+    if (!members.empty()) {
+      alt = with_term(alt, d, Term("autocorrelation", "autocorrelation"));
+      const double db = model_bic(alt, d) - bic_sel;
+      {
+        AmbiguousFinding a;
+        a.readings.push_back({names, 0.0, estimate_of(m, d)});
+        a.readings.push_back({"autocorrelation (AR(1) errors) instead of " + names, db,
+                              estimate_of(alt, d)});
+        a.correlation = 1.0;
+        a.why = names + " and correlated noise: time order follows angle order, so a smooth "
+                        "function of angle is one of time; whatever the BIC says, it rests on "
+                        "the AR(1) form of the noise, which the plan cannot check";
+        a.plan = separating_plan("harmonic", "autocorrelation");
+        average_readings(a, coef_sel, delta, allowance2);
+        for (std::size_t i : members) {
+          res.effects[i].moves_estimate = false;
+          res.effects[i].estimate_note =
+              "ambiguous with correlated noise on this plan: the estimate averages the two "
+              "readings with BIC weights, their spread added to its uncertainty";
+        }
+        res.ambiguous.push_back(std::move(a));
+      }
     }
   }
   res.estimate_after = res.estimate_selected;

@@ -461,6 +461,7 @@ DiagnosisResult diagnose_residuals(const TorqueTable& table, const DiagnosisOpti
   std::stable_sort(d.order.begin(), d.order.end(), [&](auto a, auto b) { return t[a] < t[b]; });
   const double t_mean = std::accumulate(t.begin(), t.end(), 0.0) / static_cast<double>(n);
   for (double& v : t) v -= t_mean;
+  d.t_start = t[d.order[0]];
 
   DiagnosisResult res;
   res.max_harmonic = std::max(1, std::min(options.max_harmonic, (static_cast<int>(n) - 6) / 2));
@@ -498,9 +499,7 @@ DiagnosisResult diagnose_residuals(const TorqueTable& table, const DiagnosisOpti
   res.rmse_after = std::sqrt(f.rss / static_cast<double>(n));
   res.estimate_before = {base.amplitude,    base.phase,    base.offset,
                          base.se_amplitude, base.se_phase, base.se_offset};
-  const Polar p = polar(f.beta(0), f.beta(1), f.cov.block<2, 2>(0, 0));
-  res.estimate_selected = {p.amplitude,    p.phase,    f.beta(2),
-                           p.se_amplitude, p.se_phase, std::sqrt(f.cov(2, 2))};
+  res.estimate_selected = detail::estimate_of(m, d);
   for (std::size_t i = 0; i < n; ++i) {
     const auto k = static_cast<Index>(i);
     res.fitted_before.push_back(sine_fit_predict(base, table.theta_rad[i]));

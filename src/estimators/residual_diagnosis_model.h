@@ -30,6 +30,7 @@ struct ModelData {
   std::vector<std::size_t> order;  ///< rows in measurement order
   double rss_floor = 0.0;          ///< keeps ln(RSS) finite for noise-free data
   Eigen::Index n = 0;
+  double t_start = 0.0;  ///< time of the first measurement, from the mean time (K_T drift)
 };
 
 /// A least-squares fit, in the transformed (whitened) space when ar.

@@ -204,26 +204,33 @@ OmnibusResult omnibus_check(const OmnibusInput& in) {
                       out.p_value, m, in.alpha);
     return out;
   }
-  // Where: by the test that fails, then the largest residuals.
-  if (worst->name == "cusum_step") {
-    const std::size_t a = in.order[shift_k], b = in.order[std::min(shift_k + 1, n - 1)];
-    out.where = "a level shift between " + at_row(in, a) + " and " + at_row(in, b);
-  } else if (worst->name == "ljung_box" || worst->name == "runs") {
-    // The longest run of one sign in measurement order.
-    std::size_t best_a = 0, best_len = 0, a = 0;
-    for (std::size_t k = 1; k <= n; ++k) {
-      if (k == n || (ordered[k] > 0.0) != (ordered[a] > 0.0)) {
-        if (k - a > best_len) best_len = k - a, best_a = a;
-        a = k;
-      }
+  // Where: by every test that fails at the family's level, then the largest residuals.
+  const auto where_of = [&](const StructureTest& t) -> std::string {
+    if (t.name == "cusum_step") {
+      const std::size_t a = in.order[shift_k], b = in.order[std::min(shift_k + 1, n - 1)];
+      return "a level shift between " + at_row(in, a) + " and " + at_row(in, b);
     }
-    out.where = "correlated residuals in measurement order; longest run of one sign: " +
-                std::to_string(best_len) + " points from " + at_row(in, in.order[best_a]) +
-                " to " + at_row(in, in.order[best_a + best_len - 1]);
-  } else if (worst->name == "lack_of_fit") {
-    out.where = "repeated positions disagree with the model more than with each other";
-  } else {
-    out.where = "the residual scatter exceeds the declared noise (" + worst->note + ")";
+    if (t.name == "ljung_box" || t.name == "runs") {
+      std::size_t best_a = 0, best_len = 0, a = 0;  // the longest run of one sign
+      for (std::size_t k = 1; k <= n; ++k) {
+        if (k == n || (ordered[k] > 0.0) != (ordered[a] > 0.0)) {
+          if (k - a > best_len) best_len = k - a, best_a = a;
+          a = k;
+        }
+      }
+      return "correlated residuals in measurement order (" + t.name + "); longest run of one sign: " +
+             std::to_string(best_len) + " points from " + at_row(in, in.order[best_a]) + " to " +
+             at_row(in, in.order[best_a + best_len - 1]);
+    }
+    if (t.name == "lack_of_fit") {
+      return "repeated positions disagree with the model more than with each other";
+    }
+    return "the residual scatter exceeds the declared noise (" + t.note + ")";
+  };
+  for (const StructureTest& t : out.tests) {
+    if (!t.examined || !(t.p_value * m < in.alpha)) continue;
+    if (t.name == "runs" && out.where.find("correlated residuals") != std::string::npos) continue;
+    out.where += (out.where.empty() ? "" : "; ") + where_of(t);
   }
   std::vector<std::size_t> idx(n);
   std::iota(idx.begin(), idx.end(), std::size_t{0});
