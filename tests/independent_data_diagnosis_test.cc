@@ -9,6 +9,7 @@
 // are then not counted as diagnosis errors).
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <numbers>
@@ -208,6 +209,87 @@ TEST(IndependentData, EffectOutsideTheCandidateListIsFlaggedAsUnexplained) {
   const Tally t = run(td::forward_and_back(), p, {}, {0.2e-3, 0.0}, 20, 700, "", o);
   EXPECT_GE(t.flagged, 18);
   EXPECT_EQ(t.worse, 0);
+}
+
+}  // namespace
+}  // namespace poise::estimators
+
+// ---- Raw records of one position (16-bit ADC, 21-bit encoder, +-1.27 deg swing) ----
+
+namespace poise::estimators {
+namespace {
+
+OscillationRecord to_record(const td::Record& r) {
+  OscillationRecord o;
+  o.t = r.t, o.current = r.current, o.phi = r.phi;
+  return o;
+}
+
+OscillationOptions record_options() {
+  OscillationOptions o;
+  o.kt = 0.05;
+  return o;
+}
+
+bool listed(const OscillationDiagnosis& d, const std::string& name, const std::string& phrase) {
+  for (const auto& [n, why] : d.not_identifiable) {
+    if (n == name && why.find(phrase) != std::string::npos) return true;
+  }
+  return false;
+}
+
+TEST(IndependentRecords, CoggingBelowOneCycleOverTheSwingIsNotFittedButReported) {
+  // Orders 96, 60, 32 complete 0.68, 0.42, 0.23 cycles over the 2.54 deg swing.
+  const std::array<std::pair<int, double>, 3> cases{{{96, 0.4e-3}, {60, 0.2e-3}, {32, 0.03e-3}}};
+  for (const auto& [order, amp] : cases) {
+    td::Plant p;
+    p.cogging = amp, p.cogging_order = order;
+    const OscillationDiagnosis d =
+        diagnose_oscillation(to_record(td::make_record(p, {}, {}, 30.0, 11)), record_options());
+    for (const auto& e : d.effects) {
+      EXPECT_NE(e.name, "cogging") << "true order " << order << ", found " << e.order << " p "
+                                   << e.p_adjusted << " amp " << e.params[0].value;
+    }
+    EXPECT_TRUE(listed(d, "cogging", "not identifiable with this swing")) << order;
+    EXPECT_TRUE(listed(d, "cogging", "order 20: 18 deg")) << order;
+    // The position's torque is not moved by a term the swing cannot identify.
+    EXPECT_LT(std::abs(d.torque_after.value - d.torque_before.value), 0.02e-3) << order;
+  }
+}
+
+TEST(IndependentRecords, CoggingThatCompletesACycleIsFound) {
+  td::Plant p;
+  p.cogging = 0.3e-3, p.cogging_order = 180;
+  const OscillationDiagnosis d =
+      diagnose_oscillation(to_record(td::make_record(p, {}, {}, 30.0, 12)), record_options());
+  ASSERT_FALSE(d.effects.empty());
+  EXPECT_EQ(d.effects[0].name, "cogging");
+  EXPECT_NEAR(d.effects[0].order, 180, 2);
+  EXPECT_NEAR(d.effects[0].params[0].value, 0.3e-3, 3.0 * d.effects[0].params[0].se + 0.03e-3);
+}
+
+TEST(IndependentRecords, CoulombAsymmetryWithAQuantisedEncoderIsAnAliasNotCogging) {
+  int cogging = 0, alias = 0;
+  for (int k = 0; k < 4; ++k) {
+    td::Plant p;
+    p.coulomb_plus = 0.3e-3;
+    const OscillationDiagnosis d = diagnose_oscillation(
+        to_record(td::make_record(p, {}, {}, 30.0 + 40.0 * k, 20 + k)), record_options());
+    for (const auto& e : d.effects) cogging += e.name == "cogging";
+    alias += listed(d, "coulomb_asymmetry", "unbalance torque's alias");
+  }
+  EXPECT_EQ(cogging, 0);
+  EXPECT_EQ(alias, 4);
+}
+
+TEST(IndependentRecords, CleanQuantisedRecordsAreQuiet) {
+  int with_effect = 0;
+  for (int k = 0; k < 10; ++k) {
+    const OscillationDiagnosis d = diagnose_oscillation(
+        to_record(td::make_record({}, {}, {}, 36.0 * k, 40 + k)), record_options());
+    with_effect += !d.effects.empty();
+  }
+  EXPECT_LE(with_effect, 2);  // family-wise alpha 0.05; 10 records
 }
 
 }  // namespace

@@ -357,6 +357,27 @@ void write_report(const fs::path& dir, const est::TorqueTable& t, const est::Dia
     h << "</table>\n";
   }
   for (const auto& s : r.notes) h << "<p><i>Note: " << esc(s) << "</i></p>\n";
+  h << "<h2>Unexplained structure</h2>\n<p>" << (r.omnibus.unexplained ? "<b>" : "")
+    << esc(r.omnibus.message) << (r.omnibus.unexplained ? "</b>" : "") << "</p>\n<ul>\n";
+  for (const est::StructureTest& st : r.omnibus.tests) {
+    h << "<li>" << esc(st.name) << ": "
+      << (st.examined ? "p = " + num(st.p_value, 3) + (st.note.empty() ? "" : " (" + esc(st.note) + ")")
+                      : esc(st.note))
+      << "</li>\n";
+  }
+  h << "</ul>\n<h2>What this plan cannot tell apart</h2>\n<p>Plan: " << esc(r.plan) << ".</p>\n";
+  for (const est::AmbiguousFinding& a : r.ambiguous) {
+    h << "<p>" << esc(a.why) << ".</p>\n<table><tr><th>reading</th><th>&Delta;BIC</th>"
+      << "<th>unbalance estimate</th></tr>\n";
+    for (const est::Reading& rd : a.readings) {
+      h << "<tr><td>" << esc(rd.effects) << "</td><td>" << num(rd.delta_bic, 3) << "</td><td>"
+        << esc(estimate_text(rd.estimate, u)) << "</td></tr>\n";
+    }
+    h << "</table>\n<p>A plan that would separate them: " << esc(a.plan) << ".</p>\n";
+  }
+  for (const auto& [name, why] : r.not_identifiable) {
+    h << "<p>Not identifiable from one test: <b>" << esc(name) << "</b>: " << esc(why) << ".</p>\n";
+  }
   const auto row = [&](const std::string& name, const json& a, const json& b2, const char* key,
                        const std::string& unit) {
     h << "<tr><td>" << name << "</td><td>" << num(a.at(key).get<double>(), 5) << "</td><td>"

@@ -66,7 +66,13 @@ OscillationDiagnosis diagnose_oscillation(const OscillationRecord& rec, const Os
   require(rec.current.size() == n_all && rec.phi.size() == n_all, "record columns differ in length");
   const std::string where = rec.file.empty() ? std::string("record") : rec.file;
   const auto at_line = [&](std::size_t k) {
-    return where + (k < rec.lines.size() ? ":" + std::to_string(rec.lines[k]) : "") + ": ";
+    std::string s = where;
+    if (k < rec.lines.size()) {
+      s += ':';
+      s += std::to_string(rec.lines[k]);
+    }
+    s += ": ";
+    return s;
   };
   require(std::isfinite(opt.kt) && opt.kt > 0 && opt.kt < 1e6,
           where + ": the torque constant K_T = " + std::to_string(opt.kt) +
@@ -74,13 +80,17 @@ OscillationDiagnosis diagnose_oscillation(const OscillationRecord& rec, const Os
   require(opt.derivative_window >= 5 && opt.derivative_window % 2 == 1, "derivative window must be odd and >= 5");
   const int m = opt.derivative_window / 2;
   require(n_all >= static_cast<std::size_t>(8 * opt.derivative_window), "record too short for the derivative window");
-  const double dt = (rec.t.back() - rec.t.front()) / static_cast<double>(n_all - 1);
-  require(dt > 0, at_line(n_all - 1) + "time must increase");
+  // The sampling step: the median step (one bad step does not move it).
+  std::vector<double> steps(n_all - 1);
+  for (std::size_t k = 1; k < n_all; ++k) steps[k - 1] = rec.t[k] - rec.t[k - 1];
+  std::nth_element(steps.begin(), steps.begin() + static_cast<std::ptrdiff_t>(steps.size() / 2), steps.end());
+  const double dt = steps[steps.size() / 2];
+  require(dt > 0, where + ": time must increase (median step " + std::to_string(dt) + " s)");
   for (std::size_t k = 1; k < n_all; ++k) {
     const double step = rec.t[k] - rec.t[k - 1];
     require(std::abs(step - dt) < 1e-6 * dt + 1e-12,
             at_line(k) + "time must be uniformly sampled: step " + std::to_string(step) +
-                " s, expected " + std::to_string(dt) + " s (the mean step)");
+                " s, expected " + std::to_string(dt) + " s (the median step)");
   }
   // Savitzky-Golay quadratic: phi' = sum j phi_j / (S2 dt), phi'' = 2 c / dt^2.
   double s2 = 0, s4 = 0;
@@ -249,7 +259,17 @@ OscillationDiagnosis diagnose_oscillation(const OscillationRecord& rec, const Os
         const double dbic = static_cast<double>(n) * std::log(f.rss / cur.rss) + 2.0 * std::log(static_cast<double>(n));
         const double best_p = f_test_p(cur.rss, f.rss, 2, static_cast<long>(n), x.cols());
         const double amp = std::hypot(f.beta[p0], f.beta[p0 + 1]);
-        if (amp > plausible) {
+        const int edge = min_order + std::max(2, min_order / 20);
+        if (min_order > opt.cogging_min_order && best_order <= edge) {
+          char buf[400];
+          std::snprintf(buf, sizeof buf,
+                        "the best order, %d, lies at the swing's limit (orders from %d are scanned): the "
+                        "structure most likely belongs to a lower order that this swing cannot identify; "
+                        "not added. A larger swing would test the lower orders",
+                        best_order, min_order);
+          out.not_identifiable.emplace_back("cogging", buf);
+          cogging_in = true;
+        } else if (amp > plausible) {
           char buf[300];
           std::snprintf(buf, sizeof buf,
                         "the best order, %d, fits an amplitude of %.3g N*m, more than the %.3g N*m the base "

@@ -21,7 +21,9 @@
 ///                    with the swing that would test it. A fitted amplitude above
 ///                    2 sqrt(2) times the base residual's RMS cannot be what the residual
 ///                    holds (it is traded off against the base terms) and is refused as
-///                    implausible. Motor cogging or detent torque.
+///                    implausible. A best order within max(2, 5 %) of the swing's limit is
+///                    not added either: the structure then most likely belongs to a lower
+///                    order the swing cannot identify. Motor cogging or detent torque.
 ///   offset_drift     t - mean(t); current-sensor offset drift (amplifier warm-up)
 ///   coulomb_asymmetry  [direction > 0]: direction-dependent friction. The direction is the
 ///                    sign of the smoothed rate; where the rate is exactly zero (a quantised
