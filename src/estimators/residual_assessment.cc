@@ -94,12 +94,12 @@ UnbalanceEstimate estimate_of_model(const Model& m, const ModelData& d) { return
 // (Raftery 1995): the mean's move from the selected model goes into delta, the between-
 // readings variance sum w_i |x_i - mean|^2 (first harmonic) into allowance2.
 void average_readings(const AmbiguousFinding& a, const Eigen::Vector3d& coef_sel,
-                      Eigen::Vector3d& delta, double& allowance2) {
+                      Eigen::Vector3d& delta, double& allowance2, bool equal_weights = false) {
   double wsum = 0.0;
   Eigen::Vector3d mean = Eigen::Vector3d::Zero();
   std::vector<std::pair<double, Eigen::Vector3d>> v;
   for (const Reading& r : a.readings) {
-    const double w = std::exp(-0.5 * std::max(r.delta_bic, -50.0));
+    const double w = equal_weights ? 1.0 : std::exp(-0.5 * std::max(r.delta_bic, -50.0));
     const Eigen::Vector3d x(r.estimate.amplitude * std::cos(r.estimate.phase),
                             r.estimate.amplitude * std::sin(r.estimate.phase), r.estimate.offset);
     v.emplace_back(w, x);
@@ -294,6 +294,17 @@ void assess(const Model& m, const AssessmentInputs& in, DiagnosisResult& res) {
         if (r > a.correlation) a.correlation = r, other_name = c.name;
       }
     }
+    // A time-shaped effect that trades off with the unbalance against correlated noise in
+    // its place: a wander of AR(1) noise holds steps and drifts, and the BIC weights decide.
+    if (!m.ar && is_time_like(t.name) && e.r_first_harmonic >= kWeakCorrelation) {
+      const Model alt = with_term(rest, d, Term("autocorrelation", "autocorrelation"));
+      const double db = model_bic(alt, d) - bic_sel;
+      if (db < kBicStrong) {
+        a.readings.push_back({"autocorrelation (AR(1) errors) instead of " + label_of(t), db,
+                              estimate_of(alt, d)});
+        if (other_name.empty()) other_name = "autocorrelation";
+      }
+    }
     const bool harmonic_confounded =
         e.r_first_harmonic >= kConfounded && drop_one_p(m, d, i) >= kIdentifiedP;
     if (harmonic_confounded) {
@@ -306,7 +317,9 @@ void assess(const Model& m, const AssessmentInputs& in, DiagnosisResult& res) {
     if (a.readings.size() > 1) {
       e.moves_estimate = false;
       a.why = label_of(t) + " and " + a.readings[1].effects +
-              fmt(" are collinear under this plan (canonical correlation %.3f)", a.correlation) +
+              (a.correlation > 0.0
+                   ? fmt(" are collinear under this plan (canonical correlation %.3f)", a.correlation)
+                   : std::string(" are not told apart by these data (BIC within 6)")) +
               (in.monotone_plan ? "; time order follows angle order" : "");
       a.plan = separating_plan(t.name == "harmonic" ? "harmonic" : t.name,
                                other_name == "harmonic" ? "harmonic" : other_name);
@@ -357,6 +370,38 @@ void assess(const Model& m, const AssessmentInputs& in, DiagnosisResult& res) {
         }
         res.ambiguous.push_back(std::move(a));
       }
+    }
+  }
+  // The two searches (AR(1) allowed first, AR(1) deferred) ended in different models on a plan
+  // where time follows angle: correlated noise against time-shaped effects rests on the AR(1)
+  // form of the noise, which this plan cannot check; both readings count equally.
+  if (in.monotone_plan && in.other_search != nullptr) {
+    const Model& o = *in.other_search;
+    bool open = false;  // an effect of the selected model not in the other one still moves
+    for (std::size_t i = 0; i < m.terms.size(); ++i) {
+      const bool shared = std::any_of(o.terms.begin(), o.terms.end(), [&](const Term& x) {
+        return x.name == m.terms[i].name && x.order == m.terms[i].order;
+      });
+      if (!shared && res.effects[i].moves_estimate) open = true;
+    }
+    if (open) {
+      AmbiguousFinding a;
+      a.readings.push_back({in.selected_summary, 0.0, estimate_of(m, d)});
+      a.readings.push_back({in.other_summary, model_bic(o, d) - bic_sel, estimate_of(o, d)});
+      a.correlation = 1.0;
+      a.why = in.selected_summary + " and " + in.other_summary +
+              ": the search ends in either, and time order follows angle order, so which one "
+              "holds rests on the AR(1) form of the noise, which the plan cannot check";
+      a.plan = separating_plan("harmonic", "autocorrelation");
+      average_readings(a, coef_sel, delta, allowance2, true);
+      for (std::size_t i = 0; i < m.terms.size(); ++i) {
+        if (!res.effects[i].moves_estimate) continue;
+        res.effects[i].moves_estimate = false;
+        res.effects[i].estimate_note =
+            "the other search reading (correlated noise) fits about as well on this plan: the "
+            "estimate averages both readings equally, their spread added to its uncertainty";
+      }
+      res.ambiguous.push_back(std::move(a));
     }
   }
   res.estimate_after = res.estimate_selected;

@@ -55,6 +55,9 @@ struct AssessmentInputs {
   const CandidatePool& pool;
   bool monotone_plan = false;      ///< time order follows angle order
   bool residual_correlated = false;  ///< the omnibus whiteness tests fail
+  /// The final model of the other search (AR(1) first or deferred) when it ended elsewhere.
+  const Model* other_search = nullptr;
+  std::string selected_summary, other_summary;  ///< their effects, e.g. "step", "autocorrelation"
 };
 
 /// Fills shift_se, r_first_harmonic, moves_estimate, estimate_note of res.effects (in the

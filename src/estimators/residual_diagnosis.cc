@@ -473,10 +473,16 @@ DiagnosisResult diagnose_residuals(const TorqueTable& table, const DiagnosisOpti
   }
   const SearchInputs in{d, table, t, options, res.max_harmonic};
   Search s = search(in, start, false);
+  Model other_model;
+  std::string other_summary;
+  bool other = false;
   if (options.autocorrelation) {
     Search a = search(in, start, true);
     if (a.found != s.found) {
       const bool keep_a = a.bic < s.bic;
+      other = true;
+      other_model = keep_a ? s.m : a.m;
+      other_summary = keep_a ? s.summary : a.summary;
       char buf[400];
       std::snprintf(buf, sizeof buf,
                     "The search with AR(1) allowed in any round found %s (BIC %.2f); with AR(1) "
@@ -489,6 +495,7 @@ DiagnosisResult diagnose_residuals(const TorqueTable& table, const DiagnosisOpti
     }
   }
   const Model& m = s.m;
+  const std::string selected_summary = s.summary;
   res.rounds = s.rounds;
   res.tested = std::move(s.tested);
   res.notes = std::move(s.notes);
@@ -535,7 +542,15 @@ DiagnosisResult diagnose_residuals(const TorqueTable& table, const DiagnosisOpti
       correlated = true;
     }
   }
-  detail::assess(m, {d, pool, monotone, correlated}, res);
+  detail::AssessmentInputs ai{d, pool};
+  ai.monotone_plan = monotone;
+  ai.residual_correlated = correlated;
+  if (other) {
+    ai.other_search = &other_model;
+    ai.selected_summary = selected_summary;
+    ai.other_summary = other_summary;
+  }
+  detail::assess(m, ai, res);
   res.not_identifiable.emplace_back(
       "turntable_angle_scale",
       "a scale error of the turntable angle (or an error of its zero) changes the first harmonic "
