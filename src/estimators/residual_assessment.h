@@ -51,6 +51,8 @@ std::vector<CandidateCollinearity> plan_collinearity(const Model& base, const Mo
                                                      const CandidatePool& pool);
 
 struct AssessmentInputs {
+  AssessmentInputs(const ModelData& data, const CandidatePool& candidates)
+      : d(data), pool(candidates) {}
   const ModelData& d;
   const CandidatePool& pool;
   bool monotone_plan = false;      ///< time order follows angle order

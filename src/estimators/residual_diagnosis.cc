@@ -542,7 +542,7 @@ DiagnosisResult diagnose_residuals(const TorqueTable& table, const DiagnosisOpti
       correlated = true;
     }
   }
-  detail::AssessmentInputs ai{d, pool};
+  detail::AssessmentInputs ai(d, pool);
   ai.monotone_plan = monotone;
   ai.residual_correlated = correlated;
   if (other) {
