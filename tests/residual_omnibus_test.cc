@@ -118,3 +118,22 @@ TEST(ResidualOmnibus, WhiteResidualsAreRarelyFlagged) {
 
 }  // namespace
 }  // namespace poise::estimators
+
+namespace poise::estimators {
+namespace {
+
+TEST(ResidualOmnibus, PointsOwnStandardErrorsAreTheNoiseLevel) {
+  // Residuals of sd 0.2 against standard errors of 0.1 (half the points) and 0.3.
+  OmnibusInput in = input(white(36, 8, 0.2));
+  for (std::size_t i = 0; i < 36; ++i) in.noise_per_point.push_back(i % 2 ? 0.3 : 0.1);
+  const OmnibusResult o = omnibus_check(in);
+  const StructureTest& t = test_named(o, "declared_noise");
+  ASSERT_TRUE(t.examined);
+  double chi2 = 0.0;
+  for (std::size_t i = 0; i < 36; ++i) chi2 += std::pow(in.residual[i] / in.noise_per_point[i], 2);
+  EXPECT_NEAR(t.statistic, chi2, 1e-9);
+  EXPECT_LT(t.p_value, 1e-3);  // E[chi2] = 36 * 0.04 * (100 + 11.1) / 2 = 80 on 33 dof
+}
+
+}  // namespace
+}  // namespace poise::estimators

@@ -41,7 +41,8 @@ const char* kDiagnoseHelp = R"(What it does:
   Then: what this plan cannot tell apart (candidates collinear with each other or with the
   first harmonic are reported together, with the estimate under each reading and a plan that
   would separate them); how far each effect moves the estimate in standard errors; an
-  omnibus check of the final residual (lack of fit against repeated positions or --noise,
+  omnibus check of the final residual (lack of fit against repeated positions, the points'
+  own standard errors (column torque_se_mNm) or --noise,
   Ljung-Box and runs tests in measurement order, CUSUM step scan) that reports "unexplained
   structure" and where it sits. The estimate reported ("after") takes an ambiguous effect as
   the mean of its readings with their spread in its uncertainty, and ignores an outlier found
@@ -49,7 +50,8 @@ const char* kDiagnoseHelp = R"(What it does:
 
 Data file: as for `poise fit` (theta_deg and torque_mNm or torque_Nm). Optional columns:
   time_s (time of each point, s; without it, time = row order) and sweep (+1/-1, turntable
-  direction; a direction offset needs both directions).
+  direction; a direction offset needs both directions), torque_se_mNm or torque_se_Nm
+  (standard error of each position's torque from the scatter of its period integrals).
 
 Example (Table 1 of the paper, 25.81 g at 45.50 deg on r = 5.10 cm: 12.91 mN*m):
   poise diagnose data/yang2015/table1_loading_test_36pt.csv \

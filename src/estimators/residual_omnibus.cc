@@ -71,15 +71,26 @@ StructureTest declared_noise(const OmnibusInput& in, double rss) {
   StructureTest t;
   t.name = "declared_noise";
   const double dof = static_cast<double>(in.residual.size()) - static_cast<double>(in.parameters);
-  if (!(in.noise > 0.0)) {
-    t.note = "not examined: no independent noise level declared (--noise)";
+  if (!in.noise_per_point.empty()) {
+    double chi2 = 0.0, mean_var = 0.0;
+    for (std::size_t i = 0; i < in.residual.size(); ++i) {
+      chi2 += in.residual[i] * in.residual[i] / (in.noise_per_point[i] * in.noise_per_point[i]);
+      mean_var += in.noise_per_point[i] * in.noise_per_point[i];
+    }
+    mean_var /= static_cast<double>(in.residual.size());
+    t.statistic = chi2;
+    t.note = fmt("residual sd %.4g against the points' own standard errors (rms %.4g)",
+                 std::sqrt(rss / dof), std::sqrt(mean_var));
+  } else if (in.noise > 0.0) {
+    t.statistic = rss / (in.noise * in.noise);
+    t.note = fmt("residual sd %.4g against declared %.4g", std::sqrt(rss / dof), in.noise);
+  } else {
+    t.note = "not examined: no independent noise level (--noise or a torque_se column)";
     return t;
   }
-  t.statistic = rss / (in.noise * in.noise);
   t.p_value =
       boost::math::cdf(boost::math::complement(boost::math::chi_squared(dof), t.statistic));
   t.examined = true;
-  t.note = fmt("residual sd %.4g against declared %.4g", std::sqrt(rss / dof), in.noise);
   return t;
 }
 

@@ -11,6 +11,7 @@
 ///   declared_noise  with an independent noise level sigma0 (`--noise`, e.g. the scatter of
 ///                 the period integrals within a position divided by sqrt(periods)):
 ///                 RSS / sigma0^2 ~ chi^2(n - p); upper tail (more scatter than the noise).
+///                 With a standard error per point (torque_se_* column): sum (r_i / s_i)^2.
 ///   ljung_box     Q = n (n + 2) sum_{k=1..h} rho_k^2 / (n - k) of r in measurement order,
 ///                 h = round(ln n) (at least 2; Tsay 2010); chi^2(h) (h - 1 with AR(1) errors in the model,
 ///                 whose innovations are tested). Needs n >= 12.
@@ -49,6 +50,7 @@ struct OmnibusInput {
   std::size_t parameters = 3;             ///< fitted columns p (AR not counted)
   bool ar = false;                        ///< residual are AR(1) innovations
   double noise = 0.0;                     ///< declared independent noise sd; 0 = none
+  std::vector<double> noise_per_point;    ///< per row (e.g. from period scatter); wins over noise
   double alpha = 0.05;
 };
 
