@@ -1,5 +1,7 @@
 #include "estimators/residual_candidates.h"
 
+#include "estimators/residual_assessment.h"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -112,6 +114,79 @@ Term kt_drift_term(const Model& m, const ModelData& d, const std::vector<double>
     k.cols(i, 0) = t[static_cast<std::size_t>(i)] * mi;
   }
   return k;
+}
+
+static bool is_time_shape(const std::string& n) {
+  return n == "time_drift" || n == "time_drift_quadratic" || n == "exponential_drift" ||
+         n == "step" || n == "kt_drift";
+}
+
+// The time-shaped effects the search added (linear and quadratic drift, step, settling, K_T
+// drift) are compared, as a group, with each single time shape on the rest of the model;
+// the lowest BIC (scanned tau or change point counted as a parameter) is kept. A saturating
+// drift then is not left as linear plus quadratic, nor a K_T drift as an additive one.
+void compare_time_shapes(const ModelData& d, const CandidatePool& pool, Model& m,
+                         std::vector<std::string>& notes) {
+  std::vector<std::size_t> group;
+  for (std::size_t i = 0; i < m.terms.size(); ++i) {
+    if (is_time_shape(m.terms[i].name)) group.push_back(i);
+  }
+  if (group.empty()) return;
+  Model rest = m;
+  for (auto it = group.rbegin(); it != group.rend(); ++it) rest = without_term(rest, *it);
+  const double bic_now = model_bic(m, d);
+  double best_bic = bic_now;
+  Model best;
+  std::string best_label;
+  for (Term& c : pool(rest)) {
+    if (!is_time_shape(c.name) || c.name == "time_drift_quadratic") continue;
+    Model alt = rest;
+    c.first = alt.x.cols();
+    c.round = m.terms[group.back()].round;
+    c.p_adj = c.p;
+    alt.x = with_columns(alt.x, c.cols);
+    alt.terms.push_back(c);
+    if (alt.ar) alt.rho = fit_rho(alt.x, d);
+    const double b = model_bic(alt, d);
+    if (b < best_bic - 1e-9) best_bic = b, best = alt, best_label = c.label;
+  }
+  if (best_label.empty()) return;
+  std::string was;
+  for (std::size_t i : group) was += (was.empty() ? "" : " + ") + m.terms[i].label;
+  char buf[300];
+  std::snprintf(buf, sizeof buf,
+                "the time-shaped effects %s were replaced by %s alone: lower BIC (%.2f against "
+                "%.2f, a scanned time constant or change point counted as a parameter)",
+                was.c_str(), best_label.c_str(), best_bic, bic_now);
+  notes.emplace_back(buf);
+  m = std::move(best);
+}
+
+// Backward elimination after the forward search: an effect whose removal lowers the BIC of
+// the final model (AR(1) refitted) is dropped, with a note. A step or an outlier picked early
+// in correlated noise is then not kept once AR(1) explains the noise.
+void drop_redundant(const ModelData& d, Model& m, std::vector<std::string>& notes) {
+  for (;;) {
+    const double now = model_bic(m, d);
+    double best = now;
+    std::size_t pick = m.terms.size();
+    Model best_model;
+    for (std::size_t i = 0; i < m.terms.size(); ++i) {
+      if (m.terms[i].name == "autocorrelation") continue;
+      Model alt = without_term(m, i);
+      if (alt.ar) alt.rho = fit_rho(alt.x, d);
+      const double b = model_bic(alt, d);
+      if (b < best - 1e-9) best = b, pick = i, best_model = std::move(alt);
+    }
+    if (pick == m.terms.size()) return;
+    char buf[240];
+    std::snprintf(buf, sizeof buf,
+                  "%s, added in round %d, was dropped from the final model: without it the BIC is "
+                  "lower (%.2f against %.2f)",
+                  m.terms[pick].label.c_str(), m.terms[pick].round, best, now);
+    notes.emplace_back(buf);
+    m = std::move(best_model);
+  }
 }
 
 }  // namespace poise::estimators::detail

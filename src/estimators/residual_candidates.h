@@ -14,6 +14,8 @@
 ///                      K_T falls about 0.1 %/K for NdFeB magnets) scales the whole measured
 ///                      torque, M_meas = (1 + kappa (t - mean t)) M(theta). One Gauss-Newton
 ///                      step of the product model about kappa = 0; its coefficient is kappa.
+#include <functional>
+#include <string>
 #include <vector>
 
 #include "estimators/residual_diagnosis_model.h"
@@ -28,6 +30,15 @@ Term exponential_family(const Model& m, const ModelData& d, const std::vector<do
 
 /// The K_T drift column given the current model's first harmonic and constant.
 Term kt_drift_term(const Model& m, const ModelData& d, const std::vector<double>& t);
+
+/// Backward elimination after the forward search: an effect whose removal lowers the BIC of
+/// the final model (AR(1) refitted) is dropped, with a note.
+void drop_redundant(const ModelData& d, Model& m, std::vector<std::string>& notes);
+
+/// The time-shaped effects of m (drift, quadratic drift, step, settling, K_T drift) against
+/// each single time shape of the pool on the rest of the model; the lowest BIC is kept.
+void compare_time_shapes(const ModelData& d, const std::function<std::vector<Term>(const Model&)>& pool,
+                         Model& m, std::vector<std::string>& notes);
 
 /// Column of a step at position k of the measurement order.
 Eigen::MatrixXd step_column(const ModelData& d, std::size_t k);

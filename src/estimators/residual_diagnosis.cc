@@ -14,6 +14,7 @@
 #include "estimators/residual_assessment.h"
 #include "estimators/residual_candidates.h"
 #include "estimators/residual_diagnosis_model.h"
+#include "estimators/residual_plan.h"
 #include "estimators/sine_fit.h"
 
 namespace poise::estimators {
@@ -223,11 +224,6 @@ struct Search {
   double bic = 0.0;  // -2 ln L + k ln n of the final model (ML form, rho at its estimate)
 };
 
-bool is_time_shape(const std::string& n) {
-  return n == "time_drift" || n == "time_drift_quadratic" || n == "exponential_drift" ||
-         n == "step" || n == "kt_drift";
-}
-
 // Every column candidate for a model (families: the best member), examined ones only.
 detail::CandidatePool make_pool(const SearchInputs& in) {
   return [&in](const Model& m) {
@@ -245,119 +241,6 @@ detail::CandidatePool make_pool(const SearchInputs& in) {
               out.end());
     return out;
   };
-}
-
-// The time-shaped effects the search added (linear and quadratic drift, step, settling, K_T
-// drift) are compared, as a group, with each single time shape on the rest of the model;
-// the lowest BIC (scanned tau or change point counted as a parameter) is kept. A saturating
-// drift then is not left as linear plus quadratic, nor a K_T drift as an additive one.
-void compare_time_shapes(const SearchInputs& in, Model& m, std::vector<std::string>& notes) {
-  std::vector<std::size_t> group;
-  for (std::size_t i = 0; i < m.terms.size(); ++i) {
-    if (is_time_shape(m.terms[i].name)) group.push_back(i);
-  }
-  if (group.empty()) return;
-  Model rest = m;
-  for (auto it = group.rbegin(); it != group.rend(); ++it) rest = detail::without_term(rest, *it);
-  const double bic_now = detail::model_bic(m, in.d);
-  double best_bic = bic_now;
-  Model best;
-  std::string best_label;
-  for (Term& c : make_pool(in)(rest)) {
-    if (!is_time_shape(c.name) || c.name == "time_drift_quadratic") continue;
-    Model alt = rest;
-    c.first = alt.x.cols();
-    c.round = m.terms[group.back()].round;
-    c.p_adj = c.p;
-    alt.x = with_columns(alt.x, c.cols);
-    alt.terms.push_back(c);
-    if (alt.ar) alt.rho = fit_rho(alt.x, in.d);
-    const double b = detail::model_bic(alt, in.d);
-    if (b < best_bic - 1e-9) best_bic = b, best = alt, best_label = c.label;
-  }
-  if (best_label.empty()) return;
-  std::string was;
-  for (std::size_t i : group) was += (was.empty() ? "" : " + ") + m.terms[i].label;
-  char buf[300];
-  std::snprintf(buf, sizeof buf,
-                "the time-shaped effects %s were replaced by %s alone: lower BIC (%.2f against "
-                "%.2f, a scanned time constant or change point counted as a parameter)",
-                was.c_str(), best_label.c_str(), best_bic, bic_now);
-  notes.emplace_back(buf);
-  m = std::move(best);
-}
-
-// Spearman rank correlation of the angle with the measurement order.
-double order_angle_correlation(const TorqueTable& table, const std::vector<std::size_t>& order) {
-  const std::size_t n = order.size();
-  std::vector<std::size_t> by_angle(n);
-  std::iota(by_angle.begin(), by_angle.end(), std::size_t{0});
-  std::stable_sort(by_angle.begin(), by_angle.end(),
-                   [&](auto a, auto b) { return table.theta_rad[a] < table.theta_rad[b]; });
-  std::vector<double> rank_angle(n), rank_time(n);
-  for (std::size_t k = 0; k < n; ++k) rank_angle[by_angle[k]] = static_cast<double>(k);
-  for (std::size_t k = 0; k < n; ++k) rank_time[order[k]] = static_cast<double>(k);
-  const double mean = 0.5 * static_cast<double>(n - 1);
-  double sxy = 0.0, sxx = 0.0;
-  for (std::size_t i = 0; i < n; ++i) {
-    sxy += (rank_angle[i] - mean) * (rank_time[i] - mean);
-    sxx += (rank_time[i] - mean) * (rank_time[i] - mean);
-  }
-  return sxx > 0.0 ? sxy / sxx : 0.0;
-}
-
-bool monotone_plan(const TorqueTable& table, const std::vector<std::size_t>& order) {
-  return std::abs(order_angle_correlation(table, order)) > 0.95;
-}
-
-std::string describe_plan(const TorqueTable& table, const std::vector<std::size_t>& order,
-                          bool monotone) {
-  const std::size_t positions = count_distinct_angles(table.theta_rad);
-  const long up = std::count(table.sweep.begin(), table.sweep.end(), 1);
-  const long down = std::count(table.sweep.begin(), table.sweep.end(), -1);
-  char buf[400];
-  std::snprintf(buf, sizeof buf,
-                "%zu points at %zu positions%s; %s; measurement order from %s; rank correlation "
-                "of angle with measurement order %.2f%s",
-                table.size(), positions, positions < table.size() ? " (some repeated)" : "",
-                table.sweep.empty() ? "no sweep column"
-                : (up > 0 && down > 0)
-                    ? ("both directions (" + std::to_string(up) + " +, " + std::to_string(down) +
-                       " -)").c_str()
-                    : "one direction",
-                table.time_s.empty() ? "the row order" : "time_s",
-                order_angle_correlation(table, order),
-                monotone ? ": time order follows angle order, so any smooth function of time is "
-                           "one of angle (harmonics, drifts and correlated noise are confounded)"
-                         : "");
-  return buf;
-}
-
-// Backward elimination after the forward search: an effect whose removal lowers the BIC of
-// the final model (AR(1) refitted) is dropped, with a note. A step or an outlier picked early
-// in correlated noise is then not kept once AR(1) explains the noise.
-void drop_redundant(const SearchInputs& in, Model& m, std::vector<std::string>& notes) {
-  for (;;) {
-    const double now = detail::model_bic(m, in.d);
-    double best = now;
-    std::size_t pick = m.terms.size();
-    Model best_model;
-    for (std::size_t i = 0; i < m.terms.size(); ++i) {
-      if (m.terms[i].name == "autocorrelation") continue;
-      Model alt = detail::without_term(m, i);
-      if (alt.ar) alt.rho = fit_rho(alt.x, in.d);
-      const double b = detail::model_bic(alt, in.d);
-      if (b < best - 1e-9) best = b, pick = i, best_model = std::move(alt);
-    }
-    if (pick == m.terms.size()) return;
-    char buf[240];
-    std::snprintf(buf, sizeof buf,
-                  "%s, added in round %d, was dropped from the final model: without it the BIC is "
-                  "lower (%.2f against %.2f)",
-                  m.terms[pick].label.c_str(), m.terms[pick].round, best, now);
-    notes.emplace_back(buf);
-    m = std::move(best_model);
-  }
 }
 
 // Forward stepwise search from `start` (the rounds described in residual_diagnosis.h). With
@@ -427,8 +310,8 @@ Search search(const SearchInputs& in, const Model& start, bool ar_last) {
     m.ar = false;
     m.rho = RhoFit{};
   }
-  drop_redundant(in, m, s.notes);
-  compare_time_shapes(in, m, s.notes);
+  detail::drop_redundant(d, m, s.notes);
+  detail::compare_time_shapes(d, make_pool(in), m, s.notes);
   for (const Term& term : m.terms) {
     s.found.push_back(term.name == "outlier" ? "outlier at row " + std::to_string(term.index)
                                              : term.label);
@@ -516,8 +399,8 @@ DiagnosisResult diagnose_residuals(const TorqueTable& table, const DiagnosisOpti
   }
 
   // The plan as the data show it.
-  const bool monotone = monotone_plan(table, d.order);
-  res.plan = describe_plan(table, d.order, monotone);
+  const bool monotone = detail::monotone_plan(table, d.order);
+  res.plan = detail::describe_plan(table, d.order, monotone);
   const detail::CandidatePool pool = make_pool(in);
   res.collinearity = detail::plan_collinearity(start, d, pool);
 
