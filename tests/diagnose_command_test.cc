@@ -121,6 +121,8 @@ TEST(DiagnoseCommand, InjectedSecondHarmonicIsDiagnosedInTextAndJson) {
   EXPECT_NE(r.out.find("Ambiguous finding 1: harmonic 2 and correlated noise"), std::string::npos)
       << r.out;
   EXPECT_NE(r.out.find("Omnibus check of the final residual: "), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("Collinearity under this plan"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("  time_drift: r1 "), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("Not identifiable from one test: turntable_angle_scale"),
             std::string::npos);
   EXPECT_NE(r.out.find("Candidates tested in the last round, not added:"), std::string::npos);

@@ -228,8 +228,8 @@ void print_text(const est::TorqueTable& t, const est::DiagnosisResult& r, double
       << "; time: " << (t.time_s.empty() ? "row order" : "column time_s")
       << "; sweep: " << (t.sweep.empty() ? "none" : "column sweep") << ")\n"
       << "Searched: harmonics 2.." << r.max_harmonic
-      << ", time drift, direction offset, outliers, AR(1) errors; forward stepwise, Holm per "
-         "round at alpha = "
+      << ", time drift, K_T drift, direction offset, step, exponential settling, outliers, AR(1) "
+         "errors; forward stepwise, Holm per round at alpha = "
       << alpha << ", delta_BIC < 0\n\n"
       << "Base fit (Eq. 22): M(theta) = " << num(b.amplitude, 5) << " sin(theta + "
       << num(b.phase * kDegPerRad, 4) << " deg) + " << num(b.offset, 4) << " " << u << "\n\n";
@@ -245,7 +245,18 @@ void print_text(const est::TorqueTable& t, const est::DiagnosisResult& r, double
         << (e.moves_estimate ? "" : "; " + e.estimate_note) << "\n";
   }
   for (const auto& s : r.notes) out << "  note: " << s << "\n";
-  out << "\nPlan: " << r.plan << "\n";
+  out << "\nPlan: " << r.plan << "\n"
+      << "Collinearity under this plan (r1: canonical correlation with the first harmonic; VIF "
+         "against Eq. 22; the closest other candidate, base projected out; limit 0.9):\n";
+  for (const est::CandidateCollinearity& c : r.collinearity) {
+    out << "  " << c.candidate << ": r1 " << num(c.r_first_harmonic, 3) << ", VIF "
+        << num(c.vif_base, 3) << (c.most_collinear_with.empty() ? "" : ", closest " +
+                                   c.most_collinear_with + " at r " + num(c.r_other, 3))
+        << (c.r_other >= 0.9 || c.r_first_harmonic >= 0.9 || c.vif_base >= 1.0 / (1.0 - 0.81)
+                ? "  (not separable on this plan)"
+                : "")
+        << "\n";
+  }
   for (std::size_t i = 0; i < r.ambiguous.size(); ++i) {
     const est::AmbiguousFinding& a = r.ambiguous[i];
     out << "Ambiguous finding " << i + 1 << ": " << a.why << "\n";
@@ -367,7 +378,15 @@ void write_report(const fs::path& dir, const est::TorqueTable& t, const est::Dia
                       : esc(st.note))
       << "</li>\n";
   }
-  h << "</ul>\n<h2>What this plan cannot tell apart</h2>\n<p>Plan: " << esc(r.plan) << ".</p>\n";
+  h << "</ul>\n<h2>What this plan cannot tell apart</h2>\n<p>Plan: " << esc(r.plan) << ".</p>\n"
+    << "<table><tr><th>candidate</th><th>r with the first harmonic</th><th>VIF against Eq. 22"
+    << "</th><th>closest other candidate</th><th>r</th></tr>\n";
+  for (const est::CandidateCollinearity& c : r.collinearity) {
+    h << "<tr><td>" << esc(c.candidate) << "</td><td>" << num(c.r_first_harmonic, 3) << "</td><td>"
+      << num(c.vif_base, 3) << "</td><td>" << esc(c.most_collinear_with) << "</td><td>"
+      << num(c.r_other, 3) << "</td></tr>\n";
+  }
+  h << "</table>\n";
   for (const est::AmbiguousFinding& a : r.ambiguous) {
     h << "<p>" << esc(a.why) << ".</p>\n<table><tr><th>reading</th><th>&Delta;BIC</th>"
       << "<th>unbalance estimate</th></tr>\n";

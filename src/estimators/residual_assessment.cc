@@ -120,7 +120,8 @@ double canonical_correlation(const MatrixXd& a, const MatrixXd& b) {
   if (qa.cols() == 0 || qb.cols() == 0) return 0.0;
   const MatrixXd c = qa.transpose() * qb;
   Eigen::JacobiSVD<MatrixXd> svd(c);
-  return std::min(1.0, svd.singularValues()(0));
+  const double r = std::min(1.0, svd.singularValues()(0));
+  return r < 1e-12 ? 0.0 : r;  // orthogonal to rounding
 }
 
 MatrixXd residualize(const MatrixXd& c, const MatrixXd& x) {
