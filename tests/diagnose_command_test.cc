@@ -133,6 +133,47 @@ TEST(DiagnoseCommand, InjectedSecondHarmonicIsDiagnosedInTextAndJson) {
       << r.out;
 }
 
+TEST(DiagnoseCommand, StudyClosesTheLoopWithTheEffectInTheSimulationModel) {
+  poise::test::TempDir dir;
+  std::istringstream in(poise::test::read_text(kTable1));
+  std::string line, csv;
+  std::getline(in, line);
+  csv = line + "\n";
+  while (std::getline(in, line)) {
+    const double theta = std::stod(line.substr(0, line.find(','))) * std::numbers::pi / 180.0;
+    const double torque = std::stod(line.substr(line.find(',') + 1));
+    csv += line.substr(0, line.find(',')) + "," + std::to_string(torque + std::sin(2.0 * theta)) +
+           "\n";
+  }
+  const std::string data = dir.file("table1_with_h2.csv");
+  poise::test::write_text(data, csv);
+  const std::string study = poise::test::source_path("studies/gimbal_unbalance_mc.toml");
+  RunResult r = run_poise(dir, "diagnose '" + data + "' --json --study '" + study +
+                                   "' --study-samples 4");
+  ASSERT_EQ(r.status, 0) << r.err;
+  const nlohmann::json j = nlohmann::json::parse(r.out).at("closed_loop");
+  const double t2 = std::stod(j.at("overrides").at("disturbances.harmonic2_torque").get<std::string>());
+  EXPECT_NEAR(t2, 1e-3, 0.2e-3);  // the injected 1 mN*m, in N*m
+  bool fit_rmse = false;
+  for (const auto& o : j.at("outputs")) {
+    if (o.at("name") != "g_mean_fit_rmse_mNm") continue;
+    fit_rmse = true;
+    // The simulated fit residual with the 2nd harmonic in the model approaches the measured.
+    EXPECT_GT(o.at("mean_with").get<double>(), 2.0 * o.at("mean_without").get<double>());
+    EXPECT_NEAR(o.at("mean_with").get<double>(), j.at("measured_rmse").get<double>(), 0.2);
+  }
+  EXPECT_TRUE(fit_rmse) << j.dump();
+  EXPECT_NE(j.at("sentence").get<std::string>().find("With these effects in the model"),
+            std::string::npos);
+
+  r = run_poise(dir, "diagnose '" + data + "' --study '" +
+                         poise::test::source_path("studies/los_seeker_wang2011.toml") + "'");
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.err.find("study kind 'seeker_los'; expected gimbal_static_unbalance"),
+            std::string::npos)
+      << r.err;
+}
+
 TEST(DiagnoseCommand, OutWritesJsonReportAndPlotAndRefusesToOverwrite) {
   poise::test::TempDir dir;
   const std::string out = dir.file("diag");

@@ -1,5 +1,7 @@
 #include "cli/diagnose_command.h"
 
+#include "cli/diagnose_loop.h"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -62,7 +64,11 @@ delta_BIC and physical causes, rmse and the unbalance estimate before and after,
 against the known load, and the candidates tested but not added. --json prints one object
 (effects, rmse_before, rmse_after, estimate_before, estimate_after, unit, n_points,
 estimate_selected_model, plan, omnibus, ambiguous, collinearity, not_identifiable, notes
-and, with a load, load, error_before, error_after). --out DIR also writes diagnosis.json, plot.svg
+and, with a load, load, error_before, error_after; with --study, closed_loop).
+--study STUDY.toml closes the loop: each effect found is mapped to its [disturbances] key of
+the study's gimbal model (harmonic 2, time drift, direction offset, outlier), the study is
+evaluated in memory without and with them (same random numbers, --study-samples each), and
+the simulated errors are set beside the measured residual. --out DIR also writes diagnosis.json, plot.svg
 (gnuplot; .gp and .dat kept) and report.html.
 Exit status: 0 success, 2 invalid input (the message names the file, line and column),
 1 the output folder cannot be written.
@@ -76,6 +82,8 @@ struct Options {
   double alpha = 0.05;
   int max_harmonic = 6;
   std::string noise;
+  std::string study;
+  std::size_t study_samples = 64;
 };
 
 struct Load {
@@ -424,7 +432,16 @@ void write_report(const fs::path& dir, const est::TorqueTable& t, const est::Dia
     row("amplitude error", j["error_before"], j["error_after"], "amplitude", u);
     row("phase error", j["error_before"], j["error_after"], "phase_deg", "deg");
   }
-  h << "</table>\n<h2>Plot</h2>\n";
+  h << "</table>\n";
+  if (j.contains("closed_loop")) {
+    h << "<h2>The loop closed in the simulation model</h2>\n<p>"
+      << esc(j["closed_loop"]["sentence"].get<std::string>()) << "</p>\n<ul>\n";
+    for (const auto& [k, v] : j["closed_loop"]["overrides"].items()) {
+      h << "<li><code>" << esc(k) << " = " << esc(v.get<std::string>()) << "</code></li>\n";
+    }
+    h << "</ul>\n";
+  }
+  h << "<h2>Plot</h2>\n";
   if (plot_note.empty()) {
     h << "<p><img src=\"plot.svg\" alt=\"data, base fit and final model against theta; "
          "residuals\" style=\"max-width:100%\"></p>\n";
@@ -497,11 +514,23 @@ int run_diagnose(const Options& o) {
     std::cerr << "poise: " << e.what() << "\nNothing was diagnosed.\n";
     return 2;
   }
-  const json j = to_json(table, result, load);
+  std::optional<LoopResult> loop;
+  if (!o.study.empty()) {
+    try {
+      if (o.study_samples < 2) throw Error("--study-samples " + std::to_string(o.study_samples) + ": expected >= 2");
+      loop = close_the_loop(o.study, table, result, o.study_samples);
+    } catch (const Error& e) {  // ValidationError derives from Error
+      std::cerr << "poise: " << e.what() << "\nNothing was printed: fix --study or leave it out.\n";
+      return 2;
+    }
+  }
+  json j = to_json(table, result, load);
+  if (loop) j["closed_loop"] = loop_json(*loop);
   if (o.json) {
     std::cout << j.dump(2) << '\n';
   } else {
     print_text(table, result, o.alpha, load, std::cout);
+    if (loop) std::cout << loop_text(*loop);
   }
   if (o.out.empty()) return 0;
   try {
@@ -537,6 +566,11 @@ DiagnoseHandler add_diagnose_command(CLI::App& app) {
                   "highest harmonic tried, default 6 (capped to keep 5 residual dof)");
   sub->add_option("--noise", opt->noise,
                   "independent noise level of one point, e.g. \"0.2 mN*m\" (lack-of-fit test)");
+  sub->add_option("--study", opt->study,
+                  "a gimbal_static_unbalance study: the effects found are added to its model's "
+                  "[disturbances] and the simulated errors with and without them are reported");
+  sub->add_option("--study-samples", opt->study_samples,
+                  "samples of each --study evaluation, default 64");
   sub->add_option("--load-torque", opt->load_torque, "known load torque, e.g. \"12.91 mN*m\"");
   sub->add_option("--load-angle", opt->load_angle, "angle of the known load, e.g. \"45.5 deg\"");
   sub->add_option("--out", opt->out,
