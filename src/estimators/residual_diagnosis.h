@@ -85,18 +85,23 @@
 /// compared with every candidate on the rest of the model: those with canonical correlation
 /// >= 0.9 (VIF >= 5.3) and BIC within 6, or correlation >= 0.5 and BIC within 2, are reported
 /// together as one ambiguous finding with the unbalance under each reading and a plan that
-/// would separate them. On a plan where time order follows angle order, AR(1) errors are a
-/// reading of every harmonic. An effect whose columns trade off with the first harmonic
-/// (correlation >= 0.9 given the rest) is identified only when its drop-one p < 1e-4;
-/// otherwise "no effect" is one of its readings.
+/// would separate them. A time-shaped effect that trades off with the unbalance (r >= 0.5)
+/// has AR(1) errors as a reading when their BIC is within 6. On a plan where time follows
+/// angle, AR(1) errors are always a reading of the harmonics found, and when the search with
+/// AR(1) allowed first and the one with AR(1) deferred end in different models, both are
+/// readings of equal weight: the plan cannot check the AR(1) form on which the choice rests.
+/// An effect whose columns trade off with the first harmonic (correlation >= 0.9 given the
+/// rest) is identified only when its drop-one p < 1e-4; otherwise "no effect" is a reading.
 ///
 /// Never worse. For each effect, shift_se = how far (a, c) moves when it is dropped from the
 /// selected model, in the selected model's standard errors along the move. estimate_after is
-/// estimate_selected except: an ambiguous effect contributes the mean of its readings, with
-/// half their largest spread added in quadrature to the standard errors (an allowance for what
-/// the data cannot tell apart); an outlier in correlated noise (AR(1) in the model or the
-/// whiteness tests failing) does not move the estimate. (Contributions of several such
-/// effects are added, a first-order approximation.)
+/// estimate_selected except: an ambiguous finding contributes the average of its readings
+/// with BIC weights exp(-delta_BIC / 2) (Bayesian model averaging, Raftery 1995; equal weights
+/// for the two searches' models above), the between-readings variance added to the standard
+/// errors; an outlier in correlated noise (AR(1) in the model or the whiteness tests failing)
+/// does not move the estimate. (Contributions of several findings are added, a first-order
+/// approximation.) With a K_T drift the estimate is referred to the first measurement, where
+/// K_T is the calibrated (cold) one.
 ///
 /// Omnibus (residual_omnibus.h): the final residual is tested for structure no effect
 /// explains (lack of fit against repeated positions or a declared noise, Ljung-Box and runs in
@@ -201,8 +206,10 @@ struct DiagnosisResult {
   double rmse_before = 0.0;     ///< sqrt(RSS / n) of the base fit
   double rmse_after = 0.0;      ///< sqrt(RSS / n) of the final model (transformed RSS with AR)
   UnbalanceEstimate estimate_before;  ///< fit_sine of the data
-  /// First-harmonic coefficients and intercept of the final model; with time drift the
-  /// intercept is at the mean time, with a direction offset it is midway between directions.
+  /// The estimate reported (see "Never worse"): estimate_selected unless an effect is ambiguous
+  /// or an outlier in correlated noise. With time drift the intercept is at the mean time,
+  /// with a direction offset midway between directions, with a K_T drift the first harmonic
+  /// and offset are those of the first measurement.
   UnbalanceEstimate estimate_after;
   std::vector<double> fitted_before, residual_before;  ///< per point, base fit
   /// Per point, final model: fitted = X beta (plus, with AR, the one-step prediction
