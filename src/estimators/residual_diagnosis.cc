@@ -417,6 +417,7 @@ DiagnosisResult diagnose_residuals(const TorqueTable& table, const DiagnosisOpti
   oi.parameters = static_cast<std::size_t>(m.x.cols());
   oi.ar = m.ar;
   oi.noise = options.noise;
+  oi.design = m.x;
   if (table.torque_se.size() == n) oi.noise_per_point = table.torque_se;
   oi.alpha = options.alpha;
   res.omnibus = omnibus_check(oi);

@@ -3,11 +3,13 @@
 #include <algorithm>
 #include <boost/math/distributions/chi_squared.hpp>
 #include <boost/math/distributions/fisher_f.hpp>
+#include <Eigen/QR>
 #include <boost/math/distributions/normal.hpp>
 #include <cmath>
 #include <cstdio>
 #include <map>
 #include <numeric>
+#include <random>
 
 namespace poise::estimators {
 namespace {
@@ -153,6 +155,59 @@ StructureTest runs(const std::vector<double>& r) {
   return t;
 }
 
+double cusum_statistic(const std::vector<double>& ordered, double dof, std::size_t* at) {
+  double rss = 0.0;
+  for (double v : ordered) rss += v * v;
+  if (!(rss > 0.0)) return 0.0;
+  const double s = std::sqrt(rss / dof);
+  double sum = 0.0, best = 0.0;
+  for (std::size_t k = 0; k + 1 < ordered.size(); ++k) {
+    sum += ordered[k];
+    if (std::abs(sum) > best) {
+      best = std::abs(sum);
+      if (at) *at = k;
+    }
+  }
+  return best / (s * std::sqrt(static_cast<double>(ordered.size())));
+}
+
+// Monte Carlo p-values of the order-based tests under the design (see the header).
+void monte_carlo(const OmnibusInput& in, std::vector<StructureTest>& tests) {
+  constexpr int kDraws = 400;
+  const auto n = static_cast<Eigen::Index>(in.residual.size());
+  Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(in.design);
+  const Eigen::MatrixXd q = qr.householderQ() * Eigen::MatrixXd::Identity(n, qr.rank());
+  const double dof = static_cast<double>(n - qr.rank());
+  std::mt19937_64 rng(0x5eed0b1u);
+  std::normal_distribution<double> g;
+  std::vector<int> exceed(tests.size(), 0);
+  std::vector<double> ordered(in.residual.size());
+  for (int k = 0; k < kDraws; ++k) {
+    Eigen::VectorXd z(n);
+    for (Eigen::Index i = 0; i < n; ++i) z(i) = g(rng);
+    const Eigen::VectorXd r = z - q * (q.transpose() * z);
+    for (std::size_t j = 0; j < ordered.size(); ++j) ordered[j] = r(static_cast<Eigen::Index>(in.order[j]));
+    for (std::size_t t = 0; t < tests.size(); ++t) {
+      StructureTest& st = tests[t];
+      if (!st.examined) continue;
+      double v = 0.0;
+      if (st.name == "ljung_box") v = ljung_box(ordered, false).statistic;
+      if (st.name == "runs") v = std::abs(runs(ordered).statistic);
+      if (st.name == "cusum_step") v = cusum_statistic(ordered, dof, nullptr);
+      const double obs = st.name == "runs" ? std::abs(st.statistic) : st.statistic;
+      exceed[t] += v >= obs;
+    }
+  }
+  for (std::size_t t = 0; t < tests.size(); ++t) {
+    StructureTest& st = tests[t];
+    if (!st.examined || (st.name != "ljung_box" && st.name != "runs" && st.name != "cusum_step")) {
+      continue;
+    }
+    st.p_value = (1.0 + exceed[t]) / (kDraws + 1.0);
+    st.note += (st.note.empty() ? "" : "; ") + std::string("Monte Carlo p under the design");
+  }
+}
+
 }  // namespace
 
 double brownian_bridge_sup_tail(double x) {
@@ -197,6 +252,9 @@ OmnibusResult omnibus_check(const OmnibusInput& in) {
     cusum.note = "not examined: fewer than 8 points or no residual";
   }
   out.tests.push_back(cusum);
+  if (in.design.rows() == static_cast<Eigen::Index>(n) && in.design.cols() > 0 && !in.ar) {
+    monte_carlo(in, out.tests);
+  }
 
   int m = 0;
   const StructureTest* worst = nullptr;
