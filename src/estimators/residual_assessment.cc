@@ -307,7 +307,7 @@ void assess(const Model& m, const AssessmentInputs& in, DiagnosisResult& res) {
       }
     }
     const bool harmonic_confounded =
-        e.r_first_harmonic >= kConfounded && drop_one_p(m, d, i) >= kIdentifiedP;
+        e.r_first_harmonic >= kFirstHarmonicLimit && drop_one_p(m, d, i) >= kIdentifiedP;
     if (harmonic_confounded) {
       a.readings.push_back({"no effect (part of the first harmonic)", model_bic(rest, d) - bic_sel,
                             estimate_of(rest, d)});
@@ -324,9 +324,25 @@ void assess(const Model& m, const AssessmentInputs& in, DiagnosisResult& res) {
               (in.monotone_plan ? "; time order follows angle order" : "");
       a.plan = separating_plan(t.name == "harmonic" ? "harmonic" : t.name,
                                other_name == "harmonic" ? "harmonic" : other_name);
-      average_readings(a, coef_sel, delta, allowance2);
-      e.estimate_note = "ambiguous: the estimate averages the readings with BIC weights, their "
-                        "spread added to its uncertainty";
+      if (harmonic_confounded) {
+        // Not identified against the first harmonic: the estimate does not take it; the
+        // spread of the readings goes into its uncertainty.
+        double spread = 0.0;
+        for (const Reading& r : a.readings) {
+          const Eigen::Vector2d x(r.estimate.amplitude * std::cos(r.estimate.phase),
+                                  r.estimate.amplitude * std::sin(r.estimate.phase));
+          spread = std::max(spread, (x - coef_rest.head<2>()).norm());
+        }
+        delta += coef_rest - coef_sel;
+        allowance2 += 0.25 * spread * spread;
+        e.estimate_note = "trades off with the first harmonic and is not identified (drop-one p >= "
+                          "1e-4): the estimate does not take it; the readings' spread is added to "
+                          "its uncertainty";
+      } else {
+        average_readings(a, coef_sel, delta, allowance2);
+        e.estimate_note = "ambiguous: the estimate averages the readings with BIC weights, their "
+                          "spread added to its uncertainty";
+      }
       res.ambiguous.push_back(std::move(a));
     } else if (correlated_outlier) {
       e.moves_estimate = false;

@@ -23,8 +23,10 @@ inline constexpr double kConfounded = 0.9;
 inline constexpr double kWeakCorrelation = 0.5;
 inline constexpr double kBicIndistinct = 2.0;
 inline constexpr double kBicStrong = 6.0;
-/// An effect that trades off with the first harmonic (r >= kConfounded) moves the estimate
-/// only when its own drop-one test has p below this: the data identify it beyond doubt.
+/// An effect that trades off with the first harmonic (r >= kFirstHarmonicLimit, VIF of the
+/// first harmonic >= 2) moves the estimate only when its own drop-one test has p below
+/// kIdentifiedP: the data identify it beyond doubt.
+inline constexpr double kFirstHarmonicLimit = 0.7;
 inline constexpr double kIdentifiedP = 1e-4;
 
 /// Column candidates (families: their best member) that could be added to a model.

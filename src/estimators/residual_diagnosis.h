@@ -90,8 +90,10 @@
 /// angle, AR(1) errors are always a reading of the harmonics found, and when the search with
 /// AR(1) allowed first and the one with AR(1) deferred end in different models, both are
 /// readings of equal weight: the plan cannot check the AR(1) form on which the choice rests.
-/// An effect whose columns trade off with the first harmonic (correlation >= 0.9 given the
-/// rest) is identified only when its drop-one p < 1e-4; otherwise "no effect" is a reading.
+/// An effect whose columns trade off with the first harmonic (canonical correlation >= 0.7
+/// given the rest: the first harmonic's variance at least doubled) is identified only when
+/// its drop-one p < 1e-4; otherwise "no effect" is a reading and the estimate does not take
+/// the effect (the readings' spread goes into its uncertainty).
 ///
 /// Never worse. For each effect, shift_se = how far (a, c) moves when it is dropped from the
 /// selected model, in the selected model's standard errors along the move. estimate_after is
