@@ -5,6 +5,7 @@
 #include <sys/wait.h>
 
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <nlohmann/json.hpp>
@@ -36,7 +37,16 @@ TEST(DiagnoseCommand, JsonForTable1HasExactlyTheDocumentedKeys) {
   nlohmann::json j = nlohmann::json::parse(r.out);
   EXPECT_EQ(keys(j),
             (std::set<std::string>{"effects", "rmse_before", "rmse_after", "estimate_before",
-                                   "estimate_after", "unit", "n_points"}));
+                                   "estimate_after", "unit", "n_points",
+                                   "estimate_selected_model", "plan", "omnibus", "ambiguous",
+                                   "collinearity", "not_identifiable", "notes"}));
+  EXPECT_EQ(keys(j.at("omnibus")), (std::set<std::string>{"p_value", "unexplained_structure",
+                                                          "where", "message", "tests"}));
+  EXPECT_EQ(j.at("omnibus").at("tests").size(), 5u);
+  EXPECT_FALSE(j.at("omnibus").at("message").get<std::string>().empty());  // never silent
+  EXPECT_EQ(j.at("not_identifiable").at(0).at("name"), "turntable_angle_scale");
+  EXPECT_EQ(j.at("collinearity").size(), 9u);  // harmonics 2..6, drift, K_T drift, step,
+                                                // exponential drift (no sweep column)
   const std::set<std::string> estimate_keys{"amplitude",    "phase_deg",    "offset",
                                             "se_amplitude", "se_phase_deg", "se_offset"};
   EXPECT_EQ(keys(j.at("estimate_before")), estimate_keys);
@@ -56,7 +66,9 @@ TEST(DiagnoseCommand, JsonForTable1HasExactlyTheDocumentedKeys) {
   j = nlohmann::json::parse(r.out);
   EXPECT_EQ(keys(j), (std::set<std::string>{"effects", "rmse_before", "rmse_after",
                                             "estimate_before", "estimate_after", "unit", "n_points",
-                                            "load", "error_before", "error_after"}));
+                                            "estimate_selected_model", "plan", "omnibus",
+                                            "ambiguous", "collinearity", "not_identifiable",
+                                            "notes", "load", "error_before", "error_after"}));
   EXPECT_EQ(keys(j.at("load")), (std::set<std::string>{"torque", "angle_deg"}));
   EXPECT_NEAR(j.at("load").at("torque").get<double>(), 12.91, 1e-12);
   EXPECT_NEAR(j.at("load").at("angle_deg").get<double>(), 45.5, 1e-12);
@@ -85,7 +97,15 @@ TEST(DiagnoseCommand, InjectedSecondHarmonicIsDiagnosedInTextAndJson) {
   ASSERT_FALSE(j.at("effects").empty()) << r.out;
   const auto& e = j.at("effects")[0];
   EXPECT_EQ(keys(e), (std::set<std::string>{"name", "order", "params", "p_value", "p_adjusted",
-                                            "delta_bic", "causes"}));
+                                            "delta_bic", "causes", "shift_se", "r_first_harmonic",
+                                            "moves_estimate", "estimate_note"}));
+  // Table 1 is one sweep in row order: time follows angle, so the 2nd harmonic is reported
+  // with correlated noise as the other reading.
+  EXPECT_FALSE(e.at("moves_estimate").get<bool>());
+  ASSERT_EQ(j.at("ambiguous").size(), 1u) << j.at("ambiguous").dump();
+  EXPECT_EQ(j.at("ambiguous")[0].at("readings").size(), 2u);
+  EXPECT_NE(j.at("ambiguous")[0].at("plan").get<std::string>().find("randomise"),
+            std::string::npos);
   EXPECT_EQ(e.at("name"), "harmonic");
   EXPECT_EQ(e.at("order"), 2);
   EXPECT_EQ(keys(e.at("params")), (std::set<std::string>{"amplitude", "phase_deg"}));
@@ -97,13 +117,61 @@ TEST(DiagnoseCommand, InjectedSecondHarmonicIsDiagnosedInTextAndJson) {
   r = run_poise(dir, "diagnose '" + data + "'" + kLoad);
   ASSERT_EQ(r.status, 0) << r.err;
   EXPECT_NE(r.out.find("1. harmonic 2: amplitude = "), std::string::npos) << r.out;
-  EXPECT_NE(r.out.find("causes: Gimbal axis not parallel"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("causes: Anisotropic elastic sag"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("Ambiguous finding 1: harmonic 2 and correlated noise"), std::string::npos)
+      << r.out;
+  EXPECT_NE(r.out.find("Omnibus check of the final residual: "), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("Collinearity under this plan"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("  time_drift: r1 "), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("Not identifiable from one test: turntable_angle_scale"),
+            std::string::npos);
   EXPECT_NE(r.out.find("Candidates tested in the last round, not added:"), std::string::npos);
   EXPECT_NE(r.out.find("direction_offset: not examined: the table has no sweep column"),
             std::string::npos)
       << r.out;
   EXPECT_NE(r.out.find("Error against the known load 12.91 mN*m at 45.5 deg"), std::string::npos)
       << r.out;
+}
+
+TEST(DiagnoseCommand, StudyClosesTheLoopWithTheEffectInTheSimulationModel) {
+  poise::test::TempDir dir;
+  std::istringstream in(poise::test::read_text(kTable1));
+  std::string line, csv;
+  std::getline(in, line);
+  csv = line + "\n";
+  while (std::getline(in, line)) {
+    const double theta = std::stod(line.substr(0, line.find(','))) * std::numbers::pi / 180.0;
+    const double torque = std::stod(line.substr(line.find(',') + 1));
+    csv += line.substr(0, line.find(',')) + "," + std::to_string(torque + std::sin(2.0 * theta)) +
+           "\n";
+  }
+  const std::string data = dir.file("table1_with_h2.csv");
+  poise::test::write_text(data, csv);
+  const std::string study = poise::test::source_path("studies/gimbal_unbalance_mc.toml");
+  RunResult r = run_poise(dir, "diagnose '" + data + "' --json --study '" + study +
+                                   "' --study-samples 4");
+  ASSERT_EQ(r.status, 0) << r.err;
+  const nlohmann::json j = nlohmann::json::parse(r.out).at("closed_loop");
+  const double t2 = std::stod(j.at("overrides").at("disturbances.harmonic2_torque").get<std::string>());
+  EXPECT_NEAR(t2, 1e-3, 0.2e-3);  // the injected 1 mN*m, in N*m
+  bool fit_rmse = false;
+  for (const auto& o : j.at("outputs")) {
+    if (o.at("name") != "g_mean_fit_rmse_mNm") continue;
+    fit_rmse = true;
+    // The simulated fit residual with the 2nd harmonic in the model approaches the measured.
+    EXPECT_GT(o.at("mean_with").get<double>(), 2.0 * o.at("mean_without").get<double>());
+    EXPECT_NEAR(o.at("mean_with").get<double>(), j.at("measured_rmse").get<double>(), 0.2);
+  }
+  EXPECT_TRUE(fit_rmse) << j.dump();
+  EXPECT_NE(j.at("sentence").get<std::string>().find("With these effects in the model"),
+            std::string::npos);
+
+  r = run_poise(dir, "diagnose '" + data + "' --study '" +
+                         poise::test::source_path("studies/los_seeker_wang2011.toml") + "'");
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.err.find("study kind 'seeker_los'; expected gimbal_static_unbalance"),
+            std::string::npos)
+      << r.err;
 }
 
 TEST(DiagnoseCommand, OutWritesJsonReportAndPlotAndRefusesToOverwrite) {
@@ -155,9 +223,37 @@ TEST(DiagnoseCommand, BadInputGivesStatus2WithLineAndColumn) {
   r = run_poise(dir, "diagnose '" + kTable1 + "' --load-torque '12.91 mN*m'");
   EXPECT_EQ(r.status, 2);
   EXPECT_NE(r.err.find("go together"), std::string::npos) << r.err;
+  r = run_poise(dir, "diagnose '" + kTable1 + "' --noise '-0.2 mN*m'");
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.err.find("--noise '-0.2 mN*m': expected a torque > 0"), std::string::npos) << r.err;
+  r = run_poise(dir, "diagnose '" + kTable1 + "' --noise '0.2 deg'");
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.err.find("--noise '0.2 deg'"), std::string::npos) << r.err;
   r = run_poise(dir, "diagnose '" + kTable1 + "' --alpha 1.5");
   EXPECT_EQ(r.status, 2);
   EXPECT_NE(r.err.find("expected 0 < alpha < 1"), std::string::npos) << r.err;
+}
+
+TEST(DiagnoseCommand, DiagnoseRecordTurnsEveryFailureIntoAnErrorWithFileAndLine) {
+  poise::test::TempDir dir;
+  std::string csv = "time_s,current_A,phi_deg\n";
+  for (int k = 0; k < 300; ++k) {
+    char buf[96];
+    std::snprintf(buf, sizeof buf, "%.6f,%.6f,%.6f\n", k * 1e-3 + (k >= 121 ? 0.5e-3 : 0.0),
+                  0.2 + 0.05 * std::sin(0.02 * k), 1.27 * std::sin(0.02 * k));
+    csv += buf;
+  }
+  const std::string rec = dir.file("rec.csv");
+  poise::test::write_text(rec, csv);
+  RunResult r = run_poise(dir, "diagnose-record '" + rec + "'");
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.err.find(rec + ":123: time must be uniformly sampled"), std::string::npos) << r.err;
+  r = run_poise(dir, "diagnose-record '" + rec + "' --kt '1e308 N*m/A'");
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.err.find("the torque constant K_T"), std::string::npos) << r.err;
+  r = run_poise(dir, "diagnose-record '" + rec + "' --kt '0.05 N*m'");
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.err.find("--kt '0.05 N*m'"), std::string::npos) << r.err;
 }
 
 TEST(DiagnoseCommand, HelpExplainsTheMethodWithTheTable1Example) {

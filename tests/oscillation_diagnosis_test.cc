@@ -158,5 +158,31 @@ TEST(OscillationDiagnosis, RefusesBadRecords) {
   EXPECT_THROW(diagnose_oscillation(r, o), Error);
 }
 
+TEST(OscillationDiagnosis, ErrorsNameTheFileAndLine) {
+  OscillationRecord r;
+  r.file = "rec.csv";
+  for (int k = 0; k < 200; ++k) {
+    r.t.push_back(k * 1e-3 + (k >= 121 ? 0.5e-3 : 0.0));
+    r.current.push_back(0.1 * std::sin(0.1 * k));
+    r.phi.push_back(0.01 * std::sin(0.05 * k));
+    r.lines.push_back(static_cast<std::size_t>(k) + 2);
+  }
+  const auto message = [&](const OscillationOptions& o) {
+    try {
+      diagnose_oscillation(r, o);
+    } catch (const Error& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  EXPECT_NE(message(options()).find("rec.csv:123: time must be uniformly sampled"),
+            std::string::npos)
+      << message(options());
+  OscillationOptions o = options();
+  o.kt = 1e308;
+  EXPECT_NE(message(o).find("rec.csv: the torque constant K_T = "), std::string::npos);
+  EXPECT_NE(message(o).find("expected a finite value in (0, 1e6) N*m/A"), std::string::npos);
+}
+
 }  // namespace
 }  // namespace poise::estimators

@@ -132,3 +132,23 @@ TEST(TorqueTable, RefusesFewerThanFourRowsAndDuplicateAnglesOnly) {
 
 }  // namespace
 }  // namespace poise::estimators
+
+namespace poise::estimators {
+namespace {
+
+TEST(TorqueTable, ReadsAStandardErrorColumnInEitherUnit) {
+  test::TempDir dir;
+  const std::string path = dir.file("se.csv");
+  test::write_text(path, "theta_deg,torque_mNm,torque_se_Nm\n0,1,2e-4\n90,2,3e-4\n180,3,2e-4\n270,2,1e-4\n");
+  const TorqueTable t = read_torque_table(path);
+  ASSERT_EQ(t.torque_se.size(), 4u);
+  EXPECT_NEAR(t.torque_se[1], 0.3, 1e-12);  // in the table's unit, mN*m
+  expect_refused(dir, "theta_deg,torque_mNm,torque_se_mNm\n0,1,0.2\n90,2,0\n180,3,0.2\n270,2,0.1\n",
+                 ":3: column 'torque_se_mNm': cell '0'; expected a standard error > 0");
+  expect_refused(dir, "theta_deg,torque_mNm,torque_se_mNm,torque_se_Nm\n0,1,1,1\n",
+                 ":1: header 'theta_deg,torque_mNm,torque_se_mNm,torque_se_Nm': two columns "
+                 "'torque_se_mNm' and 'torque_se_Nm'; expected at most one");
+}
+
+}  // namespace
+}  // namespace poise::estimators

@@ -1,5 +1,7 @@
 #include "cli/diagnose_command.h"
 
+#include "cli/diagnose_loop.h"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -30,17 +32,28 @@ const char* kDiagnoseHelp = R"(What it does:
   Looks in a measured static unbalance table for effects that the Eq. 22 model
   M(theta) = MT_s sin(theta + b) + MK (Yang et al. 2015) lacks, and shows what they do to
   the unbalance estimate. Candidates: harmonics 2..K of the turntable angle, a time drift
-  (linear, then quadratic), a direction offset between sweep directions, one outlier at a
-  time, AR(1) errors in measurement order. Forward stepwise: each round tests every
-  candidate (F test of the nested linear model; Bonferroni-adjusted largest studentized
-  residual for outliers; restricted likelihood ratio of Prais-Winsten GLS for AR(1)),
-  adjusts the round's p-values with Holm, and adds the best one only if its adjusted p <
-  alpha AND it lowers the BIC. On data with none of these effects it adds one in at most
-  about alpha of the cases.
+  (linear, then quadratic), a direction offset between sweep directions, a step (scanned
+  over change points), a saturating exponential drift (scanned over time constants), a drift
+  of the torque constant scaling the whole M(theta), one outlier at a time, AR(1) errors in
+  measurement order. Forward stepwise: each round tests every candidate (F test of the nested
+  linear model; Bonferroni over a scanned family; restricted likelihood ratio of
+  Prais-Winsten GLS for AR(1)), adjusts the round's p-values with Holm, and adds the best
+  one only if its adjusted p < alpha AND it lowers the BIC. On data with none of these
+  effects it adds one in at most about alpha of the cases.
+  Then: what this plan cannot tell apart (candidates collinear with each other or with the
+  first harmonic are reported together, with the estimate under each reading and a plan that
+  would separate them); how far each effect moves the estimate in standard errors; an
+  omnibus check of the final residual (lack of fit against repeated positions, the points'
+  own standard errors (column torque_se_mNm) or --noise,
+  Ljung-Box and runs tests in measurement order, CUSUM step scan) that reports "unexplained
+  structure" and where it sits. The estimate reported ("after") takes an ambiguous effect as
+  the mean of its readings with their spread in its uncertainty, and ignores an outlier found
+  in correlated noise; "selected model" is the estimate with every effect found.
 
 Data file: as for `poise fit` (theta_deg and torque_mNm or torque_Nm). Optional columns:
   time_s (time of each point, s; without it, time = row order) and sweep (+1/-1, turntable
-  direction; a direction offset needs both directions).
+  direction; a direction offset needs both directions), torque_se_mNm or torque_se_Nm
+  (standard error of each position's torque from the scatter of its period integrals).
 
 Example (Table 1 of the paper, 25.81 g at 45.50 deg on r = 5.10 cm: 12.91 mN*m):
   poise diagnose data/yang2015/table1_loading_test_36pt.csv \
@@ -49,8 +62,13 @@ Example (Table 1 of the paper, 25.81 g at 45.50 deg on r = 5.10 cm: 12.91 mN*m):
 Output: the base fit, each effect found with its parameters +- SE, p, Holm-adjusted p,
 delta_BIC and physical causes, rmse and the unbalance estimate before and after, the errors
 against the known load, and the candidates tested but not added. --json prints one object
-(effects, rmse_before, rmse_after, estimate_before, estimate_after, unit, n_points and, with
-a load, load, error_before, error_after). --out DIR also writes diagnosis.json, plot.svg
+(effects, rmse_before, rmse_after, estimate_before, estimate_after, unit, n_points,
+estimate_selected_model, plan, omnibus, ambiguous, collinearity, not_identifiable, notes
+and, with a load, load, error_before, error_after; with --study, closed_loop).
+--study STUDY.toml closes the loop: each effect found is mapped to its [disturbances] key of
+the study's gimbal model (harmonic 2, time drift, direction offset, outlier), the study is
+evaluated in memory without and with them (same random numbers, --study-samples each), and
+the simulated errors are set beside the measured residual. --out DIR also writes diagnosis.json, plot.svg
 (gnuplot; .gp and .dat kept) and report.html.
 Exit status: 0 success, 2 invalid input (the message names the file, line and column),
 1 the output folder cannot be written.
@@ -63,6 +81,9 @@ struct Options {
   bool json = false;
   double alpha = 0.05;
   int max_harmonic = 6;
+  std::string noise;
+  std::string study;
+  std::size_t study_samples = 64;
 };
 
 struct Load {
@@ -112,8 +133,44 @@ json to_json(const est::TorqueTable& t, const est::DiagnosisResult& r,
               {"p_value", e.p_value},     {"p_adjusted", e.p_adjusted},
               {"delta_bic", e.delta_bic}, {"causes", e.causes}};
     if (e.name == "harmonic") j["order"] = e.order;
-    if (e.name == "outlier") j["index"] = e.index, j["line"] = e.line;
+    if (e.name == "outlier" || e.name == "step") j["index"] = e.index, j["line"] = e.line;
+    j["shift_se"] = e.shift_se;
+    j["r_first_harmonic"] = e.r_first_harmonic;
+    j["moves_estimate"] = e.moves_estimate;
+    if (!e.estimate_note.empty()) j["estimate_note"] = e.estimate_note;
     effects.push_back(std::move(j));
+  }
+  json omnibus = {{"p_value", r.omnibus.p_value},
+                  {"unexplained_structure", r.omnibus.unexplained},
+                  {"where", r.omnibus.where},
+                  {"message", r.omnibus.message},
+                  {"tests", json::array()}};
+  for (const est::StructureTest& st : r.omnibus.tests) {
+    json tj = {{"name", st.name}, {"examined", st.examined}, {"note", st.note}};
+    if (st.examined) tj["statistic"] = st.statistic, tj["p_value"] = st.p_value;
+    omnibus["tests"].push_back(std::move(tj));
+  }
+  json ambiguous = json::array();
+  for (const est::AmbiguousFinding& a : r.ambiguous) {
+    json readings = json::array();
+    for (const est::Reading& rd : a.readings) {
+      readings.push_back(
+          {{"effects", rd.effects}, {"delta_bic", rd.delta_bic}, {"estimate", estimate_json(rd.estimate)}});
+    }
+    ambiguous.push_back(
+        {{"readings", readings}, {"correlation", a.correlation}, {"why", a.why}, {"plan", a.plan}});
+  }
+  json collinearity = json::array();
+  for (const est::CandidateCollinearity& c : r.collinearity) {
+    collinearity.push_back({{"candidate", c.candidate},
+                            {"r_first_harmonic", c.r_first_harmonic},
+                            {"vif_base", std::isfinite(c.vif_base) ? json(c.vif_base) : json("inf")},
+                            {"most_collinear_with", c.most_collinear_with},
+                            {"r_other", c.r_other}});
+  }
+  json not_identifiable = json::array();
+  for (const auto& [name, why] : r.not_identifiable) {
+    not_identifiable.push_back({{"name", name}, {"why", why}});
   }
   json out = {{"effects", effects},
               {"rmse_before", r.rmse_before},
@@ -121,7 +178,14 @@ json to_json(const est::TorqueTable& t, const est::DiagnosisResult& r,
               {"estimate_before", estimate_json(r.estimate_before)},
               {"estimate_after", estimate_json(r.estimate_after)},
               {"unit", t.unit},
-              {"n_points", t.size()}};
+              {"n_points", t.size()},
+              {"estimate_selected_model", estimate_json(r.estimate_selected)},
+              {"plan", r.plan},
+              {"omnibus", omnibus},
+              {"ambiguous", ambiguous},
+              {"collinearity", collinearity},
+              {"not_identifiable", not_identifiable},
+              {"notes", r.notes}};
   if (load) {
     const est::KnownLoadErrors k = est::known_load_errors(r, load->torque, load->angle_rad);
     out["load"] = {{"torque", load->torque}, {"angle_deg", load->angle_rad * kDegPerRad}};
@@ -146,6 +210,10 @@ std::string effect_title(const est::Effect& e) {
     return "outlier at row " + std::to_string(e.index) + " (file line " + std::to_string(e.line) +
            ")";
   }
+  if (e.name == "step") {
+    return "step before row " + std::to_string(e.index) + " (file line " + std::to_string(e.line) +
+           ")";
+  }
   return e.name;
 }
 
@@ -168,8 +236,8 @@ void print_text(const est::TorqueTable& t, const est::DiagnosisResult& r, double
       << "; time: " << (t.time_s.empty() ? "row order" : "column time_s")
       << "; sweep: " << (t.sweep.empty() ? "none" : "column sweep") << ")\n"
       << "Searched: harmonics 2.." << r.max_harmonic
-      << ", time drift, direction offset, outliers, AR(1) errors; forward stepwise, Holm per "
-         "round at alpha = "
+      << ", time drift, K_T drift, direction offset, step, exponential settling, outliers, AR(1) "
+         "errors; forward stepwise, Holm per round at alpha = "
       << alpha << ", delta_BIC < 0\n\n"
       << "Base fit (Eq. 22): M(theta) = " << num(b.amplitude, 5) << " sin(theta + "
       << num(b.phase * kDegPerRad, 4) << " deg) + " << num(b.offset, 4) << " " << u << "\n\n";
@@ -179,16 +247,53 @@ void print_text(const est::TorqueTable& t, const est::DiagnosisResult& r, double
     out << "  " << i + 1 << ". " << effect_title(e) << ": " << params_text(e, ", ") << "\n"
         << "     p = " << num(e.p_value, 3) << ", Holm-adjusted p = " << num(e.p_adjusted, 3)
         << ", delta_BIC = " << num(e.delta_bic, 3) << "\n"
-        << "     causes: " << e.causes << "\n";
+        << "     causes: " << e.causes << "\n"
+        << "     moves the unbalance estimate by " << num(e.shift_se, 3)
+        << " SE; trades off with the first harmonic at r = " << num(e.r_first_harmonic, 3)
+        << (e.moves_estimate ? "" : "; " + e.estimate_note) << "\n";
   }
   for (const auto& s : r.notes) out << "  note: " << s << "\n";
+  out << "\nPlan: " << r.plan << "\n"
+      << "Collinearity under this plan (r1: canonical correlation with the first harmonic; VIF "
+         "against Eq. 22; the closest other candidate, base projected out; limit 0.9):\n";
+  for (const est::CandidateCollinearity& c : r.collinearity) {
+    out << "  " << c.candidate << ": r1 " << num(c.r_first_harmonic, 3) << ", VIF "
+        << num(c.vif_base, 3) << (c.most_collinear_with.empty() ? "" : ", closest " +
+                                   c.most_collinear_with + " at r " + num(c.r_other, 3))
+        << (c.r_other >= 0.9 || c.r_first_harmonic >= 0.9 || c.vif_base >= 1.0 / (1.0 - 0.81)
+                ? "  (not separable on this plan)"
+                : "")
+        << "\n";
+  }
+  for (std::size_t i = 0; i < r.ambiguous.size(); ++i) {
+    const est::AmbiguousFinding& a = r.ambiguous[i];
+    out << "Ambiguous finding " << i + 1 << ": " << a.why << "\n";
+    for (const est::Reading& rd : a.readings) {
+      out << "  reading " << rd.effects << " (delta_BIC " << num(rd.delta_bic, 3)
+          << "): " << estimate_text(rd.estimate, u) << "\n";
+    }
+    out << "  a plan that would separate them: " << a.plan << "\n";
+  }
+  out << "\nOmnibus check of the final residual: " << r.omnibus.message << "\n";
+  for (const est::StructureTest& st : r.omnibus.tests) {
+    out << "  " << st.name << ": "
+        << (st.examined ? "statistic " + num(st.statistic, 4) + ", p = " + num(st.p_value, 3) +
+                              (st.note.empty() ? "" : " (" + st.note + ")")
+                        : st.note)
+        << "\n";
+  }
+  for (const auto& [name, why] : r.not_identifiable) {
+    out << "Not identifiable from one test: " << name << ": " << why << "\n";
+  }
   out << "\nCandidates tested in the last round, not added:\n";
   for (const auto& s : r.tested) out << "  " << s << "\n";
   out << "\nrmse (sqrt(RSS/n)): before " << num(r.rmse_before) << " " << u << ", after "
       << num(r.rmse_after) << " " << u << "\n"
       << "Unbalance estimate (first harmonic, +- 1 SE):\n"
       << "  before: " << estimate_text(r.estimate_before, u) << "\n"
-      << "  after:  " << estimate_text(r.estimate_after, u) << "\n";
+      << "  selected model: " << estimate_text(r.estimate_selected, u) << "\n"
+      << "  after:  " << estimate_text(r.estimate_after, u)
+      << " (the estimate reported: see the effects' notes)\n";
   if (load) {
     const est::KnownLoadErrors k = est::known_load_errors(r, load->torque, load->angle_rad);
     out << "Error against the known load " << num(load->torque) << " " << u << " at "
@@ -273,6 +378,35 @@ void write_report(const fs::path& dir, const est::TorqueTable& t, const est::Dia
     h << "</table>\n";
   }
   for (const auto& s : r.notes) h << "<p><i>Note: " << esc(s) << "</i></p>\n";
+  h << "<h2>Unexplained structure</h2>\n<p>" << (r.omnibus.unexplained ? "<b>" : "")
+    << esc(r.omnibus.message) << (r.omnibus.unexplained ? "</b>" : "") << "</p>\n<ul>\n";
+  for (const est::StructureTest& st : r.omnibus.tests) {
+    h << "<li>" << esc(st.name) << ": "
+      << (st.examined ? "p = " + num(st.p_value, 3) + (st.note.empty() ? "" : " (" + esc(st.note) + ")")
+                      : esc(st.note))
+      << "</li>\n";
+  }
+  h << "</ul>\n<h2>What this plan cannot tell apart</h2>\n<p>Plan: " << esc(r.plan) << ".</p>\n"
+    << "<table><tr><th>candidate</th><th>r with the first harmonic</th><th>VIF against Eq. 22"
+    << "</th><th>closest other candidate</th><th>r</th></tr>\n";
+  for (const est::CandidateCollinearity& c : r.collinearity) {
+    h << "<tr><td>" << esc(c.candidate) << "</td><td>" << num(c.r_first_harmonic, 3) << "</td><td>"
+      << num(c.vif_base, 3) << "</td><td>" << esc(c.most_collinear_with) << "</td><td>"
+      << num(c.r_other, 3) << "</td></tr>\n";
+  }
+  h << "</table>\n";
+  for (const est::AmbiguousFinding& a : r.ambiguous) {
+    h << "<p>" << esc(a.why) << ".</p>\n<table><tr><th>reading</th><th>&Delta;BIC</th>"
+      << "<th>unbalance estimate</th></tr>\n";
+    for (const est::Reading& rd : a.readings) {
+      h << "<tr><td>" << esc(rd.effects) << "</td><td>" << num(rd.delta_bic, 3) << "</td><td>"
+        << esc(estimate_text(rd.estimate, u)) << "</td></tr>\n";
+    }
+    h << "</table>\n<p>A plan that would separate them: " << esc(a.plan) << ".</p>\n";
+  }
+  for (const auto& [name, why] : r.not_identifiable) {
+    h << "<p>Not identifiable from one test: <b>" << esc(name) << "</b>: " << esc(why) << ".</p>\n";
+  }
   const auto row = [&](const std::string& name, const json& a, const json& b2, const char* key,
                        const std::string& unit) {
     h << "<tr><td>" << name << "</td><td>" << num(a.at(key).get<double>(), 5) << "</td><td>"
@@ -298,7 +432,16 @@ void write_report(const fs::path& dir, const est::TorqueTable& t, const est::Dia
     row("amplitude error", j["error_before"], j["error_after"], "amplitude", u);
     row("phase error", j["error_before"], j["error_after"], "phase_deg", "deg");
   }
-  h << "</table>\n<h2>Plot</h2>\n";
+  h << "</table>\n";
+  if (j.contains("closed_loop")) {
+    h << "<h2>The loop closed in the simulation model</h2>\n<p>"
+      << esc(j["closed_loop"]["sentence"].get<std::string>()) << "</p>\n<ul>\n";
+    for (const auto& [k, v] : j["closed_loop"]["overrides"].items()) {
+      h << "<li><code>" << esc(k) << " = " << esc(v.get<std::string>()) << "</code></li>\n";
+    }
+    h << "</ul>\n";
+  }
+  h << "<h2>Plot</h2>\n";
   if (plot_note.empty()) {
     h << "<p><img src=\"plot.svg\" alt=\"data, base fit and final model against theta; "
          "residuals\" style=\"max-width:100%\"></p>\n";
@@ -356,16 +499,38 @@ int run_diagnose(const Options& o) {
     est::DiagnosisOptions opt;
     opt.alpha = o.alpha;
     opt.max_harmonic = o.max_harmonic;
+    if (!o.noise.empty()) {
+      try {
+        opt.noise = units::parse_as(o.noise, units::kTorque) / table.unit_factor;
+      } catch (const Error& e) {
+        throw Error("--noise '" + o.noise + "': " + e.what());
+      }
+      if (!(opt.noise > 0.0) || !std::isfinite(opt.noise)) {
+        throw Error("--noise '" + o.noise + "': expected a torque > 0, e.g. \"0.2 mN*m\"");
+      }
+    }
     result = est::diagnose_residuals(table, opt);
   } catch (const Error& e) {
     std::cerr << "poise: " << e.what() << "\nNothing was diagnosed.\n";
     return 2;
   }
-  const json j = to_json(table, result, load);
+  std::optional<LoopResult> loop;
+  if (!o.study.empty()) {
+    try {
+      if (o.study_samples < 2) throw Error("--study-samples " + std::to_string(o.study_samples) + ": expected >= 2");
+      loop = close_the_loop(o.study, table, result, o.study_samples);
+    } catch (const Error& e) {  // ValidationError derives from Error
+      std::cerr << "poise: " << e.what() << "\nNothing was printed: fix --study or leave it out.\n";
+      return 2;
+    }
+  }
+  json j = to_json(table, result, load);
+  if (loop) j["closed_loop"] = loop_json(*loop);
   if (o.json) {
     std::cout << j.dump(2) << '\n';
   } else {
     print_text(table, result, o.alpha, load, std::cout);
+    if (loop) std::cout << loop_text(*loop);
   }
   if (o.out.empty()) return 0;
   try {
@@ -399,6 +564,13 @@ DiagnoseHandler add_diagnose_command(CLI::App& app) {
   sub->add_option("--alpha", opt->alpha, "familywise level per round (Holm), default 0.05");
   sub->add_option("--max-harmonic", opt->max_harmonic,
                   "highest harmonic tried, default 6 (capped to keep 5 residual dof)");
+  sub->add_option("--noise", opt->noise,
+                  "independent noise level of one point, e.g. \"0.2 mN*m\" (lack-of-fit test)");
+  sub->add_option("--study", opt->study,
+                  "a gimbal_static_unbalance study: the effects found are added to its model's "
+                  "[disturbances] and the simulated errors with and without them are reported");
+  sub->add_option("--study-samples", opt->study_samples,
+                  "samples of each --study evaluation, default 64");
   sub->add_option("--load-torque", opt->load_torque, "known load torque, e.g. \"12.91 mN*m\"");
   sub->add_option("--load-angle", opt->load_angle, "angle of the known load, e.g. \"45.5 deg\"");
   sub->add_option("--out", opt->out,

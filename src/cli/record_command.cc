@@ -45,6 +45,7 @@ estimators::OscillationRecord read_record(const std::string& path) {
     if (!col.count(need)) throw Error(path + ":1: missing column '" + need + "' (need time_s, current_A, phi_deg)");
   }
   estimators::OscillationRecord r;
+  r.file = path;
   std::size_t lineno = 1;
   while (std::getline(in, line)) {
     ++lineno;
@@ -71,6 +72,7 @@ estimators::OscillationRecord read_record(const std::string& path) {
     r.t.push_back(num("time_s"));
     r.current.push_back(num("current_A"));
     r.phi.push_back(num("phi_deg") * units::kRadPerDeg);
+    r.lines.push_back(lineno);
   }
   return r;
 }
@@ -120,8 +122,21 @@ int simulate(const Args& a) {
 
 int diagnose(const Args& a) {
   estimators::OscillationOptions opt;
-  opt.kt = units::parse_as(a.kt_text, units::Dimension{{2, 1, -2, -1, 0, 0}});
-  const estimators::OscillationDiagnosis d = estimators::diagnose_oscillation(read_record(a.file), opt);
+  try {
+    opt.kt = units::parse_as(a.kt_text, units::Dimension{{2, 1, -2, -1, 0, 0}});
+  } catch (const Error& e) {
+    throw Error("--kt '" + a.kt_text + "': " + e.what());
+  }
+  const estimators::OscillationRecord record = read_record(a.file);
+  estimators::OscillationDiagnosis d;
+  try {
+    d = estimators::diagnose_oscillation(record, opt);
+  } catch (const Error&) {
+    throw;
+  } catch (const std::exception& e) {  // e.g. a Boost.Math domain error from degenerate data
+    throw Error(a.file + ": the record cannot be diagnosed (" + e.what() +
+                "); check --kt (" + a.kt_text + ") and the record's columns and units");
+  }
   nlohmann::json j;
   auto p = [](const estimators::OscillationParam& q, double f) {
     return nlohmann::json{{"value", q.value * f}, {"se", q.se * f}};
@@ -205,6 +220,9 @@ std::function<std::optional<int>()> add_record_commands(CLI::App& app) {
       std::cerr << "poise: " << e.what() << '\n';
       return 2;
     } catch (const Error& e) {
+      std::cerr << "poise: " << e.what() << '\n';
+      return 2;
+    } catch (const std::exception& e) {
       std::cerr << "poise: " << e.what() << '\n';
       return 2;
     }

@@ -4,7 +4,9 @@
 #include <boost/math/distributions/fisher_f.hpp>
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <numeric>
+#include <string>
 
 #include "core/error.h"
 
@@ -30,7 +32,7 @@ Fit least_squares(const Eigen::MatrixXd& x, const Eigen::VectorXd& y) {
 }
 
 double f_test_p(double rss0, double rss1, long q, long n, long p1) {
-  if (rss1 <= 0 || rss0 <= rss1) return 1.0;
+  if (!std::isfinite(rss0) || !std::isfinite(rss1) || rss1 <= 0 || rss0 <= rss1 || n - p1 < 1) return 1.0;
   const double f = ((rss0 - rss1) / static_cast<double>(q)) / (rss1 / static_cast<double>(n - p1));
   boost::math::fisher_f dist(static_cast<double>(q), static_cast<double>(n - p1));
   return boost::math::cdf(boost::math::complement(dist, f));
@@ -62,14 +64,33 @@ struct Candidate {
 OscillationDiagnosis diagnose_oscillation(const OscillationRecord& rec, const OscillationOptions& opt) {
   const std::size_t n_all = rec.t.size();
   require(rec.current.size() == n_all && rec.phi.size() == n_all, "record columns differ in length");
-  require(opt.kt > 0, "the torque constant K_T must be positive");
+  const std::string where = rec.file.empty() ? std::string("record") : rec.file;
+  const auto at_line = [&](std::size_t k) {
+    std::string s = where;
+    if (k < rec.lines.size()) {
+      s += ':';
+      s += std::to_string(rec.lines[k]);
+    }
+    s += ": ";
+    return s;
+  };
+  require(std::isfinite(opt.kt) && opt.kt > 0 && opt.kt < 1e6,
+          where + ": the torque constant K_T = " + std::to_string(opt.kt) +
+              " N*m/A; expected a finite value in (0, 1e6) N*m/A");
   require(opt.derivative_window >= 5 && opt.derivative_window % 2 == 1, "derivative window must be odd and >= 5");
   const int m = opt.derivative_window / 2;
   require(n_all >= static_cast<std::size_t>(8 * opt.derivative_window), "record too short for the derivative window");
-  const double dt = (rec.t.back() - rec.t.front()) / static_cast<double>(n_all - 1);
-  require(dt > 0, "time must increase");
+  // The sampling step: the median step (one bad step does not move it).
+  std::vector<double> steps(n_all - 1);
+  for (std::size_t k = 1; k < n_all; ++k) steps[k - 1] = rec.t[k] - rec.t[k - 1];
+  std::nth_element(steps.begin(), steps.begin() + static_cast<std::ptrdiff_t>(steps.size() / 2), steps.end());
+  const double dt = steps[steps.size() / 2];
+  require(dt > 0, where + ": time must increase (median step " + std::to_string(dt) + " s)");
   for (std::size_t k = 1; k < n_all; ++k) {
-    require(std::abs(rec.t[k] - rec.t[k - 1] - dt) < 1e-6 * dt + 1e-12, "time must be uniformly sampled");
+    const double step = rec.t[k] - rec.t[k - 1];
+    require(std::abs(step - dt) < 1e-6 * dt + 1e-12,
+            at_line(k) + "time must be uniformly sampled: step " + std::to_string(step) +
+                " s, expected " + std::to_string(dt) + " s (the median step)");
   }
   // Savitzky-Golay quadratic: phi' = sum j phi_j / (S2 dt), phi'' = 2 c / dt^2.
   double s2 = 0, s4 = 0;
@@ -95,7 +116,26 @@ OscillationDiagnosis diagnose_oscillation(const OscillationRecord& rec, const Os
     acc[e] = 2.0 * (w * sj2 - s2 * s0) / (w * s4 - s2 * s2) / (dt * dt);
     phi[e] = rec.phi[c];
     y[e] = opt.kt * rec.current[c];
+    require(std::isfinite(y[e]), at_line(c) + "K_T i is not finite (K_T = " + std::to_string(opt.kt) +
+                                     " N*m/A, i = " + std::to_string(rec.current[c]) + " A)");
     tt[e] = rec.t[c];
+  }
+  require(rate.cwiseAbs().maxCoeff() > 0.0, where + ": phi does not move: no oscillation to diagnose");
+  // Direction of motion: the sign of the smoothed rate, a zero rate (quantised encoder at
+  // rest for a window) taking the last nonzero sign (the first one for leading zeros).
+  Eigen::VectorXd direction(static_cast<Eigen::Index>(n));
+  {
+    double last = 0.0;
+    for (Eigen::Index k = 0; k < rate.size(); ++k) {
+      if (rate[k] != 0.0) {
+        last = rate[k] > 0 ? 1.0 : -1.0;
+        break;
+      }
+    }
+    for (Eigen::Index k = 0; k < rate.size(); ++k) {
+      if (rate[k] != 0.0) last = rate[k] > 0 ? 1.0 : -1.0;
+      direction[k] = last;
+    }
   }
   OscillationDiagnosis out;
   out.n = n;
@@ -109,7 +149,7 @@ OscillationDiagnosis diagnose_oscillation(const OscillationRecord& rec, const Os
   model.col(0) = Eigen::VectorXd::Ones(ne);
   model.col(1) = acc;
   model.col(2) = rate;
-  model.col(3) = rate.unaryExpr([](double v) { return v > 0 ? 1.0 : (v < 0 ? -1.0 : 0.0); });
+  model.col(3) = direction;
   const Eigen::VectorXd spring = (phi.array() - phimean).matrix();
   // Below 5% of independent part the spring's SE would swamp J: lump it into J instead.
   const bool has_spring = independence(model, spring) >= 0.05;
@@ -135,9 +175,29 @@ OscillationDiagnosis diagnose_oscillation(const OscillationRecord& rec, const Os
   std::vector<Candidate> fixed;
   fixed.push_back({"offset_drift", 0, (tt.array() - tmean).matrix(),
                    "current-sensor offset drift (amplifier warm-up), motor heating changing K_T"});
-  fixed.push_back({"coulomb_asymmetry", 0, rate.unaryExpr([](double v) { return v > 0 ? 1.0 : 0.0; }),
+  fixed.push_back({"coulomb_asymmetry", 0, direction.unaryExpr([](double v) { return v > 0 ? 1.0 : 0.0; }),
                    "direction-dependent bearing friction (preload, lubricant, seal)"});
-  bool cogging_in = false;
+  // Cogging orders that complete one cycle over the swing; lower ones are not identifiable.
+  const double swing = phi.maxCoeff() - phi.minCoeff();
+  constexpr double kTwoPi = 6.283185307179586;
+  const int min_order = std::max(opt.cogging_min_order,
+                                 swing > 0 ? static_cast<int>(std::ceil(kTwoPi / swing - 1e-9)) : opt.cogging_max_order + 1);
+  {
+    char buf[600];
+    const double swing_deg = swing * 180.0 / 3.141592653589793;
+    if (min_order > opt.cogging_min_order) {
+      std::snprintf(buf, sizeof buf,
+                    "not identifiable with this swing (%.3g deg peak to peak) for orders %d to %d per turn: they "
+                    "complete less than one cycle over the swing and trade off with the constant and the "
+                    "spring. Order N needs a swing of at least 360/N deg (order %d: %.3g deg, i.e. +-%.3g deg)%s",
+                    swing_deg, opt.cogging_min_order, std::min(min_order - 1, opt.cogging_max_order),
+                    opt.cogging_min_order, 360.0 / opt.cogging_min_order, 180.0 / opt.cogging_min_order,
+                    min_order <= opt.cogging_max_order ? "; orders from the swing's limit up are scanned" : "");
+      out.not_identifiable.emplace_back("cogging", buf);
+    }
+  }
+  const double plausible = 2.0 * std::sqrt(2.0) * out.rmse_before;  // largest amplitude the residual holds
+  bool cogging_in = min_order > opt.cogging_max_order;
   std::vector<std::string> added;
   Fit cur = base;
   for (int round = 0; round < 8; ++round) {
@@ -174,7 +234,7 @@ OscillationDiagnosis diagnose_oscillation(const OscillationRecord& rec, const Os
       const Eigen::VectorXd r = y - model * cur.beta;
       int best_order = 0, count = 0;
       double best_drop = 0.0;  // compare by the RSS removed: p-values underflow to 0
-      for (int order = opt.cogging_min_order; order <= opt.cogging_max_order; ++order) {
+      for (int order = min_order; order <= opt.cogging_max_order; ++order) {
         Eigen::MatrixXd cols(ne, 2);
         cols.col(0) = (order * phi.array()).sin().matrix();
         cols.col(1) = (order * phi.array()).cos().matrix();
@@ -198,8 +258,30 @@ OscillationDiagnosis diagnose_oscillation(const OscillationRecord& rec, const Os
         const Fit f = least_squares(x, y);
         const double dbic = static_cast<double>(n) * std::log(f.rss / cur.rss) + 2.0 * std::log(static_cast<double>(n));
         const double best_p = f_test_p(cur.rss, f.rss, 2, static_cast<long>(n), x.cols());
-        tested.push_back({{"cogging", best_order, cols, "motor cogging (slot/pole detent) or a periodic drag of the bearing cage"},
+        const double amp = std::hypot(f.beta[p0], f.beta[p0 + 1]);
+        const int edge = min_order + std::max(2, min_order / 20);
+        if (min_order > opt.cogging_min_order && best_order <= edge) {
+          char buf[400];
+          std::snprintf(buf, sizeof buf,
+                        "the best order, %d, lies at the swing's limit (orders from %d are scanned): the "
+                        "structure most likely belongs to a lower order that this swing cannot identify; "
+                        "not added. A larger swing would test the lower orders",
+                        best_order, min_order);
+          out.not_identifiable.emplace_back("cogging", buf);
+          cogging_in = true;
+        } else if (amp > plausible) {
+          char buf[300];
+          std::snprintf(buf, sizeof buf,
+                        "the best order, %d, fits an amplitude of %.3g N*m, more than the %.3g N*m the base "
+                        "residual can hold (2 sqrt(2) x its RMS): it trades off with the base terms and is "
+                        "refused as implausible",
+                        best_order, amp, plausible);
+          out.not_identifiable.emplace_back("cogging", buf);
+          cogging_in = true;
+        } else {
+          tested.push_back({{"cogging", best_order, cols, "motor cogging (slot/pole detent) or a periodic drag of the bearing cage"},
                           best_p, std::min(1.0, best_p * count), dbic, f});
+        }
       }
     }
     if (tested.empty()) break;

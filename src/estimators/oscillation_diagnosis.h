@@ -13,13 +13,23 @@
 /// other terms average out.
 /// Candidates, each adding columns, tested like the turntable diagnosis (nested F test,
 /// Holm across the round's candidates, delta BIC < 0, forward stepwise):
-///   cogging          sin(N phi), cos(N phi), N scanned over [min, max] cycles per turn as
-///                    one family (Bonferroni over the scan); motor cogging or detent torque.
-///                    Separable from the smooth terms only when the swing spans a good part
-///                    of a cogging cycle (N a >~ 3 rad for a swing +-a): with +-1.27 deg,
-///                    orders above ~150 per turn, as torque motors' slot/pole products are.
+///   cogging          sin(N phi), cos(N phi), N scanned as one family (Bonferroni over the
+///                    scan) over the orders that complete at least one cycle over the swing:
+///                    N >= 360 deg / swing (swing = max phi - min phi) and N >= min order.
+///                    A lower order covers part of a cycle and trades off with the constant
+///                    and the spring: it is reported as "not identifiable with this swing",
+///                    with the swing that would test it. A fitted amplitude above
+///                    2 sqrt(2) times the base residual's RMS cannot be what the residual
+///                    holds (it is traded off against the base terms) and is refused as
+///                    implausible. A best order within max(2, 5 %) of the swing's limit is
+///                    not added either: the structure then most likely belongs to a lower
+///                    order the swing cannot identify. Motor cogging or detent torque.
 ///   offset_drift     t - mean(t); current-sensor offset drift (amplifier warm-up)
-///   coulomb_asymmetry  [phi' > 0]: direction-dependent friction
+///   coulomb_asymmetry  [direction > 0]: direction-dependent friction. The direction is the
+///                    sign of the smoothed rate; where the rate is exactly zero (a quantised
+///                    encoder standing still for a window) it is the last nonzero one's, so
+///                    friction and asymmetry columns stay in {1, sign} and an asymmetry is
+///                    not turned into a spurious column (or into cogging).
 /// A candidate whose columns lie (numerically) in the span of the model is reported as not
 /// identifiable, with the reason: at one position a constant friction asymmetry is the
 /// unbalance torque's alias. A cable's stiffness adds to gravity's in K; only the part of K
@@ -33,6 +43,8 @@ struct OscillationRecord {
   std::vector<double> t;        ///< s, uniformly sampled
   std::vector<double> current;  ///< A
   std::vector<double> phi;      ///< rad
+  std::string file;                ///< for messages; "" = unnamed
+  std::vector<std::size_t> lines;  ///< 1-based file line of each sample; empty = unknown
 };
 
 struct OscillationOptions {
@@ -69,8 +81,9 @@ struct OscillationDiagnosis {
   int rounds = 0;
 };
 
-/// Throws poise::Error for fewer than 4 windows of samples, unequal sizes, non-uniform time,
-/// a non-positive K_T or an even window.
+/// Throws poise::Error for fewer than 8 windows of samples, unequal sizes, non-uniform time
+/// (naming the file and line), a non-positive or non-finite K_T, torques that overflow, an
+/// even window, or a record with no motion.
 OscillationDiagnosis diagnose_oscillation(const OscillationRecord& rec, const OscillationOptions& opt);
 
 }  // namespace poise::estimators

@@ -11,7 +11,10 @@
 #include <utility>
 
 #include "core/error.h"
+#include "estimators/residual_assessment.h"
+#include "estimators/residual_candidates.h"
 #include "estimators/residual_diagnosis_model.h"
+#include "estimators/residual_plan.h"
 #include "estimators/sine_fit.h"
 
 namespace poise::estimators {
@@ -38,8 +41,9 @@ constexpr double kPi = std::numbers::pi;
 constexpr double kDegPerRad = 180.0 / kPi;
 constexpr int kMaxRounds = 200;  // the search ends long before: each round adds a column set
 constexpr const char* kCauseHarmonic2 =
-    "Gimbal axis not parallel to the turntable axis, an out-of-round bearing or race under the "
-    "gravity load, or anisotropic support stiffness.";
+    "Anisotropic elastic sag of the rotor or frame under gravity (quadratic in gravity), an "
+    "out-of-round bearing or race under the gravity load, or a current or torque sensor "
+    "nonlinear (quadratic) in torque. Not an axis tilt: that changes the first harmonic only.";
 constexpr const char* kCauseHarmonicHigh =
     "Race waviness, cogging of the turntable drive, or a mass distribution with higher moments "
     "coupled through compliance.";
@@ -51,6 +55,15 @@ constexpr const char* kCauseOutlier =
     "A disturbed point: turntable not settled or not locked, a bump, or a missed period.";
 constexpr const char* kCauseAr =
     "A slow disturbance spanning several positions: thermal drift, or settling not complete.";
+constexpr const char* kCauseStep =
+    "A level shift: the amplifier or current sensor re-zeroed, a knock that moved a lead or a "
+    "cable, a range switch of the acquisition.";
+constexpr const char* kCauseExponential =
+    "Thermal settling after switch-on: motor winding, amplifier or bearing grease warming to "
+    "equilibrium (a first-order lag).";
+constexpr const char* kCauseKt =
+    "The torque constant changing during the test (magnet and winding temperature: NdFeB about "
+    "-0.1 %/K), scaling the whole measured torque.";
 
 double wrap_two_pi(double x) {
   double w = std::fmod(x, 2.0 * kPi);
@@ -59,7 +72,8 @@ double wrap_two_pi(double x) {
 }
 
 std::vector<Term> round_candidates(const Model& m, const Data& d, const TorqueTable& table,
-                                   const std::vector<double>& t_c, int max_harmonic) {
+                                   const std::vector<double>& t_c, int max_harmonic,
+                                   bool kt) {
   const Index n = d.n;
   std::vector<Term> c;
   for (int k = 2; k <= max_harmonic; ++k) {
@@ -82,6 +96,7 @@ std::vector<Term> round_candidates(const Model& m, const Data& d, const TorqueTa
   if (m.has("time_drift") && !m.has("time_drift_quadratic")) {
     column_term("time_drift_quadratic", [&](std::size_t i) { return t_c[i] * t_c[i]; });
   }
+  if (!m.has("kt_drift") && kt) c.push_back(detail::kt_drift_term(m, d, t_c));
   const bool both = !table.sweep.empty() &&
                     std::count(table.sweep.begin(), table.sweep.end(), 1) > 0 &&
                     std::count(table.sweep.begin(), table.sweep.end(), -1) > 0;
@@ -136,6 +151,28 @@ Effect to_effect(const Term& t, const Model& m, const LinearFit& f, const Torque
     p.unit = u + per + (quad ? "^2" : "");
     e.params = {p};
     e.causes = kCauseDrift;
+  } else if (t.name == "step") {
+    EffectParam p = coef(0);
+    p.name = "level_change";
+    const auto row = static_cast<std::size_t>(t.index);
+    const double at = table.time_s.empty() ? static_cast<double>(row) : table.time_s[row];
+    e.params = {p, {"first_row_after", static_cast<double>(row), 0.0, ""},
+                {"at_time", at, std::numeric_limits<double>::quiet_NaN(),
+                 table.time_s.empty() ? "measurement" : "s"}};
+    e.line = row < table.rows.size() ? table.rows[row] : 0;
+    e.causes = kCauseStep;
+  } else if (t.name == "exponential_drift") {
+    EffectParam p = coef(0);
+    p.name = "initial_excess";
+    e.params = {p, {"tau", t.param, std::numeric_limits<double>::quiet_NaN(),
+                    table.time_s.empty() ? "measurement" : "s"}};
+    e.causes = kCauseExponential;
+  } else if (t.name == "kt_drift") {
+    EffectParam p = coef(0);
+    p.name = "relative_rate";
+    p.unit = per.substr(1) == "s" ? "1/s" : "1/measurement";
+    e.params = {p};
+    e.causes = kCauseKt;
   } else if (t.name == "direction_offset") {
     EffectParam p = coef(0);
     p.name = "half_difference";
@@ -187,6 +224,25 @@ struct Search {
   double bic = 0.0;  // -2 ln L + k ln n of the final model (ML form, rho at its estimate)
 };
 
+// Every column candidate for a model (families: the best member), examined ones only.
+detail::CandidatePool make_pool(const SearchInputs& in) {
+  return [&in](const Model& m) {
+    std::vector<Term> c =
+        round_candidates(m, in.d, in.table, in.t, in.max_harmonic, in.options.kt_drift);
+    std::vector<Term> out;
+    for (Term& t : c) {
+      if (t.note.empty() && nested_test(m, in.d, t)) out.push_back(std::move(t));
+    }
+    if (in.options.steps && !m.has("step")) out.push_back(detail::step_family(m, in.d));
+    if (in.options.exponential && !m.has("exponential_drift")) {
+      out.push_back(detail::exponential_family(m, in.d, in.t));
+    }
+    out.erase(std::remove_if(out.begin(), out.end(), [](const Term& t) { return !t.examined; }),
+              out.end());
+    return out;
+  };
+}
+
 // Forward stepwise search from `start` (the rounds described in residual_diagnosis.h). With
 // ar_last, AR(1) is picked only in a round where no column candidate qualifies.
 Search search(const SearchInputs& in, const Model& start, bool ar_last) {
@@ -197,9 +253,14 @@ Search search(const SearchInputs& in, const Model& start, bool ar_last) {
   Model& m = s.m;
   while (s.rounds < kMaxRounds) {
     ++s.rounds;
-    std::vector<Term> c = round_candidates(m, d, in.table, in.t, in.max_harmonic);
+    std::vector<Term> c =
+        round_candidates(m, d, in.table, in.t, in.max_harmonic, in.options.kt_drift);
     for (Term& term : c) {
       if (term.note.empty()) nested_test(m, d, term);
+    }
+    if (in.options.steps && !m.has("step")) c.push_back(detail::step_family(m, d));
+    if (in.options.exponential && !m.has("exponential_drift")) {
+      c.push_back(detail::exponential_family(m, d, in.t));
     }
     if (in.options.outliers) c.push_back(outlier_family(m, d));
     if (in.options.autocorrelation && !m.ar) c.push_back(autocorrelation_test(m, d));
@@ -249,6 +310,8 @@ Search search(const SearchInputs& in, const Model& start, bool ar_last) {
     m.ar = false;
     m.rho = RhoFit{};
   }
+  detail::drop_redundant(d, m, s.notes);
+  detail::compare_time_shapes(d, make_pool(in), m, s.notes);
   for (const Term& term : m.terms) {
     s.found.push_back(term.name == "outlier" ? "outlier at row " + std::to_string(term.index)
                                              : term.label);
@@ -256,11 +319,7 @@ Search search(const SearchInputs& in, const Model& start, bool ar_last) {
   }
   std::sort(s.found.begin(), s.found.end());
   if (s.summary.empty()) s.summary = "no effect";
-  const LinearFit f = fit_linear(m.x, d, m.ar, m.rho.rho);
-  const double n = static_cast<double>(d.n);
-  const double loglik = -0.5 * n * std::log(std::max(f.rss, d.rss_floor) / n) +
-                        (m.ar ? 0.5 * std::log(1.0 - m.rho.rho * m.rho.rho) : 0.0);
-  s.bic = -2.0 * loglik + static_cast<double>(m.x.cols() + (m.ar ? 1 : 0)) * std::log(n);
+  s.bic = detail::model_bic(m, d);
   return s;
 }
 
@@ -285,6 +344,7 @@ DiagnosisResult diagnose_residuals(const TorqueTable& table, const DiagnosisOpti
   std::stable_sort(d.order.begin(), d.order.end(), [&](auto a, auto b) { return t[a] < t[b]; });
   const double t_mean = std::accumulate(t.begin(), t.end(), 0.0) / static_cast<double>(n);
   for (double& v : t) v -= t_mean;
+  d.t_start = t[d.order[0]];
 
   DiagnosisResult res;
   res.max_harmonic = std::max(1, std::min(options.max_harmonic, (static_cast<int>(n) - 6) / 2));
@@ -296,10 +356,16 @@ DiagnosisResult diagnose_residuals(const TorqueTable& table, const DiagnosisOpti
   }
   const SearchInputs in{d, table, t, options, res.max_harmonic};
   Search s = search(in, start, false);
+  Model other_model;
+  std::string other_summary;
+  bool other = false;
   if (options.autocorrelation) {
     Search a = search(in, start, true);
     if (a.found != s.found) {
       const bool keep_a = a.bic < s.bic;
+      other = true;
+      other_model = keep_a ? s.m : a.m;
+      other_summary = keep_a ? s.summary : a.summary;
       char buf[400];
       std::snprintf(buf, sizeof buf,
                     "The search with AR(1) allowed in any round found %s (BIC %.2f); with AR(1) "
@@ -312,6 +378,7 @@ DiagnosisResult diagnose_residuals(const TorqueTable& table, const DiagnosisOpti
     }
   }
   const Model& m = s.m;
+  const std::string selected_summary = s.summary;
   res.rounds = s.rounds;
   res.tested = std::move(s.tested);
   res.notes = std::move(s.notes);
@@ -322,9 +389,7 @@ DiagnosisResult diagnose_residuals(const TorqueTable& table, const DiagnosisOpti
   res.rmse_after = std::sqrt(f.rss / static_cast<double>(n));
   res.estimate_before = {base.amplitude,    base.phase,    base.offset,
                          base.se_amplitude, base.se_phase, base.se_offset};
-  const Polar p = polar(f.beta(0), f.beta(1), f.cov.block<2, 2>(0, 0));
-  res.estimate_after = {p.amplitude,    p.phase,    f.beta(2),
-                        p.se_amplitude, p.se_phase, std::sqrt(f.cov(2, 2))};
+  res.estimate_selected = detail::estimate_of(m, d);
   for (std::size_t i = 0; i < n; ++i) {
     const auto k = static_cast<Index>(i);
     res.fitted_before.push_back(sine_fit_predict(base, table.theta_rad[i]));
@@ -332,6 +397,54 @@ DiagnosisResult diagnose_residuals(const TorqueTable& table, const DiagnosisOpti
     res.residual_after.push_back(f.resid(k));
     res.fitted_after.push_back(table.torque[i] - f.resid(k));
   }
+
+  // The plan as the data show it.
+  const bool monotone = detail::monotone_plan(table, d.order);
+  res.plan = detail::describe_plan(table, d.order, monotone);
+  const detail::CandidatePool pool = make_pool(in);
+  res.collinearity = detail::plan_collinearity(start, d, pool);
+
+  // Omnibus check of the final residual, then what the estimate takes.
+  OmnibusInput oi;
+  oi.residual = res.residual_after;
+  oi.order = d.order;
+  oi.theta_deg = table.theta_deg.empty() ? std::vector<double>(n) : table.theta_deg;
+  if (table.theta_deg.empty()) {
+    for (std::size_t i = 0; i < n; ++i) oi.theta_deg[i] = table.theta_rad[i] * kDegPerRad;
+  }
+  oi.time_s = table.time_s;
+  oi.lines = table.rows.size() == n ? table.rows : std::vector<std::size_t>{};
+  oi.parameters = static_cast<std::size_t>(m.x.cols());
+  oi.ar = m.ar;
+  oi.noise = options.noise;
+  oi.design = m.x;
+  if (table.torque_se.size() == n) oi.noise_per_point = table.torque_se;
+  oi.alpha = options.alpha;
+  res.omnibus = omnibus_check(oi);
+  bool correlated = false;
+  for (const StructureTest& st : res.omnibus.tests) {
+    if ((st.name == "ljung_box" || st.name == "runs") && st.examined && st.p_value < options.alpha) {
+      correlated = true;
+    }
+  }
+  detail::AssessmentInputs ai(d, pool);
+  ai.monotone_plan = monotone;
+  ai.residual_correlated = correlated;
+  if (other) {
+    ai.other_search = &other_model;
+    ai.selected_summary = selected_summary;
+    ai.other_summary = other_summary;
+  }
+  detail::assess(m, ai, res);
+  res.not_identifiable.emplace_back(
+      "turntable_angle_scale",
+      "a scale error of the turntable angle (or an error of its zero) changes the first harmonic "
+      "itself: the unbalance phase and amplitude carry it and no residual of one test shows it; "
+      "it needs a calibration of the turntable against an angle standard (polygon and "
+      "autocollimator, or an encoder of known accuracy)");
+  res.not_identifiable.emplace_back(
+      "kt_scale", "a constant error of K_T scales the whole torque: it needs a calibration with a "
+                  "known load (--load-torque), not a residual");
   return res;
 }
 

@@ -11,8 +11,26 @@
 ///   time_drift              t - mean(t)                       slope (per s or per measurement)
 ///   time_drift_quadratic    (t - mean(t))^2, only after time_drift      curvature
 ///   direction_offset        sweep (+1 / -1), only if both directions occur   half_difference
+///   step                    [measured at or after point k], k scanned   level_change, row, time
+///   exponential_drift       exp(-(t - t_first) / tau), tau scanned      initial_excess, tau
+///   kt_drift                (t - mean t) M(theta) of the current model  relative_rate
 ///   outlier                 indicator of one point             offset (index, file line)
 ///   autocorrelation         AR(1) errors in measurement order   rho
+/// (families step and exponential_drift, their scans and the K_T drift: residual_candidates.h)
+///
+/// Why harmonic 2 is not an axis tilt. With the turntable at theta, gravity in the turntable
+/// frame is g_T(theta) = g (cos theta u + sin theta v) + g_w w for fixed unit vectors u, v, w
+/// (g_w != 0 when the turntable axis is not horizontal). The unbalance torque about the gimbal
+/// axis a is m (r x g_T(theta)) . a = m (a x r) . g_T(theta) with r the fixed centre of mass:
+/// linear in g_T, so a sin theta + c cos theta + constant for ANY direction of a: a tilt of
+/// the gimbal axis against the turntable axis changes a, c and the constant only. A 2nd
+/// harmonic needs a term quadratic in g_T(theta): a centre of mass that moves with the load,
+/// r(theta) = r0 + C m g_T(theta) (anisotropic elastic sag of the rotor or frame, C not a
+/// multiple of the identity: m^2 (a x C g_T) . g_T holds cos^2, sin^2, sin cos = 2nd harmonic),
+/// an out-of-round bearing whose contact point shifts with the load direction (friction
+/// and run-out torques following the load at twice per turn for an oval race), or a sensor
+/// reading T + q T^2 with T = A sin(theta + b) + K (q A^2 / 2 cos(2 theta + 2 b)). These are
+/// the causes reported for it.
 ///
 /// t is time_s when the table has it, else the row number (measurement order = row order);
 /// the measurement order is the rows sorted by t. K = min(max_harmonic, floor((n - 6) / 2)),
@@ -53,14 +71,50 @@
 /// Holm keeps the chance of adding anything to a clean record <= alpha: whatever either search
 /// adds first must pass the same first-round Holm family (exact F tests under independent
 /// Gaussian errors, conservative Bonferroni for outliers, REML LR slightly conservative).
-/// Measured: 178 of 4000 white-noise records (4.45 %) of 36 points with time_s and an
-/// alternating sweep got an effect at alpha = 0.05; tests/residual_diagnosis_test.cc.
+/// Measured (with the step, settling and K_T drift candidates): 13 of 400 white-noise records
+/// (3.25 %) of 36 points with time_s and an alternating sweep got an effect at alpha = 0.05
+/// (tests/residual_diagnosis_test.cc); on the independent generator's clean tables 29 of 800
+/// (3.6 %) over four plans (tests/independent_data_diagnosis_test.cc).
 ///
-/// Limits. Effects collinear over the design cannot be told apart (after a forward sweep a
-/// return sweep makes the direction offset a step in time, partly confounded with a drift; on
-/// an evenly spaced full turn harmonics are orthogonal to the first and cannot bias it). A
-/// K_T scale error or a turntable angle-zero error changes the first harmonic itself and leaves
-/// no trace in the residuals: no residual diagnosis finds those.
+/// Time shapes. After the search, the time-shaped effects it added (drift, quadratic drift,
+/// step, exponential settling, K_T drift) are compared as a group with each single shape
+/// alone; the lowest BIC is kept (a scanned tau or change point counted as a parameter).
+///
+/// Identifiability (residual_assessment.h). Before testing, each candidate's canonical
+/// correlation with (sin, cos) and its variance inflation against (sin, cos, 1), and its
+/// largest canonical correlation with every other candidate (base projected out), are computed
+/// under this data's plan (angle order, time order, sweep). After selection, every effect is
+/// compared with every candidate on the rest of the model: those with canonical correlation
+/// >= 0.9 (VIF >= 5.3) and BIC within 6, or correlation >= 0.5 and BIC within 2, are reported
+/// together as one ambiguous finding with the unbalance under each reading and a plan that
+/// would separate them. A time-shaped effect that trades off with the unbalance (r >= 0.5)
+/// has AR(1) errors as a reading when their BIC is within 6. On a plan where time follows
+/// angle, AR(1) errors are always a reading of the harmonics found, and when the search with
+/// AR(1) allowed first and the one with AR(1) deferred end in different models, both are
+/// readings of equal weight: the plan cannot check the AR(1) form on which the choice rests.
+/// An effect whose columns trade off with the first harmonic (canonical correlation >= 0.7
+/// given the rest: the first harmonic's variance at least doubled) is identified only when
+/// its drop-one p < 1e-4; otherwise "no effect" is a reading and the estimate does not take
+/// the effect (the readings' spread goes into its uncertainty).
+///
+/// Never worse. For each effect, shift_se = how far (a, c) moves when it is dropped from the
+/// selected model, in the selected model's standard errors along the move. estimate_after is
+/// estimate_selected except: an ambiguous finding contributes the average of its readings
+/// with BIC weights exp(-delta_BIC / 2) (Bayesian model averaging, Raftery 1995; equal weights
+/// for the two searches' models above), the between-readings variance added to the standard
+/// errors; an outlier in correlated noise (AR(1) in the model or the whiteness tests failing)
+/// does not move the estimate. (Contributions of several findings are added, a first-order
+/// approximation.) With a K_T drift the estimate is referred to the first measurement, where
+/// K_T is the calibrated (cold) one.
+///
+/// Omnibus (residual_omnibus.h): the final residual is tested for structure no effect
+/// explains (lack of fit against repeated positions or a declared noise, Ljung-Box and runs in
+/// measurement order, CUSUM level-shift scan); a failure is reported as unexplained structure,
+/// with where it sits.
+///
+/// Limits. A K_T scale error or a turntable angle-zero or angle-scale error changes the first
+/// harmonic itself and leaves no trace in the residuals: they are listed as not identifiable
+/// and need a calibration (known load; angle standard).
 ///
 /// Reported parameters are those of the final model (all effects estimated together), with
 /// standard errors from sigma^2 (X^T X)^-1 of the (transformed) final fit and the delta method.
@@ -68,6 +122,7 @@
 #include <string>
 #include <vector>
 
+#include "estimators/residual_omnibus.h"
 #include "estimators/torque_table.h"
 
 namespace poise::estimators {
@@ -78,6 +133,19 @@ struct DiagnosisOptions {
   int max_harmonic = 6;     ///< highest harmonic tried (>= 1; 1 = none), capped as above
   bool outliers = true;     ///< try the outlier family
   bool autocorrelation = true;  ///< try AR(1) errors
+  bool steps = true;            ///< try the step family
+  bool exponential = true;      ///< try the exponential settling family
+  bool kt_drift = true;         ///< try the multiplicative drift of K_T
+  /// Independent noise level (sd of one point, table unit) for the omnibus lack-of-fit test,
+  /// e.g. the scatter of the period integrals within a position / sqrt(periods); 0 = none.
+  double noise = 0.0;
+};
+
+/// The once-per-turn unbalance: amplitude MT_s >= 0, phase b (rad, [0, 2 pi)), offset MK,
+/// with standard errors (phase in rad), in the table's torque unit.
+struct UnbalanceEstimate {
+  double amplitude = 0.0, phase = 0.0, offset = 0.0;
+  double se_amplitude = 0.0, se_phase = 0.0, se_offset = 0.0;
 };
 
 /// One parameter of an effect, in the final model.
@@ -100,13 +168,40 @@ struct Effect {
   double p_adjusted = 1.0;  ///< Holm-adjusted p of its round
   double delta_bic = 0.0;   ///< BIC(with) - BIC(without) in its round; < 0 favours it
   std::string causes;       ///< the physical causes that produce such an effect
+  /// How far the first harmonic (a, c) moves when this effect is dropped from the selected
+  /// model, in standard errors of the selected model along that move.
+  double shift_se = 0.0;
+  /// Largest canonical correlation of its columns with sin theta, cos theta given the rest
+  /// of the selected model: how much it trades off with the unbalance.
+  double r_first_harmonic = 0.0;
+  bool moves_estimate = true;  ///< false: estimate_after does not take it (note says why)
+  std::string estimate_note;
 };
 
-/// The once-per-turn unbalance: amplitude MT_s >= 0, phase b (rad, [0, 2 pi)), offset MK,
-/// with standard errors (phase in rad), in the table's torque unit.
-struct UnbalanceEstimate {
-  double amplitude = 0.0, phase = 0.0, offset = 0.0;
-  double se_amplitude = 0.0, se_phase = 0.0, se_offset = 0.0;
+/// Collinearity of one candidate with the base model and the other candidates under this
+/// data's plan (angle order, time order, sweep), before any test.
+struct CandidateCollinearity {
+  std::string candidate;           ///< e.g. "harmonic 3", "time_drift", "step at mid-run"
+  double r_first_harmonic = 0.0;   ///< canonical correlation with (sin, cos), constant removed
+  double vif_base = 1.0;           ///< 1 / (1 - R^2) against (sin, cos, 1)
+  std::string most_collinear_with; ///< the other candidate it is closest to ("" none)
+  double r_other = 0.0;            ///< their canonical correlation, base projected out
+};
+
+/// One reading of an ambiguous finding: the selected model with the finding's effect
+/// replaced by another candidate (or by nothing).
+struct Reading {
+  std::string effects;         ///< e.g. "direction_offset", "time_drift", "no effect"
+  double delta_bic = 0.0;      ///< BIC(reading) - BIC(selected model)
+  UnbalanceEstimate estimate;  ///< the unbalance under this reading
+};
+
+/// Candidates the data cannot tell apart, reported together.
+struct AmbiguousFinding {
+  std::vector<Reading> readings;  ///< the selected one first
+  double correlation = 0.0;       ///< largest canonical correlation between them
+  std::string why;                ///< what in the plan confounds them
+  std::string plan;               ///< a test plan that would separate them
 };
 
 /// Result of diagnose_residuals. Torques in the table's unit (TorqueTable::unit).
@@ -115,8 +210,10 @@ struct DiagnosisResult {
   double rmse_before = 0.0;     ///< sqrt(RSS / n) of the base fit
   double rmse_after = 0.0;      ///< sqrt(RSS / n) of the final model (transformed RSS with AR)
   UnbalanceEstimate estimate_before;  ///< fit_sine of the data
-  /// First-harmonic coefficients and intercept of the final model; with time drift the
-  /// intercept is at the mean time, with a direction offset it is midway between directions.
+  /// The estimate reported (see "Never worse"): estimate_selected unless an effect is ambiguous
+  /// or an outlier in correlated noise. With time drift the intercept is at the mean time,
+  /// with a direction offset midway between directions, with a K_T drift the first harmonic
+  /// and offset are those of the first measurement.
   UnbalanceEstimate estimate_after;
   std::vector<double> fitted_before, residual_before;  ///< per point, base fit
   /// Per point, final model: fitted = X beta (plus, with AR, the one-step prediction
@@ -127,6 +224,16 @@ struct DiagnosisResult {
   std::vector<std::string> notes;   ///< e.g. AR(1) removed once columns explained it
   int rounds = 0;                   ///< rounds run, the last one adding nothing
   int max_harmonic = 0;             ///< highest harmonic examined after the cap
+  /// The unbalance under the whole selected model. estimate_after differs from it where an
+  /// effect is ambiguous, trades off with the first harmonic without being identified, or is
+  /// an outlier in correlated noise (see "Never worse" above).
+  UnbalanceEstimate estimate_selected;
+  std::string plan;                                 ///< the plan as the data show it
+  std::vector<CandidateCollinearity> collinearity;  ///< every candidate under this plan
+  std::vector<AmbiguousFinding> ambiguous;
+  OmnibusResult omnibus;                            ///< structure left in residual_after
+  /// Effects no residual of one test can reveal, with why and what would (candidate, why).
+  std::vector<std::pair<std::string, std::string>> not_identifiable;
 };
 
 /// Runs the diagnosis (method above) on table.torque (the file's unit) against

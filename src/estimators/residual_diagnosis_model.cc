@@ -112,14 +112,14 @@ MatrixXd with_columns(const MatrixXd& x, const MatrixXd& add) {
 // F test and delta_BIC of adding t.cols to the model; false if not examinable. With AR(1)
 // errors both models are fitted at the rho of the larger one: a smooth effect is then not
 // tested against errors whose rho already absorbed it.
-bool nested_test(const Model& m, const ModelData& d, Term& t) {
+bool nested_test(const Model& m, const ModelData& d, Term& t, bool refit_rho) {
   const Index p1 = m.x.cols() + t.cols.cols(), q = t.cols.cols();
   if (d.n - p1 - (m.ar ? 1 : 0) < kMinResidualDof) {
     t.note = "not examined: would leave fewer than 5 residual degrees of freedom";
     return false;
   }
   const MatrixXd x1 = with_columns(m.x, t.cols);
-  const double rho = m.ar ? fit_rho(x1, d).rho : 0.0;
+  const double rho = !m.ar ? 0.0 : refit_rho ? fit_rho(x1, d).rho : m.rho.rho;
   const LinearFit f1 = fit_linear(x1, d, m.ar, rho);
   if (!f1.ok) {
     t.note = "not examined: not separable from the model's columns at these points";

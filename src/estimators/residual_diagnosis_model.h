@@ -30,6 +30,7 @@ struct ModelData {
   std::vector<std::size_t> order;  ///< rows in measurement order
   double rss_floor = 0.0;          ///< keeps ln(RSS) finite for noise-free data
   Eigen::Index n = 0;
+  double t_start = 0.0;  ///< time of the first measurement, from the mean time (K_T drift)
 };
 
 /// A least-squares fit, in the transformed (whitened) space when ar.
@@ -68,6 +69,8 @@ struct Term {
   double p = 1.0, p_adj = 1.0, delta_bic = 0.0;
   bool examined = false;    ///< false: not testable here (note says why)
   int round = 0;            ///< round in which it was added
+  double param = 0.0;       ///< scanned parameter: exponential tau (time unit); else 0
+  int scanned = 0;          ///< members of a scanned family (0: not a family)
   std::string label, note;  ///< for the list of candidates tested
 };
 
@@ -90,8 +93,9 @@ inline constexpr Eigen::Index kMinResidualDof = 5;
 Eigen::MatrixXd with_columns(const Eigen::MatrixXd& x, const Eigen::MatrixXd& add);
 
 /// Nested F test and delta_BIC of adding t.cols to m (with AR, both fitted at the rho of the
-/// larger model); false, with t.note saying why, if not examinable.
-bool nested_test(const Model& m, const ModelData& d, Term& t);
+/// larger model, or at m's rho when !refit_rho: the fast form for scanning a family);
+/// false, with t.note saying why, if not examinable.
+bool nested_test(const Model& m, const ModelData& d, Term& t, bool refit_rho = true);
 
 /// The outlier family: the point with the largest externally studentized residual, its p
 /// Bonferroni-adjusted over the points examined.

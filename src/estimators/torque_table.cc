@@ -66,7 +66,8 @@ std::optional<double> parse_number(std::string_view cell) {
 struct Columns {
   std::vector<std::string> names;
   std::size_t theta = 0, torque = 0;
-  std::optional<std::size_t> time, sweep;
+  std::optional<std::size_t> time, sweep, se;
+  double se_factor = 1.0;  // file unit of the se column in the table's torque unit
 };
 
 Columns find_columns(const std::string& file, std::size_t line,
@@ -74,7 +75,7 @@ Columns find_columns(const std::string& file, std::size_t line,
   const std::string where = "header '" + join(header) + "'";
   Columns c;
   c.names.assign(header.begin(), header.end());
-  std::optional<std::size_t> theta, mnm, nm;
+  std::optional<std::size_t> theta, mnm, nm, se_mnm, se_nm;
   for (std::size_t i = 0; i < header.size(); ++i) {
     for (std::size_t j = 0; j < i; ++j) {
       if (!header[i].empty() && header[i] == header[j]) {
@@ -86,6 +87,12 @@ Columns find_columns(const std::string& file, std::size_t line,
     if (header[i] == "torque_Nm") nm = i;
     if (header[i] == "time_s") c.time = i;
     if (header[i] == "sweep") c.sweep = i;
+    if (header[i] == "torque_se_mNm") se_mnm = i;
+    if (header[i] == "torque_se_Nm") se_nm = i;
+  }
+  if (se_mnm && se_nm) {
+    fail(file, line,
+         where + ": two columns 'torque_se_mNm' and 'torque_se_Nm'; expected at most one");
   }
   if (!theta) {
     fail(file, line, where + ": no column 'theta_deg'; expected the turntable angle in degrees");
@@ -103,6 +110,10 @@ Columns find_columns(const std::string& file, std::size_t line,
   t.torque_column = mnm ? "torque_mNm" : "torque_Nm";
   t.unit = mnm ? "mN*m" : "N*m";
   t.unit_factor = mnm ? 1e-3 : 1.0;
+  if (se_mnm || se_nm) {
+    c.se = se_mnm ? *se_mnm : *se_nm;
+    c.se_factor = (se_mnm ? 1e-3 : 1.0) / t.unit_factor;
+  }
   return c;
 }
 
@@ -156,6 +167,16 @@ TorqueTable read_torque_table(const std::string& path) {
     t.torque_Nm.push_back(torque * t.unit_factor);
     t.rows.push_back(line);
     if (cols->time) t.time_s.push_back(number(*cols->time));
+    if (cols->se) {
+      const double se = number(*cols->se);
+      if (!(se > 0.0)) {
+        fail(path, line,
+             "column '" + cols->names[*cols->se] + "': cell '" + std::string(cells[*cols->se]) +
+                 "'; expected a standard error > 0 (the scatter of the position's period "
+                 "integrals / sqrt(periods))");
+      }
+      t.torque_se.push_back(se * cols->se_factor);
+    }
     if (cols->sweep) {
       const double s = number(*cols->sweep);
       if (s != 1.0 && s != -1.0) {

@@ -14,6 +14,9 @@
 /// - exactly one torque column whose name carries its unit: torque_mNm (mN*m) or torque_Nm (N*m).
 /// - time_s (optional): time of the measurement, s.
 /// - sweep (optional): turntable direction of travel, +1 or -1.
+/// - torque_se_mNm or torque_se_Nm (optional): standard error of each position's torque from
+///   the scatter between its period integrals (sd / sqrt(periods)), > 0: an independent noise
+///   level for the lack-of-fit test of `poise diagnose`.
 /// - any other column is ignored.
 /// At least 4 data rows and at least 3 distinct angles (modulo 360 deg) are required: the sine
 /// fit has 3 parameters and needs one more point for the residual spread.
@@ -37,6 +40,7 @@ struct TorqueTable {
   std::vector<std::size_t> rows;  ///< 1-based file line of each row (the header is line 1)
   std::vector<double> time_s;     ///< column time_s, s; empty when the file has none
   std::vector<int> sweep;         ///< column sweep, +1 or -1; empty when the file has none
+  std::vector<double> torque_se;  ///< column torque_se_*, in `unit`; empty when none
 
   std::size_t size() const { return theta_rad.size(); }
 };
