@@ -35,6 +35,7 @@ StudyEvaluation from_procedure(const ProcedureStudy& study, int threads) {
   e.names = study.output_names();
   e.values = mc.values;
   e.values.resize(e.names.size());
+  e.ok_index = mc.ok_index;
   e.samples = mc.n;
   e.failures = mc.failures;
   if (!mc.failed.empty()) e.first_failure = mc.failed.front().second;
@@ -49,13 +50,18 @@ StudyEvaluation evaluate_study(const StudyConfig& base, const std::map<std::stri
   StudyConfig cfg = base;
   const auto o = apply_study_overrides(cfg, merged(base, overrides));
   if (cfg.kind == "balancing_machine") {
-    return from_procedure(BalancingStudy(cfg, load_balancing_model(cfg.model_path, o), samples, seed), threads);
+    auto e = from_procedure(BalancingStudy(cfg, load_balancing_model(cfg.model_path, o), samples, seed), threads);
+    e.replicate_size = cfg.replicate_size;
+    return e;
   }
   if (cfg.kind == "gimbal_static_unbalance") {
-    return from_procedure(GimbalStudy(cfg, load_gimbal_model(cfg.model_path, o), samples, seed), threads);
+    auto e = from_procedure(GimbalStudy(cfg, load_gimbal_model(cfg.model_path, o), samples, seed), threads);
+    e.replicate_size = cfg.replicate_size;
+    return e;
   }
   const SeekerLosStudy study(cfg, load_seeker_model(cfg.model_path, o), samples, seed);
   StudyEvaluation e;
+  e.replicate_size = cfg.replicate_size;
   for (const auto& d : kSeekerOutputs) e.names.emplace_back(d.name);
   e.values.resize(e.names.size());
   const SeekerMcResult mc = study.run(threads, false, [&](std::span<const SeekerSampleResult> block) {
@@ -65,6 +71,7 @@ StudyEvaluation evaluate_study(const StudyConfig& base, const std::map<std::stri
         continue;
       }
       for (std::size_t k = 0; k < e.names.size(); ++k) e.values[k].push_back(s.outputs[k]);
+      e.ok_index.push_back(s.index);
     }
   });
   e.samples = mc.n;
