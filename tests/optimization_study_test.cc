@@ -245,12 +245,30 @@ TEST(OptimizationStudy, StrictFile) {
   EXPECT_NE(e.find("exactly one of at_least and at_most"), std::string::npos) << e;
 }
 
+TEST(OptimizationStudy, HelpDocumentsTheExitStatuses) {
+  TempDir d;
+  const auto r = test::run_poise(d, "optimize --help");
+  EXPECT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.out.find("3  design not verified"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("2  invalid input"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("--seed"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("bound = \"upper95\""), std::string::npos) << r.out;
+}
+
 TEST(OptimizationStudy, RepositoryOptimizationFilesLoad) {
-  for (const char* f : {"studies/spring_plate_sizing.toml", "studies/bearing_span_sizing.toml"}) {
+  for (const char* f : {"studies/spring_plate_sizing.toml", "studies/bearing_span_sizing.toml",
+                        "studies/bearing_span_sizing_housing.toml", "studies/test_plan_18_vs_36.toml",
+                        "studies/test_plan_calibrated_rig.toml"}) {
     const OptimizationSpec s = load_optimization(test::source_path(f));
     EXPECT_FALSE(s.variables.empty()) << f;
     EXPECT_FALSE(s.constraints.empty()) << f;
   }
+  // The sizing studies state their binding constraints with confidence.
+  const OptimizationSpec spans = load_optimization(test::source_path("studies/bearing_span_sizing.toml"));
+  EXPECT_EQ(to_string(spans.constraints[0].bound), "upper95");
+  EXPECT_EQ(spans.base.replicate_size, 1024u);
+  const OptimizationSpec plates = load_optimization(test::source_path("studies/spring_plate_sizing.toml"));
+  EXPECT_EQ(to_string(plates.constraints[1].bound), "lower95");
 }
 
 // Two objectives on a tiny gimbal study: the unbalance error against the test time, with the

@@ -358,7 +358,8 @@ OptimizationOutcome optimize(const OptimizationSpec& spec, int threads, bool pro
                                         out.spread.contains("objective") ? out.spread["objective"]["supported_step"].get<double>() : 0.0,
                                         spec.variables[0].unit);
     }
-    const std::string head = (out.runs.size() > 1 ? choice_label(best.choice) + ", " : std::string()) + design;
+    // The choice sentence names the headline combination already.
+    const std::string head = (out.runs.size() > 1 && s.empty() ? choice_label(best.choice) + ", " : std::string()) + design;
     std::string check = "on " + std::to_string(out.check.samples) + " fresh samples ";
     if (out.verified) {
       std::string cons;
