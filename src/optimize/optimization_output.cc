@@ -273,7 +273,7 @@ OptimizationRun write_optimization(const OptimizationSpec& spec, const studies::
     }
     h << "<h2>The optimum's own uncertainty</h2>\n";
     if (out.spread.contains("variables")) {
-      h << "<p>The search of the headline combination repeated with " << out.spread["searches"]
+      h << "<p>The search of the headline combination run with " << out.spread["searches"]
         << " independent seeds (the optimum is set by the draw as much as by the design): the spread of each variable "
            "and of the objective, and the step the answer is rounded to (the power of ten at or below the range).</p>\n"
            "<table><tr><th class='l'>variable</th><th>min</th><th>max</th><th>std</th><th>answer rounded to</th></tr>\n";
