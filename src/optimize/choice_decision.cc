@@ -88,8 +88,11 @@ std::string equivalence_clause(const Difference& d, const Equivalence& e, const 
   if (e.worse) return s + "lies wholly above the " + m + ", so equivalence is ruled out: it is worse beyond the margin";
   if (e.better) return s + "lies wholly below the " + m + ", so equivalence is ruled out: it is better beyond the margin";
   if (!d.lo || !d.hi) return s + "has no interval, so equivalence is NOT shown";
-  return s + "exceeds the " + m + (e.exceeds == "both" ? " on both sides" : " on the " + e.exceeds + " side") +
-         ", so equivalence is NOT shown";
+  if (e.exceeds == "both") {
+    return s + "exceeds the " + m + " on both sides, so equivalence is NOT shown (the interval is wider than the "
+               "margin: these fresh samples cannot resolve it)";
+  }
+  return s + "exceeds the " + m + " on the " + e.exceeds + " side, so equivalence is NOT shown";
 }
 
 ChoiceDecision decide_choices(const OptimizationSpec& spec, const std::vector<ChoiceResult>& runs,

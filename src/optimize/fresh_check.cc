@@ -36,7 +36,7 @@ std::string short_number(double v) {
   if (a >= 100.0 || a == 0.0) {
     std::snprintf(buf, sizeof buf, "%.0f", v);
   } else {
-    std::snprintf(buf, sizeof buf, "%.3g", v);
+    std::snprintf(buf, sizeof buf, "%#.3g", v);  // keeps trailing zeros: 1.00, not 1
   }
   return buf;
 }
@@ -103,8 +103,12 @@ std::string FreshCheck::describe_constraint(std::size_t k) const {
   const Requirement& r = *c.requirement;
   const std::string unit = output_unit(r.output);
   std::string s = r.statistic + " of " + r.output + " " + interval_text(c.interval, unit);
-  if (c.bound) s += " (" + describe(r.bound) + " " + short_number(*c.bound) + ")";
-  return s + " " + to_string(c.verdict) + " " + (r.at_least ? ">= " : "<= ") + short_number(r.limit()) +
+  if (c.bound) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%.4g", *c.bound);  // one digit more than the interval: it sits by the limit
+    s += " (" + describe(r.bound) + " " + buf + ")";
+  }
+  return s + " " + to_string(c.verdict) + " " + (r.at_least ? ">= " : "<= ") + value_text(r.limit(), "") +
          (unit.empty() ? "" : " " + unit);
 }
 

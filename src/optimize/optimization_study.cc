@@ -359,7 +359,9 @@ OptimizationOutcome optimize(const OptimizationSpec& spec, int threads, bool pro
                                         spec.variables[0].unit);
     }
     // The choice sentence names the headline combination already.
-    const std::string head = (out.runs.size() > 1 && s.empty() ? choice_label(best.choice) + ", " : std::string()) + design;
+    const std::string label = choice_label(best.choice);
+    const bool named = s.rfind(label, 0) == 0;
+    const std::string head = (out.runs.size() > 1 && !named ? label + ", " : std::string()) + design;
     std::string check = "on " + std::to_string(out.check.samples) + " fresh samples ";
     if (out.verified) {
       std::string cons;
