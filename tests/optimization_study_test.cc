@@ -367,6 +367,7 @@ seed = 9
   EXPECT_NE(out.answer.find("positions = "), std::string::npos) << out.answer;
   EXPECT_NE(out.answer.find("equivalence is"), std::string::npos) << out.answer;
   EXPECT_EQ(out.answer.find("{"), std::string::npos) << out.answer;  // no raw JSON
+  std::printf("answer: %s\n", out.answer.c_str());
 }
 
 TEST(OptimizationStudy, BootstrapIntervalCoversTheStatistic) {

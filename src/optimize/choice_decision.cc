@@ -78,15 +78,15 @@ Equivalence equivalence(const Difference& d, double margin) {
 }
 
 std::string equivalence_clause(const Difference& d, const Equivalence& e, const std::string& unit,
-                               const std::string& margin_text) {
+                               const std::string& margin_text, const std::string& subject) {
   const std::string u = unit.empty() ? "" : " " + unit;
   std::string s = "difference " + signed_number(d.value);
   if (d.lo && d.hi) s += " [" + signed_number(*d.lo) + ", " + signed_number(*d.hi) + "]";
   s += u + ", which ";
   const std::string m = margin_text + " margin (" + short_number(e.margin) + u + ")";
   if (e.shown) return s + "lies within the " + m + ", so equivalence is shown";
-  if (e.worse) return s + "lies wholly above the " + m + ", so equivalence is ruled out: it is worse beyond the margin";
-  if (e.better) return s + "lies wholly below the " + m + ", so equivalence is ruled out: it is better beyond the margin";
+  if (e.worse) return s + "lies wholly above the " + m + ", so equivalence is ruled out: " + subject + " is worse beyond the margin";
+  if (e.better) return s + "lies wholly below the " + m + ", so equivalence is ruled out: " + subject + " is better beyond the margin";
   if (!d.lo || !d.hi) return s + "has no interval, so equivalence is NOT shown";
   if (e.exceeds == "both") {
     return s + "exceeds the " + m + " on both sides, so equivalence is NOT shown (the interval is wider than the "
@@ -202,7 +202,8 @@ ChoiceDecision decide_choices(const OptimizationSpec& spec, const std::vector<Ch
         j["minus_best"] = difference_json(d);
         j["equivalence"] = {{"margin", e.margin}, {"shown", e.shown}, {"worse_beyond_margin", e.worse},
                             {"better_beyond_margin", e.better}, {"exceeds", e.exceeds},
-                            {"text", equivalence_clause(d, e, unit, spec.equivalence_margin_text)}};
+                            {"text", equivalence_clause(d, e, unit, spec.equivalence_margin_text,
+                                                        parameter_value(spec, ch.parameter, val))}};
         // The decision in words, for the first parameter with more than one value.
         if (sentences.empty()) {
           const std::string a = parameter_value(spec, ch.parameter, val), b = parameter_value(spec, ch.parameter, hv);
@@ -218,7 +219,7 @@ ChoiceDecision decide_choices(const OptimizationSpec& spec, const std::vector<Ch
             s = b + " is best on fresh samples: " + what + " " + interval_text(*H->comparison.objective, unit) +
                 " against " + interval_text(*c->comparison.objective, unit) + " with " + a + "; equivalence of " + a +
                 " to " + b + " within " + spec.equivalence_margin_text + " of " + what + ": " +
-                equivalence_clause(d, e, unit, spec.equivalence_margin_text);
+                equivalence_clause(d, e, unit, spec.equivalence_margin_text, a);
           }
           if (c->comparison.second && H->comparison.second && spec.pareto) {
             const double sa = c->comparison.second->value, sb = H->comparison.second->value;

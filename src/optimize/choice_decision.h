@@ -48,7 +48,7 @@ Equivalence equivalence(const Difference& d, double margin);
 /// "difference -0.01 [-0.06, +0.13] mN*m, which exceeds the 5% margin (0.055 mN*m) on the upper
 /// side, so equivalence is NOT shown"
 std::string equivalence_clause(const Difference& d, const Equivalence& e, const std::string& unit,
-                               const std::string& margin_text);
+                               const std::string& margin_text, const std::string& subject = "it");
 
 /// One combination on the fresh sets.
 struct ChoiceOnFresh {
