@@ -241,6 +241,12 @@ TEST(OptimizationStudy, StrictFile) {
   EXPECT_NE(e.find("equivalence_margin"), std::string::npos) << e;
   e = error_of(test::replace_once(base, "xtol_rel = 1e-4", "xtol_rel = 1e-4\nreplicate_size = 100"));
   EXPECT_NE(e.find("a power of two for a sobol design"), std::string::npos) << e;
+  e = error_of(test::replace_once(base, "xtol_rel = 1e-4", "xtol_rel = 1e-4\nreplicate_size = 512"));
+  EXPECT_NE(e.find("optimization.samples"), std::string::npos) << e;  // 512 samples: one replicate
+  EXPECT_NE(e.find("at least 2 replicates"), std::string::npos) << e;
+  e = error_of(test::replace_once(test::replace_once(base, "at_most = 1", "at_least = 1\nbound = \"upper95\""),
+                                  "statistic = \"p95\"", "statistic = \"p5\""));
+  EXPECT_NE(e.find("a lower bound (\"lower95\") with at_least"), std::string::npos) << e;
   e = error_of(test::replace_once(base, "at_most = 1", "at_most = 1\nat_least = 0"));
   EXPECT_NE(e.find("exactly one of at_least and at_most"), std::string::npos) << e;
 }

@@ -15,6 +15,7 @@
 ///   4. the answer in one sentence (summary.json "answer", the terminal, the report's top).
 /// Two objectives ([pareto]): the epsilon-constraint front, each point checked on fresh samples.
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
