@@ -51,8 +51,6 @@ std::string rounded_text(double v, double step, const std::string& unit) {
   return unit.empty() ? std::string(buf) : std::string(buf) + " " + unit;
 }
 
-std::string variable_name(const std::string& parameter) { return parameter; }
-
 // The design in words: "yaw.bearing_span 131 mm (127-133 over 3 searches), ...".
 std::string design_text(const OptimizationSpec& spec, const std::vector<double>& x, const json& spread) {
   std::string s;
@@ -66,7 +64,7 @@ std::string design_text(const OptimizationSpec& spec, const std::vector<double>&
       range = " (" + short_number(sv["min"].get<double>()) + "-" + short_number(sv["max"].get<double>()) + " over " +
               std::to_string(spread["searches"].get<int>()) + " searches)";
     }
-    s += (s.empty() ? "" : ", ") + variable_name(v.parameter) + " " + rounded_text(x[i], step, v.unit) + range;
+    s += (s.empty() ? "" : ", ") + v.parameter + " " + rounded_text(x[i], step, v.unit) + range;
   }
   return s;
 }
