@@ -1,6 +1,7 @@
 // Optimization over Monte Carlo studies (`poise optimize`): statistics, common random numbers,
-// the bearing-span sizing of the LOS study (a monotone constraint with a known structure), an
-// infeasible requirement that ends with a clear message, strict files.
+// the bearing-span sizing of the LOS study (a monotone constraint with a known structure), the
+// fresh-sample check deciding (exit status 3 and the nearest design that passes), a chance
+// constraint that verifies, an infeasible requirement that ends with a clear message, strict files.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -37,7 +38,7 @@ TEST(Statistic, QuantilesMomentsAndFractions) {
 }
 
 // A small bearing-span sizing on the LOS study: 512 samples per evaluation.
-std::string sizing_text(const std::string& at_most) {
+std::string sizing_text(const std::string& at_most, const std::string& extra = "") {
   return R"([optimization]
 name = "spans"
 study = ")" + test::source_path("studies/los_seeker_wang2011.toml") + R"("
@@ -65,7 +66,7 @@ variable_sum = ["yaw.bearing_span", "pitch.bearing_span"]
 [[constraint]]
 output = "los_max_px"
 statistic = "p95"
-at_most = )" + at_most + R"(
+at_most = )" + at_most + extra + R"(
 
 [verification]
 samples = 1024
@@ -98,13 +99,27 @@ TEST(OptimizationStudy, CommonRandomNumbersMakeTheObjectiveRepeatable) {
 TEST(OptimizationStudy, BearingSpansShrinkUntilTheLosRequirementBinds) {
   TempDir d;
   test::write_text(d.file("opt.toml"), sizing_text("1.5"));
-  const std::string dir = run_optimization(d.file("opt.toml"), test::quiet_run_options(d.file("run"), 2));
+  // Through the command line: a point-value constraint puts the optimum on its limit, so its
+  // fresh check straddles it: "design not verified", exit status 3, said everywhere.
+  const auto r = test::run_poise(d, "optimize '" + d.file("opt.toml") + "' -q --no-plots --seed 11 --out '" + d.file("run") + "'");
+  ASSERT_EQ(r.status, 3) << r.out << r.err;
+  EXPECT_NE(r.out.find("DESIGN NOT VERIFIED"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("answer: "), std::string::npos) << r.out;
+  const std::string dir = d.file("run");
   const auto summary = nlohmann::json::parse(test::read_text(dir + "/summary.json"));
   ASSERT_TRUE(summary["feasible"].get<bool>()) << summary.dump(2);
+  EXPECT_FALSE(summary["verified"].get<bool>());
+  EXPECT_EQ(summary["exit_status"].get<int>(), 3);
+  EXPECT_EQ(summary["optimization"]["seed"].get<int>(), 11);
+  const std::string answer = summary["answer"].get<std::string>();
+  EXPECT_NE(answer.find("NOT verified"), std::string::npos) << answer;
+  EXPECT_NE(answer.find("straddles the limit <= 1.5 px"), std::string::npos) << answer;
+  EXPECT_NE(test::read_text(dir + "/report.html").find("Design NOT verified"), std::string::npos);
   const auto& run = summary["runs"][0];
   const double f = run["objective"].get<double>();
   std::printf("optimum %s, sum of spans %.3f mm after %d evaluations (%s)\n", run["x"].dump().c_str(), f,
               run["evaluations"].get<int>(), run["status"].get<std::string>().c_str());
+  std::printf("answer: %s\n", answer.c_str());
   EXPECT_LT(f, 240.0 - 1.0);  // shorter than the start (140 + 100 mm)
   // At the optimum the requirement binds: p95 close to 1.5 px, not far below.
   const OptimizationSpec spec = load_optimization(d.file("opt.toml"));
@@ -113,11 +128,55 @@ TEST(OptimizationStudy, BearingSpansShrinkUntilTheLosRequirementBinds) {
   const double p95 = studies::statistic(at.values[at.index("los_max_px")], "p95");
   EXPECT_LE(p95, 1.5 + 1e-6);
   EXPECT_GT(p95, 1.45);
-  // Verification with fresh numbers reported with its CI.
+  EXPECT_TRUE(summary["constraints_on_search_samples"][0]["binding"].get<bool>());
+  // The fresh check with its interval, straddling the limit.
+  const auto& check = summary["verification"]["constraints"][0];
   EXPECT_EQ(summary["verification"]["samples"].get<int>(), 1024);
-  EXPECT_TRUE(summary["verification"]["figures"][0]["summary"].contains("p95"));
-  EXPECT_TRUE(std::filesystem::exists(dir + "/history.csv"));
-  EXPECT_TRUE(std::filesystem::exists(dir + "/report.html"));
+  EXPECT_EQ(check["verdict"], "straddles the limit");
+  EXPECT_LE(check["interval"]["value"].get<double>(), 1.5);
+  EXPECT_GT(check["interval"]["hi"].get<double>(), 1.5);
+  // The nearest design that passes: longer spans, passing on the check set and on other samples.
+  const auto& nearest = summary["nearest_passing_design"];
+  ASSERT_TRUE(nearest["found"].get<bool>()) << nearest.dump(2);
+  EXPECT_EQ(nearest["recheck"]["verdict"], "passes");
+  EXPECT_LE(nearest["recheck"]["constraints"][0]["interval"]["hi"].get<double>(), 1.5);
+  EXPECT_GT(nearest["objective"].get<double>(), f);
+  EXPECT_NE(answer.find("nearest design that passes"), std::string::npos) << answer;
+  // history.csv names the constraint and keeps the failure share.
+  const std::string history = test::read_text(dir + "/history.csv");
+  EXPECT_NE(history.find("evaluation,yaw.bearing_span_mm,pitch.bearing_span_mm,objective_sum_mm,los_max_px.p95,"
+                         "failure_share,feasible,message"),
+            std::string::npos)
+      << history.substr(0, 300);
+}
+
+// The same sizing with the constraint on the upper 95% bound of p95 (a chance constraint with
+// confidence): longer spans than the point value's, and the fresh check passes.
+TEST(OptimizationStudy, ChanceConstraintOptimumPassesItsFreshCheck) {
+  TempDir d;
+  test::write_text(d.file("opt.toml"),
+                   test::replace_once(sizing_text("1.5", "\nbound = \"upper95\""), "xtol_rel = 1e-4", "xtol_rel = 1e-4\nreplicates = 2"));
+  const OptimizationRun r = run_optimization(d.file("opt.toml"), test::quiet_run_options(d.file("run"), 2));
+  EXPECT_EQ(r.exit_status, kExitVerified) << r.answer;
+  const auto summary = nlohmann::json::parse(test::read_text(r.dir + "/summary.json"));
+  EXPECT_TRUE(summary["verified"].get<bool>()) << summary["verification"].dump(2);
+  EXPECT_EQ(summary["answer"].get<std::string>(), r.answer);
+  EXPECT_NE(r.answer.find("verified"), std::string::npos) << r.answer;
+  EXPECT_EQ(summary["verification"]["constraints"][0]["bound"], "upper95");
+  EXPECT_LE(summary["verification"]["constraints"][0]["bound_value"].get<double>(), 1.5);
+  // On the search's samples the bound binds, so the point value is below the limit.
+  const auto& own = summary["constraints_on_search_samples"][0];
+  EXPECT_TRUE(own["binding"].get<bool>());
+  EXPECT_LT(own["interval"]["value"].get<double>(), 1.5);
+  // Two searches with independent seeds: the spread of each span, and the answer rounded to it.
+  const auto& spread = summary["optimum_spread"];
+  EXPECT_EQ(spread["searches"].get<int>(), 2);
+  for (const auto& v : spread["variables"]) {
+    EXPECT_LE(v["min"].get<double>(), v["max"].get<double>());
+    EXPECT_GE(v["supported_step"].get<double>(), 0.0);
+  }
+  EXPECT_NE(r.answer.find("over 2 searches"), std::string::npos) << r.answer;
+  std::printf("answer: %s\n", r.answer.c_str());
 }
 
 TEST(OptimizationStudy, InfeasibleRequirementEndsWithAClearMessage) {
@@ -135,7 +194,7 @@ TEST(OptimizationStudy, InfeasibleRequirementEndsWithAClearMessage) {
   }
   // The folder keeps what was tried.
   const std::string history = test::read_text(d.file("run") + "/history.csv");
-  EXPECT_NE(history.find("choice,evaluation,yaw.bearing_span_mm"), std::string::npos) << history;
+  EXPECT_NE(history.find("evaluation,yaw.bearing_span_mm"), std::string::npos) << history;
   const auto summary = nlohmann::json::parse(test::read_text(d.file("run") + "/summary.json"));
   EXPECT_FALSE(summary["feasible"].get<bool>());
   // The command line says it too, with exit status 1.
@@ -172,16 +231,50 @@ TEST(OptimizationStudy, StrictFile) {
   e = error_of(test::replace_once(test::replace_once(base, "parameter = \"yaw.bearing_span\"", "parameter = \"yaw.span\""),
                                   "[\"yaw.bearing_span\",", "[\"yaw.span\","));
   EXPECT_NE(e.find("yaw.span"), std::string::npos) << e;  // not a key of the model
+  e = error_of(sizing_text("1", "\nbound = \"lower95\""));
+  EXPECT_NE(e.find("an upper bound (\"upper95\") with at_most"), std::string::npos) << e;
+  e = error_of(sizing_text("1", "\nbound = \"upper\""));
+  EXPECT_NE(e.find("constraint[0].bound"), std::string::npos) << e;
+  e = error_of(test::replace_once(sizing_text("1", "\nbound = \"upper95\""), "statistic = \"p95\"", "statistic = \"max\""));
+  EXPECT_NE(e.find("use a quantile"), std::string::npos) << e;
+  e = error_of(base + "equivalence_margin = \"-5%\"\n");
+  EXPECT_NE(e.find("equivalence_margin"), std::string::npos) << e;
+  e = error_of(test::replace_once(base, "xtol_rel = 1e-4", "xtol_rel = 1e-4\nreplicate_size = 100"));
+  EXPECT_NE(e.find("a power of two for a sobol design"), std::string::npos) << e;
+  e = error_of(test::replace_once(base, "xtol_rel = 1e-4", "xtol_rel = 1e-4\nreplicate_size = 512"));
+  EXPECT_NE(e.find("optimization.samples"), std::string::npos) << e;  // 512 samples: one replicate
+  EXPECT_NE(e.find("at least 2 replicates"), std::string::npos) << e;
+  e = error_of(test::replace_once(test::replace_once(base, "at_most = 1", "at_least = 1\nbound = \"upper95\""),
+                                  "statistic = \"p95\"", "statistic = \"p5\""));
+  EXPECT_NE(e.find("a lower bound (\"lower95\") with at_least"), std::string::npos) << e;
   e = error_of(test::replace_once(base, "at_most = 1", "at_most = 1\nat_least = 0"));
   EXPECT_NE(e.find("exactly one of at_least and at_most"), std::string::npos) << e;
 }
 
+TEST(OptimizationStudy, HelpDocumentsTheExitStatuses) {
+  TempDir d;
+  const auto r = test::run_poise(d, "optimize --help");
+  EXPECT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.out.find("3  design not verified"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("2  invalid input"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("--seed"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("bound = \"upper95\""), std::string::npos) << r.out;
+}
+
 TEST(OptimizationStudy, RepositoryOptimizationFilesLoad) {
-  for (const char* f : {"studies/spring_plate_sizing.toml", "studies/bearing_span_sizing.toml"}) {
+  for (const char* f : {"studies/spring_plate_sizing.toml", "studies/bearing_span_sizing.toml",
+                        "studies/bearing_span_sizing_housing.toml", "studies/test_plan_18_vs_36.toml",
+                        "studies/test_plan_calibrated_rig.toml"}) {
     const OptimizationSpec s = load_optimization(test::source_path(f));
     EXPECT_FALSE(s.variables.empty()) << f;
     EXPECT_FALSE(s.constraints.empty()) << f;
   }
+  // The sizing studies state their binding constraints with confidence.
+  const OptimizationSpec spans = load_optimization(test::source_path("studies/bearing_span_sizing.toml"));
+  EXPECT_EQ(to_string(spans.constraints[0].bound), "upper95");
+  EXPECT_EQ(spans.base.replicate_size, 1024u);
+  const OptimizationSpec plates = load_optimization(test::source_path("studies/spring_plate_sizing.toml"));
+  EXPECT_EQ(to_string(plates.constraints[1].bound), "lower95");
 }
 
 // Two objectives on a tiny gimbal study: the unbalance error against the test time, with the
@@ -231,7 +324,7 @@ output = "g_test_time_min"
 statistic = "max"
 points = 1
 [verification]
-samples = 4
+samples = 8
 seed = 9
 )");
   const OptimizationSpec spec = load_optimization(d.file("opt.toml"));
@@ -276,6 +369,11 @@ seed = 9
   int with_difference = 0;
   for (const auto& v : by["values"]) with_difference += v.contains("minus_best") ? 1 : 0;
   EXPECT_EQ(with_difference, 1);
+  // The decision in words, choices by name, with the equivalence verdict.
+  EXPECT_NE(out.answer.find("positions = "), std::string::npos) << out.answer;
+  EXPECT_NE(out.answer.find("equivalence is"), std::string::npos) << out.answer;
+  EXPECT_EQ(out.answer.find("{"), std::string::npos) << out.answer;  // no raw JSON
+  std::printf("answer: %s\n", out.answer.c_str());
 }
 
 TEST(OptimizationStudy, BootstrapIntervalCoversTheStatistic) {

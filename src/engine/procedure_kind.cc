@@ -32,6 +32,7 @@ StudyEvaluation evaluate_procedure(const ProcedureStudy& study, int threads) {
   e.names = study.output_names();
   e.values = mc.values;
   e.values.resize(e.names.size());
+  e.ok_index = mc.ok_index;
   e.samples = mc.n;
   e.failures = mc.failures;
   if (!mc.failed.empty()) e.first_failure = mc.failed.front().second;

@@ -32,7 +32,9 @@ StudyEvaluation evaluate_study(const StudyConfig& base, const std::map<std::stri
   StudyConfig cfg = base;
   const StudyKind& kind = study_kind(cfg.kind);
   const auto model_overrides = kind.apply_study_overrides(cfg, merged(base, overrides));
-  return kind.evaluate(cfg, model_overrides, samples, seed, threads);
+  StudyEvaluation e = kind.evaluate(cfg, model_overrides, samples, seed, threads);
+  e.replicate_size = cfg.replicate_size;  // the design's replicates, for intervals that cover
+  return e;
 }
 
 std::vector<std::string> study_output_names(const StudyConfig& base) {

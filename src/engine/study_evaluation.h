@@ -15,6 +15,8 @@ namespace poise::studies {
 struct StudyEvaluation {
   std::vector<std::string> names;            ///< output names of the study
   std::vector<std::vector<double>> values;   ///< per output, the ok samples in order
+  std::vector<std::size_t> ok_index;         ///< sample index of each ok sample (values' order)
+  std::size_t replicate_size = 0;            ///< [sampling] replicate_size of the run (0: none)
   std::size_t samples = 0, failures = 0;
   std::string first_failure;                 ///< reason of the first failed sample
   double wall_seconds = 0.0;

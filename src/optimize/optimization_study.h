@@ -1,33 +1,19 @@
 #pragma once
-/// An optimization study (`poise optimize FILE.toml`): design variables (model keys with
-/// bounds), an objective (a statistic of an output of a base Monte Carlo study, or the sum
-/// of design variables such as spans), constraints (statistics with at_least / at_most),
-/// optional discrete choices enumerated around the continuous search, and the NLopt
-/// algorithm. Every evaluation runs the base study with the same seed and sample count
-/// (common random numbers), so the objective is a smooth function of the design; the optimum
-/// is then verified with fresh random numbers and more samples, with confidence intervals.
-///
-///   [optimization]  name, study (base study file, relative to this file), title, notes,
-///                   samples, seed, algorithm, max_evaluations, xtol_rel
-///   [[variable]]    parameter (dotted model key), lower, upper, start ("<number> <unit>")
-///   [[choice]]      parameter, values = ["...", ...]      (discrete, enumerated)
-///   [objective]     output + statistic, or variable_sum = ["key", ...] (minimized)
-///   [[constraint]]  output, statistic, at_least = x | at_most = x  (in the output's unit)
-///   [pareto]        output, statistic, points: a second objective (minimized); the front
-///                   of the two is traced by the epsilon-constraint method (below)
-///   [overrides]     "key" = "value": model or study keys set for every evaluation
-///   [verification]  samples, seed
-///
-/// Two objectives ([pareto]): for each combination of the choices, minimize the objective,
-/// then the second objective, then `points` times the objective with the second one
-/// bounded by levels evenly between the two minima (epsilon-constraint). Every evaluation of
-/// every search is kept; the Pareto front is the feasible evaluations that no other one
-/// beats on both objectives. Each front point is verified with fresh random numbers.
-///
-/// Choices compared: with more than one combination, the best design of each combination is
-/// verified with the same fresh random numbers, and its objective is compared with the best
-/// combination's: paired bootstrap 95% interval of the difference and the bootstrap share
-/// of resamples in which the best stays ahead.
+/// An optimization study (`poise optimize FILE.toml`, file format: optimization_spec.h).
+/// Every evaluation runs the base study with the same seed and sample count (common random
+/// numbers), so the objective is a smooth function of the design. Then the answer is made to
+/// hold:
+///   1. choices decided on fresh samples (choice_decision.h): a selection set picks, a
+///      comparison set compares, with the equivalence margin;
+///   2. the headline design checked on the comparison (fresh) set (fresh_check.h): verified,
+///      or NOT verified, and then the nearest design that passes is searched by tightening the
+///      failing constraints by their excess, and re-checked on a third independent set;
+///   3. the optimum's own uncertainty: the headline combination's search repeated with
+///      `replicates` independent seeds (the spread of each variable and of the objective), the
+///      interval of each constraint on the search's own samples (binding ones marked), and the
+///      answer rounded to what the spread supports;
+///   4. the answer in one sentence (summary.json "answer", the terminal, the report's top).
+/// Two objectives ([pareto]): the epsilon-constraint front, each point checked on fresh samples.
 #include <map>
 #include <optional>
 #include <string>
@@ -35,82 +21,39 @@
 
 #include <nlohmann/json.hpp>
 
-#include "optimize/optimizer.h"
-#include "engine/study_config.h"
+#include "optimize/choice_decision.h"
+#include "optimize/design_search.h"
+#include "optimize/fresh_check.h"
+#include "optimize/optimization_spec.h"
 #include "engine/study_runner.h"
 
 namespace poise::optimize {
 
-struct DesignVariable {
-  std::string parameter;  ///< dotted model key
-  std::string unit;       ///< unit the bounds were written in ("mm"); "" if dimensionless
-  double lower = 0.0, upper = 0.0, start = 0.0;  ///< in that unit
-};
-
-struct Choice {
-  std::string parameter;
-  std::vector<std::string> values;
-};
-
-struct Requirement {
-  std::string output, statistic;
-  std::optional<double> at_least, at_most;
-};
-
-struct ParetoSpec {
-  std::string output, statistic;  ///< the second objective (minimized)
-  int points = 3;                 ///< epsilon levels between the two single-objective optima
-};
-
-struct OptimizationSpec {
-  std::string file, name, title, notes;
-  studies::StudyConfig base;  ///< the base study
-  std::size_t samples = 64;
-  std::uint64_t seed = 1;
-  Algorithm algorithm = Algorithm::kCobyla;
-  int max_evaluations = 100;
-  double xtol_rel = 1e-3;
-  std::vector<DesignVariable> variables;
-  std::vector<Choice> choices;
-  std::string objective_output, objective_statistic;  ///< empty output: variable_sum
-  std::vector<std::string> variable_sum;
-  std::vector<Requirement> constraints;
-  std::optional<ParetoSpec> pareto;
-  std::map<std::string, std::string> overrides;  ///< [overrides], under variables and choices
-  std::size_t verification_samples = 256;
-  std::uint64_t verification_seed = 2;
-};
-
-/// Loads and validates the file, its base study and that the outputs exist. Throws
-/// studies::ValidationError (file, line, key, value, expected).
-OptimizationSpec load_optimization(const std::string& path);
-
-struct ChoiceResult {
-  std::map<std::string, std::string> choice;  ///< parameter -> value
-  Result result;                              ///< in the variables' units
-};
-
-/// One evaluation of any search (for the Pareto front).
-struct ParetoPoint {
-  std::size_t choice = 0;      ///< index of the combination of choices
-  std::string search;          ///< "objective", "second", "epsilon <level>"
-  std::vector<double> x;       ///< variables in their units
-  double objective = NAN, second = NAN;
-  bool feasible = false;       ///< ok and every constraint met (the epsilon bound aside)
-};
+/// Exit statuses of `poise optimize`.
+inline constexpr int kExitVerified = 0;      ///< an optimum that passed its fresh-sample check
+inline constexpr int kExitRunFailed = 1;     ///< no feasible design, or the run failed
+inline constexpr int kExitInvalidInput = 2;  ///< the files did not validate
+inline constexpr int kExitNotVerified = 3;   ///< design not verified on fresh samples
 
 struct OptimizationOutcome {
   std::vector<ChoiceResult> runs;  ///< one per combination of the choices (or one)
-  std::size_t best = 0;            ///< index into runs of the best feasible, if any
+  std::size_t best = 0;            ///< the headline: index into runs (best on fresh samples)
+  std::size_t optimization_pick = 0;  ///< best on the search's own samples
   bool feasible = false;
   std::string message;             ///< why not, when infeasible
-  std::map<std::string, std::string> optimum;  ///< overrides of the optimum
-  nlohmann::json verification;     ///< the verification run (statistics with CIs)
+  std::map<std::string, std::string> optimum;  ///< overrides of the headline design
+  FreshCheck check;                ///< the headline's fresh-sample check (comparison set)
+  bool verified = false;           ///< check.verdict == passes
+  nlohmann::json verification;     ///< check as json
+  nlohmann::json nearest;          ///< when not verified: the nearest design that passes, or why none
+  nlohmann::json spread;           ///< replicates of the search: spread of variables and objective
+  nlohmann::json binding;          ///< constraints on the search's samples at the optimum, with intervals
   std::vector<std::map<std::string, std::string>> choices;  ///< the combinations, in order
   std::vector<ParetoPoint> pool;   ///< every evaluation ([pareto] only)
   std::vector<std::size_t> front;  ///< indices into pool, by increasing second objective
   nlohmann::json front_verification;  ///< per front point: both objectives with 95% CIs
-  nlohmann::json comparison;       ///< choices compared on fresh random numbers
+  nlohmann::json comparison;       ///< choices decided on fresh samples (choice_decision.h)
+  std::string answer;              ///< the answer in one sentence
 };
 
 /// A statistic of `values` with a bootstrap 95% percentile interval (`resamples` resamples,
@@ -118,11 +61,20 @@ struct OptimizationOutcome {
 nlohmann::json statistic_with_ci(const std::vector<double>& values, const std::string& statistic,
                                  std::uint64_t seed, int resamples = 1000);
 
-/// Runs the optimization (and the verification of the optimum). Does not write anything.
+/// Runs the optimization and the checks. Does not write anything.
 OptimizationOutcome optimize(const OptimizationSpec& spec, int threads, bool progress);
 
+/// What run_optimization produced.
+struct OptimizationRun {
+  std::string dir;  ///< the result folder
+  int exit_status = kExitVerified;
+  std::string answer;
+};
+
 /// Runs it and writes results/<name>/<run id>/ (history.csv, summary.json, plots, report.html).
-/// Returns the folder. Throws poise::Error after writing the folder if no design is feasible.
-std::string run_optimization(const std::string& path, const studies::RunOptions& options);
+/// `seed` (if set) replaces the file's [optimization] seed. Throws poise::Error after writing
+/// the folder if no design is feasible.
+OptimizationRun run_optimization(const std::string& path, const studies::RunOptions& options,
+                                 std::optional<std::uint64_t> seed = std::nullopt);
 
 }  // namespace poise::optimize

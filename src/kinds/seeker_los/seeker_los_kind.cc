@@ -56,6 +56,7 @@ class SeekerLosKind final : public StudyKind {
           continue;
         }
         for (std::size_t k = 0; k < e.names.size(); ++k) e.values[k].push_back(s.outputs[k]);
+        e.ok_index.push_back(s.index);
       }
     });
     e.samples = mc.n;
