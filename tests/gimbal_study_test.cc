@@ -79,7 +79,7 @@ TEST(GimbalStudy, SamplesIdenticalForOneAndTwoThreadsAndReplay) {
   ASSERT_EQ(s["references"].size(), 1u);
   EXPECT_EQ(s["references"][0]["output"], "g_rmse_torque_mNm");
   EXPECT_NEAR(s["references"][0]["reference"].get<double>(), 0.5, 1e-12);  // in the output's unit, mN*m
-  EXPECT_TRUE(s["references"][0]["verdict"] == "agrees" || s["references"][0]["verdict"] == "disagrees");
+  EXPECT_EQ(s["references"][0]["verdict"], "undecided");  // 4 samples cannot place a 95% range
   const json r = replay_sample(study, 3, options("", 1));
   EXPECT_EQ(r["status"], "ok");
   // Row 3 of samples.csv holds the same RMSE.

@@ -252,8 +252,11 @@ std::string run_procedure_study(const StudyConfig& cfg_in, const StudyFactory& m
         if (c["output"] == name) lines.push_back({c["reference"].get<double>(), c["name"].get<std::string>(),
                                                   c["role"] == "validation" ? "#cc3311" : "#999999"});
       }
-      if (!distribution_figures(pdir, name, unit_of_output(name), mc.values[k], mc.ok_index, lines, figures, plot_note)) break;
-      if (s.contains("sensitivity") && !sensitivity_tornado(pdir, s["sensitivity"], name, figures, plot_note)) break;
+      std::string why;
+      if (!distribution_figures(pdir, name, unit_of_output(name), mc.values[k], mc.ok_index, lines, figures, why)) {
+        plot_note = why;
+      }
+      if (s.contains("sensitivity") && !sensitivity_tornado(pdir, s["sensitivity"], name, figures, why)) plot_note = why;
     }
   }
   // Report.

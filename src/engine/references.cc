@@ -139,6 +139,13 @@ json compare_references(const std::vector<ReferenceFigure>& refs, const std::vec
       c["percentile"] = pct;
       agrees = pct >= 0.025 && pct <= 0.975;
       c["rule"] = "agrees when the reference lies within the central 95% of the simulated distribution";
+      if (v->size() < 40 && r.role == "validation") {
+        // Fewer than 40 samples cannot place the 2.5% and 97.5% points: no verdict.
+        c["verdict"] = "undecided";
+        c["why"] = std::to_string(v->size()) + " samples cannot resolve the central 95% (40 or more needed)";
+        out.push_back(c);
+        continue;
+      }
     } else {
       const json& e = o[r.statistic];
       c["simulated"] = e;
@@ -161,10 +168,12 @@ json compare_references(const std::vector<ReferenceFigure>& refs, const std::vec
 std::string references_html(const json& compared) {
   if (!compared.is_array() || compared.empty()) return "";
   std::ostringstream h;
-  int validations = 0, agree = 0, targets = 0;
+  int validations = 0, agree = 0, targets = 0, undecided = 0;
   for (const auto& c : compared) {
     if (c["role"] == "calibration_target") {
       ++targets;
+    } else if (c["verdict"] == "undecided") {
+      ++undecided;
     } else {
       ++validations;
       agree += c["verdict"] == "agrees" ? 1 : 0;
@@ -174,8 +183,9 @@ std::string references_html(const json& compared) {
   if (validations > 0) {
     h << agree << " of " << validations << " validation figure(s) agree with the simulation";
   } else {
-    h << "No validation figure is declared";
+    h << "No validation figure is decided";
   }
+  if (undecided > 0) h << "; " << undecided << " validation figure(s) undecided (too few samples)";
   if (targets > 0) {
     h << "; " << targets << " calibration target(s) are shown for completeness: the model was tuned to them, "
       << "so they agree by construction and are not evidence";
@@ -185,7 +195,7 @@ std::string references_html(const json& compared) {
        "<th>simulated</th><th>where it falls</th><th class='l'>verdict</th></tr>\n";
   for (const auto& c : compared) {
     const std::string verdict = c["verdict"].get<std::string>();
-    const std::string cls = verdict == "agrees" ? "ok" : verdict == "disagrees" ? "bad" : "target";
+    const std::string cls = verdict == "agrees" ? "ok" : verdict == "disagrees" ? "bad" : verdict == "undecided" ? "close" : "target";
     const std::string unit = c["unit"].get<std::string>();
     h << "<tr class='" << cls << "'><td class='l'>" << html_escape(c["name"].get<std::string>()) << "<br><small><code>"
       << html_escape(c["output"].get<std::string>()) << "</code>, " << html_escape(c["statistic"].get<std::string>())
@@ -206,7 +216,9 @@ std::string references_html(const json& compared) {
     if (c.contains("percentile")) h << fmt(100 * c["percentile"].get<double>(), 3) << "th percentile";
     else h << "&ndash;";
     h << "</td><td class='l'>"
-      << (verdict == "calibration_target" ? std::string("calibration target (not a validation)") : verdict)
+      << (verdict == "calibration_target" ? std::string("calibration target (not a validation)")
+          : verdict == "undecided"        ? "undecided: " + html_escape(c.value("why", std::string()))
+                                          : verdict)
       << "</td></tr>\n";
   }
   h << "</table>\n<p><small>";

@@ -46,7 +46,8 @@ std::vector<ReferenceFigure> declared_references(const StudyConfig& cfg, const s
 
 /// The comparison for summary.json "references": one object per reference with the
 /// simulated figure, its interval, where the reference falls and the verdict
-/// ("agrees" | "disagrees" | "calibration_target"). `outputs_json` is summary.json's
+/// ("agrees" | "disagrees" | "calibration_target", or "undecided" with "why" when fewer than
+/// 40 samples ran for a one-realisation reference). `outputs_json` is summary.json's
 /// "outputs" object; `values(name)` the ok samples of an output (nullptr if none).
 nlohmann::json compare_references(const std::vector<ReferenceFigure>& refs, const std::vector<OutputSpec>& outputs,
                                   const nlohmann::json& outputs_json,

@@ -97,7 +97,9 @@ bool distribution_figures(const fs::path& dir, const std::string& output, const 
   if (!run(dir, output + "_cdf", cdf.str(), figures, why)) return false;
   // Statistics against sample count (in sample order): mean with its t interval and p95
   // with its binomial order-statistic interval, at geometrically spaced counts.
-  if (v.size() >= 8) {
+  std::vector<std::size_t> counts;
+  for (double c = static_cast<double>(v.size()); c >= 8; c /= 1.5) counts.push_back(static_cast<std::size_t>(c));
+  if (counts.size() >= 3) {  // a curve needs a few sample counts
     std::ofstream d(dir / (output + "_convergence.dat"));
     d << "# samples  mean  mean_lo  mean_hi  p95  p95_lo  p95_hi  [" << unit << "]\n";
     std::vector<std::pair<std::size_t, double>> by_order;
@@ -105,8 +107,6 @@ bool distribution_figures(const fs::path& dir, const std::string& output, const 
       if (std::isfinite(values[i])) by_order.emplace_back(i < order.size() ? order[i] : i, values[i]);
     }
     std::sort(by_order.begin(), by_order.end());
-    std::vector<std::size_t> counts;
-    for (double c = static_cast<double>(by_order.size()); c >= 8; c /= 1.5) counts.push_back(static_cast<std::size_t>(c));
     std::reverse(counts.begin(), counts.end());
     for (std::size_t c : counts) {
       std::vector<double> head;

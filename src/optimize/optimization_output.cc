@@ -12,7 +12,7 @@
 #include "core/version.h"
 #include "engine/procedure_study.h"
 #include "engine/provenance.h"
-#include "studies/report.h"
+#include "engine/report_plot.h"
 #include "engine/result_io.h"
 
 namespace poise::optimize {
