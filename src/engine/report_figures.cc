@@ -22,6 +22,13 @@ std::string quoted(const std::string& s) {
   return out + "'";
 }
 
+// A label in a gnuplot data file: in double quotes (single ones would be shown).
+std::string data_label(const std::string& s) {
+  std::string out = "\"";
+  for (char c : s) out += c == '"' ? '\'' : c;
+  return out + "\"";
+}
+
 bool run(const fs::path& dir, const std::string& name, const std::string& script, std::vector<std::string>& figures,
          std::string& why) {
   std::ofstream(dir / (name + ".gp")) << kTerminal << "set output '" << name << ".svg'\nset grid\n" << script;
@@ -116,6 +123,7 @@ bool distribution_figures(const fs::path& dir, const std::string& output, const 
       d << c << ' ' << s.mean.value << ' ' << end(s.mean.lo, s.mean.value) << ' ' << end(s.mean.hi, s.mean.value) << ' '
         << s.p95.value << ' ' << end(s.p95.lo, s.p95.value) << ' ' << end(s.p95.hi, s.p95.value) << '\n';
     }
+    d.close();  // gnuplot reads it next
     std::ostringstream conv;
     conv << "set title " << quoted(output + ": mean and p95 against sample count (95% intervals)")
          << "\nset xlabel 'samples'\nset logscale x\nset ylabel " << quoted(unit.empty() ? output : unit)
@@ -134,7 +142,7 @@ bool tornado_figure(const fs::path& dir, const std::string& name, const std::str
   {
     std::ofstream d(dir / (name + ".dat"));
     d << "# rank  value  label\n";
-    for (std::size_t i = 0; i < bars.size(); ++i) d << i << ' ' << bars[i].second << ' ' << quoted(bars[i].first) << '\n';
+    for (std::size_t i = 0; i < bars.size(); ++i) d << i << ' ' << bars[i].second << ' ' << data_label(bars[i].first) << '\n';
   }
   std::ostringstream g;
   g << "set title " << quoted(title) << "\nset xlabel " << quoted(xlabel) << "\nset yrange [" << bars.size()
@@ -160,7 +168,7 @@ bool sensitivity_tornado(const fs::path& dir, const json& sensitivity, const std
       };
       d << i++ << ' ' << val(g["total"], -1) << ' ' << val(g["total"], 0) << ' ' << val(g["total"], 1) << ' '
         << val(g["first"], -1) << ' ' << val(g["first"], 0) << ' ' << val(g["first"], 1) << ' '
-        << quoted(g["group"].get<std::string>()) << '\n';
+        << data_label(g["group"].get<std::string>()) << '\n';
     }
     if (i == 0) return true;
   }
