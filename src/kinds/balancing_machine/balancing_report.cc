@@ -115,8 +115,8 @@ void BalancingStudy::report_sections(const McResult& mc, const std::string& plot
         << "<p>" << fmt(x.mass * 1e3) << " g at r = " << fmt(x.radius * 1e3) << " mm on each testing surface in "
         << x.positions << " holes, " << fmt(model_.run.speed_rpm) << " r/min; effect on each sensor "
         << "(|A - A<sub>bare</sub>|, mean over the holes), median and 5-95% over the machines as built. "
-        << "Sensor 1 should stay flat, sensor 2 grow in proportion to the height (Wang 2014 Fig. 9, Eq. 17 "
-        << "corrected).</p>\n<table><tr><th>surface</th><th>height (mm)</th><th>sensor 1 (mN)</th><th>sensor 2 (mN)</th></tr>\n";
+        << "Sensor 1 should stay flat, sensor 2 grow in proportion to the height (the separation of the "
+        << "model's Eq. 17, spring_plate_machine.h).</p>\n<table><tr><th>surface</th><th>height (mm)</th><th>sensor 1 (mN)</th><th>sensor 2 (mN)</th></tr>\n";
       std::ostringstream dat;
       for (int s = 1; s <= model_.rotor.surfaces; ++s) {
         const std::string base = x.name + "_s" + std::to_string(s);

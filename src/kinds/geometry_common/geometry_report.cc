@@ -35,6 +35,7 @@ void write_geometry_report(const GeometryReport& r) {
   const json& s = r.summary;
   const fs::path dir(r.dir), pdir = dir / "plots";
   std::vector<std::pair<std::string, std::string>> figures;  // (svg, caption)
+  for (const auto& f : r.figures) figures.emplace_back(f, "");
   std::string plot_note;
   if (r.make_plots && !r.plots.empty()) {
     fs::create_directories(pdir);

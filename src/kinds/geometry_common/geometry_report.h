@@ -22,6 +22,7 @@ struct GeometryReport {
   std::vector<std::string> tables; ///< HTML fragments, in order, after the verdict
   std::vector<GeometryPlot> plots;
   bool make_plots = true;
+  std::vector<std::string> figures;  ///< SVGs already made in plots/ (inline first)
 };
 
 /// Writes plots/ and report.html; a missing gnuplot is noted, not an error.

@@ -1,6 +1,7 @@
 #include "kinds/geometry_common/geometry_runner_common.h"
 
 #include "engine/references.h"
+#include "engine/report_figures.h"
 #include "engine/study_kind.h"
 
 #include <algorithm>
@@ -165,7 +166,27 @@ void write_geometry_summary(json& summary, const StudyConfig& cfg, const Geometr
 }
 
 void finish_geometry_report(const StudyConfig& cfg, const RunOptions& options, const GeometryRun& run,
-                            const json& summary, std::vector<std::string> tables, std::vector<GeometryPlot> plots) {
+                            const json& summary, std::vector<std::string> tables, std::vector<GeometryPlot> plots,
+                            const GeometrySampleResults& results, std::span<const GeometryOutputDef> outputs) {
+  std::vector<std::string> figures;
+  if (options.plots && cfg.plots) {
+    const fs::path pdir = fs::path(run.dir) / "plots";
+    fs::create_directories(pdir);
+    std::vector<std::string> names;
+    for (const auto& o : outputs) names.emplace_back(o.name);
+    for (const auto& name : main_outputs(names, summary.value("references", json::array()), 2)) {
+      for (std::size_t k = 0; k < outputs.size(); ++k) {
+        if (name != outputs[k].name || k >= results.values.size()) continue;
+        std::vector<FigureLine> lines;
+        for (const auto& c : summary.value("references", json::array())) {
+          if (c["output"] == name) lines.push_back({c["reference"].get<double>(), c["name"].get<std::string>()});
+        }
+        std::string why;
+        distribution_figures(pdir, name, outputs[k].unit, results.values[k], results.ok_index, lines, figures, why);
+        if (summary.contains("sensitivity")) sensitivity_tornado(pdir, summary["sensitivity"], name, figures, why);
+      }
+    }
+  }
   if (summary.contains("sensitivity")) tables.insert(tables.begin(), sensitivity_html(summary["sensitivity"]));
   if (const std::string refs = references_html(summary.value("references", json::array())); !refs.empty()) {
     tables.insert(tables.begin(), refs);
@@ -176,7 +197,7 @@ void finish_geometry_report(const StudyConfig& cfg, const RunOptions& options, c
                                       ". The figures cover the samples that ran.</p>\n");
   }
   tables.push_back(convergence_html(summary["sample_convergence"]));
-  write_geometry_report({run.dir, summary, std::move(tables), std::move(plots), options.plots && cfg.plots});
+  write_geometry_report({run.dir, summary, std::move(tables), std::move(plots), options.plots && cfg.plots, figures});
   if (options.progress) std::fprintf(stderr, "poise: report %s\n", (fs::path(run.dir) / "report.html").c_str());
   finish_run_status(summary["status"].get<std::string>(), summary.value("stop_reason", std::string()),
                     summary.value("signal", 0), summary["sampling"]["samples"].get<std::size_t>(), run.size.samples,

@@ -116,9 +116,11 @@ void write_geometry_summary(nlohmann::json& summary, const StudyConfig& cfg, con
 
 /// Writes plots/ and report.html (write_geometry_report) and prints the progress line; then
 /// ends an interrupted or failed run with its error (finish_run_status).
+/// The distribution figures of the main outputs (engine/report_figures.h) come from `results`.
 void finish_geometry_report(const StudyConfig& cfg, const RunOptions& options, const GeometryRun& run,
                             const nlohmann::json& summary, std::vector<std::string> tables,
-                            std::vector<GeometryPlot> plots);
+                            std::vector<GeometryPlot> plots, const GeometrySampleResults& results,
+                            std::span<const GeometryOutputDef> outputs);
 
 /// Sample count of a replay; throws if `index` is outside it.
 std::size_t geometry_replay_samples(const StudyConfig& cfg, std::size_t index, const RunOptions& options);

@@ -269,7 +269,7 @@ std::string run_geometry_mass_study(const StudyConfig& study_cfg, const RunOptio
   plots.push_back({"hist_ray_error", sample_dat.str(),
                    histogram_script("hist_ray_error.dat", 5, "Ray-cast e minus exact e", "error [um]"),
                    "Error of the ray-cast eccentricity against the divergence theorem, per sample"});
-  finish_geometry_report(cfg, options, run, s, {t1.str(), t2.str()}, std::move(plots));
+  finish_geometry_report(cfg, options, run, s, {t1.str(), t2.str()}, std::move(plots), results, kOutputs);
   return run.dir;
 }
 

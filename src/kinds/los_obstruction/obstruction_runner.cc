@@ -248,7 +248,7 @@ std::string run_obstruction_study(const StudyConfig& study_cfg, const RunOptions
   plots.push_back({"hist_clearance", sample_dat.str(),
                    histogram_script("hist_clearance.dat", 4, "Least clearance minus nominal, per sample", "shift [um]"),
                    "Change of the least clearance by the shafting tolerances"});
-  finish_geometry_report(cfg, options, run, s, {t1.str()}, std::move(plots));
+  finish_geometry_report(cfg, options, run, s, {t1.str()}, std::move(plots), results, kOutputs);
   return run.dir;
 }
 
