@@ -75,7 +75,7 @@ TEST_P(StudyReferenceRun, SamplesEqualTheRecordedOnes) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Shipped, StudyReferenceRun, ::testing::ValuesIn(plan()),
-                         [](const ::testing::TestParamInfo<PlannedRun>& info) { return info.param.study; });
+                         [](const ::testing::TestParamInfo<PlannedRun>& run) { return run.param.study; });
 
 }  // namespace
 }  // namespace poise

@@ -11,7 +11,11 @@ std::string validate_study(const std::string& study_path) {
   const StudyKind& kind = study_kind(cfg.kind);
   std::string summary = kind.validate(cfg);
   const auto refs = declared_references(cfg, kind.outputs(cfg));
-  if (!refs.empty()) summary += " " + std::to_string(refs.size()) + " declared reference figure(s).";
+  if (!refs.empty()) {
+    summary += ' ';
+    summary += std::to_string(refs.size());
+    summary += " declared reference figure(s).";
+  }
   return summary;
 }
 

@@ -192,7 +192,12 @@ OptimizationSpec load_optimization(const std::string& path) {
     }
     std::string stat = r.statistic;
     std::replace(stat.begin(), stat.end(), '.', '_');
-    r.name = c.string("name", r.output + "." + stat + (r.bound.side == BoundSide::kNone ? "" : "." + to_string(r.bound)));
+    std::string default_name = r.output + "." + stat;
+    if (r.bound.side != BoundSide::kNone) {
+      default_name += '.';
+      default_name += to_string(r.bound);
+    }
+    r.name = c.string("name", default_name);
     s.constraints.push_back(r);
   }
   if (root.has("pareto")) {

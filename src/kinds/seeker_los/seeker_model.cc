@@ -46,52 +46,6 @@ SeekerAxis read_axis(TomlReader& root, const std::string& name) {
   return axis;
 }
 
-units::Dimension declared_dimension(const std::string& key) {
-  if (key == "delta_16" || key == "delta_26") return kLength;
-  if (key.size() > 3 && key.compare(key.size() - 3, 3, "_px") == 0) return units::kPixel;
-  return kAngle;
-}
-
-// Half a unit of the last printed digit of the number in `text`, in SI.
-double rounding_of(const std::string& text, double unit_si) {
-  const auto start = text.find_first_of("0123456789");
-  const auto dot = text.find('.', start);
-  const auto end = text.find_first_not_of("0123456789.", start);
-  int decimals = 0;
-  if (dot != std::string::npos && (end == std::string::npos || dot < end)) {
-    decimals = static_cast<int>((end == std::string::npos ? text.size() : end) - dot - 1);
-  }
-  return 0.5 * std::pow(10.0, -decimals) * unit_si;
-}
-
-void read_declared(TomlReader& root, SeekerModel& m) {
-  if (!root.has("declared")) return;
-  TomlReader d = root.table("declared");
-  for (const auto& key : d.keys()) {
-    DeclaredValue v;
-    v.key = key;
-    const units::Dimension dim = declared_dimension(key);
-    TomlReader entry = d.table(key);
-    const double si = entry.quantity("value", dim);
-    v.as_written = entry.string("value", "");
-    v.source = entry.string("source", "");
-    double term_unit = 1.0;
-    if (dim == kAngle) term_unit = units::kRadPerArcsec;
-    if (dim == kLength) term_unit = 1e-3;
-    v.value = si / term_unit;
-    std::string unit_text = v.as_written.substr(v.as_written.find(' ') == std::string::npos
-                                                    ? v.as_written.size()
-                                                    : v.as_written.find(' ') + 1);
-    double written_unit = 1.0;
-    try {
-      written_unit = units::unit_factor(unit_text);
-    } catch (const Error&) {
-    }
-    v.rounding = rounding_of(v.as_written, written_unit) / term_unit;
-    m.declared.push_back(v);
-  }
-}
-
 }  // namespace
 
 std::vector<std::string> SeekerModel::tolerance_keys() const {
@@ -169,23 +123,8 @@ SeekerModel load_seeker_model(const std::string& path,
     m.barrel_length = t.quantity("barrel_length", kLength, positive);
     m.optical_axis = read_tolerance(t, "axis_error", kLength, "mm");
   }
-  read_declared(root, m);
   m.geometry = read_seeker_geometry(root, m.yaw.span, m.pitch.span);
   finish(doc, *ctx);
-  // Declared keys must name budget terms.
-  const models::WangBudget budget = models::compute_wang_budget(m.budget_inputs());
-  for (const auto& d : m.declared) {
-    bool known = false;
-    std::string list;
-    for (const auto& t : budget.terms) {
-      known = known || t.key == d.key;
-      list += (list.empty() ? "" : ", ") + t.key;
-    }
-    if (!known) {
-      ctx->errors.emplace_back(SourceLocation{path, root.table("declared").line_of(d.key), 0},
-                               "declared." + d.key, "", "a budget term, one of: " + list);
-    }
-  }
   if (!ctx->errors.empty()) throw ValidationError(ctx->errors);
   return m;
 }

@@ -41,15 +41,6 @@ struct SeekerAxis {
   std::vector<BearingSource> bearing_sources;
 };
 
-/// A value a document declares, to be set beside Poise's recomputation.
-struct DeclaredValue {
-  std::string key;    ///< budget term key, e.g. "sigma_21"
-  double value = 0.0; ///< in the term's unit (arcsec, mm, px)
-  std::string as_written;
-  double rounding = 0.0;  ///< half a unit of the last printed digit
-  std::string source;
-};
-
 struct SeekerModel {
   std::string file;
   std::string name, title, source;
@@ -60,13 +51,13 @@ struct SeekerModel {
   SeekerAxis yaw, pitch;
   double barrel_length = 0;  ///< L3 (m)
   ToleranceSpec optical_axis;
-  std::vector<DeclaredValue> declared;
   /// Frames and housing ([geometry], optional; studies/seeker_geometry.h), sized from the spans.
   std::optional<geometry::SeekerGeometry> geometry;
 
   /// Dotted keys of every tolerance table ("yaw.perpendicularity", "yaw.radial_runout", ...).
   std::vector<std::string> tolerance_keys() const;
-  /// Inputs of the paper's analytic budget, from the same numbers.
+  /// Inputs of Wang 2011's analytic budget method from the same numbers (the budget itself is a
+  /// reviewer's budget file, `poise budget`; tests check that file against this).
   models::WangBudgetInputs budget_inputs() const;
 };
 

@@ -47,10 +47,6 @@ void write_report(const ReportInputs& in) {
   const fs::path pdir = dir / "plots";
   fs::create_directories(pdir);
   const double req = s["requirement"]["arcsec"].get<double>();
-  const bool has_budget = s.contains("budget");  // the model declares a budget to check
-  const double eq8max = in.budget.term("los_eq8_max").value;
-  const double rssmax = in.budget.term("los_max").value;
-  const double gcmax = in.budget.term("los_gc_max").value;
   std::vector<std::string> figures;  // (svg file names)
   std::string plot_note;
 
@@ -58,28 +54,13 @@ void write_report(const ReportInputs& in) {
     // Data.
     {
       std::ofstream d(pdir / "map.dat");
-      d << "# yaw_deg pitch_deg p50_arcsec p95_arcsec p99_73_arcsec budget_eq8_kmax_arcsec\n";
+      d << "# yaw_deg pitch_deg p50_arcsec p95_arcsec p99_73_arcsec\n";
       const std::size_t nb = in.beta.size();
       for (std::size_t ia = 0; ia < in.alpha.size(); ++ia) {
         for (std::size_t ib = 0; ib < nb; ++ib) {
           const std::size_t k = ia * nb + ib;
           d << in.alpha[ia] / units::kRadPerDeg << ' ' << in.beta[ib] / units::kRadPerDeg << ' '
             << in.mc.map_p50[k] << ' ' << in.mc.map_p95[k] << ' ' << in.mc.map_p99_73[k] << '\n';
-        }
-        d << '\n';
-      }
-    }
-    {
-      std::ofstream d(pdir / "budget_map.dat");
-      d << "# yaw_deg pitch_deg eq8_kmax_arcsec great_circle_kmax_arcsec paper_method_kmax_arcsec (budget)\n";
-      const std::size_t nb = in.budget.beta.size();
-      for (std::size_t ia = 0; ia < in.budget.alpha.size(); ++ia) {
-        for (std::size_t ib = 0; ib < nb; ++ib) {
-          const std::size_t k = ia * nb + ib;
-          const double e8 = in.budget.eq8_map_kmax[k];
-          d << in.budget.alpha[ia] / units::kRadPerDeg << ' ' << in.budget.beta[ib] / units::kRadPerDeg
-            << ' ' << (std::isfinite(e8) ? e8 : 0.0) << ' ' << in.budget.great_circle_map_kmax[k] << ' '
-            << in.budget.rss_map_kmax[k] << '\n';
         }
         d << '\n';
       }
@@ -92,30 +73,21 @@ void write_report(const ReportInputs& in) {
         << kViridisPalette << "set cblabel 'arcsec'\n"
         << "splot 'map.dat' u 1:2:4 with pm3d notitle\n";
     write_file(pdir / "map_p95.gp", map.str());
-    std::ostringstream bmap;
-    bmap << head << "set output 'budget_map.svg'\n"
-         << "set title \"Budget over the field, paper's method sqrt(Da^2 + Db^2), k' = k_max [arcsec]\"\n"
-         << "set xlabel 'yaw [deg]'\nset ylabel 'pitch [deg]'\nset view map\nset pm3d map\n"
-         << kViridisPalette << "set cblabel 'arcsec'\n"
-         << "splot 'budget_map.dat' u 1:2:5 with pm3d notitle\n";
-    write_file(pdir / "budget_map.gp", bmap.str());
     std::vector<std::string> scripts = {"map_p95"};
-    if (has_budget) scripts.push_back("budget_map");
     // Sweeps.
     int si = 0;
     for (const auto& sw : s["sweeps"]) {
       const std::string base = "sweep_" + std::to_string(si++);
       std::ofstream d(pdir / (base + ".dat"));
       d << "# " << sw["parameter"].get<std::string>()
-        << " value_si value_as_written | p50 p95 p95_lo p95_hi p99_73 of los_max [arcsec] | RSS budget max | great-circle max\n";
+        << " value_si value_as_written | p50 p95 p95_lo p95_hi p99_73 of los_max [arcsec]\n";
       for (const auto& p : sw["points"]) {
         if (!p.contains("los_max_arcsec")) continue;
         const auto& l = p["los_max_arcsec"];
         auto end = [&](const json& e, int k) { return e["ci95"][k].is_number() ? e["ci95"][k] : e["value"]; };
         d << p["value_si"].get<double>() << " \"" << p["value"].get<std::string>() << "\" " << num_json(l["p50"]["value"], 8)
           << ' ' << num_json(l["p95"]["value"], 8) << ' ' << num_json(end(l["p95"], 0), 8) << ' '
-          << num_json(end(l["p95"], 1), 8) << ' ' << num_json(l["p99_73"]["value"], 8) << ' '
-          << p["budget_rss_max_arcsec"].get<double>() << ' ' << p["budget_great_circle_max_arcsec"].get<double>() << '\n';
+          << num_json(end(l["p95"], 1), 8) << ' ' << num_json(l["p99_73"]["value"], 8) << '\n';
       }
       std::ostringstream g;
       g << head << "set output '" << base << ".svg'\n"
@@ -124,18 +96,13 @@ void write_report(const ReportInputs& in) {
         << "set key outside bottom center horizontal\nset yrange [0:*]\n"
         << "plot '" << base << ".dat' u 1:5:6 with filledcurves lc rgb '#bbccee' t 'p95, 95% interval', "
         << "'' u 1:3 w lp lw 2 t 'MC p50', '' u 1:4 w lp lw 2 t 'MC p95', '' u 1:7 w lp lw 2 t 'MC p99.73', "
-        << (has_budget ? "'' u 1:8 w lp dt 2 t 'RSS budget max', '' u 1:9 w lp dt 3 t 'great-circle RSS max', " : "")
         << req << " w l lc rgb '#cc3311' lw 2 t 'requirement'\n";
       write_file(pdir / (base + ".gp"), g.str());
       scripts.push_back(base);
     }
-    // The distribution of the main output with the requirement (and a declared budget) as lines.
+    // The distribution of the main output with the requirement and declared references as lines.
     if (!in.mc.values.empty()) {
       std::vector<FigureLine> lines{{req, "requirement", "#cc3311"}};
-      if (has_budget) {
-        lines.push_back({rssmax, "declared budget, RSS method, max", "#228833"});
-        lines.push_back({gcmax, "great-circle RSS max", "#aa3377"});
-      }
       for (const auto& c : s.value("references", json::array())) {
         if (c["output"] == "los_max_arcsec") lines.push_back({c["reference"].get<double>(), c["name"].get<std::string>(), "#999999"});
       }
@@ -215,38 +182,14 @@ void write_report(const ReportInputs& in) {
 
   h << references_html(s.value("references", json::array()));
 
-  // The declared budget against the Monte Carlo (only when the model declares one).
+  // The Monte Carlo's figures in arcsec and pixels (a budget of the design is checked beside
+  // them with `poise budget`).
   const double ifov = req_j["pixel_ifov_arcsec"].get<double>();
   auto row = [&](const std::string& what, double v) {
     h << "<tr><td class='l'>" << what << "</td><td>" << num(v) << "</td><td>" << num(v / ifov, 3)
       << "</td></tr>\n";
   };
-  if (s.contains("budget")) {
-    const auto& b = s["budget"];
-    h << "<h2>The model's declared budget and the Monte Carlo side by side</h2>\n<table><tr><th class='l'>figure</th>"
-      << "<th>arcsec</th><th>px</th></tr>\n";
-    for (const auto& t : b["terms"]) {
-      const std::string key = t["key"].get<std::string>();
-      if ((key == "los_min" || key == "los_max") && t.contains("declared")) {
-        row("declared (" + html_escape(t["declared_source"].get<std::string>()) + "): " +
-                (key == "los_min" ? "least" : "greatest") + " over the field",
-            t["declared"].get<double>());
-      }
-    }
-    if (b.contains("from_declared_deltas")) {
-      const auto& fd = b["from_declared_deltas"];
-      row("RSS method sqrt(Da^2+Db^2) from the declared delta_1..3: least", fd["los_min"].get<double>());
-      row("RSS method sqrt(Da^2+Db^2) from the declared delta_1..3: greatest", fd["los_max"].get<double>());
-    }
-    row("RSS method recomputed from the model's tolerances: least (k' = k_min)", in.budget.term("los_min").value);
-    row("RSS method recomputed from the model's tolerances: greatest (k' = k_max)", rssmax);
-    row("Eq. 8 as printed, recomputed: least (k' = k_min)", in.budget.term("los_eq8_min").value);
-    row("Eq. 8 as printed, recomputed: greatest (k' = k_max)", eq8max);
-    row("great-circle combination, least (k' = k_min)", in.budget.term("los_gc_min").value);
-    row("great-circle combination, greatest (k' = k_max)", gcmax);
-  } else {
-    h << "<h2>Monte Carlo figures</h2>\n<table><tr><th class='l'>figure</th><th>arcsec</th><th>px</th></tr>\n";
-  }
+  h << "<h2>Monte Carlo figures</h2>\n<table><tr><th class='l'>figure</th><th>arcsec</th><th>px</th></tr>\n";
   if (s.contains("pooled_field_arcsec")) {
     const auto& p = s["pooled_field_arcsec"];
     row("MC, error at a random gimbal angle of a random unit: p50", p["p50"]["value"].get<double>());
@@ -258,31 +201,6 @@ void write_report(const ReportInputs& in) {
     row("MC, greatest over the field of a unit: p99.73", lm["p99_73"]["value"].get<double>());
   }
   h << "</table>\n";
-  if (s.contains("budget")) {
-    h << "<p><small>Declared rows are the model file's [declared] values. The budget's terms are "
-         "1-sigma-like figures combined by RSS; the Monte Carlo composes the exact rotations with "
-         "every tolerance drawn from its stated distribution.</small></p>\n";
-    // Budget table.
-    const auto& b = s["budget"];
-    h << "<h2>Declared budget recomputed term by term</h2>\n<p>" << b["disagreements"].get<int>()
-      << " declared value(s) disagree with the recomputation (red); " << b["close"].get<int>()
-      << " are within 1% but beyond the rounding of their printed digits (amber: a rounded "
-         "intermediate carried on); green rows agree to the printed digits.</p>\n<table><tr><th class='l'>term</th><th class='l'>meaning</th><th class='l'>source</th>"
-         "<th>recomputed</th><th>declared</th><th>difference</th><th class='l'>unit</th></tr>\n";
-    for (const auto& t : b["terms"]) {
-      const bool has_decl = t.contains("declared");
-      const std::string verdict = has_decl ? t["verdict"].get<std::string>() : "";
-      const std::string cls = !has_decl ? "" : verdict == "agrees" ? " class='ok'" : verdict == "close" ? " class='close'" : " class='bad'";
-      h << "<tr" << cls << "><td class='l'><code>" << html_escape(t["key"].get<std::string>()) << "</code></td><td class='l'>"
-        << html_escape(t["description"].get<std::string>()) << "</td><td class='l'>" << html_escape(t["equation"].get<std::string>())
-        << "</td><td>" << num(t["recomputed"].get<double>(), 5) << "</td><td>"
-        << (has_decl ? html_escape(t["declared_as_written"].get<std::string>()) : "&ndash;") << "</td><td>"
-        << (has_decl ? num(t["difference"].get<double>(), 3) : "&ndash;") << "</td><td class='l'>"
-        << html_escape(t["unit"].get<std::string>()) << "</td></tr>\n";
-    }
-    h << "</table>\n";
-  }
-
   // Contributions.
   if (s.contains("contributions") && s["contributions"].size() > 1) {
     const auto& c = s["contributions"];
@@ -329,18 +247,13 @@ void write_report(const ReportInputs& in) {
     h << "<h2>Sweep of <code>" << html_escape(sw["parameter"].get<std::string>()) << "</code></h2>\n<p>"
       << sw["samples"].get<std::size_t>() << " samples per value, same seed at every value (common random "
          "numbers).</p>\n<table><tr><th class='l'>value</th><th>MC p50</th><th>MC p95</th><th>MC p99.73</th>"
-         "<th>samples meeting</th>" << (has_budget ? "<th>RSS budget max</th><th>Eq. 8 max</th><th>great-circle max</th>" : "") << "</tr>\n";
+         "<th>samples meeting</th></tr>\n";
     for (const auto& p : sw["points"]) {
       if (!p.contains("los_max_arcsec")) continue;
       const auto& l = p["los_max_arcsec"];
       h << "<tr><td class='l'>" << html_escape(p["value"].get<std::string>()) << "</td><td>" << num_json(l["p50"]["value"])
         << "</td><td>" << num_json(l["p95"]["value"]) << "</td><td>" << num_json(l["p99_73"]["value"]) << "</td><td>"
         << num(100 * p["fraction_samples_meeting"]["value"].get<double>(), 4) << "%</td>";
-      if (has_budget) {
-        h << "<td>" << num(p["budget_rss_max_arcsec"].get<double>()) << "</td><td>"
-          << num(p["budget_eq8_max_arcsec"].get<double>()) << "</td><td>"
-          << num(p["budget_great_circle_max_arcsec"].get<double>()) << "</td>";
-      }
       h << "</tr>\n";
     }
     h << "</table>\n<p><small>arcsec, greatest LOS error over the field of regard.</small></p>\n";

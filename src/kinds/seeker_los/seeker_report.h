@@ -6,7 +6,6 @@
 #include <string>
 #include <vector>
 
-#include "models/seeker_los_budget.h"
 #include "kinds/seeker_los/seeker_los_study.h"
 #include "engine/report_plot.h"
 
@@ -15,7 +14,6 @@ namespace poise::studies {
 struct ReportInputs {
   std::string dir;                 ///< run folder
   const nlohmann::json& summary;   ///< what summary.json holds
-  const models::WangBudget& budget;
   const SeekerMcResult& mc;
   const std::vector<double>& alpha;  ///< grid, rad
   const std::vector<double>& beta;

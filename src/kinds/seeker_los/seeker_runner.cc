@@ -44,48 +44,6 @@ SeekerModel load_model(const StudyConfig& cfg, const std::map<std::string, std::
   return load_seeker_model(cfg.model_path, overrides);
 }
 
-json budget_json(const models::WangBudget& b, const SeekerModel& m) {
-  json terms = json::array();
-  int disagreements = 0, close_count = 0;
-  for (const auto& t : b.terms) {
-    json j{{"key", t.key}, {"description", t.description}, {"equation", t.equation},
-           {"recomputed", t.value}, {"unit", t.unit}};
-    for (const auto& d : m.declared) {
-      if (d.key != t.key) continue;
-      // "agrees": the recomputed value rounds to the printed one (half a unit of the
-      // printed last digit, plus 1e-9 relative for binary representation); "close": within
-      // 1% (typically a rounded intermediate carried on); else "disagrees".
-      const double diff = std::abs(t.value - d.value);
-      const bool agrees = diff <= d.rounding + 1e-9 * std::abs(d.value);
-      const bool close = diff <= 0.01 * std::abs(d.value) + d.rounding;
-      j["declared"] = d.value;
-      j["declared_as_written"] = d.as_written;
-      j["declared_source"] = d.source;
-      j["difference"] = t.value - d.value;
-      j["agrees"] = agrees;
-      j["verdict"] = agrees ? "agrees" : (close ? "close" : "disagrees");
-      disagreements += close ? 0 : 1;
-      close_count += (!agrees && close) ? 1 : 0;
-    }
-    terms.push_back(j);
-  }
-  json out{{"terms", terms}, {"disagreements", disagreements}, {"close", close_count}};
-  // Do the printed axis totals reproduce the printed range? Recompute the field figures
-  // from the declared delta_1, delta_2, delta_3 (when all are declared).
-  std::map<std::string, double> dv;
-  for (const auto& d : m.declared) dv[d.key] = d.value;
-  if (dv.count("delta_1_min") && dv.count("delta_1_max") && dv.count("delta_2_min") &&
-      dv.count("delta_2_max") && dv.count("delta_3")) {
-    const models::WangGridFigures g = models::wang_grid_figures(
-        dv["delta_1_min"], dv["delta_1_max"], dv["delta_2_min"], dv["delta_2_max"], dv["delta_3"],
-        m.budget_inputs());
-    out["from_declared_deltas"] = {{"los_min", g.rss_min}, {"los_max", g.rss_max},
-                                   {"los_eq8_min", g.eq8_min}, {"los_eq8_max", g.eq8_max},
-                                   {"los_gc_min", g.gc_min}, {"los_gc_max", g.gc_max}};
-  }
-  return out;
-}
-
 }  // namespace
 
 std::string validate_seeker_study(const StudyConfig& cfg) {
@@ -217,7 +175,6 @@ std::string run_seeker_study(const StudyConfig& file_cfg, const RunOptions& opti
   finish_manifest(plan, status, ran);
   const bool extras = status == "complete" && sensitivity_base == 0;  // sweeps and contributions
 
-  const models::WangBudget budget = models::compute_wang_budget(model.budget_inputs());
 
   // Sweeps: the same seed at every value (common random numbers), so differences between
   // values are the design's, not the sampling noise's.
@@ -229,16 +186,12 @@ std::string run_seeker_study(const StudyConfig& file_cfg, const RunOptions& opti
       SeekerLosStudy sv(cfg, model_v, sw.samples, seed);
       if (options.progress) std::fprintf(stderr, "  sweep %s = %s\n", sw.parameter.c_str(), v.c_str());
       const SeekerMcResult r = sv.run(threads, false, {});
-      const models::WangBudget bv = models::compute_wang_budget(model_v.budget_inputs());
       json p{{"value", v}, {"value_si", units::parse_quantity(v).value}, {"failures", r.failures}};
       if (!r.outputs.empty()) {
         p["los_max_arcsec"] = summary_json(r.outputs[0], "arcsec", "");
         p["fraction_samples_meeting"] = estimate_json(r.fraction_samples_ok);
         p["pooled_arcsec"] = summary_json(r.pooled, "arcsec", "");
       }
-      p["budget_eq8_max_arcsec"] = bv.term("los_eq8_max").value;
-      p["budget_rss_max_arcsec"] = bv.term("los_max").value;
-      p["budget_great_circle_max_arcsec"] = bv.term("los_gc_max").value;
       js["points"].push_back(p);
     }
     sweeps.push_back(js);
@@ -321,16 +274,13 @@ std::string run_seeker_study(const StudyConfig& file_cfg, const RunOptions& opti
     s["fraction_samples_meeting"] = estimate_json(mc.fraction_samples_ok);
     s["fraction_field_meeting"] = estimate_json(mc.fraction_field_ok);
   }
-  // The analytic budget (Wang 2011's RSS method recomputed from the model's tolerances) is
-  // set beside the Monte Carlo only when the model declares a budget to check ([declared]).
-  if (!model.declared.empty()) s["budget"] = budget_json(budget, model);
   {
     std::vector<OutputSpec> specs;
     for (const auto& o : kSeekerOutputs) specs.push_back({o.name, o.unit, o.description});
     std::map<std::string, const std::vector<double>*> by_name;
     for (std::size_t k = 0; k < mc.values.size() && k < kNumSeekerOutputs; ++k) by_name[kSeekerOutputs[k].name] = &mc.values[k];
-    s["references"] = compare_references(declared_references(cfg, specs), specs, s["outputs"], [&](const std::string& n) {
-      const auto it = by_name.find(n);
+    s["references"] = compare_references(declared_references(cfg, specs), specs, s["outputs"], [&](const std::string& output) {
+      const auto it = by_name.find(output);
       return it == by_name.end() ? nullptr : it->second;
     });
   }
@@ -353,7 +303,7 @@ std::string run_seeker_study(const StudyConfig& file_cfg, const RunOptions& opti
                      {"command_line_overrides", {{"samples", options.samples.has_value()}, {"seed", options.seed.has_value()}}},
                      {"libraries", library_versions()}};
   write_file_atomic((fs::path(dir) / "summary.json").string(), s.dump(2) + "\n");
-  ReportInputs rep{dir, s, budget, mc, study.grid().alpha(), study.grid().beta(), options.plots && cfg.plots};
+  ReportInputs rep{dir, s, mc, study.grid().alpha(), study.grid().beta(), options.plots && cfg.plots};
   write_report(rep);
   if (options.progress) {
     std::fprintf(stderr, "poise: report %s\n", (fs::path(dir) / "report.html").c_str());
