@@ -58,8 +58,8 @@ std::vector<std::string> main_outputs(const std::vector<std::string>& outputs, c
       if (!o.empty() && std::find(out.begin(), out.end(), o) == out.end()) out.push_back(o);
     }
   }
-  for (const auto& o : outputs) {
-    if (out.size() >= std::max(limit, out.size())) break;
+  for (const auto& o : outputs) {  // every referenced output, then the first ones up to `limit`
+    if (out.size() >= limit) break;
     if (std::find(out.begin(), out.end(), o) == out.end()) out.push_back(o);
   }
   return out;

@@ -9,29 +9,6 @@
 
 namespace poise::studies {
 
-StudyConfig& StudyConfig::operator=(const StudyConfig& o) {
-  if (this == &o) return *this;
-  file = o.file;
-  name = o.name;
-  kind = o.kind;
-  title = o.title;
-  notes = o.notes;
-  model_path = o.model_path;
-  method = o.method;
-  samples = o.samples;
-  seed = o.seed;
-  replicate_size = o.replicate_size;
-  max_failure_share = o.max_failure_share;
-  saltelli_base = o.saltelli_base;
-  saltelli_noise_group = o.saltelli_noise_group;
-  overrides = o.overrides;
-  plots = o.plots;
-  block = o.block;
-  references = o.references;
-  sections = o.sections ? o.sections->clone() : nullptr;
-  return *this;
-}
-
 void throw_wrong_sections(const StudyConfig& cfg) {
   throw Error(cfg.file + ": the sections of a '" + cfg.kind + "' study were asked for as another kind's");
 }

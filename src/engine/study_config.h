@@ -37,6 +37,27 @@ struct KindSectionsOf : KindSections {
   std::unique_ptr<KindSections> clone() const override { return std::make_unique<T>(static_cast<const T&>(*this)); }
 };
 
+/// The kind's sections held by a StudyConfig: copied deeply with it (a study's copy may
+/// change its test plan without touching the original).
+class KindSectionsPtr {
+ public:
+  KindSectionsPtr() = default;
+  template <class T>
+  KindSectionsPtr(std::unique_ptr<T> p) : p_(std::move(p)) {}  // NOLINT: implicit by design
+  KindSectionsPtr(const KindSectionsPtr& o) : p_(o.p_ ? o.p_->clone() : nullptr) {}
+  KindSectionsPtr(KindSectionsPtr&&) noexcept = default;
+  KindSectionsPtr& operator=(const KindSectionsPtr& o) {
+    if (this != &o) p_ = o.p_ ? o.p_->clone() : nullptr;
+    return *this;
+  }
+  KindSectionsPtr& operator=(KindSectionsPtr&&) noexcept = default;
+  KindSections* get() const { return p_.get(); }
+  explicit operator bool() const { return p_ != nullptr; }
+
+ private:
+  std::unique_ptr<KindSections> p_;
+};
+
 /// A reference figure declared in a study or model file ([[reference]]): a paper's or a
 /// customer's figure to set beside the study's own. Only declared figures are compared.
 struct ReferenceFigure {
@@ -78,13 +99,7 @@ struct StudyConfig {
   std::vector<ReferenceFigure> references;  ///< the study file's [[reference]] tables
 
   /// The kind's own sections (its module's struct).
-  std::unique_ptr<KindSections> sections;
-
-  StudyConfig() = default;
-  StudyConfig(const StudyConfig& o) { *this = o; }
-  StudyConfig(StudyConfig&&) noexcept = default;
-  StudyConfig& operator=(StudyConfig&&) noexcept = default;
-  StudyConfig& operator=(const StudyConfig& o);
+  KindSectionsPtr sections;
 };
 
 [[noreturn]] void throw_wrong_sections(const StudyConfig& cfg);
