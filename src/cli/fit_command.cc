@@ -37,12 +37,10 @@ Data file (CSV, header on the first line, comma-separated):
   other columns are ignored. At least 4 rows and 3 distinct angles. Results are given in
   the file's torque unit.
 
-Example (Table 1 of the paper, 36 positions, from the project folder):
+Example (a worked example's measured table, 36 positions, from the project folder; how it
+compares with its paper is in data/yang2015/README.md and studies/yang2015_loading_tests.toml):
   poise fit data/yang2015/table1_loading_test_36pt.csv
   poise fit data/yang2015/table1_loading_test_36pt.csv --json
-  gives M(theta) = 12.47 sin(theta + 42.43 deg) + 3.43 mN*m, max |residual| 0.64 mN*m.
-  (The paper prints 12.04 sin(theta + 44.20) + 3.47 as its Eq. 24; that is not the
-  least-squares fit of its own Table 1, though its 0.64 mN*m largest residual is.)
 
 Output: the fitted M(theta) with standard errors, rmse (RMS of residuals), sigma (residual
 standard deviation), max |residual|, then theta, measured, fitted and residual per row.
