@@ -19,8 +19,9 @@ constexpr units::Dimension kDensity{{-3, 1, 0, 0, 0, 0}};
 Eigen::Vector3d read_triple(TomlReader& t, const std::string& key, const units::Dimension& dim,
                             const std::string& example) {
   Eigen::Vector3d v = Eigen::Vector3d::Zero();
-  if (!t.has(key)) return v;
+  if (!t.has_or_schema(key)) return v;
   const std::vector<std::string> items = t.string_array(key);
+  if (t.schema_only()) return v;
   if (items.size() != 3) {
     t.error(key, std::to_string(items.size()) + " values", "three values (x, y, z), e.g. " + example);
     return v;
@@ -63,12 +64,12 @@ UserParts read_user_parts(TomlReader& table, const std::string& base_dir) {
                                  Eigen::AngleAxisd(rotation.x(), Eigen::Vector3d::UnitX()))
                                     .toRotationMatrix();
     p.part.placement.translation() = translation;
-    if (t.has("tolerances")) {
+    if (t.has_or_schema("tolerances")) {  // gated so that `poise keys` lists the tolerances
       TomlReader tol = t.table("tolerances");
-      if ((p.has_density = tol.has("density"))) p.density = read_tolerance(tol, "density", kDensity, "kg/m^3");
-      if ((p.has_position = tol.has("position"))) p.position = read_tolerance(tol, "position", units::kLength, "mm");
-      if ((p.has_angle = tol.has("angle"))) p.angle = read_tolerance(tol, "angle", units::kAngle, "deg");
-      if ((p.has_scale = tol.has("scale"))) p.scale = read_tolerance(tol, "scale", units::kDimensionless, "");
+      if ((p.has_density = tol.has_or_schema("density"))) p.density = read_tolerance(tol, "density", kDensity, "kg/m^3");
+      if ((p.has_position = tol.has_or_schema("position"))) p.position = read_tolerance(tol, "position", units::kLength, "mm");
+      if ((p.has_angle = tol.has_or_schema("angle"))) p.angle = read_tolerance(tol, "angle", units::kAngle, "deg");
+      if ((p.has_scale = tol.has_or_schema("scale"))) p.scale = read_tolerance(tol, "scale", units::kDimensionless, "");
     }
     t.accept_notes();
     if (mesh.empty() || t.context().errors.size() != errors_before) {
