@@ -19,9 +19,12 @@ constexpr units::Dimension kDensity{{-3, 1, 0, 0, 0, 0}};
 Eigen::Vector3d read_triple(TomlReader& t, const std::string& key, const units::Dimension& dim,
                             const std::string& example) {
   Eigen::Vector3d v = Eigen::Vector3d::Zero();
-  if (!t.has_or_schema(key)) return v;
+  if (t.schema_only()) {  // optional: `poise keys` lists it with its default
+    t.ask(key, "three quantities (x, y, z), e.g. " + example, "zero", false);
+    return v;
+  }
+  if (!t.has(key)) return v;
   const std::vector<std::string> items = t.string_array(key);
-  if (t.schema_only()) return v;
   if (items.size() != 3) {
     t.error(key, std::to_string(items.size()) + " values", "three values (x, y, z), e.g. " + example);
     return v;
