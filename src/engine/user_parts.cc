@@ -39,11 +39,11 @@ Eigen::Vector3d read_triple(TomlReader& t, const std::string& key, const units::
   return v;
 }
 
-double unit_size(const std::string& unit) {
+}  // namespace
+
+double mesh_unit_size(const std::string& unit) {
   return unit == "mm" ? 1e-3 : unit == "cm" ? 1e-2 : unit == "in" ? 0.0254 : 1.0;
 }
-
-}  // namespace
 
 UserParts read_user_parts(TomlReader& table, const std::string& base_dir) {
   UserParts out;
@@ -86,7 +86,7 @@ UserParts read_user_parts(TomlReader& table, const std::string& base_dir) {
     try {
       std::error_code ec;
       if (!std::filesystem::is_regular_file(p.mesh_file, ec)) throw Error(p.mesh_file + ": no such mesh file");
-      const double unit_m = unit_size(p.unit);
+      const double unit_m = mesh_unit_size(p.unit);
       const geometry::Mesh m = geometry::load_mesh(p.mesh_file, unit_m);
       const geometry::MeshCheck check = geometry::require_valid_mesh(m);
       // Closed shells that enclose common material would count it twice: found by rays.

@@ -6,13 +6,10 @@
 #include "geometry/mesh_check.h"
 #include "geometry/mesh_io.h"
 #include "engine/model_overrides.h"
+#include "engine/user_parts.h"
 
 namespace poise::studies {
 namespace {
-
-double unit_size(const std::string& unit) {
-  return unit == "mm" ? 1e-3 : unit == "cm" ? 1e-2 : unit == "in" ? 0.0254 : 1.0;
-}
 
 // One optional mesh key: "" = generated; else loaded, checked and shared, refused at its key.
 std::shared_ptr<const geometry::Mesh> read_mesh(TomlReader& t, const char* key, const std::string& unit,
@@ -25,7 +22,7 @@ std::shared_ptr<const geometry::Mesh> read_mesh(TomlReader& t, const char* key, 
   try {
     std::error_code ec;
     if (!std::filesystem::is_regular_file(resolved, ec)) throw Error(resolved + ": no such mesh file");
-    auto mesh = std::make_shared<geometry::Mesh>(geometry::load_mesh(resolved, unit_size(unit)));
+    auto mesh = std::make_shared<geometry::Mesh>(geometry::load_mesh(resolved, mesh_unit_size(unit)));
     geometry::require_valid_mesh(*mesh);
     if (mesh->name.empty()) mesh->name = key;
     return mesh;
