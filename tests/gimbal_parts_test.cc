@@ -209,6 +209,9 @@ TEST(GimbalParts, RefusalsNameTheFileLineAndKey) {
   // Parts heavier than the whole rotor.
   refused(test::replace_once(good, "mass = \"1.5 kg\"", "mass = \"0.2 kg\""),
           "expected parts within the rotor: [rotor] mass (200 g) is the whole rotor as designed, its parts included");
+  // Parts whose inertia about the gimbal axis exceeds the whole rotor's.
+  refused(test::replace_once(good, "inertia = \"3.5e-3 kg*m^2\"", "inertia = \"1e-4 kg*m^2\""),
+          "about the gimbal axis: expected parts within the rotor: [rotor] inertia (");
 }
 
 }  // namespace
