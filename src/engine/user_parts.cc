@@ -19,6 +19,10 @@ constexpr units::Dimension kDensity{{-3, 1, 0, 0, 0, 0}};
 Eigen::Vector3d read_triple(TomlReader& t, const std::string& key, const units::Dimension& dim,
                             const std::string& example) {
   Eigen::Vector3d v = Eigen::Vector3d::Zero();
+  if (t.schema_only()) {  // optional: `poise keys` lists it with its default
+    t.ask(key, "three quantities (x, y, z), e.g. " + example, "zero", false);
+    return v;
+  }
   if (!t.has(key)) return v;
   const std::vector<std::string> items = t.string_array(key);
   if (items.size() != 3) {
@@ -35,11 +39,11 @@ Eigen::Vector3d read_triple(TomlReader& t, const std::string& key, const units::
   return v;
 }
 
-double unit_size(const std::string& unit) {
+}  // namespace
+
+double mesh_unit_size(const std::string& unit) {
   return unit == "mm" ? 1e-3 : unit == "cm" ? 1e-2 : unit == "in" ? 0.0254 : 1.0;
 }
-
-}  // namespace
 
 UserParts read_user_parts(TomlReader& table, const std::string& base_dir) {
   UserParts out;
@@ -63,12 +67,12 @@ UserParts read_user_parts(TomlReader& table, const std::string& base_dir) {
                                  Eigen::AngleAxisd(rotation.x(), Eigen::Vector3d::UnitX()))
                                     .toRotationMatrix();
     p.part.placement.translation() = translation;
-    if (t.has("tolerances")) {
+    if (t.has_or_schema("tolerances")) {  // gated so that `poise keys` lists the tolerances
       TomlReader tol = t.table("tolerances");
-      if ((p.has_density = tol.has("density"))) p.density = read_tolerance(tol, "density", kDensity, "kg/m^3");
-      if ((p.has_position = tol.has("position"))) p.position = read_tolerance(tol, "position", units::kLength, "mm");
-      if ((p.has_angle = tol.has("angle"))) p.angle = read_tolerance(tol, "angle", units::kAngle, "deg");
-      if ((p.has_scale = tol.has("scale"))) p.scale = read_tolerance(tol, "scale", units::kDimensionless, "");
+      if ((p.has_density = tol.has_or_schema("density"))) p.density = read_tolerance(tol, "density", kDensity, "kg/m^3");
+      if ((p.has_position = tol.has_or_schema("position"))) p.position = read_tolerance(tol, "position", units::kLength, "mm");
+      if ((p.has_angle = tol.has_or_schema("angle"))) p.angle = read_tolerance(tol, "angle", units::kAngle, "deg");
+      if ((p.has_scale = tol.has_or_schema("scale"))) p.scale = read_tolerance(tol, "scale", units::kDimensionless, "");
     }
     t.accept_notes();
     if (mesh.empty() || t.context().errors.size() != errors_before) {
@@ -82,7 +86,7 @@ UserParts read_user_parts(TomlReader& table, const std::string& base_dir) {
     try {
       std::error_code ec;
       if (!std::filesystem::is_regular_file(p.mesh_file, ec)) throw Error(p.mesh_file + ": no such mesh file");
-      const double unit_m = unit_size(p.unit);
+      const double unit_m = mesh_unit_size(p.unit);
       const geometry::Mesh m = geometry::load_mesh(p.mesh_file, unit_m);
       const geometry::MeshCheck check = geometry::require_valid_mesh(m);
       // Closed shells that enclose common material would count it twice: found by rays.

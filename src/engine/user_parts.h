@@ -43,6 +43,9 @@ struct UserParts {
   std::vector<std::string> warnings;  ///< a size that suggests the wrong unit (mesh_check.h)
 };
 
+/// Metres per mesh length unit: "mm", "cm", "m" or "in" (a model file's `unit` choices).
+double mesh_unit_size(const std::string& unit);
+
 /// Reads every [[<table>.part]] of `table` (the [geometry] table of a model file); mesh paths
 /// relative to `base_dir`. Errors are recorded in the reader's context (finish() throws them).
 UserParts read_user_parts(TomlReader& table, const std::string& base_dir);

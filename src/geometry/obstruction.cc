@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
+#include <utility>
 
 #include "core/error.h"
 
@@ -140,7 +141,10 @@ GimbalPose seeker_pose(const models::SeekerErrorState& errors, double alpha, dou
 
 GimbalPose nominal_pose(double alpha, double beta) { return seeker_pose(models::SeekerErrorState{}, alpha, beta); }
 
-SeekerScenes::SeekerScenes(const SeekerGeometry& g, int beam_rays) : geometry_(g), meshes_(seeker_meshes(g)) {
+SeekerScenes::SeekerScenes(const SeekerGeometry& g, int beam_rays) : SeekerScenes(g, seeker_meshes(g), beam_rays) {}
+
+SeekerScenes::SeekerScenes(const SeekerGeometry& g, SeekerMeshes parts, int beam_rays)
+    : geometry_(g), meshes_(std::move(parts)) {
   require(beam_rays >= 1, "SeekerScenes: at least one beam ray");
   base_ = std::make_unique<EmbreeScene>(std::vector<Mesh>{meshes_.housing, meshes_.posts, meshes_.window});
   yaw_ = std::make_unique<EmbreeScene>(std::vector<Mesh>{meshes_.ring});

@@ -44,6 +44,9 @@ GimbalPose nominal_pose(double alpha, double beta);
 class SeekerScenes {
  public:
   SeekerScenes(const SeekerGeometry& g, int beam_rays);
+  /// With the parts given (a designer's meshes for some of them, each closed and checked): the
+  /// beam's origins and aperture still come from `g` (detector_x, aperture_radius).
+  SeekerScenes(const SeekerGeometry& g, SeekerMeshes parts, int beam_rays);
   const SeekerGeometry& geometry() const { return geometry_; }
   const SeekerMeshes& meshes() const { return meshes_; }
   /// Beam ray origins in the pitch frame (x = detector_x).

@@ -1,6 +1,7 @@
 #include "kinds/gimbal_static_unbalance/gimbal_model.h"
 
 #include <filesystem>
+#include <iostream>
 
 #include "core/units.h"
 #include "geometry/generators.h"
@@ -166,9 +167,10 @@ GimbalModel load_gimbal_model(const std::string& path,
     m.counterweight_angle = read_scoped_tolerance(t, "counterweight_angle", units::kAngle, "deg");
   }
   std::string disk_model;
+  std::optional<UserParts> parts;
   if (root.has_or_schema("geometry")) {
     TomlReader t = root.table("geometry");
-    disk_model = t.string("disk_model");  // "" = off
+    disk_model = t.string("disk_model", "");  // "" = off
     if (!disk_model.empty()) {
       const std::string resolved = (std::filesystem::path(path).parent_path() / disk_model).lexically_normal().string();
       std::error_code ec;  // a name too long for the file system is a missing file, not an exception
@@ -177,9 +179,39 @@ GimbalModel load_gimbal_model(const std::string& path,
       }
       disk_model = resolved;
     }
+    if (t.has_or_schema("part")) {
+      const std::size_t errors_before = t.context().errors.size();
+      parts = read_user_parts(t, std::filesystem::path(path).parent_path().string());
+      if (!disk_model.empty() && !parts->parts.empty()) {
+        t.error("disk_model", quote_value(t.string("disk_model", "")),
+                "\"\" when the rotor is given as [[geometry.part]] (one or the other)");
+      }
+      if (parts->parts.empty()) parts.reset();
+      if (parts && t.context().errors.size() == errors_before && !t.schema_only()) {
+        std::vector<geometry::AssemblyPart> nominal;
+        for (const UserPart& p : parts->parts) nominal.push_back(p.part);
+        const geometry::MassProperties nom = geometry::as_built_assembly(nominal, {});
+        const double j = nom.inertia(2, 2) + nom.mass * (nom.com.x() * nom.com.x() + nom.com.y() * nom.com.y());
+        if (nom.mass > m.rotor.mass) {
+          t.error("part", units::format(nom.mass, "g", 4) + " of parts",
+                  "parts within the rotor: [rotor] mass (" + units::format(m.rotor.mass, "g", 4) +
+                      ") is the whole rotor as designed, its parts included");
+        } else if (j > m.rotor.inertia) {
+          t.error("part", units::format(j, "kg*m^2", 4) + " about the gimbal axis",
+                  "parts within the rotor: [rotor] inertia (" + units::format(m.rotor.inertia, "kg*m^2", 4) +
+                      ") is the whole rotor as designed, its parts included");
+        }
+        m.disk_nominal_mass = nom.mass;
+        m.disk_nominal_inertia = j;
+      }
+    }
     t.accept_notes();
   }
   finish(doc, *ctx);
+  if (parts) {
+    for (const std::string& w : parts->warnings) std::cerr << "poise: warning: " << path << ": " << w << '\n';
+    m.rotor_parts = std::move(parts);
+  }
   if (!disk_model.empty()) {
     m.disk_geometry = load_disk_geometry_model(disk_model);
     m.disk_geometry->nominal.clumps.clear();

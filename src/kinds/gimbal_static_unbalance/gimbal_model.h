@@ -12,6 +12,7 @@
 #include "procedures/static_unbalance_procedure.h"
 #include "kinds/geometry_mass_properties/disk_geometry_model.h"
 #include "engine/tolerance_spec.h"
+#include "engine/user_parts.h"
 #include "engine/toml_reader.h"
 
 namespace poise::studies {
@@ -43,8 +44,15 @@ struct GimbalModel {
   /// its mesh) adds to residual_unbalance (then the rest of the rotor's), and its mass and
   /// inertia deviations from the nominal disk add to rotor.mass and rotor.inertia.
   std::optional<DiskGeometryModel> disk_geometry;
-  double disk_nominal_mass = 0.0;     ///< kg, the nominal disk without clumps
-  double disk_nominal_inertia = 0.0;  ///< kg m^2, about its axis
+  /// [[geometry.part]] (engine/user_parts.h; instead of disk_model): the rotor's parts as
+  /// meshes from CAD, z the gimbal axis, drawn as built for every sample (unit scope). As with
+  /// disk_model, [rotor] mass and inertia are the rotor as designed (parts included): the
+  /// as-built parts' unbalance about the gimbal axis, m (c_x, c_y), adds to residual_unbalance,
+  /// and their mass and inertia about the axis, I_zz + m (c_x^2 + c_y^2), less the nominal
+  /// assembly's, add to rotor.mass and rotor.inertia.
+  std::optional<UserParts> rotor_parts;
+  double disk_nominal_mass = 0.0;     ///< kg, the nominal disk without clumps (or the nominal parts)
+  double disk_nominal_inertia = 0.0;  ///< kg m^2, about the gimbal axis
 };
 
 /// Reads the test-plan tables the gimbal and platform models share into `plan`: [servo]

@@ -65,7 +65,8 @@ GimbalStudy::GimbalStudy(StudyConfig config, GimbalModel model, std::size_t samp
       seed_(seed),
       dimension_(count_dims(model_)),
       disk_(model_.disk_geometry ? std::optional<DiskSampler>(std::in_place, *model_.disk_geometry) : std::nullopt),
-      design_(make_design(config_, seed, samples, std::max<std::size_t>(dimension_ + (disk_ ? disk_->dimension() : 0), 1))) {
+      parts_(model_.rotor_parts ? std::optional<UserPartsSampler>(std::in_place, *model_.rotor_parts) : std::nullopt),
+      design_(make_design(config_, seed, samples, std::max<std::size_t>(dimension_ + geometry_dimension(), 1))) {
   for (const auto& s : kSlots) {
     const ScopedTolerance& t = model_.*s.tol;
     if (t.per_test) continue;
@@ -80,6 +81,12 @@ GimbalStudy::GimbalStudy(StudyConfig config, GimbalModel model, std::size_t samp
   if (disk_) {
     for (const auto& c : disk_->columns()) input_names_.push_back("disk_" + c.name);
     for (const char* n : {"disk_unbalance_gmm", "disk_unbalance_angle_deg", "disk_mass_g", "disk_inertia_kgm2"}) {
+      input_names_.push_back(n);
+    }
+  }
+  if (parts_) {
+    for (const auto& c : parts_->columns()) input_names_.push_back("part_" + c.name);
+    for (const char* n : {"parts_unbalance_gmm", "parts_unbalance_angle_deg", "parts_mass_g", "parts_inertia_kgm2"}) {
       input_names_.push_back(n);
     }
   }
@@ -105,7 +112,7 @@ void GimbalStudy::compute(std::size_t i, Workspace& ws, SampleResult& out) const
   out.solver_steps = out.rhs_evals = 0;
   try {
     // Unit-scope draws from the design point; test-scope ones from the sample's stream.
-    std::vector<double> u(std::max<std::size_t>(dimension_ + (disk_ ? disk_->dimension() : 0), 1));
+    std::vector<double> u(std::max<std::size_t>(dimension_ + geometry_dimension(), 1));
     design_.point(i, u);
     sampling::RandomStream rs(seed_, sampling::StreamId::kProcedure, design_.stream_index(i));
     UnitDraws unit;
@@ -135,6 +142,22 @@ void GimbalStudy::compute(std::size_t i, Workspace& ws, SampleResult& out) const
       out.inputs[col++] = std::atan2(disk_uy, disk_ux) / units::kRadPerDeg;
       out.inputs[col++] = mo.mass * 1e3;
       out.inputs[col++] = mo.second(0, 0) + mo.second(1, 1);
+    }
+    // The rotor's parts as built: the same four effects, about the gimbal axis (z).
+    if (parts_) {
+      std::vector<double> shown(parts_->dimension());
+      const geometry::MassProperties mp =
+          parts_->as_built(std::span<const double>(u).subspan(dimension_, parts_->dimension()), shown);
+      for (double v : shown) out.inputs[col++] = v;
+      const double j = mp.inertia(2, 2) + mp.mass * (mp.com.x() * mp.com.x() + mp.com.y() * mp.com.y());
+      disk_ux = mp.mass * mp.com.x();
+      disk_uy = mp.mass * mp.com.y();
+      disk_dm = mp.mass - model_.disk_nominal_mass;
+      disk_dj = j - model_.disk_nominal_inertia;
+      out.inputs[col++] = std::hypot(disk_ux, disk_uy) * 1e6;
+      out.inputs[col++] = std::atan2(disk_uy, disk_ux) / units::kRadPerDeg;
+      out.inputs[col++] = mp.mass * 1e3;
+      out.inputs[col++] = j;
     }
     auto draw_test = [&](UnitDraws d) {
       for (const auto& s : kSlots) {

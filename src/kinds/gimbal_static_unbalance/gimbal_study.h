@@ -58,6 +58,8 @@ class GimbalStudy : public ProcedureStudyBase<GimbalStudy> {
   std::vector<std::string> input_names_, output_names_;
   std::size_t dimension_ = 0;
   std::optional<DiskSampler> disk_;  ///< the disk as built ([geometry]), after the tolerances' dimensions
+  std::optional<UserPartsSampler> parts_;  ///< or the rotor's parts as built ([[geometry.part]])
+  std::size_t geometry_dimension() const { return disk_ ? disk_->dimension() : parts_ ? parts_->dimension() : 0; }
   sampling::Design design_;
 };
 

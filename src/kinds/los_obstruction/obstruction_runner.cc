@@ -14,6 +14,7 @@
 #include "kinds/geometry_common/geometry_runner_common.h"
 #include "engine/report_plot.h"
 #include "engine/study_kind.h"
+#include "kinds/seeker_los/seeker_geometry.h"
 #include "kinds/seeker_los/seeker_model.h"
 #include "kinds/geometry_common/geometry_study.h"
 
@@ -49,7 +50,8 @@ class ObstructionStudy {
       throw ValidationError({InputError(SourceLocation{cfg.file, 0, 0}, "study.model", "\"" + cfg.model_path + "\"",
                                         "a seeker model with a [geometry] section (frames and housing)")});
     }
-    scenes_ = std::make_unique<SeekerScenes>(*model_.geometry, geometry_sections(cfg).geometry.beam_rays);
+    scenes_ = std::make_unique<SeekerScenes>(*model_.geometry, seeker_scene_meshes(model_),
+                                             geometry_sections(cfg).geometry.beam_rays);
     yaw_ = models::linspace(model_.yaw_min, model_.yaw_max, geometry_sections(cfg).geometry.yaw_points);
     pitch_ = models::linspace(model_.pitch_min, model_.pitch_max, geometry_sections(cfg).geometry.pitch_points);
   }

@@ -12,14 +12,33 @@
 ///   housing_radius = "58 mm"   housing_wall = "3 mm"   housing_back = "-80 mm"
 ///   front_x = "75 mm"          front_wall = "4 mm"     window_radius = "55 mm"
 ///   post_radius = "10 mm"      segments = 96           notes = "..."
+///
+/// A designer's CAD in place of the generated frames and housing (optional, "" = generated):
+///   ring_mesh = "meshes/ring.stl"        # the yaw frame, in yaw-frame coordinates
+///   barrel_mesh = "meshes/barrel.stl"    # the pitch frame's barrel, in pitch-frame coordinates
+///   housing_mesh = "meshes/housing.stl"  # the housing, in base coordinates
+///   mesh_unit = "mm"                     # mm | cm | m | in, of the three files
+/// Each file (STL or OBJ, relative to the model file) is checked as `poise mass-properties`
+/// checks it (closed, manifold, consistently oriented) and refused at its key otherwise. A mesh
+/// is used as drawn: a span override no longer resizes it. The beam (detector plane, aperture),
+/// the window, the posts and the pitch shafts still come from the dimensions above.
 #include <optional>
+#include <string>
 
 #include "geometry/generators.h"
 #include "engine/toml_reader.h"
+#include "kinds/seeker_los/seeker_model.h"
 
 namespace poise::studies {
 
-/// Reads [geometry] if present (std::nullopt if not); errors go to the reader's context.
-std::optional<geometry::SeekerGeometry> read_seeker_geometry(TomlReader& root, double yaw_span, double pitch_span);
+/// Reads [geometry] if present (std::nullopt if not), and its meshes into `meshes` (relative to
+/// `base_dir`); errors go to the reader's context.
+std::optional<geometry::SeekerGeometry> read_seeker_geometry(TomlReader& root, double yaw_span, double pitch_span,
+                                                             const std::string& base_dir,
+                                                             SeekerModel::UserMeshes& meshes);
+
+/// The seeker's parts for its scenes: generated from the model's [geometry], the ring, barrel and
+/// housing replaced by the designer's meshes where given. Throws poise::Error without [geometry].
+geometry::SeekerMeshes seeker_scene_meshes(const SeekerModel& model);
 
 }  // namespace poise::studies

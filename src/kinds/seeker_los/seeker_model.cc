@@ -1,6 +1,7 @@
 #include "kinds/seeker_los/seeker_model.h"
 
 #include <cmath>
+#include <filesystem>
 
 #include "core/units.h"
 #include "engine/model_overrides.h"
@@ -123,7 +124,8 @@ SeekerModel load_seeker_model(const std::string& path,
     m.barrel_length = t.quantity("barrel_length", kLength, positive);
     m.optical_axis = read_tolerance(t, "axis_error", kLength, "mm");
   }
-  m.geometry = read_seeker_geometry(root, m.yaw.span, m.pitch.span);
+  m.geometry = read_seeker_geometry(root, m.yaw.span, m.pitch.span,
+                                    std::filesystem::path(path).parent_path().string(), m.meshes);
   finish(doc, *ctx);
   if (!ctx->errors.empty()) throw ValidationError(ctx->errors);
   return m;

@@ -15,6 +15,7 @@
 ///                            phase psi; n = `order` (1 turns with the shaft, 0 static)
 ///   load_deformation         k', the paper's load-deformation factor
 #include <map>
+#include <memory>
 #include <optional>
 #include <span>
 #include <string>
@@ -53,6 +54,13 @@ struct SeekerModel {
   ToleranceSpec optical_axis;
   /// Frames and housing ([geometry], optional; studies/seeker_geometry.h), sized from the spans.
   std::optional<geometry::SeekerGeometry> geometry;
+  /// [geometry] ring_mesh, barrel_mesh, housing_mesh: a designer's meshes (checked, in metres,
+  /// each in its frame's coordinates) used instead of the generated yaw ring, pitch barrel and
+  /// housing; null = generated from the [geometry] dimensions. Shared: the model is copied.
+  struct UserMeshes {
+    std::shared_ptr<const geometry::Mesh> ring, barrel, housing;
+    std::string ring_file, barrel_file, housing_file;  ///< as resolved
+  } meshes;
 
   /// Dotted keys of every tolerance table ("yaw.perpendicularity", "yaw.radial_runout", ...).
   std::vector<std::string> tolerance_keys() const;
