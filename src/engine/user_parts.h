@@ -22,7 +22,7 @@
 #include <vector>
 
 #include "geometry/part_assembly.h"
-#include "kinds/seeker_los/seeker_model.h"
+#include "engine/input_column.h"
 #include "engine/tolerance_spec.h"
 #include "engine/toml_reader.h"
 

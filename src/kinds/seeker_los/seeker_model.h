@@ -24,6 +24,7 @@
 #include "geometry/generators.h"
 #include "models/seeker_los_budget.h"
 #include "models/seeker_los_chain.h"
+#include "engine/input_column.h"
 #include "engine/tolerance_spec.h"
 
 namespace poise::studies {
@@ -73,12 +74,6 @@ struct SeekerModel {
 /// validation ("yaw.bearing_span" -> "100 mm"). Throws ValidationError with every problem.
 SeekerModel load_seeker_model(const std::string& path,
                               const std::map<std::string, std::string>& overrides = {});
-
-/// One sampled input, as a column of samples.csv.
-struct InputColumn {
-  std::string name;  ///< e.g. "yaw_radial_runout_A_um"
-  double display_factor = 1.0;
-};
 
 /// Maps unit-hypercube points to error realizations. Immutable, thread-safe.
 class SeekerSampler {
