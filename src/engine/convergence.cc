@@ -33,7 +33,7 @@ UntilTarget parse_until(const std::string& text, const std::vector<std::string>&
     return s;
   };
   if (op == std::string::npos || dot == std::string::npos) {
-    throw Error("--until \"" + text + "\": expected OUTPUT.STAT<=WIDTH, e.g. \"los_max_arcsec.p99_73<=0.5\" or "
+    throw UsageError("--until \"" + text + "\": expected OUTPUT.STAT<=WIDTH, e.g. \"los_max_arcsec.p99_73<=0.5\" or "
                 "\"los_max_arcsec.p95<=1%\" (STAT: mean, std, p50, p95, p99_73; WIDTH: the 95% interval's full width "
                 "in the output's unit, or a percentage of the figure)");
   }
@@ -46,19 +46,19 @@ UntilTarget parse_until(const std::string& text, const std::vector<std::string>&
     w.pop_back();
   }
   if (std::find(outputs.begin(), outputs.end(), t.output) == outputs.end()) {
-    throw Error("--until \"" + text + "\": no output \"" + t.output + "\" in this study; its outputs are " + listing());
+    throw UsageError("--until \"" + text + "\": no output \"" + t.output + "\" in this study; its outputs are " + listing());
   }
   if (std::find(std::begin(kStatistics), std::end(kStatistics), t.statistic) == std::end(kStatistics)) {
-    throw Error("--until \"" + text + "\": statistic \"" + t.statistic + "\" is not one of mean, std, p50, p95, p99_73");
+    throw UsageError("--until \"" + text + "\": statistic \"" + t.statistic + "\" is not one of mean, std, p50, p95, p99_73");
   }
   try {
     std::size_t used = 0;
     t.width = std::stod(w, &used);
     if (used != w.size()) throw Error("");
   } catch (...) {
-    throw Error("--until \"" + text + "\": width \"" + w + "\" is not a number");
+    throw UsageError("--until \"" + text + "\": width \"" + w + "\" is not a number");
   }
-  if (!(t.width > 0) || !std::isfinite(t.width)) throw Error("--until \"" + text + "\": the width must be positive");
+  if (!(t.width > 0) || !std::isfinite(t.width)) throw UsageError("--until \"" + text + "\": the width must be positive");
   if (t.relative) t.width /= 100.0;
   return t;
 }

@@ -1,8 +1,12 @@
 #include "engine/toml_reader.h"
 
+#include "engine/toml_nesting.h"
+
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <sstream>
 
 namespace poise::studies {
@@ -10,7 +14,9 @@ namespace {
 std::string join_errors(const std::vector<InputError>& errors) {
   std::string out = std::to_string(errors.size()) + (errors.size() == 1 ? " error" : " errors") +
                     " in the input:";
-  for (const auto& e : errors) out += "\n  " + std::string(e.what());
+  constexpr std::size_t kMaxListed = 20;  // a message a person reads, not a dump
+  for (std::size_t k = 0; k < errors.size() && k < kMaxListed; ++k) out += "\n  " + std::string(errors[k].what());
+  if (errors.size() > kMaxListed) out += "\n  and " + std::to_string(errors.size() - kMaxListed) + " more";
   return out;
 }
 
@@ -170,8 +176,22 @@ toml::table parse_toml_file(const std::string& path) {
                                       "a readable TOML file (a regular file of at most " +
                                           std::to_string(kMaxInputFileBytes >> 20) + " MiB)")});
   }
+  std::ifstream in(path, std::ios::binary);
+  if (!in) {
+    throw ValidationError({InputError(SourceLocation{path, 0, 0}, "(file)", "cannot be opened",
+                                      "a readable TOML file")});
+  }
+  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  // toml++ descends recursively: a file nested tens of thousands of levels deep would
+  // overflow the stack. Such a file is refused before it is parsed.
+  if (const auto deep = find_too_deep_nesting(text)) {
+    throw ValidationError({InputError(SourceLocation{path, deep->line, deep->column}, "(syntax)", "",
+                                      "valid TOML nested at most " + std::to_string(kMaxTomlNesting) +
+                                          " levels deep (table headers, dotted keys, arrays and inline tables "
+                                          "together); it goes deeper here")});
+  }
   try {
-    return toml::parse_file(path);
+    return toml::parse(text, path);
   } catch (const toml::parse_error& e) {
     SourceLocation loc{path, static_cast<int>(e.source().begin.line),
                        static_cast<int>(e.source().begin.column)};
