@@ -182,7 +182,7 @@ TEST(ErrorList, AtMostTwentyErrorsThenHowManyMore) {
   EXPECT_NE(what.find("key20"), std::string::npos);
   EXPECT_EQ(what.find("key21"), std::string::npos) << what;
   EXPECT_NE(what.find("\n  and 7 more"), std::string::npos) << what;
-  errors.resize(20);
+  errors.erase(errors.begin() + 20, errors.end());
   EXPECT_EQ(std::string(studies::ValidationError(errors).what()).find("more"), std::string::npos);
   // A key or value of a million characters is echoed by its start and its length.
   const InputError huge(SourceLocation{"s.toml", 3, 1}, std::string(1000000, 'k'), std::string(1000000, 'v'), "x");

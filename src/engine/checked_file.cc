@@ -3,37 +3,38 @@
 #include <fcntl.h>
 #include <unistd.h>
 
-#include <atomic>
+#include <algorithm>
 #include <cerrno>
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
-#include <limits>
+#include <mutex>
 #include <utility>
 
 namespace poise::studies {
 namespace {
 
-// Bytes the test hook still lets through (max = no hook).
-std::atomic<std::size_t>& injected_budget() {
-  static std::atomic<std::size_t> budget = [] {
-    const char* env = std::getenv("POISE_INJECT_WRITE_FAILURE_AFTER");
-    return env ? static_cast<std::size_t>(std::strtoull(env, nullptr, 10)) : std::numeric_limits<std::size_t>::max();
-  }();
-  return budget;
-}
-
-// How many of `n` bytes to `path` the hook lets through; the rest fail with ENOSPC.
+// How many of `n` bytes to `path` the test hook lets through; the rest fail with ENOSPC.
+// The hook's budget is shared by every checked write of the process, and starts afresh when
+// the variable changes (tests set it in-process).
 std::size_t allowed_by_hook(const std::string& path, std::size_t n) {
-  static const char* only = std::getenv("POISE_INJECT_WRITE_FAILURE_FILE");
-  if (only && *only && std::filesystem::path(path).filename() != only) return n;
-  auto& budget = injected_budget();
-  std::size_t left = budget.load();
-  if (left == std::numeric_limits<std::size_t>::max()) return n;
-  std::size_t take = 0;
-  do {
-    take = std::min(left, n);
-  } while (!budget.compare_exchange_weak(left, left - take));
+  const char* after = std::getenv("POISE_INJECT_WRITE_FAILURE_AFTER");
+  if (after == nullptr || *after == '\0') return n;
+  const char* only = std::getenv("POISE_INJECT_WRITE_FAILURE_FILE");
+  if (only && *only) {
+    const std::string name = std::filesystem::path(path).filename().string();
+    if (name != only && name != std::string(only) + ".tmp") return n;
+  }
+  static std::mutex mutex;
+  static std::string budget_of;  // the variable's value the budget was set from
+  static std::size_t left = 0;
+  const std::lock_guard<std::mutex> lock(mutex);
+  if (budget_of != after) {
+    budget_of = after;
+    left = static_cast<std::size_t>(std::strtoull(after, nullptr, 10));
+  }
+  const std::size_t take = std::min(left, n);
+  left -= take;
   return take;
 }
 
