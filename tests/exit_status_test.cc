@@ -92,6 +92,11 @@ TEST(ExitStatus, RefusedRunsAreTwoAndCreateNothing) {
   EXPECT_EQ(r.status, 2) << r.err;
   EXPECT_NE(r.err.find("already holds a run"), std::string::npos) << r.err;
   EXPECT_EQ(poise::test::read_text(d.file("held/samples.csv")), "sample,status\n");
+  // The same for an optimization's --out.
+  r = run_poise(d, "optimize " + quoted(source_path("studies/bearing_span_sizing.toml")) + " -q --no-plots --out " +
+                       quoted(d.file("held")));
+  EXPECT_EQ(r.status, 2) << r.err;
+  EXPECT_NE(r.err.find("already holds a run"), std::string::npos) << r.err;
   // --resume of a folder that is no run.
   r = run_poise(d, "run --resume " + quoted(d.file("held")) + " -q");
   EXPECT_EQ(r.status, 2) << r.err;
