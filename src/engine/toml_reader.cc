@@ -6,7 +6,10 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <deque>
 #include <iterator>
+#include <mutex>
+#include <optional>
 #include <sstream>
 
 namespace poise::studies {
@@ -149,6 +152,35 @@ void KeySchemaRecorder::add(const ReadContext& ctx) {
   }
 }
 
+namespace {
+
+// The last files parsed, with their text: a study's model file is read by several stages
+// (validation, references, outputs, the run), and a file holding a 1 MB string must not be
+// parsed ten times. A file is taken from here only when its text is unchanged.
+struct ParsedFile {
+  std::string path, text;
+  toml::table table;
+};
+std::mutex g_parsed_mutex;
+std::deque<ParsedFile> g_parsed;
+
+std::optional<toml::table> parsed_before(const std::string& path, const std::string& text) {
+  const std::lock_guard<std::mutex> lock(g_parsed_mutex);
+  for (const auto& f : g_parsed) {
+    if (f.path == path && f.text == text) return f.table;
+  }
+  return std::nullopt;
+}
+
+void remember_parsed(const std::string& path, std::string text, const toml::table& table) {
+  constexpr std::size_t kKept = 4;
+  const std::lock_guard<std::mutex> lock(g_parsed_mutex);
+  g_parsed.push_front(ParsedFile{path, std::move(text), table});
+  if (g_parsed.size() > kKept) g_parsed.pop_back();
+}
+
+}  // namespace
+
 toml::table parse_toml_file(const std::string& path) {
   if (const KeySchemaRecorder* rec = KeySchemaRecorder::active()) {
     toml::table t;
@@ -182,6 +214,7 @@ toml::table parse_toml_file(const std::string& path) {
                                       "a readable TOML file")});
   }
   std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  if (auto parsed = parsed_before(path, text)) return std::move(*parsed);
   // toml++ descends recursively: a file nested tens of thousands of levels deep would
   // overflow the stack. Such a file is refused before it is parsed.
   if (const auto deep = find_too_deep_nesting(text)) {
@@ -191,7 +224,9 @@ toml::table parse_toml_file(const std::string& path) {
                                           "together); it goes deeper here")});
   }
   try {
-    return toml::parse(text, path);
+    toml::table table = toml::parse(text, path);
+    remember_parsed(path, std::move(text), table);
+    return table;
   } catch (const toml::parse_error& e) {
     SourceLocation loc{path, static_cast<int>(e.source().begin.line),
                        static_cast<int>(e.source().begin.column)};
