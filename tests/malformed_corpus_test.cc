@@ -174,6 +174,20 @@ TEST(TomlNesting, RealFilesAreWellWithinTheLimit) {
   }
 }
 
+TEST(TomlFile, ReadAgainAfterAChangeGivesTheNewTable) {
+  // Files are parsed once per text (a model is read by several stages): a changed file must
+  // still be read anew.
+  TempDir d;
+  const std::string f = d.file("m.toml");
+  write_text(f, "x = 1\n");
+  EXPECT_EQ(studies::parse_toml_file(f)["x"].value<int>(), 1);
+  EXPECT_EQ(studies::parse_toml_file(f)["x"].value<int>(), 1);
+  write_text(f, "x = 2\n");
+  EXPECT_EQ(studies::parse_toml_file(f)["x"].value<int>(), 2);
+  write_text(f, "x = [[[\n");
+  EXPECT_THROW(studies::parse_toml_file(f), studies::ValidationError);
+}
+
 TEST(ErrorList, AtMostTwentyErrorsThenHowManyMore) {
   std::vector<InputError> errors;
   for (int k = 1; k <= 27; ++k) errors.emplace_back(SourceLocation{"s.toml", k, 1}, "key" + std::to_string(k), "1", "x");
