@@ -3,12 +3,18 @@
 // 128 + signal interrupted. A refused command creates nothing on disk.
 #include <gtest/gtest.h>
 
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <csignal>
 #include <filesystem>
 #include <string>
 #include <vector>
 
 #include <nlohmann/json.hpp>
 
+#include "engine/convergence.h"
+#include "sampling/interrupt.h"
 #include "test_util.h"
 
 namespace {
@@ -149,6 +155,29 @@ TEST(ExitStatus, ResumeWithoutTheStudyPathReadsRunJson) {
   ASSERT_EQ(r.status, 0) << r.err;
   EXPECT_EQ(poise::test::read_text(d.file("a/samples.csv")), csv);
   EXPECT_EQ(json::parse(poise::test::read_text(d.file("a/run.json")))["status"], "complete");
+}
+
+TEST(ExitStatus, ASignalWhileTheResultsAreWrittenIsHonoured) {
+  // Every sample ran, then Ctrl-C arrived during the summary write: the run is complete, and
+  // the exit status still says it was stopped (128 + 2). Forked: the signal flag stays set.
+  const pid_t pid = fork();
+  if (pid == 0) {
+    int code = 0;
+    {
+      poise::sampling::InterruptGuard guard;
+      std::raise(SIGINT);
+      try {
+        poise::studies::finish_run_status("complete", "", 0, 10, 10, 0, "/tmp/run", "study.toml");
+      } catch (const poise::studies::Interrupted& e) {
+        code = std::string(e.what()).find("the run is complete") != std::string::npos ? 128 + e.signal : 1;
+      }
+    }
+    _exit(code);
+  }
+  int st = 0;
+  waitpid(pid, &st, 0);
+  ASSERT_TRUE(WIFEXITED(st));
+  EXPECT_EQ(WEXITSTATUS(st), 130);
 }
 
 }  // namespace

@@ -8,6 +8,7 @@
 #include "core/error.h"
 #include "engine/result_io.h"
 #include "engine/study_runner.h"
+#include "sampling/interrupt.h"
 
 namespace poise::studies {
 using nlohmann::json;
@@ -197,6 +198,15 @@ void finish_run_status(const std::string& status, const std::string& reason, int
     throw Error(reason + ". The run stopped; " + dir + "/samples.csv keeps every sample with its reason and " + dir +
                 "/summary.json lists the first failures with the command that replays each. Raise [sampling] "
                 "max_failure_share if such failures are expected.");
+  }
+  // A signal while the summary and report were written: every sample had run and the files
+  // are whole, but the stop asked for is honoured in the exit status.
+  if (sampling::interrupt_requested()) {
+    const int sig = sampling::interrupt_signal();
+    throw Interrupted(std::string(sig == 2 ? "SIGINT" : sig == 15 ? "SIGTERM" : "a signal") +
+                          " while the results were written: the run is complete (" + std::to_string(ran) +
+                          " samples); " + dir + " holds samples.csv, summary.json and report.html",
+                      sig);
   }
 }
 
