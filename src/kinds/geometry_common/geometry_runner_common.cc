@@ -65,8 +65,8 @@ GeometrySampleResults run_geometry_samples(const StudyConfig& cfg, const Geometr
                                            const std::function<void(const GeometrySample&)>& on_ok) {
   CheckedFile csv((fs::path(run.dir) / "samples.csv").string(), false);
   std::string header = "sample,status";
-  for (const auto& c : inputs) header += ',' + c.name;
-  for (const auto& o : outputs) header += ',' + o.name;
+  for (const auto& c : inputs) (header += ',') += c.name;
+  for (const auto& o : outputs) (header += ',') += o.name;  // a const char*
   csv.write(header + ",message\n");
   GeometrySampleResults res;
   res.values.resize(outputs.size());
