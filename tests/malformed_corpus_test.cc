@@ -22,6 +22,9 @@
 #include <string>
 #include <vector>
 
+#include "core/error.h"
+#include "engine/toml_nesting.h"
+#include "engine/toml_reader.h"
 #include "test_util.h"
 
 namespace poise::test {
@@ -128,6 +131,79 @@ TEST_P(MalformedFolder, ReadmeListsEveryFile) {
 }
 
 INSTANTIATE_TEST_SUITE_P(malformed, MalformedFolder, ::testing::Values(std::string("README.md")), param_name);
+
+// The nesting limit, measured before toml++ parses (it would overflow its stack on 50,000
+// levels): header, dotted key, arrays and inline tables count together; strings, comments
+// and numbers do not.
+TEST(TomlNesting, CountsTablesKeysArraysAndInlineTablesTogether) {
+  using studies::find_too_deep_nesting;
+  auto dots = [](int levels) {
+    std::string k = "a";
+    for (int i = 1; i < levels; ++i) k += ".a";
+    return k;
+  };
+  EXPECT_FALSE(find_too_deep_nesting(dots(64) + " = 1\n"));
+  const auto key = find_too_deep_nesting("x = 1\n" + dots(65) + " = 1\n");
+  ASSERT_TRUE(key);
+  EXPECT_EQ(key->line, 2);
+  EXPECT_FALSE(find_too_deep_nesting("[" + dots(64) + "]\n"));
+  EXPECT_TRUE(find_too_deep_nesting("[[" + dots(65) + "]]\n"));
+  // A header of 40 and a dotted key of 30 below it: 70 levels.
+  const auto both = find_too_deep_nesting("[" + dots(40) + "]\n" + dots(30) + " = 1\n");
+  ASSERT_TRUE(both);
+  EXPECT_EQ(both->line, 2);
+  EXPECT_FALSE(find_too_deep_nesting("[" + dots(40) + "]\n" + dots(24) + " = 1\n"));
+  // The key x and 63 arrays: 64 levels; one more array is too deep.
+  EXPECT_FALSE(find_too_deep_nesting("x = " + std::string(63, '[') + std::string(63, ']') + "\n"));
+  EXPECT_TRUE(find_too_deep_nesting("x = " + std::string(64, '[') + std::string(64, ']') + "\n"));
+  // Arrays spanning lines keep their depth.
+  EXPECT_TRUE(find_too_deep_nesting("x = " + std::string(40, '[') + "\n" + std::string(30, '[') + "\n"));
+  // Dots and brackets in strings, comments and numbers are not nesting.
+  const std::string many(500, '.');
+  EXPECT_FALSE(find_too_deep_nesting("s = \"" + many + std::string(100, '[') + "\"\n"));
+  EXPECT_FALSE(find_too_deep_nesting("s = '''\n" + many + "\n'''\n# " + many + std::string(100, '{') + "\nv = 1.5\n"));
+  EXPECT_FALSE(find_too_deep_nesting("\"" + many + "\" = 1\n"));  // a quoted key with dots: one level
+  EXPECT_FALSE(find_too_deep_nesting("[study]\nkind = \"gimbal\" # [[[[\n[[group]]\nload = [{ mass = \"1 kg\" }]\n"));
+}
+
+TEST(TomlNesting, RealFilesAreWellWithinTheLimit) {
+  for (const char* f : {"studies/los_seeker_wang2011.toml", "studies/gimbal_unbalance_mc.toml",
+                        "studies/platform_balancing_sequence.toml", "models/seeker_two_axis_wang2011.toml",
+                        "models/platform_three_gimbal.toml"}) {
+    EXPECT_FALSE(studies::find_too_deep_nesting(read_text(source_path(f)))) << f;
+  }
+}
+
+TEST(TomlFile, ReadAgainAfterAChangeGivesTheNewTable) {
+  // Files are parsed once per text (a model is read by several stages): a changed file must
+  // still be read anew.
+  TempDir d;
+  const std::string f = d.file("m.toml");
+  write_text(f, "x = 1\n");
+  EXPECT_EQ(studies::parse_toml_file(f)["x"].value<int>(), 1);
+  EXPECT_EQ(studies::parse_toml_file(f)["x"].value<int>(), 1);
+  write_text(f, "x = 2\n");
+  EXPECT_EQ(studies::parse_toml_file(f)["x"].value<int>(), 2);
+  write_text(f, "x = [[[\n");
+  EXPECT_THROW(studies::parse_toml_file(f), studies::ValidationError);
+}
+
+TEST(ErrorList, AtMostTwentyErrorsThenHowManyMore) {
+  std::vector<InputError> errors;
+  for (int k = 1; k <= 27; ++k) errors.emplace_back(SourceLocation{"s.toml", k, 1}, "key" + std::to_string(k), "1", "x");
+  const std::string what = studies::ValidationError(errors).what();
+  EXPECT_NE(what.find("27 errors in the input"), std::string::npos) << what;
+  EXPECT_NE(what.find("key20"), std::string::npos);
+  EXPECT_EQ(what.find("key21"), std::string::npos) << what;
+  EXPECT_NE(what.find("\n  and 7 more"), std::string::npos) << what;
+  errors.erase(errors.begin() + 20, errors.end());
+  EXPECT_EQ(std::string(studies::ValidationError(errors).what()).find("more"), std::string::npos);
+  // A key or value of a million characters is echoed by its start and its length.
+  const InputError huge(SourceLocation{"s.toml", 3, 1}, std::string(1000000, 'k'), std::string(1000000, 'v'), "x");
+  const std::string h = huge.what();
+  EXPECT_LT(h.size(), 400u) << h.substr(0, 400);
+  EXPECT_NE(h.find("... (1000000 bytes)"), std::string::npos);
+}
 
 }  // namespace
 }  // namespace poise::test

@@ -342,8 +342,9 @@ TEST(Until, StopsAtTheSameReplicateForAnyThreadCount) {
   // Without replicates a Sobol design cannot grow: refused, with the reason.
   auto bad = poise::test::run_poise(d, "run '" + poise::test::source_path("studies/los_seeker_wang2011.toml") +
                                            "' --until 'los_max_arcsec.p95<=1' -q --out '" + d.file("bad") + "'");
-  EXPECT_EQ(bad.status, 1);
+  EXPECT_EQ(bad.status, 2);  // refused input, and nothing on disk
   EXPECT_NE(bad.err.find("replicate_size"), std::string::npos) << bad.err;
+  EXPECT_FALSE(fs::exists(d.file("bad")));
 }
 
 TEST(Failures, RecordedWithTheirSeedAndTooManyStopTheRun) {

@@ -199,7 +199,7 @@ TEST(StudyRunner, NeverOverwritesARun) {
   try {
     run_study(study, options(a, 1));
     FAIL() << "overwrote " << a;
-  } catch (const Error& e) {
+  } catch (const UsageError& e) {  // refused input: exit status 2
     EXPECT_NE(std::string(e.what()).find("already holds a run"), std::string::npos) << e.what();
   }
 }

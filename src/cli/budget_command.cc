@@ -221,6 +221,9 @@ int run_budget(const std::string& path, bool as_json, const std::string& out_dir
   } catch (const studies::ValidationError& e) {
     std::cerr << "poise: " << e.what() << "\nNothing was checked.\n";
     return 2;
+  } catch (const UsageError& e) {
+    std::cerr << "poise: " << e.what() << "\nNothing was checked.\n";
+    return 2;
   } catch (const std::exception& e) {
     std::cerr << "poise: error: " << e.what() << '\n';
     return 1;

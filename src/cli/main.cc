@@ -6,12 +6,14 @@
 #include <iostream>
 
 #include "cli/budget_command.h"
+#include "cli/count_check.h"
 #include "cli/diagnose_command.h"
 #include "cli/fit_command.h"
 #include "cli/keys_command.h"
 #include "cli/mass_properties_command.h"
 #include "cli/optimize_command.h"
 #include "cli/record_command.h"
+#include "core/error.h"
 #include "core/version.h"
 #include "sampling/distributed.h"
 #include "engine/study_runner.h"
@@ -36,6 +38,7 @@ Examples:
   poise fit data/yang2015/table1_loading_test_36pt.csv --json
   poise mass-properties rotor_disk.stl --unit mm --density "2700 kg/m^3"
   poise run studies/los_seeker_wang2011.toml --samples 100000 --seed 7 --threads 2 --out /tmp/los
+  poise run --resume /tmp/los
   poise replay studies/los_seeker_wang2011.toml --sample 42
   poise optimize studies/bearing_span_sizing.toml
   poise budget studies/wang2011_budget.toml --out /tmp/budget
@@ -48,7 +51,7 @@ summary.json (statistics with 95% confidence intervals, provenance), plots/ and 
 Long runs: samples stream to samples.csv as they finish. Ctrl-C (SIGINT) or SIGTERM stops
 after the block in flight and writes the summary of what was done; a second Ctrl-C, or
 kill -9, ends at once, and every finished sample stays on disk either way. Complete the run
-with `poise run STUDY --resume DIR`: the result equals an uninterrupted run's. summary.json,
+with `poise run --resume DIR` (run.json names the study file): the result equals an uninterrupted run's. summary.json,
 run.json and report.html are written atomically (never half a file).
   poise run studies/los_seeker_wang2011.toml --until "los_max_arcsec.p99_73<=0.5"
       sample until the 95% interval of p99.73 is 0.5 arcsec wide (Monte Carlo, or lhs/sobol
@@ -61,8 +64,16 @@ run.json and report.html are written atomically (never half a file).
       statistics as one process. A sample that fails is kept with its reason; the run stops
       with an error once more than [sampling] max_failure_share (default 0.05) of it failed.
 
-Exit status: 0 success, 2 invalid input (nothing ran), 1 other failure (too many failed
-samples included), 128 + signal when stopped by SIGINT/SIGTERM (resumable).)";
+Exit status, the same for every command:
+  0        success
+  2        invalid input or command line: a study, model or data file refused, an unknown
+           option, a value out of range, --out into a folder that holds a run, a sample index
+           past the run's end; nothing ran and nothing was created
+  1        a run that failed: too many failed samples, a disk full or another failed write
+           (the message names the file and the system's reason; run.json says "failed";
+           `poise run --resume DIR` continues once the cause is fixed)
+  128 + N  stopped by signal N (130 for SIGINT, 143 for SIGTERM); resumable
+  3        `poise optimize` only: the best design found was not verified)";
 
 }  // namespace
 
@@ -76,7 +87,14 @@ int main(int argc, char** argv) {
     std::cerr << "poise: error: " << e.what() << '\n';
     return 1;
   }
-  const int status = run_main(argc, argv);
+  int status = 1;
+  try {
+    status = run_main(argc, argv);
+  } catch (const std::exception& e) {  // the last guard: nothing leaves Poise as an abort
+    std::cerr << "poise: error: " << e.what() << '\n';
+  } catch (...) {
+    std::cerr << "poise: error: an unknown exception\n";
+  }
   if (status == 1 && poise::sampling::Cluster::size() > 1) {
     // An error on one rank (rank 0 writing the folder, say) must not leave the others
     // waiting for it: end them all, after rank 0 had a moment to print why.
@@ -100,17 +118,20 @@ int run_main(int argc, char** argv) {
   std::uint64_t seed = 0;
   bool quiet = false, no_plots = false;
 
-  auto add_common = [&](CLI::App* sub) {
-    sub->add_option("STUDY", study, "study file (TOML), e.g. studies/los_seeker_wang2011.toml")
-        ->required()
-        ->check(CLI::ExistingFile);
+  auto add_common = [&](CLI::App* sub, bool resumable) {
+    CLI::Option* file = sub->add_option(
+        "STUDY", study,
+        resumable ? "study file (TOML), e.g. studies/los_seeker_wang2011.toml; with --resume, run.json names it"
+                  : "study file (TOML), e.g. studies/los_seeker_wang2011.toml");
+    file->check(CLI::ExistingFile);
+    if (!resumable) file->required();
     sub->add_option("--samples,-n", samples, "number of samples (overrides [sampling] samples)")
-        ->check(CLI::PositiveNumber);
+        ->check(poise::cli::at_least_one());
     sub->add_option("--seed,-s", seed, "random seed (overrides [sampling] seed); same seed, same samples");
   };
 
   CLI::App* run = app.add_subcommand("run", "validate a study, run it and write its result folder");
-  add_common(run);
+  add_common(run, true);
   run->add_option("--threads,-j", opt.threads,
                   "worker threads (default: all cores); results do not depend on it")
       ->check(CLI::NonNegativeNumber);
@@ -131,7 +152,7 @@ int run_main(int argc, char** argv) {
   std::size_t max_samples = 0;
   run->add_option("--max-samples", max_samples, "cap of an --until run (default 100 x the study's samples)")
       ->needs("--until")
-      ->check(CLI::PositiveNumber);
+      ->check(poise::cli::at_least_one());
   run->add_flag("--quiet,-q", quiet, "no progress on stderr");
   run->add_flag("--no-plots", no_plots, "skip gnuplot figures");
 
@@ -143,10 +164,10 @@ int run_main(int argc, char** argv) {
       "indices with 95% bootstrap intervals in summary.json \"sensitivity\" and report.html. Resumable like a run "
       "(--resume), and distributed under mpirun.");
   std::size_t base = 0;
-  sens->add_option("STUDY", study, "study file (TOML)")->required()->check(CLI::ExistingFile);
+  sens->add_option("STUDY", study, "study file (TOML); with --resume, run.json names it")->check(CLI::ExistingFile);
   sens->add_option("--base,-b", base, "base rows N (each index's interval narrows as 1/sqrt(N); 64-256 for a "
                                       "simulated procedure, 1000+ for a LOS study)")
-      ->check(CLI::PositiveNumber);
+      ->check(poise::cli::at_least_one());
   sens->add_option("--seed,-s", seed, "random seed (overrides [sampling] seed)");
   sens->add_option("--threads,-j", opt.threads, "worker threads (default: all cores)")->check(CLI::NonNegativeNumber);
   sens->add_option("--out,-o", opt.out, "result folder (default results/<study>/<run id>)");
@@ -160,7 +181,7 @@ int run_main(int argc, char** argv) {
 
   std::size_t index = 0;
   CLI::App* replay = app.add_subcommand("replay", "recompute one sample alone and print it as JSON");
-  add_common(replay);
+  add_common(replay, false);
   replay->add_option("--sample,-i", index, "sample index (0-based, as in samples.csv)")->required();
 
   const poise::cli::FitHandler fit = poise::cli::add_fit_command(app);
@@ -171,7 +192,18 @@ int run_main(int argc, char** argv) {
   const poise::cli::BudgetHandler budget = poise::cli::add_budget_command(app);
   const poise::cli::MassPropertiesHandler mass_properties = poise::cli::add_mass_properties_command(app);
 
-  CLI11_PARSE(app, argc, argv);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp& e) {
+    return app.exit(e);  // 0
+  } catch (const CLI::CallForAllHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForVersion& e) {
+    return app.exit(e);
+  } catch (const CLI::ParseError& e) {
+    app.exit(e);  // prints CLI11's message and "Run with --help for more information."
+    return 2;     // a command-line mistake is invalid input, whatever CLI11's own code
+  }
   if (poise::sampling::Cluster::size() > 1 && !*run && !*sens) {
     if (poise::sampling::Cluster::root()) {
       std::cerr << "poise: under mpirun only `poise run` and `poise sensitivity` distribute their samples; run "
@@ -179,13 +211,41 @@ int run_main(int argc, char** argv) {
     }
     return 2;
   }
-  if (const auto status = fit()) return *status;
-  if (const auto status = diagnose()) return *status;
-  if (const auto status = record()) return *status;
-  if (const auto status = optimize()) return *status;
-  if (const auto status = keys()) return *status;
-  if (const auto status = budget()) return *status;
-  if (const auto status = mass_properties()) return *status;
+  // Every command's exceptions end here: refused input 2, an interruption 128 + signal,
+  // any other failure 1, each with its message (the commands catch what they can name).
+  try {
+    if (const auto status = fit()) return *status;
+    if (const auto status = diagnose()) return *status;
+    if (const auto status = record()) return *status;
+    if (const auto status = optimize()) return *status;
+    if (const auto status = keys()) return *status;
+    if (const auto status = budget()) return *status;
+    if (const auto status = mass_properties()) return *status;
+  } catch (const poise::UsageError& e) {
+    std::cerr << "poise: " << e.what() << "\nNothing was run.\n";
+    return 2;
+  } catch (const poise::studies::ValidationError& e) {
+    std::cerr << "poise: " << e.what() << "\nNothing was run.\n";
+    return 2;
+  } catch (const poise::studies::Interrupted& e) {
+    std::cerr << "\npoise: " << e.what() << '\n';
+    return 128 + e.signal;
+  } catch (const std::exception& e) {
+    std::cerr << "poise: error: " << e.what() << '\n';
+    return 1;
+  }
+  if ((*run || *sens) && study.empty()) {
+    if (opt.resume.empty()) {
+      std::cerr << "poise: STUDY is required (the study file), or --resume DIR to continue a run\n";
+      return 2;
+    }
+    try {
+      study = poise::studies::study_file_of_run(opt.resume);
+    } catch (const std::exception& e) {
+      std::cerr << "poise: " << e.what() << "\nNothing was run.\n";
+      return 2;
+    }
+  }
   if (samples > 0) opt.samples = samples;
   if (max_samples > 0) opt.max_samples = max_samples;
   if (*sens) {
@@ -214,6 +274,9 @@ int run_main(int argc, char** argv) {
       std::cout << poise::studies::replay_sample(study, index, opt).dump(2) << '\n';
     }
   } catch (const poise::studies::ValidationError& e) {
+    if (root) std::cerr << "poise: " << e.what() << "\nNothing was run.\n";
+    return 2;
+  } catch (const poise::UsageError& e) {
     if (root) std::cerr << "poise: " << e.what() << "\nNothing was run.\n";
     return 2;
   } catch (const poise::studies::Interrupted& e) {

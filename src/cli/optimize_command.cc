@@ -5,6 +5,7 @@
 #include <memory>
 #include <optional>
 
+#include "core/error.h"
 #include "optimize/optimization_study.h"
 #include "engine/toml_reader.h"
 
@@ -107,6 +108,9 @@ OptimizeHandler add_optimize_command(CLI::App& app) {
       std::cout << "answer: " << r.answer << "\nreport: " << r.dir << "/report.html\n";
       return r.exit_status;
     } catch (const studies::ValidationError& e) {
+      std::cerr << "poise: " << e.what() << "\nNothing was run.\n";
+      return optimize::kExitInvalidInput;
+    } catch (const UsageError& e) {  // e.g. --out into a folder that holds a run
       std::cerr << "poise: " << e.what() << "\nNothing was run.\n";
       return optimize::kExitInvalidInput;
     } catch (const std::exception& e) {

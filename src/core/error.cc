@@ -4,6 +4,15 @@
 
 namespace poise {
 namespace {
+// A key or value as echoed in a message: whole up to a screen line's worth, else its start
+// and its length (a 3 MB value must not become a 3 MB message).
+std::string bounded(const std::string& text, std::size_t limit) {
+  if (text.size() <= limit) return text;
+  std::size_t cut = 80;
+  while (cut > 0 && (static_cast<unsigned char>(text[cut]) & 0xC0) == 0x80) --cut;  // whole UTF-8 characters
+  return text.substr(0, cut) + "... (" + std::to_string(text.size()) + " bytes)";
+}
+
 std::string format(const SourceLocation& where, const std::string& key, const std::string& value,
                    const std::string& expected) {
   std::string out;
@@ -12,8 +21,8 @@ std::string format(const SourceLocation& where, const std::string& key, const st
     out.append(":").append(std::to_string(where.line));
     if (where.column > 0) out.append(":").append(std::to_string(where.column));
   }
-  out.append(": key '").append(key).append("'");
-  if (!value.empty()) out.append(" = ").append(value);
+  out.append(": key '").append(bounded(key, 120)).append("'");
+  if (!value.empty()) out.append(" = ").append(bounded(value, 200));
   out.append(": expected ").append(expected);
   return out;
 }

@@ -13,6 +13,14 @@ class Error : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+/// A command refused as given (a command-line value out of range, an --out folder that
+/// already holds a run, a sample index past the run's end): nothing ran. Exit status 2,
+/// like an invalid input file.
+class UsageError : public Error {
+ public:
+  using Error::Error;
+};
+
 /// Where a value came from in an input file. line/column are 1-based; 0 = unknown.
 struct SourceLocation {
   std::string file;

@@ -8,6 +8,7 @@
 #include "core/error.h"
 #include "engine/result_io.h"
 #include "engine/study_runner.h"
+#include "sampling/interrupt.h"
 
 namespace poise::studies {
 using nlohmann::json;
@@ -33,7 +34,7 @@ UntilTarget parse_until(const std::string& text, const std::vector<std::string>&
     return s;
   };
   if (op == std::string::npos || dot == std::string::npos) {
-    throw Error("--until \"" + text + "\": expected OUTPUT.STAT<=WIDTH, e.g. \"los_max_arcsec.p99_73<=0.5\" or "
+    throw UsageError("--until \"" + text + "\": expected OUTPUT.STAT<=WIDTH, e.g. \"los_max_arcsec.p99_73<=0.5\" or "
                 "\"los_max_arcsec.p95<=1%\" (STAT: mean, std, p50, p95, p99_73; WIDTH: the 95% interval's full width "
                 "in the output's unit, or a percentage of the figure)");
   }
@@ -46,19 +47,19 @@ UntilTarget parse_until(const std::string& text, const std::vector<std::string>&
     w.pop_back();
   }
   if (std::find(outputs.begin(), outputs.end(), t.output) == outputs.end()) {
-    throw Error("--until \"" + text + "\": no output \"" + t.output + "\" in this study; its outputs are " + listing());
+    throw UsageError("--until \"" + text + "\": no output \"" + t.output + "\" in this study; its outputs are " + listing());
   }
   if (std::find(std::begin(kStatistics), std::end(kStatistics), t.statistic) == std::end(kStatistics)) {
-    throw Error("--until \"" + text + "\": statistic \"" + t.statistic + "\" is not one of mean, std, p50, p95, p99_73");
+    throw UsageError("--until \"" + text + "\": statistic \"" + t.statistic + "\" is not one of mean, std, p50, p95, p99_73");
   }
   try {
     std::size_t used = 0;
     t.width = std::stod(w, &used);
     if (used != w.size()) throw Error("");
   } catch (...) {
-    throw Error("--until \"" + text + "\": width \"" + w + "\" is not a number");
+    throw UsageError("--until \"" + text + "\": width \"" + w + "\" is not a number");
   }
-  if (!(t.width > 0) || !std::isfinite(t.width)) throw Error("--until \"" + text + "\": the width must be positive");
+  if (!(t.width > 0) || !std::isfinite(t.width)) throw UsageError("--until \"" + text + "\": the width must be positive");
   if (t.relative) t.width /= 100.0;
   return t;
 }
@@ -197,6 +198,15 @@ void finish_run_status(const std::string& status, const std::string& reason, int
     throw Error(reason + ". The run stopped; " + dir + "/samples.csv keeps every sample with its reason and " + dir +
                 "/summary.json lists the first failures with the command that replays each. Raise [sampling] "
                 "max_failure_share if such failures are expected.");
+  }
+  // A signal while the summary and report were written: every sample had run and the files
+  // are whole, but the stop asked for is honoured in the exit status.
+  if (sampling::interrupt_requested()) {
+    const int sig = sampling::interrupt_signal();
+    throw Interrupted(std::string(sig == 2 ? "SIGINT" : sig == 15 ? "SIGTERM" : "a signal") +
+                          " while the results were written: the run is complete (" + std::to_string(ran) +
+                          " samples); " + dir + " holds samples.csv, summary.json and report.html",
+                      sig);
   }
 }
 

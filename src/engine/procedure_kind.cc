@@ -21,7 +21,7 @@ std::string ProcedureKind::run(const StudyConfig& cfg, const RunOptions& options
 
 nlohmann::json ProcedureKind::replay(const StudyConfig& cfg, std::size_t index, const RunOptions& options) const {
   const std::size_t n = options.samples.value_or(cfg.samples);
-  if (index >= n) throw Error("sample index " + std::to_string(index) + " is outside 0.." + std::to_string(n - 1));
+  if (index >= n) throw UsageError("sample index " + std::to_string(index) + " is outside 0.." + std::to_string(n - 1));
   const auto study = make_study(cfg, cfg.overrides, n, options.seed.value_or(cfg.seed));
   return replay_procedure_sample(*study, index);
 }

@@ -139,7 +139,7 @@ std::string run_procedure_study(const StudyConfig& cfg_in, const StudyFactory& m
   RunPlan plan = plan_run(cfg, options, [&] {
     const auto probe = make_study(cfg, 1, cfg.seed);
     return std::make_pair(probe->design_dimension_names().size(), probe->has_own_randomness());
-  });
+  }, [&] { return make_study(cfg, 1, cfg.seed)->output_names(); });
   const std::size_t n = plan.samples;
   const std::uint64_t seed = plan.seed;
   const int threads = plan.threads;
@@ -160,7 +160,7 @@ std::string run_procedure_study(const StudyConfig& cfg_in, const StudyFactory& m
     done = read_done_samples(csv_path, header, study.input_names().size(), study.output_names().size());
     if (options.progress && root) std::fprintf(stderr, "  resuming: %zu of %zu samples already done\n", done.size(), n);
   }
-  std::ofstream csv = open_samples_csv(plan, header, !options.resume.empty());
+  CheckedFile csv = open_samples_csv(plan, header, !options.resume.empty());
   sampling::InterruptGuard interrupts;
   auto rule = std::make_shared<StopRule>(study.output_names(), n, cfg.max_failure_share, until, cfg.replicate_size,
                                          options.progress && root);
@@ -168,13 +168,14 @@ std::string run_procedure_study(const StudyConfig& cfg_in, const StudyFactory& m
   control.distributed = true;
   control.stop = [rule](const McResult& r) { return (*rule)(r.values, r.ok_index, r.failures, r.ok_index.size() + r.failures); };
   McResult mc = study.run(threads, options.progress, [&](std::span<const SampleResult> block) {
+    std::string rows;
     for (const auto& s : block) {
-      csv << s.index << ',' << (s.ok ? "ok" : "failed");
-      for (double v : s.inputs) csv << ',' << csv_number(v);
-      for (double v : s.outputs) csv << ',' << csv_number(v);
-      csv << ',' << s.solver_steps << ',' << csv_text(s.message) << '\n';
+      rows += std::to_string(s.index) + ',' + (s.ok ? "ok" : "failed");
+      for (double v : s.inputs) rows += ',' + csv_number(v);
+      for (double v : s.outputs) rows += ',' + csv_number(v);
+      rows += ',' + std::to_string(s.solver_steps) + ',' + csv_text(s.message) + '\n';
     }
-    csv.flush();
+    csv.write(rows);  // the first refused write stops the run (WriteError)
   }, done, control);
   if (!root) return "";  // rank 0 writes the folder
   csv.close();

@@ -88,7 +88,7 @@ std::string make_run_folder(const std::string& results_root, const std::string& 
   std::error_code ec;
   if (!out.empty()) {
     if (fs::exists(fs::path(out) / "samples.csv")) {
-      throw Error("--out " + out + " already holds a run (samples.csv); choose a new folder");
+      throw UsageError("--out " + out + " already holds a run (samples.csv); choose a new folder");
     }
     fs::create_directories(out, ec);
     if (ec) throw Error("cannot create output folder " + out + ": " + ec.message());

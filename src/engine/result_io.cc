@@ -6,6 +6,7 @@
 #include <fstream>
 
 #include "core/error.h"
+#include "engine/checked_file.h"
 
 #include <cstdio>
 
@@ -37,15 +38,21 @@ std::string csv_number(double v) {
 
 void write_file_atomic(const std::string& path, const std::string& text) {
   const std::string tmp = path + ".tmp";
-  {
-    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    out << text;
-    out.flush();
-    if (!out) throw Error("cannot write " + tmp);
-  }
   std::error_code ec;
+  try {
+    CheckedFile out(tmp, false);
+    out.write(text);
+    out.close();
+  } catch (const WriteError&) {
+    std::filesystem::remove(tmp, ec);  // never leave a half-written .tmp behind
+    throw;
+  }
   std::filesystem::rename(tmp, path, ec);
-  if (ec) throw Error("cannot move " + tmp + " to " + path + ": " + ec.message());
+  if (ec) {
+    const std::string reason = ec.message();
+    std::filesystem::remove(tmp, ec);
+    throw WriteError(path, "cannot move " + tmp + " over it: " + reason);
+  }
 }
 
 std::string csv_text(std::string s) {

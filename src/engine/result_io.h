@@ -17,7 +17,8 @@ std::string csv_number(double v);
 /// Free text for one CSV cell: quotes, commas and newlines become spaces.
 std::string csv_text(std::string s);
 /// Writes a whole file atomically: to a temporary beside it, flushed, then renamed over the
-/// target, so a reader (or a run killed meanwhile) never sees half a file. Throws on failure.
+/// target, so a reader (or a run killed meanwhile) never sees half a file. Throws WriteError
+/// ("<file>: <system's reason>") on failure, the temporary removed.
 void write_file_atomic(const std::string& path, const std::string& text);
 /// Text for HTML.
 std::string html_escape(const std::string& s);

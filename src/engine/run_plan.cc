@@ -18,7 +18,8 @@ namespace fs = std::filesystem;
 using nlohmann::json;
 
 RunPlan plan_run(StudyConfig& cfg, const RunOptions& options,
-                 const std::function<std::pair<std::size_t, bool>()>& design_groups) {
+                 const std::function<std::pair<std::size_t, bool>()>& design_groups,
+                 const std::function<std::vector<std::string>()>& output_names) {
   const bool root = sampling::Cluster::root();
   RunPlan p;
   p.samples = options.samples.value_or(cfg.samples);
@@ -28,15 +29,18 @@ RunPlan plan_run(StudyConfig& cfg, const RunOptions& options,
   p.threads = options.threads > 0 ? options.threads
                                   : std::max(1, static_cast<int>(std::max(1u, std::thread::hardware_concurrency())) /
                                                     std::max(1, sampling::Cluster::local_size()));
-  if (p.samples == 0) throw Error("--samples must be at least 1");
+  if (p.samples == 0) throw UsageError("--samples must be at least 1");
   if (!options.resume.empty()) {
     p.dir = options.resume;
     std::ifstream mf(fs::path(p.dir) / "run.json");
-    if (!mf) throw Error("--resume " + p.dir + ": no run.json there (not a run folder of Poise)");
-    p.manifest = json::parse(mf);
+    if (!mf) throw UsageError("--resume " + p.dir + ": no run.json there (not a run folder of Poise)");
+    p.manifest = json::parse(mf, nullptr, false);
+    if (p.manifest.is_discarded() || !p.manifest.is_object()) {
+      throw UsageError("--resume " + p.dir + ": run.json is not valid JSON");
+    }
     if (p.manifest.value("study_file_sha1", "") != file_sha1(cfg.file) ||
         p.manifest.value("model_file_sha1", "") != file_sha1(cfg.model_path)) {
-      throw Error("--resume " + p.dir + ": the study or model file changed since the run began; start a new run");
+      throw UsageError("--resume " + p.dir + ": the study or model file changed since the run began; start a new run");
     }
     p.samples = p.manifest.at("samples").get<std::size_t>();
     p.seed = p.manifest.at("seed").get<std::uint64_t>();
@@ -52,9 +56,9 @@ RunPlan plan_run(StudyConfig& cfg, const RunOptions& options,
     p.samples = p.sensitivity_base * (dimensions + (own_randomness ? 1 : 0) + 2);
   }
   if (!p.until_text.empty()) {
-    if (p.sensitivity_base > 0) throw Error("--until does not apply to a sensitivity run (its size is set by --base)");
+    if (p.sensitivity_base > 0) throw UsageError("--until does not apply to a sensitivity run (its size is set by --base)");
     if (cfg.method != sampling::SamplingMethod::kMonteCarlo && cfg.replicate_size == 0) {
-      throw Error("--until needs samples that can grow: method = \"monte_carlo\", or lhs/sobol with [sampling] "
+      throw UsageError("--until needs samples that can grow: method = \"monte_carlo\", or lhs/sobol with [sampling] "
                   "replicate_size (independent randomized replicates; an lhs or sobol design of N points is not "
                   "the first N points of a larger one)");
     }
@@ -63,9 +67,13 @@ RunPlan plan_run(StudyConfig& cfg, const RunOptions& options,
       p.samples = std::max(cfg.replicate_size, p.samples / cfg.replicate_size * cfg.replicate_size);
     }
   }
+  // A refused --until is refused before the result folder exists: a refused command
+  // leaves nothing on disk.
+  if (!p.until_text.empty()) parse_until(p.until_text, output_names());
   if (options.resume.empty()) {
     if (root) p.dir = make_run_folder(options.results_root, cfg.name, options.out);
-    p.manifest = {{"kind", cfg.kind}, {"study_file_sha1", file_sha1(cfg.file)},
+    p.manifest = {{"kind", cfg.kind}, {"study_file", fs::absolute(cfg.file).string()},
+                  {"study_file_sha1", file_sha1(cfg.file)},
                   {"model_file_sha1", file_sha1(cfg.model_path)}, {"samples", p.samples}, {"seed", p.seed},
                   {"method", sampling::to_string(cfg.method)}, {"replicate_size", cfg.replicate_size},
                   {"until", p.until_text}, {"sensitivity_base", p.sensitivity_base},
@@ -74,6 +82,20 @@ RunPlan plan_run(StudyConfig& cfg, const RunOptions& options,
   }
   p.started = p.manifest.value("started", now_iso8601());
   return p;
+}
+
+std::string study_file_of_run(const std::string& dir) {
+  const std::string path = (fs::path(dir) / "run.json").string();
+  std::ifstream in(path);
+  if (!in) throw UsageError("--resume " + dir + ": no run.json there (not a run folder of Poise)");
+  const json manifest = json::parse(in, nullptr, false);
+  if (manifest.is_discarded() || !manifest.is_object()) throw UsageError(path + ": not valid JSON");
+  const auto it = manifest.find("study_file");
+  if (it == manifest.end() || !it->is_string()) {
+    throw UsageError(path + " names no study file (a run begun by an older Poise): give it, "
+                     "`poise run STUDY --resume " + dir + "`");
+  }
+  return it->get<std::string>();
 }
 
 std::optional<UntilTarget> plan_until(const RunPlan& plan, const std::vector<std::string>& outputs) {
@@ -94,12 +116,17 @@ void announce_run(const StudyConfig& cfg, const RunPlan& plan, const std::option
 
 std::string read_complete_rows(const std::string& csv_path, const std::string& header) {
   std::ifstream in(csv_path, std::ios::binary);
-  if (!in) throw Error("--resume: cannot read " + csv_path);
+  if (!in) throw UsageError("--resume: cannot read " + csv_path);
   std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   in.close();
+  if (text.size() <= header.size() && header.compare(0, text.size(), text) == 0) {
+    // A disk that filled up while the header was written: the header again, no rows yet.
+    write_file_atomic(csv_path, header + "\n");
+    return "";
+  }
   const std::size_t complete = text.rfind('\n');
   if (complete == std::string::npos || text.compare(0, header.size() + 1, header + "\n") != 0) {
-    throw Error("--resume: " + csv_path + " does not start with this study's header");
+    throw UsageError("--resume: " + csv_path + " does not start with this study's header");
   }
   if (complete + 1 != text.size()) {  // cut the partial line an interruption left
     text.resize(complete + 1);
@@ -108,13 +135,10 @@ std::string read_complete_rows(const std::string& csv_path, const std::string& h
   return text.substr(header.size() + 1);
 }
 
-std::ofstream open_samples_csv(const RunPlan& plan, const std::string& header, bool resume) {
-  std::ofstream csv;
-  if (!sampling::Cluster::root()) return csv;
-  const std::string path = (fs::path(plan.dir) / "samples.csv").string();
-  csv.open(path, resume ? std::ios::app : std::ios::trunc);
-  if (!csv) throw Error("cannot write " + path);
-  if (!resume) csv << header << '\n' << std::flush;
+CheckedFile open_samples_csv(const RunPlan& plan, const std::string& header, bool resume) {
+  if (!sampling::Cluster::root()) return {};
+  CheckedFile csv((fs::path(plan.dir) / "samples.csv").string(), resume);
+  if (!resume) csv.write(header + "\n");
   return csv;
 }
 
@@ -122,6 +146,40 @@ void finish_manifest(RunPlan& plan, const std::string& status, std::size_t compl
   plan.manifest["status"] = status;
   plan.manifest["completed"] = completed;
   write_file_atomic((fs::path(plan.dir) / "run.json").string(), plan.manifest.dump(2) + "\n");
+}
+
+namespace {
+
+// Sets "status": "failed" and the reason in a JSON file of the folder, if it is there and
+// can still be written (a full disk may refuse even that: then it stays as it was).
+void mark_failed(const fs::path& file, const std::string& reason) {
+  std::error_code ec;
+  if (!fs::exists(file, ec)) return;
+  try {
+    std::ifstream in(file);
+    json j = json::parse(in, nullptr, false);
+    in.close();
+    if (j.is_discarded() || !j.is_object()) return;
+    j["status"] = "failed";
+    j["stop_reason"] = reason;
+    write_file_atomic(file.string(), j.dump(2) + "\n");
+  } catch (const std::exception&) {
+  }
+}
+
+}  // namespace
+
+std::string record_write_failure(const std::string& failed_file, const std::string& reason) {
+  std::error_code ec;
+  fs::path dir = fs::path(failed_file).parent_path();
+  for (int up = 0; up < 2 && !dir.empty(); ++up, dir = dir.parent_path()) {
+    if (fs::exists(dir / "run.json", ec) || fs::exists(dir / "samples.csv", ec)) {
+      mark_failed(dir / "run.json", reason);
+      mark_failed(dir / "summary.json", reason);
+      return dir.string();
+    }
+  }
+  return "";
 }
 
 }  // namespace poise::studies

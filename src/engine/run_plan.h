@@ -12,6 +12,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "engine/checked_file.h"
 #include "engine/convergence.h"
 #include "engine/study_config.h"
 #include "engine/study_runner.h"
@@ -31,10 +32,12 @@ struct RunPlan {
 
 /// Plans the run of `cfg` (which it sets up for the sensitivity layout when asked:
 /// `design_groups()` returns the study's design dimensions and whether its samples have
-/// randomness of their own). Throws Error on a folder that cannot be resumed or an --until
-/// that cannot apply.
+/// randomness of their own); `output_names()` lists the study's outputs (an --until target is checked against them
+/// before the folder is made). Throws UsageError on a folder that cannot be resumed or an
+/// --until that cannot apply, and creates nothing then.
 RunPlan plan_run(StudyConfig& cfg, const RunOptions& options,
-                 const std::function<std::pair<std::size_t, bool>()>& design_groups);
+                 const std::function<std::pair<std::size_t, bool>()>& design_groups,
+                 const std::function<std::vector<std::string>()>& output_names);
 
 /// The --until target of a plan (parsed against the study's outputs), if any.
 std::optional<UntilTarget> plan_until(const RunPlan& plan, const std::vector<std::string>& outputs);
@@ -47,11 +50,16 @@ void announce_run(const StudyConfig& cfg, const RunPlan& plan, const std::option
 /// this study's.
 std::string read_complete_rows(const std::string& csv_path, const std::string& header);
 
-/// samples.csv of the run on rank 0 (a closed stream elsewhere): a new file with its header,
-/// or a resumed run's, to append to.
-std::ofstream open_samples_csv(const RunPlan& plan, const std::string& header, bool resume);
+/// samples.csv of the run on rank 0 (a closed file elsewhere): a new file with its header,
+/// or a resumed run's, to append to. Every write is checked (WriteError).
+CheckedFile open_samples_csv(const RunPlan& plan, const std::string& header, bool resume);
 
 /// Records the run's end in run.json: status and completed samples (rank 0).
 void finish_manifest(RunPlan& plan, const std::string& status, std::size_t completed);
+
+/// After a write the system refused (WriteError on `failed_file`): the run folder holding it
+/// (found beside it or one level up) gets "status": "failed" and the reason in run.json and
+/// summary.json where they exist and can still be written. Returns the folder ("" if none).
+std::string record_write_failure(const std::string& failed_file, const std::string& reason);
 
 }  // namespace poise::studies

@@ -44,6 +44,10 @@ struct Interrupted : std::runtime_error {
 /// Throws ValidationError before anything runs if a file is invalid.
 std::string run_study(const std::string& study_path, const RunOptions& options);
 
+/// The study file a run folder's run.json records (for `poise run --resume DIR` without the
+/// study path). Throws UsageError when DIR holds no run.json or it names no study file.
+std::string study_file_of_run(const std::string& dir);
+
 /// Validates a study and its model; returns a short human summary. Throws ValidationError.
 std::string validate_study(const std::string& study_path);
 

@@ -1,8 +1,15 @@
 #include "engine/toml_reader.h"
 
+#include "engine/toml_nesting.h"
+
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <fstream>
+#include <deque>
+#include <iterator>
+#include <mutex>
+#include <optional>
 #include <sstream>
 
 namespace poise::studies {
@@ -10,7 +17,9 @@ namespace {
 std::string join_errors(const std::vector<InputError>& errors) {
   std::string out = std::to_string(errors.size()) + (errors.size() == 1 ? " error" : " errors") +
                     " in the input:";
-  for (const auto& e : errors) out += "\n  " + std::string(e.what());
+  constexpr std::size_t kMaxListed = 20;  // a message a person reads, not a dump
+  for (std::size_t k = 0; k < errors.size() && k < kMaxListed; ++k) out += "\n  " + std::string(errors[k].what());
+  if (errors.size() > kMaxListed) out += "\n  and " + std::to_string(errors.size() - kMaxListed) + " more";
   return out;
 }
 
@@ -143,6 +152,35 @@ void KeySchemaRecorder::add(const ReadContext& ctx) {
   }
 }
 
+namespace {
+
+// The last files parsed, with their text: a study's model file is read by several stages
+// (validation, references, outputs, the run), and a file holding a 1 MB string must not be
+// parsed ten times. A file is taken from here only when its text is unchanged.
+struct ParsedFile {
+  std::string path, text;
+  toml::table table;
+};
+std::mutex g_parsed_mutex;
+std::deque<ParsedFile> g_parsed;
+
+std::optional<toml::table> parsed_before(const std::string& path, const std::string& text) {
+  const std::lock_guard<std::mutex> lock(g_parsed_mutex);
+  for (const auto& f : g_parsed) {
+    if (f.path == path && f.text == text) return f.table;
+  }
+  return std::nullopt;
+}
+
+void remember_parsed(const std::string& path, std::string text, const toml::table& table) {
+  constexpr std::size_t kKept = 4;
+  const std::lock_guard<std::mutex> lock(g_parsed_mutex);
+  g_parsed.push_front(ParsedFile{path, std::move(text), table});
+  if (g_parsed.size() > kKept) g_parsed.pop_back();
+}
+
+}  // namespace
+
 toml::table parse_toml_file(const std::string& path) {
   if (const KeySchemaRecorder* rec = KeySchemaRecorder::active()) {
     toml::table t;
@@ -170,8 +208,25 @@ toml::table parse_toml_file(const std::string& path) {
                                       "a readable TOML file (a regular file of at most " +
                                           std::to_string(kMaxInputFileBytes >> 20) + " MiB)")});
   }
+  std::ifstream in(path, std::ios::binary);
+  if (!in) {
+    throw ValidationError({InputError(SourceLocation{path, 0, 0}, "(file)", "cannot be opened",
+                                      "a readable TOML file")});
+  }
+  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  if (auto parsed = parsed_before(path, text)) return std::move(*parsed);
+  // toml++ descends recursively: a file nested tens of thousands of levels deep would
+  // overflow the stack. Such a file is refused before it is parsed.
+  if (const auto deep = find_too_deep_nesting(text)) {
+    throw ValidationError({InputError(SourceLocation{path, deep->line, deep->column}, "(syntax)", "",
+                                      "valid TOML nested at most " + std::to_string(kMaxTomlNesting) +
+                                          " levels deep (table headers, dotted keys, arrays and inline tables "
+                                          "together); it goes deeper here")});
+  }
   try {
-    return toml::parse_file(path);
+    toml::table table = toml::parse(text, path);
+    remember_parsed(path, std::move(text), table);
+    return table;
   } catch (const toml::parse_error& e) {
     SourceLocation loc{path, static_cast<int>(e.source().begin.line),
                        static_cast<int>(e.source().begin.column)};

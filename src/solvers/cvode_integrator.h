@@ -19,6 +19,19 @@ namespace poise::solvers {
 
 using RhsFunction = int (*)(double t, const double* y, double* ydot, void* user_data);
 
+/// Relative tolerances CVODE can meet. Below ~100 x the double's unit roundoff (2.2e-16) it
+/// cannot reach the accuracy asked and every integration fails ("tolerance too small"); above
+/// 0.1 the error control no longer keeps the solution a solution.
+inline constexpr double kMinRelativeTolerance = 1e-13;
+inline constexpr double kMaxRelativeTolerance = 0.1;
+/// "" if `rtol` is one CVODE can meet, else what is expected (for a model file's solver.rtol).
+inline const char* relative_tolerance_problem(double rtol) {
+  return rtol >= kMinRelativeTolerance && rtol <= kMaxRelativeTolerance
+             ? ""
+             : "a relative tolerance CVODE can meet, 1e-13 <= rtol <= 0.1 (tighter than ~100 x the "
+               "double's 2.2e-16 every sample fails)";
+}
+
 struct CvodeOptions {
   double rtol = 1e-7;
   double atol = 1e-10;     ///< absolute tolerance, same for every component...

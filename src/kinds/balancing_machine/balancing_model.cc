@@ -109,7 +109,7 @@ BalancingModel load_balancing_model(const std::string& path, const std::map<std:
   {
     TomlReader t = root.table("solver");
     auto& s = m.run.solver;
-    s.rtol = t.number("rtol", [](double v) { return v > 0 && v < 1 ? "" : "0 < rtol < 1"; });
+    s.rtol = t.number("rtol", [](double v) { return std::string(solvers::relative_tolerance_problem(v)); });
     s.atol = t.number("atol", [](double v) { return v > 0 && v < 1 ? "" : "0 < atol < 1 (relative to the response)"; });
     s.max_order = static_cast<int>(t.integer("max_order", 1, 5));
     s.atol_per_state.clear();

@@ -17,6 +17,7 @@
 #include "engine/provenance.h"
 #include "sampling/interrupt.h"
 #include "engine/convergence.h"
+#include "engine/checked_file.h"
 #include "engine/result_io.h"
 #include "engine/sample_driver.h"
 #include "engine/sensitivity_output.h"
@@ -27,12 +28,12 @@ using nlohmann::json;
 
 GeometryRunSize geometry_run_size(StudyConfig& cfg, const RunOptions& options, const std::string& resume_message,
                                   const std::function<std::size_t()>& dimension) {
-  if (!options.resume.empty()) throw Error(resume_message);
-  if (!options.until.empty()) throw Error("--until is for the seeker, gimbal, balancing-machine and platform kinds");
+  if (!options.resume.empty()) throw UsageError(resume_message);
+  if (!options.until.empty()) throw UsageError("--until is for the seeker, gimbal, balancing-machine and platform kinds");
   GeometryRunSize size;
   size.samples = options.samples.value_or(cfg.samples);
   size.seed = options.seed.value_or(cfg.seed);
-  if (size.samples == 0) throw Error("--samples must be at least 1");
+  if (size.samples == 0) throw UsageError("--samples must be at least 1");
   if (options.sensitivity_base > 0) {
     cfg.saltelli_base = options.sensitivity_base;
     cfg.saltelli_noise_group = false;  // a geometry sample is a pure function of its design point
@@ -62,12 +63,11 @@ GeometrySampleResults run_geometry_samples(const StudyConfig& cfg, const Geometr
                                            std::span<const GeometryOutputDef> outputs,
                                            const std::function<void(std::size_t, GeometrySample&)>& compute,
                                            const std::function<void(const GeometrySample&)>& on_ok) {
-  std::ofstream csv(fs::path(run.dir) / "samples.csv");
-  if (!csv) throw Error("cannot write " + (fs::path(run.dir) / "samples.csv").string());
-  csv << "sample,status";
-  for (const auto& c : inputs) csv << ',' << c.name;
-  for (const auto& o : outputs) csv << ',' << o.name;
-  csv << ",message\n";
+  CheckedFile csv((fs::path(run.dir) / "samples.csv").string(), false);
+  std::string header = "sample,status";
+  for (const auto& c : inputs) (header += ',') += c.name;
+  for (const auto& o : outputs) (header += ',') += o.name;  // a const char*
+  csv.write(header + ",message\n");
   GeometrySampleResults res;
   res.values.resize(outputs.size());
   sampling::InterruptGuard interrupts;
@@ -76,11 +76,12 @@ GeometrySampleResults run_geometry_samples(const StudyConfig& cfg, const Geometr
       DriveSpec{0, run.size.samples, cfg.block, 1, run.size.threads, false}, [] { return 0; },
       [&](std::size_t i, int&, GeometrySample& r) { compute(i, r); },
       [&](std::size_t, std::span<const GeometrySample> block) {
+        std::string rows;
         for (const auto& s : block) {
-          csv << s.index << ',' << (s.ok ? "ok" : "failed");
-          for (double v : s.inputs) csv << ',' << csv_number(v);
-          for (double v : s.outputs) csv << ',' << csv_number(v);
-          csv << ',' << csv_text(s.message) << '\n';
+          rows += std::to_string(s.index) + ',' + (s.ok ? "ok" : "failed");
+          for (double v : s.inputs) rows += ',' + csv_number(v);
+          for (double v : s.outputs) rows += ',' + csv_number(v);
+          rows += ',' + csv_text(s.message) + '\n';
           if (!s.ok) {
             ++res.failures;
             if (res.failed.size() < 100) res.failed.push_back({{"sample", s.index}, {"reason", s.message}});
@@ -90,7 +91,7 @@ GeometrySampleResults run_geometry_samples(const StudyConfig& cfg, const Geometr
           res.ok_index.push_back(s.index);
           on_ok(s);
         }
-        csv.flush();
+        csv.write(rows);  // the first refused write stops the run (WriteError)
       },
       [&](std::size_t completed) { return rule(res.values, res.ok_index, res.failures, completed); },
       [](const GeometrySample&, ByteWriter&) {}, [](ByteReader&, GeometrySample&) {});
@@ -206,7 +207,7 @@ void finish_geometry_report(const StudyConfig& cfg, const RunOptions& options, c
 
 std::size_t geometry_replay_samples(const StudyConfig& cfg, std::size_t index, const RunOptions& options) {
   const std::size_t n = options.samples.value_or(cfg.samples);
-  if (index >= n) throw Error("sample index " + std::to_string(index) + " is outside 0.." + std::to_string(n - 1));
+  if (index >= n) throw UsageError("sample index " + std::to_string(index) + " is outside 0.." + std::to_string(n - 1));
   return n;
 }
 

@@ -66,7 +66,7 @@ void read_turntable_table(TomlReader& t, procedures::TestPlan& plan) {
 }
 
 void read_solver_table(TomlReader& t, solvers::CvodeOptions& solver) {
-  solver.rtol = t.number("rtol", [](double v) { return v > 0 && v < 1 ? "" : "0 < rtol < 1"; });
+  solver.rtol = t.number("rtol", [](double v) { return std::string(solvers::relative_tolerance_problem(v)); });
   const double atol_angle = t.quantity("atol_angle", units::kAngle, positive);
   const double atol_length = t.quantity("atol_length", units::kLength, positive);
   solver.max_order = static_cast<int>(t.integer("max_order", 1, 5));

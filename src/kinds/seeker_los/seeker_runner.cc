@@ -86,7 +86,7 @@ std::string validate_seeker_study(const StudyConfig& cfg) {
 json replay_seeker_sample(const StudyConfig& cfg, std::size_t index, const RunOptions& options) {
   const SeekerModel model = load_model(cfg);
   const std::size_t n = options.samples.value_or(cfg.samples);
-  if (index >= n) throw Error("sample index " + std::to_string(index) + " is outside 0.." + std::to_string(n - 1));
+  if (index >= n) throw UsageError("sample index " + std::to_string(index) + " is outside 0.." + std::to_string(n - 1));
   SeekerLosStudy study(cfg, model, n, options.seed.value_or(cfg.seed));
   auto ws = study.make_workspace();
   SeekerSampleResult r;
@@ -124,6 +124,10 @@ std::string run_seeker_study(const StudyConfig& file_cfg, const RunOptions& opti
   RunPlan plan = plan_run(cfg, options, [&] {
     // A LOS sample is a pure function of its design point: no randomness of its own.
     return std::make_pair(SeekerSampler(model).dimension(), false);
+  }, [] {
+    std::vector<std::string> names;
+    for (const auto& o : kSeekerOutputs) names.emplace_back(o.name);
+    return names;
   });
   const std::size_t n = plan.samples;
   const std::uint64_t seed = plan.seed;
@@ -150,7 +154,7 @@ std::string run_seeker_study(const StudyConfig& file_cfg, const RunOptions& opti
     const std::string rows = read_complete_rows(csv_path, header);
     rows_on_disk = static_cast<std::size_t>(std::count(rows.begin(), rows.end(), '\n'));
   }
-  std::ofstream csv = open_samples_csv(plan, header, !options.resume.empty());
+  CheckedFile csv = open_samples_csv(plan, header, !options.resume.empty());
   sampling::InterruptGuard interrupts;
   auto rule = std::make_shared<StopRule>(output_names, n, cfg.max_failure_share, until, cfg.replicate_size,
                                          options.progress && root);
@@ -159,14 +163,15 @@ std::string run_seeker_study(const StudyConfig& file_cfg, const RunOptions& opti
   control.stop = [rule](const std::vector<std::vector<double>>& v, const std::vector<std::size_t>& ok, std::size_t f,
                         std::size_t c) { return (*rule)(v, ok, f, c); };
   const SeekerMcResult mc = study.run(threads, options.progress, [&](std::span<const SeekerSampleResult> block) {
+    std::string rows;
     for (const auto& s : block) {
       if (s.index < rows_on_disk) continue;
-      csv << s.index << ',' << (s.ok ? "ok" : "failed");
-      for (double v : s.inputs) csv << ',' << csv_number(v);
-      for (double v : s.outputs) csv << ',' << csv_number(v);
-      csv << ',' << csv_text(s.message) << '\n';
+      rows += std::to_string(s.index) + ',' + (s.ok ? "ok" : "failed");
+      for (double v : s.inputs) rows += ',' + csv_number(v);
+      for (double v : s.outputs) rows += ',' + csv_number(v);
+      rows += ',' + csv_text(s.message) + '\n';
     }
-    csv.flush();
+    csv.write(rows);  // the first refused write stops the run (WriteError)
   }, control);
   if (!root) return "";  // rank 0 writes the folder
   csv.close();

@@ -1,0 +1,136 @@
+// Faults of the machine (issue 20): every result write is checked; the first refused write
+// (a full disk) stops the run at once with the file and the system's reason, the folder says
+// "failed" (never "complete") where it can still be written, no .tmp file is left, the exit
+// status is 1, and --resume continues once there is space. The full disk is /dev/full or the
+// test hook POISE_INJECT_WRITE_FAILURE_AFTER (engine/checked_file.h).
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "engine/checked_file.h"
+#include "engine/result_io.h"
+#include "test_util.h"
+
+namespace {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+using poise::test::TempDir;
+using poise::test::read_text;
+using poise::test::run_poise;
+
+std::string quoted(const std::string& path) { return "'" + path + "'"; }
+
+bool has_tmp_file(const fs::path& dir) {
+  for (const auto& e : fs::recursive_directory_iterator(dir)) {
+    if (e.path().extension() == ".tmp") return true;
+  }
+  return false;
+}
+
+// The environment of one test: the hook set for the poise run it starts, removed after.
+struct InjectedFullDisk {
+  InjectedFullDisk(const std::string& after_bytes, const std::string& only_file) {
+    setenv("POISE_INJECT_WRITE_FAILURE_AFTER", after_bytes.c_str(), 1);
+    if (!only_file.empty()) setenv("POISE_INJECT_WRITE_FAILURE_FILE", only_file.c_str(), 1);
+  }
+  ~InjectedFullDisk() {
+    unsetenv("POISE_INJECT_WRITE_FAILURE_AFTER");
+    unsetenv("POISE_INJECT_WRITE_FAILURE_FILE");
+  }
+};
+
+TEST(WriteFailure, DevFullGivesTheFileAndTheSystemsReason) {
+  poise::studies::CheckedFile f("/dev/full", true);
+  try {
+    f.write("sample,status\n");
+    FAIL() << "a write to /dev/full succeeded";
+  } catch (const poise::studies::WriteError& e) {
+    EXPECT_EQ(std::string(e.what()), "/dev/full: No space left on device");
+    EXPECT_EQ(e.path(), "/dev/full");
+  }
+}
+
+TEST(WriteFailure, AnAtomicWriteThatFailsLeavesNoTemporary) {
+  TempDir d;
+  poise::test::write_text(d.file("x.json"), "old\n");
+  InjectedFullDisk full("3", "x.json");
+  try {
+    poise::studies::write_file_atomic(d.file("x.json"), "a longer new text\n");
+    FAIL() << "the injected failure did not happen";
+  } catch (const poise::studies::WriteError& e) {
+    EXPECT_NE(std::string(e.what()).find("x.json.tmp: No space left on device"), std::string::npos) << e.what();
+  }
+  EXPECT_EQ(read_text(d.file("x.json")), "old\n");  // the old file whole
+  EXPECT_FALSE(fs::exists(d.file("x.json.tmp")));
+  EXPECT_THROW(poise::studies::CheckedFile(d.file("no/such/dir/f.csv"), false), poise::studies::WriteError);
+}
+
+TEST(WriteFailure, AFullDiskStopsAProcedureRunAtOnceAndResumeCompletesIt) {
+  TempDir d;
+  const std::string study = quoted(poise::test::source_path("studies/gimbal_unbalance_mc.toml"));
+  const std::string args = "run " + study + " --samples 24 --threads 2 -q --no-plots --out ";
+  {
+    // samples.csv can take its header and a little more, then the disk is full.
+    InjectedFullDisk full("300", "samples.csv");
+    const auto r = run_poise(d, args + quoted(d.file("cut")));
+    EXPECT_EQ(r.status, 1) << r.err;
+    EXPECT_NE(r.err.find(d.file("cut/samples.csv") + ": No space left on device"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("--resume"), std::string::npos) << r.err;
+  }
+  const json manifest = json::parse(read_text(d.file("cut/run.json")));
+  EXPECT_EQ(manifest["status"], "failed");
+  EXPECT_NE(manifest["stop_reason"].get<std::string>().find("No space left on device"), std::string::npos);
+  EXPECT_FALSE(fs::exists(d.file("cut/summary.json")));  // the run stopped at the first block
+  EXPECT_FALSE(has_tmp_file(d.file("cut")));
+  // Space again: the resume cuts the partial row and completes the run exactly.
+  auto r = run_poise(d, "run --resume " + quoted(d.file("cut")) + " -q --no-plots");
+  ASSERT_EQ(r.status, 0) << r.err;
+  r = run_poise(d, args + quoted(d.file("whole")));
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_EQ(read_text(d.file("cut/samples.csv")), read_text(d.file("whole/samples.csv")));
+  EXPECT_EQ(json::parse(read_text(d.file("cut/run.json")))["status"], "complete");
+}
+
+TEST(WriteFailure, AFullDiskStopsASeekerRunAndNothingSaysComplete) {
+  TempDir d;
+  const std::string study = quoted(poise::test::source_path("studies/los_seeker_wang2011.toml"));
+  // Every file refused after 2 kB in all: run.json (written first) fits, samples.csv does not;
+  // run.json cannot be rewritten either, so it keeps "running", never "complete".
+  InjectedFullDisk full("2000", "");
+  const auto r = run_poise(d, "run " + study + " --samples 4096 --threads 2 -q --no-plots --out " + quoted(d.file("s")));
+  EXPECT_EQ(r.status, 1) << r.err;
+  EXPECT_NE(r.err.find("samples.csv: No space left on device"), std::string::npos) << r.err;
+  EXPECT_NE(json::parse(read_text(d.file("s/run.json")))["status"], "complete");
+  EXPECT_FALSE(fs::exists(d.file("s/summary.json")));
+  EXPECT_FALSE(has_tmp_file(d.file("s")));
+}
+
+TEST(WriteFailure, ASummaryThatCannotBeWrittenMarksTheRunFailed) {
+  TempDir d;
+  const std::string study = quoted(poise::test::source_path("studies/gimbal_unbalance_mc.toml"));
+  InjectedFullDisk full("100", "summary.json");
+  const auto r = run_poise(d, "run " + study + " --samples 4 --threads 2 -q --no-plots --out " + quoted(d.file("s")));
+  EXPECT_EQ(r.status, 1) << r.err;
+  EXPECT_NE(r.err.find("summary.json.tmp: No space left on device"), std::string::npos) << r.err;
+  EXPECT_EQ(json::parse(read_text(d.file("s/run.json")))["status"], "failed");
+  EXPECT_FALSE(fs::exists(d.file("s/summary.json")));
+  EXPECT_FALSE(has_tmp_file(d.file("s")));
+}
+
+TEST(WriteFailure, AGeometryRunStopsAtTheFirstRefusedWrite) {
+  TempDir d;
+  const std::string study = quoted(poise::test::source_path("studies/geometry_mass_properties.toml"));
+  InjectedFullDisk full("10", "samples.csv");  // the header cannot be written whole
+  const auto r = run_poise(d, "run " + study + " --samples 2 --threads 1 -q --no-plots --out " + quoted(d.file("g")));
+  EXPECT_EQ(r.status, 1) << r.err;
+  EXPECT_NE(r.err.find("samples.csv: No space left on device"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(d.file("g/summary.json")));
+  EXPECT_FALSE(has_tmp_file(d.file("g")));
+}
+
+}  // namespace
