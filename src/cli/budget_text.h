@@ -12,9 +12,9 @@ void print_budget_text(const nlohmann::json& j, std::ostream& out);
 /// A figure with 4 significant digits ("14.73", "0.004432"); "-" for null.
 std::string budget_number(const nlohmann::json& v);
 
-/// "14.73 arcsec" or "10.47 to 16.66 arcsec" of a line, group or combined object.
+/// "4.2 arcsec" or "3.5 to 6.1 arcsec" of a line, group or combined object.
 std::string recomputed_text(const nlohmann::json& item, const std::string& unit);
-/// The declared value as a text ("18.41 arcsec", "10.47 to 17.82 arcsec", "none").
+/// The declared value as a text ("4.3 arcsec", "3.5 to 6.2 arcsec", "none").
 std::string declared_text(const nlohmann::json& declared, const std::string& unit);
 
 }  // namespace poise::cli

@@ -46,7 +46,7 @@ KindKeys kind_keys(const std::string& kind) {
     StudyConfig cfg = load_study(kSchemaStudyFile);
     k.validate(cfg);
   } catch (const std::exception&) {
-    // An empty file's placeholder values may stop a kind's validation after its readers ran.
+    // The stand-in values of an empty file may stop a kind's validation after its readers ran.
   }
   return {recorder.study_keys, recorder.model_keys};
 }
