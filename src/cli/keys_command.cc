@@ -2,6 +2,7 @@
 
 #include <iostream>
 #include <memory>
+#include <sstream>
 
 #include <nlohmann/json.hpp>
 
@@ -11,8 +12,21 @@
 namespace poise::cli {
 
 std::string study_kinds_text() {
+  // Each kind's name, then its summary wrapped to 92 columns under it.
   std::string out;
-  for (const auto* k : studies::study_kinds()) out += "  " + k->name() + ": " + k->summary() + ".\n";
+  for (const auto* k : studies::study_kinds()) {
+    out += "  " + k->name() + "\n";
+    std::string line = "     ";
+    std::istringstream words(k->summary() + ".");
+    for (std::string w; words >> w;) {
+      if (line.size() + 1 + w.size() > 92) {
+        out += line + "\n";
+        line = "     ";
+      }
+      line += " " + w;
+    }
+    out += line + "\n";
+  }
   return out;
 }
 
