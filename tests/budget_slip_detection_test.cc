@@ -13,16 +13,10 @@ using namespace poise::budget;
 using poise::test::kArcsec;
 using poise::units::kArcsecPerRad;
 
-BudgetSpec load_text(const poise::test::TempDir& dir, const std::string& text) {
-  return poise::test::load_budget_text(dir, text);
-}
-const ItemResult& line(const BudgetResult& r, const std::string& name) { return poise::test::budget_item(r, name); }
-std::string head(const std::string& combination, const std::string& extra = "") {
-  return poise::test::budget_head(combination, extra);
-}
-ItemResult one_line(const std::string& body, const std::string& extra = "") {
-  return poise::test::one_budget_line(body, extra);
-}
+using poise::test::head;
+using poise::test::line;
+using poise::test::load_text;
+using poise::test::one_line;
 
 struct SlipCase {
   std::string name, body, extra, expected;

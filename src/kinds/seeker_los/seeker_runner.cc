@@ -54,11 +54,7 @@ std::string validate_seeker_study(const StudyConfig& cfg) {
   for (const auto& sw : sec.sweeps) {
     for (const auto& v : sw.values) {
       try {
-        load_seeker_model(cfg.model_path, [&] {
-          auto o = cfg.overrides;
-          o[sw.parameter] = v;
-          return o;
-        }());
+        load_model(cfg, {{sw.parameter, v}});
       } catch (const ValidationError& e) {
         for (const auto& err : e.errors()) {
           errors.emplace_back(SourceLocation{cfg.file, 0, 0}, "sweep " + sw.parameter, "\"" + v + "\"",
