@@ -15,6 +15,8 @@
 #include <numbers>
 #include <string>
 
+#include <Eigen/Dense>
+
 #include "estimators/oscillation_diagnosis.h"
 #include "estimators/residual_diagnosis.h"
 #include "estimators/sine_fit.h"
@@ -162,10 +164,9 @@ TEST(IndependentData, TorqueConstantDriftIsNotMadeWorse) {
   e.kt_rate = -0.06 / 2160.0;  // K_T falls 6 % over the run (about 60 K of magnet heating)
   const Tally t = run(td::forward_sweep(), {}, e, {0.2e-3, 0.0}, 20, 400, "kt_drift");
   EXPECT_GE(t.found, 16);
-  // Measured: 1 of 20 (seed 401) worse beyond 2 SE (7 of 100 over seeds 5000-5099): the drift read as a step before row 10
-  // (p = 4e-4 after Bonferroni, the K_T-drift reading 3.5 BIC units behind and r = 0.83): a
-  // misattribution the data prefer, which no rule on this plan can undo.
-  EXPECT_LE(t.worse, 1);
+  // Before the time-shape window: 1 of these 20 (seed 401) worse beyond 2 SE, the drift read
+  // as a step (K_T-drift reading 3.5 BIC behind, r = 0.83).
+  EXPECT_EQ(t.worse, 0);
   EXPECT_LE(t.err_after, t.err_before + 0.05);
 }
 
@@ -249,6 +250,91 @@ TEST(IndependentData, SpuriousEventsInCorrelatedNoiseDoNotMakeTheEstimateWorse) 
               outliers, moving, worse);
   EXPECT_EQ(moving, 0);
   EXPECT_EQ(worse, 0);
+}
+
+// The true model of a K_T drift, (1 + kappa t)(a sin + c cos + K), fitted by least squares
+// (kappa on a grid, then (a, c, K) linear; standard errors from the Jacobian): how often it
+// is worse than the plain fit beyond 2 SE, counted as run() does.
+int oracle_kt(const std::vector<td::Visit>& plan, const td::TimeEffects& e, int n, std::uint64_t seed0) {
+  const Truth truth = truth_of(plan);
+  const std::vector<double> m = td::position_torques({}, {}, e, plan);
+  int worse = 0;
+  double eb = 0, ea = 0;
+  for (int k = 0; k < n; ++k) {
+    const TorqueTable t = to_table(td::make_table(plan, m, {0.2e-3, 0.0}, seed0 + k));
+    const std::size_t N = t.torque.size();
+    Eigen::VectorXd y(N);
+    for (std::size_t i = 0; i < N; ++i) y(i) = t.torque[i];
+    auto fit = [&](double kap, Eigen::MatrixXd& X, Eigen::Vector3d& b) {
+      X.resize(N, 3);
+      for (std::size_t i = 0; i < N; ++i) {
+        const double g = 1.0 + kap * t.time_s[i] / 1000.0;
+        X.row(i) << g * std::sin(t.theta_rad[i]), g * std::cos(t.theta_rad[i]), g;
+      }
+      b = X.colPivHouseholderQr().solve(y);
+      return (y - X * b).squaredNorm();
+    };
+    double best = 1e300, kb = 0.0;
+    Eigen::MatrixXd X;
+    Eigen::Vector3d b3;
+    for (double kap = -0.4; kap <= 0.4; kap += 0.0005) {
+      const double r = fit(kap, X, b3);
+      if (r < best) best = r, kb = kap;
+    }
+    fit(kb, X, b3);
+    Eigen::MatrixXd J(N, 4);
+    J.leftCols(3) = X;
+    for (std::size_t i = 0; i < N; ++i)
+      J(i, 3) = t.time_s[i] / 1000.0 * (b3(0) * std::sin(t.theta_rad[i]) + b3(1) * std::cos(t.theta_rad[i]) + b3(2));
+    const double s2 = best / (static_cast<double>(N) - 4.0);
+    const Eigen::MatrixXd cov = s2 * (J.transpose() * J).inverse();
+    Eigen::VectorXd b(2);
+    b << b3(0), b3(1);
+    const SineFitResult f = fit_sine(t.theta_rad, t.torque);
+    const double ta = truth.amplitude * std::cos(truth.phase), tc = truth.amplitude * std::sin(truth.phase);
+    const double before = std::hypot(f.amplitude * std::cos(f.phase) - ta, f.amplitude * std::sin(f.phase) - tc);
+    const double after = std::hypot(b(0) - ta, b(1) - tc);
+    const double amp = std::hypot(b(0), b(1));
+    const Eigen::Vector2d u(b(0) / amp, b(1) / amp);
+    const double se = std::sqrt(u.dot(cov.block<2, 2>(0, 0) * u));
+    worse += after > before + 2.0 * se;
+    eb += before / n, ea += after / n;
+  }
+  std::printf("  oracle (the true model, K_T drift): worse %d/%d; mean error %.3f -> %.3f mN*m\n",
+              worse, n, eb, ea);
+  return worse;
+}
+
+// "Never worse" over 100 noise realisations per scenario on the one-direction sweep, where time
+// follows angle and every time shape trades off with the unbalance (about 10 s).
+TEST(IndependentData, NeverWorseOverAHundredRealisations) {
+  const td::TableNoise white{0.2e-3, 0.0};
+  td::TimeEffects kt;
+  kt.kt_rate = -0.06 / 2160.0;
+  // Before the time-shape window: 7 of these 100 worse beyond 2 SE (read as a step or a
+  // linear drift, 4-7 SE the wrong way).
+  const Tally k = run(td::forward_sweep(), {}, kt, white, 100, 5000, "kt_drift");
+  EXPECT_EQ(k.worse, 0);
+  EXPECT_GE(k.found, 85);
+  // The criterion can be met on this plan: the true model (4 parameters) is never worse.
+  EXPECT_EQ(oracle_kt(td::forward_sweep(), kt, 100, 5000), 0);
+  td::TimeEffects st;
+  st.step = 1.6e-3, st.step_time = 18 * 60.0 - 1.0;
+  const Tally s = run(td::forward_sweep(), {}, st, white, 100, 5200, "step");
+  EXPECT_EQ(s.worse, 0);
+  EXPECT_GE(s.found, 95);
+  EXPECT_LT(s.err_after, 0.2 * s.err_before);
+  td::TimeEffects ex;
+  ex.settle = 1.5e-3, ex.settle_tau = 240.0;
+  const Tally x = run(td::forward_sweep(), {}, ex, white, 100, 5400, "exponential_drift");
+  EXPECT_EQ(x.worse, 0);
+  EXPECT_LT(x.err_after, 0.6 * x.err_before);
+  // Known limit: AR(1) noise with rho 0.8-0.85 on this plan. A wander is fitted as a step
+  // 15-35 BIC ahead of every other reading, white-noise standard errors; measured 3 and 5 of
+  // 100 worse beyond 2 SE. Only a reordered or repeated sweep tells them apart (the
+  // ambiguous findings say so where the BIC leaves room).
+  EXPECT_LE(run(td::forward_sweep(), {}, {}, {0.2e-3, 0.8}, 100, 5600, "").worse, 4);
+  EXPECT_LE(run(td::forward_sweep(), {}, {}, {0.15e-3, 0.85}, 100, 5800, "").worse, 6);
 }
 
 TEST(IndependentData, EffectOutsideTheCandidateListIsFlaggedAsUnexplained) {

@@ -9,7 +9,10 @@
 /// columns. Limits: kConfounded = 0.9 (VIF 5.3), the usual "serious collinearity" line; a
 /// pair with r >= 0.5 whose BICs differ by less than 2 is also ambiguous: the data then do
 /// not prefer either (Kass and Raftery 1995: |delta BIC| < 2 is "not worth more than a bare
-/// mention").
+/// mention"). A time-shaped effect (step, drift, settling, K_T drift) that trades off with
+/// the first harmonic (r >= 0.5) has every other time shape within kBicVeryStrong = 10 ("very
+/// strong" evidence) as a reading; the estimate then averages the readings with equal
+/// weights, their spread added to its uncertainty.
 #include <functional>
 #include <string>
 #include <vector>
@@ -23,6 +26,7 @@ inline constexpr double kConfounded = 0.9;
 inline constexpr double kWeakCorrelation = 0.5;
 inline constexpr double kBicIndistinct = 2.0;
 inline constexpr double kBicStrong = 6.0;
+inline constexpr double kBicVeryStrong = 10.0;
 /// An effect that trades off with the first harmonic (r >= kFirstHarmonicLimit, VIF of the
 /// first harmonic >= 2) moves the estimate only when its own drop-one test has p below
 /// kIdentifiedP: the data identify it beyond doubt.

@@ -101,8 +101,9 @@
 /// selected model, in the selected model's standard errors along the move. estimate_after is
 /// estimate_selected except: an ambiguous finding contributes the average of its readings
 /// with BIC weights exp(-delta_BIC / 2) (Bayesian model averaging, Raftery 1995; equal weights
-/// for the two searches' models above), the between-readings variance added to the standard
-/// errors; an outlier in correlated noise (AR(1) in the model or the whiteness tests failing)
+/// for the two searches' models above, and for the time shapes within 10 BIC of a time-shaped
+/// effect that trades off with the first harmonic), the between-readings variance added to
+/// the standard errors; an outlier in correlated noise (AR(1) in the model or the whiteness tests failing)
 /// does not move the estimate. (Contributions of several findings are added, a first-order
 /// approximation.) With a K_T drift the estimate is referred to the first measurement, where
 /// K_T is the calibrated (cold) one.
