@@ -8,6 +8,7 @@
 #include "cli/budget_command.h"
 #include "cli/count_check.h"
 #include "cli/diagnose_command.h"
+#include "cli/error_mechanisms_command.h"
 #include "cli/fit_command.h"
 #include "cli/keys_command.h"
 #include "cli/mass_properties_command.h"
@@ -185,6 +186,7 @@ int run_main(int argc, char** argv) {
   replay->add_option("--sample,-i", index, "sample index (0-based, as in samples.csv)")->required();
 
   const poise::cli::FitHandler fit = poise::cli::add_fit_command(app);
+  const poise::cli::ErrorMechanismsHandler mechanisms = poise::cli::add_error_mechanisms_command(app);
   const poise::cli::DiagnoseHandler diagnose = poise::cli::add_diagnose_command(app);
   const auto record = poise::cli::add_record_commands(app);
   const poise::cli::OptimizeHandler optimize = poise::cli::add_optimize_command(app);
@@ -215,6 +217,7 @@ int run_main(int argc, char** argv) {
   // any other failure 1, each with its message (the commands catch what they can name).
   try {
     if (const auto status = fit()) return *status;
+    if (const auto status = mechanisms()) return *status;
     if (const auto status = diagnose()) return *status;
     if (const auto status = record()) return *status;
     if (const auto status = optimize()) return *status;
