@@ -13,6 +13,7 @@ std::unique_ptr<KindSections> read_gimbal_sections(TomlReader& root, const Study
     grp.positions = static_cast<std::size_t>(g.integer("positions", 4, 3600));
     grp.placement = g.choice("placement", {"sequential", "interleaved", "back_and_forth"}, "sequential");
     grp.repeats = static_cast<std::size_t>(g.integer("repeats", 1, 10000, 1));
+    grp.counterweight_placement = g.choice("counterweight_placement", {"model", "disk_frame", "turntable"}, "model");
     g.string("notes", "");
     for (auto& l : g.table_array("load")) {
       GimbalLoad load;
