@@ -37,6 +37,8 @@ Examples:
   poise run studies/yang2015_repeatability.toml --samples 8
   poise run studies/wang2014_umar.toml
   poise fit data/yang2015/table1_loading_test_36pt.csv --json
+  poise error-mechanisms data/yang2015
+      which per-test error (K_T scale and zero, or additive) the measured tests support
   poise mass-properties rotor_disk.stl --unit mm --density "2700 kg/m^3"
   poise run studies/los_seeker_wang2011.toml --samples 100000 --seed 7 --threads 2 --out /tmp/los
   poise run --resume /tmp/los
