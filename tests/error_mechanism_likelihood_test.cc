@@ -167,6 +167,20 @@ TEST(ErrorMechanismsCommand, BadInputNamesFileLineAndColumn) {
   r = test::run_poise(d, "error-mechanisms '" + d.path().string() + "'");
   EXPECT_EQ(r.status, 2);
   EXPECT_NE(r.err.find("column circle: 'C_C' (expected C_A or C_B)"), std::string::npos) << r.err;
+  test::write_text(d.file("tables2_3_loading_tests.csv"), "test,circle,load_angle_deg\n1,C_A,270.30\n");
+  r = test::run_poise(d, "error-mechanisms '" + d.path().string() + "'");
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.err.find("tables2_3_loading_tests.csv:1: no column 'load_torque_mNm' (expected it in the header)"),
+            std::string::npos) << r.err;
+  test::write_text(d.file("tables2_3_loading_tests.csv"),
+                   test::read_text(test::source_path("data/yang2015/tables2_3_loading_tests.csv")));
+  test::write_text(d.file("tables4_5_repeatability.csv"),
+                   "points,repeat,load_angle_deg,load_torque_mNm,measured_torque_mNm,measured_angle_deg\n"
+                   "24,1,45.50,12.91,12.07,46.69\n");
+  r = test::run_poise(d, "error-mechanisms '" + d.path().string() + "'");
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.err.find("tables4_5_repeatability.csv:2: column points: 24 (expected 36 (Table 4) or 18 (Table 5))"),
+            std::string::npos) << r.err;
   r = test::run_poise(d, "error-mechanisms '" + test::source_path("data/yang2015") + "' --calibrate 'Table 9'");
   EXPECT_EQ(r.status, 2);
   EXPECT_NE(r.err.find("--calibrate \"Table 9\": no such table"), std::string::npos) << r.err;

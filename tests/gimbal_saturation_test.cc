@@ -192,6 +192,25 @@ TEST(GimbalHonesty, MechanismAndPlausibilityKeys) {
   } catch (const ValidationError& e) {
     EXPECT_NE(std::string(e.what()).find("the additive error is drawn anew for each test"), std::string::npos) << e.what();
   }
+  try {
+    load_gimbal_model(model, {{"plausibility.magnet_temperature_swing_K", "-1"}});
+    FAIL() << "no error";
+  } catch (const ValidationError& e) {
+    EXPECT_NE(std::string(e.what()).find("kelvin from 0 to 200 (1 sigma between tests)"), std::string::npos) << e.what();
+  }
+  try {
+    load_gimbal_model(model, {{"plausibility.kt_temperature_coefficient_per_K", "0"}});
+    FAIL() << "no error";
+  } catch (const ValidationError& e) {
+    EXPECT_NE(std::string(e.what()).find("a relative change of K_T per kelvin, nonzero and below 0.1"), std::string::npos)
+        << e.what();
+  }
+  try {
+    load_gimbal_model(model, {{"counterweight.placement", "gravity"}});
+    FAIL() << "no error";
+  } catch (const ValidationError& e) {
+    EXPECT_NE(std::string(e.what()).find("counterweight.placement"), std::string::npos) << e.what();
+  }
   // poise keys lists the new keys.
   TempDir d;
   const auto r = test::run_poise(d, "keys gimbal_static_unbalance");
