@@ -10,6 +10,7 @@
 
 #include "kinds/gimbal_static_unbalance/counterweight_residual.h"
 #include "kinds/gimbal_static_unbalance/gimbal_model.h"
+#include "kinds/gimbal_static_unbalance/gimbal_sections.h"
 #include "kinds/gimbal_static_unbalance/gimbal_study.h"
 #include "engine/study_config.h"
 #include "engine/study_runner.h"
@@ -219,6 +220,20 @@ TEST(GimbalHonesty, MechanismAndPlausibilityKeys) {
                         "placement               one of \"disk_frame\" | \"turntable\"", "swing_range", "[plausibility]",
                         "magnet_temperature_swing_K", "[tolerances.unbalance_error_along]", "counterweight_placement"}) {
     EXPECT_NE(r.out.find(k), std::string::npos) << k;
+  }
+}
+
+TEST(GimbalHonesty, GroupCounterweightPlacementIsAStudyKey) {
+  TempDir d;
+  StudyConfig cfg = load_study(study_file(d, load(10.0)));
+  apply_gimbal_study_overrides(cfg, {{"group.g.counterweight_placement", "turntable"}});
+  EXPECT_EQ(gimbal_sections(cfg).groups[0].counterweight_placement, "turntable");
+  try {
+    apply_gimbal_study_overrides(cfg, {{"group.counterweight_placement", "gravity"}});
+    FAIL() << "no error";
+  } catch (const ValidationError& e) {
+    EXPECT_NE(std::string(e.what()).find("expected one of \"model\", \"disk_frame\", \"turntable\""), std::string::npos)
+        << e.what();
   }
 }
 

@@ -42,6 +42,8 @@ const char* kHelp = R"(What it does:
   (sigma_p: the residual standard deviation of Table 1's 36-point fit, n: the test's
   positions). Details: src/estimators/error_mechanism_likelihood.h.
 
+  ln L is the natural log of the density of (r, t) in N*m: its value depends on that unit,
+  differences between mechanisms (the evidence) do not.
   Reported: (1) each mechanism calibrated (maximum likelihood) on one table, its
   log-likelihood there (a calibration target, not evidence) and on each other table
   (validation), for every choice of calibration table; (2) joint fits on all tables with

@@ -68,6 +68,12 @@ std::map<std::string, std::string> apply_gimbal_study_overrides(StudyConfig& cfg
           break;
         }
         (rest == "positions" ? g.positions : g.repeats) = static_cast<std::size_t>(n);
+      } else if (rest == "counterweight_placement") {
+        if (value != "model" && value != "disk_frame" && value != "turntable") {
+          errors.emplace_back(where, key, "\"" + value + "\"", "one of \"model\", \"disk_frame\", \"turntable\"");
+          break;
+        }
+        g.counterweight_placement = value;
       } else if (rest == "placement") {
         if (value != "sequential" && value != "interleaved" && value != "back_and_forth") {
           errors.emplace_back(where, key, "\"" + value + "\"", "one of \"sequential\", \"interleaved\", \"back_and_forth\"");
@@ -76,7 +82,7 @@ std::map<std::string, std::string> apply_gimbal_study_overrides(StudyConfig& cfg
         g.placement = value;
       } else {
         errors.emplace_back(where, key, "\"" + value + "\"",
-                            "a study key group[.<name>].positions, .placement or .repeats");
+                            "a study key group[.<name>].positions, .placement, .repeats or .counterweight_placement");
         break;
       }
     }

@@ -6,7 +6,8 @@
 ///                   counterweight_placement = "model" | "disk_frame" | "turntable", notes
 ///   [[group.load]]  mass, radius, angle (a test mass of a loading test)
 /// Study keys an override may set (an optimizer's test-plan choice): group.positions,
-/// group.placement, group.repeats (every group) or group.<name>.<key> (one group).
+/// group.placement, group.repeats, group.counterweight_placement (every group) or
+/// group.<name>.<key> (one group).
 #include <map>
 #include <string>
 #include <vector>
