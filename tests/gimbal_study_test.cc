@@ -171,7 +171,7 @@ TEST(GimbalStudy, StrictGroupsAndScopes) {
                       {{"oscillation.rate_amplitude", "6 deg/s"}});
     FAIL() << "no error";
   } catch (const ValidationError& e) {
-    EXPECT_NE(std::string(e.what()).find("an oscillation within +-3 deg"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("an oscillation within the stated swing_range +-3 deg"), std::string::npos) << e.what();
   }
 }
 

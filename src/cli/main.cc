@@ -8,6 +8,7 @@
 #include "cli/budget_command.h"
 #include "cli/count_check.h"
 #include "cli/diagnose_command.h"
+#include "cli/error_mechanisms_command.h"
 #include "cli/fit_command.h"
 #include "cli/keys_command.h"
 #include "cli/mass_properties_command.h"
@@ -36,6 +37,8 @@ Examples:
   poise run studies/yang2015_repeatability.toml --samples 8
   poise run studies/wang2014_umar.toml
   poise fit data/yang2015/table1_loading_test_36pt.csv --json
+  poise error-mechanisms data/yang2015
+      which per-test error (K_T scale and zero, or additive) the measured tests support
   poise mass-properties rotor_disk.stl --unit mm --density "2700 kg/m^3"
   poise run studies/los_seeker_wang2011.toml --samples 100000 --seed 7 --threads 2 --out /tmp/los
   poise run --resume /tmp/los
@@ -185,6 +188,7 @@ int run_main(int argc, char** argv) {
   replay->add_option("--sample,-i", index, "sample index (0-based, as in samples.csv)")->required();
 
   const poise::cli::FitHandler fit = poise::cli::add_fit_command(app);
+  const poise::cli::ErrorMechanismsHandler mechanisms = poise::cli::add_error_mechanisms_command(app);
   const poise::cli::DiagnoseHandler diagnose = poise::cli::add_diagnose_command(app);
   const auto record = poise::cli::add_record_commands(app);
   const poise::cli::OptimizeHandler optimize = poise::cli::add_optimize_command(app);
@@ -215,6 +219,7 @@ int run_main(int argc, char** argv) {
   // any other failure 1, each with its message (the commands catch what they can name).
   try {
     if (const auto status = fit()) return *status;
+    if (const auto status = mechanisms()) return *status;
     if (const auto status = diagnose()) return *status;
     if (const auto status = record()) return *status;
     if (const auto status = optimize()) return *status;

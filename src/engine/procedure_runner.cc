@@ -34,6 +34,7 @@ void collect_samples(McResult& r, std::span<const SampleResult> block) {
     if (!s.ok) {
       ++r.failures;
       if (r.failed.size() < 100) r.failed.emplace_back(s.index, s.message);
+      ++r.failure_reasons[s.message.substr(0, s.message.find(": "))];
       continue;
     }
     if (r.values.size() < s.outputs.size()) r.values.resize(s.outputs.size());
@@ -215,6 +216,7 @@ std::string run_procedure_study(const StudyConfig& cfg_in, const StudyFactory& m
     return it == names.end() || k >= mc.values.size() ? nullptr : &mc.values[k];
   });
   s["failures"] = failures_json(mc.failures, ran, mc.failed, seed, cfg.file);
+  s["failures"]["by_reason"] = mc.failure_reasons;
   s["sample_convergence"] = convergence_json(study.output_names(), mc.outputs, ran, cfg.replicate_size, rule->until_json());
   if (sensitivity_base > 0 && status == "complete") {
     const auto names = study.design_dimension_names();

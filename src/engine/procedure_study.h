@@ -4,6 +4,7 @@
 /// inputs and outputs per sample, a parallel run that streams finished samples in order,
 /// a single-sample replay and the study's own report sections.
 #include <functional>
+#include <map>
 #include <memory>
 #include <span>
 #include <sstream>
@@ -31,6 +32,8 @@ struct SampleResult {
 struct McResult {
   std::size_t n = 0, failures = 0;
   std::vector<std::pair<std::size_t, std::string>> failed;
+  /// Every failure counted by its reason's head (the message up to its first ": ").
+  std::map<std::string, std::size_t> failure_reasons;
   std::vector<sampling::Summary> outputs;
   std::vector<std::vector<double>> values;  ///< per output, ok samples in order
   std::vector<std::size_t> ok_index;        ///< sample index of each ok sample (values' order)

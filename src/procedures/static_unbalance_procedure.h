@@ -41,6 +41,7 @@ struct OscillationConfig {
                                 ///< window (s); the window still spans N whole periods
   double settle_time = 1.0;     ///< holding at the start angle after locking (s)
   double centre = 0.0;          ///< phi_c (rad)
+  double swing_range = 0.05235987755982988;  ///< the test's stated range of |phi| (rad; Yang 2015: 3 deg)
 };
 
 struct AcquisitionConfig {

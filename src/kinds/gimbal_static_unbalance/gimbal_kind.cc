@@ -45,7 +45,12 @@ class GimbalStaticUnbalanceKind final : public ProcedureKind {
                   cfg.file.c_str(), cfg.name.c_str(), cfg.kind.c_str(), model.name.c_str(), study.input_names().size(),
                   sampling::to_string(cfg.method).c_str(), cfg.samples, static_cast<unsigned long long>(cfg.seed),
                   gimbal_sections(cfg).groups.size(), tests, positions);
-    return buf;
+    std::string text = buf;
+    text += " Per-test error mechanism: " + model.error_mechanism + ".";
+    const auto warnings = plausibility_warnings(model);
+    for (const std::string& w : warnings) text += "\nwarning: " + w + ".";
+    if (!warnings.empty()) text += "\n";
+    return text;
   }
 };
 

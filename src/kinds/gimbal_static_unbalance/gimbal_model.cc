@@ -1,5 +1,6 @@
 #include "kinds/gimbal_static_unbalance/gimbal_model.h"
 
+#include <cstdio>
 #include <filesystem>
 #include <iostream>
 
@@ -39,10 +40,13 @@ void read_oscillation_table(TomlReader& t, procedures::OscillationConfig& o) {
   o.lead_in = t.quantity("lead_in", units::kTime, non_negative);
   o.settle_time = t.quantity("settle_time", units::kTime, non_negative);
   o.centre = t.quantity("centre", units::kAngle, {}, 0.0);
+  // The test's stated range of |phi| (Yang 2015, Sec. 6.1: within +-3 deg): the plan must fit
+  // in it, and a position whose swing leaves it fails its sample (gimbal_study.h).
+  o.swing_range = t.quantity("swing_range", units::kAngle, positive, 3.0 * units::kRadPerDeg);
   const double swing = o.rate_amplitude * o.period / (2.0 * units::kPi);
-  if (std::abs(o.centre) + swing > 3.0 * units::kRadPerDeg + 1e-12) {
-    t.error("rate_amplitude", "", "an oscillation within +-3 deg (|centre| + A T / 2 pi = " +
-                                      units::format(std::abs(o.centre) + swing, "deg", 4) + ")");
+  if (std::abs(o.centre) + swing > o.swing_range + 1e-12) {
+    t.error("rate_amplitude", "", "an oscillation within the stated swing_range +-" + units::format(o.swing_range, "deg", 4) +
+                                      " (|centre| + A T / 2 pi = " + units::format(std::abs(o.centre) + swing, "deg", 4) + ")");
   }
   t.accept_notes();
 }
@@ -138,7 +142,31 @@ GimbalModel load_gimbal_model(const std::string& path,
   if (root.has_or_schema("servo")) {
     m.plan.servo.inertia_estimate = root.table("servo").quantity("inertia_estimate", kInertia, positive);
   }
-  m.counterweight_radius = root.table("counterweight").quantity("radius", units::kLength, positive);
+  {
+    TomlReader t = root.table("counterweight");
+    m.counterweight_radius = t.quantity("radius", units::kLength, positive);
+    m.counterweight_placement = t.choice("placement", {"disk_frame", "turntable"}, "disk_frame");
+    t.accept_notes();
+  }
+  if (root.has_or_schema("test_error")) {
+    TomlReader t = root.table("test_error");
+    m.error_mechanism = t.choice("mechanism", {"scale_and_zero", "additive", "both"}, "scale_and_zero");
+    t.accept_notes();
+  }
+  if (root.has_or_schema("plausibility")) {
+    TomlReader t = root.table("plausibility");
+    auto& p = m.plausibility;
+    p.stated = true;
+    p.kt_temperature_coefficient_per_K = t.number("kt_temperature_coefficient_per_K", [](double v) {
+      return v != 0.0 && std::abs(v) < 0.1 ? "" : "a relative change of K_T per kelvin, nonzero and below 0.1 (NdFeB: -0.0012)";
+    });
+    p.magnet_temperature_swing_K = t.number("magnet_temperature_swing_K", [](double v) {
+      return v >= 0.0 && v <= 200.0 ? "" : "kelvin from 0 to 200 (1 sigma between tests)";
+    });
+    p.zero_registration = t.quantity("zero_registration", units::kAngle, non_negative);
+    p.unbalance_error = t.quantity("unbalance_error", kUnbalance, non_negative);
+    p.notes = t.string("notes", "");
+  }
   if (root.has_or_schema("disturbances")) {  // effects the test's model does not declare; off by default
     TomlReader t = root.table("disturbances");
     auto& d = m.disturbances;
@@ -165,6 +193,27 @@ GimbalModel load_gimbal_model(const std::string& path,
     m.counterweight_mass = read_scoped_tolerance(t, "counterweight_mass", units::kDimensionless, "");
     m.counterweight_radius_error = read_scoped_tolerance(t, "counterweight_radius", units::kLength, "mm");
     m.counterweight_angle = read_scoped_tolerance(t, "counterweight_angle", units::kAngle, "deg");
+    // The additive mechanism's tolerances: optional, per test, drawn only when it is in use.
+    for (auto [key, tol] : {std::pair{"unbalance_error_along", &m.unbalance_error_along},
+                            std::pair{"unbalance_error_across", &m.unbalance_error_across}}) {
+      const bool needed = m.error_mechanism != "scale_and_zero";
+      if (t.has_or_schema(key) || needed) {
+        *tol = read_scoped_tolerance(t, key, kUnbalance, "g*mm");
+        if (!tol->per_test && t.has(key)) {
+          TomlReader tt = t.table(key);
+          tt.error("scope", "\"unit\"", "\"test\": the additive error is drawn anew for each test");
+        }
+      }
+    }
+  }
+  // The mechanism not in use: its tolerances are not drawn (fixed at 0, the draws stay aligned).
+  if (m.error_mechanism == "additive") {
+    m.kt_drift.spec = ToleranceSpec{};
+    m.gimbal_zero.spec = ToleranceSpec{};
+  }
+  if (m.error_mechanism == "scale_and_zero") {
+    m.unbalance_error_along = ScopedTolerance{};
+    m.unbalance_error_across = ScopedTolerance{};
   }
   std::string disk_model;
   std::optional<UserParts> parts;
@@ -220,6 +269,43 @@ GimbalModel load_gimbal_model(const std::string& path,
     m.disk_nominal_inertia = mo.second(0, 0) + mo.second(1, 1);
   }
   return m;
+}
+
+std::vector<std::string> plausibility_warnings(const GimbalModel& m) {
+  std::vector<std::string> w;
+  const auto& p = m.plausibility;
+  if (!p.stated) return w;
+  auto num = [](double v) {
+    char b[32];
+    std::snprintf(b, sizeof b, "%.3g", v);
+    return std::string(b);
+  };
+  const double s_k = m.kt_drift.spec.dist.stddev();
+  const double coef = std::abs(p.kt_temperature_coefficient_per_K);
+  const double k_limit = coef * p.magnet_temperature_swing_K;
+  if (s_k > k_limit * (1.0 + 1e-9)) {
+    w.push_back("tolerances.kt_drift: 1 sigma " + num(100.0 * s_k) + "% of K_T between tests needs a " + num(s_k / coef) +
+                " K (1 sigma) magnet temperature swing at " + num(100.0 * p.kt_temperature_coefficient_per_K) +
+                " %/K; [plausibility] states " + num(p.magnet_temperature_swing_K) + " K (" + num(100.0 * k_limit) +
+                "% of K_T): past the physically plausible range");
+  }
+  const double s_z = m.gimbal_zero.spec.dist.stddev();
+  if (s_z > p.zero_registration * (1.0 + 1e-9)) {
+    w.push_back("tolerances.gimbal_zero: 1 sigma " + units::format(s_z, "deg", 3) + " is " +
+                (p.zero_registration > 0 ? num(s_z / p.zero_registration) + " times" : "above") +
+                " the zero registration the rig can do ([plausibility] zero_registration " +
+                units::format(p.zero_registration, "deg", 3) + "): past the physically plausible range");
+  }
+  for (auto [name, tol] : {std::pair{"unbalance_error_along", &m.unbalance_error_along},
+                           std::pair{"unbalance_error_across", &m.unbalance_error_across}}) {
+    const double s = tol->spec.dist.stddev();
+    if (s > p.unbalance_error * (1.0 + 1e-9)) {
+      w.push_back(std::string("tolerances.") + name + ": 1 sigma " + units::format(s, "g*mm", 3) +
+                  " is above what the additive error's stated sources give ([plausibility] unbalance_error " +
+                  units::format(p.unbalance_error, "g*mm", 3) + "): past the physically plausible range");
+    }
+  }
+  return w;
 }
 
 }  // namespace poise::studies

@@ -22,6 +22,17 @@ struct GimbalModel {
   models::DiskRotorParams rotor;   ///< eccentricity comes from the sampled unbalance
   procedures::TestPlan plan;       ///< positions are set per test group
   double counterweight_radius = 0; ///< R of Eq. 23 (m)
+  /// [counterweight] placement: "disk_frame" (at the fitted angle + 180 deg on the disk's own
+  /// angle scale, registered to the gimbal zero: the zero errors go into the placement) or
+  /// "turntable" (Yang 2015 Sec. 5.2: the turntable is turned back to the fitted angle and the
+  /// counterweight set against gravity, so the gimbal- and turntable-zero errors cancel; the
+  /// turntable's positioning error at that one position remains).
+  std::string counterweight_placement = "disk_frame";
+  /// [test_error] mechanism: which per-test error the rig has, "scale_and_zero" (kt_drift and
+  /// gimbal_zero drawn per test), "additive" (unbalance_error_along / _across: a 2D random
+  /// vector added to the estimated unbalance in each test, along and across it) or "both".
+  /// The tolerances of the mechanism not chosen are not drawn.
+  std::string error_mechanism = "scale_and_zero";
   procedures::Disturbances disturbances;  ///< undeclared effects, off unless [disturbances] sets them
   // Tolerances (SI). Magnitudes for vectors; their directions are uniform.
   ScopedTolerance residual_unbalance;   ///< simulator's own unbalance (kg m), random angle
@@ -37,6 +48,17 @@ struct GimbalModel {
   ScopedTolerance counterweight_mass;   ///< placement: mass deviation (relative)
   ScopedTolerance counterweight_radius_error;  ///< placement: radius deviation (m)
   ScopedTolerance counterweight_angle;  ///< placement: angle deviation (rad)
+  ScopedTolerance unbalance_error_along;   ///< additive error along the estimated unbalance (kg m)
+  ScopedTolerance unbalance_error_across;  ///< additive error across it (kg m)
+  /// [plausibility] (optional): what the calibrated per-test tolerances may physically be.
+  struct Plausibility {
+    bool stated = false;
+    double kt_temperature_coefficient_per_K = 0;  ///< K_T change per kelvin of magnet temperature (NdFeB ~ -0.0012)
+    double magnet_temperature_swing_K = 0;        ///< 1 sigma magnet temperature change between tests (K)
+    double zero_registration = 0;                 ///< 1 sigma of the gimbal-zero registration the rig can do (rad)
+    double unbalance_error = 0;                   ///< 1 sigma of an additive unbalance error its sources give (kg m)
+    std::string notes;
+  } plausibility;
   /// [geometry] disk_model ("" = off, else a path relative to this file): the rotor's disk as a
   /// geometric part (models/simulator_disk_*.toml) drawn as built for every sample (unit
   /// scope). Its clumps are dropped: the test loads are the study's groups. The as-built
@@ -63,6 +85,12 @@ struct GimbalModel {
 /// atol_length, max_order (absolute tolerances per state of the disk rotor). A model reads its
 /// own further keys of these tables itself.
 void read_test_plan_tables(TomlReader& root, procedures::TestPlan& plan);
+
+/// Warnings for calibrated tolerances past their physically plausible ranges ([plausibility]):
+/// kt_drift's 1 sigma above |coefficient| x temperature swing, gimbal_zero's above the zero
+/// registration, unbalance_error_along / _across above the additive error's sources. Empty
+/// when [plausibility] is absent or every tolerance is inside; only the mechanism in use counts.
+std::vector<std::string> plausibility_warnings(const GimbalModel& m);
 
 /// Loads and validates; `overrides` replace values by dotted key. Throws ValidationError.
 GimbalModel load_gimbal_model(const std::string& path,

@@ -13,6 +13,7 @@ std::unique_ptr<KindSections> read_gimbal_sections(TomlReader& root, const Study
     grp.positions = static_cast<std::size_t>(g.integer("positions", 4, 3600));
     grp.placement = g.choice("placement", {"sequential", "interleaved", "back_and_forth"}, "sequential");
     grp.repeats = static_cast<std::size_t>(g.integer("repeats", 1, 10000, 1));
+    grp.counterweight_placement = g.choice("counterweight_placement", {"model", "disk_frame", "turntable"}, "model");
     g.string("notes", "");
     for (auto& l : g.table_array("load")) {
       GimbalLoad load;
@@ -67,6 +68,12 @@ std::map<std::string, std::string> apply_gimbal_study_overrides(StudyConfig& cfg
           break;
         }
         (rest == "positions" ? g.positions : g.repeats) = static_cast<std::size_t>(n);
+      } else if (rest == "counterweight_placement") {
+        if (value != "model" && value != "disk_frame" && value != "turntable") {
+          errors.emplace_back(where, key, "\"" + value + "\"", "one of \"model\", \"disk_frame\", \"turntable\"");
+          break;
+        }
+        g.counterweight_placement = value;
       } else if (rest == "placement") {
         if (value != "sequential" && value != "interleaved" && value != "back_and_forth") {
           errors.emplace_back(where, key, "\"" + value + "\"", "one of \"sequential\", \"interleaved\", \"back_and_forth\"");
@@ -75,7 +82,7 @@ std::map<std::string, std::string> apply_gimbal_study_overrides(StudyConfig& cfg
         g.placement = value;
       } else {
         errors.emplace_back(where, key, "\"" + value + "\"",
-                            "a study key group[.<name>].positions, .placement or .repeats");
+                            "a study key group[.<name>].positions, .placement, .repeats or .counterweight_placement");
         break;
       }
     }

@@ -2,10 +2,12 @@
 /// The sections of a gimbal_static_unbalance study file (the shared ones are in
 /// engine/study_config.h): the test campaign, as groups of tests.
 ///   [[group]]       name, positions (turntable positions, evenly spaced from 0),
-///                   placement = "sequential" | "interleaved" | "back_and_forth", repeats, notes
+///                   placement = "sequential" | "interleaved" | "back_and_forth", repeats,
+///                   counterweight_placement = "model" | "disk_frame" | "turntable", notes
 ///   [[group.load]]  mass, radius, angle (a test mass of a loading test)
 /// Study keys an override may set (an optimizer's test-plan choice): group.positions,
-/// group.placement, group.repeats (every group) or group.<name>.<key> (one group).
+/// group.placement, group.repeats, group.counterweight_placement (every group) or
+/// group.<name>.<key> (one group).
 #include <map>
 #include <string>
 #include <vector>
@@ -32,6 +34,10 @@ struct GimbalGroup {
   /// ones coming back down, approached from the other side).
   std::string placement = "sequential";
   std::size_t repeats = 1;
+  /// How this group's counterweights are placed: "model" (the model's [counterweight]
+  /// placement), "disk_frame" or "turntable" (gimbal_model.h), so that one study can set the
+  /// two side by side.
+  std::string counterweight_placement = "model";
   std::vector<GimbalLoad> loads;
 };
 

@@ -6,7 +6,12 @@
 #include "geometry/generators.h"
 #include "geometry/mass_properties.h"
 #include "sampling/random_stream.h"
+#include "kinds/gimbal_static_unbalance/counterweight_residual.h"
 #include "kinds/gimbal_static_unbalance/gimbal_sections.h"
+#include "sampling/normal_stream.h"
+#include "core/error.h"
+#include <array>
+#include <cstdio>
 
 namespace poise::studies {
 namespace {
@@ -99,6 +104,34 @@ GimbalStudy::GimbalStudy(StudyConfig config, GimbalModel model, std::size_t samp
   }
 }
 
+void GimbalStudy::check_positions(const procedures::MeasurementResult& m, const std::string& group, std::size_t test,
+                                  double load_torque, double load_angle) const {
+  const double deg = units::kRadPerDeg;
+  const auto& o = model_.plan.oscillation;
+  for (const auto& p : m.positions) {
+    char where[200];
+    std::snprintf(where, sizeof where, "group %s, test %zu (load %.4g mN*m at %.4g deg), turntable position %.4g deg",
+                  group.c_str(), test, load_torque * 1e3, load_angle / deg, p.theta_nominal / deg);
+    if (p.saturated) {
+      char b[600];
+      std::snprintf(b, sizeof b,
+                    "drive saturated: %s: the drive current reached its limit (%.4g A, %.4g mN*m at the nominal K_T) in "
+                    "the integration window, so Eq. 21's mean current is clipped and MT_s would come out low; the test "
+                    "needs a motor of more torque or a smaller load",
+                    where, model_.plan.servo.current_limit, model_.plan.servo.current_limit * model_.plan.servo.kt_nominal * 1e3);
+      throw Error(b);
+    }
+    if (std::abs(o.centre) + p.max_abs_phi > o.swing_range + 1e-12) {
+      char b[600];
+      std::snprintf(b, sizeof b,
+                    "swing out of range: %s: the gimbal swung %.4g deg about its centre (%.4g deg), leaving the test's "
+                    "stated range +-%.4g deg ([oscillation] swing_range)",
+                    where, p.max_abs_phi / deg, o.centre / deg, o.swing_range / deg);
+      throw Error(b);
+    }
+  }
+}
+
 std::unique_ptr<GimbalStudy::Workspace> GimbalStudy::make_workspace() const {
   return std::make_unique<Workspace>(model_.plan.solver);
 }
@@ -115,6 +148,7 @@ void GimbalStudy::compute(std::size_t i, Workspace& ws, SampleResult& out) const
     std::vector<double> u(std::max<std::size_t>(dimension_ + geometry_dimension(), 1));
     design_.point(i, u);
     sampling::RandomStream rs(seed_, sampling::StreamId::kProcedure, design_.stream_index(i));
+    sampling::NormalStream normal(&rs);
     UnitDraws unit;
     std::size_t k = 0, col = 0;
     for (const auto& s : kSlots) {
@@ -173,6 +207,8 @@ void GimbalStudy::compute(std::size_t i, Workspace& ws, SampleResult& out) const
     for (const auto& grp : gimbal_sections(config_).groups) {
       procedures::TestPlan plan = model_.plan;
       procedures::set_positions(plan, grp.positions, procedures::parse_placement(grp.placement));
+      const std::string placement =
+          grp.counterweight_placement == "model" ? model_.counterweight_placement : grp.counterweight_placement;
       double se_t = 0, se_a = 0, sum_t = 0, sum_a = 0, sum_mk = 0, max_res = 0, max_phi = 0, sum_fit_rmse = 0;
       std::size_t n = 0;
       for (std::size_t r = 0; r < grp.repeats; ++r) {
@@ -200,25 +236,40 @@ void GimbalStudy::compute(std::size_t i, Workspace& ws, SampleResult& out) const
           truth.turntable_zero = d.turntable_zero;
           truth.disturbances = model_.disturbances;
           plan.oscillation.centre = model_.plan.oscillation.centre + d.gimbal_zero;
+          // The additive mechanism's per-test error, along and across the estimate (kg m).
+          double add_along = 0.0, add_across = 0.0;
+          if (model_.error_mechanism != "scale_and_zero") {
+            add_along = model_.unbalance_error_along.spec.dist.quantile(rs.uniform());
+            add_across = model_.unbalance_error_across.spec.dist.quantile(rs.uniform());
+          }
           const procedures::MeasurementResult m = procedures::run_static_unbalance_procedure(plan, truth, rs, ws);
           out.solver_steps += m.solver.steps;
           out.rhs_evals += m.solver.rhs_evals;
           const double load_torque = load.mass * g0 * load.radius;  // what the test claims to load
-          const double et = m.fit.amplitude - load_torque;
-          const double ea = wrap_pi(m.fit.phase - load.angle);
+          check_positions(m, grp.name, r * grp.loads.size() + static_cast<std::size_t>(&load - grp.loads.data()) + 1,
+                          load_torque, load.angle);
+          // The estimate with the additive error: a vector added to (MT_s, b).
+          const double ex = m.fit.amplitude + add_along * g0, ey = add_across * g0;
+          const double amplitude = std::hypot(ex, ey), phase = m.fit.phase + std::atan2(ey, ex);
+          const double et = amplitude - load_torque;
+          const double ea = wrap_pi(phase - load.angle);
           se_t += et * et;
           se_a += ea * ea;
           sum_t += et;
           sum_a += ea;
           sum_mk += m.fit.offset;
           sum_fit_rmse += m.fit.rmse;
-          // Eq. 23 counterweight opposite the fitted unbalance, placed with its tolerances.
-          const double m_cw = procedures::counterweight_mass(m.fit.amplitude, model_.counterweight_radius, g0) *
+          // Eq. 23 counterweight opposite the estimated unbalance, placed with its tolerances;
+          // the residual about the bearing axis, run-out included (counterweight_residual.h).
+          const double m_cw = procedures::counterweight_mass(amplitude, model_.counterweight_radius, g0) *
                               (1.0 + d.cw_mass);
           const double r_cw = model_.counterweight_radius + d.cw_radius;
-          const double a_cw = m.fit.phase + kPi + d.cw_angle;
-          const double rx = ux + m_cw * r_cw * std::cos(a_cw), ry = uy + m_cw * r_cw * std::sin(a_cw);
-          max_res = std::max(max_res, std::hypot(rx, ry));
+          const double turn_back = placement == "turntable" ? model_.plan.positioning_error * normal.next() : 0.0;
+          const double a_cw = counterweight_disk_angle(placement, phase, d.gimbal_zero + d.turntable_zero,
+                                                       d.cw_angle + turn_back);
+          const std::array<double, 2> runout{d.runout * std::cos(d.runout_angle), d.runout * std::sin(d.runout_angle)};
+          const auto res = residual_about_bearing_axis({dx, dy}, runout, m_cw, r_cw, a_cw);
+          max_res = std::max(max_res, std::hypot(res[0], res[1]));
           for (const auto& p : m.positions) max_phi = std::max(max_phi, p.max_abs_phi);
           ++n;
         }

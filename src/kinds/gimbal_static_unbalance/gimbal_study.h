@@ -10,12 +10,15 @@
 ///   g_mean_torque_error_mNm, g_mean_angle_error_deg, g_sd_torque_mNm, g_sd_angle_deg
 ///   g_mean_offset_mNm                       mean fitted MK
 ///   g_max_residual_gmm                      largest residual unbalance after the
-///                                           counterweight, about the disk's geometric centre
+///                                           counterweight, about the bearing axis with the
+///                                           run-out's m r (counterweight_residual.h)
 ///   g_max_swing_deg                         largest |phi - phi_c| reached (the +-3 deg check)
 ///   g_mean_fit_rmse_mNm                     RMS residual of the Eq. 22 fit (Table 1: 0.23)
 ///   g_test_time_min                         duration of one test of the group (min): per
 ///                                           position, move and lock, settle, lead-in and
 ///                                           the N periods integrated
+/// A position whose drive saturates, or whose swing leaves [oscillation] swing_range, fails
+/// its sample with the reason; summary.json "details" gives the saturated share.
 #include <functional>
 #include <optional>
 #include <span>
@@ -49,6 +52,12 @@ class GimbalStudy : public ProcedureStudyBase<GimbalStudy> {
   void compute(std::size_t i, Workspace& ws, SampleResult& out) const;
   /// The groups' paper_rmse_torque and paper_rmse_angle.
   nlohmann::json solver_json(const McResult& mc) const override;
+  /// summary.json "details": the saturated share and the out-of-range share of the samples
+  /// (with 95% Wilson intervals), the error mechanism, the counterweight placement and the
+  /// plausibility warnings of the model.
+  nlohmann::json details(const McResult& mc) const override;
+  void report_sections(const McResult& mc, const std::string& plots_dir, bool plots, std::vector<std::string>& figures,
+                       std::ostringstream& html) const override;
 
  private:
   StudyConfig config_;
@@ -59,6 +68,10 @@ class GimbalStudy : public ProcedureStudyBase<GimbalStudy> {
   std::size_t dimension_ = 0;
   std::optional<DiskSampler> disk_;  ///< the disk as built ([geometry]), after the tolerances' dimensions
   std::optional<UserPartsSampler> parts_;  ///< or the rotor's parts as built ([[geometry.part]])
+  /// Fails the sample (throws poise::Error, "drive saturated: ..." or "swing out of range: ...")
+  /// when a position of test `test` saturated its drive or swung past [oscillation] swing_range.
+  void check_positions(const procedures::MeasurementResult& m, const std::string& group, std::size_t test,
+                       double load_torque, double load_angle) const;
   std::size_t geometry_dimension() const { return disk_ ? disk_->dimension() : parts_ ? parts_->dimension() : 0; }
   sampling::Design design_;
 };
