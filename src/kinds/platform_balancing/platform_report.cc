@@ -53,7 +53,8 @@ const std::vector<double>& values_of(const McResult& mc, const std::vector<std::
 }
 
 // What the unbalance LOS lines rest on: the loop, stated with its derived figures.
-std::string loop_statement(const models::StabilizationLoop& l) {
+std::string loop_statement(models::StabilizationLoop l) {
+  l.inertia = 1.0;  // the gains scale with J; poles and crossover do not
   std::ostringstream os;
   if (l.type == models::LoopType::kRatePi) {
     os << "PI rate loop, true open-loop crossover " << fmt(l.frequency_hz) << " Hz, integral ratio " << fmt(l.integral_ratio)
