@@ -25,12 +25,15 @@ class BalancingMachineKind final : public ProcedureKind {
   }
   std::unique_ptr<ProcedureStudy> make_study(const StudyConfig& cfg, const std::map<std::string, std::string>& o,
                                              std::size_t samples, std::uint64_t seed) const override {
-    return std::make_unique<BalancingStudy>(cfg, load_balancing_model(cfg.model_path, o), samples, seed);
+    auto study = std::make_unique<BalancingStudy>(cfg, load_balancing_model(cfg.model_path, o), samples, seed);
+    for (const auto& w : study->warnings()) std::fprintf(stderr, "poise: warning: %s\n", w.c_str());
+    return study;
   }
   std::string validate(const StudyConfig& cfg) const override {
     const BalancingModel model = load_balancing_model(cfg.model_path, cfg.overrides);
     const BalancingStudy study(cfg, model, cfg.samples, cfg.seed);
     const json d = study.details({});
+    for (const auto& w : study.warnings()) std::fprintf(stderr, "poise: warning: %s\n", w.c_str());
     char buf[768];
     std::snprintf(buf, sizeof buf,
                   "%s: valid. Study '%s' (%s) on model '%s': %zu unit-scope random inputs, %s design, %zu samples, "

@@ -9,6 +9,7 @@
 #include "sampling/random_stream.h"
 #include "engine/report_plot.h"
 #include "engine/result_io.h"
+#include "kinds/balancing_machine/balancing_iso_tests.h"
 #include "kinds/balancing_machine/balancing_sections.h"
 
 namespace poise::studies {
@@ -142,6 +143,16 @@ struct Bench {
   }
 };
 
+// The bench seen by the ISO tests: what the machine displays, and a test mass placed.
+IsoBench iso_bench(Bench& bench, double z1, double z2) {
+  IsoBench b;
+  b.indicate = [&bench](const std::vector<PlaneMass>& m) { return bench.reading(bench.measure(bench.machine_r, m)); };
+  b.place = [&bench](double mass, double r, double a, double z) { return bench.place(mass, r, a, z); };
+  b.plane_1_height = z1;
+  b.plane_2_height = z2;
+  return b;
+}
+
 std::vector<PlaneMass> with(std::vector<PlaneMass> base, std::initializer_list<PlaneMass> extra) {
   base.insert(base.end(), extra.begin(), extra.end());
   return base;
@@ -237,7 +248,18 @@ BalancingStudy::BalancingStudy(StudyConfig config, BalancingModel model, std::si
         }
       }
     } else if (x.type == "urr") {
-      for (const char* o : {"_plane1_pct", "_plane2_pct", "_min_pct", "_pass_ratio"}) output_names_.push_back(n + o);
+      for (const char* o : {"_plane1_pct", "_plane2_pct", "_min_pct", "_pass_ratio", "_iso_plane1_pct", "_iso_plane2_pct",
+                            "_iso_min_pct", "_iso_pass_ratio"}) {
+        output_names_.push_back(n + o);
+      }
+    } else if (x.type == "umar_iso") {
+      for (const char* o : {"_plane1_kgm", "_plane2_kgm", "_plane1_max_dev_g", "_plane2_max_dev_g", "_plane1_mean_g",
+                            "_plane2_mean_g", "_pass_ratio"}) {
+        output_names_.push_back(n + o);
+      }
+      for (int p = 1; p <= 2; ++p) {
+        for (int k = 0; k < x.positions; ++k) output_names_.push_back(n + "_p" + std::to_string(p) + "_k" + std::to_string(k) + "_g");
+      }
     } else {
       for (const char* o : {"_u_error_ic_gmm", "_v_error_ic_gmm", "_plane_error_ic_pct", "_u_error_cf_gmm",
                             "_v_error_cf_gmm", "_plane_error_cf_pct", "_interference_ic_per_mm",
@@ -247,6 +269,31 @@ BalancingStudy::BalancingStudy(StudyConfig config, BalancingModel model, std::si
     }
   }
   if (!errors.empty()) throw ValidationError(errors);
+  warnings_ = input_warnings();
+}
+
+std::vector<std::string> BalancingStudy::input_warnings() const {
+  std::vector<std::string> w;
+  const BalancingRotor& r = model_.rotor;
+  // Denser than lead (11,340 kg/m^3) is no solid rotor: mass or dimensions are likely wrong.
+  const double density = r.mass / (kPi * 0.25 * r.diameter * r.diameter * r.height);
+  if (density > 11340.0) {
+    w.push_back(model_.file + ": key 'rotor.mass' = " + units::format(r.mass, "kg", 4) + ": the rotor (solid cylinder " +
+                units::format(r.diameter, "mm", 4) + " x " + units::format(r.height, "mm", 4) + ") would have density " +
+                units::format(density, "kg/m^3", 4) + ", above lead's 11340 kg/m^3; check the mass, diameter and height");
+  }
+  const double outer = 0.5 * r.diameter;
+  auto radius_check = [&](const std::string& key, double radius) {
+    if (radius > outer) {
+      w.push_back(config_.file + ": key '" + key + "' = " + units::format(radius, "mm", 4) +
+                  " lies outside the rotor (radius " + units::format(outer, "mm", 4) + " from rotor.diameter of " +
+                  model_.file + "): a test mass there cannot be placed in a testing hole");
+    }
+  };
+  radius_check("procedure.calibration_radius", balancing_sections(config_).calibration_radius);
+  const auto& xs = balancing_sections(config_).experiments;
+  for (std::size_t e = 0; e < xs.size(); ++e) radius_check("experiment[" + std::to_string(e) + "].radius", xs[e].radius);
+  return w;
 }
 
 std::size_t BalancingStudy::runs_per_sample() const {
@@ -255,7 +302,8 @@ std::size_t BalancingStudy::runs_per_sample() const {
     if (x.type == "separation") runs += 1 + static_cast<std::size_t>(model_.rotor.surfaces * x.positions);
     if (x.type == "umar") runs += 2 * static_cast<std::size_t>(x.positions);
     if (x.type == "stability") runs += static_cast<std::size_t>(x.positions) + (x.balance_first ? 1 : 0);
-    if (x.type == "urr") runs += 1;
+    if (x.type == "urr") runs += 3;  // today's run, and the ISO indication bare and loaded
+    if (x.type == "umar_iso") runs += static_cast<std::size_t>(x.positions);
     if (x.type == "accuracy") runs += 2;
   }
   return runs;
@@ -460,6 +508,23 @@ void BalancingStudy::compute(std::size_t i, Workspace& ws, SampleResult& out) co
         out.outputs[o++] = urr2 * 100.0;
         out.outputs[o++] = std::min(urr1, urr2) * 100.0;
         out.outputs[o++] = std::min(urr1, urr2) >= x.requirement ? 1.0 : 0.0;
+        // ISO 21940-21: the indication of known test masses, no correction (balancing_iso_tests.h).
+        IsoBench iso = iso_bench(bench, z1, z2);
+        const IsoUrr ir = iso_urr(iso, rotor_r, x.mass, x.radius);
+        out.outputs[o++] = ir.plane[0] * 100.0;
+        out.outputs[o++] = ir.plane[1] * 100.0;
+        out.outputs[o++] = std::min(ir.plane[0], ir.plane[1]) * 100.0;
+        out.outputs[o++] = std::min(ir.plane[0], ir.plane[1]) >= x.requirement ? 1.0 : 0.0;
+      } else if (x.type == "umar_iso") {
+        IsoBench iso = iso_bench(bench, z1, z2);
+        const TwoPlaneUmar t = two_plane_umar(iso, rotor_r, x.mass, x.radius, x.positions, x.plane_2_offset, x.claim);
+        for (double v : {t.umar[0], t.umar[1], t.max_deviation[0] * 1e3, t.max_deviation[1] * 1e3, t.mean[0] * 1e3,
+                         t.mean[1] * 1e3, t.pass ? 1.0 : 0.0}) {
+          out.outputs[o++] = v;
+        }
+        for (int p = 0; p < 2; ++p) {
+          for (double v : t.readings[p]) out.outputs[o++] = v * 1e3;
+        }
       } else {  // accuracy
         // A test piece (mass centre offset from rotor R's) with plane unbalances of the given
         // size at random angles, measured on the machine calibrated with R.
@@ -487,7 +552,7 @@ void BalancingStudy::compute(std::size_t i, Workspace& ws, SampleResult& out) co
         out.outputs[o++] = std::abs(dcf(0) + dcf(1) - applied_static) / std::abs(couple) * 1e-3;
         // How far the horizontal plates move for a static unbalance of piece_unbalance (a
         // displacement pickup must resolve it): the piece's motion scaled by piece_unbalance / |U|.
-        out.outputs[o++] = std::abs(a(0)) / (1.0 + d.value[kGain1]) / bench.machine_piece.horizontal_plate_stiffness *
+        out.outputs[o++] = std::abs(a(0)) / (1.0 + d.value[kGain1]) / bench.machine_piece.sensor_1_plate_stiffness *
                            x.piece_unbalance / std::abs(u_true) * 1e6;
       }
     }
