@@ -246,6 +246,16 @@ TEST(PlatformStudy, StabilizationKeysAndRateLoop) {
   const PlatformModel rate = load_platform_model(d.file("rate.toml"));
   EXPECT_EQ(rate.stabilization.type, models::LoopType::kRatePi);
   EXPECT_NEAR(rate.stabilization.frequency_hz, 40.0, 1e-12);
+  // A rate loop without an integral ratio has no position stiffness: refused.
+  test::write_text(d.file("rate0.toml"), test::replace_once(test::read_text(d.file("rate.toml")), "integral_ratio = 0.2",
+                                                             "integral_ratio = 0"));
+  try {
+    load_platform_model(d.file("rate0.toml"));
+    FAIL() << "no error";
+  } catch (const ValidationError& e) {
+    EXPECT_NE(std::string(e.what()).find("stabilization.integral_ratio"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("a ratio > 0 for loop = \"rate_pi\""), std::string::npos) << e.what();
+  }
   // A rate loop with the PID's keys: damping is unknown there.
   test::write_text(d.file("mixed.toml"), test::replace_once(model, "loop = \"position_pid\"", "loop = \"rate_pi\"\ncrossover = \"40 Hz\""));
   EXPECT_THROW(load_platform_model(d.file("mixed.toml")), ValidationError);

@@ -125,7 +125,7 @@ json PlatformStudy::details(const McResult& mc) const {
     const std::string ax = models::axis_name(a);
     res[ax]["initial_torque_max_mNm"] = quantiles_json(quantiles(values_of(mc, names, "initial_" + ax + "_torque_max_mNm")));
     for (const auto& l : ps.order_labels) {
-      for (const char* o : {"residual_gmm", "torque_max_mNm", "torque_rms_mNm", "torque_max_acc_mNm", "torque_rms_acc_mNm"}) {
+      for (const char* o : {"residual_gmm", "residual_grid_max_gmm", "torque_max_mNm", "torque_rms_mNm", "torque_max_acc_mNm", "torque_rms_acc_mNm"}) {
         res[ax][l][o] = quantiles_json(quantiles(values_of(mc, names, l + "_" + ax + "_" + o)));
       }
     }
@@ -200,7 +200,18 @@ void PlatformStudy::report_sections(const McResult& mc, const std::string& plots
       << fmt(g["counterweight_radius_m"].get<double>() * 1e3) << " / " << fmt(g["counterweight_plane_m"].get<double>() * 1e3)
       << "</td><td>" << fmt(g["loop_min_stiffness_N_m_per_rad"].get<double>()) << "</td></tr>\n";
   }
-  h << "</table>\n<p>Each axis test is the complete simulated single-axis procedure (" << ps.positions
+  h << "</table>\n";
+  if (!d["gimbals"].empty()) {
+    const json& loop = d["gimbals"][0]["loop"];
+    h << "<p>Stabilization loop: " << html_escape(d["loop_statement"].get<std::string>()) << ". Closed-loop poles (Hz, the "
+         "same on every axis: the gains scale with its inertia):";
+    for (const auto& pole : loop["closed_loop_poles_Hz"]) {
+      h << " " << fmt(pole[0].get<double>()) << (pole[1].get<double>() < 0 ? " - " : " + ")
+        << fmt(std::abs(pole[1].get<double>())) << "j";
+    }
+    h << "; least disturbance stiffness at " << fmt(loop["least_stiffness_at_Hz"].get<double>()) << " Hz.</p>\n";
+  }
+  h << "<p>Each axis test is the complete simulated single-axis procedure (" << ps.positions
     << " turntable positions, servo-driven oscillation integrated with CVODE, sampled current, Eq. 21, Eq. 22 fit, Eq. 23 "
        "counterweight with its placement tolerances in the gimbal's correction plane) on the assembly that turns about "
        "the axis, the other gimbals locked with their locking errors. Residual torque: the exact statics on a grid of "
@@ -212,7 +223,7 @@ void PlatformStudy::report_sections(const McResult& mc, const std::string& plots
     << ") m/s&sup2; in the base frame.</p>\n";
   // Residual torques per axis and order.
   h << "<h2>Residual unbalance torque per axis and test order</h2>\n<table><tr><th class='l'>axis</th><th class='l'>order</th>"
-       "<th>residual S<sub>&perp;</sub> p50 / p95 (g mm)</th><th>max over grid, gravity: p50 / p95 / p99.73 (mN m)</th>"
+       "<th>residual S<sub>&perp;</sub> p50 / p95 (g mm), lock angles | greatest over the grid</th><th>max over grid, gravity: p50 / p95 / p99.73 (mN m)</th>"
        "<th>RMS over grid, gravity p50 (mN m)</th><th>max, gravity + acceleration: p50 / p95 / p99.73 (mN m)</th></tr>\n";
   for (models::Axis a : models::kAllAxes) {
     const std::string ax = models::axis_name(a);
@@ -223,7 +234,9 @@ void PlatformStudy::report_sections(const McResult& mc, const std::string& plots
     for (std::size_t o = 0; o < ps.order_labels.size(); ++o) {
       const json& x = r[ps.order_labels[o]];
       h << "<tr><td class='l'>" << ax << "</td><td class='l'>" << html_escape(ps.order_texts[o]) << "</td><td>"
-        << fmt(x["residual_gmm"]["p50"].get<double>()) << " / " << fmt(x["residual_gmm"]["p95"].get<double>()) << "</td><td>"
+        << fmt(x["residual_gmm"]["p50"].get<double>()) << " / " << fmt(x["residual_gmm"]["p95"].get<double>()) << " | "
+        << fmt(x["residual_grid_max_gmm"]["p50"].get<double>()) << " / " << fmt(x["residual_grid_max_gmm"]["p95"].get<double>())
+        << "</td><td>"
         << fmt(x["torque_max_mNm"]["p50"].get<double>()) << " / " << fmt(x["torque_max_mNm"]["p95"].get<double>()) << " / "
         << fmt(x["torque_max_mNm"]["p99_73"].get<double>()) << "</td><td>" << fmt(x["torque_rms_mNm"]["p50"].get<double>())
         << "</td><td>" << fmt(x["torque_max_acc_mNm"]["p50"].get<double>()) << " / "
