@@ -39,7 +39,7 @@
 ///     At the Wang 2014 model's rho = 0.32 the clamped ends give 0.714 and 1.354 times k6 l^2,
 ///     and the clamp moment carries -15% and +17% of sensor 2's load F l: F l is then not the
 ///     moment the closed form assumes (torsion_plate_split; tested against an independent
-///     solution of E I w^(4) = 0 with these end conditions, tests/spring_plate_machine_test.cc).
+///     solution of E I w^(4) = 0 with these end conditions, tests/torsion_plate_test.cc).
 ///     The guided end is exact only for L << l.
 ///   * Sensor 1 is a force sensor in ONE horizontal plate: the pair carries F = (k5,1 + k5,2) x,
 ///     sensor 1 reads k5,1 x = k5,1 / (k5,1 + k5,2) F. With as-built plates of unequal

@@ -223,7 +223,9 @@ void BalancingStudy::report_sections(const McResult& mc, const std::string& plot
         << fmt(x.piece_unbalance * 1e6) << " g mm in each plane (random angles) and its mass centre "
         << "moved by the piece_centre_height tolerance, on the machine calibrated with rotor R. ic: influence "
            "coefficients (calibrated on the machine as built); cf: the corrected closed form with the design "
-           "values of plates and lever. Interference I<sub>s,c</sub>: static unbalance indicated per couple "
+           "lever and speed (each sensor reads its own plate as built: the difference of the two horizontal "
+           "plates reaches it, their common stiffness does not). Interference I<sub>s,c</sub>: static "
+           "unbalance indicated per couple "
            "unbalance (1/mm), from a pure couple of "
         << fmt(x.mass * 1e3) << " g at " << fmt(x.radius * 1e3) << " mm in the two planes.</p>\n";
       if (plots) {

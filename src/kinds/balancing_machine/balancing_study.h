@@ -10,7 +10,9 @@
 ///     unbalance in the two correction planes (at random angles);
 ///   * calibration by influence coefficients on rotor R with the calibration mass in each
 ///     correction plane (as production machines do); the closed form uses the machine's
-///     design values (nominal plates and lever), as the paper does;
+///     design lever, the nominal speed and the design end condition's split, as the paper does
+///     (of the plates' stiffnesses it needs none: each sensor reads its own plate as built,
+///     sensor 1 one of the two horizontal plates, so only their difference reaches it);
 ///   * every run draws its own speed deviation and placement errors (scope "test").
 /// Outputs (names start with the experiment's name; units from the suffix):
 ///   omega1_Hz, omega2_Hz, hard_bearing_ratio         the machine as built with rotor R
