@@ -1,6 +1,6 @@
 #include "models/stabilization_loop.h"
 
-#include <Eigen/Eigenvalues>
+#include <unsupported/Eigen/Polynomials>
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -15,15 +15,13 @@ double rate_gain(const StabilizationLoop& l) {
   return l.inertia * omega(l) / std::sqrt(1.0 + l.integral_ratio * l.integral_ratio);
 }
 
-// Roots of c[0] x^n + c[1] x^(n-1) + ... + c[n] (c[0] != 0) by the companion matrix.
+// Roots of c[0] x^n + c[1] x^(n-1) + ... + c[n] (c[0] != 0), by Eigen's polynomial solver.
 std::vector<std::complex<double>> roots(const std::vector<double>& c) {
-  const int n = static_cast<int>(c.size()) - 1;
-  Eigen::MatrixXd m = Eigen::MatrixXd::Zero(n, n);
-  for (int j = 0; j < n; ++j) m(0, j) = -c[static_cast<std::size_t>(j + 1)] / c[0];
-  for (int i = 1; i < n; ++i) m(i, i - 1) = 1.0;
-  Eigen::EigenSolver<Eigen::MatrixXd> es(m, false);
-  std::vector<std::complex<double>> r(es.eigenvalues().data(), es.eigenvalues().data() + n);
-  return r;
+  Eigen::VectorXd ascending(static_cast<Eigen::Index>(c.size()));
+  for (std::size_t k = 0; k < c.size(); ++k) ascending(static_cast<Eigen::Index>(c.size() - 1 - k)) = c[k];
+  Eigen::PolynomialSolver<double, Eigen::Dynamic> solver(ascending);
+  const auto& r = solver.roots();
+  return std::vector<std::complex<double>>(r.data(), r.data() + r.size());
 }
 }  // namespace
 
