@@ -359,6 +359,11 @@ positions = 2
     EXPECT_EQ(output(study, r, "urr_min_pct"),
               std::min(output(study, r, "urr_plane1_pct"), output(study, r, "urr_plane2_pct")));
     EXPECT_EQ(output(study, r, "urr_pass_ratio"), 1.0);
+    // ISO 21940-21's URR on the ideal machine: the indication of the known test masses is
+    // exact (influence coefficients calibrated on this very machine).
+    EXPECT_GT(output(study, r, "urr_iso_plane1_pct"), 99.999);
+    EXPECT_GT(output(study, r, "urr_iso_plane2_pct"), 99.999);
+    EXPECT_EQ(output(study, r, "urr_iso_pass_ratio"), 1.0);
     // U_mar with no rotor residual: every reading is the 160 g test mass.
     EXPECT_LT(output(study, r, "umar_plane1_kgm"), 1e-7);
     EXPECT_LT(output(study, r, "umar_plane2_kgm"), 1e-7);
@@ -662,7 +667,15 @@ TEST(BalancingStudy, CommandLineRunAndReplay) {
   test::RunResult r = test::run_poise(d, "run '" + study + "' --samples 2 --out '" + out + "' -q --no-plots");
   ASSERT_EQ(r.status, 0) << r.err;
   EXPECT_NE(r.out.find("report.html"), std::string::npos) << r.out;
-  EXPECT_EQ(r.err, "");  // -q: no progress
+  // -q: no progress; only the warnings about the paper's rotor (denser than lead, the 75 mm
+  // test radius outside it), each once.
+  {
+    std::istringstream err(r.err);
+    int lines = 0;
+    for (std::string line; std::getline(err, line); ++lines) EXPECT_EQ(line.rfind("poise: warning: ", 0), 0u) << line;
+    EXPECT_EQ(lines, 2) << r.err;
+    EXPECT_NE(r.err.find("above lead's 11340 kg/m^3"), std::string::npos) << r.err;
+  }
   // samples.csv: header and two rows.
   std::istringstream csv(test::read_text(out + "/samples.csv"));
   std::string header, row0, row1, extra;
@@ -716,6 +729,43 @@ TEST(BalancingStudy, CommandLineRunAndReplay) {
   r = test::run_poise(d, "replay '" + study + "' --sample 2 --samples 2");
   EXPECT_EQ(r.status, 2) << r.out;  // refused input
   EXPECT_NE(r.err.find("outside 0..1"), std::string::npos) << r.err;
+}
+
+
+// The two-plane U_mar test on a machine with no tolerance and no noise: the plane separation is
+// exact, so each plane reads what the one-plane test reads (the other plane's mass does not
+// leak), and the stability experiments carry their variant label into the report.
+TEST(BalancingStudy, TwoPlaneUmarOnTheIdealMachineReadsAsTheOnePlaneTest) {
+  TempDir d;
+  const std::string experiments = R"([[experiment]]
+name = "one"
+type = "umar"
+mass = "160 g"
+radius = "75 mm"
+positions = 4
+
+[[experiment]]
+name = "two"
+type = "umar_iso"
+mass = "160 g"
+radius = "75 mm"
+positions = 4
+claim = "6 kg*mm"
+)";
+  const BalancingStudy study =
+      make_study(write_study(d, "two.toml", experiments, overrides_toml(ideal_overrides(true)), 1));
+  auto ws = study.make_workspace();
+  SampleResult r;
+  study.compute(0, *ws, r);
+  ASSERT_TRUE(r.ok) << r.message;
+  for (const char* p : {"plane1", "plane2"}) {
+    const double one = output(study, r, std::string("one_") + p + "_kgm");
+    EXPECT_NEAR(output(study, r, std::string("two_") + p + "_kgm") / one, 1.0, 1e-6) << p;
+  }
+  for (int k = 0; k < 4; ++k) {
+    const std::string n = "_p1_k" + std::to_string(k) + "_g";
+    EXPECT_NEAR(output(study, r, "two" + n) / output(study, r, "one" + n), 1.0, 1e-6) << n;
+  }
 }
 
 }  // namespace

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <numbers>
 #include <nlohmann/json.hpp>
 
 #include "kinds/platform_balancing/platform_model.h"
@@ -206,6 +207,81 @@ TEST(PlatformStudy, StrictStudyAndModelFiles) {
   } catch (const ValidationError& e) {
     EXPECT_NE(std::string(e.what()).find("inner.lock_torque"), std::string::npos) << e.what();
   }
+}
+
+
+// The model notes' stiffness figures are the model's own: least disturbance stiffness of each
+// axis' loop (0.81 J w_n^2 near w_n / 2), and the poles and crossover the notes state.
+TEST(PlatformStudy, LoopFiguresOfTheModelNotes) {
+  TempDir d;
+  const StudyConfig cfg = load_study(tiny_study(d));
+  const PlatformStudy study(cfg, load_platform_model(cfg.model_path, cfg.overrides), cfg.samples, cfg.seed);
+  const double stated[3] = {20.4, 45.8, 117.0};  // inner, middle, outer (N m/rad), model notes
+  for (std::size_t k = 0; k < 3; ++k) {
+    models::StabilizationLoop l = study.model().stabilization;
+    l.inertia = study.axis_inertia()[k];
+    const double wn = 2 * std::numbers::pi * 40.0;
+    EXPECT_NEAR(l.least_disturbance_stiffness().first / stated[k], 1.0, 0.005) << k;
+    EXPECT_NEAR(l.least_disturbance_stiffness().first / (l.inertia * wn * wn), 0.806, 0.005) << k;
+    EXPECT_NEAR(l.crossover_hz(), 59.0, 0.3);
+  }
+}
+
+// The old key is refused with the new one named; rate_pi reads crossover.
+TEST(PlatformStudy, StabilizationKeysAndRateLoop) {
+  TempDir d;
+  const std::string model = test::read_text(test::source_path("models/platform_three_gimbal.toml"));
+  test::write_text(d.file("old.toml"), test::replace_once(model, "natural_frequency = \"40 Hz\"", "bandwidth = \"40 Hz\""));
+  try {
+    load_platform_model(d.file("old.toml"));
+    FAIL() << "no error";
+  } catch (const ValidationError& e) {
+    const std::string m = e.what();
+    EXPECT_NE(m.find("stabilization.bandwidth"), std::string::npos) << m;
+    EXPECT_NE(m.find("did you mean natural_frequency"), std::string::npos) << m;
+  }
+  test::write_text(d.file("rate.toml"),
+                   test::replace_once(model, "loop = \"position_pid\"\nnatural_frequency = \"40 Hz\"\ndamping = 0.7",
+                                      "loop = \"rate_pi\"\ncrossover = \"40 Hz\""));
+  const PlatformModel rate = load_platform_model(d.file("rate.toml"));
+  EXPECT_EQ(rate.stabilization.type, models::LoopType::kRatePi);
+  EXPECT_NEAR(rate.stabilization.frequency_hz, 40.0, 1e-12);
+  // A rate loop without an integral ratio has no position stiffness: refused.
+  test::write_text(d.file("rate0.toml"), test::replace_once(test::read_text(d.file("rate.toml")), "integral_ratio = 0.2",
+                                                             "integral_ratio = 0"));
+  try {
+    load_platform_model(d.file("rate0.toml"));
+    FAIL() << "no error";
+  } catch (const ValidationError& e) {
+    EXPECT_NE(std::string(e.what()).find("stabilization.integral_ratio"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("a ratio > 0 for loop = \"rate_pi\""), std::string::npos) << e.what();
+  }
+  // A rate loop with the PID's keys: damping is unknown there.
+  test::write_text(d.file("mixed.toml"), test::replace_once(model, "loop = \"position_pid\"", "loop = \"rate_pi\"\ncrossover = \"40 Hz\""));
+  EXPECT_THROW(load_platform_model(d.file("mixed.toml")), ValidationError);
+}
+
+// Same platform, same residual: with the position integrator a still carrier leaves no LOS
+// error (gravity is taken out); the rate loop holds c . g / K_p, constant over the profile.
+TEST(PlatformStudy, RateLoopHoldsTheGravityError) {
+  TempDir d;
+  const std::string still = "\n[overrides]\n\"oscillation.periods\" = \"1\"\n";
+  std::string text = test::read_text(tiny_study(d, still));
+  text = test::replace_once(text, "manoeuvre_y = \"98 m/s^2\"", "manoeuvre_y = \"0 m/s^2\"");
+  text = test::replace_once(text, "amplitude_z = \"20 m/s^2\"", "amplitude_z = \"0 m/s^2\"");
+  test::write_text(d.file("still.toml"), text);
+  const StudyConfig cfg = load_study(d.file("still.toml"));
+  PlatformModel pid_model = load_platform_model(cfg.model_path, cfg.overrides);
+  PlatformModel rate_model = pid_model;
+  rate_model.stabilization.type = models::LoopType::kRatePi;
+  const PlatformStudy pid(cfg, pid_model, cfg.samples, cfg.seed), rate(cfg, rate_model, cfg.samples, cfg.seed);
+  const models::Platform built = pid.as_built(pid.draws(0));
+  const PlatformStudy::Residual rp = pid.residual(built), rr = rate.residual(built);
+  EXPECT_EQ(rp.los_max, 0.0);
+  EXPECT_GT(rr.los_max, 1e-7);
+  EXPECT_NEAR(rr.los_rms, rr.los_max, 1e-12 * rr.los_max);
+  // The residual over the angle grid includes the lock angles' value.
+  for (std::size_t k = 0; k < 3; ++k) EXPECT_GE(rp.perpendicular_grid_max[k], rp.perpendicular[k] * (1 - 1e-12));
 }
 
 }  // namespace

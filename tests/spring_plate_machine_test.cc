@@ -134,7 +134,7 @@ TEST(SpringPlateMachine, ValidationMessages) {
     validate(p);
     FAIL() << "expected poise::Error";
   } catch (const Error& e) {
-    EXPECT_NE(std::string(e.what()).find("k6 l^2 - m g H"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("K_rot - m g H"), std::string::npos) << e.what();
   }
 }
 

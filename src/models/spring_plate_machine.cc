@@ -38,8 +38,17 @@ void check_plate(const SpringPlate& plate) {
 }
 
 double torsional_stiffness(const SpringPlateMachineParams& p) {
-  return rotational_stiffness(p.torsional_plate_stiffness, p.lever) -
+  return p.torsion_split.rotation_factor * rotational_stiffness(p.torsional_plate_stiffness, p.lever) -
          p.rotating_mass * p.gravity * p.mass_centre_height;
+}
+
+double sensor_1_stiffness(const SpringPlateMachineParams& p) {
+  return p.sensor_1_plate_stiffness > 0.0 ? p.sensor_1_plate_stiffness : p.horizontal_plate_stiffness;
+}
+
+// End slope phi per unit theta of the clamped ends (the guided end 0; pinned: free).
+double end_slope_sign(TorsionPlateEnd end) {
+  return end == TorsionPlateEnd::kClampedBaseInboard ? 1.0 : (end == TorsionPlateEnd::kClampedBaseOutboard ? -1.0 : 0.0);
 }
 
 }  // namespace
@@ -83,6 +92,45 @@ double guided_column_lateral_stiffness(const SpringPlate& plate, double axial_lo
 
 double rotational_stiffness(double plate_stiffness, double lever) { return plate_stiffness * lever * lever; }
 
+const char* torsion_plate_end_name(TorsionPlateEnd e) {
+  switch (e) {
+    case TorsionPlateEnd::kClampedBaseInboard: return "clamped_base_inboard";
+    case TorsionPlateEnd::kClampedBaseOutboard: return "clamped_base_outboard";
+    case TorsionPlateEnd::kPinned: return "pinned";
+    default: return "guided";
+  }
+}
+
+TorsionPlateSplit torsion_plate_split(TorsionPlateEnd end, double plate_length, double lever) {
+  require_positive(plate_length, "length", "torsional plate");
+  require_positive(lever, "lever", "torsional plate");
+  TorsionPlateSplit s;
+  if (end == TorsionPlateEnd::kGuided) return s;
+  if (end == TorsionPlateEnd::kPinned) {
+    s.rotation_factor = s.force_factor = 0.25;  // F = 3 E I / L^3 v, no end moment
+    return s;
+  }
+  // In units of E I / L^3 times l theta: v = l theta, phi = sgn theta; F = 12 - 6 sgn rho,
+  // and the end moment's work per dtheta, sgn M / l = 4 rho^2 - 6 sgn rho.
+  const double rho = plate_length / lever, sgn = end_slope_sign(end);
+  const double f = 12.0 - 6.0 * sgn * rho, m = 4.0 * rho * rho - 6.0 * sgn * rho;
+  s.force_factor = f / 12.0;
+  s.rotation_factor = (f + m) / 12.0;
+  s.moment_share = m / f;
+  return s;
+}
+
+double torsion_plate_max_moment(const SpringPlate& plate, TorsionPlateEnd end, double lever, double theta) {
+  // Deflection w = a x^2 + b x^3 from the base clamp (w(0) = w'(0) = 0), w(L) = l theta and
+  // w'(L) = phi; M = E I w'' is linear in x, largest at an end.
+  const double ei = plate.youngs_modulus * plate_second_moment(plate), len = plate.length;
+  const double v = lever * theta;
+  const double phi = end == TorsionPlateEnd::kPinned ? 1.5 * v / len
+                     : end == TorsionPlateEnd::kGuided ? 0.0 : end_slope_sign(end) * theta;
+  const double a = (3.0 * v - phi * len) / (len * len), b = (phi * len - 2.0 * v) / (len * len * len);
+  return ei * std::max(std::abs(2.0 * a), std::abs(2.0 * a + 6.0 * b * len));
+}
+
 // ---- machine -----------------------------------------------------------------------------
 
 void validate(const SpringPlateMachineParams& p) {
@@ -93,6 +141,9 @@ void validate(const SpringPlateMachineParams& p) {
   require_positive(p.lever, "lever", kWhat);
   require_positive(p.horizontal_plate_stiffness, "horizontal_plate_stiffness", kWhat);
   require_positive(p.torsional_plate_stiffness, "torsional_plate_stiffness", kWhat);
+  require_non_negative(p.sensor_1_plate_stiffness, "sensor_1_plate_stiffness", kWhat);
+  require_positive(p.torsion_split.rotation_factor, "torsion_split.rotation_factor", kWhat);
+  require_positive(p.torsion_split.force_factor, "torsion_split.force_factor", kWhat);
   require_non_negative(p.damping_x, "damping_x", kWhat);
   require_non_negative(p.damping_theta, "damping_theta", kWhat);
   require_non_negative(p.gravity, "gravity", kWhat);
@@ -105,7 +156,7 @@ void validate(const SpringPlateMachineParams& p) {
   }
   if (!(torsional_stiffness(p) > 0.0)) {
     std::ostringstream os;
-    os << kWhat << ": k6 l^2 - m g H = " << torsional_stiffness(p)
+    os << kWhat << ": K_rot - m g H = " << torsional_stiffness(p)
        << " N m/rad, expected > 0 (the torsional plate cannot hold the swinging part upright)";
     throw Error(os.str());
   }
@@ -171,7 +222,8 @@ Eigen::Vector2cd hard_bearing_response(const SpringPlateMachineParams& p, const 
 }
 
 Eigen::Vector2cd sensor_forces(const SpringPlateMachineParams& p, const Eigen::Vector2cd& response) {
-  return {p.horizontal_plate_stiffness * response(0), p.torsional_plate_stiffness * p.lever * response(1)};
+  return {sensor_1_stiffness(p) * response(0),
+          p.torsion_split.force_factor * p.torsional_plate_stiffness * p.lever * response(1)};
 }
 
 SpringPlateUnbalance unbalance_from_sensor_forces(const SpringPlateMachineParams& p,
@@ -180,7 +232,7 @@ SpringPlateUnbalance unbalance_from_sensor_forces(const SpringPlateMachineParams
   require_positive(omega, "omega", "unbalance from sensor forces");
   const double w2 = omega * omega;
   const cd u = 2.0 * sensor(0) / w2;
-  const cd v = (sensor(1) * p.lever - 2.0 * sensor(0) * height) / w2;
+  const cd v = (sensor(1) * p.lever * (1.0 + p.torsion_split.moment_share) - 2.0 * sensor(0) * height) / w2;
   SpringPlateUnbalance out;
   out.static_unbalance = std::abs(u);
   out.static_phase = std::arg(u);

@@ -17,12 +17,34 @@
 ///     (a parallelogram), so the end translates without rotation:
 ///       k = 12 E I / L^3,  I = w t^3 / 12  =>  k = E w t^3 / L^3,
 ///       end moments F L / 2  =>  sigma_max = 6 (F L / 2) / (w t^2) = 3 F L / (w t^2).
-///   * Torsional plate: the same fixed-guided plate loaded at lever l; its end moves l theta,
-///     so the restoring moment is k6 l theta * l: rotational stiffness k6 l^2. Assumed: the
-///     plate's end rotation (theta itself) is not imposed on it (a guided or linked end).
-///     For a plate clamped rigidly to the swinging support and lying along the lever, the
-///     end rotation changes the stiffness by the factor (1 -+ L/l + L^2/(3 l^2)) (beam
-///     stiffness matrix), i.e. by O(L/l): keep L << l or compute k6 l^2 by FE.
+///   * Torsional plate: the plate of stiffness k6 = 12 E I / L^3, clamped to the base at one end,
+///     its other end attached at lever l from the torsion axis; it lies along the lever, so a
+///     swing theta moves that end by v = l theta. What the end's rotation phi is, is the end
+///     condition (model key torsional_plate.end_condition, TorsionPlateEnd):
+///       guided                 phi = 0 (a linkage keeps the end parallel; the paper's reading)
+///       clamped_base_inboard   phi = +theta: clamped to the swinging support, the base clamp
+///                              between the axis and the attachment
+///       clamped_base_outboard  phi = -theta: clamped, the base clamp beyond the attachment
+///       pinned                 moment-free end (phi free)
+///     Beam stiffness matrix of the plate (base fixed), end force F and end moment M:
+///       F = E I / L^3 (12 v - 6 L phi),  M = E I / L^3 (-6 L v + 4 L^2 phi),
+///     virtual work of (F, M) through (v, phi) = (l, +-1) dtheta gives the restoring moment
+///     about the axis K_rot theta = F l +- M, and sensor 2 (a force sensor in the plate, at l)
+///     reads F. With rho = L / l:
+///       end condition      K_rot / (k6 l^2)          F / (k6 l theta)   M / (F l) (clamp share)
+///       guided             1                         1                  0 (taken by the guide)
+///       clamped inboard    1 - rho + rho^2 / 3       1 - rho / 2        (4 rho^2 - 6 rho) / (12 - 6 rho)
+///       clamped outboard   1 + rho + rho^2 / 3       1 + rho / 2        (4 rho^2 + 6 rho) / (12 + 6 rho)
+///       pinned             1 / 4                     1 / 4              0
+///     At the Wang 2014 model's rho = 0.32 the clamped ends give 0.714 and 1.354 times k6 l^2,
+///     and the clamp moment carries -15% and +17% of sensor 2's load F l: F l is then not the
+///     moment the closed form assumes (torsion_plate_split; tested against an independent
+///     solution of E I w^(4) = 0 with these end conditions, tests/torsion_plate_test.cc).
+///     The guided end is exact only for L << l.
+///   * Sensor 1 is a force sensor in ONE horizontal plate: the pair carries F = (k5,1 + k5,2) x,
+///     sensor 1 reads k5,1 x = k5,1 / (k5,1 + k5,2) F. With as-built plates of unequal
+///     stiffness the closed form's U = 2 F_n1 / w^2 is off by 2 k5,1 / (k5,1 + k5,2) - 1
+///     (about half the plates' relative stiffness difference).
 ///
 /// Equations of motion (Lagrange, small angles, linear as Eq. 8). Mass centre of the swinging
 /// part at (x + H sin theta, H cos theta), hence
@@ -110,8 +132,26 @@ double guided_column_buckling_load(const SpringPlate& plate);
 /// k = 12 E I / L^3 at P = 0, ~ 12 E I / L^3 - 6 P / (5 L) for small P (the weight softens
 /// the plates), 0 at the Euler load (negative beyond: the plate has buckled).
 double guided_column_lateral_stiffness(const SpringPlate& plate, double axial_load);
-/// Rotational stiffness k6 l^2 (N m/rad) of a plate of stiffness k6 acting at lever l.
+/// Rotational stiffness k6 l^2 (N m/rad) of a plate of stiffness k6 acting at lever l
+/// (guided end; see TorsionPlateSplit for the others).
 double rotational_stiffness(double plate_stiffness, double lever);
+
+/// End condition of the torsional plate's attachment to the swinging support (header above).
+enum class TorsionPlateEnd { kGuided, kClampedBaseInboard, kClampedBaseOutboard, kPinned };
+
+/// "guided", "clamped_base_inboard", "clamped_base_outboard", "pinned".
+const char* torsion_plate_end_name(TorsionPlateEnd e);
+
+/// How the torsional plate's load splits, for plate length L and lever l (table above).
+struct TorsionPlateSplit {
+  double rotation_factor = 1.0;  ///< K_rot / (k6 l^2)
+  double force_factor = 1.0;     ///< sensor 2's F / (k6 l theta)
+  double moment_share = 0.0;     ///< end moment / (F l), signed as it adds to F l about the axis
+};
+TorsionPlateSplit torsion_plate_split(TorsionPlateEnd end, double plate_length, double lever);
+
+/// Largest bending moment in the torsional plate (N m) at swing theta (both clamps and the end).
+double torsion_plate_max_moment(const SpringPlate& plate, TorsionPlateEnd end, double lever, double theta);
 
 // ---- machine -----------------------------------------------------------------------------
 
@@ -121,8 +161,13 @@ struct SpringPlateMachineParams {
   double mass_centre_height = 0.0;          ///< H (m), O4 above the torsion shaft axis
   double inertia = 0.0;                     ///< J (kg m^2), swinging part about O4
   double lever = 0.0;                       ///< l (m), torsional plate / sensor 2 from the axis
-  double horizontal_plate_stiffness = 0.0;  ///< k5 (N/m), each of the two plates
+  double horizontal_plate_stiffness = 0.0;  ///< k5 (N/m), the mean of the two plates: 2 k5 = k5,1 + k5,2
+  /// k5,1 (N/m): the plate that carries sensor 1; 0 = horizontal_plate_stiffness (equal plates).
+  double sensor_1_plate_stiffness = 0.0;
   double torsional_plate_stiffness = 0.0;   ///< k6 (N/m)
+  /// Torsional plate's end condition: K_rot = rotation_factor k6 l^2, sensor 2 reads
+  /// force_factor k6 l theta (TorsionPlateSplit; guided = 1, 1, 0).
+  TorsionPlateSplit torsion_split;
   double damping_x = 0.0;                   ///< c_x (N s/m)
   double damping_theta = 0.0;               ///< c_theta (N m s/rad)
   double gravity = 0.0;                     ///< g (m/s^2); 0 = Eq. 8 (pendulum term off)
@@ -141,7 +186,7 @@ struct SpringPlateUnbalance {
 };
 
 Eigen::Matrix2d mass_matrix(const SpringPlateMachineParams& p);       ///< [[M, mH], [mH, J+mH^2]]
-Eigen::Matrix2d stiffness_matrix(const SpringPlateMachineParams& p);  ///< diag(2k5, k6 l^2 - m g H)
+Eigen::Matrix2d stiffness_matrix(const SpringPlateMachineParams& p);  ///< diag(2k5, K_rot - m g H)
 Eigen::Matrix2d damping_matrix(const SpringPlateMachineParams& p);    ///< diag(c_x, c_theta)
 
 struct NaturalFrequencies {
@@ -168,12 +213,16 @@ Eigen::Vector2cd steady_state_response(const SpringPlateMachineParams& p, const 
 Eigen::Vector2cd hard_bearing_response(const SpringPlateMachineParams& p, const SpringPlateUnbalance& u,
                                        double omega);
 
-/// Sensor forces, Eq. 12: (F_n1, F_n2) = (k5 x, k6 l theta), complex amplitudes (N).
+/// Sensor forces, Eq. 12 as built: (F_n1, F_n2) = (k5,1 x, force_factor k6 l theta), complex
+/// amplitudes (N); Eq. 12 as printed for equal plates and a guided torsional plate.
 Eigen::Vector2cd sensor_forces(const SpringPlateMachineParams& p, const Eigen::Vector2cd& response);
 
 /// Eq. 13 corrected (hard-bearing limit, gravity off): U e^{i a3} = 2 F_n1 / w^2 and
-/// V e^{i a4} = (F_n2 l - 2 F_n1 h) / w^2. Returns the unbalance with static_phase and
-/// couple_phase from the complex values.
+/// V e^{i a4} = (F_n2 l (1 + s) - 2 F_n1 h) / w^2, s the clamp-moment share of `p`'s
+/// torsion_split (0 for the guided plate: Eq. 13 itself). Uses of `p` only l and the split,
+/// nothing of k5 or k6: in the hard-bearing limit F_n1 = F / 2 and F_n2 l (1 + s) = F h + T
+/// whatever the plate stiffnesses, provided the two horizontal plates are equal. Returns the
+/// unbalance with static_phase and couple_phase from the complex values.
 SpringPlateUnbalance unbalance_from_sensor_forces(const SpringPlateMachineParams& p,
                                                   const Eigen::Vector2cd& sensor, double omega,
                                                   double height);

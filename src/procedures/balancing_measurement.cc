@@ -125,8 +125,11 @@ BalancingMeasurement run_balancing_measurement(const models::SpringPlateMachineP
   }
 
   sampling::NormalStream normal(&noise);
-  const double k5 = machine.horizontal_plate_stiffness;
-  const double k6l = machine.torsional_plate_stiffness * machine.lever;
+  // Each sensor reads its own plate as built: sensor 1 the horizontal plate that carries it
+  // (k5,1), sensor 2 the torsional plate's force (its end condition's share of k6 l theta).
+  const double k5 = machine.sensor_1_plate_stiffness > 0.0 ? machine.sensor_1_plate_stiffness
+                                                           : machine.horizontal_plate_stiffness;
+  const double k6l = machine.torsion_split.force_factor * machine.torsional_plate_stiffness * machine.lever;
   const double g1 = 1.0 + sensors.gain_error_1, g2 = 1.0 + sensors.gain_error_2;
   const long n_samples = static_cast<long>(run.revolutions) * spr;
   const double dt = period / spr;

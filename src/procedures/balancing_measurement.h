@@ -10,8 +10,9 @@
 ///      -Re(lambda) of the 4x4 state matrix; about zeta omega_1). The run waits
 ///      settle_time_constants (default 20, exp(-20) = 2e-9) time constants tau = 1 / sigma,
 ///      rounded up to whole revolutions (at least min_settle_revolutions).
-///   3. Acquisition: sensor 1 (force of a horizontal plate, F_n1 = k5 x, Eq. 12 as the model's
-///      sensor_forces defines it) and sensor 2 (torsional plate, F_n2 = k6 l theta) are
+///   3. Acquisition: sensor 1 (force in horizontal plate 1, F_n1 = k5,1 x: its own plate's
+///      as-built stiffness, the model's sensor_forces) and sensor 2 (force in the torsional
+///      plate, F_n2 = force_factor k6 l theta, by its end condition) are
 ///      sampled, triggered by the shaft encoder, with a whole number of samples per revolution
 ///      (round(sample_rate / n)) over N whole revolutions; each sensor has a relative gain
 ///      error and white noise.

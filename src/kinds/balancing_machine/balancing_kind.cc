@@ -1,6 +1,10 @@
 #include "kinds/balancing_machine/balancing_kind.h"
 
 #include <cstdio>
+#include <mutex>
+#include <set>
+#include <string>
+#include <vector>
 
 #include "engine/procedure_kind.h"
 #include "kinds/balancing_machine/balancing_model.h"
@@ -10,6 +14,16 @@
 namespace poise::studies {
 namespace {
 using nlohmann::json;
+
+// Each warning once per process (a run builds the study more than once: plan, run, report).
+void warn_once(const std::vector<std::string>& warnings) {
+  static std::mutex mutex;
+  static std::set<std::string> shown;
+  const std::lock_guard<std::mutex> lock(mutex);
+  for (const auto& w : warnings) {
+    if (shown.insert(w).second) std::fprintf(stderr, "poise: warning: %s\n", w.c_str());
+  }
+}
 
 class BalancingMachineKind final : public ProcedureKind {
  public:
@@ -25,12 +39,15 @@ class BalancingMachineKind final : public ProcedureKind {
   }
   std::unique_ptr<ProcedureStudy> make_study(const StudyConfig& cfg, const std::map<std::string, std::string>& o,
                                              std::size_t samples, std::uint64_t seed) const override {
-    return std::make_unique<BalancingStudy>(cfg, load_balancing_model(cfg.model_path, o), samples, seed);
+    auto study = std::make_unique<BalancingStudy>(cfg, load_balancing_model(cfg.model_path, o), samples, seed);
+    warn_once(study->warnings());
+    return study;
   }
   std::string validate(const StudyConfig& cfg) const override {
     const BalancingModel model = load_balancing_model(cfg.model_path, cfg.overrides);
     const BalancingStudy study(cfg, model, cfg.samples, cfg.seed);
     const json d = study.details({});
+    warn_once(study.warnings());
     char buf[768];
     std::snprintf(buf, sizeof buf,
                   "%s: valid. Study '%s' (%s) on model '%s': %zu unit-scope random inputs, %s design, %zu samples, "

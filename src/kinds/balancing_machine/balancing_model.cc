@@ -44,6 +44,12 @@ BalancingModel load_balancing_model(const std::string& path, const std::map<std:
     TomlReader t = root.table("torsional_plate");
     m.torsional_plate = read_plate(t);
     m.lever = t.quantity("lever", units::kLength, positive);
+    const std::string end =
+        t.choice("end_condition", {"guided", "clamped_base_inboard", "clamped_base_outboard", "pinned"}, "guided");
+    m.torsional_end = end == "clamped_base_inboard"    ? models::TorsionPlateEnd::kClampedBaseInboard
+                      : end == "clamped_base_outboard" ? models::TorsionPlateEnd::kClampedBaseOutboard
+                      : end == "pinned"                ? models::TorsionPlateEnd::kPinned
+                                                       : models::TorsionPlateEnd::kGuided;
     t.accept_notes();
   }
   {
@@ -174,12 +180,15 @@ models::SpringPlateMachineParams machine_params(const BalancingModel& m, const B
   p.total_mass = p.rotating_mass + m.board_mass;
   p.lever = b.lever;
   p.horizontal_plate_stiffness = horizontal_stiffness(b);
+  p.sensor_1_plate_stiffness = models::guided_plate_stiffness(b.horizontal_1);  // sensor 1 sits in plate 1
   if (m.gravity > 0.0) {
     const double load = 0.5 * (p.rotating_mass + m.board_mass) * m.gravity;
-    p.horizontal_plate_stiffness = 0.5 * (models::guided_column_lateral_stiffness(b.horizontal_1, load) +
-                                          models::guided_column_lateral_stiffness(b.horizontal_2, load));
+    p.sensor_1_plate_stiffness = models::guided_column_lateral_stiffness(b.horizontal_1, load);
+    p.horizontal_plate_stiffness =
+        0.5 * (p.sensor_1_plate_stiffness + models::guided_column_lateral_stiffness(b.horizontal_2, load));
   }
   p.torsional_plate_stiffness = models::guided_plate_stiffness(b.torsional);
+  p.torsion_split = models::torsion_plate_split(m.torsional_end, b.torsional.length, b.lever);
   p.gravity = m.gravity;
   const Eigen::Matrix2d mq = models::mass_matrix(p), k = models::stiffness_matrix(p);
   p.damping_x = 2.0 * m.damping_ratio_x * std::sqrt(k(0, 0) * mq(0, 0));
@@ -200,11 +209,13 @@ BalancingStatics machine_statics(const BalancingModel& m, const BalancingAsBuilt
                             models::guided_column_lateral_stiffness(b.horizontal_2, load)) /
                                (models::guided_plate_stiffness(b.horizontal_1) + models::guided_plate_stiffness(b.horizontal_2));
   const double k6 = models::guided_plate_stiffness(b.torsional);
-  const double k_rot = models::rotational_stiffness(k6, b.lever);
+  const double k_rot = p.torsion_split.rotation_factor * models::rotational_stiffness(k6, b.lever);
   const double topple = p.rotating_mass * g * p.mass_centre_height;
   s.pendulum_margin = topple > 0.0 ? k_rot / topple : INFINITY;
   s.tilt = rotor.mass * g * m.centre_offset / (k_rot - std::max(topple, 0.0));
-  s.torsional_stress = models::guided_plate_max_stress(b.torsional, k6 * b.lever * s.tilt);
+  const double t = b.torsional.thickness;
+  s.torsional_stress =
+      6.0 * models::torsion_plate_max_moment(b.torsional, m.torsional_end, b.lever, s.tilt) / (b.torsional.width * t * t);
   return s;
 }
 

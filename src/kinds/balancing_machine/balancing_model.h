@@ -47,6 +47,9 @@ struct BalancingModel {
   std::string file, name, title, source;
   models::SpringPlate horizontal_plate;  ///< each of the two (k5 each)
   models::SpringPlate torsional_plate;   ///< k6, acting at the lever
+  /// [torsional_plate] end_condition: how the plate's end attaches to the swinging support
+  /// (models/spring_plate_machine.h: the rotational stiffness and sensor 2's share).
+  models::TorsionPlateEnd torsional_end = models::TorsionPlateEnd::kGuided;
   double lever = 0.0;                    ///< l (m)
   double board_mass = 0.0;               ///< translating only (M - m)
   double spindle_mass = 0.0, spindle_centre_height = 0.0, spindle_inertia = 0.0;
@@ -81,7 +84,8 @@ BalancingModel load_balancing_model(const std::string& path,
 /// The nominal machine as built (no tolerances): plates and lever of the model.
 BalancingAsBuilt nominal_as_built(const BalancingModel& m);
 
-/// Stiffness k5 of the pair: the two horizontal plates in parallel, averaged (N/m each).
+/// Stiffness k5 of the pair: the two horizontal plates in parallel, averaged (N/m each);
+/// sensor 1 reads plate 1's own k5,1 (machine_params sets sensor_1_plate_stiffness).
 double horizontal_stiffness(const BalancingAsBuilt& b);
 
 /// The machine under the weight of the frame and `rotor` (standard gravity, whatever the
@@ -90,9 +94,10 @@ double horizontal_stiffness(const BalancingAsBuilt& b);
 ///     P_cr = pi^2 E I / L^2 (fixed-guided sway column), axial stress P / (w t), and the loss
 ///     of lateral stiffness 1 - k(P) / k(0) (beam-column, guided_column_lateral_stiffness);
 ///   torsional plate: the rotor's mass centre `centre_offset` off the spindle axis tilts the
-///     swinging part by theta = m_R g e / (k6 l^2 - m g H) (the inverted pendulum of mass m at
-///     H softens it); the plate then carries F = k6 l theta, bending stress 3 F L / (w t^2);
-///   pendulum margin k6 l^2 / (m g H): below 1 the swinging part topples.
+///     swinging part by theta = m_R g e / (K_rot - m g H) (the inverted pendulum of mass m at
+///     H softens it; K_rot = rotation_factor k6 l^2 by the end condition); bending stress
+///     6 M_max / (w t^2), M_max the plate's largest moment (torsion_plate_max_moment);
+///   pendulum margin K_rot / (m g H): below 1 the swinging part topples.
 struct BalancingStatics {
   double buckling_factor = 0.0;      ///< min over the two horizontal plates
   double axial_stress = 0.0;         ///< Pa, horizontal plates (largest)

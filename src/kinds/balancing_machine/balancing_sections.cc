@@ -23,20 +23,25 @@ std::unique_ptr<KindSections> read_balancing_sections(TomlReader& root, const St
   for (auto& e : root.table_array("experiment")) {
     BalancingExperiment x;
     x.name = e.string("name");
-    x.type = e.choice("type", {"separation", "umar", "stability", "urr", "accuracy"});
+    x.type = e.choice("type", {"separation", "umar", "umar_iso", "stability", "urr", "accuracy"});
     for (const auto& other : c->experiments) {
       if (other.name == x.name) e.error("name", "\"" + x.name + "\"", "a name no other experiment has");
     }
     x.mass = e.quantity("mass", units::kMass, positive);
     x.radius = e.quantity("radius", units::kLength, positive);
     const bool schema = e.schema_only();  // `poise keys`: every type's keys
-    if (schema || x.type == "separation" || x.type == "umar" || x.type == "stability") {
+    if (schema || x.type == "separation" || x.type == "umar" || x.type == "umar_iso" || x.type == "stability") {
       x.positions = static_cast<int>(e.integer("positions", 1, 360, 8));
     }
     if (schema || x.type == "stability") {
       x.surface = static_cast<int>(e.integer("surface", 1, 1000));
       x.band = e.number("band", [](double v) { return v > 0 && v < 1 ? "" : "a fraction in (0, 1), e.g. 0.12"; }, 0.12);
       x.balance_first = e.boolean("balance_first", true);
+      x.variant = e.choice("variant", {"wang2014", "poise"}, "poise");
+    }
+    if (schema || x.type == "umar_iso") {
+      x.plane_2_offset = e.quantity("plane_2_offset", units::kAngle, {}, 0.0);
+      x.claim = e.quantity("claim", unbalance, positive);
     }
     if (schema || x.type == "accuracy") x.piece_unbalance = e.quantity("piece_unbalance", unbalance, positive);
     if (schema || x.type == "urr") {

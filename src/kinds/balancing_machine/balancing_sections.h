@@ -4,9 +4,10 @@
 ///   [procedure]     plane_1_surface, plane_2_surface (correction planes: testing surfaces),
 ///                   estimator = "influence" | "closed_form" (what the machine displays),
 ///                   calibration_mass, calibration_radius (influence-coefficient test masses)
-///   [[experiment]]  name (output prefix), type = "separation" | "umar" | "stability" | "urr" |
-///                   "accuracy", and per type: mass, radius, surface, positions, band,
-///                   balance_first, piece_unbalance, requirement (see BalancingExperiment)
+///   [[experiment]]  name (output prefix), type = "separation" | "umar" | "umar_iso" | "stability" |
+///                   "urr" | "accuracy", and per type: mass, radius, surface, positions, band,
+///                   balance_first, variant, piece_unbalance, requirement, plane_2_offset, claim
+///                   (see BalancingExperiment)
 #include <memory>
 #include <string>
 #include <vector>
@@ -18,13 +19,18 @@ namespace poise::studies {
 /// One experiment of a balancing-machine study (Wang 2014 Sec. 5, ISO 21940-21 tests).
 struct BalancingExperiment {
   std::string name;            ///< output prefix
-  std::string type;            ///< separation | umar | stability | urr | accuracy
+  std::string type;            ///< separation | umar | umar_iso | stability | urr | accuracy
   double mass = 0.0;           ///< test mass (kg)
   double radius = 0.0;         ///< its radius (m)
   int surface = 0;             ///< stability: surface carrying the test mass
   int positions = 8;           ///< angular positions (holes) used, evenly spaced from 0 deg
   double band = 0.12;          ///< stability: readings within +-band of their mean
   bool balance_first = true;   ///< stability: correct the rotor with the machine first
+  /// stability: "wang2014" (the test as the paper prints it) or "poise" (a set-up of Poise's
+  /// own, not in the paper): a label the report and outputs carry, nothing else.
+  std::string variant = "poise";
+  double plane_2_offset = 0.0; ///< umar_iso: plane 2's test mass angle from plane 1's (rad)
+  double claim = 0.0;          ///< umar_iso: claimed U_mar per plane (kg m), the pass band
   double piece_unbalance = 0;  ///< accuracy: plane unbalance of the test piece (kg m), random angles
   double requirement = 0.0;    ///< urr: required reduction ratio (fraction)
 };

@@ -9,7 +9,9 @@
 #include "sampling/random_stream.h"
 #include "engine/report_plot.h"
 #include "engine/result_io.h"
+#include "kinds/balancing_machine/balancing_iso_tests.h"
 #include "kinds/balancing_machine/balancing_sections.h"
+#include "kinds/balancing_machine/balancing_slots.h"
 
 namespace poise::studies {
 namespace {
@@ -20,54 +22,7 @@ using units::kPi;
 
 // ---- the tolerances and their draws --------------------------------------------------------
 
-enum Slot : std::size_t {
-  kThicknessH1, kThicknessH2, kThicknessT, kWidthH1, kWidthH2, kWidthT, kLengthH1, kLengthH2, kLengthT,
-  kYoungs, kLever, kSensor1, kPiece, kGain1, kGain2, kResidual1, kResidual2,
-  kSpeed, kTestMass, kHoleRadius, kHoleAngle, kCorrMass, kCorrAngle, kSlotCount
-};
-
-struct SlotSpec {
-  const char* name;    // input column
-  const char* key;     // tolerance key in the model file
-  const ScopedTolerance BalancingModel::*tol;
-  bool magnitude;      // a magnitude with a uniform angle (two design dimensions)
-  bool hardware;       // must be scope "unit" (a property of the machine as built)
-};
-
-const SlotSpec kSlots[kSlotCount] = {
-    {"horizontal_1_thickness", "plate_thickness", &BalancingModel::plate_thickness, false, true},
-    {"horizontal_2_thickness", "plate_thickness", &BalancingModel::plate_thickness, false, true},
-    {"torsional_thickness", "plate_thickness", &BalancingModel::plate_thickness, false, true},
-    {"horizontal_1_width", "plate_width", &BalancingModel::plate_width, false, true},
-    {"horizontal_2_width", "plate_width", &BalancingModel::plate_width, false, true},
-    {"torsional_width", "plate_width", &BalancingModel::plate_width, false, true},
-    {"horizontal_1_length", "plate_length", &BalancingModel::plate_length, false, true},
-    {"horizontal_2_length", "plate_length", &BalancingModel::plate_length, false, true},
-    {"torsional_length", "plate_length", &BalancingModel::plate_length, false, true},
-    {"youngs_modulus", "youngs_modulus", &BalancingModel::youngs_modulus, false, true},
-    {"lever", "lever", &BalancingModel::lever_error, false, true},
-    {"sensor_1_offset", "sensor_1_offset", &BalancingModel::sensor_1_offset, false, true},
-    {"piece_centre_height", "piece_centre_height", &BalancingModel::piece_centre_height, false, true},
-    {"gain_error_1", "gain_error_1", &BalancingModel::gain_error_1, false, true},
-    {"gain_error_2", "gain_error_2", &BalancingModel::gain_error_2, false, true},
-    {"rotor_residual_1", "rotor_residual_1", &BalancingModel::rotor_residual_1, true, true},
-    {"rotor_residual_2", "rotor_residual_2", &BalancingModel::rotor_residual_2, true, true},
-    {"speed", "speed", &BalancingModel::speed, false, false},
-    {"test_mass", "test_mass", &BalancingModel::test_mass, false, false},
-    {"hole_radius", "hole_radius", &BalancingModel::hole_radius, false, false},
-    {"hole_angle", "hole_angle", &BalancingModel::hole_angle, false, false},
-    {"correction_mass", "correction_mass", &BalancingModel::correction_mass, false, false},
-    {"correction_angle", "correction_angle", &BalancingModel::correction_angle, false, false},
-};
-
-std::string display_suffix(const ToleranceSpec& s) {
-  if (s.display_unit.empty()) return "";
-  std::string u = s.display_unit;
-  for (auto& ch : u) {
-    if (ch == '*') ch = '_';
-  }
-  return "_" + u;
-}
+using namespace balancing_detail;
 
 // Draws of one sample: unit-scope values from the design point, test-scope ones from the
 // sample's stream each time they are asked for (in a fixed order: deterministic).
@@ -142,6 +97,16 @@ struct Bench {
   }
 };
 
+// The bench seen by the ISO tests: what the machine displays, and a test mass placed.
+IsoBench iso_bench(Bench& bench, double z1, double z2) {
+  IsoBench b;
+  b.indicate = [&bench](const std::vector<PlaneMass>& m) { return bench.reading(bench.measure(bench.machine_r, m)); };
+  b.place = [&bench](double mass, double r, double a, double z) { return bench.place(mass, r, a, z); };
+  b.plane_1_height = z1;
+  b.plane_2_height = z2;
+  return b;
+}
+
 std::vector<PlaneMass> with(std::vector<PlaneMass> base, std::initializer_list<PlaneMass> extra) {
   base.insert(base.end(), extra.begin(), extra.end());
   return base;
@@ -154,116 +119,6 @@ double rel_error(cd estimate, cd truth) { return std::abs(estimate - truth) / st
 }  // namespace
 
 // ---- construction ----------------------------------------------------------------------------
-
-namespace {
-std::size_t unit_dimensions(const BalancingModel& m) {
-  std::size_t d = 0;
-  for (const auto& s : kSlots) {
-    if (!(m.*s.tol).per_test) d += s.magnitude ? 2 : 1;
-  }
-  return d;
-}
-}  // namespace
-
-BalancingStudy::BalancingStudy(StudyConfig config, BalancingModel model, std::size_t samples, std::uint64_t seed)
-    : config_(std::move(config)),
-      model_(std::move(model)),
-      samples_(samples),
-      seed_(seed),
-      dimension_(unit_dimensions(model_)),
-      design_(make_design(config_, seed_, samples_, std::max<std::size_t>(dimension_, 1))) {
-  std::vector<InputError> errors;
-  auto refuse = [&](int line, const std::string& key, const std::string& value, const std::string& expected) {
-    errors.emplace_back(SourceLocation{config_.file, line, 0}, key, value, expected);
-  };
-  const int surfaces = model_.rotor.surfaces;
-  for (const auto& [key, s] : {std::pair{"procedure.plane_1_surface", balancing_sections(config_).plane_1_surface},
-                               std::pair{"procedure.plane_2_surface", balancing_sections(config_).plane_2_surface}}) {
-    if (s > surfaces) refuse(0, key, std::to_string(s), "a testing surface of the rotor, 1.." + std::to_string(surfaces));
-  }
-  for (std::size_t e = 0; e < balancing_sections(config_).experiments.size(); ++e) {
-    const BalancingExperiment& x = balancing_sections(config_).experiments[e];
-    if (x.type == "stability" && x.surface > surfaces) {
-      refuse(0, "experiment[" + std::to_string(e) + "].surface", std::to_string(x.surface),
-             "a testing surface of the rotor, 1.." + std::to_string(surfaces));
-    }
-  }
-  for (std::size_t k = 0; k < kSlotCount; ++k) {
-    const SlotSpec& s = kSlots[k];
-    const bool first_of_key = k == 0 || kSlots[k - 1].tol != s.tol;  // plate keys cover three plates
-    if (s.hardware && (model_.*s.tol).per_test && first_of_key) {
-      errors.emplace_back(SourceLocation{model_.file, 0, 0}, std::string("tolerances.") + s.key + ".scope", "\"test\"",
-                          "scope = \"unit\": a property of the machine or rotor as built, not of one run");
-    }
-  }
-  // Inputs: unit-scope draws (a plate tolerance is drawn for each plate).
-  for (const auto& s : kSlots) {
-    const ScopedTolerance& t = model_.*s.tol;
-    if (t.per_test) continue;
-    input_names_.push_back(std::string(s.name) + display_suffix(t.spec));
-    if (s.magnitude) input_names_.push_back(std::string(s.name) + "_angle_deg");
-  }
-  // Outputs.
-  output_names_ = {"omega1_Hz",           "omega2_Hz",         "hard_bearing_ratio",
-                   "static_buckling_ratio", "static_stress_MPa", "static_tilt_urad",
-                   "weight_stiffness_loss_pct", "pendulum_margin_ratio"};
-  for (const auto& x : balancing_sections(config_).experiments) {
-    const std::string& n = x.name;
-    if (x.type == "separation") {
-      for (int s = 1; s <= surfaces; ++s) {
-        output_names_.push_back(n + "_s" + std::to_string(s) + "_sensor1_mN");
-        output_names_.push_back(n + "_s" + std::to_string(s) + "_sensor2_mN");
-      }
-      for (const char* o : {"_sensor1_spread_pct", "_sensor2_zero_height_mm", "_sensor2_linearity_pct"}) {
-        output_names_.push_back(n + o);
-      }
-    } else if (x.type == "umar") {
-      for (const char* o : {"_plane1_kgm", "_plane2_kgm", "_kgm", "_xmax1_g", "_xmin1_g", "_xmax2_g", "_xmin2_g",
-                            "_true_residual1_kgm", "_true_residual2_kgm", "_max_reading_error_g"}) {
-        output_names_.push_back(n + o);
-      }
-      for (int p = 1; p <= 2; ++p) {
-        for (int k = 0; k < x.positions; ++k) {
-          output_names_.push_back(n + "_p" + std::to_string(p) + "_k" + std::to_string(k) + "_g");
-        }
-      }
-    } else if (x.type == "stability") {
-      for (const char* o : {"_residual_gmm", "_plane1_max_dev_pct", "_plane2_max_dev_pct", "_pass_ratio"}) {
-        output_names_.push_back(n + o);
-      }
-      for (int p = 1; p <= 2; ++p) {
-        for (int k = 0; k < x.positions; ++k) {
-          output_names_.push_back(n + "_p" + std::to_string(p) + "_k" + std::to_string(k) + "_ratio");
-        }
-      }
-    } else if (x.type == "urr") {
-      for (const char* o : {"_plane1_pct", "_plane2_pct", "_min_pct", "_pass_ratio"}) output_names_.push_back(n + o);
-    } else {
-      for (const char* o : {"_u_error_ic_gmm", "_v_error_ic_gmm", "_plane_error_ic_pct", "_u_error_cf_gmm",
-                            "_v_error_cf_gmm", "_plane_error_cf_pct", "_interference_ic_per_mm",
-                            "_interference_cf_per_mm", "_x_amplitude_um"}) {
-        output_names_.push_back(n + o);
-      }
-    }
-  }
-  if (!errors.empty()) throw ValidationError(errors);
-}
-
-std::size_t BalancingStudy::runs_per_sample() const {
-  std::size_t runs = 3;  // influence calibration
-  for (const auto& x : balancing_sections(config_).experiments) {
-    if (x.type == "separation") runs += 1 + static_cast<std::size_t>(model_.rotor.surfaces * x.positions);
-    if (x.type == "umar") runs += 2 * static_cast<std::size_t>(x.positions);
-    if (x.type == "stability") runs += static_cast<std::size_t>(x.positions) + (x.balance_first ? 1 : 0);
-    if (x.type == "urr") runs += 1;
-    if (x.type == "accuracy") runs += 2;
-  }
-  return runs;
-}
-
-std::unique_ptr<BalancingStudy::Workspace> BalancingStudy::make_workspace() const {
-  return std::make_unique<Workspace>(model_.run.solver);
-}
 
 // ---- one sample ------------------------------------------------------------------------------
 
@@ -460,6 +315,23 @@ void BalancingStudy::compute(std::size_t i, Workspace& ws, SampleResult& out) co
         out.outputs[o++] = urr2 * 100.0;
         out.outputs[o++] = std::min(urr1, urr2) * 100.0;
         out.outputs[o++] = std::min(urr1, urr2) >= x.requirement ? 1.0 : 0.0;
+        // ISO 21940-21: the indication of known test masses, no correction (balancing_iso_tests.h).
+        IsoBench iso = iso_bench(bench, z1, z2);
+        const IsoUrr ir = iso_urr(iso, rotor_r, x.mass, x.radius);
+        out.outputs[o++] = ir.plane[0] * 100.0;
+        out.outputs[o++] = ir.plane[1] * 100.0;
+        out.outputs[o++] = std::min(ir.plane[0], ir.plane[1]) * 100.0;
+        out.outputs[o++] = std::min(ir.plane[0], ir.plane[1]) >= x.requirement ? 1.0 : 0.0;
+      } else if (x.type == "umar_iso") {
+        IsoBench iso = iso_bench(bench, z1, z2);
+        const TwoPlaneUmar t = two_plane_umar(iso, rotor_r, x.mass, x.radius, x.positions, x.plane_2_offset, x.claim);
+        for (double v : {t.umar[0], t.umar[1], t.max_deviation[0] * 1e3, t.max_deviation[1] * 1e3, t.mean[0] * 1e3,
+                         t.mean[1] * 1e3, t.pass ? 1.0 : 0.0}) {
+          out.outputs[o++] = v;
+        }
+        for (int p = 0; p < 2; ++p) {
+          for (double v : t.readings[p]) out.outputs[o++] = v * 1e3;
+        }
       } else {  // accuracy
         // A test piece (mass centre offset from rotor R's) with plane unbalances of the given
         // size at random angles, measured on the machine calibrated with R.
@@ -487,7 +359,7 @@ void BalancingStudy::compute(std::size_t i, Workspace& ws, SampleResult& out) co
         out.outputs[o++] = std::abs(dcf(0) + dcf(1) - applied_static) / std::abs(couple) * 1e-3;
         // How far the horizontal plates move for a static unbalance of piece_unbalance (a
         // displacement pickup must resolve it): the piece's motion scaled by piece_unbalance / |U|.
-        out.outputs[o++] = std::abs(a(0)) / (1.0 + d.value[kGain1]) / bench.machine_piece.horizontal_plate_stiffness *
+        out.outputs[o++] = std::abs(a(0)) / (1.0 + d.value[kGain1]) / bench.machine_piece.sensor_1_plate_stiffness *
                            x.piece_unbalance / std::abs(u_true) * 1e6;
       }
     }
@@ -501,10 +373,5 @@ void BalancingStudy::compute(std::size_t i, Workspace& ws, SampleResult& out) co
   out.rhs_evals = rhs;
 }
 
-nlohmann::json BalancingStudy::solver_json(const McResult& mc) const {
-  return {{"integrator", "CVODE BDF"}, {"steps", mc.solver_steps}, {"rhs_evals", mc.rhs_evals},
-          {"rtol", model_.run.solver.rtol}, {"atol_relative_to_response", model_.run.solver.atol},
-          {"max_order", model_.run.solver.max_order}, {"runs_per_sample", runs_per_sample()}};
-}
 
 }  // namespace poise::studies

@@ -10,7 +10,9 @@
 ///     unbalance in the two correction planes (at random angles);
 ///   * calibration by influence coefficients on rotor R with the calibration mass in each
 ///     correction plane (as production machines do); the closed form uses the machine's
-///     design values (nominal plates and lever), as the paper does;
+///     design lever, the nominal speed and the design end condition's split, as the paper does
+///     (of the plates' stiffnesses it needs none: each sensor reads its own plate as built,
+///     sensor 1 one of the two horizontal plates, so only their difference reaches it);
 ///   * every run draws its own speed deviation and placement errors (scope "test").
 /// Outputs (names start with the experiment's name; units from the suffix):
 ///   omega1_Hz, omega2_Hz, hard_bearing_ratio         the machine as built with rotor R
@@ -26,7 +28,16 @@
 ///       (the rotor's residual, what U_mar estimates), NAME_max_reading_error_g
 ///   stability: NAME_residual_gmm (largest plane residual after balancing first),
 ///       NAME_plane<p>_max_dev_pct, NAME_p<p>_k<k>_ratio (reading / mean), NAME_pass_ratio (1/0)
-///   urr: NAME_plane<p>_pct (unbalance reduction ratio, true), NAME_min_pct, NAME_pass_ratio
+///   umar_iso (balancing_iso_tests.h): both planes loaded at once, moved through the positions:
+///       NAME_plane<p>_kgm ((X_max - X_min) r / 2), NAME_plane<p>_max_dev_g (largest |X - mean|),
+///       NAME_plane<p>_mean_g, NAME_pass_ratio (every reading within mean +- claim / r),
+///       NAME_p<p>_k<k>_g the readings
+///   stability: the experiment's `variant` says whether it is the test as Wang 2014 prints it
+///       ("wang2014") or a set-up of Poise's own ("poise"); the report heads it so
+///   urr: NAME_plane<p>_pct, NAME_min_pct, NAME_pass_ratio: Poise's figure, 1 - |after| / |before|
+///       after one physical correction (true unbalances; the correction masses' placement
+///       errors included); NAME_iso_plane<p>_pct, NAME_iso_min_pct, NAME_iso_pass_ratio: ISO
+///       21940-21's, the indication of the known test masses against their values (no correction)
 ///   accuracy: NAME_u_error_{ic,cf}_gmm = |U^ - U| (g mm), NAME_v_error_{ic,cf}_gmm =
 ///       |V^ - V| / (z2 - z1) (the couple error as equal and opposite unbalances in the two
 ///       planes, g mm), NAME_plane_error_{ic,cf}_pct (|U_p^ - U_p| / |U_p|, the larger of the
@@ -71,12 +82,18 @@ class BalancingStudy : public ProcedureStudyBase<BalancingStudy> {
   /// Runs per sample (for the progress estimate and the validate summary).
   std::size_t runs_per_sample() const;
 
+  /// Inconsistent rotor inputs, each a message naming file and key: a rotor denser than lead
+  /// (11,340 kg/m^3), a test or calibration radius outside the rotor. Warnings, not errors:
+  /// the run goes on, the CLI prints them and summary.json lists them (details.warnings).
+  const std::vector<std::string>& warnings() const { return warnings_; }
+
  private:
   StudyConfig config_;
   BalancingModel model_;
   std::size_t samples_;
   std::uint64_t seed_;
-  std::vector<std::string> input_names_, output_names_;
+  std::vector<std::string> input_names_, output_names_, warnings_;
+  std::vector<std::string> input_warnings() const;
   std::size_t dimension_ = 0;
   sampling::Design design_;
 };

@@ -80,9 +80,27 @@ PlatformModel load_platform_model(const std::string& path, const std::map<std::s
   }
   {
     TomlReader t = root.table("stabilization");
-    m.stabilization.bandwidth_hz = t.quantity("bandwidth", units::kFrequency, positive);
-    m.stabilization.damping = t.number("damping", [](double v) { return v > 0 ? "" : "a positive damping ratio"; });
-    m.stabilization.integral_ratio = t.number("integral_ratio", [](double v) { return v >= 0 ? "" : "a ratio >= 0"; });
+    auto& s = m.stabilization;
+    if (t.has("bandwidth")) {
+      // Renamed: the PID's K_p = J w^2 made it a natural frequency, not the loop's bandwidth.
+      t.error("bandwidth", describe_node(*t.raw().get("bandwidth")),
+              "a renamed key: did you mean natural_frequency (the PD part's natural frequency w_n, "
+              "K_p = J w_n^2; the open-loop crossover is about 1.47 w_n at damping 0.7), or loop = \"rate_pi\" "
+              "with crossover (a true open-loop crossover)?");
+    }
+    const std::string loop = t.choice("loop", {"position_pid", "rate_pi"}, "position_pid");
+    s.type = loop == "rate_pi" ? models::LoopType::kRatePi : models::LoopType::kPositionPid;
+    if (t.schema_only() || s.type == models::LoopType::kPositionPid) {
+      s.frequency_hz = t.quantity("natural_frequency", units::kFrequency, positive);
+      s.damping = t.number("damping", [](double v) { return v > 0 ? "" : "a positive damping ratio"; });
+    }
+    if (t.schema_only() || s.type == models::LoopType::kRatePi) {
+      s.frequency_hz = t.quantity("crossover", units::kFrequency, positive);
+    }
+    s.integral_ratio = t.number("integral_ratio", [](double v) { return v >= 0 ? "" : "a ratio >= 0"; });
+    if (s.type == models::LoopType::kRatePi && !(s.integral_ratio > 0)) {
+      t.error("integral_ratio", "0", "a ratio > 0 for loop = \"rate_pi\" (w_i = rho w_c; 0 leaves no position stiffness)");
+    }
     t.accept_notes();
   }
   {

@@ -52,10 +52,19 @@ const std::vector<double>& values_of(const McResult& mc, const std::vector<std::
   return it == names.end() || k >= mc.values.size() ? kEmpty : mc.values[k];
 }
 
-double min_stiffness(const models::StabilizationLoop& l) {
-  double k = INFINITY;
-  for (double f = 0.1; f < 2000.0; f *= 1.01) k = std::min(k, l.disturbance_stiffness(2 * units::kPi * f));
-  return k;
+// What the unbalance LOS lines rest on: the loop, stated with its derived figures.
+std::string loop_statement(models::StabilizationLoop l) {
+  l.inertia = 1.0;  // the gains scale with J; poles and crossover do not
+  std::ostringstream os;
+  if (l.type == models::LoopType::kRatePi) {
+    os << "PI rate loop, true open-loop crossover " << fmt(l.frequency_hz) << " Hz, integral ratio " << fmt(l.integral_ratio)
+       << " (no integral of the angle: a held torque leaves a held error)";
+  } else {
+    os << "PID position loop with integrator, PD natural frequency " << fmt(l.frequency_hz) << " Hz (K_p = J w_n^2; "
+       << "open-loop crossover " << fmt(l.crossover_hz()) << " Hz), zeta " << fmt(l.damping) << ", integral ratio "
+       << fmt(l.integral_ratio);
+  }
+  return os.str();
 }
 
 }  // namespace
@@ -87,13 +96,22 @@ json PlatformStudy::details(const McResult& mc) const {
       lines.push_back({{"frequency_Hz", v.frequency},
                        {"stiffness_N_m_per_rad", loops_[ia].disturbance_stiffness(2 * units::kPi * v.frequency)}});
     }
+    const models::StabilizationLoop& loop = loops_[ia];
+    json poles = json::array();
+    for (const auto& p : loop.closed_loop_poles()) poles.push_back({p.real() / (2 * units::kPi), p.imag() / (2 * units::kPi)});
+    const auto [k_min, f_min] = loop.least_disturbance_stiffness();
     gimbals.push_back({{"axis", models::axis_name(a)}, {"mass_kg", g.mass}, {"axis_inertia_kg_m2", axis_inertia_[ia]},
                        {"kt_nominal_N_m_per_A", g.kt_nominal}, {"counterweight_radius_m", g.counterweight_radius},
                        {"counterweight_plane_m", g.counterweight_plane}, {"lock_angle_deg", g.lock_angle / units::kRadPerDeg},
-                       {"loop_min_stiffness_N_m_per_rad", min_stiffness(loops_[ia])},
+                       {"loop", {{"type", models::loop_type_name(loop.type)}, {"K_p_N_m_per_rad", loop.kp()},
+                                 {"K_d_N_m_s_per_rad", loop.kd()}, {"K_i_N_m_per_rad_s", loop.ki()},
+                                 {"closed_loop_poles_Hz", poles}, {"crossover_Hz", loop.crossover_hz()},
+                                 {"least_stiffness_at_Hz", f_min}}},
+                       {"loop_min_stiffness_N_m_per_rad", k_min},
                        {"loop_stiffness_at_vibration_lines", lines}});
   }
   d["gimbals"] = gimbals;
+  d["loop_statement"] = loop_statement(model_.stabilization);
   d["grid"] = {{"outer_deg", {ps.outer_min / units::kRadPerDeg, ps.outer_max / units::kRadPerDeg, ps.outer_points}},
                {"middle_deg", {ps.middle_min / units::kRadPerDeg, ps.middle_max / units::kRadPerDeg, ps.middle_points}},
                {"inner_deg", {ps.inner_min / units::kRadPerDeg, ps.inner_max / units::kRadPerDeg, ps.inner_points}},
@@ -107,7 +125,7 @@ json PlatformStudy::details(const McResult& mc) const {
     const std::string ax = models::axis_name(a);
     res[ax]["initial_torque_max_mNm"] = quantiles_json(quantiles(values_of(mc, names, "initial_" + ax + "_torque_max_mNm")));
     for (const auto& l : ps.order_labels) {
-      for (const char* o : {"residual_gmm", "torque_max_mNm", "torque_rms_mNm", "torque_max_acc_mNm", "torque_rms_acc_mNm"}) {
+      for (const char* o : {"residual_gmm", "residual_grid_max_gmm", "torque_max_mNm", "torque_rms_mNm", "torque_max_acc_mNm", "torque_rms_acc_mNm"}) {
         res[ax][l][o] = quantiles_json(quantiles(values_of(mc, names, l + "_" + ax + "_" + o)));
       }
     }
@@ -121,14 +139,15 @@ json PlatformStudy::details(const McResult& mc) const {
   Quantiles qs;
   if (!shafting_sorted_.empty()) {
     qs = quantiles(shafting_sorted_);
-    budget.push_back({{"line", "shafting geometric error of the seeker study named in [platform.shafting] (exact chain), greatest over the field of regard: a pairing assumed by the study, not measured on this platform"},
+    budget.push_back({{"line", "shafting geometric error of the seeker study " + ps.shafting_study + " (exact chain), greatest over the field of regard. PAIRING ASSUMPTION: that seeker's shafting and pixel are paired with this platform by the study file; neither paper measured them together"},
                       {"nature", "ensemble over units; static (a function of the gimbal angles, no time)"},
                       {"samples", shafting_sorted_.size()}, {"arcsec", quantiles_json(qs)}});
   }
   const Quantiles qp = quantiles(peak), qr = quantiles(rms);
-  budget.push_back({{"line", "residual unbalance under the carrier profile: peak over the profile, worst grid point (order " + ref + ")"},
+  const std::string loop_dep = "; depends on the loop type: " + loop_statement(model_.stabilization);
+  budget.push_back({{"line", "residual unbalance under the carrier profile: peak over the profile, worst grid point (order " + ref + ")" + loop_dep},
                     {"nature", "temporal peak per unit; ensemble over units"}, {"samples", peak.size()}, {"arcsec", quantiles_json(qp)}});
-  budget.push_back({{"line", "residual unbalance under the carrier profile: RMS over the profile, worst grid point (order " + ref + ")"},
+  budget.push_back({{"line", "residual unbalance under the carrier profile: RMS over the profile, worst grid point (order " + ref + ")" + loop_dep},
                     {"nature", "temporal RMS per unit; ensemble over units"}, {"samples", rms.size()}, {"arcsec", quantiles_json(qr)}});
   if (!shafting_sorted_.empty() && !peak.empty()) {
     // Each platform unit paired with K independent shafting units (K ~ the shafting count
@@ -145,17 +164,25 @@ json PlatformStudy::details(const McResult& mc) const {
         rss.push_back(std::hypot(s, peak[j]));
       }
     }
-    budget.push_back({{"line", "combined per unit: shafting + unbalance peak, added linearly (each platform paired with " + std::to_string(k_pairs) + " random shafting units)"},
+    const std::string pairing = " [pairing assumption: this platform with the shafting of " + ps.shafting_study +
+                                "; the unbalance part depends on the loop type]";
+    budget.push_back({{"line", "combined per unit: shafting + unbalance peak, added linearly (each platform paired with " + std::to_string(k_pairs) + " random shafting units)" + pairing},
                       {"nature", "ensemble over units of (static + temporal peak); upper bound on the instantaneous error"},
                       {"samples", lin.size()}, {"arcsec", quantiles_json(quantiles(lin))}});
-    budget.push_back({{"line", "combined per unit: root sum of squares of shafting and unbalance peak"},
+    budget.push_back({{"line", "combined per unit: root sum of squares of shafting and unbalance peak" + pairing},
                       {"nature", "ensemble over units; the two errors as perpendicular on the sky"},
                       {"samples", rss.size()}, {"arcsec", quantiles_json(quantiles(rss))}});
-    budget.push_back({{"line", "p99.73 lines stacked: shafting p99.73 + unbalance peak p99.73"},
+    budget.push_back({{"line", "p99.73 lines stacked: shafting p99.73 + unbalance peak p99.73" + pairing},
                       {"nature", "worst-case stacking of two ensemble p99.73s (conservative)"},
                       {"arcsec", {{"p99_73", qs.p9973 + qp.p9973}}}});
   }
   d["los_budget"] = budget;
+  d["los_budget_assumptions"] = {
+      {"loop", "the unbalance lines hold for this loop only: " + loop_statement(model_.stabilization) +
+                   "; another loop type gives other figures for the same residual unbalance"},
+      {"pairing", ps.shafting_study.empty() ? "no shafting study: no combined lines"
+                                            : "the combined lines pair this platform with the seeker shafting of " +
+                                                  ps.shafting_study + " (the study's assumption, not a measured assembly)"}};
   d["pixel_arcsec"] = pixel_arcsec_;
   return d;
 }
@@ -173,7 +200,18 @@ void PlatformStudy::report_sections(const McResult& mc, const std::string& plots
       << fmt(g["counterweight_radius_m"].get<double>() * 1e3) << " / " << fmt(g["counterweight_plane_m"].get<double>() * 1e3)
       << "</td><td>" << fmt(g["loop_min_stiffness_N_m_per_rad"].get<double>()) << "</td></tr>\n";
   }
-  h << "</table>\n<p>Each axis test is the complete simulated single-axis procedure (" << ps.positions
+  h << "</table>\n";
+  if (!d["gimbals"].empty()) {
+    const json& loop = d["gimbals"][0]["loop"];
+    h << "<p>Stabilization loop: " << html_escape(d["loop_statement"].get<std::string>()) << ". Closed-loop poles (Hz, the "
+         "same on every axis: the gains scale with its inertia):";
+    for (const auto& pole : loop["closed_loop_poles_Hz"]) {
+      h << " " << fmt(pole[0].get<double>()) << (pole[1].get<double>() < 0 ? " - " : " + ")
+        << fmt(std::abs(pole[1].get<double>())) << "j";
+    }
+    h << "; least disturbance stiffness at " << fmt(loop["least_stiffness_at_Hz"].get<double>()) << " Hz.</p>\n";
+  }
+  h << "<p>Each axis test is the complete simulated single-axis procedure (" << ps.positions
     << " turntable positions, servo-driven oscillation integrated with CVODE, sampled current, Eq. 21, Eq. 22 fit, Eq. 23 "
        "counterweight with its placement tolerances in the gimbal's correction plane) on the assembly that turns about "
        "the axis, the other gimbals locked with their locking errors. Residual torque: the exact statics on a grid of "
@@ -185,7 +223,7 @@ void PlatformStudy::report_sections(const McResult& mc, const std::string& plots
     << ") m/s&sup2; in the base frame.</p>\n";
   // Residual torques per axis and order.
   h << "<h2>Residual unbalance torque per axis and test order</h2>\n<table><tr><th class='l'>axis</th><th class='l'>order</th>"
-       "<th>residual S<sub>&perp;</sub> p50 / p95 (g mm)</th><th>max over grid, gravity: p50 / p95 / p99.73 (mN m)</th>"
+       "<th>residual S<sub>&perp;</sub> p50 / p95 (g mm), lock angles | greatest over the grid</th><th>max over grid, gravity: p50 / p95 / p99.73 (mN m)</th>"
        "<th>RMS over grid, gravity p50 (mN m)</th><th>max, gravity + acceleration: p50 / p95 / p99.73 (mN m)</th></tr>\n";
   for (models::Axis a : models::kAllAxes) {
     const std::string ax = models::axis_name(a);
@@ -196,7 +234,9 @@ void PlatformStudy::report_sections(const McResult& mc, const std::string& plots
     for (std::size_t o = 0; o < ps.order_labels.size(); ++o) {
       const json& x = r[ps.order_labels[o]];
       h << "<tr><td class='l'>" << ax << "</td><td class='l'>" << html_escape(ps.order_texts[o]) << "</td><td>"
-        << fmt(x["residual_gmm"]["p50"].get<double>()) << " / " << fmt(x["residual_gmm"]["p95"].get<double>()) << "</td><td>"
+        << fmt(x["residual_gmm"]["p50"].get<double>()) << " / " << fmt(x["residual_gmm"]["p95"].get<double>()) << " | "
+        << fmt(x["residual_grid_max_gmm"]["p50"].get<double>()) << " / " << fmt(x["residual_grid_max_gmm"]["p95"].get<double>())
+        << "</td><td>"
         << fmt(x["torque_max_mNm"]["p50"].get<double>()) << " / " << fmt(x["torque_max_mNm"]["p95"].get<double>()) << " / "
         << fmt(x["torque_max_mNm"]["p99_73"].get<double>()) << "</td><td>" << fmt(x["torque_rms_mNm"]["p50"].get<double>())
         << "</td><td>" << fmt(x["torque_max_acc_mNm"]["p50"].get<double>()) << " / "
@@ -230,10 +270,12 @@ void PlatformStudy::report_sections(const McResult& mc, const std::string& plots
   }
   // LOS budget.
   const double px = d["pixel_arcsec"].get<double>();
-  h << "<h2>Combined LOS budget</h2>\n<p>Residual unbalance torque c<sub>k</sub>&middot;(g - a(t)) on each axis through "
-       "its stabilization loop (PID on the outboard inertia, " << fmt(model_.stabilization.bandwidth_hz) << " Hz, &zeta; = "
-    << fmt(model_.stabilization.damping) << ", integral ratio " << fmt(model_.stabilization.integral_ratio)
-    << "), LOS error |&delta;&omega; &times; d| at each grid point over a profile of " << fmt(ps.duration) << " s: a manoeuvre ("
+  h << "<h2>Combined LOS budget (pairing assumption)</h2>\n<p><b>Assumptions.</b> "
+    << html_escape(d["los_budget_assumptions"]["pairing"].get<std::string>()) << ". The unbalance lines "
+    << html_escape(d["los_budget_assumptions"]["loop"].get<std::string>()) << ".</p>\n"
+    << "<p>Residual unbalance torque c<sub>k</sub>&middot;(g - a(t)) on each axis through "
+       "its stabilization loop (on the outboard inertia; a loop with a position integrator takes out the constant gravity "
+       "part, a rate loop holds the error c<sub>k</sub>&middot;g / K<sub>p</sub>), LOS error |&delta;&omega; &times; d| at each grid point over a profile of " << fmt(ps.duration) << " s: a manoeuvre ("
     << fmt(ps.manoeuvre[0]) << ", " << fmt(ps.manoeuvre[1]) << ", " << fmt(ps.manoeuvre[2]) << ") m/s&sup2; from "
     << fmt(ps.onset) << " s over " << fmt(ps.rise_time) << " s, and " << ps.vibration.size()
     << " vibration line(s). The gimbals hold their angles during the profile. Temporal: over the profile of one unit; "

@@ -118,7 +118,7 @@ PlatformStudy::PlatformStudy(StudyConfig config, PlatformModel model, std::size_
   for (Axis a : models::kAllAxes) output_names_.push_back(std::string("initial_") + models::axis_name(a) + "_torque_max_mNm");
   for (const auto& label : platform_sections(config_).platform.order_labels) {
     for (Axis a : models::kAllAxes) {
-      for (const char* o : {"measured_mNm", "residual_gmm", "torque_max_mNm", "torque_rms_mNm", "torque_max_acc_mNm",
+      for (const char* o : {"measured_mNm", "residual_gmm", "residual_grid_max_gmm", "torque_max_mNm", "torque_rms_mNm", "torque_max_acc_mNm",
                             "torque_rms_acc_mNm"}) {
         output_names_.push_back(label + "_" + models::axis_name(a) + "_" + o);
       }
@@ -152,16 +152,14 @@ PlatformStudy::PlatformStudy(StudyConfig config, PlatformModel model, std::size_
   prof.rise_time = ps.rise_time;
   for (const auto& v : ps.vibration) prof.vibration.push_back({{v.amplitude[0], v.amplitude[1], v.amplitude[2]}, v.frequency});
   const std::size_t n = prof.steps();
-  std::array<std::vector<double>, 3> acc;
-  for (auto& c : acc) c.resize(n);
   profile_time_.resize(n);
-  for (std::size_t t = 0; t < n; ++t) {
-    profile_time_[t] = static_cast<double>(t) * prof.time_step;
-    const Eigen::Vector3d a = prof.acceleration(profile_time_[t]);
-    for (int j = 0; j < 3; ++j) acc[static_cast<std::size_t>(j)][t] = a[j];
-  }
+  for (std::size_t t = 0; t < n; ++t) profile_time_[t] = static_cast<double>(t) * prof.time_step;
+  // Each loop's response to each acceleration component, the profile evaluated at RK4's stages.
   for (std::size_t k = 0; k < 3; ++k) {
-    for (std::size_t j = 0; j < 3; ++j) loop_response_[k][j] = models::loop_response(loops_[k], acc[j], prof.time_step);
+    for (std::size_t j = 0; j < 3; ++j) {
+      const auto component = [&prof, j](double t) { return prof.acceleration(t)[static_cast<Eigen::Index>(j)]; };
+      loop_response_[k][j] = models::loop_response(loops_[k], component, prof.time_step, n);
+    }
   }
 }
 
@@ -280,6 +278,15 @@ PlatformStudy::Residual PlatformStudy::residual(const models::Platform& p) const
     const Eigen::Vector3d s = models::outboard_assembly(p, a, model_.lock_angles()).first_moment;
     out.perpendicular[static_cast<std::size_t>(a)] = std::hypot(s[(k + 1) % 3], s[(k + 2) % 3]);
   }
+  // The same over the angle grid: the carried gimbals turn the outboard first moment.
+  for (const auto& q : grid_) {
+    for (Axis a : models::kAllAxes) {
+      const int k = models::axis_component(a);
+      const Eigen::Vector3d s = models::outboard_assembly(p, a, q).first_moment;
+      auto& worst = out.perpendicular_grid_max[static_cast<std::size_t>(a)];
+      worst = std::max(worst, std::hypot(s[(k + 1) % 3], s[(k + 2) % 3]));
+    }
+  }
   std::array<double, 3> sum_g{}, sum_a{};
   const std::size_t nt = profile_time_.size();
   for (const auto& q : grid_) {
@@ -299,9 +306,15 @@ PlatformStudy::Residual PlatformStudy::residual(const models::Platform& p) const
     for (std::size_t k = 0; k < 3; ++k) {
       for (std::size_t j = 0; j < 3; ++j) w[k][j] = -c[k][static_cast<Eigen::Index>(j)] * v[k];
     }
+    // The constant gravity torque: taken out by a position integrator, held as c_k . g / K_p by
+    // a loop without one (rate loop).
+    Eigen::Vector3d held = Eigen::Vector3d::Zero();
+    for (std::size_t k = 0; k < 3; ++k) {
+      if (!(loops_[k].ki() > 0)) held += c[k].dot(g) / loops_[k].kp() * v[k];
+    }
     double peak = 0.0, sum2 = 0.0;
     for (std::size_t t = 0; t < nt; ++t) {
-      Eigen::Vector3d err = Eigen::Vector3d::Zero();
+      Eigen::Vector3d err = held;
       for (std::size_t k = 0; k < 3; ++k) {
         for (std::size_t j = 0; j < 3; ++j) err += w[k][j] * loop_response_[k][j][t];
       }
@@ -347,7 +360,8 @@ void PlatformStudy::compute(std::size_t i, Workspace& ws, SampleResult& out) con
       out.rhs_evals += c.rhs_evals;
       const Residual r = residual(c.platform);
       for (std::size_t k = 0; k < 3; ++k) {
-        const double values[] = {c.tests[k].measured * 1e3, r.perpendicular[k] * 1e6, r.max_g[k] * 1e3,
+        const double values[] = {c.tests[k].measured * 1e3, r.perpendicular[k] * 1e6, r.perpendicular_grid_max[k] * 1e6,
+                                 r.max_g[k] * 1e3,
                                  r.rms_g[k] * 1e3,          r.max_acc[k] * 1e3,     r.rms_acc[k] * 1e3};
         for (double v : values) out.outputs[o++] = v;
       }

@@ -26,6 +26,8 @@
 /// per order label L ("imo" = inner, middle, outer) and axis:
 ///   L_<axis>_measured_mNm       MT_s of that axis' test
 ///   L_<axis>_residual_gmm       |S perpendicular to the axis| after the campaign, lock angles
+///   L_<axis>_residual_grid_max_gmm   the same, greatest over the gimbal-angle grid (the carried
+///                               gimbals turn their first moments; the lock angles are one point)
 ///   L_<axis>_torque_max_mNm     max |axis torque| over the grid, gravity
 ///   L_<axis>_torque_rms_mNm     RMS over the grid, gravity
 ///   L_<axis>_torque_max_acc_mNm, L_<axis>_torque_rms_acc_mNm   gravity + stated acceleration
@@ -104,6 +106,7 @@ class PlatformStudy : public ProcedureStudyBase<PlatformStudy> {
 
   struct Residual {
     std::array<double, 3> perpendicular{}, max_g{}, rms_g{}, max_acc{}, rms_acc{};  ///< kg m, N m
+    std::array<double, 3> perpendicular_grid_max{};  ///< kg m, greatest over the angle grid
     double los_max = 0.0, los_rms = 0.0;  ///< rad
   };
   /// Residual torques over the grid and the LOS error under the profile.
