@@ -1,5 +1,6 @@
 #include "models/seeker_los_chain.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include "core/error.h"
@@ -54,8 +55,10 @@ const Eigen::Vector3d kZ = Eigen::Vector3d::UnitZ();
 }  // namespace
 
 void AxisErrorState::add(const TiltHarmonic& h) {
-  require(n_harmonics < kMaxHarmonics, "too many tilt harmonics on one axis (max " +
-                                           std::to_string(kMaxHarmonics) + ")");
+  // Called for every harmonic of every sample: the message is built only on error.
+  if (n_harmonics >= kMaxHarmonics) {
+    throw Error("too many tilt harmonics on one axis (max " + std::to_string(kMaxHarmonics) + ")");
+  }
   harmonics[static_cast<std::size_t>(n_harmonics++)] = h;
 }
 
@@ -139,14 +142,73 @@ LosGrid::Workspace LosGrid::make_workspace() const {
   return ws;
 }
 
-void LosGrid::evaluate(const SeekerErrorState& s, Workspace& ws, std::span<PointingError> out) const {
-  require(out.size() == size(), "LOS grid output has the wrong size");
-  const Eigen::Vector3d l = optical_axis(s.collimation);
-  for (std::size_t ib = 0; ib < beta_.size(); ++ib) {
-    ws.pitch_los[ib] = pitch_orientation(s.pitch, beta_[ib]) * l;
+void LosGrid::tilts_on_grid(const AxisErrorState& axis, std::span<const double> phi,
+                            std::vector<PhaseTable>& tables, std::span<Eigen::Vector2d> out) {
+  if (out.size() != phi.size()) throw Error("LOS grid tilt output has the wrong size");
+  // Group the harmonics by order: C_n = sum A_h e^{i psi_h} (order 0 is a constant).
+  std::array<double, AxisErrorState::kMaxHarmonics> orders{}, cre{}, cim{};
+  int groups = 0;
+  double s0 = axis.static_tilt[0], s1 = axis.static_tilt[1];
+  for (int k = 0; k < axis.n_harmonics; ++k) {
+    const TiltHarmonic& h = axis.harmonics[static_cast<std::size_t>(k)];
+    const double re = h.amplitude * std::cos(h.phase), im = h.amplitude * std::sin(h.phase);
+    if (h.order == 0.0) {
+      s0 += re;
+      s1 += im;
+      continue;
+    }
+    int g = 0;
+    while (g < groups && orders[static_cast<std::size_t>(g)] != h.order) ++g;
+    const auto gi = static_cast<std::size_t>(g);
+    if (g == groups) {
+      orders[gi] = h.order, cre[gi] = 0.0, cim[gi] = 0.0;
+      ++groups;
+    }
+    cre[gi] += re;
+    cim[gi] += im;
   }
+  for (auto& t : out) t = Eigen::Vector2d(s0, s1);
+  for (int g = 0; g < groups; ++g) {
+    const auto gi = static_cast<std::size_t>(g);
+    const PhaseTable* table = nullptr;
+    for (const PhaseTable& t : tables) {
+      if (t.order == orders[gi]) table = &t;
+    }
+    if (table == nullptr) {  // first sample of this thread with this order
+      PhaseTable t{orders[gi], std::vector<double>(phi.size()), std::vector<double>(phi.size())};
+      for (std::size_t k = 0; k < phi.size(); ++k) {
+        t.c[k] = std::cos(orders[gi] * phi[k]);
+        t.s[k] = std::sin(orders[gi] * phi[k]);
+      }
+      tables.push_back(std::move(t));
+      table = &tables.back();
+    }
+    const double a = cre[gi], b = cim[gi];
+    for (std::size_t k = 0; k < phi.size(); ++k) {  // C_n e^{i n phi_k}
+      out[k][0] += a * table->c[k] - b * table->s[k];
+      out[k][1] += a * table->s[k] + b * table->c[k];
+    }
+  }
+}
+
+void LosGrid::evaluate(const SeekerErrorState& s, Workspace& ws, std::span<PointingError> out) const {
+  if (out.size() != size()) throw Error("LOS grid output has the wrong size");
+  const Eigen::Vector3d l = optical_axis(s.collimation);
+  ws.tilts.resize(std::max(alpha_.size(), beta_.size()));
+  const std::span<Eigen::Vector2d> tb(ws.tilts.data(), beta_.size());
+  tilts_on_grid(s.pitch, beta_, ws.pitch_phases, tb);
+  for (std::size_t ib = 0; ib < beta_.size(); ++ib) {
+    // Rotation by beta about -y: x -> (cos b, 0, sin b), as pitch_orientation.
+    Eigen::Matrix3d r;
+    r << cb_[ib], 0.0, -sb_[ib], 0.0, 1.0, 0.0, sb_[ib], 0.0, cb_[ib];
+    ws.pitch_los[ib] = tilt_rotation(-kY, kX, kZ, tb[ib]) * (r * l);
+  }
+  const std::span<Eigen::Vector2d> ta(ws.tilts.data(), alpha_.size());
+  tilts_on_grid(s.yaw, alpha_, ws.yaw_phases, ta);
   for (std::size_t ia = 0; ia < alpha_.size(); ++ia) {
-    ws.yaw_frames[ia] = yaw_orientation(s.yaw, alpha_[ia]);
+    Eigen::Matrix3d rz;
+    rz << ca_[ia], -sa_[ia], 0.0, sa_[ia], ca_[ia], 0.0, 0.0, 0.0, 1.0;
+    ws.yaw_frames[ia] = tilt_rotation(kZ, kX, kY, ta[ia]) * rz;
   }
   for (std::size_t ia = 0; ia < alpha_.size(); ++ia) {
     const Eigen::Matrix3d& m = ws.yaw_frames[ia];
