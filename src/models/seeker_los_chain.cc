@@ -10,19 +10,24 @@ namespace {
 
 // asin and atan of arguments that are almost always tiny (pointing errors ~1e-4 rad):
 // the series is exact to double precision below 1e-3 (next term < 1e-16 relative).
-inline double small_asin(double x) {
-  if (std::abs(x) < 1e-3) {
-    const double x2 = x * x;
-    return x * (1.0 + x2 * (1.0 / 6.0 + x2 * (3.0 / 40.0)));
-  }
-  return std::asin(x);
+constexpr double kSeriesLimit = 1e-3;
+inline double asin_series(double x) {
+  const double x2 = x * x;
+  return x * (1.0 + x2 * (1.0 / 6.0 + x2 * (3.0 / 40.0)));
 }
-inline double small_atan(double x) {
-  if (std::abs(x) < 1e-3) {
-    const double x2 = x * x;
-    return x * (1.0 - x2 * (1.0 / 3.0 - x2 * (1.0 / 5.0)));
-  }
-  return std::atan(x);
+inline double atan_series(double x) {
+  const double x2 = x * x;
+  return x * (1.0 - x2 * (1.0 / 3.0 - x2 * (1.0 / 5.0)));
+}
+inline double small_asin(double x) { return std::abs(x) < kSeriesLimit ? asin_series(x) : std::asin(x); }
+inline double small_atan(double x) { return std::abs(x) < kSeriesLimit ? atan_series(x) : std::atan(x); }
+
+// T(a -> u) w for unit a, u: with v = a x u, c = a . u, [v]x^2 = v v^T - |v|^2 I and
+// |v|^2 = 1 - c^2, I + [v]x + [v]x^2 / (1 + c) applied to w is c w + v x w + v (v . w) / (1 + c).
+inline Eigen::Vector3d apply_tilt(const Eigen::Vector3d& a, const Eigen::Vector3d& u, const Eigen::Vector3d& w) {
+  const Eigen::Vector3d v = a.cross(u);
+  const double c = a.dot(u);
+  return c * w + v.cross(w) + v * (v.dot(w) / (1.0 + c));
 }
 
 // T(a -> u) for u = normalize(a + t1 e1 + t2 e2).
@@ -46,6 +51,35 @@ inline PointingError error_against(const Eigen::Vector3d& d, double ca, double s
   const double rho = std::sqrt(d.x() * d.x() + d.y() * d.y());
   e.pitch = small_asin(d.z() * cb - rho * sb);
   return e;
+}
+
+// One yaw angle's row of errors over beta, branch-free so that it vectorizes: the series of
+// small_asin and small_atan everywhere, their arguments kept for the caller, which redoes the
+// row by error_against if any point is outside their range (errors above ~200 arcsec or a LOS
+// behind the yaw azimuth: never in a tolerance study, kept exact anyway). restrict: the
+// arrays are disjoint, so no run-time alias checks.
+void error_row(const Eigen::Matrix3d& m, double ca, double sa, std::size_t nb, const double* __restrict qx,
+               const double* __restrict qy, const double* __restrict qz, const double* __restrict cb,
+               const double* __restrict sb, double* __restrict tot, double* __restrict yaw, double* __restrict pit,
+               double* __restrict arg_h, double* __restrict arg_r, double* __restrict arg_p,
+               double* __restrict arg_a) {
+  const double m00 = m(0, 0), m01 = m(0, 1), m02 = m(0, 2), m10 = m(1, 0), m11 = m(1, 1), m12 = m(1, 2),
+               m20 = m(2, 0), m21 = m(2, 1), m22 = m(2, 2);
+  for (std::size_t ib = 0; ib < nb; ++ib) {
+    const double dx = m00 * qx[ib] + m01 * qy[ib] + m02 * qz[ib];
+    const double dy = m10 * qx[ib] + m11 * qy[ib] + m12 * qz[ib];
+    const double dz = m20 * qx[ib] + m21 * qy[ib] + m22 * qz[ib];
+    const double ex = dx - cb[ib] * ca, ey = dy - cb[ib] * sa, ez = dz - sb[ib];
+    const double h = 0.5 * std::sqrt(ex * ex + ey * ey + ez * ez);
+    const double along = dx * ca + dy * sa;
+    const double across = -dx * sa + dy * ca;
+    const double r = across / along;
+    const double sp = dz * cb[ib] - std::sqrt(dx * dx + dy * dy) * sb[ib];
+    tot[ib] = 2.0 * asin_series(h);
+    yaw[ib] = atan_series(r);
+    pit[ib] = asin_series(sp);
+    arg_h[ib] = h, arg_r[ib] = r, arg_p[ib] = sp, arg_a[ib] = along;
+  }
 }
 
 const Eigen::Vector3d kX = Eigen::Vector3d::UnitX();
@@ -193,29 +227,57 @@ void LosGrid::tilts_on_grid(const AxisErrorState& axis, std::span<const double> 
 
 void LosGrid::evaluate(const SeekerErrorState& s, Workspace& ws, std::span<PointingError> out) const {
   if (out.size() != size()) throw Error("LOS grid output has the wrong size");
+  const std::size_t na = alpha_.size(), nb = beta_.size();
   const Eigen::Vector3d l = optical_axis(s.collimation);
-  ws.tilts.resize(std::max(alpha_.size(), beta_.size()));
-  const std::span<Eigen::Vector2d> tb(ws.tilts.data(), beta_.size());
+  ws.tilts.resize(std::max(na, nb));
+  ws.pitch_xyz.resize(3 * nb);
+  ws.row.resize(7 * nb);
+  const std::span<Eigen::Vector2d> tb(ws.tilts.data(), nb);
   tilts_on_grid(s.pitch, beta_, ws.pitch_phases, tb);
-  for (std::size_t ib = 0; ib < beta_.size(); ++ib) {
-    // Rotation by beta about -y: x -> (cos b, 0, sin b), as pitch_orientation.
-    Eigen::Matrix3d r;
-    r << cb_[ib], 0.0, -sb_[ib], 0.0, 1.0, 0.0, sb_[ib], 0.0, cb_[ib];
-    ws.pitch_los[ib] = tilt_rotation(-kY, kX, kZ, tb[ib]) * (r * l);
+  double* px = ws.pitch_xyz.data();
+  double* py = px + nb;
+  double* pz = py + nb;
+  for (std::size_t ib = 0; ib < nb; ++ib) {
+    // O2(beta) l = T(-y -> u) R(-y, beta) l; R(-y, beta) takes x to (cos b, 0, sin b).
+    const Eigen::Vector3d rl(cb_[ib] * l.x() - sb_[ib] * l.z(), l.y(), sb_[ib] * l.x() + cb_[ib] * l.z());
+    const Eigen::Vector3d p = apply_tilt(-kY, (-kY + tb[ib][0] * kX + tb[ib][1] * kZ).normalized(), rl);
+    px[ib] = p.x(), py[ib] = p.y(), pz[ib] = p.z();
+    ws.pitch_los[ib] = p;
   }
-  const std::span<Eigen::Vector2d> ta(ws.tilts.data(), alpha_.size());
+  const std::span<Eigen::Vector2d> ta(ws.tilts.data(), na);
   tilts_on_grid(s.yaw, alpha_, ws.yaw_phases, ta);
-  for (std::size_t ia = 0; ia < alpha_.size(); ++ia) {
-    Eigen::Matrix3d rz;
-    rz << ca_[ia], -sa_[ia], 0.0, sa_[ia], ca_[ia], 0.0, 0.0, 0.0, 1.0;
-    ws.yaw_frames[ia] = tilt_rotation(kZ, kX, kY, ta[ia]) * rz;
-  }
-  for (std::size_t ia = 0; ia < alpha_.size(); ++ia) {
-    const Eigen::Matrix3d& m = ws.yaw_frames[ia];
+  const double* cb = cb_.data();
+  const double* sb = sb_.data();
+  const double *qx = px, *qy = py, *qz = pz;
+  double* tot = ws.row.data();
+  double* yaw = tot + nb;
+  double* pit = yaw + nb;
+  double* arg_h = pit + nb;  // the series' arguments, checked after the row
+  double* arg_r = arg_h + nb;
+  double* arg_p = arg_r + nb;
+  double* arg_a = arg_p + nb;
+  for (std::size_t ia = 0; ia < na; ++ia) {
+    // O1(alpha) = T(z -> u) Rz(alpha), column by column.
     const double ca = ca_[ia], sa = sa_[ia];
-    for (std::size_t ib = 0; ib < beta_.size(); ++ib) {
-      out[index(ia, ib)] = error_against(m * ws.pitch_los[ib], ca, sa, cb_[ib], sb_[ib]);
+    const Eigen::Vector3d u = (kZ + ta[ia][0] * kX + ta[ia][1] * kY).normalized();
+    Eigen::Matrix3d& m = ws.yaw_frames[ia];
+    m.col(0) = apply_tilt(kZ, u, Eigen::Vector3d(ca, sa, 0.0));
+    m.col(1) = apply_tilt(kZ, u, Eigen::Vector3d(-sa, ca, 0.0));
+    m.col(2) = apply_tilt(kZ, u, kZ);
+    error_row(m, ca, sa, nb, qx, qy, qz, cb, sb, tot, yaw, pit, arg_h, arg_r, arg_p, arg_a);
+    bool outside = false;
+    for (std::size_t ib = 0; ib < nb; ++ib) {
+      outside = outside || !(arg_h[ib] < kSeriesLimit && std::abs(arg_r[ib]) < kSeriesLimit &&
+                             std::abs(arg_p[ib]) < kSeriesLimit && arg_a[ib] > 0.0);
     }
+    PointingError* row_out = out.data() + index(ia, 0);
+    if (outside) {
+      for (std::size_t ib = 0; ib < nb; ++ib) {
+        row_out[ib] = error_against(m * ws.pitch_los[ib], ca, sa, cb[ib], sb[ib]);
+      }
+      continue;
+    }
+    for (std::size_t ib = 0; ib < nb; ++ib) row_out[ib] = {tot[ib], yaw[ib], pit[ib]};
   }
 }
 

@@ -121,6 +121,8 @@ class LosGrid {
     std::vector<Eigen::Vector3d> pitch_los;
     std::vector<PhaseTable> yaw_phases, pitch_phases;  ///< filled on first use of an order
     std::vector<Eigen::Vector2d> tilts;                ///< one axis' tilt at each of its angles
+    std::vector<double> pitch_xyz;  ///< pitch LOS as x[], y[], z[] (the vectorized row loop)
+    std::vector<double> row;        ///< one yaw angle's errors over beta and their series' arguments
   };
   Workspace make_workspace() const;
   /// Fills out (size()) with the pointing error at every grid point.
