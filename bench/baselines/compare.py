@@ -1,0 +1,98 @@
+#!/usr/bin/python3
+"""Poise against its NumPy / SciPy baselines, in one run, by CPU time per core (issue 19).
+
+  LOS compute      poise_bench BM_SampleCompute (one sample: design point, draw, 13 x 13 grid,
+                   outputs; CPU time) against los_numpy.py's compute time per sample (direct
+                   and grouped harmonic sums).                          Target >= 10x.
+  LOS whole run    `poise run studies/los_seeker_wang2011.toml --threads 1` (results written,
+                   no plots; user + sys CPU of the process) against los_numpy.py with its
+                   samples.csv and summary written.                     Target >= 5x.
+  Gimbal           poise_gimbal_bench BM_Measurement36By (36-point measurement, CPU time) by
+                   formulation and tolerance, each with its torque error against the tight
+                   value, against gimbal_scipy.py (LSODA) at the loosest rtol whose error is
+                   within 1e-4 of the load.                             Target >= 50x.
+The load average is printed beside the figures: on a loaded machine CPU times still grow
+(shared caches, frequency), so compare runs at similar load.
+
+Usage: compare.py [--build build] [--samples 16384] [--quick]
+"""
+import argparse, json, os, re, subprocess, sys, tempfile
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+ROOT = os.path.dirname(os.path.dirname(HERE))
+ENV = dict(os.environ, POISE_SOURCE_DIR=ROOT, OPENBLAS_NUM_THREADS="1", OMP_NUM_THREADS="1", MKL_NUM_THREADS="1")
+
+
+def run(cmd, **kw):
+    return subprocess.run(cmd, check=True, capture_output=True, text=True, env=ENV, **kw).stdout
+
+
+def gbench(exe, flt, min_time):
+    out = run([exe, f"--benchmark_filter={flt}", f"--benchmark_min_time={min_time}", "--benchmark_format=json"])
+    return {b["name"]: b for b in json.loads(out)["benchmarks"]}
+
+
+def cpu_seconds(b):
+    scale = {"ns": 1e-9, "us": 1e-6, "ms": 1e-3, "s": 1.0}[b["time_unit"]]
+    return b["cpu_time"] * scale
+
+
+def child_cpu(cmd):
+    before = os.times()
+    subprocess.run(cmd, check=True, capture_output=True, env=ENV, cwd=ROOT)
+    after = os.times()
+    return (after.children_user - before.children_user) + (after.children_system - before.children_system)
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--build", default=os.path.join(ROOT, "build"))
+    ap.add_argument("--samples", type=int, default=16384)
+    ap.add_argument("--quick", action="store_true", help="shorter timings, LSODA at one tolerance")
+    a = ap.parse_args()
+    mt = "0.2" if a.quick else "1"
+    print(f"load average {os.getloadavg()[0]:.2f} {os.getloadavg()[1]:.2f} {os.getloadavg()[2]:.2f}")
+
+    # LOS compute.
+    b = gbench(os.path.join(a.build, "bench", "poise_bench"), "BM_SampleCompute", mt)["BM_SampleCompute"]
+    poise_us = cpu_seconds(b) * 1e6
+    numpy_us = {}
+    for mode in ("direct", "grouped"):
+        out = run([sys.executable, os.path.join(HERE, "los_numpy.py"), "--samples", str(a.samples), "--compute-only"]
+                  + (["--grouped"] if mode == "grouped" else []))
+        numpy_us[mode] = float(re.search(r"\(([\d.]+) us/sample\)", out).group(1))
+    print(f"LOS compute: poise {poise_us:.2f} us/sample; numpy {numpy_us['direct']:.2f} (direct sums), "
+          f"{numpy_us['grouped']:.2f} (grouped) -> {numpy_us['direct'] / poise_us:.1f}x, "
+          f"{numpy_us['grouped'] / poise_us:.1f}x (target >= 10x)")
+
+    # LOS whole run, results written.
+    with tempfile.TemporaryDirectory() as tmp:
+        poise_cpu = child_cpu([os.path.join(a.build, "poise"), "run", "studies/los_seeker_wang2011.toml", "--samples",
+                               str(a.samples), "--threads", "1", "--out", os.path.join(tmp, "poise"), "--quiet",
+                               "--no-plots"])
+        numpy_cpu = child_cpu([sys.executable, os.path.join(HERE, "los_numpy.py"), "--samples", str(a.samples),
+                               "--out", os.path.join(tmp, "numpy")])
+    print(f"LOS whole run ({a.samples} samples, 1 thread, results written): poise {poise_cpu:.2f} CPU-s, "
+          f"numpy {numpy_cpu:.2f} CPU-s -> {numpy_cpu / poise_cpu:.1f}x (target >= 5x)")
+
+    # Gimbal measurement.
+    g = gbench(os.path.join(a.build, "bench", "poise_gimbal_bench"), "BM_Measurement36By", "0.5" if not a.quick else "0.1")
+    rtols = ["1e-3"] if a.quick else ["1e-3", "3e-4", "1e-4"]
+    out = run([sys.executable, os.path.join(HERE, "gimbal_scipy.py"), "--rtol", *rtols])
+    lsoda = [(float(m.group(1)), float(m.group(2)), float(m.group(3)))
+             for m in re.finditer(r"rtol ([\d.e+-]+): MT_s [\d.]+ mN\*m, \|dMT_s\|/load ([\d.e+-]+), cpu ([\d.]+) s", out)]
+    ok = [x for x in lsoda if x[1] <= 1e-4]
+    best = min(ok, key=lambda x: x[2]) if ok else None
+    for rt, err, cpu in lsoda:
+        print(f"gimbal LSODA rtol {rt:g}: {cpu * 1e3:.0f} ms CPU per measurement, |dMT_s|/load {err:.1e}")
+    for name, bm in g.items():
+        err = bm.get("tol_torque_rel", float("nan"))
+        ms = cpu_seconds(bm) * 1e3
+        ratio = f"{best[2] * 1e3 / ms:.1f}x LSODA rtol {best[0]:g}" if best else "no LSODA run within 1e-4"
+        flag = "within 1e-4" if err <= 1e-4 else "NOT within 1e-4"
+        print(f"gimbal {name}: {ms:.1f} ms CPU, |dMT_s|/load {err:.1e} ({flag}) -> {ratio} (target >= 50x)")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
