@@ -6,6 +6,11 @@
 ///     model's rate) and 50: the difference is the acquisition loop's share (per-sample
 ///     interpolation, reference, ADC). Target: <= 50 ms per measurement per core.
 ///   BM_Measurement18/rate:R  the same with 18 positions.
+///   BM_Measurement36By/quasi_static:Q/loose:L/max_order:K  the 36-point measurement with the
+///     model's acquisition (noise drawn in distribution), supports dynamic (Q = 0) or
+///     quasi-static (Q = 1), tolerances L times the model's, BDF order limit K (0 = model's);
+///     counter tol_torque_rel against the tight dynamic value. bench/baselines/compare.py
+///     compares these with bench/baselines/gimbal_scipy.py (LSODA). Target: >= 50x per core.
 /// Rig: models/gimbal_simulator_yang2015.toml (load_gimbal_model; found via $POISE_SOURCE_DIR
 /// or bench/..) with its solver settings, noise and positioning error (fixed seed); load
 /// 25.81 g at r = 51 mm, 45.5 deg (12.91 mN*m); nominal K_T, no tilt, no zero errors.

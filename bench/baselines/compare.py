@@ -86,20 +86,37 @@ def main():
 
     # Gimbal measurement.
     g = gbench(os.path.join(a.build, "bench", "poise_gimbal_bench"), "BM_Measurement36By", "0.5" if not a.quick else "0.1")
-    rtols = ["1e-3"] if a.quick else ["1e-3", "3e-4", "1e-4"]
+    rtols = ["1e-3"] if a.quick else ["1e-4", "3e-4", "1e-3", "2e-3", "3e-3"]
     out = run([sys.executable, os.path.join(HERE, "gimbal_scipy.py"), "--rtol", *rtols])
-    lsoda = [(float(m.group(1)), float(m.group(2)), float(m.group(3)))
-             for m in re.finditer(r"rtol ([\d.e+-]+): MT_s [\d.]+ mN\*m, \|dMT_s\|/load ([\d.e+-]+), cpu ([\d.]+) s", out)]
-    ok = [x for x in lsoda if x[1] <= 1e-4]
-    best = min(ok, key=lambda x: x[2]) if ok else None
+    lsoda = sorted((float(m.group(1)), float(m.group(2)), float(m.group(3))) for m in re.finditer(
+        r"rtol ([\d.e+-]+): MT_s [\d.]+ mN\*m, \|dMT_s\|/load ([\d.e+-]+), cpu ([\d.]+) s", out))
     for rt, err, cpu in lsoda:
         print(f"gimbal LSODA rtol {rt:g}: {cpu * 1e3:.0f} ms CPU per measurement, |dMT_s|/load {err:.1e}")
+    rows = []  # (formulation, loose, max_order, ms, err)
     for name, bm in g.items():
-        err = bm.get("tol_torque_rel", float("nan"))
-        ms = cpu_seconds(bm) * 1e3
-        ratio = f"{best[2] * 1e3 / ms:.1f}x LSODA rtol {best[0]:g}" if best else "no LSODA run within 1e-4"
-        flag = "within 1e-4" if err <= 1e-4 else "NOT within 1e-4"
-        print(f"gimbal {name}: {ms:.1f} ms CPU, |dMT_s|/load {err:.1e} ({flag}) -> {ratio} (target >= 50x)")
+        m = re.search(r"quasi_static:(\d)/loose:(\d+)/max_order:(\d)", name)
+        rows.append((int(m.group(1)), int(m.group(2)), int(m.group(3)), cpu_seconds(bm) * 1e3,
+                     bm.get("tol_torque_rel", float("nan"))))
+        print(f"gimbal {name}: {rows[-1][3]:.1f} ms CPU, |dMT_s|/load {rows[-1][4]:.1e}")
+
+    # "At the same accuracy": the loosest setting that, with every tighter one scanned, keeps the
+    # torque within 1e-4 of the load of its tight value (the error is not monotone in the
+    # tolerance; a lucky loose setting alone does not count).
+    def safest(settings):  # [(tolerance, err, cost)] sorted by tolerance
+        best = None
+        for tol, err, cost in settings:
+            if not err <= 1e-4:
+                break
+            best = (tol, err, cost)
+        return best
+
+    ref = safest(lsoda)
+    for quasi, label in ((0, "dynamic supports"), (1, "quasi-static supports")):
+        mine = safest(sorted((r[1], r[4], r[3]) for r in rows if r[0] == quasi and r[2] == 0))
+        if ref and mine:
+            print(f"gimbal {label}: {mine[2]:.1f} ms CPU at {mine[0]}x the model's tolerances (|dMT_s|/load "
+                  f"{mine[1]:.1e}) vs LSODA {ref[2] * 1e3:.0f} ms at rtol {ref[0]:g} ({ref[1]:.1e}) -> "
+                  f"{ref[2] * 1e3 / mine[2]:.1f}x per core (target >= 50x)")
     return 0
 
 

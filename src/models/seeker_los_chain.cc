@@ -57,8 +57,9 @@ inline PointingError error_against(const Eigen::Vector3d& d, double ca, double s
 // small_asin and small_atan everywhere, their arguments kept for the caller, which redoes the
 // row by error_against if any point is outside their range (errors above ~200 arcsec or a LOS
 // behind the yaw azimuth: never in a tolerance study, kept exact anyway). restrict: the
-// arrays are disjoint, so no run-time alias checks.
-void error_row(const Eigen::Matrix3d& m, double ca, double sa, std::size_t nb, const double* __restrict qx,
+// arrays are disjoint, so no run-time alias checks. Cloned for AVX2 (4 doubles a lane, picked
+// at run time; no FMA, so every result is bit-identical to the SSE2 clone's).
+__attribute__((target_clones("avx2", "default"))) void error_row(const Eigen::Matrix3d& m, double ca, double sa, std::size_t nb, const double* __restrict qx,
                const double* __restrict qy, const double* __restrict qz, const double* __restrict cb,
                const double* __restrict sb, double* __restrict tot, double* __restrict yaw, double* __restrict pit,
                double* __restrict arg_h, double* __restrict arg_r, double* __restrict arg_p,
