@@ -101,7 +101,8 @@ PointingError pointing_error(const Eigen::Vector3d& d, double alpha, double beta
 /// orders come from the model): each thread's Workspace computes a table the first time
 /// it meets an order, directly (sincos of n phi_k), so nothing accumulates along the grid
 /// (no recurrence drift, any spacing, any real order). Checked against the direct form
-/// AxisErrorState::tilt to 1e-12 relative in tests/seeker_los_chain_test.cc.
+/// AxisErrorState::tilt to 1e-12 relative in tests/seeker_los_harmonics_test.cc. The row of
+/// errors over beta is branch-free and vectorized (SSE2, AVX2 where the CPU has it).
 class LosGrid {
  public:
   LosGrid(std::vector<double> alpha, std::vector<double> beta);
