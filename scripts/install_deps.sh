@@ -8,6 +8,7 @@ PKGS=(
   libmuparser-dev  # expressions of budget gains (poise budget)
   libgtest-dev libbenchmark-dev libopenmpi-dev openmpi-bin gnuplot-nox
   clang-14 libclang-rt-14-dev  # tests/fuzz: libFuzzer, ASan, UBSan (clang++-14 -fsanitize=fuzzer)
+  python3-numpy python3-scipy  # bench/baselines: the NumPy and SciPy scripts Poise is compared with
 )
 missing=()
 for p in "${PKGS[@]}"; do

@@ -16,16 +16,31 @@ GimbalGravity gravity_in_gimbal(double g, double theta, double tilt, double tilt
   return {g_gimbal.y(), g_gimbal.z()};
 }
 
+namespace {
+// Generalized force on phi: motor, cogging, friction, cable and gravity (no y, z in it).
+inline double phi_force(const DiskRotorParams& p, const GimbalGravity& g, double phi, double w, double sp,
+                        double cp, double motor_torque) {
+  const double cogging =
+      p.cogging_order > 0 ? -p.cogging_torque * std::sin(p.cogging_order * phi + p.cogging_phase) : 0.0;
+  return motor_torque + cogging - p.viscous_friction * w - p.coulomb_friction * std::tanh(w / p.coulomb_smoothing) -
+         p.torsion_stiffness * (phi - p.torsion_zero) + p.mass * p.eccentricity * (-g.gy * sp + g.gz * cp);
+}
+}  // namespace
+
+double rigid_axis_acceleration(const DiskRotorParams& p, const GimbalGravity& g, double phi, double phidot,
+                               double motor_torque) {
+  const double pa = phi + p.eccentricity_angle;
+  const double q_phi = phi_force(p, g, phi, phidot, std::sin(pa), std::cos(pa), motor_torque);
+  return q_phi / (p.inertia + p.mass * p.eccentricity * p.eccentricity);
+}
+
 std::array<double, 3> disk_accelerations(const DiskRotorParams& p, const GimbalGravity& g,
                                          const DiskState& s, double motor_torque) {
   const double phi = s[0], w = s[1], y = s[2], yd = s[3], z = s[4], zd = s[5];
   const double m = p.mass, e = p.eccentricity;
   const double pa = phi + p.eccentricity_angle;
   const double sp = std::sin(pa), cp = std::cos(pa);
-  const double cogging = p.cogging_order > 0 ? -p.cogging_torque * std::sin(p.cogging_order * phi + p.cogging_phase) : 0.0;
-  const double q_phi = motor_torque + cogging - p.viscous_friction * w -
-                       p.coulomb_friction * std::tanh(w / p.coulomb_smoothing) -
-                       p.torsion_stiffness * (phi - p.torsion_zero) + m * e * (-g.gy * sp + g.gz * cp);
+  const double q_phi = phi_force(p, g, phi, w, sp, cp, motor_torque);
   const double f_y = m * e * cp * w * w - p.support_stiffness * y - p.support_damping * yd + m * g.gy;
   const double f_z = m * e * sp * w * w - p.support_stiffness * z - p.support_damping * zd + m * g.gz;
   const double phi_dd = (q_phi + e * (sp * f_y - cp * f_z)) / p.inertia;

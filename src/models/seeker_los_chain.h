@@ -92,6 +92,17 @@ PointingError pointing_error(const Eigen::Vector3d& d, double alpha, double beta
 /// A yaw x pitch grid of gimbal angles and the per-thread buffers to evaluate a sample
 /// on it. The chain factorizes: O1 depends on alpha only, O2 l on beta only, so a grid
 /// costs n_alpha + n_beta frame builds and one 3x3 product per point.
+///
+/// Harmonic sums on the grid (the hot path): by angle addition,
+///   sum_h A_h e^{i (n_h phi_k + psi_h)} = sum_n C_n w_n(phi_k),
+///   C_n = sum_{h: n_h = n} A_h e^{i psi_h},   w_n(phi_k) = e^{i n phi_k},
+/// so a sample costs one sincos per harmonic (its phase) and one complex multiply-add per
+/// distinct order and grid point. The tables w_n are the same for every sample (the
+/// orders come from the model): each thread's Workspace computes a table the first time
+/// it meets an order, directly (sincos of n phi_k), so nothing accumulates along the grid
+/// (no recurrence drift, any spacing, any real order). Checked against the direct form
+/// AxisErrorState::tilt to 1e-12 relative in tests/seeker_los_harmonics_test.cc. The row of
+/// errors over beta is branch-free and vectorized (SSE2, AVX2 where the CPU has it).
 class LosGrid {
  public:
   LosGrid(std::vector<double> alpha, std::vector<double> beta);
@@ -101,13 +112,26 @@ class LosGrid {
   /// Row-major index: point (ia, ib) -> ia * n_beta + ib.
   std::size_t index(std::size_t ia, std::size_t ib) const { return ia * beta_.size() + ib; }
 
+  /// e^{i n phi_k} over one axis' angles for one order n (cos in c, sin in s).
+  struct PhaseTable {
+    double order = 0.0;
+    std::vector<double> c, s;
+  };
   struct Workspace {
     std::vector<Eigen::Matrix3d> yaw_frames;
     std::vector<Eigen::Vector3d> pitch_los;
+    std::vector<PhaseTable> yaw_phases, pitch_phases;  ///< filled on first use of an order
+    std::vector<Eigen::Vector2d> tilts;                ///< one axis' tilt at each of its angles
+    std::vector<double> pitch_xyz;  ///< pitch LOS as x[], y[], z[] (the vectorized row loop)
+    std::vector<double> row;        ///< one yaw angle's errors over beta and their series' arguments
   };
   Workspace make_workspace() const;
   /// Fills out (size()) with the pointing error at every grid point.
   void evaluate(const SeekerErrorState& s, Workspace& ws, std::span<PointingError> out) const;
+  /// t(phi) at every angle of `phi` (the grid's alpha or beta) by the grouped sum above;
+  /// `tables` caches the phase tables of that angle list. out.size() == phi.size().
+  static void tilts_on_grid(const AxisErrorState& axis, std::span<const double> phi,
+                            std::vector<PhaseTable>& tables, std::span<Eigen::Vector2d> out);
 
  private:
   std::vector<double> alpha_, beta_;

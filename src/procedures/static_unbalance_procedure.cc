@@ -15,12 +15,16 @@ struct StaticUnbalanceWorkspace::Context {
   double kp = 0, kd = 0, ki = 0, j_ff = 0, kt_nominal = 1, kt_true = 1, i_max = 1;
   double disturbance_torque = 0;  // constant external torque at this position (N m)
   double t0 = 0, omega = 1, amplitude = 0, rate_amplitude = 0, centre = 0;
+  double t1 = 0;                  // start of the integration window (s)
   long rhs_calls = 0;
 };
 
 namespace {
 using Context = StaticUnbalanceWorkspace::Context;
-constexpr int kStates = 7;  // phi, phidot, y, ydot, z, zdot, integral of the angle error
+// States. Dynamic supports: phi, phidot, y, ydot, z, zdot, integral of the angle error;
+// quasi-static: phi, phidot, integral of the angle error. Then, both, three window integrals:
+// current, squared tracking error, clipped excess of the commanded current.
+constexpr int kDynamicStates = 10, kQuasiStates = 6, kQuadratures = 3;
 
 struct Reference {
   double phi, rate, acc;
@@ -34,21 +38,29 @@ inline Reference reference(const Context& c, double t) {
           c.rate_amplitude * c.omega * std::cos(w)};
 }
 
-// Amplifier current: PID plus acceleration feed-forward, clamped at the limit.
-inline double drive_current(const Context& c, const Reference& r, const double* y, bool* saturated) {
-  const double cmd = (c.kp * (r.phi - y[0]) + c.kd * (r.rate - y[1]) + c.ki * y[6] + c.j_ff * r.acc) /
-                     c.kt_nominal;
-  const double i = std::clamp(cmd, -c.i_max, c.i_max);
-  if (saturated) *saturated = i != cmd;
-  return i;
+// Commanded amplifier current: PID plus acceleration feed-forward (before the limit).
+inline double commanded_current(const Context& c, const Reference& r, double phi, double phidot, double integral) {
+  return (c.kp * (r.phi - phi) + c.kd * (r.rate - phidot) + c.ki * integral + c.j_ff * r.acc) / c.kt_nominal;
 }
 
-int rhs(double t, const double* y, double* ydot, void* user) {
+// The servo integral and the window integrals of both formulations (q: their first index).
+inline void servo_and_window(const Context& c, double t, const Reference& r, double phi, double cmd, double i,
+                             double* servo_dot, double* q_dot) {
+  // Conditional integration: the integrator holds while the amplifier saturates.
+  *servo_dot = i != cmd ? 0.0 : r.phi - phi;
+  const bool in_window = t >= c.t1;
+  const double e = r.phi - phi;
+  q_dot[0] = in_window ? i : 0.0;
+  q_dot[1] = in_window ? e * e : 0.0;
+  q_dot[2] = in_window ? std::max(std::abs(cmd) - c.i_max, 0.0) : 0.0;
+}
+
+int rhs_dynamic(double t, const double* y, double* ydot, void* user) {
   auto* c = static_cast<Context*>(user);
   ++c->rhs_calls;
-  bool sat = false;
   const Reference r = reference(*c, t);
-  const double i = drive_current(*c, r, y, &sat);
+  const double cmd = commanded_current(*c, r, y[0], y[1], y[6]);
+  const double i = std::clamp(cmd, -c->i_max, c->i_max);
   const models::DiskState s{y[0], y[1], y[2], y[3], y[4], y[5]};
   const auto acc = models::disk_accelerations(c->disk, c->gravity, s, c->kt_true * i + c->disturbance_torque);
   ydot[0] = y[1];
@@ -57,36 +69,92 @@ int rhs(double t, const double* y, double* ydot, void* user) {
   ydot[3] = acc[1];
   ydot[4] = y[5];
   ydot[5] = acc[2];
-  // Conditional integration: the integrator holds while the amplifier saturates.
-  ydot[6] = sat ? 0.0 : r.phi - y[0];
-  for (int k = 0; k < kStates; ++k) {
+  servo_and_window(*c, t, r, y[0], cmd, i, &ydot[6], &ydot[7]);
+  for (int k = 0; k < kDynamicStates; ++k) {
     if (!std::isfinite(ydot[k])) return 1;  // recoverable: CVODE retries a smaller step
   }
   return 0;
 }
 
+int rhs_quasi_static(double t, const double* y, double* ydot, void* user) {
+  auto* c = static_cast<Context*>(user);
+  ++c->rhs_calls;
+  const Reference r = reference(*c, t);
+  const double cmd = commanded_current(*c, r, y[0], y[1], y[2]);
+  const double i = std::clamp(cmd, -c->i_max, c->i_max);
+  ydot[0] = y[1];
+  ydot[1] = models::rigid_axis_acceleration(c->disk, c->gravity, y[0], y[1], c->kt_true * i + c->disturbance_torque);
+  servo_and_window(*c, t, r, y[0], cmd, i, &ydot[2], &ydot[3]);
+  for (int k = 0; k < kQuasiStates; ++k) {
+    if (!std::isfinite(ydot[k])) return 1;
+  }
+  return 0;
+}
+
+// Absolute tolerances: the model's per-state ones for the mechanical states (7, the dynamic
+// order), then the window integrals: the current's tight enough that its mean is good to
+// 1e-3 rtol of the current limit; the tracking and excess integrals are diagnostics, left
+// out of the error test (a huge tolerance).
+solvers::CvodeOptions extended_options(solvers::CvodeOptions opt, Supports supports, double i_scale) {
+  std::vector<double> mech = opt.atol_per_state;
+  if (mech.size() != 7) mech.assign(7, opt.atol);
+  std::vector<double> a;
+  if (supports == Supports::kDynamic) {
+    a = mech;
+  } else {
+    a = {mech[0], mech[1], mech[6]};
+  }
+  a.push_back(1e-3 * opt.rtol * i_scale);  // A s
+  a.push_back(1e30);
+  a.push_back(1e30);
+  opt.atol_per_state = a;
+  return opt;
+}
+
 }  // namespace
 
-StaticUnbalanceWorkspace::StaticUnbalanceWorkspace(const solvers::CvodeOptions& opt)
-    : ctx_(new Context), integrator_(new solvers::CvodeIntegrator(kStates, rhs, ctx_, opt)) {}
+StaticUnbalanceWorkspace::StaticUnbalanceWorkspace(const solvers::CvodeOptions& opt) : opt_(opt), ctx_(new Context) {}
 
 StaticUnbalanceWorkspace::~StaticUnbalanceWorkspace() {
-  delete integrator_;
+  delete dynamic_;
+  delete quasi_static_;
   delete ctx_;
+}
+
+solvers::CvodeIntegrator& StaticUnbalanceWorkspace::integrator(Supports supports) {
+  // The current's tolerance scale: 1 A (the window integrals are in A s); CvodeOptions are
+  // the model's, fixed for the workspace's life.
+  if (supports == Supports::kDynamic) {
+    if (dynamic_ == nullptr) {
+      dynamic_ = new solvers::CvodeIntegrator(kDynamicStates, rhs_dynamic, ctx_, extended_options(opt_, supports, 1.0));
+    }
+    return *dynamic_;
+  }
+  if (quasi_static_ == nullptr) {
+    quasi_static_ =
+        new solvers::CvodeIntegrator(kQuasiStates, rhs_quasi_static, ctx_, extended_options(opt_, supports, 1.0));
+  }
+  return *quasi_static_;
 }
 
 MeasurementResult run_static_unbalance_procedure(const TestPlan& plan, const GimbalTruth& truth,
                                             sampling::RandomStream& noise,
                                             StaticUnbalanceWorkspace& ws, int record_position,
                                             std::vector<RecordSample>* record) {
-  require(plan.positions.size() >= 4, "the static-unbalance test needs at least 4 positions");
-  require(plan.oscillation.period > 0 && plan.oscillation.periods >= 1,
-          "the oscillation needs a positive period and at least one whole period");
-  require(plan.acquisition.rate_hz > 0, "acquisition rate must be positive");
-  require(plan.sweep.empty() || plan.sweep.size() == plan.positions.size(),
-          "the sweep directions must be given for every position or for none");
+  if (plan.positions.size() < 4) throw Error("the static-unbalance test needs at least 4 positions");
+  if (!(plan.oscillation.period > 0 && plan.oscillation.periods >= 1)) {
+    throw Error("the oscillation needs a positive period and at least one whole period");
+  }
+  if (!(plan.acquisition.rate_hz > 0)) throw Error("acquisition rate must be positive");
+  if (!plan.sweep.empty() && plan.sweep.size() != plan.positions.size()) {
+    throw Error("the sweep directions must be given for every position or for none");
+  }
   Context& c = ws.context();
-  solvers::CvodeIntegrator& integ = ws.integrator();
+  const bool quasi = plan.supports == Supports::kQuasiStatic;
+  solvers::CvodeIntegrator& integ = ws.integrator(plan.supports);
+  const std::size_t n_states = integ.size();
+  const std::size_t q0 = n_states - kQuadratures;   // first window integral
+  const std::size_t i_servo = quasi ? 2 : 6;        // the servo's error integral
   const ServoConfig& sv = plan.servo;
   const OscillationConfig& osc = plan.oscillation;
   const AcquisitionConfig& acq = plan.acquisition;
@@ -110,14 +178,15 @@ MeasurementResult run_static_unbalance_procedure(const TestPlan& plan, const Gim
   const double lsb = 2.0 * acq.adc_full_scale / std::ldexp(1.0, acq.adc_bits);
   const double t1 = osc.settle_time + osc.lead_in;
   const double t2 = t1 + osc.periods * osc.period;
+  c.t1 = t1;
   const auto n_samples = static_cast<long>(std::llround(osc.periods * osc.period * acq.rate_hz));
-  require(n_samples >= 2, "fewer than 2 current samples in the integration window");
+  if (n_samples < 2) throw Error("fewer than 2 current samples in the integration window");
   const double dt = (t2 - t1) / static_cast<double>(n_samples);
 
   MeasurementResult out;
   out.positions.reserve(plan.positions.size());
   double offset = acq.offset;
-  std::array<double, kStates> y{};
+  std::array<double, kDynamicStates> y{};
   std::vector<double> theta, torque;
   theta.reserve(plan.positions.size());
   torque.reserve(plan.positions.size());
@@ -131,53 +200,100 @@ MeasurementResult run_static_unbalance_procedure(const TestPlan& plan, const Gim
     pr.sweep = plan.sweep.empty() ? 1 : plan.sweep[ip];
     const double t_start = static_cast<double>(ip) * duration + plan.move_time;  // test clock
     pr.time = t_start + 0.5 * (t1 + t2);
+    // The main stream: the same five draws per position on either acquisition path.
     pr.theta_true = theta_nominal + truth.turntable_zero + plan.positioning_error * normal.next();
     offset += acq.offset_drift * normal.next();
     const double window_offset = offset + acq.offset_noise * normal.next();
+    const double window_noise = normal.next();          // the white noise's mean, in distribution
+    const std::uint64_t sample_key = noise.next_bits();  // its samples' sub-stream otherwise
     c.gravity = models::gravity_in_gimbal(plan.gravity, pr.theta_true, truth.axis_tilt,
                                           truth.axis_tilt_azimuth);
     c.disturbance_torque = dist.harmonic2_torque * std::sin(2.0 * pr.theta_true + dist.harmonic2_phase) +
                            dist.direction_torque * pr.sweep +
                            (static_cast<int>(ip) == dist.bump_position ? dist.bump_torque : 0.0);
     // Locked at the start angle, supports deflected statically, servo integrator empty.
-    const auto defl = models::static_deflection(c.disk, c.gravity);
-    const double y0[kStates] = {osc.centre - c.amplitude, 0.0, defl[0], 0.0, defl[1], 0.0, 0.0};
-    integ.reset(0.0, y0);
+    y.fill(0.0);
+    y[0] = osc.centre - c.amplitude;
+    if (!quasi) {
+      const auto defl = models::static_deflection(c.disk, c.gravity);
+      y[2] = defl[0], y[4] = defl[1];
+    }
+    integ.reset(0.0, std::span<const double>(y.data(), n_states));
     integ.advance(c.t0, c.t0, false);  // settle (stop at the reference's corner)
     integ.advance(t1, t1, false);      // lead-in: the start transient is not integrated
+    // Drift of the offset over the window: linear, so its mean is its value at the samples'
+    // mean time t_start + t1 + (n - 1) dt / 2.
+    const double drift_mean = dist.offset_drift_rate * (t_start + t1 + 0.5 * static_cast<double>(n_samples - 1) * dt);
+    const double noise_sigma = acq.noise_rms;
+    const bool sampled = (record != nullptr && static_cast<int>(ip) == record_position) || noise_sigma < lsb ||
+                         c.i_max + std::abs(window_offset) + std::abs(drift_mean) +
+                                 std::abs(dist.offset_drift_rate) * (t2 - t1) + 6.0 * noise_sigma >=
+                             acq.adc_full_scale;
     double sum_i = 0.0, sum_track2 = 0.0;
-    long k = 0;
-    double t = integ.time(), tn = 0.0;
-    std::array<double, 6 * kStates> poly{};
-    int q = integ.step_polynomial(poly, &tn);
-    while (k < n_samples) {
-      const double tk = t1 + static_cast<double>(k) * dt;
-      if (tk > t) {
-        t = integ.advance(t2, t2, true);
-        q = integ.step_polynomial(poly, &tn);
-        continue;
+    if (!sampled) {
+      // Step to t2; |phi - phi_c| at each step end and at the turning points in between.
+      auto swing = [&](double phi) { pr.max_abs_phi = std::max(pr.max_abs_phi, std::abs(phi - c.centre)); };
+      std::array<double, kDynamicStates> yi{};
+      const std::span<double> ybuf(yi.data(), n_states);
+      double t_prev = integ.time(), w_prev = integ.state()[1];
+      swing(integ.state()[0]);
+      while (integ.time() < t2) {
+        const double t = integ.advance(t2, t2, true);
+        const auto st = integ.state();
+        swing(st[0]);
+        if ((w_prev < 0.0) != (st[1] < 0.0) && st[1] != 0.0) {  // phidot changed sign in this step
+          const double ts = t_prev + (t - t_prev) * w_prev / (w_prev - st[1]);
+          integ.interpolate(ts, ybuf);
+          swing(yi[0]);
+        }
+        t_prev = t, w_prev = st[1];
       }
-      // The current only needs phi, phidot and the error integral (states 0, 1, 6).
-      const double h = tk - tn;
-      for (int i : {0, 1, 6}) {
-        double v = poly[static_cast<std::size_t>(q * kStates + i)];
-        for (int j = q - 1; j >= 0; --j) v = v * h + poly[static_cast<std::size_t>(j * kStates + i)];
-        y[static_cast<std::size_t>(i)] = v;
+      const auto st = integ.state();
+      const double window = t2 - t1;
+      const double i_mean = st[q0] / window;
+      const double sigma_mean = std::sqrt((noise_sigma * noise_sigma + lsb * lsb / 12.0) / static_cast<double>(n_samples));
+      sum_i = static_cast<double>(n_samples) * (i_mean + window_offset + drift_mean + sigma_mean * window_noise);
+      sum_track2 = static_cast<double>(n_samples) * st[q0 + 1] / window;
+      pr.saturated = st[q0 + 2] > 0.0;
+    } else {
+      // As the instrument samples: n samples from the step interpolants.
+      sampling::RandomStream sample_stream(sample_key, sampling::StreamId::kNoise, 0);
+      sampling::NormalStream sample_noise(&sample_stream);
+      long k = 0;
+      double t = integ.time(), tn = 0.0;
+      std::array<double, 6 * kDynamicStates> poly{};
+      int q = integ.step_polynomial(poly, &tn);
+      while (k < n_samples) {
+        const double tk = t1 + static_cast<double>(k) * dt;
+        if (tk > t) {
+          t = integ.advance(t2, t2, true);
+          q = integ.step_polynomial(poly, &tn);
+          continue;
+        }
+        // The current only needs phi, phidot and the error integral.
+        const double h = tk - tn;
+        double yv[3];
+        int slot = 0;
+        for (std::size_t i : {std::size_t{0}, std::size_t{1}, i_servo}) {
+          double v = poly[static_cast<std::size_t>(q) * n_states + i];
+          for (int j = q - 1; j >= 0; --j) v = v * h + poly[static_cast<std::size_t>(j) * n_states + i];
+          yv[slot++] = v;
+        }
+        const Reference ref = reference(c, tk);
+        const double cmd = commanded_current(c, ref, yv[0], yv[1], yv[2]);
+        const double i_true = std::clamp(cmd, -c.i_max, c.i_max);
+        pr.saturated = pr.saturated || i_true != cmd;
+        // Sensor: offset and white noise, then the ADC's range and resolution.
+        const double drift = dist.offset_drift_rate * (t_start + tk);
+        double i_meas = i_true + window_offset + drift + (noise_sigma > 0 ? noise_sigma * sample_noise.next() : 0.0);
+        i_meas = std::clamp(std::round(i_meas / lsb) * lsb, -acq.adc_full_scale, acq.adc_full_scale);
+        sum_i += i_meas;
+        if (record && static_cast<int>(ip) == record_position) record->push_back({tk - t1, i_meas, yv[0]});
+        const double e = ref.phi - yv[0];
+        sum_track2 += e * e;
+        pr.max_abs_phi = std::max(pr.max_abs_phi, std::abs(yv[0] - c.centre));
+        ++k;
       }
-      bool sat = false;
-      const Reference ref = reference(c, tk);
-      const double i_true = drive_current(c, ref, y.data(), &sat);
-      pr.saturated = pr.saturated || sat;
-      // Sensor: offset and white noise, then the ADC's range and resolution.
-      const double drift = dist.offset_drift_rate * (t_start + tk);
-      double i_meas = i_true + window_offset + drift + (acq.noise_rms > 0 ? acq.noise_rms * normal.next() : 0.0);
-      i_meas = std::clamp(std::round(i_meas / lsb) * lsb, -acq.adc_full_scale, acq.adc_full_scale);
-      sum_i += i_meas;
-      if (record && static_cast<int>(ip) == record_position) record->push_back({tk - t1, i_meas, y[0]});
-      const double e = ref.phi - y[0];
-      sum_track2 += e * e;
-      pr.max_abs_phi = std::max(pr.max_abs_phi, std::abs(y[0] - c.centre));
-      ++k;
     }
     const double mean_i = sum_i / static_cast<double>(n_samples);
     pr.torque = sv.kt_nominal * mean_i;  // Eq. 21 with the nominal K_T

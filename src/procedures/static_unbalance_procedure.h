@@ -55,6 +55,14 @@ struct AcquisitionConfig {
   double adc_full_scale = 2.0;  ///< +- range (A)
 };
 
+/// How the rotor's supports enter the simulation (model key [rotor] supports).
+enum class Supports {
+  kDynamic,      ///< the full 7-state model: phi and the support deflections y, z with their
+                 ///< mass, stiffness and damping (models/disk_rotor.h)
+  kQuasiStatic,  ///< y'' = z'' = 0: the supports follow their static load, phi obeys
+                 ///< (J + m e^2) phi'' = Q_phi (models::rigid_axis_acceleration)
+};
+
 struct TestPlan {
   std::vector<double> positions;     ///< nominal turntable angles theta_i (rad), in test order
   std::vector<int> sweep;            ///< approach direction per position (+1/-1); empty = all +1
@@ -65,6 +73,7 @@ struct TestPlan {
   AcquisitionConfig acquisition;
   solvers::CvodeOptions solver;
   double gravity = 9.80665;
+  Supports supports = Supports::kDynamic;
 };
 
 /// Effects a real rig may have that the test's model (Eqs. 21-22) does not declare; all
@@ -114,23 +123,42 @@ struct MeasurementResult {
   double rhs_seconds = 0.0;        ///< time inside the right-hand side (if timed)
 };
 
-/// Per-thread state: the integrator and buffers, reused for every position and sample.
+/// Per-thread state: the integrators (one per support formulation, made on first use) and
+/// buffers, reused for every position and sample.
 class StaticUnbalanceWorkspace {
  public:
   explicit StaticUnbalanceWorkspace(const solvers::CvodeOptions& opt);
   struct Context;  // what the right-hand side reads (defined in the .cc)
   ~StaticUnbalanceWorkspace();
+  StaticUnbalanceWorkspace(const StaticUnbalanceWorkspace&) = delete;
+  StaticUnbalanceWorkspace& operator=(const StaticUnbalanceWorkspace&) = delete;
   Context& context() { return *ctx_; }
-  solvers::CvodeIntegrator& integrator() { return *integrator_; }
+  solvers::CvodeIntegrator& integrator(Supports supports);
 
  private:
+  solvers::CvodeOptions opt_;
   Context* ctx_;
-  solvers::CvodeIntegrator* integrator_;
+  solvers::CvodeIntegrator* dynamic_ = nullptr;
+  solvers::CvodeIntegrator* quasi_static_ = nullptr;
 };
 
 /// Runs the whole test on `truth`; noise comes from `noise` (advanced). Throws
 /// poise::Error on a solver failure (the caller records the sample as failed).
 /// `record_position` >= 0 keeps the raw samples of that position in `record`.
+///
+/// Eq. 21's mean current: the drive current is integrated as a state over the window,
+/// Q_i = int_{t1}^{t2} i dt, beside int (phi_ref - phi)^2 dt (the RMS tracking) and the
+/// clipped excess int max(|i_cmd| - i_max, 0) dt (> 0: `saturated`); |phi - phi_c| is
+/// taken at every step end and at the turning points inside a step (phidot = 0, from the
+/// step's interpolant). The acquisition's own errors are then drawn in distribution:
+/// the mean of n samples of white noise sigma through an ADC of step q (q <= sigma, so the
+/// rounding is a uniform dither) is one normal draw of variance (sigma^2 + q^2/12) / n; the
+/// offset drift's mean is its value at the samples' mean time. A position whose raw record
+/// is kept, or whose ADC steps are coarser than the noise, or whose current could reach the
+/// ADC's full scale (i_max + offsets + 6 sigma), is sampled as the instrument does (n
+/// samples from the interpolant, each with its noise, rounded and clipped), with its
+/// per-sample noise from a sub-stream keyed by a word drawn from `noise`: the main stream
+/// advances the same way on both paths, so any position can be replayed with its record.
 MeasurementResult run_static_unbalance_procedure(const TestPlan& plan, const GimbalTruth& truth,
                                             sampling::RandomStream& noise,
                                             StaticUnbalanceWorkspace& ws,

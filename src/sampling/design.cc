@@ -98,7 +98,7 @@ std::uint64_t Design::stream_index(std::size_t i) const {
 }
 
 void Design::point(std::size_t i, std::span<double> u) const {
-  require(u.size() == dimension_, "design point buffer has the wrong size");
+  if (u.size() != dimension_) throw Error("design point buffer has the wrong size");  // per sample: no string
   if (replicates_) {
     const std::size_t m = options_.replicate_size, r = i / m;
     // The last replicate this thread used (holding its owner alive, so no other design

@@ -1,5 +1,6 @@
 #include "kinds/gimbal_static_unbalance/gimbal_model.h"
 
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
@@ -130,6 +131,11 @@ GimbalModel load_gimbal_model(const std::string& path,
     r.cogging_torque = t.quantity("cogging_torque", units::kTorque, non_negative, 0.0);
     r.cogging_order = static_cast<int>(t.integer("cogging_order", 0, 100000, 0));
     r.cogging_phase = t.quantity("cogging_phase", units::kAngle, {}, 0.0);
+    // "dynamic": the 7-state disk on elastic supports; "quasi_static": the supports follow
+    // their static load (models/disk_rotor.h), valid with the support mode far above the servo.
+    m.plan.supports = t.choice("supports", {"dynamic", "quasi_static"}, "dynamic") == "quasi_static"
+                          ? procedures::Supports::kQuasiStatic
+                          : procedures::Supports::kDynamic;
     t.accept_notes();
   }
   {
@@ -141,6 +147,17 @@ GimbalModel load_gimbal_model(const std::string& path,
   read_test_plan_tables(root, m.plan);
   if (root.has_or_schema("servo")) {
     m.plan.servo.inertia_estimate = root.table("servo").quantity("inertia_estimate", kInertia, positive);
+  }
+  if (m.plan.supports == procedures::Supports::kQuasiStatic && m.rotor.mass > 0 && m.rotor.support_stiffness > 0) {
+    // The reduction drops terms of order (servo / support frequency)^2: 1% at a factor 10.
+    const double f_support = std::sqrt(m.rotor.support_stiffness / m.rotor.mass) / (2.0 * units::kPi);
+    if (f_support < 10.0 * m.plan.servo.bandwidth_hz) {
+      root.table("rotor").error(
+          "supports", "\"quasi_static\"",
+          "\"dynamic\", or supports whose mode sqrt(support_stiffness / mass) / 2 pi = " +
+              units::format(f_support, "Hz", 4) + " is at least 10 x the servo bandwidth (" +
+              units::format(m.plan.servo.bandwidth_hz, "Hz", 4) + ")");
+    }
   }
   {
     TomlReader t = root.table("counterweight");

@@ -151,8 +151,9 @@ SeekerSampler::SeekerSampler(const SeekerModel& model) : model_(model) {
 
 models::SeekerErrorState SeekerSampler::draw(std::span<const double> u,
                                              std::span<double> values) const {
-  require(u.size() == dimension() && values.size() == dimension(),
-          "seeker sampler: design point of the wrong size");
+  if (u.size() != dimension() || values.size() != dimension()) {  // per sample: no string unless wrong
+    throw Error("seeker sampler: design point of the wrong size");
+  }
   models::SeekerErrorState s;
   std::size_t k = 0;
   // Drawn values go to `values` in SI first, converted to display units at the end.

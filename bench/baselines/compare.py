@@ -1,0 +1,124 @@
+#!/usr/bin/python3
+"""Poise against its NumPy / SciPy baselines, in one run, by CPU time per core (issue 19).
+
+  LOS compute      poise_bench BM_SampleCompute (one sample: design point, draw, 13 x 13 grid,
+                   outputs; CPU time) against los_numpy.py's compute time per sample (direct
+                   and grouped harmonic sums).                          Target >= 10x.
+  LOS whole run    `poise run` of studies/los_seeker_wang2011.toml without its sweeps and
+                   contribution reruns,
+                   --threads 1 (results, summary and report written, no plots; user + sys CPU
+                   of the process) against los_numpy.py with its samples.csv and summary
+                   written.                                             Target >= 5x.
+  Gimbal           poise_gimbal_bench BM_Measurement36By (36-point measurement, CPU time) by
+                   formulation and tolerance, each with its torque error against the tight
+                   value, against gimbal_scipy.py (LSODA) at the loosest rtol whose error is
+                   within 1e-4 of the load.                             Target >= 50x.
+The load average is printed beside the figures: on a loaded machine CPU times still grow
+(shared caches, frequency), so compare runs at similar load.
+
+Usage: compare.py [--build build] [--samples 16384] [--quick]
+"""
+import argparse, json, os, re, subprocess, sys, tempfile
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+ROOT = os.path.dirname(os.path.dirname(HERE))
+ENV = dict(os.environ, POISE_SOURCE_DIR=ROOT, OPENBLAS_NUM_THREADS="1", OMP_NUM_THREADS="1", MKL_NUM_THREADS="1")
+
+
+def run(cmd, **kw):
+    return subprocess.run(cmd, check=True, capture_output=True, text=True, env=ENV, **kw).stdout
+
+
+def gbench(exe, flt, min_time):
+    out = run([exe, f"--benchmark_filter={flt}", f"--benchmark_min_time={min_time}", "--benchmark_format=json"])
+    return {b["name"]: b for b in json.loads(out)["benchmarks"]}
+
+
+def cpu_seconds(b):
+    scale = {"ns": 1e-9, "us": 1e-6, "ms": 1e-3, "s": 1.0}[b["time_unit"]]
+    return b["cpu_time"] * scale
+
+
+def child_cpu(cmd):
+    before = os.times()
+    subprocess.run(cmd, check=True, capture_output=True, env=ENV, cwd=ROOT)
+    after = os.times()
+    return (after.children_user - before.children_user) + (after.children_system - before.children_system)
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--build", default=os.path.join(ROOT, "build"))
+    ap.add_argument("--samples", type=int, default=16384)
+    ap.add_argument("--quick", action="store_true", help="shorter timings, LSODA at one tolerance")
+    a = ap.parse_args()
+    mt = "0.2" if a.quick else "1"
+    print(f"load average {os.getloadavg()[0]:.2f} {os.getloadavg()[1]:.2f} {os.getloadavg()[2]:.2f}")
+
+    # LOS compute.
+    b = gbench(os.path.join(a.build, "bench", "poise_bench"), "BM_SampleCompute", mt)["BM_SampleCompute"]
+    poise_us = cpu_seconds(b) * 1e6
+    numpy_us = {}
+    for mode in ("direct", "grouped"):
+        out = run([sys.executable, os.path.join(HERE, "los_numpy.py"), "--samples", str(a.samples), "--compute-only"]
+                  + (["--grouped"] if mode == "grouped" else []))
+        numpy_us[mode] = float(re.search(r"\(([\d.]+) us/sample\)", out).group(1))
+    print(f"LOS compute: poise {poise_us:.2f} us/sample; numpy {numpy_us['direct']:.2f} (direct sums), "
+          f"{numpy_us['grouped']:.2f} (grouped) -> {numpy_us['direct'] / poise_us:.1f}x, "
+          f"{numpy_us['grouped'] / poise_us:.1f}x (target >= 10x)")
+
+    # LOS whole run, results written.
+    with tempfile.TemporaryDirectory() as tmp:
+        # The study's Monte Carlo alone, as the NumPy script: its [[sweep]] runs (61440 more
+        # samples) and per-tolerance contribution reruns left out, the model by absolute path.
+        text = open(os.path.join(ROOT, "studies", "los_seeker_wang2011.toml")).read().split("[[sweep]]")[0]
+        text = text.replace('"../models/', '"' + os.path.join(ROOT, "models") + "/")
+        text += "\n[output]\ncontribution_samples = 0  # no per-tolerance reruns: the Monte Carlo alone\n"
+        study = os.path.join(tmp, "los_seeker_wang2011.toml")
+        open(study, "w").write(text)
+        poise_cpu = child_cpu([os.path.join(a.build, "poise"), "run", study, "--samples",
+                               str(a.samples), "--threads", "1", "--out", os.path.join(tmp, "poise"), "--quiet",
+                               "--no-plots"])
+        numpy_cpu = child_cpu([sys.executable, os.path.join(HERE, "los_numpy.py"), "--samples", str(a.samples),
+                               "--out", os.path.join(tmp, "numpy")])
+    print(f"LOS whole run ({a.samples} samples, 1 thread, results written): poise {poise_cpu:.2f} CPU-s, "
+          f"numpy {numpy_cpu:.2f} CPU-s -> {numpy_cpu / poise_cpu:.1f}x (target >= 5x)")
+
+    # Gimbal measurement.
+    g = gbench(os.path.join(a.build, "bench", "poise_gimbal_bench"), "BM_Measurement36By", "0.5" if not a.quick else "0.1")
+    rtols = ["1e-3"] if a.quick else ["1e-4", "3e-4", "1e-3", "2e-3", "3e-3"]
+    out = run([sys.executable, os.path.join(HERE, "gimbal_scipy.py"), "--rtol", *rtols])
+    lsoda = sorted((float(m.group(1)), float(m.group(2)), float(m.group(3))) for m in re.finditer(
+        r"rtol ([\d.e+-]+): MT_s [\d.]+ mN\*m, \|dMT_s\|/load ([\d.e+-]+), cpu ([\d.]+) s", out))
+    for rt, err, cpu in lsoda:
+        print(f"gimbal LSODA rtol {rt:g}: {cpu * 1e3:.0f} ms CPU per measurement, |dMT_s|/load {err:.1e}")
+    rows = []  # (formulation, loose, max_order, ms, err)
+    for name, bm in g.items():
+        m = re.search(r"quasi_static:(\d)/loose:(\d+)/max_order:(\d)", name)
+        rows.append((int(m.group(1)), int(m.group(2)), int(m.group(3)), cpu_seconds(bm) * 1e3,
+                     bm.get("tol_torque_rel", float("nan"))))
+        print(f"gimbal {name}: {rows[-1][3]:.1f} ms CPU, |dMT_s|/load {rows[-1][4]:.1e}")
+
+    # "At the same accuracy": the loosest setting that, with every tighter one scanned, keeps the
+    # torque within 1e-4 of the load of its tight value (the error is not monotone in the
+    # tolerance; a lucky loose setting alone does not count).
+    def safest(settings):  # [(tolerance, err, cost)] sorted by tolerance
+        best = None
+        for tol, err, cost in settings:
+            if not err <= 1e-4:
+                break
+            best = (tol, err, cost)
+        return best
+
+    ref = safest(lsoda)
+    for quasi, label in ((0, "dynamic supports"), (1, "quasi-static supports")):
+        mine = safest(sorted((r[1], r[4], r[3]) for r in rows if r[0] == quasi and r[2] == 0))
+        if ref and mine:
+            print(f"gimbal {label}: {mine[2]:.1f} ms CPU at {mine[0]}x the model's tolerances (|dMT_s|/load "
+                  f"{mine[1]:.1e}) vs LSODA {ref[2] * 1e3:.0f} ms at rtol {ref[0]:g} ({ref[1]:.1e}) -> "
+                  f"{ref[2] * 1e3 / mine[2]:.1f}x per core (target >= 50x)")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
