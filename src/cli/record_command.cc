@@ -36,7 +36,12 @@ int simulate(const Args& a) {
   }
   const studies::GimbalModel m = studies::load_gimbal_model(a.model, overrides);
   procedures::TestPlan plan = m.plan;
-  const double theta = units::parse_as(a.theta_text, units::kAngle);
+  double theta = 0.0;
+  try {
+    theta = units::parse_as(a.theta_text, units::kAngle);
+  } catch (const Error& e) {
+    throw Error("--theta '" + a.theta_text + "': " + e.what());
+  }
   plan.positions = {theta, theta + 0.5, theta + 1.0, theta + 1.5};  // the test needs 4; the first is recorded
   procedures::GimbalTruth truth;
   truth.disk = m.rotor;
