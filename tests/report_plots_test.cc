@@ -65,8 +65,11 @@ TEST_F(ReportPlots, SeekerLos) {
   text += "\n[output]\ncontribution_samples = 16\n";
   poise::test::write_text(d.file("seeker.toml"), text);
   const std::string html = run_with_plots(d, d.file("seeker.toml"), "--samples 16", 4);
-  EXPECT_NE(html.find("map_p95"), std::string::npos);
-  EXPECT_TRUE(fs::exists(d.file("run/plots/sweep_0.svg")));
+  EXPECT_TRUE(fs::exists(d.file("run/plots/map_p95.svg")));  // the field map
+  for (const char* sweep : {"sweep_0.svg", "sweep_1.svg", "sweep_2.svg"}) {
+    EXPECT_TRUE(fs::exists(d.file("run/plots/") + sweep)) << sweep;
+  }
+  EXPECT_NE(html.find("yaw.bearing_span"), std::string::npos);
 }
 
 TEST_F(ReportPlots, GimbalStaticUnbalance) {
