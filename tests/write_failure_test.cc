@@ -185,4 +185,43 @@ TEST(WriteFailure, DiagnoseOutputThatCannotBeWrittenGivesExit1WithTheFile) {
   }
 }
 
+TEST(WriteFailure, OptimizationHistoryAndPlotDataThatCannotBeWrittenGiveExit1) {
+  // A tiny search (a few evaluations of 64 samples): its CSV and its figure data are checked.
+  TempDir d;
+  poise::test::write_text(d.file("opt.toml"), R"([optimization]
+name = "spans"
+study = ")" + poise::test::source_path("studies/los_seeker_wang2011.toml") + R"("
+samples = 64
+seed = 11
+algorithm = "cobyla"
+max_evaluations = 4
+
+[[variable]]
+parameter = "yaw.bearing_span"
+lower = "60 mm"
+upper = "160 mm"
+start = "140 mm"
+
+[objective]
+variable_sum = ["yaw.bearing_span"]
+
+[[constraint]]
+output = "los_max_px"
+statistic = "p95"
+at_most = 3
+
+[verification]
+samples = 64
+seed = 5
+)");
+  for (const char* file : {"history.csv", "convergence.dat"}) {
+    InjectedFullDisk full("10", file);
+    const std::string out = d.file(std::string("o_") + file);
+    const auto r = run_poise(d, "optimize " + quoted(d.file("opt.toml")) + " -q --out " + quoted(out));
+    EXPECT_EQ(r.status, 1) << file << ": " << r.err;
+    EXPECT_NE(r.err.find(std::string(file) + ".tmp: No space left on device"), std::string::npos) << r.err;
+    EXPECT_FALSE(has_tmp_file(out)) << file;
+  }
+}
+
 }  // namespace
