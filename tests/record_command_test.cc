@@ -220,6 +220,10 @@ TEST(DiagnoseRecord, RefusedRecordsGiveExit2WithFileLineAndColumn) {
   r = with("short.csv", "time_s,current_A,phi_deg\n0,1,2\n0.001,1,2\n");
   EXPECT_EQ(r.status, 2);
   EXPECT_NE(r.err.find(d.file("short.csv") + ": 2 samples; expected at least 72"), std::string::npos) << r.err;
+  // A leading plus sign is a number; two are not.
+  r = with("plus.csv", "time_s,current_A,phi_deg\n0,+1,++2\n");
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.err.find(":2: key 'column phi_deg' = ++2"), std::string::npos) << r.err;
   // CRLF line ends and a byte order mark are accepted.
   std::string crlf = "\xEF\xBB\xBF";
   std::istringstream lines(good);
