@@ -86,6 +86,9 @@ void seed_data_inputs(AddSeed add) {
   add('c', torque_table(true, true, true));
   add('c', "\xEF\xBB\xBFtheta_deg,torque_Nm\r\n0,1e308\r\n90,-1e308\r\n180,1e308\r\n270,-1e308\r\n");
   add('c', "theta_deg,torque_mNm\n0,1\n0,1\n360,1\n720,1\n");
+  // Found here: 1e308 mN*m among ordinary torques gave a NaN chi-square in the diagnosis.
+  add('c', "theta_deg,torque_mNm\n0,9.208063\n10,10.742075\n20.0004,11.940436\n30,10.1\n180,-9.20308\r\n"
+           "180,1e308\r\n200,-3.492213\n310,-1.308349\n320,0.941926\n330,3.19024\n340,5.365062\n350,7.394269\n");
   // --kt values: the default, the overflow, the edges of double, other units.
   const std::string record = synthetic_record(800, 0.0);
   for (const char* kt : {"0.05 N*m/A", "1e308 N*m/A", "1e-308 N*m/A", "0 N*m/A", "-0.05 N*m/A", "50 mN*m/A",
