@@ -472,14 +472,17 @@ std::optional<Load> parse_load(const Options& o, const est::TorqueTable& t) {
   } catch (const Error& e) {
     throw Error("--load-torque '" + o.load_torque + "': " + e.what());
   }
-  if (!(l.torque >= 0.0)) {
+  if (!(l.torque >= 0.0) || !(l.torque * t.unit_factor <= 1e9)) {  // the torque table's bound
     throw Error("--load-torque '" + o.load_torque +
-                "': expected a torque >= 0, e.g. \"12.91 mN*m\"");
+                "': expected a torque >= 0 and at most 1e9 N*m, e.g. \"12.91 mN*m\"");
   }
   try {
     l.angle_rad = units::parse_as(o.load_angle, units::kAngle);
   } catch (const Error& e) {
     throw Error("--load-angle '" + o.load_angle + "': " + e.what());
+  }
+  if (!(std::abs(l.angle_rad) <= 10 * 2 * std::numbers::pi)) {
+    throw Error("--load-angle '" + o.load_angle + "': expected an angle within +-3600 deg, e.g. \"45.5 deg\"");
   }
   return l;
 }
