@@ -154,6 +154,10 @@ TEST(SimulateRecord, RefusedInputGivesExit2WithTheKeyOrOption) {
   r = poise_run(d, "simulate-record " + shq(kModel) + out + " --theta '30 mm'");
   EXPECT_EQ(r.status, 2);
   EXPECT_NE(r.err.find("--theta '30 mm': wrong unit"), std::string::npos) << r.err;
+  r = poise_run(d, "simulate-record " + shq(kModel) + out + " --theta '1e308 deg'");
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.err.find("--theta '1e308 deg': expected a turntable angle within +-3600 deg"), std::string::npos)
+      << r.err;
   r = poise_run(d, "simulate-record " + shq(d.file("missing.toml")) + out);
   EXPECT_EQ(r.status, 2);
   EXPECT_NE(r.err.find("missing.toml"), std::string::npos) << r.err;

@@ -1,5 +1,6 @@
 #include "cli/record_command.h"
 
+#include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <iostream>
@@ -41,6 +42,9 @@ int simulate(const Args& a) {
     theta = units::parse_as(a.theta_text, units::kAngle);
   } catch (const Error& e) {
     throw Error("--theta '" + a.theta_text + "': " + e.what());
+  }
+  if (!(std::abs(theta) <= 10 * 2 * units::kPi)) {
+    throw Error("--theta '" + a.theta_text + "': expected a turntable angle within +-3600 deg, e.g. \"30 deg\"");
   }
   plan.positions = {theta, theta + 0.5, theta + 1.0, theta + 1.5};  // the test needs 4; the first is recorded
   procedures::GimbalTruth truth;
