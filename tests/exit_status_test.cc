@@ -135,6 +135,24 @@ TEST(ExitStatus, InvalidInputIsTwoInEveryCommandThatReadsAFile) {
   EXPECT_EQ(k.status, 2) << k.err;
 }
 
+TEST(ExitStatus, TheIssuesDeepNestingIsRefusedByEveryCommandThatReadsToml) {
+  // The 50,000-level dotted key and table header that overflowed toml++'s stack (issue 20),
+  // as a study, an optimization file and a budget file: exit 2 with the file and its line.
+  TempDir d;
+  for (const char* file : {"deeply_dotted_key.toml", "deeply_nested_header.toml"}) {
+    const std::string path = poise::test::source_path(std::string("tests/data/malformed/") + file);
+    for (const std::string& c : {"validate " + quoted(path), "optimize " + quoted(path) + " -q",
+                                 "budget " + quoted(path)}) {
+      SCOPED_TRACE(c);
+      const auto r = run_poise(d, c);
+      EXPECT_EQ(r.status, 2) << r.err;
+      EXPECT_NE(r.err.find(std::string(file) + ":"), std::string::npos) << r.err;
+      EXPECT_NE(r.err.find("nested at most 64 levels deep"), std::string::npos) << r.err;
+      EXPECT_LT(r.err.size(), 2000u);
+    }
+  }
+}
+
 TEST(ExitStatus, ResumeWithoutTheStudyPathReadsRunJson) {
   // run.json names the study file: `poise run --resume DIR` needs nothing else.
   TempDir d;

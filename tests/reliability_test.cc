@@ -319,6 +319,40 @@ TEST(Interrupt, KillNineKeepsFinishedSamplesOfAProcedureStudy) {
   EXPECT_EQ(poise::test::read_text(d.file("cut/samples.csv")), poise::test::read_text(d.file("whole/samples.csv")));
   EXPECT_EQ(comparable(d.file("cut")), comparable(d.file("whole")));
   EXPECT_EQ(json::parse(poise::test::read_text(d.file("cut/run.json")))["status"], "complete");
+  // Killed before it could record its counters: the summary says which part they leave out.
+  const json solver = json::parse(poise::test::read_text(d.file("cut/summary.json")))["solver"];
+  ASSERT_TRUE(solver.contains("rhs_evals_note")) << solver.dump(2);
+  EXPECT_NE(solver["rhs_evals_note"].get<std::string>().find("leaves out"), std::string::npos);
+}
+
+TEST(Interrupt, ResumedBalancingRunCountsTheSolverWorkOfBothParts) {
+  // samples.csv holds each sample's solver steps but not its right-hand-side evaluations:
+  // the interrupted part records them in run.json, so the resumed summary's solver counters
+  // equal an uninterrupted run's.
+  TempDir d;
+  const std::string study = poise::test::source_path("studies/wang2014_balancing_mc.toml");
+  const std::string args = "run '" + study + "' --samples 64 --threads 2 -q --no-plots --out ";
+  const pid_t pid = start_poise(d, args + "'" + d.file("cut") + "'");
+  ASSERT_TRUE(wait_for_lines(pid, d.file("cut/samples.csv"), 9));
+  kill(pid, SIGINT);
+  ASSERT_EQ(wait_exit(pid), 130) << poise::test::read_text(d.file("bg_err.txt"));
+  const json first = json::parse(poise::test::read_text(d.file("cut/run.json")));
+  ASSERT_TRUE(first.contains("solver_counters")) << first.dump(2);
+  const std::size_t ran = first["solver_counters"]["samples"].get<std::size_t>();
+  EXPECT_GT(ran, 0u);
+  EXPECT_LT(ran, 64u);
+  EXPECT_GT(first["solver_counters"]["rhs_evals"].get<long>(), 0);
+  auto r = poise::test::run_poise(d, "run '" + study + "' -q --no-plots --resume '" + d.file("cut") + "'");
+  ASSERT_EQ(r.status, 0) << r.err;
+  r = poise::test::run_poise(d, args + "'" + d.file("whole") + "'");
+  ASSERT_EQ(r.status, 0) << r.err;
+  const json cut = json::parse(poise::test::read_text(d.file("cut/summary.json")))["solver"];
+  const json whole = json::parse(poise::test::read_text(d.file("whole/summary.json")))["solver"];
+  EXPECT_GT(whole["rhs_evals"].get<long>(), 0);
+  EXPECT_EQ(cut["rhs_evals"], whole["rhs_evals"]);
+  EXPECT_EQ(cut["steps"], whole["steps"]);
+  EXPECT_FALSE(cut.contains("rhs_evals_note")) << cut.dump(2);
+  EXPECT_EQ(poise::test::read_text(d.file("cut/samples.csv")), poise::test::read_text(d.file("whole/samples.csv")));
 }
 
 TEST(Until, StopsAtTheSameReplicateForAnyThreadCount) {
@@ -424,16 +458,23 @@ TEST(Sensitivity, GeometryStudyThicknessDrivesTheDiskMass) {
   }
 }
 
+// CI runs as root in a container: Open MPI refuses root unless told (the flag, and its
+// environment form for the ranks' own checks).
+[[maybe_unused]] constexpr const char* kMpiRootEnv = "OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 ";
+
 TEST(Mpi, TwoRanksGiveTheSamplesAndStatisticsOfOneProcess) {
-#ifndef POISE_MPIEXEC
-  GTEST_SKIP() << "built without MPI (install libopenmpi-dev and rebuild)";
+#if !defined(POISE_MPIEXEC)
+  GTEST_SKIP() << "mpirun is not installed (scripts/install_deps.sh installs openmpi-bin and libopenmpi-dev)";
+#elif !defined(POISE_BUILT_WITH_MPI)
+  FAIL() << "mpirun (" << POISE_MPIEXEC << ") is installed but poise was built without MPI: install "
+         << "libopenmpi-dev (scripts/install_deps.sh) and configure with POISE_WITH_MPI=ON";
 #else
   TempDir d;
   const std::string study = seeker_study(d);
   const std::string args = "run '" + study + "' --samples 5000 -q --no-plots";
   auto one = poise::test::run_poise(d, args + " --out '" + d.file("one") + "'");
   ASSERT_EQ(one.status, 0) << one.err;
-  const std::string mpi = std::string("'") + POISE_MPIEXEC + "' --allow-run-as-root --oversubscribe -np 2 '" +
+  const std::string mpi = kMpiRootEnv + std::string("'") + POISE_MPIEXEC + "' --allow-run-as-root --oversubscribe -np 2 '" +
                           POISE_BINARY + "' " + args + " --threads 1 --out '" + d.file("two") + "' >'" +
                           d.file("mpi_out.txt") + "' 2>&1";
   const int raw = std::system(mpi.c_str());
@@ -446,7 +487,7 @@ TEST(Mpi, TwoRanksGiveTheSamplesAndStatisticsOfOneProcess) {
   const std::string g = poise::test::source_path("studies/gimbal_unbalance_mc.toml");
   auto g1 = poise::test::run_poise(d, "run '" + g + "' --samples 24 -q --no-plots --out '" + d.file("g1") + "'");
   ASSERT_EQ(g1.status, 0) << g1.err;
-  const std::string mpi_g = std::string("'") + POISE_MPIEXEC + "' --allow-run-as-root --oversubscribe -np 2 '" +
+  const std::string mpi_g = kMpiRootEnv + std::string("'") + POISE_MPIEXEC + "' --allow-run-as-root --oversubscribe -np 2 '" +
                             POISE_BINARY + "' run '" + g + "' --samples 24 -q --no-plots --threads 1 --out '" +
                             d.file("g2") + "' >'" + d.file("mpi_g.txt") + "' 2>&1";
   const int raw_g = std::system(mpi_g.c_str());

@@ -152,3 +152,34 @@ TEST(TorqueTable, ReadsAStandardErrorColumnInEitherUnit) {
 
 }  // namespace
 }  // namespace poise::estimators
+
+namespace poise::estimators {
+namespace {
+
+TEST(TorqueTable, RefusesTorquesWhoseSquaresOverflowTheFits) {
+  // Found by tests/fuzz (fuzz_torque_csv): a torque of 1e308 mN*m read as a finite number,
+  // then `poise diagnose` stopped with a Boost.Math error (a NaN chi-square statistic) and
+  // `poise fit` printed infinite standard errors. The bound is 1e9 N*m, in either unit.
+  test::TempDir dir;
+  const std::string table = "theta_deg,torque_mNm\n0,9.2\n90,12.9\n180,1e308\n270,-12.9\n";
+  expect_refused(dir, table, ":4: column 'torque_mNm': cell '1e308'; expected a torque of at most 1e9 N*m");
+  expect_refused(dir, "theta_deg,torque_Nm\n0,1\n90,-2e9\n180,3\n270,2\n",
+                 ":3: column 'torque_Nm': cell '-2e9'; expected a torque of at most 1e9 N*m");
+  expect_refused(dir, "theta_deg,torque_mNm,torque_se_Nm\n0,1,2e-4\n90,2,1e10\n180,3,2e-4\n270,2,1e-4\n",
+                 ":3: column 'torque_se_Nm': cell '1e10'; expected a standard error > 0 and at most 1e9 N*m");
+  // At the bound itself: read (1e12 mN*m = 1e9 N*m).
+  const std::string path = dir.file("edge.csv");
+  test::write_text(path, "theta_deg,torque_mNm\n0,1e12\n90,2\n180,-1e12\n270,2\n");
+  EXPECT_EQ(read_torque_table(path).size(), 4u);
+  // Through the commands: exit 2 with the file and line, no Boost message.
+  test::write_text(dir.file("big.csv"), table);
+  for (const char* command : {"diagnose", "fit"}) {
+    const auto r = test::run_poise(dir, std::string(command) + " '" + dir.file("big.csv") + "'");
+    EXPECT_EQ(r.status, 2) << command << ": " << r.err;
+    EXPECT_NE(r.err.find(dir.file("big.csv") + ":4: column 'torque_mNm'"), std::string::npos) << r.err;
+    EXPECT_EQ(r.err.find("boost"), std::string::npos) << r.err;
+  }
+}
+
+}  // namespace
+}  // namespace poise::estimators

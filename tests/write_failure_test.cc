@@ -133,4 +133,95 @@ TEST(WriteFailure, AGeometryRunStopsAtTheFirstRefusedWrite) {
   EXPECT_FALSE(has_tmp_file(d.file("g")));
 }
 
+TEST(WriteFailure, APlotDataFileThatCannotBeWrittenFailsTheRun) {
+  // The figures' data and scripts are written through the same checked writes as the
+  // samples: the first refused one stops the command with its file and the reason.
+  TempDir d;
+  const std::string study = quoted(poise::test::source_path("studies/gimbal_unbalance_mc.toml"));
+  InjectedFullDisk full("10", "g_rmse_torque_mNm_cdf.dat");
+  const auto r = run_poise(d, "run " + study + " --samples 4 --threads 2 -q --out " + quoted(d.file("p")));
+  EXPECT_EQ(r.status, 1) << r.err;
+  EXPECT_NE(r.err.find(d.file("p/plots/g_rmse_torque_mNm_cdf.dat.tmp") + ": No space left on device"),
+            std::string::npos) << r.err;
+  EXPECT_EQ(json::parse(read_text(d.file("p/run.json")))["status"], "failed");
+  EXPECT_EQ(json::parse(read_text(d.file("p/summary.json")))["status"], "failed");  // never "complete"
+  EXPECT_FALSE(fs::exists(d.file("p/plots/g_rmse_torque_mNm_cdf.dat")));
+  EXPECT_FALSE(has_tmp_file(d.file("p")));
+}
+
+TEST(WriteFailure, AGnuplotScriptThatCannotBeWrittenFailsTheRun) {
+  TempDir d;
+  const std::string study = quoted(poise::test::source_path("studies/wang2014_balancing_mc.toml"));
+  InjectedFullDisk full("20", "acc_u_error_ic_gmm.gp");
+  const auto r = run_poise(d, "run " + study + " --samples 4 --threads 2 -q --out " + quoted(d.file("b")));
+  EXPECT_EQ(r.status, 1) << r.err;
+  EXPECT_NE(r.err.find("acc_u_error_ic_gmm.gp.tmp: No space left on device"), std::string::npos) << r.err;
+  EXPECT_EQ(json::parse(read_text(d.file("b/summary.json")))["status"], "failed");
+  EXPECT_FALSE(has_tmp_file(d.file("b")));
+}
+
+TEST(WriteFailure, AnExportedMeshThatCannotBeWrittenFailsTheRun) {
+  TempDir d;
+  const std::string study = quoted(poise::test::source_path("studies/geometry_mass_properties.toml"));
+  InjectedFullDisk full("1000", "nominal_disk.stl");
+  const auto r = run_poise(d, "run " + study + " --samples 2 --threads 1 -q --no-plots --out " + quoted(d.file("g")));
+  EXPECT_EQ(r.status, 1) << r.err;
+  EXPECT_NE(r.err.find(d.file("g/nominal_disk.stl.tmp") + ": No space left on device"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(d.file("g/nominal_disk.stl")));
+  EXPECT_FALSE(has_tmp_file(d.file("g")));
+}
+
+TEST(WriteFailure, DiagnoseOutputThatCannotBeWrittenGivesExit1WithTheFile) {
+  TempDir d;
+  const std::string data = quoted(poise::test::source_path("data/yang2015/table1_loading_test_36pt.csv"));
+  for (const char* file : {"diagnosis.json", "plot.dat", "plot.gp", "report.html"}) {
+    InjectedFullDisk full("10", file);
+    const std::string out = d.file(std::string("out_") + file);
+    const auto r = run_poise(d, "diagnose " + data + " --out " + quoted(out));
+    EXPECT_EQ(r.status, 1) << file << ": " << r.err;
+    EXPECT_NE(r.err.find(out + "/" + file + ".tmp: No space left on device"), std::string::npos) << r.err;
+    EXPECT_FALSE(fs::exists(out + "/" + file)) << file;
+    EXPECT_FALSE(has_tmp_file(out)) << file;
+  }
+}
+
+TEST(WriteFailure, OptimizationHistoryAndPlotDataThatCannotBeWrittenGiveExit1) {
+  // A tiny search (a few evaluations of 64 samples): its CSV and its figure data are checked.
+  TempDir d;
+  poise::test::write_text(d.file("opt.toml"), R"([optimization]
+name = "spans"
+study = ")" + poise::test::source_path("studies/los_seeker_wang2011.toml") + R"("
+samples = 64
+seed = 11
+algorithm = "cobyla"
+max_evaluations = 4
+
+[[variable]]
+parameter = "yaw.bearing_span"
+lower = "60 mm"
+upper = "160 mm"
+start = "140 mm"
+
+[objective]
+variable_sum = ["yaw.bearing_span"]
+
+[[constraint]]
+output = "los_max_px"
+statistic = "p95"
+at_most = 3
+
+[verification]
+samples = 64
+seed = 5
+)");
+  for (const char* file : {"history.csv", "convergence.dat"}) {
+    InjectedFullDisk full("10", file);
+    const std::string out = d.file(std::string("o_") + file);
+    const auto r = run_poise(d, "optimize " + quoted(d.file("opt.toml")) + " -q --out " + quoted(out));
+    EXPECT_EQ(r.status, 1) << file << ": " << r.err;
+    EXPECT_NE(r.err.find(std::string(file) + ".tmp: No space left on device"), std::string::npos) << r.err;
+    EXPECT_FALSE(has_tmp_file(out)) << file;
+  }
+}
+
 }  // namespace

@@ -21,6 +21,7 @@
 #include "estimators/residual_diagnosis.h"
 #include "estimators/torque_table.h"
 #include "engine/report_plot.h"
+#include "engine/result_io.h"
 
 namespace poise::cli {
 namespace {
@@ -310,7 +311,7 @@ std::string write_plot(const fs::path& dir, const est::TorqueTable& t,
   std::iota(idx.begin(), idx.end(), std::size_t{0});
   std::stable_sort(idx.begin(), idx.end(),
                    [&](auto a, auto b) { return t.theta_deg[a] < t.theta_deg[b]; });
-  std::ofstream dat(dir / "plot.dat");
+  std::ostringstream dat;
   dat << "# theta_deg measured fitted_before fitted_after residual_before residual_after ("
       << t.unit << ")\n";
   dat.precision(10);
@@ -318,9 +319,9 @@ std::string write_plot(const fs::path& dir, const est::TorqueTable& t,
     dat << t.theta_deg[i] << ' ' << t.torque[i] << ' ' << r.fitted_before[i] << ' '
         << r.fitted_after[i] << ' ' << r.residual_before[i] << ' ' << r.residual_after[i] << '\n';
   }
-  dat.close();
+  studies::write_file_atomic((dir / "plot.dat").string(), dat.str());
   const auto& b = r.estimate_before;
-  std::ofstream gp(dir / "plot.gp");
+  std::ostringstream gp;
   gp.precision(12);
   gp << "set terminal svg size 900,760 noenhanced font 'Helvetica,12' background rgb 'white'\n"
      << "set output 'plot.svg'\nset samples 721\nset grid\nset autoscale xfix\nset key below "
@@ -336,13 +337,13 @@ std::string write_plot(const fs::path& dir, const est::TorqueTable& t,
      << "plot 'plot.dat' u 1:5 w lp pt 7 ps 0.6 lc rgb '#1f77b4' t 'base fit residual', \\\n"
      << "  'plot.dat' u 1:6 w lp pt 6 ps 0.8 lc rgb '#d62728' t 'final model residual', \\\n"
      << "  0 w l lc rgb '#808080' notitle\nunset multiplot\n";
-  gp.close();
+  studies::write_file_atomic((dir / "plot.gp").string(), gp.str());
   std::string why;
   if (studies::run_gnuplot((dir / "plot.gp").string(), &why) && fs::exists(dir / "plot.svg")) {
     return "";
   }
-  return "gnuplot is not installed or failed (see gnuplot.log): no plot.svg; plot.gp and "
-         "plot.dat are kept (run gnuplot plot.gp in this folder).";
+  if (why.empty()) why = "gnuplot wrote no plot.svg";
+  return why + " (run gnuplot plot.gp in this folder to retry).";
 }
 
 void write_report(const fs::path& dir, const est::TorqueTable& t, const est::DiagnosisResult& r,
@@ -455,7 +456,7 @@ void write_report(const fs::path& dir, const est::TorqueTable& t, const est::Dia
   for (const auto& s : r.tested) h << "<li>" << esc(s) << "</li>\n";
   h << "</ul>\n<p><small>Files: diagnosis.json, plot.dat, plot.gp, plot.svg, report.html."
        "</small></p>\n</body></html>\n";
-  std::ofstream(dir / "report.html") << h.str();
+  studies::write_file_atomic((dir / "report.html").string(), h.str());
 }
 
 std::optional<Load> parse_load(const Options& o, const est::TorqueTable& t) {
@@ -471,14 +472,17 @@ std::optional<Load> parse_load(const Options& o, const est::TorqueTable& t) {
   } catch (const Error& e) {
     throw Error("--load-torque '" + o.load_torque + "': " + e.what());
   }
-  if (!(l.torque >= 0.0)) {
+  if (!(l.torque >= 0.0) || !(l.torque * t.unit_factor <= 1e9)) {  // the torque table's bound
     throw Error("--load-torque '" + o.load_torque +
-                "': expected a torque >= 0, e.g. \"12.91 mN*m\"");
+                "': expected a torque >= 0 and at most 1e9 N*m, e.g. \"12.91 mN*m\"");
   }
   try {
     l.angle_rad = units::parse_as(o.load_angle, units::kAngle);
   } catch (const Error& e) {
     throw Error("--load-angle '" + o.load_angle + "': " + e.what());
+  }
+  if (!(std::abs(l.angle_rad) <= 10 * 2 * std::numbers::pi)) {
+    throw Error("--load-angle '" + o.load_angle + "': expected an angle within +-3600 deg, e.g. \"45.5 deg\"");
   }
   return l;
 }
@@ -535,10 +539,7 @@ int run_diagnose(const Options& o) {
   if (o.out.empty()) return 0;
   try {
     fs::create_directories(dir);
-    std::ofstream js(dir / "diagnosis.json");
-    js << j.dump(2) << '\n';
-    if (!js) throw Error("cannot write " + (dir / "diagnosis.json").string());
-    js.close();
+    studies::write_file_atomic((dir / "diagnosis.json").string(), j.dump(2) + "\n");
     const std::string note = write_plot(dir, table, result);
     write_report(dir, table, result, j, o.alpha, note);
     if (!o.json) std::cout << "\nreport: " << (dir / "report.html").string() << '\n';

@@ -1,5 +1,6 @@
 #include "cli/record_command.h"
 
+#include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <iostream>
@@ -11,7 +12,10 @@
 #include "core/error.h"
 #include "core/units.h"
 #include "estimators/oscillation_diagnosis.h"
+#include "estimators/oscillation_record.h"
 #include "kinds/gimbal_static_unbalance/gimbal_model.h"
+#include "engine/checked_file.h"
+#include "engine/result_io.h"
 #include "engine/toml_reader.h"
 
 namespace poise::cli {
@@ -24,59 +28,6 @@ struct Args {
   bool json = false;
 };
 
-// Reads time_s, current_A, phi_deg (other columns ignored); errors name line and column.
-estimators::OscillationRecord read_record(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw Error(path + ": cannot open the file");
-  std::string line;
-  std::getline(in, line);
-  std::vector<std::string> head;
-  {
-    std::stringstream ss(line);
-    std::string cell;
-    while (std::getline(ss, cell, ',')) {
-      while (!cell.empty() && (cell.back() == '\r' || cell.back() == ' ')) cell.pop_back();
-      head.push_back(cell);
-    }
-  }
-  std::map<std::string, std::size_t> col;
-  for (std::size_t i = 0; i < head.size(); ++i) col[head[i]] = i;
-  for (const char* need : {"time_s", "current_A", "phi_deg"}) {
-    if (!col.count(need)) throw Error(path + ":1: missing column '" + need + "' (need time_s, current_A, phi_deg)");
-  }
-  estimators::OscillationRecord r;
-  r.file = path;
-  std::size_t lineno = 1;
-  while (std::getline(in, line)) {
-    ++lineno;
-    if (line.empty() || line == "\r") continue;
-    std::vector<std::string> cells;
-    std::stringstream ss(line);
-    std::string cell;
-    while (std::getline(ss, cell, ',')) cells.push_back(cell);
-    if (cells.size() != head.size()) {
-      throw Error(path + ":" + std::to_string(lineno) + ": " + std::to_string(cells.size()) + " cells, the header has " +
-                  std::to_string(head.size()));
-    }
-    auto num = [&](const char* name) {
-      const std::string& c = cells[col[name]];
-      try {
-        std::size_t used = 0;
-        const double v = std::stod(c, &used);
-        if (used == 0 || !std::isfinite(v)) throw std::invalid_argument(c);
-        return v;
-      } catch (const std::exception&) {
-        throw Error(path + ":" + std::to_string(lineno) + ": column '" + name + "' = \"" + c + "\" is not a number");
-      }
-    };
-    r.t.push_back(num("time_s"));
-    r.current.push_back(num("current_A"));
-    r.phi.push_back(num("phi_deg") * units::kRadPerDeg);
-    r.lines.push_back(lineno);
-  }
-  return r;
-}
-
 int simulate(const Args& a) {
   std::map<std::string, std::string> overrides;
   for (const auto& s : a.sets) {
@@ -86,7 +37,15 @@ int simulate(const Args& a) {
   }
   const studies::GimbalModel m = studies::load_gimbal_model(a.model, overrides);
   procedures::TestPlan plan = m.plan;
-  const double theta = units::parse_as(a.theta_text, units::kAngle);
+  double theta = 0.0;
+  try {
+    theta = units::parse_as(a.theta_text, units::kAngle);
+  } catch (const Error& e) {
+    throw Error("--theta '" + a.theta_text + "': " + e.what());
+  }
+  if (!(std::abs(theta) <= 10 * 2 * units::kPi)) {
+    throw Error("--theta '" + a.theta_text + "': expected a turntable angle within +-3600 deg, e.g. \"30 deg\"");
+  }
   plan.positions = {theta, theta + 0.5, theta + 1.0, theta + 1.5};  // the test needs 4; the first is recorded
   procedures::GimbalTruth truth;
   truth.disk = m.rotor;
@@ -98,14 +57,13 @@ int simulate(const Args& a) {
   sampling::RandomStream rs(a.seed, sampling::StreamId::kProcedure, 0);
   std::vector<procedures::RecordSample> rec;
   const auto res = procedures::run_static_unbalance_procedure(plan, truth, rs, ws, 0, &rec);
-  std::ofstream out(a.out);
-  if (!out) throw Error("cannot write " + a.out);
-  out << "time_s,current_A,phi_deg\n";
+  std::string out = "time_s,current_A,phi_deg\n";
   char buf[96];
   for (const auto& s : rec) {
     std::snprintf(buf, sizeof buf, "%.6f,%.9g,%.9g\n", s.t, s.current, s.phi / units::kRadPerDeg);
-    out << buf;
+    out += buf;
   }
+  studies::write_file_atomic(a.out, out);  // WriteError: the file and the system's reason
   const double true_torque = m.rotor.mass * m.plan.gravity * truth.disk.eccentricity *
                              std::sin(res.positions[0].theta_true + truth.disk.eccentricity_angle);
   const double cable = m.rotor.torsion_stiffness * (m.plan.oscillation.centre - m.rotor.torsion_zero);
@@ -127,7 +85,7 @@ int diagnose(const Args& a) {
   } catch (const Error& e) {
     throw Error("--kt '" + a.kt_text + "': " + e.what());
   }
-  const estimators::OscillationRecord record = read_record(a.file);
+  const estimators::OscillationRecord record = estimators::read_oscillation_record(a.file);
   estimators::OscillationDiagnosis d;
   try {
     d = estimators::diagnose_oscillation(record, opt);
@@ -216,6 +174,9 @@ std::function<std::optional<int>()> add_record_commands(CLI::App& app) {
     try {
       if (*sim) return simulate(*a);
       if (*diag) return diagnose(*a);
+    } catch (const studies::WriteError& e) {  // a full disk: a failed run, not bad input
+      std::cerr << "poise: error: " << e.what() << '\n';
+      return 1;
     } catch (const studies::ValidationError& e) {
       std::cerr << "poise: " << e.what() << '\n';
       return 2;

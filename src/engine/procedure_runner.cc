@@ -131,6 +131,19 @@ std::vector<SampleResult> read_done_samples(const std::string& csv_path, const s
   return done;
 }
 
+// A resumed run's samples come back from samples.csv with their solver steps but not their
+// right-hand-side evaluations: those the interrupted part recorded in run.json are added to
+// `mc`. Returns how many of the `resumed` samples have none recorded (a run killed before it
+// could write run.json), 0 when the count is whole.
+std::size_t add_resumed_counters(const json& manifest, std::size_t resumed, McResult& mc) {
+  if (resumed == 0) return 0;
+  const auto it = manifest.find("solver_counters");
+  if (it == manifest.end() || !it->is_object()) return resumed;
+  const std::size_t counted = std::min(it->value("samples", std::size_t{0}), resumed);
+  mc.rhs_evals += it->value("rhs_evals", 0L);
+  return resumed - counted;
+}
+
 }  // namespace
 
 std::string run_procedure_study(const StudyConfig& cfg_in, const StudyFactory& make_study, const RunOptions& options) {
@@ -181,7 +194,10 @@ std::string run_procedure_study(const StudyConfig& cfg_in, const StudyFactory& m
   if (!root) return "";  // rank 0 writes the folder
   csv.close();
   const std::size_t ran = mc.completed;
+  const std::size_t rhs_uncounted = add_resumed_counters(plan.manifest, done.size(), mc);
   const std::string status = mc.interrupted ? "interrupted" : rule->failed() ? "failed" : "complete";
+  // The counters samples.csv does not hold, for a later --resume (steps are in its rows).
+  plan.manifest["solver_counters"] = {{"samples", ran}, {"rhs_evals", mc.rhs_evals}};
   finish_manifest(plan, status, ran);
 
   json s;
@@ -230,6 +246,11 @@ std::string run_procedure_study(const StudyConfig& cfg_in, const StudyFactory& m
     s["sensitivity"] = sensitivity_json(study.output_names(), groups, sensitivity_base, by_index, seed);
   }
   s["solver"] = study.solver_json(mc);
+  if (rhs_uncounted > 0) {
+    s["solver"]["rhs_evals_note"] = "rhs_evals leaves out " + std::to_string(rhs_uncounted) +
+                                    " samples of the first part of the run (it was stopped before it could record "
+                                    "its counters in run.json)";
+  }
   if (const json d = study.details(mc); !d.is_null()) s["details"] = d;
   s["provenance"] = {{"poise_version", kVersion}, {"git_commit", git_commit()},
                      {"study_file_sha1", file_sha1(cfg.file)}, {"model_file_sha1", file_sha1(cfg.model_path)},

@@ -2,10 +2,10 @@
 
 #include <algorithm>
 #include <cmath>
-#include <fstream>
 #include <sstream>
 
 #include "engine/report_plot.h"
+#include "engine/result_io.h"
 #include "sampling/statistics.h"
 
 namespace poise::studies {
@@ -31,7 +31,7 @@ std::string data_label(const std::string& s) {
 
 bool run(const fs::path& dir, const std::string& name, const std::string& script, std::vector<std::string>& figures,
          std::string& why) {
-  std::ofstream(dir / (name + ".gp")) << kTerminal << "set output '" << name << ".svg'\nset grid\n" << script;
+  write_file_atomic((dir / (name + ".gp")).string(), kTerminal + ("set output '" + name + ".svg'\nset grid\n") + script);
   if (!run_gnuplot((dir / (name + ".gp")).string(), &why)) return false;
   figures.push_back(name + ".svg");
   return true;
@@ -79,12 +79,13 @@ bool distribution_figures(const fs::path& dir, const std::string& output, const 
   // DKW: P(sup |F_n - F| > eps) <= 2 exp(-2 n eps^2) = 0.05.
   const double eps = std::sqrt(std::log(2.0 / 0.05) / (2.0 * n));
   {
-    std::ofstream d(dir / (output + "_cdf.dat"));
+    std::ostringstream d;
     d << "# " << output << " [" << unit << "]  empirical_cdf  band_lo  band_hi (DKW 95%)\n";
     for (std::size_t i = 0; i < sorted.size(); ++i) {
       const double f = (static_cast<double>(i) + 1.0) / n;
       d << sorted[i] << ' ' << f << ' ' << std::max(0.0, f - eps) << ' ' << std::min(1.0, f + eps) << '\n';
     }
+    write_file_atomic((dir / (output + "_cdf.dat")).string(), d.str());
   }
   const std::string xl = output + (unit.empty() ? "" : " [" + unit + "]");
   std::ostringstream hist;
@@ -107,7 +108,7 @@ bool distribution_figures(const fs::path& dir, const std::string& output, const 
   std::vector<std::size_t> counts;
   for (double c = static_cast<double>(v.size()); c >= 8; c /= 1.5) counts.push_back(static_cast<std::size_t>(c));
   if (counts.size() >= 3) {  // a curve needs a few sample counts
-    std::ofstream d(dir / (output + "_convergence.dat"));
+    std::ostringstream d;
     d << "# samples  mean  mean_lo  mean_hi  p95  p95_lo  p95_hi  [" << unit << "]\n";
     std::vector<std::pair<std::size_t, double>> by_order;
     for (std::size_t i = 0; i < values.size(); ++i) {
@@ -123,7 +124,7 @@ bool distribution_figures(const fs::path& dir, const std::string& output, const 
       d << c << ' ' << s.mean.value << ' ' << end(s.mean.lo, s.mean.value) << ' ' << end(s.mean.hi, s.mean.value) << ' '
         << s.p95.value << ' ' << end(s.p95.lo, s.p95.value) << ' ' << end(s.p95.hi, s.p95.value) << '\n';
     }
-    d.close();  // gnuplot reads it next
+    write_file_atomic((dir / (output + "_convergence.dat")).string(), d.str());  // gnuplot reads it next
     std::ostringstream conv;
     conv << "set title " << quoted(output + ": mean and p95 against sample count (95% intervals)")
          << "\nset xlabel 'samples'\nset logscale x\nset ylabel " << quoted(unit.empty() ? output : unit)
@@ -140,9 +141,10 @@ bool tornado_figure(const fs::path& dir, const std::string& name, const std::str
                     std::string& why) {
   if (bars.empty()) return true;
   {
-    std::ofstream d(dir / (name + ".dat"));
+    std::ostringstream d;
     d << "# rank  value  label\n";
     for (std::size_t i = 0; i < bars.size(); ++i) d << i << ' ' << bars[i].second << ' ' << data_label(bars[i].first) << '\n';
+    write_file_atomic((dir / (name + ".dat")).string(), d.str());
   }
   std::ostringstream g;
   g << "set title " << quoted(title) << "\nset xlabel " << quoted(xlabel) << "\nset yrange [" << bars.size()
@@ -157,7 +159,7 @@ bool sensitivity_tornado(const fs::path& dir, const json& sensitivity, const std
   const json& idx = sensitivity["outputs"][output]["indices"];
   const std::string name = output + "_sobol";
   {
-    std::ofstream d(dir / (name + ".dat"));
+    std::ostringstream d;
     d << "# rank  total total_lo total_hi  first first_lo first_hi  group\n";
     std::size_t i = 0;
     for (const auto& g : idx) {
@@ -171,6 +173,7 @@ bool sensitivity_tornado(const fs::path& dir, const json& sensitivity, const std
         << data_label(g["group"].get<std::string>()) << '\n';
     }
     if (i == 0) return true;
+    write_file_atomic((dir / (name + ".dat")).string(), d.str());
   }
   std::ostringstream g;
   g << "set title " << quoted("Which inputs drive " + output + ": Sobol indices (95% intervals)")

@@ -20,8 +20,8 @@ namespace fs = std::filesystem;
 
 bool svg_plot(const std::filesystem::path& dir, const std::string& name, const std::string& script,
               std::vector<std::string>& figures, std::ostringstream& html) {
-  std::ofstream(dir / (name + ".gp")) << "set terminal svg size 720,420 dynamic noenhanced font 'Helvetica,12'\n"
-                                      << "set output '" << name << ".svg'\nset grid\n" << script;
+  write_file_atomic((dir / (name + ".gp")).string(), "set terminal svg size 720,420 dynamic noenhanced font 'Helvetica,12'\n"
+                                                     "set output '" + name + ".svg'\nset grid\n" + script);
   std::string why;
   if (run_gnuplot((dir / (name + ".gp")).string(), &why)) {
     figures.push_back(name + ".svg");

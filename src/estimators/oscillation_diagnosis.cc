@@ -13,6 +13,13 @@
 namespace poise::estimators {
 namespace {
 
+// A number in a message: 6 significant digits ("1e+308", never 309 digits).
+std::string num(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.6g", v);
+  return buf;
+}
+
 struct Fit {
   Eigen::VectorXd beta;
   Eigen::MatrixXd cov;
@@ -75,22 +82,25 @@ OscillationDiagnosis diagnose_oscillation(const OscillationRecord& rec, const Os
     return s;
   };
   require(std::isfinite(opt.kt) && opt.kt > 0 && opt.kt < 1e6,
-          where + ": the torque constant K_T = " + std::to_string(opt.kt) +
+          where + ": the torque constant K_T = " + num(opt.kt) +
               " N*m/A; expected a finite value in (0, 1e6) N*m/A");
   require(opt.derivative_window >= 5 && opt.derivative_window % 2 == 1, "derivative window must be odd and >= 5");
   const int m = opt.derivative_window / 2;
-  require(n_all >= static_cast<std::size_t>(8 * opt.derivative_window), "record too short for the derivative window");
+  require(n_all >= static_cast<std::size_t>(8 * opt.derivative_window),
+          where + ": " + std::to_string(n_all) + " samples; expected at least " +
+              std::to_string(8 * opt.derivative_window) + " (8 derivative windows of " +
+              std::to_string(opt.derivative_window) + " samples)");
   // The sampling step: the median step (one bad step does not move it).
   std::vector<double> steps(n_all - 1);
   for (std::size_t k = 1; k < n_all; ++k) steps[k - 1] = rec.t[k] - rec.t[k - 1];
   std::nth_element(steps.begin(), steps.begin() + static_cast<std::ptrdiff_t>(steps.size() / 2), steps.end());
   const double dt = steps[steps.size() / 2];
-  require(dt > 0, where + ": time must increase (median step " + std::to_string(dt) + " s)");
+  require(dt > 0, where + ": time must increase (median step " + num(dt) + " s)");
   for (std::size_t k = 1; k < n_all; ++k) {
     const double step = rec.t[k] - rec.t[k - 1];
     require(std::abs(step - dt) < 1e-6 * dt + 1e-12,
-            at_line(k) + "time must be uniformly sampled: step " + std::to_string(step) +
-                " s, expected " + std::to_string(dt) + " s (the median step)");
+            at_line(k) + "time must be uniformly sampled: step " + num(step) +
+                " s, expected " + num(dt) + " s (the median step)");
   }
   // Savitzky-Golay quadratic: phi' = sum j phi_j / (S2 dt), phi'' = 2 c / dt^2.
   double s2 = 0, s4 = 0;
@@ -116,8 +126,8 @@ OscillationDiagnosis diagnose_oscillation(const OscillationRecord& rec, const Os
     acc[e] = 2.0 * (w * sj2 - s2 * s0) / (w * s4 - s2 * s2) / (dt * dt);
     phi[e] = rec.phi[c];
     y[e] = opt.kt * rec.current[c];
-    require(std::isfinite(y[e]), at_line(c) + "K_T i is not finite (K_T = " + std::to_string(opt.kt) +
-                                     " N*m/A, i = " + std::to_string(rec.current[c]) + " A)");
+    require(std::isfinite(y[e]), at_line(c) + "K_T i is not finite (K_T = " + num(opt.kt) +
+                                     " N*m/A, i = " + num(rec.current[c]) + " A)");
     tt[e] = rec.t[c];
   }
   require(rate.cwiseAbs().maxCoeff() > 0.0, where + ": phi does not move: no oscillation to diagnose");

@@ -1,5 +1,7 @@
 #include "estimators/residual_omnibus.h"
 
+#include "core/error.h"
+
 #include <algorithm>
 #include <boost/math/distributions/chi_squared.hpp>
 #include <boost/math/distributions/fisher_f.hpp>
@@ -13,6 +15,15 @@
 
 namespace poise::estimators {
 namespace {
+
+// P(X > x) for X ~ chi^2(dof). A statistic that overflowed to +inf (a declared noise level or
+// standard errors many orders of magnitude below the residuals: --noise "1e-300 mN*m") lies
+// beyond every quantile: 0, where Boost.Math would throw a domain error.
+double chi_squared_upper_tail(double dof, double x) {
+  if (std::isinf(x) && x > 0) return 0.0;
+  if (!std::isfinite(x)) throw Error("the residual statistic is not a number (check --noise and the standard errors)");
+  return boost::math::cdf(boost::math::complement(boost::math::chi_squared(dof), x));
+}
 
 std::string fmt(const char* f, double a, double b = 0.0, double c = 0.0) {
   char buf[200];
@@ -90,8 +101,7 @@ StructureTest declared_noise(const OmnibusInput& in, double rss) {
     t.note = "not examined: no independent noise level (--noise or a torque_se column)";
     return t;
   }
-  t.p_value =
-      boost::math::cdf(boost::math::complement(boost::math::chi_squared(dof), t.statistic));
+  t.p_value = chi_squared_upper_tail(dof, t.statistic);
   t.examined = true;
   return t;
 }
@@ -123,8 +133,7 @@ StructureTest ljung_box(const std::vector<double>& r, bool ar) {
   }
   t.statistic = static_cast<double>(n) * static_cast<double>(n + 2) * q;
   const double dof = static_cast<double>(h) - (ar ? 1.0 : 0.0);
-  t.p_value =
-      boost::math::cdf(boost::math::complement(boost::math::chi_squared(dof), t.statistic));
+  t.p_value = chi_squared_upper_tail(dof, t.statistic);
   t.examined = true;
   t.note = fmt("%.0f lags", static_cast<double>(h));
   return t;

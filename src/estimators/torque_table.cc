@@ -15,6 +15,10 @@ namespace poise::estimators {
 namespace {
 
 constexpr std::size_t kMinRows = 4;
+// Largest torque (and standard error) a table may hold, N*m: no measured unbalance torque is
+// within orders of magnitude of it, and far larger values overflow the sums of squares of the
+// fits (1e308 mN*m gave a NaN statistic and a Boost.Math error in `poise diagnose`, issue 20).
+constexpr double kMaxTorqueNm = 1e9;
 
 std::string_view trim(std::string_view s) {
   const auto is_space = [](char ch) {
@@ -161,6 +165,11 @@ TorqueTable read_torque_table(const std::string& path) {
     };
     const double theta = number(cols->theta);
     const double torque = number(cols->torque);
+    if (!(std::abs(torque * t.unit_factor) <= kMaxTorqueNm)) {
+      fail(path, line,
+           "column '" + cols->names[cols->torque] + "': cell '" + std::string(cells[cols->torque]) +
+               "'; expected a torque of at most 1e9 N*m in magnitude");
+    }
     t.theta_deg.push_back(theta);
     t.theta_rad.push_back(theta * (std::numbers::pi / 180.0));
     t.torque.push_back(torque);
@@ -169,11 +178,11 @@ TorqueTable read_torque_table(const std::string& path) {
     if (cols->time) t.time_s.push_back(number(*cols->time));
     if (cols->se) {
       const double se = number(*cols->se);
-      if (!(se > 0.0)) {
+      if (!(se > 0.0) || !(se * cols->se_factor * t.unit_factor <= kMaxTorqueNm)) {
         fail(path, line,
              "column '" + cols->names[*cols->se] + "': cell '" + std::string(cells[*cols->se]) +
-                 "'; expected a standard error > 0 (the scatter of the position's period "
-                 "integrals / sqrt(periods))");
+                 "'; expected a standard error > 0 and at most 1e9 N*m (the scatter of the "
+                 "position's period integrals / sqrt(periods))");
       }
       t.torque_se.push_back(se * cols->se_factor);
     }

@@ -48,7 +48,8 @@ struct TorqueTable {
 /// Reads a torque table (format above). Throws poise::Error naming the file, the line
 /// (1-based, header = line 1), the column and the bad cell for: a file that cannot be read,
 /// a missing theta_deg column, no or two torque columns, a repeated column name, a row with
-/// a different number of cells than the header, an empty, non-numeric or non-finite cell,
+/// a different number of cells than the header, an empty, non-numeric or non-finite cell, a
+/// torque or standard error beyond 1e9 N*m in magnitude (its squares would overflow the fits),
 /// a sweep other than +1/-1, fewer than 4 data rows, fewer than 3 distinct angles.
 TorqueTable read_torque_table(const std::string& path);
 

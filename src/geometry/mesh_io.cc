@@ -1,6 +1,7 @@
 #include "geometry/mesh_io.h"
 
 #include <algorithm>
+#include <cerrno>
 #include <charconv>
 #include <cmath>
 #include <cstdio>
@@ -280,23 +281,23 @@ Mesh load_mesh(const std::string& path, double unit_m) {
   throw Error(path + ": unknown mesh format (expected a .obj or .stl file)");
 }
 
-void write_obj(const Mesh& mesh, const std::string& path, double unit_m) {
-  std::ofstream out(path);
-  if (!out) throw Error("cannot write " + path);
+std::string obj_text(const Mesh& mesh, double unit_m) {
+  std::ostringstream out;
   out.precision(10);
   out << "# " << mesh.name << " (Poise), units: " << unit_m << " m\n";
   for (const auto& v : mesh.vertices) out << "v " << v.x() / unit_m << ' ' << v.y() / unit_m << ' ' << v.z() / unit_m << '\n';
   for (const auto& t : mesh.triangles) out << "f " << t[0] + 1 << ' ' << t[1] + 1 << ' ' << t[2] + 1 << '\n';
+  return out.str();
 }
 
-void write_stl(const Mesh& mesh, const std::string& path, double unit_m) {
-  std::ofstream out(path, std::ios::binary);
-  if (!out) throw Error("cannot write " + path);
+std::string stl_bytes(const Mesh& mesh, double unit_m) {
+  std::string out;
+  out.reserve(84 + 50 * mesh.triangles.size());
   char header[80] = {};
   std::snprintf(header, sizeof header, "Poise %s", mesh.name.c_str());
-  out.write(header, 80);
+  out.append(header, 80);
   const auto n = static_cast<std::uint32_t>(mesh.triangles.size());
-  out.write(reinterpret_cast<const char*>(&n), 4);
+  out.append(reinterpret_cast<const char*>(&n), 4);
   for (std::size_t k = 0; k < mesh.triangles.size(); ++k) {
     float rec[12];
     const Eigen::Vector3d nrm = mesh.face_normal(k).normalized();
@@ -304,31 +305,54 @@ void write_stl(const Mesh& mesh, const std::string& path, double unit_m) {
     for (int i = 0; i < 3; ++i) {
       for (int j = 0; j < 3; ++j) rec[3 + 3 * i + j] = static_cast<float>(mesh.vertices[mesh.triangles[k][i]][j] / unit_m);
     }
-    out.write(reinterpret_cast<const char*>(rec), sizeof rec);
+    out.append(reinterpret_cast<const char*>(rec), sizeof rec);
     const std::uint16_t attr = 0;
-    out.write(reinterpret_cast<const char*>(&attr), 2);
+    out.append(reinterpret_cast<const char*>(&attr), 2);
   }
+  return out;
 }
 
-void write_ascii_stl(const Mesh& mesh, const std::string& path, double unit_m) {
-  std::ofstream out(path);
-  if (!out) throw Error("cannot write " + path);
+std::string ascii_stl_text(const Mesh& mesh, double unit_m) {
+  std::string out;
   const std::string name = mesh.name.empty() ? "part" : mesh.name;
-  out << "solid " << name << '\n';
+  out += "solid " + name + '\n';
   char buf[200];
   for (std::size_t k = 0; k < mesh.triangles.size(); ++k) {
     const Eigen::Vector3d n = mesh.face_normal(k).normalized();
     std::snprintf(buf, sizeof buf, "  facet normal %.9g %.9g %.9g\n    outer loop\n", n.x(), n.y(), n.z());
-    out << buf;
+    out += buf;
     for (int i = 0; i < 3; ++i) {
       const Eigen::Vector3d v = mesh.vertices[mesh.triangles[k][i]] / unit_m;
       std::snprintf(buf, sizeof buf, "      vertex %.17g %.17g %.17g\n", v.x(), v.y(), v.z());
-      out << buf;
+      out += buf;
     }
-    out << "    endloop\n  endfacet\n";
+    out += "    endloop\n  endfacet\n";
   }
-  out << "endsolid " << name << '\n';
-  if (!out) throw Error("cannot write " + path);
+  out += "endsolid " + name + '\n';
+  return out;
+}
+
+namespace {
+
+// The whole file in one write, checked: a refused write or close names the file and the
+// system's reason (a full disk: "No space left on device").
+void write_whole_file(const std::string& path, const std::string& bytes) {
+  std::FILE* f = std::fopen(path.c_str(), "wb");
+  if (f == nullptr) throw Error(path + ": cannot write: " + std::strerror(errno));
+  const bool wrote = std::fwrite(bytes.data(), 1, bytes.size(), f) == bytes.size();
+  const int write_errno = errno;
+  const bool closed = std::fclose(f) == 0;
+  if (!wrote || !closed) throw Error(path + ": cannot write: " + std::strerror(wrote ? errno : write_errno));
+}
+
+}  // namespace
+
+void write_obj(const Mesh& mesh, const std::string& path, double unit_m) { write_whole_file(path, obj_text(mesh, unit_m)); }
+
+void write_stl(const Mesh& mesh, const std::string& path, double unit_m) { write_whole_file(path, stl_bytes(mesh, unit_m)); }
+
+void write_ascii_stl(const Mesh& mesh, const std::string& path, double unit_m) {
+  write_whole_file(path, ascii_stl_text(mesh, unit_m));
 }
 
 }  // namespace poise::geometry

@@ -33,7 +33,15 @@ Mesh read_obj(std::istream& in, const std::string& name, double unit_m = 1.0);
 /// `bytes`: the whole file.
 Mesh read_stl(const std::string& bytes, const std::string& name, double unit_m = 1.0);
 
-/// Writes OBJ (vertices in `unit_m` per file unit). Throws poise::Error if unwritable.
+/// The text of an OBJ file (vertices in `unit_m` per file unit).
+std::string obj_text(const Mesh& mesh, double unit_m = 1.0);
+/// The bytes of a binary STL file.
+std::string stl_bytes(const Mesh& mesh, double unit_m = 1.0);
+/// The text of an ASCII STL file (17 significant digits, so it reads back to the same doubles).
+std::string ascii_stl_text(const Mesh& mesh, double unit_m = 1.0);
+
+/// Writes OBJ (vertices in `unit_m` per file unit). Throws poise::Error naming the file and
+/// the system's reason if it cannot be written.
 void write_obj(const Mesh& mesh, const std::string& path, double unit_m = 1.0);
 /// Writes binary STL.
 void write_stl(const Mesh& mesh, const std::string& path, double unit_m = 1.0);

@@ -35,7 +35,7 @@ std::string objective_name(const OptimizationSpec& spec) {
 }
 
 void write_history(const OptimizationSpec& spec, const OptimizationOutcome& out, const std::string& dir) {
-  std::ofstream h(fs::path(dir) / "history.csv");
+  std::ostringstream h;
   for (const auto& c : spec.choices) h << studies::csv_text(c.parameter) << ',';
   h << "evaluation";
   for (const auto& v : spec.variables) h << ',' << v.parameter << (v.unit.empty() ? "" : "_" + v.unit);
@@ -58,10 +58,11 @@ void write_history(const OptimizationSpec& spec, const OptimizationOutcome& out,
         << (e.feasible ? 1 : 0) << ',' << studies::csv_text(e.result.message) << '\n';
     }
   }
+  studies::write_file_atomic((fs::path(dir) / "history.csv").string(), h.str());
 }
 
 void write_pareto_csv(const OptimizationSpec& spec, const OptimizationOutcome& out, const std::string& dir) {
-  std::ofstream p(fs::path(dir) / "pareto.csv");
+  std::ostringstream p;
   for (const auto& c : spec.choices) p << studies::csv_text(c.parameter) << ',';
   p << "search";
   for (const auto& v : spec.variables) p << ',' << v.parameter << (v.unit.empty() ? "" : "_" + v.unit);
@@ -74,6 +75,7 @@ void write_pareto_csv(const OptimizationSpec& spec, const OptimizationOutcome& o
     p << ',' << studies::csv_number(q.objective) << ',' << studies::csv_number(q.second) << ',' << (q.feasible ? 1 : 0)
       << ',' << (std::find(out.front.begin(), out.front.end(), i) != out.front.end() ? 1 : 0) << '\n';
   }
+  studies::write_file_atomic((fs::path(dir) / "pareto.csv").string(), p.str());
 }
 
 std::string ci_text(const json& e) {
@@ -187,7 +189,7 @@ OptimizationRun write_optimization(const OptimizationSpec& spec, const studies::
   fs::create_directories(pdir);
   std::vector<std::string> figures;
   if (options.plots) {
-    std::ofstream d(pdir / "convergence.dat");
+    std::ostringstream d;
     for (std::size_t r = 0; r < out.runs.size(); ++r) {
       double best = INFINITY;
       for (const auto& e : out.runs[r].result.history) {
@@ -197,22 +199,23 @@ OptimizationRun write_optimization(const OptimizationSpec& spec, const studies::
       }
       d << "\n\n";
     }
-    d.close();
+    studies::write_file_atomic((pdir / "convergence.dat").string(), d.str());
     std::ostringstream titles;
     for (std::size_t r = 0; r < out.runs.size(); ++r) {
       titles << (r ? " " : "") << '"' << choice_label(out.runs[r].choice) << '"';
     }
-    std::ofstream(pdir / "convergence.gp")
-        << "set terminal svg size 720,420 dynamic noenhanced font 'Helvetica,12'\nset output 'convergence.svg'\n"
+    std::ostringstream cgp;
+    cgp << "set terminal svg size 720,420 dynamic noenhanced font 'Helvetica,12'\nset output 'convergence.svg'\n"
            "set grid\nset title 'Convergence'\nset xlabel 'evaluation'\nset ylabel '" << objective_name(spec)
         << "'\nset key outside bottom center horizontal\nlabels = '" << titles.str() << "'\n"
            "plot for [i=0:" << out.runs.size() - 1 << "] 'convergence.dat' index i u 1:($3 > 0 ? $2 : 1/0) w p pt 7 title sprintf('feasible (%s)', word(labels, i+1)), "
            "for [i=0:" << out.runs.size() - 1 << "] 'convergence.dat' index i u 1:($3 > 0 ? 1/0 : $2) w p pt 6 lc rgb 'gray' notitle, "
            "for [i=0:" << out.runs.size() - 1 << "] 'convergence.dat' index i u 1:4 w steps lw 2 notitle\n";
+    studies::write_file_atomic((pdir / "convergence.gp").string(), cgp.str());
     std::string why;
     if (studies::run_gnuplot((pdir / "convergence.gp").string(), &why)) figures.push_back("convergence.svg");
     if (spec.pareto && out.feasible) {
-      std::ofstream d2(pdir / "pareto.dat");
+      std::ostringstream d2;
       for (const auto& q : out.pool) {
         if (q.feasible) d2 << q.second << ' ' << q.objective << ' ' << q.choice << '\n';
       }
@@ -223,18 +226,19 @@ OptimizationRun write_optimization(const OptimizationSpec& spec, const studies::
         d2 << f["second_optimization"].get<double>() << ' ' << v << ' ' << o.value("lo", v) << ' ' << o.value("hi", v)
            << ' ' << f["objective_optimization"].get<double>() << '\n';
       }
-      d2.close();
+      studies::write_file_atomic((pdir / "pareto.dat").string(), d2.str());
       const std::string xl = spec.pareto->statistic + " of " + spec.pareto->output + " [" +
                              output_unit(spec.pareto->output) + "]";
       const std::string yl = spec.objective_statistic + " of " + spec.objective_output + " [" +
                              output_unit(spec.objective_output) + "]";
-      std::ofstream(pdir / "pareto.gp")
-          << "set terminal svg size 760,480 dynamic noenhanced font 'Helvetica,12'\nset output 'pareto.svg'\n"
+      std::ostringstream pgp;
+      pgp << "set terminal svg size 760,480 dynamic noenhanced font 'Helvetica,12'\nset output 'pareto.svg'\n"
              "set grid\nset title 'Pareto front'\nset xlabel '" << xl << "'\nset ylabel '" << yl
           << "'\nset key outside bottom center horizontal\n"
              "plot 'pareto.dat' index 0 u 1:2:3 w p pt 7 ps 0.6 lc variable title 'feasible evaluations (colour: choice)', "
              "'pareto.dat' index 1 u 1:5 w lp pt 6 ps 1.2 lc rgb 'black' title 'front (optimization samples)', "
              "'pareto.dat' index 1 u 1:2:3:4 w yerrorbars pt 7 lc rgb 'red' title 'front on fresh samples, 95% CI'\n";
+      studies::write_file_atomic((pdir / "pareto.gp").string(), pgp.str());
       if (studies::run_gnuplot((pdir / "pareto.gp").string(), &why)) figures.push_back("pareto.svg");
     }
   }

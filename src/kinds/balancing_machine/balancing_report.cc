@@ -141,7 +141,7 @@ void BalancingStudy::report_sections(const McResult& mc, const std::string& plot
       }
       h << "</table>\n";
       if (plots) {
-        std::ofstream(dir / (x.name + "_sensors.dat")) << dat.str();
+        write_file_atomic((fs::path(dir) / (x.name + "_sensors.dat")).string(), dat.str());
         svg_plot(dir, x.name + "_sensors",
              "set title 'Sensor signals against the height of the test mass'\nset xlabel 'height of the testing surface above the torsion shaft (mm)'\n"
              "set ylabel 'sensor amplitude (mN)'\nset key top left\nset xrange [0:*]\nset yrange [0:*]\n"
@@ -157,7 +157,8 @@ void BalancingStudy::report_sections(const McResult& mc, const std::string& plot
            "M<sub>1</sub> + M<sub>2</sub> = M<sub>R</sub>). The spread X<sub>max</sub> - X<sub>min</sub> is twice the rotor's own "
            "residual in that plane plus what the machine adds: compare U<sub>mar,p</sub> with the true residual.</p>\n";
       if (plots) {
-        std::ofstream(dir / (x.name + "_readings.dat")) << position_bands(x, "_g", [&](int k) { return 360.0 * k / x.positions; });
+        write_file_atomic((fs::path(dir) / (x.name + "_readings.dat")).string(),
+                          position_bands(x, "_g", [&](int k) { return 360.0 * k / x.positions; }));
         svg_plot(dir, x.name + "_readings",
              "set title 'U_mar test: readings against the test mass position'\nset xlabel 'angular position of the test mass (deg)'\n"
              "set ylabel 'reading (g at the test radius)'\nset xtics 45\nset key outside bottom center horizontal\n"
@@ -182,7 +183,8 @@ void BalancingStudy::report_sections(const McResult& mc, const std::string& plot
              "not stability. Put the test mass between or beyond the planes to test both.</small></p>\n";
       }
       if (plots) {
-        std::ofstream(dir / (x.name + "_ratios.dat")) << position_bands(x, "_ratio", [](int k) { return k + 1.0; });
+        write_file_atomic((fs::path(dir) / (x.name + "_ratios.dat")).string(),
+                          position_bands(x, "_ratio", [](int k) { return k + 1.0; }));
         svg_plot(dir, x.name + "_ratios",
              "set title 'Stability test: reading / mean of the plane'\nset xlabel 'hole'\nset ylabel 'reading / mean'\n"
              "set xrange [0.5:" + std::to_string(x.positions) + ".5]\nset key outside bottom center horizontal\n"
@@ -233,8 +235,9 @@ void BalancingStudy::report_sections(const McResult& mc, const std::string& plot
                                     "_interference_ic_per_mm", "_interference_cf_per_mm"}) {
           const std::string n = x.name + o;
           {
-            std::ofstream dd(dir / (n + ".dat"));
+            std::ostringstream dd;
             for (double v : values(n)) dd << v << '\n';
+            write_file_atomic((fs::path(dir) / (n + ".dat")).string(), dd.str());
           }
           svg_plot(dir, n,
                "set title '" + n + "'\nset xlabel '" + unit_of_output(n) + "'\nset ylabel 'machines'\nstats '" + n +

@@ -40,11 +40,10 @@ void write_geometry_report(const GeometryReport& r) {
   if (r.make_plots && !r.plots.empty()) {
     fs::create_directories(pdir);
     for (const auto& p : r.plots) {
-      std::ofstream(pdir / (p.name + ".dat")) << p.data;
-      std::ofstream(pdir / (p.name + ".gp"))
-          << "set terminal svg size 760,480 dynamic noenhanced font 'Helvetica,12'\nset output '" << p.name
-          << ".svg'\n"
-          << p.script;
+      write_file_atomic((pdir / (p.name + ".dat")).string(), p.data);
+      write_file_atomic((pdir / (p.name + ".gp")).string(),
+                        "set terminal svg size 760,480 dynamic noenhanced font 'Helvetica,12'\nset output '" + p.name +
+                            ".svg'\n" + p.script);
       std::string why;
       if (run_gnuplot((pdir / (p.name + ".gp")).string(), &why)) {
         figures.emplace_back(p.name + ".svg", p.caption);

@@ -18,6 +18,7 @@
 #include "sampling/design.h"
 #include "kinds/geometry_mass_properties/disk_geometry_model.h"
 #include "kinds/geometry_common/geometry_runner_common.h"
+#include "engine/result_io.h"
 #include "engine/study_kind.h"
 #include "kinds/geometry_common/geometry_study.h"
 
@@ -223,8 +224,8 @@ std::string run_geometry_mass_study(const StudyConfig& study_cfg, const RunOptio
   write_geometry_summary(s, cfg, run, kOutputs, results, study.sampler().columns());
   if (geometry_sections(cfg).geometry.export_mesh) {
     const geometry::Mesh merged = geometry::merge(nominal, study.model().name);
-    geometry::write_stl(merged, (fs::path(run.dir) / "nominal_disk.stl").string(), 1e-3);
-    geometry::write_obj(merged, (fs::path(run.dir) / "nominal_disk.obj").string(), 1e-3);
+    write_file_atomic((fs::path(run.dir) / "nominal_disk.stl").string(), geometry::stl_bytes(merged, 1e-3));
+    write_file_atomic((fs::path(run.dir) / "nominal_disk.obj").string(), geometry::obj_text(merged, 1e-3));
   }
 
   // Report.

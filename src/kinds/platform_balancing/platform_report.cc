@@ -261,8 +261,9 @@ void PlatformStudy::report_sections(const McResult& mc, const std::string& plots
         std::vector<double> v = values_of(mc, output_names_, ps.order_labels[o] + "_" + ax + "_torque_max_acc_mNm");
         std::sort(v.begin(), v.end());
         const std::string file = name + "_" + ps.order_labels[o] + ".dat";
-        std::ofstream f(dir / file);
+        std::ostringstream f;
         for (std::size_t j = 0; j < v.size(); ++j) f << v[j] << ' ' << (static_cast<double>(j) + 0.5) / static_cast<double>(v.size()) << '\n';
+        write_file_atomic((dir / file).string(), f.str());
         cmd += std::string(o ? ", " : "") + "'" + file + "' u 1:2 w l lw 2 title '" + ps.order_texts[o] + "'";
       }
       svg_plot(dir, name, cmd + "\n", figures, h);

@@ -53,7 +53,7 @@ void write_report(const ReportInputs& in) {
   if (in.plots && !in.mc.values.empty()) {
     // Data.
     {
-      std::ofstream d(pdir / "map.dat");
+      std::ostringstream d;
       d << "# yaw_deg pitch_deg p50_arcsec p95_arcsec p99_73_arcsec\n";
       const std::size_t nb = in.beta.size();
       for (std::size_t ia = 0; ia < in.alpha.size(); ++ia) {
@@ -64,6 +64,7 @@ void write_report(const ReportInputs& in) {
         }
         d << '\n';
       }
+      write_file(pdir / "map.dat", d.str());
     }
     const std::string head = "set terminal svg size 760,480 dynamic noenhanced font 'Helvetica,12'\n";
     std::ostringstream map;
@@ -78,7 +79,7 @@ void write_report(const ReportInputs& in) {
     int si = 0;
     for (const auto& sw : s["sweeps"]) {
       const std::string base = "sweep_" + std::to_string(si++);
-      std::ofstream d(pdir / (base + ".dat"));
+      std::ostringstream d;
       d << "# " << sw["parameter"].get<std::string>()
         << " value_si value_as_written | p50 p95 p95_lo p95_hi p99_73 of los_max [arcsec]\n";
       for (const auto& p : sw["points"]) {
@@ -89,6 +90,7 @@ void write_report(const ReportInputs& in) {
           << ' ' << num_json(l["p95"]["value"], 8) << ' ' << num_json(end(l["p95"], 0), 8) << ' '
           << num_json(end(l["p95"], 1), 8) << ' ' << num_json(l["p99_73"]["value"], 8) << '\n';
       }
+      write_file(pdir / (base + ".dat"), d.str());
       std::ostringstream g;
       g << head << "set output '" << base << ".svg'\n"
         << "set title 'Greatest LOS error over the field vs " << sw["parameter"].get<std::string>() << "'\n"

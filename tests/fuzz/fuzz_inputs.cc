@@ -1,6 +1,6 @@
-// libFuzzer target for the study and model parsers (issue 9, "Bad input").
+// libFuzzer target for every input file Poise reads (issues 9 and 20, "Bad input").
 //
-// The first input byte selects what is fuzzed (byte % 8); the rest is the file text:
+// The first input byte selects what is fuzzed; the rest is the file text:
 //   0  a study file, through validate_study() (what `poise validate` does)
 //   1  a seeker model file          (load_seeker_model)
 //   2  a gimbal model file          (load_gimbal_model)
@@ -10,6 +10,14 @@
 //   6  a quantity "<number> <unit>" (units::parse_quantity, parse_as, unit_factor, format)
 //   7  a study file and a model file, split at the line "#---model---"; the model is written
 //      next to the study as fuzz_model.toml (reference it with model = "fuzz_model.toml")
+//   c  a torque CSV (`poise fit` and `poise diagnose`: read, sine fit, residual diagnosis)
+//   r  a raw record (`poise diagnose-record`): first line the --kt value, then the CSV
+//   o  an OBJ mesh, s  an STL mesh (ASCII or binary): a user's CAD part (load, checks, mass
+//      properties by the divergence theorem and by Embree ray casting)
+//   p  an optimization file (load_optimization, with its base study)
+//   b  a budget file (load_budget, then check_budget: the whole `poise budget` recomputation)
+// Any other byte selects byte % 8 of the first eight. The kinds beyond the TOML study and
+// model files are in fuzz_data_inputs.cc and fuzz_plan_inputs.cc.
 // Files are written to a private temporary folder laid out like the repository: the study
 // goes to <tmp>/studies/, which also holds links to the repository's studies, and
 // <tmp>/models links to the repository's models/, so "../models/x.toml" resolves.
@@ -19,7 +27,9 @@
 // any other exception are findings: the target aborts with the exception's type and text.
 //
 // With POISE_FUZZ_WRITE_SEEDS=<dir> set, the program writes the seed corpus (the repository's
-// studies and models and tests/data/malformed, each with its selector byte) to <dir> and exits.
+// studies, models, data, meshes and tests/data/malformed, each with its selector byte) to
+// <dir> and exits; POISE_FUZZ_SEED_SELECTORS=<bytes> keeps the seeds of those selectors only
+// (one ctest test per input kind).
 #include <unistd.h>
 
 #include <cstdint>
@@ -44,14 +54,15 @@
 #include "engine/study_runner.h"
 #include "engine/toml_reader.h"
 #include "kinds/registry.h"
+#include "fuzz_common.h"
 
-namespace fs = std::filesystem;
+namespace poise::fuzz {
 
 namespace {
-
-const fs::path kSource = POISE_SOURCE_DIR;
-constexpr std::string_view kModelSeparator = "\n#---model---\n";
 fs::path g_dir;  // private temporary folder
+}  // namespace
+
+const fs::path& work_dir() { return g_dir; }
 
 void write_file(const fs::path& path, std::string_view text) {
   std::ofstream out(path, std::ios::binary | std::ios::trunc);
@@ -65,6 +76,21 @@ std::string read_file(const fs::path& path) {
   return ss.str();
 }
 
+}  // namespace poise::fuzz
+
+namespace {
+
+using namespace poise::fuzz;
+constexpr std::string_view kModelSeparator = "\n#---model---\n";
+std::string g_seed_selectors;  // POISE_FUZZ_SEED_SELECTORS ("" = all)
+fs::path g_seed_dir;
+int g_seed_count = 0;
+
+void add_seed(char selector, const std::string& text) {
+  if (!g_seed_selectors.empty() && g_seed_selectors.find(selector) == std::string::npos) return;
+  write_file(g_seed_dir / ("seed_" + std::to_string(g_seed_count++)), std::string(1, selector) + text);
+}
+
 // Selector of a model file by its [model] kind.
 char model_selector(const std::string& text) {
   if (text.find("\"gimbal_static_unbalance\"") != std::string::npos) return '2';
@@ -76,10 +102,8 @@ char model_selector(const std::string& text) {
 
 void write_seeds(const fs::path& out) {
   fs::create_directories(out);
-  int n = 0;
-  auto add = [&](char selector, const std::string& text) {
-    write_file(out / ("seed_" + std::to_string(n++)), std::string(1, selector) + text);
-  };
+  g_seed_dir = out;
+  const AddSeed add = add_seed;
   for (const auto& e : fs::directory_iterator(kSource / "studies")) {
     if (e.path().extension() == ".toml") add('0', read_file(e.path()));
   }
@@ -106,7 +130,9 @@ void write_seeds(const fs::path& out) {
                         "9.81 m/s^2", "200 GPa", "1 px", "5 %", "0.5 N*m/A", "1e308 km", "1 m^13", "nan mm"}) {
     add('6', q);
   }
-  std::printf("wrote %d seeds to %s\n", n, out.c_str());
+  seed_data_inputs(add);
+  seed_plan_inputs(add);
+  std::printf("wrote %d seeds to %s\n", g_seed_count, out.c_str());
 }
 
 // Exceptions a user may see: poise's own, and standard ones whose message says what is wrong.
@@ -144,7 +170,17 @@ void fuzz_units(std::string_view text) {
   }
 }
 
-void run_one(unsigned selector, std::string_view text) {
+void run_one(std::uint8_t byte, std::string_view text) {
+  switch (byte) {
+    case 'c': fuzz_torque_csv(text); return;
+    case 'r': fuzz_record(text); return;
+    case 'o': fuzz_mesh(text, ".obj"); return;
+    case 's': fuzz_mesh(text, ".stl"); return;
+    case 'p': fuzz_optimization(text); return;
+    case 'b': fuzz_budget(text); return;
+    default: break;
+  }
+  const unsigned selector = byte % 8u;
   using namespace poise::studies;
   const fs::path study = g_dir / "studies" / "fuzz_study.toml";
   const fs::path model = g_dir / "studies" / "fuzz_model.toml";
@@ -191,6 +227,7 @@ void run_one(unsigned selector, std::string_view text) {
 extern "C" int LLVMFuzzerInitialize(int*, char***) {
   poise::studies::register_study_kinds();
   if (const char* seeds = std::getenv("POISE_FUZZ_WRITE_SEEDS")) {
+    if (const char* only = std::getenv("POISE_FUZZ_SEED_SELECTORS")) g_seed_selectors = only;
     write_seeds(seeds);
     std::exit(0);
   }
@@ -217,7 +254,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   if (size < 1) return 0;
   const std::string_view text(reinterpret_cast<const char*>(data) + 1, size - 1);
   try {
-    run_one(data[0] % 8u, text);
+    run_one(data[0], text);
   } catch (const std::exception& e) {
     if (!acceptable(e)) finding(typeid(e).name(), e.what());
   } catch (...) {
