@@ -18,6 +18,7 @@
 #include <boost/math/distributions/binomial.hpp>
 #include <boost/math/distributions/chi_squared.hpp>
 #include <cmath>
+#include <cstdio>
 #include <vector>
 
 #include "sampling/design.h"
@@ -89,6 +90,8 @@ TEST(IntervalCoverage, IndependentSamplesMeanStdAndP95) {
   const double exact = boost::math::cdf(bin, 196.0) - boost::math::cdf(bin, 183.0);
   EXPECT_NEAR(exact, 0.967, 0.001);
   const Band b95 = band(runs, 0.95), bp = band(runs, exact);
+  std::printf("  monte carlo n = 200, %d runs; runs covering: mean %d, std %d, p95 %d (bands %d-%d; p95 %d-%d)\n",
+              runs, mean_hits, std_hits, p95_hits, b95.lo, b95.hi, bp.lo, bp.hi);
   EXPECT_GE(mean_hits, b95.lo);
   EXPECT_LE(mean_hits, b95.hi);
   // The delta-method std interval is asymptotic; at n = 200 of a skewed chi it runs a little
@@ -130,6 +133,11 @@ ReplicateCoverage replicate_coverage(ps::SamplingMethod method, std::size_t m, s
   return c;
 }
 
+void print(const char* what, const ReplicateCoverage& c) {
+  std::printf("  %s, %d runs; runs covering: mean %d, std %d, p50 %d, p95 %d (p95 flagged approximate in %d)\n",
+              what, c.runs, c.mean, c.std, c.p50, c.p95, c.approximate95);
+}
+
 void expect_in_band(int hits, const Band& b, const char* what) {
   EXPECT_GE(hits, b.lo) << what;
   EXPECT_LE(hits, b.hi) << what;
@@ -139,6 +147,7 @@ TEST(IntervalCoverage, ReplicateDesignsSobol) {
   // 300 runs of 8 scrambled Sobol replicates of 256 points (256 x 0.05 = 12.8 samples beyond
   // p95 per replicate): mean and std by the replicates' t interval, p50 and p95 by Woodruff.
   const ReplicateCoverage c = replicate_coverage(ps::SamplingMethod::kSobol, 256, 8, 300);
+  print("sobol 8 x 256", c);
   const Band b = band(c.runs, 0.95);
   expect_in_band(c.mean, b, "mean");
   expect_in_band(c.std, b, "std");
@@ -149,6 +158,7 @@ TEST(IntervalCoverage, ReplicateDesignsSobol) {
 
 TEST(IntervalCoverage, ReplicateDesignsLatinHypercube) {
   const ReplicateCoverage c = replicate_coverage(ps::SamplingMethod::kLatinHypercube, 256, 8, 300);
+  print("lhs 8 x 256", c);
   const Band b = band(c.runs, 0.95);
   expect_in_band(c.mean, b, "mean");
   expect_in_band(c.std, b, "std");
@@ -162,6 +172,7 @@ TEST(IntervalCoverage, SmallReplicatesAreFlaggedAndStillCoverTheirP95) {
   // per-replicate quantiles failed. Woodruff's interval works on shares and still covers;
   // the interval is flagged approximate.
   const ReplicateCoverage c = replicate_coverage(ps::SamplingMethod::kSobol, 64, 16, 300);
+  print("sobol 16 x 64", c);
   expect_in_band(c.p95, band(c.runs, 0.95), "p95, 16 x 64");
   EXPECT_EQ(c.approximate95, c.runs);
 }

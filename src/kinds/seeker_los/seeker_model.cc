@@ -41,17 +41,20 @@ void read_tilt_reading(TomlReader& axis_table, const std::string& axis, TiltRead
   }
   const std::string direction = t.choice("direction", {"random", "fixed"}, "random");
   r.random_direction = direction == "random";
-  if (r.random_direction || t.schema_only()) {
-    r.per_component = t.choice("sigma_of", {"magnitude", "component"}, "magnitude") == "component";
-  }
+  // With a fixed direction the tolerance is that of the one signed component: sigma_of may
+  // say "component" (so that one override of `direction` and one of `sigma_of` turn the
+  // shipped reading into the paper's), never "magnitude".
+  const std::string sigma_of = t.choice("sigma_of", {"magnitude", "component"}, r.random_direction ? "magnitude" : "component");
+  r.per_component = r.random_direction && sigma_of == "component";
   if (!r.random_direction || t.schema_only()) r.azimuth = t.quantity("azimuth", kAngle, {}, 0.0);
   if (r.random_direction && t.has("azimuth")) {
     t.error("azimuth", "", "no azimuth with direction = \"random\" (the azimuth is drawn); set direction = "
             "\"fixed\" to give one");
   }
-  if (!r.random_direction && t.has("sigma_of")) {
-    t.error("sigma_of", "", "no sigma_of with direction = \"fixed\" (one signed component: the tolerance is its "
-            "own); sigma_of = \"magnitude\" or \"component\" reads a tolerance of random direction");
+  if (!r.random_direction && sigma_of == "magnitude") {
+    t.error("sigma_of", sigma_of, "sigma_of = \"component\" (or no sigma_of) with direction = \"fixed\": the "
+            "tolerance is that of the one signed component along `azimuth`; \"magnitude\" reads a tilt of random "
+            "direction");
   }
 }
 
@@ -169,7 +172,10 @@ SeekerModel load_seeker_model(const std::string& path,
 SeekerSampler::SeekerSampler(const SeekerModel& model) : model_(model) {
   // Each column with the model file's tolerance key it is drawn from (its Sobol group).
   std::string tolerance;
-  auto add = [&](std::string name, double factor) { columns_.push_back({std::move(name), factor, tolerance}); };
+  auto add = [&](std::string name, double factor) {
+    columns_.push_back({std::move(name), factor});
+    column_tolerances_.push_back(tolerance);
+  };
   tolerance = "load_deformation";
   add("k_load", 1.0);
   tolerance = "yaw.perpendicularity";

@@ -97,12 +97,16 @@ class SeekerSampler {
   explicit SeekerSampler(const SeekerModel& model);
   std::size_t dimension() const { return columns_.size(); }
   const std::vector<InputColumn>& columns() const { return columns_; }
+  /// The model file's tolerance key of each column ("yaw.radial_runout" for its amplitude and
+  /// phase at both bearings): the columns of one key form its group in the Sobol indices.
+  const std::vector<std::string>& column_tolerances() const { return column_tolerances_; }
   /// u: design point (size dimension()); values: drawn inputs in display units (same size).
   models::SeekerErrorState draw(std::span<const double> u, std::span<double> values) const;
 
  private:
   SeekerModel model_;
   std::vector<InputColumn> columns_;
+  std::vector<std::string> column_tolerances_;
 };
 
 }  // namespace poise::studies

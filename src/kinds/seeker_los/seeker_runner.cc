@@ -120,12 +120,10 @@ std::string run_seeker_study(const StudyConfig& file_cfg, const RunOptions& opti
   // Sensitivity: one closed Sobol group per model tolerance drawn in several columns.
   ToleranceGroups tolerances;
   {
-    std::vector<std::string> names, keys;
-    for (const auto& c : SeekerSampler(model).columns()) {
-      names.push_back(c.name);
-      keys.push_back(c.tolerance);
-    }
-    tolerances = tolerance_groups(names, keys);
+    const SeekerSampler sampler(model);
+    std::vector<std::string> names;
+    for (const auto& c : sampler.columns()) names.push_back(c.name);
+    tolerances = tolerance_groups(names, sampler.column_tolerances());
     cfg.saltelli_groups = tolerances.closed_groups();
   }
   RunPlan plan = plan_run(cfg, options, [&] {
