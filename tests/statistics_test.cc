@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <vector>
 
 #include "core/error.h"
@@ -220,6 +221,7 @@ TEST(Statistics, DefinitionEightIsMedianUnbiasedInTheTail) {
     const auto i = static_cast<std::size_t>(h7);
     below7 += v[i] + (h7 - static_cast<double>(i)) * (v[i + 1] - v[i]) < q;
   }
+  std::printf("  p99.73 at n = 1024, 400 runs: below the truth %d (definition 8), %d (definition 7)\n", below8, below7);
   EXPECT_GE(below8, 172);
   EXPECT_LE(below8, 228);
   EXPECT_GT(below7, 240);  // the definition this replaced, biased low
