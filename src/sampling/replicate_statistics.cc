@@ -32,25 +32,51 @@ std::string format(const char* f, double v) {
   return buf;
 }
 
-// Woodruff's interval of the p-quantile: the replicates' shares below the pooled estimate
-// give the 95% interval of F(q) (p +- t se), mapped back through the pooled order statistics.
-void woodruff(Estimate& e, double p, const std::vector<double>& sorted, const std::vector<std::vector<double>>& groups,
-              double replicate_size) {
-  const double q = e.value;
+// Woodruff's ends of the p-quantile: the replicates' shares below the pooled estimate q give
+// the interval p -+ t_quantile x se of F(q), mapped back through the pooled order statistics
+// (1-based ranks by definition 8, rounded outwards: the interval keeps at least the order
+// statistics around the estimate when the replicates agree exactly).
+struct Ends {
+  std::optional<double> lo, hi;
+  double half = 0.0;
+};
+Ends woodruff_ends(double p, double q, double t_quantile, const std::vector<double>& sorted,
+                   const std::vector<std::vector<double>>& groups) {
   std::vector<double> share;
   for (const auto& g : groups) {
     double below = 0.0;
     for (double v : g) below += v < q ? 1.0 : v == q ? 0.5 : 0.0;
     share.push_back(below / static_cast<double>(g.size()));
   }
-  const double half = t975(groups.size()) * mean_and_se(share).second;
+  Ends e;
+  e.half = t_quantile * mean_and_se(share).second;
   const double n = static_cast<double>(sorted.size());
-  // 1-based ranks of p -+ half by definition 8, rounded outwards (the interval keeps at least
-  // the order statistics around the estimate when the replicates agree exactly).
   auto rank = [&](double pp) { return (n + 1.0 / 3.0) * pp + 1.0 / 3.0; };
-  const double lo_rank = std::floor(rank(p - half)), hi_rank = std::ceil(rank(p + half));
+  const double lo_rank = std::floor(rank(p - e.half)), hi_rank = std::ceil(rank(p + e.half));
   if (lo_rank >= 1.0) e.lo = sorted[static_cast<std::size_t>(lo_rank) - 1];
   if (hi_rank <= n) e.hi = sorted[static_cast<std::size_t>(hi_rank) - 1];
+  return e;
+}
+
+// The replicates of 2 or more values.
+std::vector<std::vector<double>> replicate_groups(std::span<const double> values, std::span<const std::size_t> replicate_of) {
+  require(values.size() == replicate_of.size(), "one replicate number per value");
+  std::vector<std::vector<double>> all;
+  for (std::size_t k = 0; k < values.size(); ++k) {
+    if (all.size() <= replicate_of[k]) all.resize(replicate_of[k] + 1);
+    all[replicate_of[k]].push_back(values[k]);
+  }
+  std::erase_if(all, [](const std::vector<double>& g) { return g.size() < 2; });
+  return all;
+}
+
+// Woodruff's 95% interval of the p-quantile into e (whose value is the pooled estimate).
+void woodruff(Estimate& e, double p, const std::vector<double>& sorted, const std::vector<std::vector<double>>& groups,
+              double replicate_size) {
+  const Ends ends = woodruff_ends(p, e.value, t975(groups.size()), sorted, groups);
+  e.lo = ends.lo;
+  e.hi = ends.hi;
+  const double half = ends.half;
   const std::string name = "p" + format("%.4g", 100.0 * p);
   if (!e.hi || !e.lo) {
     e.note = std::string("one-sided: the replicates' spread of the share below ") + name + " (+-" +
@@ -69,22 +95,26 @@ void woodruff(Estimate& e, double p, const std::vector<double>& sorted, const st
 
 }  // namespace
 
+std::optional<double> replicate_quantile_bound(std::span<const double> values, std::span<const std::size_t> replicate_of,
+                                               double p, double confidence, bool upper) {
+  const std::vector<std::vector<double>> groups = replicate_groups(values, replicate_of);
+  if (groups.size() < 2) return std::nullopt;
+  std::vector<double> sorted(values.begin(), values.end());
+  std::sort(sorted.begin(), sorted.end());
+  const double q = quantile_sorted(sorted, p).value;
+  const double t = boost::math::quantile(boost::math::students_t(static_cast<double>(groups.size() - 1)), confidence);
+  const Ends e = woodruff_ends(p, q, t, sorted, groups);
+  return upper ? e.hi : e.lo;
+}
+
 Summary summarize_replicates(std::span<const double> values, std::span<const std::size_t> replicate_of) {
-  require(values.size() == replicate_of.size(), "one replicate number per value");
   Summary pooled = summarize(values);
-  std::vector<std::vector<double>> all;
-  for (std::size_t k = 0; k < values.size(); ++k) {
-    if (all.size() <= replicate_of[k]) all.resize(replicate_of[k] + 1);
-    all[replicate_of[k]].push_back(values[k]);
-  }
-  std::vector<std::vector<double>> groups;
+  const std::vector<std::vector<double>> groups = replicate_groups(values, replicate_of);
   std::vector<Summary> per;
   double size_sum = 0.0;
-  for (auto& g : all) {
-    if (g.size() < 2) continue;
+  for (const auto& g : groups) {
     per.push_back(summarize(g));
     size_sum += static_cast<double>(g.size());
-    groups.push_back(std::move(g));
   }
   const std::size_t r = per.size();
   for (Estimate* e : {&pooled.mean, &pooled.std, &pooled.p50, &pooled.p95, &pooled.p99_73}) {

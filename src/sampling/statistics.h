@@ -61,6 +61,13 @@ Summary summarize(std::span<const double> values);
 ///   max       : keeps its order-statistic bound.
 Summary summarize_replicates(std::span<const double> values, std::span<const std::size_t> replicate_of);
 
+/// One end of Woodruff's interval above (upper) or below the p-quantile from replicates at
+/// one-sided confidence `confidence` (t(confidence, R-1)); nullopt with fewer than 2
+/// replicates of 2 or more values, or when the end lies past the pooled sample. At 0.975 the
+/// ends of summarize_replicates' 95% interval.
+std::optional<double> replicate_quantile_bound(std::span<const double> values, std::span<const std::size_t> replicate_of,
+                                               double p, double confidence, bool upper);
+
 /// Expected samples per replicate beyond a quantile below which its replicate interval is
 /// approximate, and `--until` on it is refused.
 inline constexpr double kMinTailPerReplicate = 10.0;
