@@ -143,11 +143,11 @@ void expect_in_band(int hits, const Band& b, const char* what) {
   EXPECT_LE(hits, b.hi) << what;
 }
 
-TEST(IntervalCoverage, ReplicateDesignsSobol) {
-  // 300 runs of 8 scrambled Sobol replicates of 256 points (256 x 0.05 = 12.8 samples beyond
-  // p95 per replicate): mean and std by the replicates' t interval, p50 and p95 by Woodruff.
-  const ReplicateCoverage c = replicate_coverage(ps::SamplingMethod::kSobol, 256, 8, 300);
-  print("sobol 8 x 256", c);
+// 300 runs of 8 replicates of 256 points (256 x 0.05 = 12.8 samples beyond p95 per
+// replicate): mean and std by the replicates' t interval, p50 and p95 by Woodruff.
+void expect_replicate_coverage(ps::SamplingMethod method, const char* label) {
+  const ReplicateCoverage c = replicate_coverage(method, 256, 8, 300);
+  print(label, c);
   const Band b = band(c.runs, 0.95);
   expect_in_band(c.mean, b, "mean");
   expect_in_band(c.std, b, "std");
@@ -156,14 +156,10 @@ TEST(IntervalCoverage, ReplicateDesignsSobol) {
   EXPECT_EQ(c.approximate95, 0);
 }
 
+TEST(IntervalCoverage, ReplicateDesignsSobol) { expect_replicate_coverage(ps::SamplingMethod::kSobol, "sobol 8 x 256"); }
+
 TEST(IntervalCoverage, ReplicateDesignsLatinHypercube) {
-  const ReplicateCoverage c = replicate_coverage(ps::SamplingMethod::kLatinHypercube, 256, 8, 300);
-  print("lhs 8 x 256", c);
-  const Band b = band(c.runs, 0.95);
-  expect_in_band(c.mean, b, "mean");
-  expect_in_band(c.std, b, "std");
-  expect_in_band(c.p50, b, "p50");
-  expect_in_band(c.p95, b, "p95");
+  expect_replicate_coverage(ps::SamplingMethod::kLatinHypercube, "lhs 8 x 256");
 }
 
 TEST(IntervalCoverage, SmallReplicatesAreFlaggedAndStillCoverTheirP95) {
