@@ -394,7 +394,9 @@ TEST(Sensitivity, TheDominantToleranceDrivesTheLosError) {
   EXPECT_EQ(s["sampling"]["samples"].get<std::size_t>(), 512 * (groups + closed + 2));
   EXPECT_EQ(los["tolerances"][0]["group"], "pitch.perpendicularity") << los["tolerances"].dump();
   for (const auto& t : los["tolerances"]) {
-    if (t["group"] == "yaw.radial_runout") EXPECT_EQ(t["total"]["value"].get<double>(), 0.0) << t.dump();
+    if (t["group"] == "yaw.radial_runout") {
+      EXPECT_EQ(t["total"]["value"].get<double>(), 0.0) << t.dump();
+    }
   }
   const json& top = los["indices"][0];
   EXPECT_EQ(top["group"], "pitch_perpendicularity_arcsec") << los.dump();
