@@ -25,8 +25,10 @@ TEST(Statistic, QuantilesMomentsAndFractions) {
   EXPECT_DOUBLE_EQ(studies::statistic(v, "min"), 1.0);
   EXPECT_DOUBLE_EQ(studies::statistic(v, "max"), 5.0);
   EXPECT_DOUBLE_EQ(studies::statistic(v, "p50"), 3.0);
-  EXPECT_DOUBLE_EQ(studies::statistic(v, "p25"), 2.0);
-  EXPECT_DOUBLE_EQ(studies::statistic(v, "p90"), 4.6);       // type 7: 4 + 0.6 (5 - 4)
+  // Definition 8 (sampling/statistics.h): rank (n + 1/3) p + 1/3 = 5/3 for p25, 5.13 for
+  // p90 (past n: the maximum).
+  EXPECT_DOUBLE_EQ(studies::statistic(v, "p25"), 1.0 + 2.0 / 3.0);
+  EXPECT_DOUBLE_EQ(studies::statistic(v, "p90"), 5.0);
   EXPECT_DOUBLE_EQ(studies::statistic(v, "p99.73"), studies::statistic(v, "p99_73"));
   EXPECT_DOUBLE_EQ(studies::statistic(v, "fraction_le:2"), 0.4);
   EXPECT_DOUBLE_EQ(studies::statistic(v, "fraction_ge:4.5"), 0.2);

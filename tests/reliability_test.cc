@@ -420,8 +420,18 @@ TEST(Sensitivity, TheDominantToleranceDrivesTheLosError) {
   const json s = json::parse(poise::test::read_text(d.file("s/summary.json")));
   const json& sens = s["sensitivity"];
   const std::size_t groups = sens["groups"].size();
-  EXPECT_EQ(s["sampling"]["samples"].get<std::size_t>(), 512 * (groups + 2));
   const json& los = sens["outputs"]["los_max_arcsec"];
+  // Per column, plus one closed group per tolerance drawn in several columns (issue 21).
+  std::size_t closed = 0;
+  for (const auto& t : los["tolerances"]) closed += t["columns"].get<std::size_t>() > 1 ? 1 : 0;
+  EXPECT_EQ(closed, 13u);  // yaw perpendicularity (tilt, azimuth) and 6 bearing sources per axis
+  EXPECT_EQ(s["sampling"]["samples"].get<std::size_t>(), 512 * (groups + closed + 2));
+  EXPECT_EQ(los["tolerances"][0]["group"], "pitch.perpendicularity") << los["tolerances"].dump();
+  for (const auto& t : los["tolerances"]) {
+    if (t["group"] == "yaw.radial_runout") {
+      EXPECT_EQ(t["total"]["value"].get<double>(), 0.0) << t.dump();
+    }
+  }
   const json& top = los["indices"][0];
   EXPECT_EQ(top["group"], "pitch_perpendicularity_arcsec") << los.dump();
   EXPECT_GT(top["total"]["value"].get<double>(), 0.7);

@@ -64,6 +64,22 @@ UntilTarget parse_until(const std::string& text, const std::vector<std::string>&
   return t;
 }
 
+void check_until_design(const UntilTarget& target, std::size_t replicate_size) {
+  if (replicate_size == 0 || target.statistic.empty() || target.statistic[0] != 'p') return;
+  const double p = target.statistic == "p50" ? 0.5 : target.statistic == "p95" ? 0.95 : 0.9973;
+  const double tail = static_cast<double>(replicate_size) * std::min(p, 1.0 - p);
+  if (tail >= sampling::kMinTailPerReplicate) return;
+  const auto needed = static_cast<std::size_t>(std::ceil(sampling::kMinTailPerReplicate / std::min(p, 1.0 - p)));
+  throw UsageError("--until \"" + target.text + "\": replicates of " + std::to_string(replicate_size) +
+                   " samples cannot support an interval on " + target.statistic + ": each holds about " + fmt(tail) +
+                   " samples beyond it (replicate_size x " + (p > 0.5 ? "(1 - p)" : "p") + " < " +
+                   fmt(sampling::kMinTailPerReplicate) + "), so the spread of the replicates is a spread of a few "
+                   "counts and a run that stops at its first narrow interval would stop on replicates that agree by "
+                   "chance. Set [sampling] replicate_size to at least " + std::to_string(needed) +
+                   ", use method = \"monte_carlo\", or put --until on a less extreme figure (p95 needs replicates of "
+                   "200, p50 of 20)");
+}
+
 const sampling::Estimate& statistic_of(const sampling::Summary& s, const std::string& statistic) {
   if (statistic == "mean") return s.mean;
   if (statistic == "std") return s.std;
@@ -159,6 +175,7 @@ json convergence_json(const std::vector<std::string>& outputs, const std::vector
                  {"relative_half_width", std::isfinite(rel) ? json(rel) : json(nullptr)},
                  {"samples_for_1pct", need(0.01)},
                  {"samples_for_5pct", need(0.05)}};
+      if (!e.note.empty()) o[stat]["ci95_note"] = e.note;
     }
     figures[outputs[k]] = o;
   }
@@ -234,7 +251,19 @@ std::string convergence_html(const json& c) {
            "</td><td>" + cell(f["samples_for_5pct"]) + "</td><td>" + cell(f["samples_for_1pct"]) + "</td></tr>\n";
     }
   }
-  return h + "</table>\n";
+  h += "</table>\n";
+  // One-sided and approximate intervals, said in words (summary.json: "ci95_note").
+  std::string notes;
+  for (const auto& [name, o] : c["figures"].items()) {
+    for (const auto& [stat, f] : o.items()) {
+      if (f.contains("ci95_note")) {
+        notes += "<li><code>" + html_escape(name) + "</code> " + stat + ": " +
+                 html_escape(f["ci95_note"].get<std::string>()) + "</li>\n";
+      }
+    }
+  }
+  if (!notes.empty()) h += "<p>Intervals to read with care (an end shown as &ndash; does not exist):</p>\n<ul>\n" + notes + "</ul>\n";
+  return h;
 }
 
 }  // namespace poise::studies

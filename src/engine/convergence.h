@@ -38,6 +38,13 @@ struct UntilTarget {
 /// (and the outputs there are) if the output or statistic is unknown.
 UntilTarget parse_until(const std::string& text, const std::vector<std::string>& outputs);
 
+/// Refuses (UsageError, exit 2) an --until on a quantile that the design cannot support:
+/// with replicates (replicate_size > 0) of fewer than kMinTailPerReplicate / min(p, 1 - p)
+/// samples each (e.g. 3704 for p99_73, 200 for p95), each replicate holds fewer than 10
+/// samples beyond the quantile, its interval is approximate (sampling/statistics.h) and a
+/// rule that stops at the first narrow interval would stop on replicates that agree by chance.
+void check_until_design(const UntilTarget& target, std::size_t replicate_size);
+
 /// The figure's estimate in a Summary ("p99_73" -> s.p99_73).
 const sampling::Estimate& statistic_of(const sampling::Summary& s, const std::string& statistic);
 /// Width of an interval (infinite when an end is missing).

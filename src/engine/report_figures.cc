@@ -156,7 +156,9 @@ bool tornado_figure(const fs::path& dir, const std::string& name, const std::str
 bool sensitivity_tornado(const fs::path& dir, const json& sensitivity, const std::string& output,
                          std::vector<std::string>& figures, std::string& why) {
   if (!sensitivity.contains("outputs") || !sensitivity["outputs"].contains(output)) return true;
-  const json& idx = sensitivity["outputs"][output]["indices"];
+  // Per tolerance where the kind names them (a tolerance's columns as one bar), else per column.
+  const json& o = sensitivity["outputs"][output];
+  const json& idx = o.contains("tolerances") ? o["tolerances"] : o["indices"];
   const std::string name = output + "_sobol";
   {
     std::ostringstream d;

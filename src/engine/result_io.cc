@@ -14,7 +14,9 @@ namespace poise::studies {
 
 nlohmann::json estimate_json(const sampling::Estimate& e) {
   using nlohmann::json;
-  return {{"value", e.value}, {"ci95", {e.lo ? json(*e.lo) : json(nullptr), e.hi ? json(*e.hi) : json(nullptr)}}};
+  json j{{"value", e.value}, {"ci95", {e.lo ? json(*e.lo) : json(nullptr), e.hi ? json(*e.hi) : json(nullptr)}}};
+  if (!e.note.empty()) j["ci95_note"] = e.note;  // one-sided or approximate, and why
+  return j;
 }
 
 nlohmann::json summary_json(const sampling::Summary& s) {

@@ -53,7 +53,9 @@ RunPlan plan_run(StudyConfig& cfg, const RunOptions& options,
     cfg.saltelli_base = p.sensitivity_base;
     cfg.saltelli_noise_group = own_randomness;
     cfg.replicate_size = 0;
-    p.samples = p.sensitivity_base * (dimensions + (own_randomness ? 1 : 0) + 2);
+    p.samples = p.sensitivity_base * (dimensions + (own_randomness ? 1 : 0) + cfg.saltelli_groups.size() + 2);
+  } else {
+    cfg.saltelli_groups.clear();
   }
   if (!p.until_text.empty()) {
     if (p.sensitivity_base > 0) throw UsageError("--until does not apply to a sensitivity run (its size is set by --base)");
@@ -69,7 +71,7 @@ RunPlan plan_run(StudyConfig& cfg, const RunOptions& options,
   }
   // A refused --until is refused before the result folder exists: a refused command
   // leaves nothing on disk.
-  if (!p.until_text.empty()) parse_until(p.until_text, output_names());
+  if (!p.until_text.empty()) check_until_design(parse_until(p.until_text, output_names()), cfg.replicate_size);
   if (options.resume.empty()) {
     if (root) p.dir = make_run_folder(options.results_root, cfg.name, options.out);
     p.manifest = {{"kind", cfg.kind}, {"study_file", fs::absolute(cfg.file).string()},

@@ -6,6 +6,7 @@
 
 #include "core/error.h"
 #include "engine/study_kind.h"
+#include "sampling/statistics.h"
 
 namespace poise::studies {
 
@@ -98,14 +99,9 @@ double statistic(std::vector<double> v, const std::string& name) {
       used = 0;
     }
     if (used != q.size() || !(p >= 0.0 && p <= 100.0)) throw Error("unknown statistic '" + name + "'");
-    // Linear interpolation between order statistics (type 7).
-    const double h = (n - 1.0) * p / 100.0;
-    const auto lo = static_cast<std::size_t>(std::floor(h));
-    std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(lo), v.end());
-    const double a = v[lo];
-    if (lo + 1 >= v.size()) return a;
-    const double b = *std::min_element(v.begin() + static_cast<std::ptrdiff_t>(lo) + 1, v.end());
-    return a + (h - static_cast<double>(lo)) * (b - a);
+    // The quantile definition of summary.json (sampling/statistics.h: Hyndman & Fan 8,
+    // median-unbiased), so that an objective and its reported figure agree.
+    return sampling::quantile_value(v, p / 100.0);
   }
   throw Error("unknown statistic '" + name +
               "'; use mean, std, min, max, p<q> (p50, p95, p99.73), fraction_le:<x> or fraction_ge:<x>");

@@ -12,9 +12,12 @@
 ///   std        chi-square, assuming normal values (reported, not accepted as a bound).
 ///   min, max   the sample extreme; no distribution-free bound exists on its far side.
 /// Randomized replicates (lhs / sobol with replicate_size, whose points are not independent):
-///   pooled statistic +- t(c, R-1) x the standard error of the R replicates' own statistics,
-///   for every statistic but min and max (sampling::summarize_replicates does the same
-///   for its figures at 95%).
+///   p<q>       Woodruff's bound (sampling::replicate_quantile_bound): the replicates' shares
+///              below the pooled quantile, p +- t(c, R-1) x their standard error, mapped back
+///              through the pooled order statistics; none past the pooled sample.
+///   others     pooled statistic +- t(c, R-1) x the standard error of the R replicates' own
+///              statistics, for every statistic but min and max.
+///   (sampling::summarize_replicates does the same for its figures at 95%.)
 #include <cstddef>
 #include <cstdint>
 #include <optional>

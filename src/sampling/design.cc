@@ -49,6 +49,9 @@ Design::Design(SamplingMethod method, std::uint64_t seed, std::size_t n_samples,
     const std::size_t groups = saltelli_groups();
     require(n_samples == options.saltelli_base * (groups + 2),
             "the Saltelli layout needs base x (groups + 2) samples");
+    for (const auto& g : options.saltelli_extra_groups) {
+      for (std::size_t d : g) require(d < dimension, "a Saltelli group names a dimension past the design's");
+    }
     saltelli_base_ = std::make_shared<const Design>(method, seed, options.saltelli_base, 2 * dimension);
     return;
   }
@@ -128,8 +131,12 @@ void Design::point(std::size_t i, std::span<double> u) const {
     thread_local std::vector<double> ab;
     ab.resize(2 * dimension_);
     saltelli_base_->point(j, ab);
+    const std::size_t first_extra = 2 + dimension_ + (options_.saltelli_noise_group ? 1 : 0);
+    const std::vector<std::size_t>* extra =
+        m >= first_extra ? &options_.saltelli_extra_groups[m - first_extra] : nullptr;
     for (std::size_t d = 0; d < dimension_; ++d) {
-      const bool from_b = m == 1 || m == 2 + d;
+      const bool from_b =
+          m == 1 || m == 2 + d || (extra && std::find(extra->begin(), extra->end(), d) != extra->end());
       u[d] = ab[from_b ? dimension_ + d : d];
     }
     return;

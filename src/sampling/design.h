@@ -25,6 +25,10 @@
 ///                 is the within-sample randomness, whose key stream_index() gives: A's for
 ///                 A and every AB_g but the noise group's, B's for B and AB_noise. A and B
 ///                 are the two halves of one design of 2 x dimension over N points.
+///                 saltelli_extra_groups appends closed groups of several dimensions (a
+///                 tolerance's amplitude, phase and per-bearing columns together): group
+///                 g = dimension (+ 1 with the noise group) + e takes every dimension of
+///                 extra group e from B, and keys its own randomness like A.
 #include <cstddef>
 #include <cstdint>
 #include <memory>
@@ -41,6 +45,7 @@ struct DesignOptions {
   std::size_t replicate_size = 0;  ///< 0: one design of all samples
   std::size_t saltelli_base = 0;   ///< 0: no sensitivity layout
   bool saltelli_noise_group = false;
+  std::vector<std::vector<std::size_t>> saltelli_extra_groups;  ///< closed groups of dimensions
   bool scramble = false;           ///< sobol: linear matrix scramble (set for replicates)
 };
 
@@ -65,7 +70,9 @@ class Design {
   /// in the Saltelli layout (see above).
   std::uint64_t stream_index(std::size_t i) const;
   /// Saltelli layout: the number of groups (dimension, plus one for the noise group).
-  std::size_t saltelli_groups() const { return dimension_ + (options_.saltelli_noise_group ? 1 : 0); }
+  std::size_t saltelli_groups() const {
+    return dimension_ + (options_.saltelli_noise_group ? 1 : 0) + options_.saltelli_extra_groups.size();
+  }
 
  private:
   struct Replicates;  // lazily built designs of the replicates, shared by copies

@@ -84,7 +84,7 @@ Spread spread(std::vector<double>& reps) {
   return out;
 }
 
-Estimate with_spread(double value, const Spread& s) { return {value, s.lo, s.hi}; }
+Estimate with_spread(double value, const Spread& s) { return {value, s.lo, s.hi, {}}; }
 
 }  // namespace
 

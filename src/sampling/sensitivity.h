@@ -28,7 +28,7 @@
 /// Bootstrap. Resample r = 0..B-1 draws n rows of R with replacement, from
 /// RandomStream(seed, StreamId::kBootstrap, r) (deterministic, independent of threads), and
 /// recomputes everything on those rows (m, V and every V_g, VT_g: one resample for numerator
-/// and denominator). Reported: value = the estimate on the data, lo/hi = type-7 2.5% and
+/// and denominator). Reported: value = the estimate on the data, lo/hi = the 2.5% and
 /// 97.5% quantiles of the B replicates (percentile interval), *_se = the standard deviation
 /// of the replicates. Replicates that are not finite (a resample without a row of R_g) are
 /// left out. Intervals assume independent base rows (plain Monte Carlo A and B); for

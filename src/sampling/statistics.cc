@@ -4,6 +4,7 @@
 #include <boost/math/distributions/binomial.hpp>
 #include <boost/math/distributions/students_t.hpp>
 #include <cmath>
+#include <cstdio>
 
 #include "core/error.h"
 
@@ -20,8 +21,10 @@ struct QuantileRanks {
 
 QuantileRanks quantile_ranks(std::size_t n, double p, bool with_ci) {
   QuantileRanks r;
-  const double h = (static_cast<double>(n) - 1.0) * p;
-  r.lo_i = static_cast<std::size_t>(std::floor(h));
+  // Definition 8 (Hyndman & Fan 1996): 1-based rank (n + 1/3) p + 1/3, clamped to [1, n].
+  const double nn = static_cast<double>(n);
+  const double h = std::clamp((nn + 1.0 / 3.0) * p + 1.0 / 3.0, 1.0, nn) - 1.0;  // 0-based
+  r.lo_i = std::min(static_cast<std::size_t>(std::floor(h)), n - 1);
   r.hi_i = std::min(r.lo_i + 1, n - 1);
   r.frac = h - static_cast<double>(r.lo_i);
   if (!with_ci) return r;
@@ -47,11 +50,40 @@ Estimate quantile_at(const QuantileRanks& r, At at) {
   return e;
 }
 
+std::string count_text(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.0f", v);
+  return buf;
+}
+
+// The note of a quantile's order-statistic interval with an end missing.
+void note_missing_ends(Estimate& e, std::size_t n, double p) {
+  if (e.lo && e.hi) return;
+  if (!e.lo && !e.hi) {
+    e.note = "no interval: " + std::to_string(n) + " samples are too few for either end";
+  } else if (!e.hi) {
+    e.note = "one-sided: no upper bound below n = " + std::to_string(samples_for_upper_end(p)) +
+             " (the upper 97.5% order statistic of p" + count_text(100.0 * p) + " lies past the largest of " +
+             std::to_string(n) + " samples)";
+  } else {
+    e.note = "one-sided: no lower bound below n = " + std::to_string(samples_for_upper_end(1.0 - p));
+  }
+}
+
 }  // namespace
+
+std::size_t samples_for_upper_end(double p) {
+  // The upper end X(u) exists when P(Binomial(n, p) <= n - 1) = 1 - p^n >= 0.975.
+  if (!(p > 0.0)) return 1;
+  if (!(p < 1.0)) return static_cast<std::size_t>(-1);
+  return static_cast<std::size_t>(std::ceil(std::log(0.025) / std::log(p) - 1e-9));
+}
 
 Estimate quantile_sorted(std::span<const double> sorted, double p) {
   require(!sorted.empty(), "quantile of an empty sample");
-  return quantile_at(quantile_ranks(sorted.size(), p, true), [&](std::size_t k) { return sorted[k]; });
+  Estimate e = quantile_at(quantile_ranks(sorted.size(), p, true), [&](std::size_t k) { return sorted[k]; });
+  note_missing_ends(e, sorted.size(), p);
+  return e;
 }
 
 double quantile_value(std::span<double> data, double p) {
@@ -74,7 +106,7 @@ Estimate fraction_wilson(std::size_t successes, std::size_t n) {
   // The Wilson ends are exactly 0 and 1 at 0 and n successes (rounding would miss them).
   const double lo = successes == 0 ? 0.0 : std::max(0.0, centre - half);
   const double hi = successes == n ? 1.0 : std::min(1.0, centre + half);
-  return {ph, lo, hi};
+  return {ph, lo, hi, {}};
 }
 
 Summary summarize(std::span<const double> values) {
@@ -134,47 +166,13 @@ Summary summarize(std::span<const double> values) {
   s.p50 = quantile_at(r50, at);
   s.p95 = quantile_at(r95, at);
   s.p99_73 = quantile_at(r9973, at);
+  note_missing_ends(s.p50, n, 0.50);
+  note_missing_ends(s.p95, n, 0.95);
+  note_missing_ends(s.p99_73, n, 0.9973);
   s.max.value = data[n - 1];
   s.max.lo = quantile_at(rmax, at).lo;
+  s.max.note = "one-sided: the sample maximum has no distribution-free upper bound";
   return s;
-}
-
-}  // namespace poise::sampling
-
-namespace poise::sampling {
-
-Summary summarize_replicates(std::span<const double> values, std::span<const std::size_t> replicate_of) {
-  require(values.size() == replicate_of.size(), "one replicate number per value");
-  Summary pooled = summarize(values);
-  std::vector<std::vector<double>> groups;
-  for (std::size_t k = 0; k < values.size(); ++k) {
-    if (groups.size() <= replicate_of[k]) groups.resize(replicate_of[k] + 1);
-    groups[replicate_of[k]].push_back(values[k]);
-  }
-  std::vector<Summary> per;
-  for (const auto& g : groups) {
-    if (g.size() >= 2) per.push_back(summarize(g));
-  }
-  const std::size_t r = per.size();
-  auto by_replicates = [&](Estimate& e, Estimate Summary::*field) {
-    e.lo.reset();
-    e.hi.reset();
-    if (r < 2) return;
-    double mean = 0.0, m2 = 0.0;
-    for (const auto& s : per) mean += (s.*field).value;
-    mean /= static_cast<double>(r);
-    for (const auto& s : per) m2 += ((s.*field).value - mean) * ((s.*field).value - mean);
-    const double se = std::sqrt(m2 / static_cast<double>(r - 1) / static_cast<double>(r));
-    const double half = boost::math::quantile(boost::math::students_t(static_cast<double>(r - 1)), 0.975) * se;
-    e.lo = e.value - half;
-    e.hi = e.value + half;
-  };
-  by_replicates(pooled.mean, &Summary::mean);
-  by_replicates(pooled.std, &Summary::std);
-  by_replicates(pooled.p50, &Summary::p50);
-  by_replicates(pooled.p95, &Summary::p95);
-  by_replicates(pooled.p99_73, &Summary::p99_73);
-  return pooled;  // max keeps its order-statistic bound
 }
 
 }  // namespace poise::sampling

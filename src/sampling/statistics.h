@@ -3,8 +3,15 @@
 /// how much of a figure is sampling noise.
 ///   mean   : mean +- t(0.975, n-1) s / sqrt(n)
 ///   std    : asymptotic, distribution-free: Var(s^2) ~ (m4 - s^4 (n-3)/(n-1)) / n, delta method
-///   pXX    : order-statistic interval from the exact binomial(n, p) distribution; distribution-
-///            free. An end that needs more samples than n is reported as missing (null).
+///   pXX    : point value: Hyndman & Fan (1996) definition 8, rank h = (n + 1/3) p + 1/3
+///            (1-based, linear between order statistics, clamped to the sample's ends): median-
+///            unbiased for any continuous distribution, so that P(estimate < true quantile) is
+///            about 1/2 even far in the tail. (Definition 7, h = (n - 1) p + 1, the common default,
+///            runs low in the tail: at n = 1024 its p99.73 lies below the true value in about 65%
+///            of runs; tests/statistics_test.cc measures both.)
+///            Interval: order statistics from the exact binomial(n, p) distribution, distribution-
+///            free. An end that needs more samples than n is missing (null) and `note` says so:
+///            the upper end of pXX needs n >= ln(0.025) / ln(p) (1365 for p99.73, 72 for p95).
 ///   max    : the sample maximum; lower end = lower order-statistic bound of the quantile
 ///            n/(n+1), upper end unknown (no distribution-free upper bound exists).
 ///   fraction (of successes): Wilson score interval.
@@ -23,6 +30,9 @@ struct Estimate {
   double value = 0.0;
   std::optional<double> lo;  ///< lower end of the 95% CI, if it exists
   std::optional<double> hi;  ///< upper end of the 95% CI, if it exists
+  /// "" or how to read the interval: "one-sided: ..." when an end is missing and why,
+  /// "approximate: ..." when the interval rests on too few samples to be trusted at 95%.
+  std::string note;
 };
 
 struct Summary {
@@ -33,14 +43,40 @@ struct Summary {
 /// Summary of the values (order does not matter). Throws if values is empty.
 Summary summarize(std::span<const double> values);
 
-/// Summary of values from independent randomized replicates (design.h replicate_size):
-/// each figure is the pooled one, its 95% interval pooled +- t(0.975, R-1) x the standard
-/// error of the R replicates' own figures (R >= 2 replicates of 2 or more values; otherwise
-/// no interval). Honest for lhs and scrambled Sobol points, which are not independent
-/// within a replicate. The max keeps its order-statistic bound.
+/// Summary of values from independent randomized replicates (design.h replicate_size), for
+/// lhs and scrambled Sobol points, which are not independent within a replicate. Each figure
+/// is the pooled one (R >= 2 replicates of 2 or more values; otherwise no interval):
+///   mean, std : pooled +- t(0.975, R-1) x the standard error of the R replicates' own figures.
+///   pXX       : Woodruff's interval (Woodruff 1952, JASA 47:635; with replicate variances as in
+///               survey sampling, Francisco & Fuller 1991, Ann. Stat. 19:454). At the pooled
+///               estimate q each replicate r gives F_r = its share of values below q (ties
+///               count half); the share's 95% interval p +- t(0.975, R-1) sd(F_r) / sqrt(R) is
+///               mapped back through the pooled order statistics (ranks by definition 8,
+///               rounded outwards). Not each replicate's own quantile: a replicate of 64 points
+///               has its "p99.73" at its maximum, and their spread then says nothing about
+///               the pooled figure (an interval that covered in 70% of runs, issue 21).
+///               An end past the pooled sample is missing ("one-sided"); when
+///               replicate_size x min(p, 1 - p) < kMinTailPerReplicate the interval is flagged
+///               "approximate" (its spread is a spread of a few counts per replicate).
+///   max       : keeps its order-statistic bound.
 Summary summarize_replicates(std::span<const double> values, std::span<const std::size_t> replicate_of);
 
-/// Quantile of sorted values (type 7 / linear interpolation) with its binomial CI.
+/// One end of Woodruff's interval above (upper) or below the p-quantile from replicates at
+/// one-sided confidence `confidence` (t(confidence, R-1)); nullopt with fewer than 2
+/// replicates of 2 or more values, or when the end lies past the pooled sample. At 0.975 the
+/// ends of summarize_replicates' 95% interval.
+std::optional<double> replicate_quantile_bound(std::span<const double> values, std::span<const std::size_t> replicate_of,
+                                               double p, double confidence, bool upper);
+
+/// Expected samples per replicate beyond a quantile below which its replicate interval is
+/// approximate, and `--until` on it is refused.
+inline constexpr double kMinTailPerReplicate = 10.0;
+
+/// Smallest n at which the order-statistic 95% interval of the p-quantile has an upper end
+/// (ceil(ln 0.025 / ln p): 1365 for p = 0.9973).
+std::size_t samples_for_upper_end(double p);
+
+/// Quantile of sorted values (definition 8, see above) with its binomial CI.
 Estimate quantile_sorted(std::span<const double> sorted, double p);
 
 /// Quantile value only (no CI) of unsorted data, which it partially reorders; O(n).

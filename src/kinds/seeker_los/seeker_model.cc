@@ -27,12 +27,44 @@ constexpr SourceDef kBearingSources[] = {
     {"bore_roundness", 2.0, true}, {"ball_roundness", 3.0, false}, {"seat_deformation", 2.0, false},
 };
 
+// [yaw.perpendicularity] direction, sigma_of, azimuth (the reading of the tolerance).
+void read_tilt_reading(TomlReader& axis_table, const std::string& axis, TiltReading& r) {
+  TomlReader t = axis_table.table("perpendicularity");
+  if (axis != "yaw") {
+    for (const char* key : {"direction", "sigma_of", "azimuth"}) {
+      if (t.has(key)) {
+        t.error(key, "", std::string("no `") + key + "` here: the pitch axis' perpendicularity is its tilt towards "
+                "the yaw axis, one direction by definition (the key belongs to [yaw.perpendicularity])");
+      }
+    }
+    return;
+  }
+  const std::string direction = t.choice("direction", {"random", "fixed"}, "random");
+  r.random_direction = direction == "random";
+  // With a fixed direction the tolerance is that of the one signed component: sigma_of may
+  // say "component" (so that one override of `direction` and one of `sigma_of` turn the
+  // shipped reading into the paper's), never "magnitude".
+  const std::string sigma_of = t.choice("sigma_of", {"magnitude", "component"}, r.random_direction ? "magnitude" : "component");
+  r.per_component = r.random_direction && sigma_of == "component";
+  if (!r.random_direction || t.schema_only()) r.azimuth = t.quantity("azimuth", kAngle, {}, 0.0);
+  if (r.random_direction && t.has("azimuth")) {
+    t.error("azimuth", "", "no azimuth with direction = \"random\" (the azimuth is drawn); set direction = "
+            "\"fixed\" to give one");
+  }
+  if (!r.random_direction && sigma_of == "magnitude") {
+    t.error("sigma_of", sigma_of, "sigma_of = \"component\" (or no sigma_of) with direction = \"fixed\": the "
+            "tolerance is that of the one signed component along `azimuth`; \"magnitude\" reads a tilt of random "
+            "direction");
+  }
+}
+
 SeekerAxis read_axis(TomlReader& root, const std::string& name) {
   SeekerAxis axis;
   TomlReader t = root.table(name);
   axis.span = t.quantity("bearing_span", kLength, positive);
   t.string("span_source", "");
   axis.perpendicularity = read_tolerance(t, "perpendicularity", kLength, "mm");
+  read_tilt_reading(t, name, axis.tilt_reading);
   for (const auto& def : kBearingSources) {
     if (!t.has_or_schema(def.name)) continue;
     BearingSource src;
@@ -48,6 +80,12 @@ SeekerAxis read_axis(TomlReader& root, const std::string& name) {
 }
 
 }  // namespace
+
+std::string TiltReading::describe() const {
+  if (!random_direction) return "fixed direction (azimuth " + units::format(azimuth, "deg") + "), signed tolerance";
+  return per_component ? "random direction, tolerance per component (x and y drawn independently)"
+                       : "random direction, tolerance of the magnitude (each component sigma/sqrt 2)";
+}
 
 std::vector<std::string> SeekerModel::tolerance_keys() const {
   std::vector<std::string> keys = {"yaw.perpendicularity"};
@@ -132,15 +170,30 @@ SeekerModel load_seeker_model(const std::string& path,
 }
 
 SeekerSampler::SeekerSampler(const SeekerModel& model) : model_(model) {
-  auto add = [&](std::string name, double factor) { columns_.push_back({std::move(name), factor}); };
+  // Each column with the model file's tolerance key it is drawn from (its Sobol group).
+  std::string tolerance;
+  auto add = [&](std::string name, double factor) {
+    columns_.push_back({std::move(name), factor});
+    column_tolerances_.push_back(tolerance);
+  };
+  tolerance = "load_deformation";
   add("k_load", 1.0);
-  add("yaw_perpendicularity_tilt_arcsec", units::kRadPerArcsec);
-  add("yaw_perpendicularity_azimuth_deg", units::kRadPerDeg);
+  tolerance = "yaw.perpendicularity";
+  if (model_.yaw.tilt_reading.per_component && model_.yaw.tilt_reading.random_direction) {
+    add("yaw_perpendicularity_x_arcsec", units::kRadPerArcsec);
+    add("yaw_perpendicularity_y_arcsec", units::kRadPerArcsec);
+  } else {
+    add("yaw_perpendicularity_tilt_arcsec", units::kRadPerArcsec);
+    add("yaw_perpendicularity_azimuth_deg", units::kRadPerDeg);
+  }
+  tolerance = "pitch.perpendicularity";
   add("pitch_perpendicularity_arcsec", units::kRadPerArcsec);
+  tolerance = "optics.axis_error";
   add("optics_collimation_arcsec", units::kRadPerArcsec);
   for (const auto* axis : {"yaw", "pitch"}) {
     const SeekerAxis& a = std::string(axis) == "yaw" ? model_.yaw : model_.pitch;
     for (const auto& s : a.bearing_sources) {
+      tolerance = std::string(axis) + "." + s.name;
       for (const char* bearing : {"A", "B"}) {
         add(std::string(axis) + "_" + s.name + "_" + bearing + "_um", 1e-6);
         add(std::string(axis) + "_" + s.name + "_" + bearing + "_phase_deg", units::kRadPerDeg);
@@ -159,10 +212,24 @@ models::SeekerErrorState SeekerSampler::draw(std::span<const double> u,
   // Drawn values go to `values` in SI first, converted to display units at the end.
   auto take = [&](double v) { values[k++] = v; return v; };
   const double k_load = take(model_.load_deformation.dist.quantile(u[k]));
-  // Yaw axis perpendicularity: magnitude over the span towards a random azimuth.
-  const double tilt = take(model_.yaw.perpendicularity.dist.magnitude_quantile(u[k]) / model_.yaw.span);
-  const double azimuth = take(2.0 * units::kPi * u[k]);
-  s.yaw.static_tilt = {tilt * std::cos(azimuth), tilt * std::sin(azimuth)};
+  // Yaw axis perpendicularity over the span, read as the model says (two design dimensions
+  // in every reading, so the other inputs keep their draws).
+  const TiltReading& reading = model_.yaw.tilt_reading;
+  const sampling::Distribution& perp = model_.yaw.perpendicularity.dist;
+  const double span = model_.yaw.span;
+  if (!reading.random_direction) {  // signed, along the stated azimuth; the second dimension unused
+    const double tilt = take(perp.quantile(u[k]) / span);
+    const double azimuth = take(reading.azimuth);
+    s.yaw.static_tilt = {tilt * std::cos(azimuth), tilt * std::sin(azimuth)};
+  } else if (reading.per_component) {
+    const double tx = take(perp.quantile(u[k]) / span);
+    const double ty = take(perp.quantile(u[k]) / span);
+    s.yaw.static_tilt = {tx, ty};
+  } else {  // the magnitude towards a uniformly random azimuth
+    const double tilt = take(perp.magnitude_quantile(u[k]) / span);
+    const double azimuth = take(2.0 * units::kPi * u[k]);
+    s.yaw.static_tilt = {tilt * std::cos(azimuth), tilt * std::sin(azimuth)};
+  }
   s.pitch.static_tilt = {0.0, take(model_.pitch.perpendicularity.dist.quantile(u[k]) / model_.pitch.span)};
   s.collimation = take(model_.optical_axis.dist.quantile(u[k]) / model_.barrel_length);
   for (int axis = 0; axis < 2; ++axis) {

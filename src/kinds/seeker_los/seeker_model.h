@@ -4,8 +4,16 @@
 /// mapping from a design point to one realization of the errors (SeekerErrorState).
 ///
 /// Error sources and their geometric meaning (see models/seeker_los_chain.h):
-///   yaw.perpendicularity     Delta over the yaw span L1 -> static tilt |X|/L1 of the yaw
-///                            axis towards a uniformly random azimuth
+///   yaw.perpendicularity     Delta over the yaw span L1 -> static tilt of the yaw axis, read
+///                            as the model file's `direction` and `sigma_of` say:
+///                            "random" + "magnitude" (default): |X|/L1 towards a uniformly random
+///                              azimuth (the tolerance is the tilt's magnitude: each component
+///                              has sigma/sqrt 2);
+///                            "random" + "component": X1/L1 and X2/L1 independently along x and y
+///                              (the tolerance is per component: the magnitude is Rayleigh-like,
+///                              RMS sqrt 2 sigma);
+///                            "fixed": signed X/L1 along `azimuth` (default 0 deg, the yaw
+///                              frame's x axis), the paper's single-direction reading.
 ///   pitch.perpendicularity   X/L2 -> pitch axis tilt towards the yaw axis (signed)
 ///   optics.axis_error        X/L3 -> optical axis off perpendicular to the pitch axis
 ///   <axis>.radial_runout, face_runout, clearance, bore_roundness (scaled by k'):
@@ -37,9 +45,17 @@ struct BearingSource {
   bool load_scaled = false;  ///< multiplied by k'
 };
 
+/// How the yaw perpendicularity's tilt is drawn (see above).
+struct TiltReading {
+  bool random_direction = true;     ///< direction = "random" | "fixed"
+  bool per_component = false;       ///< sigma_of = "component" | "magnitude" (random only)
+  double azimuth = 0.0;             ///< rad, direction = "fixed"
+  std::string describe() const;     ///< e.g. "random direction, tolerance of the magnitude"
+};
 struct SeekerAxis {
   double span = 0.0;  ///< bearing span L (m)
   ToleranceSpec perpendicularity;
+  TiltReading tilt_reading;  ///< yaw only (the pitch tilt is towards the yaw axis by definition)
   std::vector<BearingSource> bearing_sources;
 };
 
@@ -81,12 +97,16 @@ class SeekerSampler {
   explicit SeekerSampler(const SeekerModel& model);
   std::size_t dimension() const { return columns_.size(); }
   const std::vector<InputColumn>& columns() const { return columns_; }
+  /// The model file's tolerance key of each column ("yaw.radial_runout" for its amplitude and
+  /// phase at both bearings): the columns of one key form its group in the Sobol indices.
+  const std::vector<std::string>& column_tolerances() const { return column_tolerances_; }
   /// u: design point (size dimension()); values: drawn inputs in display units (same size).
   models::SeekerErrorState draw(std::span<const double> u, std::span<double> values) const;
 
  private:
   SeekerModel model_;
   std::vector<InputColumn> columns_;
+  std::vector<std::string> column_tolerances_;
 };
 
 }  // namespace poise::studies

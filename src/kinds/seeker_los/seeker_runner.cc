@@ -117,6 +117,15 @@ std::string run_seeker_study(const StudyConfig& file_cfg, const RunOptions& opti
   const SeekerLosSections& sec = seeker_sections(cfg);
   const bool root = sampling::Cluster::root();
   const int ranks = sampling::Cluster::size();
+  // Sensitivity: one closed Sobol group per model tolerance drawn in several columns.
+  ToleranceGroups tolerances;
+  {
+    const SeekerSampler sampler(model);
+    std::vector<std::string> names;
+    for (const auto& c : sampler.columns()) names.push_back(c.name);
+    tolerances = tolerance_groups(names, sampler.column_tolerances());
+    cfg.saltelli_groups = tolerances.closed_groups();
+  }
   RunPlan plan = plan_run(cfg, options, [&] {
     // A LOS sample is a pure function of its design point: no randomness of its own.
     return std::make_pair(SeekerSampler(model).dimension(), false);
@@ -239,7 +248,8 @@ std::string run_seeker_study(const StudyConfig& file_cfg, const RunOptions& opti
     inputs.push_back({{"name", name}, {"distribution", t.dist.describe(t.display_factor, t.display_unit)},
                       {"source", t.source}});
   };
-  tol_json("yaw.perpendicularity (over " + units::format(model.yaw.span, "mm") + ")", model.yaw.perpendicularity);
+  tol_json("yaw.perpendicularity (over " + units::format(model.yaw.span, "mm") + "; " + model.yaw.tilt_reading.describe() + ")",
+           model.yaw.perpendicularity);
   tol_json("pitch.perpendicularity (over " + units::format(model.pitch.span, "mm") + ")", model.pitch.perpendicularity);
   tol_json("optics.axis_error (over " + units::format(model.barrel_length, "mm") + ")", model.optical_axis);
   for (const auto* a : {&model.yaw, &model.pitch}) {
@@ -294,7 +304,7 @@ std::string run_seeker_study(const StudyConfig& file_cfg, const RunOptions& opti
     for (std::size_t k = 0; k < mc.values.size(); ++k) {
       for (std::size_t m = 0; m < mc.ok_index.size(); ++m) by_index[k][mc.ok_index[m]] = mc.values[k][m];
     }
-    s["sensitivity"] = sensitivity_json(output_names, groups, sensitivity_base, by_index, seed);
+    s["sensitivity"] = sensitivity_json(output_names, groups, sensitivity_base, by_index, seed, tolerances);
   }
   s["sweeps"] = sweeps;
   s["provenance"] = {{"poise_version", kVersion}, {"git_commit", git_commit()},
