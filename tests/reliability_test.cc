@@ -468,6 +468,38 @@ TEST(Sensitivity, GeometryStudyThicknessDrivesTheDiskMass) {
   }
 }
 
+TEST(Sensitivity, ProcedureStudyGroupsATolerancesColumnsTogether) {
+  // A procedure kind: the gimbal's residual unbalance is drawn as a magnitude and an angle
+  // (two design dimensions); its Sobol group is the model key with both columns closed
+  // together, beside the per-column detail, and the layout has one more block per group.
+  TempDir d;
+  std::string text = poise::test::read_text(poise::test::source_path("studies/gimbal_unbalance_mc.toml"));
+  text = poise::test::replace_once(text, "model = \"../models/", "model = \"" + poise::test::source_path("models") + "/");
+  poise::test::write_text(d.file("g.toml"), text);
+  auto r = poise::test::run_poise(d, "sensitivity '" + d.file("g.toml") + "' --base 4 -q --no-plots --out '" +
+                                         d.file("s") + "'");
+  ASSERT_EQ(r.status, 0) << r.err;
+  const json s = json::parse(poise::test::read_text(d.file("s/summary.json")));
+  const json& sens = s["sensitivity"];
+  const json& out = sens["outputs"].begin().value();
+  std::size_t closed = 0;
+  bool residual = false;
+  for (const json& t : out["tolerances"]) {
+    closed += t["columns"].get<std::size_t>() > 1;
+    if (t["group"] == "tolerances.residual_unbalance") {
+      residual = true;
+      EXPECT_EQ(t["columns"], 2) << t.dump();
+    }
+  }
+  EXPECT_TRUE(residual) << out["tolerances"].dump();
+  EXPECT_GE(closed, 2u);  // residual unbalance, run-out, axis tilt: magnitude and angle each
+  EXPECT_EQ(sens["evaluations"].get<std::size_t>(), 4 * (sens["groups"].size() + closed + 2));
+  EXPECT_EQ(s["sampling"]["samples"].get<std::size_t>(), sens["evaluations"].get<std::size_t>());
+  bool per_column = false;
+  for (const json& g : out["indices"]) per_column = per_column || g["group"] == "residual_unbalance_angle_deg";
+  EXPECT_TRUE(per_column) << out["indices"].dump();
+}
+
 // CI runs as root in a container: Open MPI refuses root unless told (the flag, and its
 // environment form for the ranks' own checks).
 [[maybe_unused]] constexpr const char* kMpiRootEnv = "OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 ";

@@ -150,6 +150,16 @@ std::string run_procedure_study(const StudyConfig& cfg_in, const StudyFactory& m
   StudyConfig cfg = cfg_in;
   const bool root = sampling::Cluster::root();
   const int ranks = sampling::Cluster::size();
+  // Sensitivity: one closed Sobol group per model tolerance drawn in several columns.
+  ToleranceGroups tolerances;
+  {
+    const auto probe = make_study(cfg, 1, cfg.seed);
+    const auto names = probe->design_dimension_names();
+    std::vector<std::string> keys = probe->design_dimension_tolerances();
+    keys.resize(names.size());
+    tolerances = tolerance_groups(names, keys);
+    cfg.saltelli_groups = tolerances.closed_groups();
+  }
   RunPlan plan = plan_run(cfg, options, [&] {
     const auto probe = make_study(cfg, 1, cfg.seed);
     return std::make_pair(probe->design_dimension_names().size(), probe->has_own_randomness());
@@ -243,7 +253,7 @@ std::string run_procedure_study(const StudyConfig& cfg_in, const StudyFactory& m
     for (std::size_t k = 0; k < mc.values.size(); ++k) {
       for (std::size_t m = 0; m < mc.ok_index.size(); ++m) by_index[k][mc.ok_index[m]] = mc.values[k][m];
     }
-    s["sensitivity"] = sensitivity_json(study.output_names(), groups, sensitivity_base, by_index, seed);
+    s["sensitivity"] = sensitivity_json(study.output_names(), groups, sensitivity_base, by_index, seed, tolerances);
   }
   s["solver"] = study.solver_json(mc);
   if (rhs_uncounted > 0) {

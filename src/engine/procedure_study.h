@@ -126,6 +126,10 @@ class ProcedureStudy {
   /// unless a study says otherwise) and whether a sample has randomness of its own beyond
   /// its design point (per-test draws, noise).
   virtual std::vector<std::string> design_dimension_names() const = 0;
+  /// The model's tolerance key of each design dimension ("" = a tolerance of its own, named
+  /// by design_dimension_names()): a tolerance drawn in several columns (a magnitude and its
+  /// angle, one per plate or axis) gets one closed Sobol group. Empty = every column its own.
+  virtual std::vector<std::string> design_dimension_tolerances() const { return {}; }
   virtual bool has_own_randomness() const { return true; }
   /// Sample i alone (depends only on seed, sample count, method and i).
   virtual SampleResult replay(std::size_t i) const = 0;
@@ -160,6 +164,12 @@ class ProcedureStudyBase : public ProcedureStudy {
       names[k] = k < d.input_names().size() ? d.input_names()[k] : "(unused dimension " + std::to_string(k) + ")";
     }
     return names;
+  }
+  std::vector<std::string> design_dimension_tolerances() const override {
+    const Derived& d = static_cast<const Derived&>(*this);
+    std::vector<std::string> keys(d.design_dimension());
+    for (std::size_t k = 0; k < keys.size() && k < d.input_tolerances().size(); ++k) keys[k] = d.input_tolerances()[k];
+    return keys;
   }
   SampleResult replay(std::size_t i) const override {
     const Derived& d = static_cast<const Derived&>(*this);

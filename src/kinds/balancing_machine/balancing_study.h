@@ -64,6 +64,8 @@ class BalancingStudy : public ProcedureStudyBase<BalancingStudy> {
   const StudyConfig& config() const override { return config_; }
   std::size_t samples() const { return samples_; }
   const std::vector<std::string>& input_names() const override { return input_names_; }
+  /// The model's tolerance key of each input column (one key covers the three plates).
+  const std::vector<std::string>& input_tolerances() const { return input_tolerances_; }
   std::size_t design_dimension() const { return design_.dimension(); }
   const std::vector<std::string>& output_names() const override { return output_names_; }
   std::string model_name() const override { return model_.name; }
@@ -92,7 +94,7 @@ class BalancingStudy : public ProcedureStudyBase<BalancingStudy> {
   BalancingModel model_;
   std::size_t samples_;
   std::uint64_t seed_;
-  std::vector<std::string> input_names_, output_names_, warnings_;
+  std::vector<std::string> input_names_, output_names_, warnings_, input_tolerances_;
   std::vector<std::string> input_warnings() const;
   std::size_t dimension_ = 0;
   sampling::Design design_;

@@ -60,6 +60,7 @@ BalancingStudy::BalancingStudy(StudyConfig config, BalancingModel model, std::si
     if (t.per_test) continue;
     input_names_.push_back(std::string(s.name) + display_suffix(t.spec));
     if (s.magnitude) input_names_.push_back(std::string(s.name) + "_angle_deg");
+    input_tolerances_.resize(input_names_.size(), std::string("tolerances.") + s.key);
   }
   // Outputs.
   output_names_ = {"omega1_Hz",           "omega2_Hz",         "hard_bearing_ratio",

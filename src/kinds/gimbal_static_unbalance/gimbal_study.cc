@@ -82,6 +82,7 @@ GimbalStudy::GimbalStudy(StudyConfig config, GimbalModel model, std::size_t samp
     }
     input_names_.push_back(std::string(s.name) + (unit == "1" ? "" : "_" + u));
     if (s.angle) input_names_.push_back(std::string(s.name) + "_angle_deg");
+    input_tolerances_.resize(input_names_.size(), std::string("tolerances.") + s.name);
   }
   if (disk_) {
     for (const auto& c : disk_->columns()) input_names_.push_back("disk_" + c.name);

@@ -38,6 +38,8 @@ class GimbalStudy : public ProcedureStudyBase<GimbalStudy> {
   GimbalStudy(StudyConfig config, GimbalModel model, std::size_t samples, std::uint64_t seed);
 
   const std::vector<std::string>& input_names() const override { return input_names_; }
+  /// The model's tolerance key of each input column ("" for the geometry's derived columns).
+  const std::vector<std::string>& input_tolerances() const { return input_tolerances_; }
   std::size_t design_dimension() const { return design_.dimension(); }
   const std::vector<std::string>& output_names() const override { return output_names_; }
   const StudyConfig& config() const override { return config_; }
@@ -64,7 +66,7 @@ class GimbalStudy : public ProcedureStudyBase<GimbalStudy> {
   GimbalModel model_;
   std::size_t samples_;
   std::uint64_t seed_;
-  std::vector<std::string> input_names_, output_names_;
+  std::vector<std::string> input_names_, output_names_, input_tolerances_;
   std::size_t dimension_ = 0;
   std::optional<DiskSampler> disk_;  ///< the disk as built ([geometry]), after the tolerances' dimensions
   std::optional<UserPartsSampler> parts_;  ///< or the rotor's parts as built ([[geometry.part]])

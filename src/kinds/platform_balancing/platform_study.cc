@@ -114,6 +114,7 @@ PlatformStudy::PlatformStudy(StudyConfig config, PlatformModel model, std::size_
     const ScopedTolerance& t = tolerance_of(model_, s);
     input_names_.push_back(std::string(slot_name(s)) + "_" + instance_label(s, k) + unit_suffix(t));
     if (s == Slot::kFixtureTilt) input_names_.push_back(std::string(slot_name(s)) + "_" + instance_label(s, k) + "_azimuth_deg");
+    input_tolerances_.resize(input_names_.size(), std::string("tolerances.") + slot_name(s));
   }
   for (Axis a : models::kAllAxes) output_names_.push_back(std::string("initial_") + models::axis_name(a) + "_torque_max_mNm");
   for (const auto& label : platform_sections(config_).platform.order_labels) {

@@ -80,6 +80,8 @@ class PlatformStudy : public ProcedureStudyBase<PlatformStudy> {
                 std::vector<double> shafting_los_arcsec = {}, double pixel_arcsec = 0.0);
 
   const std::vector<std::string>& input_names() const override { return input_names_; }
+  /// The model's tolerance key of each input column (its axes or components together).
+  const std::vector<std::string>& input_tolerances() const { return input_tolerances_; }
   std::size_t design_dimension() const { return design_.dimension(); }
   const std::vector<std::string>& output_names() const override { return output_names_; }
   const StudyConfig& config() const override { return config_; }
@@ -121,7 +123,7 @@ class PlatformStudy : public ProcedureStudyBase<PlatformStudy> {
   std::uint64_t seed_;
   std::vector<double> shafting_, shafting_sorted_;
   double pixel_arcsec_ = 0.0;
-  std::vector<std::string> input_names_, output_names_;
+  std::vector<std::string> input_names_, output_names_, input_tolerances_;
   std::vector<std::pair<int, int>> unit_slots_;  ///< (slot, instance) drawn from the design
   std::size_t dimension_ = 0;
   sampling::Design design_;
