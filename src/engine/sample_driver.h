@@ -169,16 +169,14 @@ DriveOutcome drive_samples(const DriveSpec& spec, MakeWorkspace make_workspace, 
       ByteWriter w;
       w.put(my_n);
       for (std::size_t k = 0; k < my_n; ++k) encode(local[k], w);
-      const std::vector<std::string> all = sampling::Cluster::gather(w.bytes());
-      if (root) {
-        std::vector<Result> theirs;
-        for (std::size_t q = 0; q < all.size(); ++q) {
-          ByteReader rd(all[q]);
-          theirs.resize(rd.get<std::size_t>());
-          for (auto& r : theirs) decode(rd, r);
-          take_chunk(std::min(base + q * chunk, spec.total), theirs);
-        }
-      }
+      // Rank by rank: rank 0 decodes and sinks one rank's chunk before it receives the next.
+      std::vector<Result> theirs;
+      sampling::Cluster::gather_each(w.bytes(), [&](int q, std::string_view bytes) {
+        ByteReader rd(bytes);
+        theirs.resize(rd.get<std::size_t>());
+        for (auto& r : theirs) decode(rd, r);
+        take_chunk(std::min(base + static_cast<std::size_t>(q) * chunk, spec.total), theirs);
+      });
     }
     if (root && sampling::interrupt_requested()) {
       out.interrupted = true;
