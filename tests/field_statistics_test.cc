@@ -34,8 +34,12 @@ void expect_same_estimate(const sampling::Estimate& a, const sampling::Estimate&
   EXPECT_NEAR(a.value, b.value, rel * std::abs(b.value) + 1e-300) << what;
   ASSERT_EQ(a.lo.has_value(), b.lo.has_value()) << what;
   ASSERT_EQ(a.hi.has_value(), b.hi.has_value()) << what;
-  if (a.lo) EXPECT_NEAR(*a.lo, *b.lo, rel * std::abs(*b.lo) + 1e-300) << what;
-  if (a.hi) EXPECT_NEAR(*a.hi, *b.hi, rel * std::abs(*b.hi) + 1e-300) << what;
+  if (a.lo) {
+    EXPECT_NEAR(*a.lo, *b.lo, rel * std::abs(*b.lo) + 1e-300) << what;
+  }
+  if (a.hi) {
+    EXPECT_NEAR(*a.hi, *b.hi, rel * std::abs(*b.hi) + 1e-300) << what;
+  }
 }
 
 TEST(FieldStatistics, EqualTheStatisticsOfTheWholeFieldInMemory) {

@@ -77,6 +77,7 @@ FieldStatistics field_statistics(std::size_t columns,
   for (const auto& l : locals) {
     for (std::size_t b = 0; b < kBins; ++b) bins[b] += l.bins[b];
   }
+  locals.clear();  // each thread's column copies, before pass 2 makes its own
 
   // The bin of each wanted rank and the rank within it.
   const std::vector<std::size_t> ranks = sampling::summary_ranks(m.n);

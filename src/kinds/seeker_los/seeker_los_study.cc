@@ -145,7 +145,12 @@ SeekerMcResult SeekerLosStudy::run(
     field = std::make_unique<WideColumnsWriter>(field_path, field_spec(), samples_, control.field_attributes,
                                                 control.field_number_attributes, threads);
   }
+  // The scalar columns, sized for every planned sample at once: a growing vector would hold
+  // its old and new storage at once (3x); untouched pages (a run stopped early, MPI ranks
+  // other than 0) take no memory.
   std::vector<std::vector<double>> out_values(kNumSeekerOutputs);
+  for (auto& v : out_values) v.reserve(samples_);
+  r.ok_index.reserve(samples_);
   std::size_t n_ok = 0, n_all_ok = 0;
 
   sampling::Progress bar("samples", samples_, progress && (!control.distributed || sampling::Cluster::root()));
