@@ -8,6 +8,7 @@ PKGS=(
   libmuparser-dev  # expressions of budget gains (poise budget)
   libhdf5-dev zlib1g-dev  # samples.h5: per-sample grid values of a run (HDF5, deflated chunks)
   time  # bench/los_scale: peak memory of a run (GNU time)
+  python3-h5py  # samples_h5_test: samples.h5 read as results/README.md shows (h5py)
   libgtest-dev libbenchmark-dev libopenmpi-dev openmpi-bin gnuplot-nox
   clang-14 libclang-rt-14-dev  # tests/fuzz: libFuzzer, ASan, UBSan (clang++-14 -fsanitize=fuzzer)
 )

@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <cstdlib>
+#include <sstream>
 #include <nlohmann/json.hpp>
 
 #include "h5_util.h"
@@ -96,6 +97,45 @@ TEST(SamplesH5, GridValuesOfEverySampleTheSameForAnyThreadCount) {
   EXPECT_EQ(pooled["max"]["value"].get<double>(), want.max.value);
   EXPECT_NEAR(pooled["mean"]["value"].get<double>(), want.mean.value, 1e-12 * want.mean.value);
   EXPECT_NEAR(pooled["std"]["value"].get<double>(), want.std.value, 1e-10 * want.std.value);
+}
+
+// What results/README.md shows a Python user: h5py reads the file, and the digest of
+// summary.json is recomputed from the values with hashlib (python3-h5py, scripts/install_deps.sh).
+TEST(SamplesH5, H5pyReadsTheFileAsTheReadmeShows) {
+  if (std::system("/usr/bin/python3 -c 'import h5py, numpy' >/dev/null 2>&1") != 0) {
+    GTEST_SKIP() << "python3-h5py is not installed (scripts/install_deps.sh installs it)";
+  }
+  TempDir d;
+  auto r = test::run_poise(d, "run '" + los_study(d) + "' --samples 700 --seed 3 -q --no-plots --out '" + d.file("r") + "'");
+  ASSERT_EQ(r.status, 0) << r.err;
+  const json s = json::parse(read_text(d.file("r/summary.json")));
+  test::write_text(d.file("check.py"), R"(import h5py, numpy as np, hashlib, sys
+with h5py.File(sys.argv[1], "r") as f:
+    grid = f["grid_total_arcsec"]
+    a = grid[:, :]
+    digest = hashlib.sha1(b"".join(hashlib.sha1(a[:, p].astype("<f4").tobytes()).digest()
+                                   for p in range(a.shape[1]))).hexdigest()
+    yaw, pitch = f["grid_yaw_deg"][:], f["grid_pitch_deg"][:]
+    corner = np.argmax((yaw == 30) & (pitch == 30))
+    print(grid.attrs["units"], a.shape[0], a.shape[1], digest, repr(float(np.nanpercentile(a, 95))), corner,
+          int(f["sample"][-1]), int(f["ok"][:].sum()))
+)");
+  const std::string cmd = "/usr/bin/python3 '" + d.file("check.py") + "' '" + d.file("r/samples.h5") + "' >'" +
+                          d.file("py.txt") + "' 2>&1";
+  ASSERT_EQ(std::system(cmd.c_str()), 0) << read_text(d.file("py.txt"));
+  std::istringstream out(read_text(d.file("py.txt")));
+  std::string unit, digest;
+  std::size_t rows = 0, columns = 0, corner = 0, last = 0, ok = 0;
+  double p95 = 0.0;
+  out >> unit >> rows >> columns >> digest >> p95 >> corner >> last >> ok;
+  EXPECT_EQ(unit, "arcsec");
+  EXPECT_EQ(rows, 700u);
+  EXPECT_EQ(columns, 169u);
+  EXPECT_EQ(digest, s["samples_h5"]["values_sha1"].get<std::string>());
+  EXPECT_EQ(p95, s["pooled_field_arcsec"]["p95"]["value"].get<double>());  // numpy's linear = type 7
+  EXPECT_EQ(corner, 168u);  // the last column: yaw +30, pitch +30
+  EXPECT_EQ(last, 699u);
+  EXPECT_EQ(ok, 700u);
 }
 
 }  // namespace
