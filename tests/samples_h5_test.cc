@@ -116,7 +116,7 @@ with h5py.File(sys.argv[1], "r") as f:
     digest = hashlib.sha1(b"".join(hashlib.sha1(a[:, p].astype("<f4").tobytes()).digest()
                                    for p in range(a.shape[1]))).hexdigest()
     yaw, pitch = f["grid_yaw_deg"][:], f["grid_pitch_deg"][:]
-    corner = np.argmax((yaw == 30) & (pitch == 30))
+    corner = np.argmax(np.isclose(yaw, 30) & np.isclose(pitch, 30))
     print(grid.attrs["units"], a.shape[0], a.shape[1], digest, repr(float(np.nanpercentile(a, 95))), corner,
           int(f["sample"][-1]), int(f["ok"][:].sum()))
 )");
