@@ -121,6 +121,15 @@ WideColumnsSpec SeekerLosStudy::field_spec() const {
 namespace {
 
 // A file name for grid values no one keeps: in the system's temporary folder, unique.
+// TemporaryFile removes it however the run ends.
+struct TemporaryFile {
+  std::string path;
+  ~TemporaryFile() {
+    std::error_code ec;
+    if (!path.empty()) std::filesystem::remove(path, ec);
+  }
+};
+
 std::string temporary_field_file() {
   std::string name = (std::filesystem::temp_directory_path() / "poise-field-XXXXXX").string();
   const int fd = mkstemp(name.data());
@@ -140,6 +149,7 @@ SeekerMcResult SeekerLosStudy::run(
   const bool writes = control.field_statistics && (!control.distributed || sampling::Cluster::root());
   const bool temporary = writes && control.field_file.empty();
   const std::string field_path = !writes ? "" : temporary ? temporary_field_file() : control.field_file;
+  const TemporaryFile scratch{temporary ? field_path : std::string()};
   std::unique_ptr<WideColumnsWriter> field;
   if (writes) {
     field = std::make_unique<WideColumnsWriter>(field_path, field_spec(), samples_, control.field_attributes,
@@ -195,7 +205,6 @@ SeekerMcResult SeekerLosStudy::run(
     r.map_p99_73 = std::move(fs.per_point[2]);
     r.pooled = fs.pooled;
   }
-  if (temporary) std::filesystem::remove(field_path);
   if (n_ok > 0) {
     r.outputs.resize(kNumSeekerOutputs);
     tbb::task_arena arena(std::max(1, threads));
