@@ -66,11 +66,11 @@ TEST_P(StudyReferenceRun, SamplesEqualTheRecordedOnes) {
   ASSERT_EQ(res.status, 0) << res.err;
   const std::string ref = source_path("tests/data/study_reference/" + r.study);
   // samples.h5 (the per-sample grid values of a LOS study): the digest of its values.
-  if (fs::exists(ref + ".h5.sha1")) {
-    std::string want = read_text(ref + ".h5.sha1");
+  if (fs::exists(ref + ".h5.digest")) {
+    std::string want = read_text(ref + ".h5.digest");
     want.erase(want.find_last_not_of(" \n") + 1);
     const auto summary = nlohmann::json::parse(read_text(out + "/summary.json"));
-    EXPECT_EQ(summary["samples_h5"]["values_sha1"], want) << r.study << ": the values of samples.h5 differ from the recorded ones";
+    EXPECT_EQ(summary["samples_h5"]["values_digest"], want) << r.study << ": the values of samples.h5 differ from the recorded ones";
   } else {
     EXPECT_FALSE(fs::exists(out + "/samples.h5")) << r.study << " writes samples.h5: record its digest (record.sh)";
   }

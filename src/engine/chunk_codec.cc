@@ -30,12 +30,19 @@ std::string encode_chunk(std::span<const float> values, int level) {
   const std::size_t bytes = values.size() * kElement;
   std::vector<unsigned char> shuffled(bytes);
   shuffle(reinterpret_cast<const unsigned char*>(values.data()), shuffled.data(), values.size());
-  uLongf size = compressBound(static_cast<uLong>(bytes));
-  std::string out(size, '\0');
-  const int rc = compress2(reinterpret_cast<Bytef*>(out.data()), &size, shuffled.data(), static_cast<uLong>(bytes), level);
-  require(rc == Z_OK, "samples.h5: zlib could not compress a chunk (code " + std::to_string(rc) + ")");
-  out.resize(size);
-  return out;
+  z_stream z{};
+  int rc = deflateInit2(&z, level, Z_DEFLATED, 15, 8, Z_HUFFMAN_ONLY);
+  require(rc == Z_OK, "samples.h5: zlib could not start (code " + std::to_string(rc) + ")");
+  std::string out(deflateBound(&z, static_cast<uLong>(bytes)), '\0');
+  z.next_in = shuffled.data();
+  z.avail_in = static_cast<uInt>(bytes);
+  z.next_out = reinterpret_cast<Bytef*>(out.data());
+  z.avail_out = static_cast<uInt>(out.size());
+  rc = deflate(&z, Z_FINISH);
+  const std::size_t size = z.total_out;
+  deflateEnd(&z);
+  require(rc == Z_STREAM_END, "samples.h5: zlib could not compress a chunk (code " + std::to_string(rc) + ")");
+  return std::string(out.data(), size);  // exactly its size: 169 of them wait for the write
 }
 
 void decode_chunk(std::string_view stored, std::uint32_t filter_mask, std::span<float> out, const std::string& what) {

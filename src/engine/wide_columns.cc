@@ -1,6 +1,7 @@
 #include "engine/wide_columns.h"
 
 #include <hdf5.h>
+#include <zlib.h>
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
@@ -114,10 +115,6 @@ struct WideColumnsWriter::Handles {
   Id file, values, sample, ok;
 };
 
-struct WideColumnsWriter::ColumnDigest {
-  Sha1 sha;
-};
-
 WideColumnsWriter::WideColumnsWriter(std::string path, WideColumnsSpec spec, std::size_t planned_rows,
                                      const std::map<std::string, std::string>& text_attributes,
                                      const std::map<std::string, std::uint64_t>& number_attributes, int threads)
@@ -126,7 +123,7 @@ WideColumnsWriter::WideColumnsWriter(std::string path, WideColumnsSpec spec, std
       chunk_rows_(std::clamp<std::size_t>(planned_rows, 1, kWideChunkRows)),
       threads_(std::max(1, threads)),
       h_(std::make_unique<Handles>()),
-      digests_(spec_.columns) {
+      crc_(spec_.columns, static_cast<std::uint32_t>(crc32(0L, Z_NULL, 0))) {
   quiet_hdf5();
   require(spec_.columns > 0, "samples.h5: a wide dataset needs at least one column");
   try {
@@ -197,8 +194,13 @@ void WideColumnsWriter::flush() {
   arena.execute([&] {
     tbb::parallel_for(std::size_t{0}, g, [&](std::size_t p) {
       const std::span<const float> column(buffer_.data() + p * chunk_rows_, chunk_rows_);
-      encoded[p] = encode_chunk(column);
-      digests_[p].sha.process_bytes(column.data(), r * sizeof(float));
+      if (spec_.compress) {
+        encoded[p] = encode_chunk(column);
+      } else {
+        encoded[p].assign(reinterpret_cast<const char*>(column.data()), column.size() * sizeof(float));
+      }
+      crc_[p] = static_cast<std::uint32_t>(
+          crc32(crc_[p], reinterpret_cast<const Bytef*>(column.data()), static_cast<uInt>(r * sizeof(float))));
     });
   });
   try {
@@ -207,7 +209,8 @@ void WideColumnsWriter::flush() {
     if (H5Dset_extent(h_->values.get(), extent) < 0) throw Error("cannot grow /" + spec_.dataset);
     for (std::size_t p = 0; p < g; ++p) {
       const hsize_t offset[2] = {first, p};
-      if (H5Dwrite_chunk(h_->values.get(), H5P_DEFAULT, 0, offset, encoded[p].size(), encoded[p].data()) < 0) {
+      const std::uint32_t skipped = spec_.compress ? 0u : 3u;  // bit 0 shuffle, bit 1 deflate
+      if (H5Dwrite_chunk(h_->values.get(), H5P_DEFAULT, skipped, offset, encoded[p].size(), encoded[p].data()) < 0) {
         throw Error("cannot write a chunk of /" + spec_.dataset);
       }
     }
@@ -226,13 +229,9 @@ nlohmann::json WideColumnsWriter::close() {
   closed_ = true;
   flush();
   Sha1 all;
-  for (auto& d : digests_) {
-    Sha1::digest_type w;
-    d.sha.get_digest(w);
-    unsigned char bytes[20];
-    for (int i = 0; i < 5; ++i) {
-      for (int b = 0; b < 4; ++b) bytes[4 * i + b] = static_cast<unsigned char>(w[i] >> (24 - 8 * b));
-    }
+  for (const std::uint32_t c : crc_) {
+    const unsigned char bytes[4] = {static_cast<unsigned char>(c >> 24), static_cast<unsigned char>(c >> 16),
+                                    static_cast<unsigned char>(c >> 8), static_cast<unsigned char>(c)};
     all.process_bytes(bytes, sizeof bytes);
   }
   Sha1::digest_type total;
@@ -244,7 +243,8 @@ nlohmann::json WideColumnsWriter::close() {
     throw WriteError(path_, "HDF5 could not flush and close the file");
   }
   return {{"file", std::filesystem::path(path_).filename().string()}, {"dataset", spec_.dataset},
-          {"rows", rows_written_}, {"columns", spec_.columns}, {"unit", spec_.unit}, {"values_sha1", hex(total)}};
+          {"rows", rows_written_}, {"columns", spec_.columns}, {"unit", spec_.unit}, {"values_digest", hex(total)},
+          {"values_digest_is", "SHA-1 of the CRC-32s of each column's little-endian float32 values, in column order"}};
 }
 
 // ---- reading

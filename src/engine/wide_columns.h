@@ -12,9 +12,11 @@
 ///   root attributes: whatever the run gives (study, kind, seed, planned samples, version).
 /// The writer keeps one chunk row (16384 rows x columns values) in memory, whatever the
 /// sample count; chunks are compressed on all the run's threads (chunk_codec.h) and written by
-/// HDF5's direct chunk write. A column's values are digested (SHA-1) as they are written:
-/// values_sha1 = SHA-1 of the concatenated SHA-1 digests of each column's little-endian
-/// float32 values in sample order, so equal data give equal digests whatever the file bytes.
+/// HDF5's direct chunk write. A column's values are digested as they are written:
+/// values_digest = SHA-1 of the concatenated CRC-32s (zlib's, 4 bytes big-endian) of each
+/// column's little-endian float32 values in sample order, so equal data give equal digests
+/// whatever the file bytes (CRC-32 runs at memory speed; SHA-1 of the values would cost more
+/// than the compression).
 #include <cstddef>
 #include <cstdint>
 #include <map>
@@ -40,6 +42,9 @@ struct WideColumnsSpec {
   std::string description;
   std::size_t columns = 0;
   std::vector<ColumnCoordinate> coordinates;
+  /// false: chunks stored raw, with HDF5's per-chunk mask saying both filters were skipped
+  /// (a scratch file read back at once and removed: compression would only cost time).
+  bool compress = true;
 };
 
 /// Rows per chunk of samples.h5 (fewer when the run plans fewer samples).
@@ -60,7 +65,7 @@ class WideColumnsWriter {
   /// values are stored as NaN.
   void append(std::size_t sample, bool ok, std::span<const float> values);
   /// Writes what is buffered and closes the file. Returns {"file", "dataset", "rows",
-  /// "columns", "unit", "values_sha1"} for summary.json. Throws WriteError on failure.
+  /// "columns", "unit", "values_digest"} for summary.json. Throws WriteError on failure.
   nlohmann::json close();
   const std::string& path() const { return path_; }
 
@@ -76,8 +81,7 @@ class WideColumnsWriter {
   std::vector<std::uint64_t> samples_;  ///< rows in the buffer
   std::vector<std::uint8_t> ok_;
   std::size_t rows_written_ = 0;
-  struct ColumnDigest;
-  std::vector<ColumnDigest> digests_;
+  std::vector<std::uint32_t> crc_;  ///< per column, of the values so far
   bool closed_ = false;
 };
 

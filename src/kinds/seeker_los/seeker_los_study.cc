@@ -152,7 +152,9 @@ SeekerMcResult SeekerLosStudy::run(
   const TemporaryFile scratch{temporary ? field_path : std::string()};
   std::unique_ptr<WideColumnsWriter> field;
   if (writes) {
-    field = std::make_unique<WideColumnsWriter>(field_path, field_spec(), samples_, control.field_attributes,
+    WideColumnsSpec layout = field_spec();
+    layout.compress = !temporary;
+    field = std::make_unique<WideColumnsWriter>(field_path, layout, samples_, control.field_attributes,
                                                 control.field_number_attributes, threads);
   }
   // The scalar columns, sized for every planned sample at once: a growing vector would hold

@@ -179,14 +179,21 @@ std::string run_seeker_study(const StudyConfig& file_cfg, const RunOptions& opti
           const SeekerSampleResult& s = block[k];
           if (s.index < rows_on_disk) continue;
           std::string& row = row_text[k];
-          row = std::to_string(s.index) + ',' + (s.ok ? "ok" : "failed");
-          for (double v : s.inputs) row += ',' + csv_number(v);
-          for (double v : s.outputs) row += ',' + csv_number(v);
-          row += ',' + csv_text(s.message) + '\n';
+          row.reserve(24 * (s.inputs.size() + s.outputs.size()) + 32);
+          row = std::to_string(s.index);
+          row += s.ok ? ",ok" : ",failed";
+          for (double v : s.inputs) append_csv_number(row, v);
+          for (double v : s.outputs) append_csv_number(row, v);
+          row += ',';
+          row += csv_text(s.message);
+          row += '\n';
         }
       });
     });
+    std::size_t bytes = 0;
+    for (const auto& t : row_text) bytes += t.size();
     std::string rows;
+    rows.reserve(bytes);
     for (const auto& t : row_text) rows += t;
     csv.write(rows);  // the first refused write stops the run (WriteError)
   }, control);

@@ -21,8 +21,8 @@ grep -v '^#' "$here/plan.txt" | while read -r study samples seed; do
     sha1sum "$tmp/$study/samples.csv" | cut -d' ' -f1 > "$here/$study.sha1"
   fi
   # A run with wide data (samples.h5) records the digest of its values (summary.json).
-  rm -f "$here/$study.h5.sha1"
+  rm -f "$here/$study.h5.digest"
   if [ -f "$tmp/$study/samples.h5" ]; then
-    grep -o '"values_sha1": "[0-9a-f]*"' "$tmp/$study/summary.json" | cut -d'"' -f4 > "$here/$study.h5.sha1"
+    grep -o '"values_digest": "[0-9a-f]*"' "$tmp/$study/summary.json" | cut -d'"' -f4 > "$here/$study.h5.digest"
   fi
 done
