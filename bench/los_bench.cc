@@ -29,6 +29,7 @@
 #include "models/seeker_los_chain.h"
 #include "sampling/design.h"
 #include "engine/sample_driver.h"
+#include "kinds/registry.h"
 #include "kinds/seeker_los/seeker_los_study.h"
 #include "kinds/seeker_los/seeker_model.h"
 #include "engine/study_config.h"
@@ -63,6 +64,7 @@ struct Setup {
   std::vector<SeekerErrorState> states;
 
   static SeekerLosStudy make_study() {
+    poise::studies::register_study_kinds();  // as the CLI does: load_study needs the kinds
     const fs::path study_file = source_dir() / "studies" / "los_seeker_wang2011.toml";
     poise::studies::StudyConfig cfg = poise::studies::load_study(study_file.string());
     // As the study runner does: the study's own [overrides] apply to the model.

@@ -152,11 +152,13 @@ TEST(WideColumns, UncompressedScratchChunksReadBackThroughBothReaders) {
     for (std::size_t i = 0; i < data.size(); ++i) w.append(i, i % 10 != 9, data[i]);
     EXPECT_EQ(w.close()["values_digest"], expected_digest(data));  // the digest is of the values
   }
-  const WideColumnsReader r(d.file("raw.h5"), "grid_total_arcsec");
-  std::vector<float> col;
-  r.read_column(2, col);
-  EXPECT_EQ(col[0], data[0][2]);
-  EXPECT_EQ(col[498], data[498][2]);
+  {
+    const WideColumnsReader r(d.file("raw.h5"), "grid_total_arcsec");
+    std::vector<float> col;
+    r.read_column(2, col);
+    EXPECT_EQ(col[0], data[0][2]);
+    EXPECT_EQ(col[498], data[498][2]);
+  }  // closed: HDF5 refuses a second open of a file with other access properties
   const hid_t f = H5Fopen(d.file("raw.h5").c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
   const hid_t ds = H5Dopen2(f, "grid_total_arcsec", H5P_DEFAULT);
   std::vector<float> all(500 * 3);

@@ -29,6 +29,10 @@ void quiet_hdf5() {
   (void)once;
 }
 
+// File access without HDF5's file locks: one process writes the file (rank 0), and the
+// locks fail on file systems that lack them (NFS, Lustre of a cluster).
+hid_t unlocked_access();
+
 // An HDF5 identifier closed by its own close function when it goes out of scope.
 class Id {
  public:
@@ -56,6 +60,15 @@ class Id {
   hid_t id_ = -1;
   herr_t (*close_)(hid_t) = nullptr;
 };
+
+hid_t unlocked_access() {
+  static const hid_t fapl = [] {
+    const hid_t p = H5Pcreate(H5P_FILE_ACCESS);
+    H5Pset_file_locking(p, false, true);
+    return p;
+  }();
+  return fapl;
+}
 
 std::string hex(const Sha1::digest_type& d) {
   char buf[41];
@@ -127,7 +140,7 @@ WideColumnsWriter::WideColumnsWriter(std::string path, WideColumnsSpec spec, std
   quiet_hdf5();
   require(spec_.columns > 0, "samples.h5: a wide dataset needs at least one column");
   try {
-    h_->file = Id(H5Fcreate(path_.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT), H5Fclose);
+    h_->file = Id(H5Fcreate(path_.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, unlocked_access()), H5Fclose);
     if (!h_->file.ok()) throw Error("HDF5 cannot create the file");
     const hid_t f = h_->file.get();
     for (const auto& [k, v] : text_attributes) text_attribute(f, k, v);
@@ -256,7 +269,7 @@ struct WideColumnsReader::Handles {
 WideColumnsReader::WideColumnsReader(std::string path, const std::string& dataset)
     : path_(std::move(path)), h_(std::make_unique<Handles>()) {
   quiet_hdf5();
-  h_->file = Id(H5Fopen(path_.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose);
+  h_->file = Id(H5Fopen(path_.c_str(), H5F_ACC_RDONLY, unlocked_access()), H5Fclose);
   if (!h_->file.ok()) throw Error(path_ + ": not an HDF5 file HDF5 can open");
   h_->values = Id(H5Dopen2(h_->file.get(), dataset.c_str(), H5P_DEFAULT), H5Dclose);
   if (!h_->values.ok()) throw Error(path_ + ": no dataset /" + dataset);
