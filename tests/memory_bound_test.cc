@@ -50,10 +50,11 @@ TEST(MemoryBound, LosRunGrowsByFarLessThanItsGridValuesPerSample) {
   ASSERT_GT(a, 0);
   ASSERT_GT(b, 0);
   const double per_sample = static_cast<double>(b - a) / static_cast<double>(large - small);
-  // The grid values alone are 169 x 4 = 676 bytes per sample: a bound of 250 bytes fails
-  // if they (or any per-sample copy of the field) stay in memory.
+  // The grid values alone are 169 x 4 = 676 bytes per sample: a bound of 400 bytes fails
+  // if they (or any per-sample copy of the field) stay in memory. Measured: 14-230 bytes (the
+  // scalar columns are 72; the rest is the allocator's timing of constant-size buffers).
   const double mb_a = static_cast<double>(a) / 1e6, mb_b = static_cast<double>(b) / 1e6;
-  EXPECT_LT(per_sample, 250.0) << "peak RSS " << mb_a << " MB at " << small << " samples, " << mb_b << " MB at "
+  EXPECT_LT(per_sample, 400.0) << "peak RSS " << mb_a << " MB at " << small << " samples, " << mb_b << " MB at "
                                << large << " samples";
   std::printf("peak RSS %.1f MB at %zu samples, %.1f MB at %zu: %.0f bytes per sample\n", mb_a, small, mb_b, large,
               per_sample);
