@@ -6,7 +6,9 @@
 ///   BM_LosSinglePoint      los_direction + pointing_error at one (alpha, beta) from
 ///                          scratch (both frames rebuilt, no factorization).
 ///   BM_SampleCompute       SeekerLosStudy::compute: design point + draw + grid + outputs.
-///   BM_StudyRun/threads:N  SeekerLosStudy::run on N threads, 8192 samples, no sink.
+///   BM_StudyRun/threads:N  SeekerLosStudy::run on N threads, 8192 samples, no sink: the
+///                          samples, their grid values into a temporary samples.h5, the
+///                          field statistics read back from it and the summaries (the tail).
 ///                          Target: >= 1.8x samples/s from 1 to 2 threads.
 ///   BM_StudyComputeOnly/threads:N  diagnostic: the parallel part of run() alone.
 ///

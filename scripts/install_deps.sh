@@ -6,6 +6,9 @@ PKGS=(
   libeigen3-dev libsundials-dev libnlopt-cxx-dev libembree-dev libtbb-dev
   libcli11-dev libtomlplusplus-dev nlohmann-json3-dev librandom123-dev libboost-dev
   libmuparser-dev  # expressions of budget gains (poise budget)
+  libhdf5-dev zlib1g-dev  # samples.h5: per-sample grid values of a run (HDF5, deflated chunks)
+  time  # bench/los_scale: peak memory of a run (GNU time)
+  python3-h5py  # samples_h5_test: samples.h5 read as results/README.md shows (h5py)
   libgtest-dev libbenchmark-dev libopenmpi-dev openmpi-bin gnuplot-nox
   clang-14 libclang-rt-14-dev  # tests/fuzz: libFuzzer, ASan, UBSan (clang++-14 -fsanitize=fuzzer)
   python3-numpy python3-scipy  # bench/baselines: the NumPy and SciPy scripts Poise is compared with

@@ -26,6 +26,7 @@
 #include "sampling/statistics.h"
 #include "engine/convergence.h"
 #include "engine/result_io.h"
+#include "h5_util.h"
 #include "test_util.h"
 
 namespace {
@@ -299,6 +300,9 @@ TEST(Interrupt, SigintStopsCleanlyAndResumeGivesTheUninterruptedResult) {
   ASSERT_EQ(r.status, 0) << r.err;
   EXPECT_EQ(poise::test::read_text(d.file("cut/samples.csv")), poise::test::read_text(d.file("whole/samples.csv")));
   EXPECT_EQ(comparable(d.file("cut")), comparable(d.file("whole")));
+  // samples.h5: the grid values of the resumed run are those of the uninterrupted one.
+  EXPECT_TRUE(poise::test::same_h5_floats(poise::test::read_h5_floats(d.file("cut/samples.h5"), "grid_total_arcsec"),
+                                          poise::test::read_h5_floats(d.file("whole/samples.h5"), "grid_total_arcsec")));
 }
 
 TEST(Interrupt, KillNineKeepsFinishedSamplesOfAProcedureStudy) {
@@ -523,6 +527,8 @@ TEST(Mpi, TwoRanksGiveTheSamplesAndStatisticsOfOneProcess) {
   ASSERT_TRUE(WIFEXITED(raw) && WEXITSTATUS(raw) == 0) << poise::test::read_text(d.file("mpi_out.txt"));
   EXPECT_EQ(poise::test::read_text(d.file("one/samples.csv")), poise::test::read_text(d.file("two/samples.csv")));
   EXPECT_EQ(comparable(d.file("one")), comparable(d.file("two")));
+  EXPECT_TRUE(poise::test::same_h5_floats(poise::test::read_h5_floats(d.file("one/samples.h5"), "grid_total_arcsec"),
+                                          poise::test::read_h5_floats(d.file("two/samples.h5"), "grid_total_arcsec")));
   const json p = json::parse(poise::test::read_text(d.file("two/summary.json")))["provenance"];
   EXPECT_EQ(p["mpi_ranks"], 2);
   // A procedure study too (rank 0 also gathers the other rank's simulated tests).

@@ -10,6 +10,8 @@
 #include <string>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
 #include "engine/provenance.h"
 #include "test_util.h"
 
@@ -63,6 +65,15 @@ TEST_P(StudyReferenceRun, SamplesEqualTheRecordedOnes) {
                                             out + "'");
   ASSERT_EQ(res.status, 0) << res.err;
   const std::string ref = source_path("tests/data/study_reference/" + r.study);
+  // samples.h5 (the per-sample grid values of a LOS study): the digest of its values.
+  if (fs::exists(ref + ".h5.digest")) {
+    std::string want = read_text(ref + ".h5.digest");
+    want.erase(want.find_last_not_of(" \n") + 1);
+    const auto summary = nlohmann::json::parse(read_text(out + "/summary.json"));
+    EXPECT_EQ(summary["samples_h5"]["values_digest"], want) << r.study << ": the values of samples.h5 differ from the recorded ones";
+  } else {
+    EXPECT_FALSE(fs::exists(out + "/samples.h5")) << r.study << " writes samples.h5: record its digest (record.sh)";
+  }
   if (fs::exists(ref + ".sha1")) {  // a large samples.csv is recorded as its SHA-1
     std::string want = read_text(ref + ".sha1");
     want.erase(want.find_last_not_of(" \n") + 1);

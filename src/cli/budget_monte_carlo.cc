@@ -48,7 +48,7 @@ MonteCarloValues seeker_run(const std::string& model_path, const std::string& ou
   require(column < studies::kNumSeekerOutputs, "seeker Monte Carlo: no output \"" + output + "\"");
   const studies::SeekerLosStudy study(cfg, studies::load_seeker_model(model_path), samples, seed);
   const int threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
-  const studies::SeekerMcResult r = study.run(threads, false, {});
+  const studies::SeekerMcResult r = study.run(threads, false, {}, studies::outputs_only());
   MonteCarloValues v;
   v.samples = samples;
   v.failures = r.failures;

@@ -101,8 +101,9 @@ json replay_procedure_sample(const ProcedureStudy& study, std::size_t index) {
 
 namespace {
 
-// Samples already in an interrupted run's samples.csv: complete lines only, in order from
-// 0; a partial last line is cut off the file. Throws if the header is not this study's.
+// Samples already in an interrupted run's samples.csv (their outputs, status, solver steps
+// and failure reasons): complete lines only, in order from 0; a partial last line is cut off
+// the file. Throws if the header is not this study's.
 std::vector<SampleResult> read_done_samples(const std::string& csv_path, const std::string& header,
                                                   std::size_t n_inputs, std::size_t n_outputs) {
   std::vector<SampleResult> done;
@@ -122,10 +123,12 @@ std::vector<SampleResult> read_done_samples(const std::string& csv_path, const s
     r.index = std::stoul(cells[0]);
     if (r.index != done.size()) throw Error("--resume: samples.csv rows are not in order at sample " + cells[0]);
     r.ok = cells[1] == "ok";
-    for (std::size_t k = 0; k < n_inputs; ++k) r.inputs.push_back(std::stod(cells[2 + k]));
+    // Only what the statistics and the stop rule read: the inputs stay on disk, and an ok
+    // row's message is empty (memory per resumed row: its outputs).
+    r.outputs.reserve(n_outputs);
     for (std::size_t k = 0; k < n_outputs; ++k) r.outputs.push_back(std::stod(cells[2 + n_inputs + k]));
     r.solver_steps = std::stol(cells[2 + n_inputs + n_outputs]);
-    r.message = cells.back();
+    if (!r.ok) r.message = cells.back();
     done.push_back(std::move(r));
   }
   return done;

@@ -38,6 +38,17 @@ std::string csv_number(double v) {
   return std::string(buf, res.ptr);
 }
 
+void append_csv_number(std::string& row, double v) {
+  if (std::isnan(v)) {
+    row += ",nan";
+    return;
+  }
+  char buf[40];
+  buf[0] = ',';
+  const auto res = std::to_chars(buf + 1, buf + sizeof buf, v);
+  row.append(buf, res.ptr);
+}
+
 void write_file_atomic(const std::string& path, const std::string& text) {
   const std::string tmp = path + ".tmp";
   std::error_code ec;

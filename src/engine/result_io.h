@@ -14,6 +14,8 @@ nlohmann::json estimate_json(const sampling::Estimate& e);
 nlohmann::json summary_json(const sampling::Summary& s);
 /// A number for samples.csv: the shortest text that reads back to the same double ("nan" for NaN).
 std::string csv_number(double v);
+/// Appends ',' and csv_number(v) to a row without a temporary string (rows of 70 numbers).
+void append_csv_number(std::string& row, double v);
 /// Free text for one CSV cell: quotes, commas and newlines become spaces.
 std::string csv_text(std::string s);
 /// Writes a whole file atomically: to a temporary beside it, flushed, then renamed over the

@@ -9,6 +9,7 @@
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
+#include <tbb/task_group.h>
 
 #include <algorithm>
 #include <cstddef>
@@ -138,22 +139,30 @@ DriveOutcome drive_samples(const DriveSpec& spec, MakeWorkspace make_workspace, 
   // every k-th sample (indices k-1, 2k-1, ...) as a solver failure would.
   const char* inject_env = std::getenv("POISE_INJECT_FAILURE_EVERY");
   const std::size_t inject = inject_env ? static_cast<std::size_t>(std::strtoull(inject_env, nullptr, 10)) : 0;
+  auto compute_chunk = [&](std::size_t first, std::size_t n, std::vector<Result>& into) {
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, std::max<std::size_t>(spec.grain, 1)),
+                      [&](const tbb::blocked_range<std::size_t>& r) {
+                        Workspace& ws = workspaces.local();
+                        for (std::size_t k = r.begin(); k != r.end(); ++k) {
+                          compute(first + k, ws, into[k]);
+                          if (inject > 0 && (first + k + 1) % inject == 0) {
+                            into[k].ok = false;
+                            into[k].message = "injected failure (POISE_INJECT_FAILURE_EVERY)";
+                          }
+                        }
+                      });
+  };
+  // One process: the next chunk is computed on the arena's other threads while this one is
+  // sunk (written, counted, checked by the stop rule) on the calling thread, so that the
+  // writing does not leave the cores idle. A chunk computed past a stop point is not kept.
+  std::vector<Result> ahead_results;
+  tbb::task_group ahead;
+  bool computed_ahead = false;
   for (std::size_t base = spec.first; base < spec.total; base += round_size) {
     const std::size_t my_start = std::min(base + static_cast<std::size_t>(me) * chunk, spec.total);
     const std::size_t my_n = std::min(chunk, spec.total - my_start);
-    arena.execute([&] {
-      tbb::parallel_for(tbb::blocked_range<std::size_t>(0, my_n, std::max<std::size_t>(spec.grain, 1)),
-                        [&](const tbb::blocked_range<std::size_t>& r) {
-                          Workspace& ws = workspaces.local();
-                          for (std::size_t k = r.begin(); k != r.end(); ++k) {
-                            compute(my_start + k, ws, local[k]);
-                            if (inject > 0 && (my_start + k + 1) % inject == 0) {
-                              local[k].ok = false;
-                              local[k].message = "injected failure (POISE_INJECT_FAILURE_EVERY)";
-                            }
-                          }
-                        });
-    });
+    if (!computed_ahead) arena.execute([&] { compute_chunk(my_start, my_n, local); });
+    computed_ahead = false;
     bool stop_now = false;
     auto take_chunk = [&](std::size_t start, std::span<const Result> results) {
       if (stop_now || results.empty()) return;  // past a stop point: computed, not kept
@@ -164,21 +173,37 @@ DriveOutcome drive_samples(const DriveSpec& spec, MakeWorkspace make_workspace, 
       if (progress) progress->update(out.completed - spec.first);
     };
     if (ranks == 1) {
-      take_chunk(my_start, std::span<const Result>(local.data(), my_n));
+      const std::size_t next = base + round_size;
+      const bool pipelined = next < spec.total;
+      if (pipelined) {
+        ahead_results.resize(local.size());
+        arena.execute([&] {
+          ahead.run([&, next] { compute_chunk(next, std::min(chunk, spec.total - next), ahead_results); });
+        });
+      }
+      try {
+        take_chunk(my_start, std::span<const Result>(local.data(), my_n));
+      } catch (...) {
+        if (pipelined) arena.execute([&] { ahead.wait(); });  // its buffers go out of scope
+        throw;
+      }
+      if (pipelined) {
+        arena.execute([&] { ahead.wait(); });
+        std::swap(local, ahead_results);
+        computed_ahead = true;
+      }
     } else {
       ByteWriter w;
       w.put(my_n);
       for (std::size_t k = 0; k < my_n; ++k) encode(local[k], w);
-      const std::vector<std::string> all = sampling::Cluster::gather(w.bytes());
-      if (root) {
-        std::vector<Result> theirs;
-        for (std::size_t q = 0; q < all.size(); ++q) {
-          ByteReader rd(all[q]);
-          theirs.resize(rd.get<std::size_t>());
-          for (auto& r : theirs) decode(rd, r);
-          take_chunk(std::min(base + q * chunk, spec.total), theirs);
-        }
-      }
+      // Rank by rank: rank 0 decodes and sinks one rank's chunk before it receives the next.
+      std::vector<Result> theirs;
+      sampling::Cluster::gather_each(w.bytes(), [&](int q, std::string_view bytes) {
+        ByteReader rd(bytes);
+        theirs.resize(rd.get<std::size_t>());
+        for (auto& r : theirs) decode(rd, r);
+        take_chunk(std::min(base + static_cast<std::size_t>(q) * chunk, spec.total), theirs);
+      });
     }
     if (root && sampling::interrupt_requested()) {
       out.interrupted = true;

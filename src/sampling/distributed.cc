@@ -83,6 +83,33 @@ std::vector<std::string> Cluster::gather(const std::string& local) {
 #endif
 }
 
+void Cluster::gather_each(const std::string& local, const std::function<void(int, std::string_view)>& take) {
+  if (g_size == 1) {
+    take(0, local);
+    return;
+  }
+#ifdef POISE_WITH_MPI
+  constexpr int kTag = 19;
+  if (g_rank != 0) {
+    const long long n = static_cast<long long>(local.size());
+    MPI_Send(&n, 1, MPI_LONG_LONG, 0, kTag, MPI_COMM_WORLD);
+    MPI_Send(local.data(), static_cast<int>(local.size()), MPI_CHAR, 0, kTag, MPI_COMM_WORLD);
+    return;
+  }
+  take(0, local);
+  std::string buffer;
+  for (int q = 1; q < g_size; ++q) {
+    long long n = 0;
+    MPI_Recv(&n, 1, MPI_LONG_LONG, q, kTag, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+    buffer.resize(static_cast<std::size_t>(n));
+    MPI_Recv(buffer.data(), static_cast<int>(n), MPI_CHAR, q, kTag, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+    take(q, buffer);
+  }
+#else
+  take(0, local);
+#endif
+}
+
 bool Cluster::any(bool flag) {
   if (g_size == 1) return flag;
 #ifdef POISE_WITH_MPI

@@ -6,7 +6,9 @@
 /// many failures, a signal), which all ranks then share. Every sample depends only on
 /// (seed, index), so the samples and statistics equal a one-process run's. Without MPI, or
 /// when not started by mpirun, there is one rank and every call is trivial.
+#include <functional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace poise::sampling {
@@ -26,6 +28,10 @@ class Cluster {
   static int local_size();
   /// Each rank's bytes, gathered at rank 0 in rank order; other ranks get an empty vector.
   static std::vector<std::string> gather(const std::string& local);
+  /// Each rank's bytes handed to `take(rank, bytes)` on rank 0, one rank at a time in rank
+  /// order (rank 0's own first): rank 0 holds one other rank's message at a time, so its
+  /// memory does not grow with the number of ranks. Other ranks send and return.
+  static void gather_each(const std::string& local, const std::function<void(int, std::string_view)>& take);
   /// Logical OR of every rank's flag, on every rank.
   static bool any(bool flag);
 };

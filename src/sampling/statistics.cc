@@ -113,20 +113,50 @@ Summary summarize(std::span<const double> values) {
   const std::size_t n = values.size();
   require(n > 0, "summary of an empty sample");
   std::vector<double> data(values.begin(), values.end());
+  SummaryMoments m;
+  m.n = n;
+  for (double v : data) m.mean += v;
+  m.mean /= static_cast<double>(n);
+  for (double v : data) {
+    const double d = (v - m.mean) * (v - m.mean);
+    m.m2 += d;
+    m.m4 += d * d;
+  }
+  // Only a dozen order statistics are needed: select them in increasing rank with
+  // nth_element on what is left, instead of sorting everything.
+  std::size_t start = 0;
+  for (std::size_t k : summary_ranks(n)) {
+    std::nth_element(data.begin() + static_cast<long>(start), data.begin() + static_cast<long>(k), data.end());
+    start = k + 1;
+  }
+  // After the loop data[k] is the k-th smallest for every selected k.
+  return summarize_from(m, [&](std::size_t k) { return data[k]; });
+}
+
+std::vector<std::size_t> summary_ranks(std::size_t n) {
+  const double nn = static_cast<double>(n);
+  std::vector<std::size_t> ranks = {n - 1};
+  for (const double p : {0.50, 0.95, 0.9973, nn / (nn + 1.0)}) {
+    const QuantileRanks r = quantile_ranks(n, p, true);
+    ranks.push_back(r.lo_i);
+    ranks.push_back(r.hi_i);
+    if (r.ci_lo) ranks.push_back(*r.ci_lo);
+    if (r.ci_hi) ranks.push_back(*r.ci_hi);
+  }
+  std::sort(ranks.begin(), ranks.end());
+  ranks.erase(std::unique(ranks.begin(), ranks.end()), ranks.end());
+  return ranks;
+}
+
+Summary summarize_from(const SummaryMoments& m, const std::function<double(std::size_t)>& at) {
+  const std::size_t n = m.n;
+  require(n > 0, "summary of an empty sample");
   Summary s;
   s.n = n;
   const double nn = static_cast<double>(n);
-  double mean = 0.0;
-  for (double v : data) mean += v;
-  mean /= nn;
-  double m2 = 0.0, m4 = 0.0;
-  for (double v : data) {
-    const double d = (v - mean) * (v - mean);
-    m2 += d;
-    m4 += d * d;
-  }
-  const double var = n > 1 ? m2 / (nn - 1.0) : 0.0;
-  m4 /= nn;
+  const double mean = m.mean;
+  const double var = n > 1 ? m.m2 / (nn - 1.0) : 0.0;
+  const double m4 = m.m4 / nn;
   const double sd = std::sqrt(var);
   s.mean.value = mean;
   if (n > 1) {
@@ -142,34 +172,16 @@ Summary summarize(std::span<const double> values) {
     s.std.lo = std::max(0.0, sd - 1.959963984540054 * se_s);
     s.std.hi = sd + 1.959963984540054 * se_s;
   }
-  // Only a dozen order statistics are needed: select them in increasing rank with
-  // nth_element on what is left, instead of sorting everything.
   const QuantileRanks r50 = quantile_ranks(n, 0.50, true), r95 = quantile_ranks(n, 0.95, true),
                       r9973 = quantile_ranks(n, 0.9973, true),
                       rmax = quantile_ranks(n, nn / (nn + 1.0), true);
-  std::vector<std::size_t> ranks = {n - 1};
-  for (const auto* r : {&r50, &r95, &r9973, &rmax}) {
-    ranks.push_back(r->lo_i);
-    ranks.push_back(r->hi_i);
-    if (r->ci_lo) ranks.push_back(*r->ci_lo);
-    if (r->ci_hi) ranks.push_back(*r->ci_hi);
-  }
-  std::sort(ranks.begin(), ranks.end());
-  ranks.erase(std::unique(ranks.begin(), ranks.end()), ranks.end());
-  std::size_t start = 0;
-  for (std::size_t k : ranks) {
-    std::nth_element(data.begin() + static_cast<long>(start), data.begin() + static_cast<long>(k), data.end());
-    start = k + 1;
-  }
-  // After the loop data[k] is the k-th smallest for every selected k.
-  auto at = [&](std::size_t k) { return data[k]; };
   s.p50 = quantile_at(r50, at);
   s.p95 = quantile_at(r95, at);
   s.p99_73 = quantile_at(r9973, at);
   note_missing_ends(s.p50, n, 0.50);
   note_missing_ends(s.p95, n, 0.95);
   note_missing_ends(s.p99_73, n, 0.9973);
-  s.max.value = data[n - 1];
+  s.max.value = at(n - 1);
   s.max.lo = quantile_at(rmax, at).lo;
   s.max.note = "one-sided: the sample maximum has no distribution-free upper bound";
   return s;

@@ -19,6 +19,7 @@
 /// conservative for the mean (those designs lower its variance) but not necessarily for tail
 /// quantiles: randomized replicates (summarize_replicates) give honest intervals there.
 #include <cstddef>
+#include <functional>
 #include <optional>
 #include <span>
 #include <string>
@@ -42,6 +43,19 @@ struct Summary {
 
 /// Summary of the values (order does not matter). Throws if values is empty.
 Summary summarize(std::span<const double> values);
+
+/// What summarize() needs of n values, for values too many to hold at once (a field over
+/// every sample, read back column by column): their mean, the sums of squared and fourth-power
+/// deviations from it, and the order statistics at summary_ranks(n).
+struct SummaryMoments {
+  std::size_t n = 0;
+  double mean = 0.0, m2 = 0.0, m4 = 0.0;  ///< m2 = sum (x - mean)^2, m4 = sum (x - mean)^4
+};
+/// The 0-based ranks (sorted, unique) of the order statistics a summary of n values uses.
+std::vector<std::size_t> summary_ranks(std::size_t n);
+/// The summary from the moments and `at(k)` = the k-th smallest value, k in summary_ranks(n);
+/// the same figures and intervals as summarize() of the values.
+Summary summarize_from(const SummaryMoments& m, const std::function<double(std::size_t)>& at);
 
 /// Summary of values from independent randomized replicates (design.h replicate_size), for
 /// lhs and scrambled Sobol points, which are not independent within a replicate. Each figure

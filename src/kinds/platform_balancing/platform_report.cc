@@ -78,7 +78,7 @@ ShaftingLos compute_shafting_los(const StudyConfig& cfg, int threads) {
   }
   const SeekerModel model = load_seeker_model(sc.model_path, sc.overrides);
   const SeekerLosStudy study(sc, model, platform_sections(cfg).platform.shafting_samples, sc.seed);
-  const SeekerMcResult r = study.run(threads, false, {});
+  const SeekerMcResult r = study.run(threads, false, {}, outputs_only());
   out.los_max_arcsec = r.los_max_sorted;
   out.pixel_arcsec = model.pixel_ifov * units::kArcsecPerRad;
   return out;

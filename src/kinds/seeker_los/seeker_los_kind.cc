@@ -58,7 +58,7 @@ class SeekerLosKind final : public StudyKind {
         for (std::size_t k = 0; k < e.names.size(); ++k) e.values[k].push_back(s.outputs[k]);
         e.ok_index.push_back(s.index);
       }
-    });
+    }, outputs_only());
     e.samples = mc.n;
     e.failures = mc.failures;
     e.wall_seconds = mc.wall_seconds;

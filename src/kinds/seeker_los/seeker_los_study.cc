@@ -1,21 +1,26 @@
 #include "kinds/seeker_los/seeker_los_study.h"
 
+#include <unistd.h>
+
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <memory>
 
 #include "core/units.h"
+#include <tbb/parallel_for.h>
 #include <tbb/parallel_invoke.h>
+#include <tbb/task_arena.h>
 
 #include "engine/convergence.h"
+#include "engine/field_statistics.h"
 #include "engine/sample_driver.h"
 #include "kinds/seeker_los/seeker_los_sections.h"
 
 namespace poise::studies {
 namespace {
 constexpr double kArcsec = units::kArcsecPerRad;
-// Above this many stored grid values (4 bytes each) the pooled statistics and maps use
-// the first samples only, so memory stays bounded (~400 MB).
-constexpr std::size_t kMaxStoredGridValues = 100'000'000;
 }  // namespace
 
 SeekerLosStudy::SeekerLosStudy(StudyConfig config, SeekerModel model, std::size_t samples,
@@ -98,16 +103,66 @@ void decode_seeker(ByteReader& rd, SeekerSampleResult& r) {
 }
 }  // namespace
 
+WideColumnsSpec SeekerLosStudy::field_spec() const {
+  WideColumnsSpec spec{"grid_total_arcsec", "arcsec",
+                       "total LOS pointing error of each sample (row) at each grid point (column)", grid_.size(), {}};
+  ColumnCoordinate yaw{"grid_yaw_deg", "deg", "yaw gimbal angle of each column", {}};
+  ColumnCoordinate pitch{"grid_pitch_deg", "deg", "pitch gimbal angle of each column", {}};
+  for (std::size_t ia = 0; ia < grid_.alpha().size(); ++ia) {
+    for (std::size_t ib = 0; ib < grid_.beta().size(); ++ib) {  // column grid_.index(ia, ib)
+      yaw.values.push_back(grid_.alpha()[ia] / units::kRadPerDeg);
+      pitch.values.push_back(grid_.beta()[ib] / units::kRadPerDeg);
+    }
+  }
+  spec.coordinates = {yaw, pitch};
+  return spec;
+}
+
+namespace {
+
+// A file name for grid values no one keeps: in the system's temporary folder, unique.
+// TemporaryFile removes it however the run ends.
+struct TemporaryFile {
+  std::string path;
+  ~TemporaryFile() {
+    std::error_code ec;
+    if (!path.empty()) std::filesystem::remove(path, ec);
+  }
+};
+
+std::string temporary_field_file() {
+  std::string name = (std::filesystem::temp_directory_path() / "poise-field-XXXXXX").string();
+  const int fd = mkstemp(name.data());
+  require(fd >= 0, "cannot create a temporary file in " + std::filesystem::temp_directory_path().string());
+  close(fd);
+  return name;
+}
+
+}  // namespace
+
 SeekerMcResult SeekerLosStudy::run(
     int threads, bool progress,
     const std::function<void(std::span<const SeekerSampleResult>)>& sink, const SeekerRunControl& control) const {
   SeekerMcResult r;
   r.n = samples_;
   const std::size_t g = grid_.size();
-  const std::size_t stored = std::min(samples_, std::max<std::size_t>(1, kMaxStoredGridValues / g));
-  std::vector<float> grid_values;  // [sample][grid point], ok samples only
-  grid_values.reserve(stored * g);
+  const bool writes = control.field_statistics && (!control.distributed || sampling::Cluster::root());
+  const bool temporary = writes && control.field_file.empty();
+  const std::string field_path = !writes ? "" : temporary ? temporary_field_file() : control.field_file;
+  const TemporaryFile scratch{temporary ? field_path : std::string()};
+  std::unique_ptr<WideColumnsWriter> field;
+  if (writes) {
+    WideColumnsSpec layout = field_spec();
+    layout.compress = !temporary;
+    field = std::make_unique<WideColumnsWriter>(field_path, layout, samples_, control.field_attributes,
+                                                control.field_number_attributes, threads);
+  }
+  // The scalar columns, sized for every planned sample at once: a growing vector would hold
+  // its old and new storage at once (3x); untouched pages (a run stopped early, MPI ranks
+  // other than 0) take no memory.
   std::vector<std::vector<double>> out_values(kNumSeekerOutputs);
+  for (auto& v : out_values) v.reserve(samples_);
+  r.ok_index.reserve(samples_);
   std::size_t n_ok = 0, n_all_ok = 0;
 
   sampling::Progress bar("samples", samples_, progress && (!control.distributed || sampling::Cluster::root()));
@@ -118,6 +173,7 @@ SeekerMcResult SeekerLosStudy::run(
       [&](std::size_t, std::span<const SeekerSampleResult> block) {
         if (sink) sink(block);
         for (const auto& s : block) {
+          if (field) field->append(s.index, s.ok, s.grid_total_arcsec);
           if (!s.ok) {
             ++r.failures;
             if (r.failed.size() < 100) r.failed.emplace_back(s.index, s.message);
@@ -127,10 +183,6 @@ SeekerMcResult SeekerLosStudy::run(
           r.ok_index.push_back(s.index);
           for (std::size_t k = 0; k < kNumSeekerOutputs; ++k) out_values[k].push_back(s.outputs[k]);
           if (s.outputs[0] <= requirement_rad_ * kArcsec) ++n_all_ok;
-          if (grid_values.size() < stored * g) {
-            grid_values.insert(grid_values.end(), s.grid_total_arcsec.begin(),
-                               s.grid_total_arcsec.end());
-          }
         }
       },
       [&](std::size_t completed) {
@@ -138,40 +190,42 @@ SeekerMcResult SeekerLosStudy::run(
       },
       encode_seeker, decode_seeker, &bar);
   bar.finish();
-  r.wall_seconds = bar.elapsed_seconds();
   r.completed = outcome.completed;
   r.interrupted = outcome.interrupted;
   r.signal = outcome.signal;
   r.stop_reason = outcome.stop_reason;
-  if (n_ok == 0) return r;
-  for (auto& v : out_values) r.outputs.push_back(summarize_output(v, r.ok_index, config_.replicate_size));
-  r.fraction_samples_ok = sampling::fraction_wilson(n_all_ok, n_ok);
-  const auto& field = r.outputs[5];
-  r.fraction_field_ok = field.mean;
-  // The tail runs on the same threads: the pooled summary beside the per-point maps.
-  const std::size_t rows = grid_values.size() / g;
-  r.map_p50.resize(g);
-  r.map_p95.resize(g);
-  r.map_p99_73.resize(g);
-  tbb::task_arena arena(std::max(1, threads));
-  arena.execute([&] {
-    tbb::parallel_invoke(
-        [&] {
-          const std::vector<double> pooled(grid_values.begin(), grid_values.end());
-          r.pooled = sampling::summarize(pooled);
-        },
-        [&] {
-          tbb::parallel_for(std::size_t{0}, g, [&](std::size_t p) {
-            std::vector<double> column(rows);
-            for (std::size_t k = 0; k < rows; ++k) column[k] = grid_values[k * g + p];
-            r.map_p50[p] = sampling::quantile_value(column, 0.5);
-            r.map_p95[p] = sampling::quantile_value(column, 0.95);
-            r.map_p99_73[p] = sampling::quantile_value(column, 0.9973);
+  if (field) r.field_file = field->close();
+  // The tail on all threads: the field figures read back point by point, then the per-sample
+  // outputs' summaries side by side.
+  if (n_ok > 0 && field) {
+    const WideColumnsReader reader(field_path, field_spec().dataset);
+    const double quantiles[] = {0.5, 0.95, 0.9973};
+    FieldStatistics fs = field_statistics(
+        g, [&](std::size_t p, std::vector<float>& out) { reader.read_column(p, out); }, quantiles, threads);
+    r.map_p50 = std::move(fs.per_point[0]);
+    r.map_p95 = std::move(fs.per_point[1]);
+    r.map_p99_73 = std::move(fs.per_point[2]);
+    r.pooled = fs.pooled;
+  }
+  if (n_ok > 0) {
+    r.outputs.resize(kNumSeekerOutputs);
+    tbb::task_arena arena(std::max(1, threads));
+    arena.execute([&] {
+      tbb::parallel_invoke(
+          [&] {
+            tbb::parallel_for(std::size_t{0}, kNumSeekerOutputs, [&](std::size_t k) {
+              r.outputs[k] = summarize_output(out_values[k], r.ok_index, config_.replicate_size);
+            }, tbb::simple_partitioner());
+          },
+          [&] {
+            r.los_max_sorted = out_values[0];
+            std::sort(r.los_max_sorted.begin(), r.los_max_sorted.end());
           });
-        });
-  });
-  r.los_max_sorted = out_values[0];
-  std::sort(r.los_max_sorted.begin(), r.los_max_sorted.end());
+    });
+    r.fraction_samples_ok = sampling::fraction_wilson(n_all_ok, n_ok);
+    r.fraction_field_ok = r.outputs[5].mean;
+  }
+  r.wall_seconds = bar.elapsed_seconds();
   r.values = std::move(out_values);
   return r;
 }

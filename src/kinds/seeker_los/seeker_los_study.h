@@ -14,6 +14,9 @@
 /// A sample that fails (non-finite result, exception) is kept with its reason.
 #include <cstddef>
 #include <functional>
+#include <map>
+
+#include <nlohmann/json.hpp>
 #include <optional>
 #include <span>
 #include <string>
@@ -25,6 +28,7 @@
 #include "sampling/statistics.h"
 #include "kinds/seeker_los/seeker_model.h"
 #include "engine/study_config.h"
+#include "engine/wide_columns.h"
 
 namespace poise::studies {
 
@@ -63,7 +67,8 @@ struct SeekerMcResult {
   sampling::Summary pooled;      ///< total error over (sample, grid point), arcsec
   sampling::Estimate fraction_samples_ok;  ///< samples whose whole field meets the requirement
   sampling::Estimate fraction_field_ok;    ///< mean field_ok_fraction (t interval)
-  std::vector<double> map_p50, map_p95, map_p99_73;  ///< per grid point, arcsec
+  std::vector<double> map_p50, map_p95, map_p99_73;  ///< per grid point, arcsec (with field statistics)
+  nlohmann::json field_file;               ///< the grid values' file (WideColumnsWriter::close), rank 0
   std::vector<double> los_max_sorted;      ///< for histogram/CDF
   double wall_seconds = 0.0;
   std::vector<std::vector<double>> values;  ///< per output, ok samples in order
@@ -74,14 +79,30 @@ struct SeekerMcResult {
   std::string stop_reason;
 };
 
-/// How SeekerLosStudy::run is driven: over MPI ranks (a run's main loop only) and with a
-/// stop rule (convergence.h) checked on rank 0 after each block.
+/// How SeekerLosStudy::run is driven: over MPI ranks (a run's main loop only), with a
+/// stop rule (convergence.h) checked on rank 0 after each block, and where the per-sample
+/// grid values go.
 struct SeekerRunControl {
   bool distributed = false;
+  /// The pooled field figures and per-point maps need every grid value: they are written to
+  /// `field_file` (a run's samples.h5; "" = a temporary file, removed after the run) as the
+  /// samples stream in, and read back column by column. false: no grid value is kept (callers
+  /// that use only the per-sample outputs).
+  bool field_statistics = true;
+  std::string field_file;
+  std::map<std::string, std::string> field_attributes;             ///< root attributes of the file
+  std::map<std::string, std::uint64_t> field_number_attributes;
   std::function<std::string(const std::vector<std::vector<double>>& values, const std::vector<std::size_t>& ok_index,
                             std::size_t failures, std::size_t completed)>
       stop;
 };
+
+/// A run that keeps only the per-sample outputs: no grid value stored, no pooled figure or map.
+inline SeekerRunControl outputs_only() {
+  SeekerRunControl c;
+  c.field_statistics = false;
+  return c;
+}
 
 /// A study ready to run: model, sampler, design and grid built and validated.
 class SeekerLosStudy {
@@ -104,6 +125,8 @@ class SeekerLosStudy {
   Workspace make_workspace() const;
   /// Computes sample i alone (replay); depends only on (seed, samples, method, i).
   void compute(std::size_t i, Workspace& ws, SeekerSampleResult& out) const;
+  /// The grid values' layout in samples.h5: one column per grid point, its yaw and pitch.
+  WideColumnsSpec field_spec() const;
   /// Per-grid-point errors of sample i (for replay reports).
   std::vector<models::PointingError> grid_errors(std::size_t i) const;
 

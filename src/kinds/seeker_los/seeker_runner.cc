@@ -1,5 +1,9 @@
 #include "kinds/seeker_los/seeker_runner.h"
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -165,17 +169,41 @@ std::string run_seeker_study(const StudyConfig& file_cfg, const RunOptions& opti
                                          options.progress && root);
   SeekerRunControl control;
   control.distributed = true;
+  // The grid values of every sample go to samples.h5 (a resumed run recomputes and rewrites
+  // it whole: the same data); samples.csv keeps the inputs and the scalar outputs.
+  control.field_file = (fs::path(dir) / "samples.h5").string();
+  control.field_attributes = {{"study", cfg.name}, {"kind", cfg.kind}, {"study_file", cfg.file},
+                              {"method", sampling::to_string(cfg.method)}, {"poise_version", kVersion}};
+  control.field_number_attributes = {{"seed", seed}, {"planned_samples", n}};
   control.stop = [rule](const std::vector<std::vector<double>>& v, const std::vector<std::size_t>& ok, std::size_t f,
                         std::size_t c) { return (*rule)(v, ok, f, c); };
+  // The rows' text is made on all threads (70 numbers a row), then written in order.
+  tbb::task_arena arena(std::max(1, threads));
+  std::vector<std::string> row_text;
   const SeekerMcResult mc = study.run(threads, options.progress, [&](std::span<const SeekerSampleResult> block) {
+    row_text.assign(block.size(), std::string());
+    arena.execute([&] {
+      tbb::parallel_for(tbb::blocked_range<std::size_t>(0, block.size(), 64), [&](const tbb::blocked_range<std::size_t>& r) {
+        for (std::size_t k = r.begin(); k != r.end(); ++k) {
+          const SeekerSampleResult& s = block[k];
+          if (s.index < rows_on_disk) continue;
+          std::string& row = row_text[k];
+          row.reserve(24 * (s.inputs.size() + s.outputs.size()) + 32);
+          row = std::to_string(s.index);
+          row += s.ok ? ",ok" : ",failed";
+          for (double v : s.inputs) append_csv_number(row, v);
+          for (double v : s.outputs) append_csv_number(row, v);
+          row += ',';
+          row += csv_text(s.message);
+          row += '\n';
+        }
+      });
+    });
+    std::size_t bytes = 0;
+    for (const auto& t : row_text) bytes += t.size();
     std::string rows;
-    for (const auto& s : block) {
-      if (s.index < rows_on_disk) continue;
-      rows += std::to_string(s.index) + ',' + (s.ok ? "ok" : "failed");
-      for (double v : s.inputs) rows += ',' + csv_number(v);
-      for (double v : s.outputs) rows += ',' + csv_number(v);
-      rows += ',' + csv_text(s.message) + '\n';
-    }
+    rows.reserve(bytes);
+    for (const auto& t : row_text) rows += t;
     csv.write(rows);  // the first refused write stops the run (WriteError)
   }, control);
   if (!root) return "";  // rank 0 writes the folder
@@ -296,6 +324,7 @@ std::string run_seeker_study(const StudyConfig& file_cfg, const RunOptions& opti
     });
   }
   s["failures"] = failures_json(mc.failures, ran, mc.failed, seed, cfg.file);
+  if (!mc.field_file.is_null()) s["samples_h5"] = mc.field_file;
   s["sample_convergence"] = convergence_json(output_names, mc.outputs, ran, cfg.replicate_size, rule->until_json());
   if (sensitivity_base > 0 && status == "complete") {
     std::vector<std::string> groups;

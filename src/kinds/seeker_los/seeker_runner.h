@@ -3,6 +3,8 @@
 /// tolerances) and writes its result folder:
 ///   samples.csv   one row per sample: index, status, drawn inputs, outputs, message
 ///                 (streamed chunk by chunk, in sample order)
+///   samples.h5    the total LOS error of every sample at every grid point (HDF5,
+///                 engine/wide_columns.h), from which the pooled figures and maps are read back
 ///   summary.json  statistics of every output with 95% CIs, the pooled field figures,
 ///                 contributions, sweeps, declared references, provenance
 ///   plots/        gnuplot scripts, data and SVG figures (inline in report.html)

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Records samples.csv of every study in plan.txt with the given poise binary (files over
-# 200 kB as their SHA-1):
+# 200 kB as their SHA-1) and, for a study with samples.h5, the digest of its values:
 #   tests/data/study_reference/record.sh build/poise
 # Run it only when a change is meant to change the samples (and say so in the commit).
 set -euo pipefail
@@ -19,5 +19,10 @@ grep -v '^#' "$here/plan.txt" | while read -r study samples seed; do
     cp "$tmp/$study/samples.csv" "$here/$study.csv"
   else  # a large file is kept as its SHA-1 only
     sha1sum "$tmp/$study/samples.csv" | cut -d' ' -f1 > "$here/$study.sha1"
+  fi
+  # A run with wide data (samples.h5) records the digest of its values (summary.json).
+  rm -f "$here/$study.h5.digest"
+  if [ -f "$tmp/$study/samples.h5" ]; then
+    grep -o '"values_digest": "[0-9a-f]*"' "$tmp/$study/summary.json" | cut -d'"' -f4 > "$here/$study.h5.digest"
   fi
 done

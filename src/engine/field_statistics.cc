@@ -1,0 +1,146 @@
+#include "engine/field_statistics.h"
+
+#include <tbb/enumerable_thread_specific.h>
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
+#include <algorithm>
+#include <bit>
+#include <cmath>
+#include <cstdint>
+
+#include "core/error.h"
+
+namespace poise::studies {
+namespace {
+
+constexpr std::size_t kBins = 1u << 16;
+
+// Order-preserving key of a float's bit pattern: unsigned comparison of keys is numeric
+// comparison of the (non-NaN) floats.
+std::uint32_t key_of(float f) {
+  const auto bits = std::bit_cast<std::uint32_t>(f);
+  return (bits & 0x80000000u) ? ~bits : (bits | 0x80000000u);
+}
+float float_of(std::uint32_t key) {
+  return std::bit_cast<float>((key & 0x80000000u) ? (key & 0x7fffffffu) : ~key);
+}
+
+struct PointPass1 {
+  std::size_t n = 0;
+  double sum = 0.0;
+};
+
+}  // namespace
+
+FieldStatistics field_statistics(std::size_t columns,
+                                 const std::function<void(std::size_t, std::vector<float>&)>& read_column,
+                                 std::span<const double> quantiles, int threads) {
+  FieldStatistics out;
+  out.per_point.assign(quantiles.size(), std::vector<double>(columns, NAN));
+  std::vector<PointPass1> pass1(columns);
+  tbb::task_arena arena(std::max(1, threads));
+  struct Local {
+    std::vector<float> column;
+    std::vector<double> values;
+    std::vector<std::uint64_t> bins;
+  };
+  tbb::enumerable_thread_specific<Local> locals([] { return Local{{}, {}, std::vector<std::uint64_t>(kBins, 0)}; });
+
+  // Pass 1: per-point quantiles, sums and counts, the upper-16-bit counts of every value.
+  arena.execute([&] {
+    tbb::parallel_for(std::size_t{0}, columns, [&](std::size_t p) {
+      Local& l = locals.local();
+      read_column(p, l.column);
+      l.values.clear();
+      for (float f : l.column) {
+        if (std::isnan(f)) continue;
+        l.values.push_back(static_cast<double>(f));
+        pass1[p].sum += static_cast<double>(f);
+        ++l.bins[key_of(f) >> 16];
+      }
+      pass1[p].n = l.values.size();
+      if (l.values.empty()) return;
+      for (std::size_t q = 0; q < quantiles.size(); ++q) {
+        out.per_point[q][p] = sampling::quantile_value(l.values, quantiles[q]);
+      }
+    });
+  });
+  sampling::SummaryMoments m;
+  for (const auto& c : pass1) {  // in point order: the same sum for any thread count
+    m.n += c.n;
+    m.mean += c.sum;
+  }
+  if (m.n == 0) return out;
+  m.mean /= static_cast<double>(m.n);
+  std::vector<std::uint64_t> bins(kBins, 0);
+  for (const auto& l : locals) {
+    for (std::size_t b = 0; b < kBins; ++b) bins[b] += l.bins[b];
+  }
+  locals.clear();  // each thread's column copies, before pass 2 makes its own
+
+  // The bin of each wanted rank and the rank within it.
+  const std::vector<std::size_t> ranks = sampling::summary_ranks(m.n);
+  struct Wanted {
+    std::size_t bin, rank_in_bin, slot;
+  };
+  std::vector<Wanted> wanted;
+  std::vector<int> slot_of_bin(kBins, -1);
+  std::size_t slots = 0;
+  {
+    std::size_t below = 0, b = 0;
+    for (std::size_t k : ranks) {  // ascending
+      while (below + bins[b] <= k) below += bins[b++];
+      if (slot_of_bin[b] < 0) slot_of_bin[b] = static_cast<int>(slots++);
+      wanted.push_back({b, k - below, static_cast<std::size_t>(slot_of_bin[b])});
+    }
+  }
+
+  // Pass 2: central moments about the pooled mean; lower-16-bit counts within the wanted bins.
+  std::vector<double> m2(columns, 0.0), m4(columns, 0.0);
+  tbb::enumerable_thread_specific<std::vector<std::uint64_t>> fine([&] { return std::vector<std::uint64_t>(slots * kBins, 0); });
+  tbb::enumerable_thread_specific<std::vector<float>> columns_2;
+  arena.execute([&] {
+    tbb::parallel_for(std::size_t{0}, columns, [&](std::size_t p) {
+      std::vector<float>& column = columns_2.local();
+      std::vector<std::uint64_t>& counts = fine.local();
+      read_column(p, column);
+      double a2 = 0.0, a4 = 0.0;
+      for (float f : column) {
+        if (std::isnan(f)) continue;
+        const double d = (static_cast<double>(f) - m.mean) * (static_cast<double>(f) - m.mean);
+        a2 += d;
+        a4 += d * d;
+        const std::uint32_t key = key_of(f);
+        const int slot = slot_of_bin[key >> 16];
+        if (slot >= 0) ++counts[static_cast<std::size_t>(slot) * kBins + (key & 0xffffu)];
+      }
+      m2[p] = a2;
+      m4[p] = a4;
+    });
+  });
+  for (std::size_t p = 0; p < columns; ++p) {
+    m.m2 += m2[p];
+    m.m4 += m4[p];
+  }
+  std::vector<std::uint64_t> counts(slots * kBins, 0);
+  for (const auto& f : fine) {
+    for (std::size_t i = 0; i < counts.size(); ++i) counts[i] += f[i];
+  }
+  std::vector<double> value_at_rank(ranks.size());
+  for (std::size_t w = 0; w < wanted.size(); ++w) {
+    const std::uint64_t* c = counts.data() + wanted[w].slot * kBins;
+    std::size_t below = 0, low = 0;
+    while (below + c[low] <= wanted[w].rank_in_bin) below += c[low++];
+    require(low < kBins, "field statistics: a value counted in pass 1 is missing in pass 2");
+    value_at_rank[w] = static_cast<double>(float_of(static_cast<std::uint32_t>((wanted[w].bin << 16) | low)));
+  }
+  out.pooled = sampling::summarize_from(m, [&](std::size_t k) {
+    const auto it = std::lower_bound(ranks.begin(), ranks.end(), k);
+    require(it != ranks.end() && *it == k, "field statistics: order statistic " + std::to_string(k) + " not selected");
+    return value_at_rank[static_cast<std::size_t>(it - ranks.begin())];
+  });
+  return out;
+}
+
+}  // namespace poise::studies

@@ -1,0 +1,348 @@
+#include "engine/wide_columns.h"
+
+#include <hdf5.h>
+#include <zlib.h>
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
+#include <algorithm>
+#include <boost/uuid/detail/sha1.hpp>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+
+#include "core/error.h"
+#include "engine/checked_file.h"
+#include "engine/chunk_codec.h"
+
+namespace poise::studies {
+namespace {
+
+using Sha1 = boost::uuids::detail::sha1;
+
+// HDF5 prints its own error stack by default; Poise reports its errors itself.
+void quiet_hdf5() {
+  static const bool once = [] {
+    H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
+    return true;
+  }();
+  (void)once;
+}
+
+// File access without HDF5's file locks: one process writes the file (rank 0), and the
+// locks fail on file systems that lack them (NFS, Lustre of a cluster).
+hid_t unlocked_access();
+
+// An HDF5 identifier closed by its own close function when it goes out of scope.
+class Id {
+ public:
+  Id() = default;
+  Id(hid_t id, herr_t (*close)(hid_t)) : id_(id), close_(close) {}
+  Id(Id&& o) noexcept : id_(o.id_), close_(o.close_) { o.id_ = -1; }
+  Id& operator=(Id&& o) noexcept {
+    std::swap(id_, o.id_);
+    std::swap(close_, o.close_);
+    return *this;
+  }
+  Id(const Id&) = delete;
+  Id& operator=(const Id&) = delete;
+  ~Id() { reset(); }
+  herr_t reset() {
+    herr_t rc = 0;
+    if (id_ >= 0 && close_) rc = close_(id_);
+    id_ = -1;
+    return rc;
+  }
+  hid_t get() const { return id_; }
+  bool ok() const { return id_ >= 0; }
+
+ private:
+  hid_t id_ = -1;
+  herr_t (*close_)(hid_t) = nullptr;
+};
+
+hid_t unlocked_access() {
+  static const hid_t fapl = [] {
+    const hid_t p = H5Pcreate(H5P_FILE_ACCESS);
+    H5Pset_file_locking(p, false, true);
+    return p;
+  }();
+  return fapl;
+}
+
+std::string hex(const Sha1::digest_type& d) {
+  char buf[41];
+  for (int i = 0; i < 5; ++i) std::snprintf(buf + 8 * i, 9, "%08x", d[i]);
+  return buf;
+}
+
+void text_attribute(hid_t obj, const std::string& name, const std::string& value) {
+  Id type(H5Tcopy(H5T_C_S1), H5Tclose);
+  H5Tset_size(type.get(), H5T_VARIABLE);
+  H5Tset_cset(type.get(), H5T_CSET_UTF8);
+  Id space(H5Screate(H5S_SCALAR), H5Sclose);
+  Id attr(H5Acreate2(obj, name.c_str(), type.get(), space.get(), H5P_DEFAULT, H5P_DEFAULT), H5Aclose);
+  const char* p = value.c_str();
+  if (!attr.ok() || H5Awrite(attr.get(), type.get(), &p) < 0) throw Error("cannot write attribute " + name);
+}
+
+void number_attribute(hid_t obj, const std::string& name, std::uint64_t value) {
+  Id space(H5Screate(H5S_SCALAR), H5Sclose);
+  Id attr(H5Acreate2(obj, name.c_str(), H5T_STD_U64LE, space.get(), H5P_DEFAULT, H5P_DEFAULT), H5Aclose);
+  if (!attr.ok() || H5Awrite(attr.get(), H5T_NATIVE_UINT64, &value) < 0) throw Error("cannot write attribute " + name);
+}
+
+// A chunked, deflated, growable dataset of `rank` dimensions (the first unlimited).
+Id growable(hid_t file, const std::string& name, hid_t type, hsize_t columns, hsize_t chunk_rows, bool shuffle) {
+  const int rank = columns > 0 ? 2 : 1;
+  const hsize_t dims[2] = {0, columns}, maxdims[2] = {H5S_UNLIMITED, columns}, chunk[2] = {chunk_rows, 1};
+  Id space(H5Screate_simple(rank, dims, maxdims), H5Sclose);
+  Id dcpl(H5Pcreate(H5P_DATASET_CREATE), H5Pclose);
+  H5Pset_chunk(dcpl.get(), rank, chunk);
+  if (shuffle) H5Pset_shuffle(dcpl.get());
+  H5Pset_deflate(dcpl.get(), static_cast<unsigned>(kChunkDeflateLevel));
+  if (type == H5T_IEEE_F32LE) {
+    const float fill = NAN;
+    H5Pset_fill_value(dcpl.get(), H5T_NATIVE_FLOAT, &fill);
+  }
+  Id d(H5Dcreate2(file, name.c_str(), type, space.get(), H5P_DEFAULT, dcpl.get(), H5P_DEFAULT), H5Dclose);
+  if (!d.ok()) throw Error("cannot create dataset /" + name);
+  return d;
+}
+
+// Appends `n` values of a 1-D growable dataset at row `first`.
+void append_rows(hid_t dset, hid_t mem_type, hsize_t first, hsize_t n, const void* data) {
+  const hsize_t size = first + n;
+  if (H5Dset_extent(dset, &size) < 0) throw Error("cannot grow a dataset");
+  Id file_space(H5Dget_space(dset), H5Sclose);
+  H5Sselect_hyperslab(file_space.get(), H5S_SELECT_SET, &first, nullptr, &n, nullptr);
+  Id mem_space(H5Screate_simple(1, &n, nullptr), H5Sclose);
+  if (H5Dwrite(dset, mem_type, mem_space.get(), file_space.get(), H5P_DEFAULT, data) < 0) {
+    throw Error("cannot write rows");
+  }
+}
+
+}  // namespace
+
+struct WideColumnsWriter::Handles {
+  Id file, values, sample, ok;
+};
+
+WideColumnsWriter::WideColumnsWriter(std::string path, WideColumnsSpec spec, std::size_t planned_rows,
+                                     const std::map<std::string, std::string>& text_attributes,
+                                     const std::map<std::string, std::uint64_t>& number_attributes, int threads)
+    : path_(std::move(path)),
+      spec_(std::move(spec)),
+      chunk_rows_(std::clamp<std::size_t>(planned_rows, 1, kWideChunkRows)),
+      threads_(std::max(1, threads)),
+      h_(std::make_unique<Handles>()),
+      crc_(spec_.columns, static_cast<std::uint32_t>(crc32(0L, Z_NULL, 0))) {
+  quiet_hdf5();
+  require(spec_.columns > 0, "samples.h5: a wide dataset needs at least one column");
+  try {
+    h_->file = Id(H5Fcreate(path_.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, unlocked_access()), H5Fclose);
+    if (!h_->file.ok()) throw Error("HDF5 cannot create the file");
+    const hid_t f = h_->file.get();
+    for (const auto& [k, v] : text_attributes) text_attribute(f, k, v);
+    for (const auto& [k, v] : number_attributes) number_attribute(f, k, v);
+    const auto rows = static_cast<hsize_t>(chunk_rows_);
+    h_->sample = growable(f, "sample", H5T_STD_U64LE, 0, rows, false);
+    text_attribute(h_->sample.get(), "description", "sample index of each row");
+    h_->ok = growable(f, "ok", H5T_STD_U8LE, 0, rows, false);
+    text_attribute(h_->ok.get(), "description", "1 = the sample succeeded, 0 = it failed (its values are NaN)");
+    h_->values = growable(f, spec_.dataset, H5T_IEEE_F32LE, static_cast<hsize_t>(spec_.columns), rows, true);
+    text_attribute(h_->values.get(), "units", spec_.unit);
+    text_attribute(h_->values.get(), "description", spec_.description);
+    for (const auto& c : spec_.coordinates) {
+      require(c.values.size() == spec_.columns, "samples.h5: coordinate " + c.name + " has the wrong length");
+      const hsize_t n = c.values.size();
+      Id space(H5Screate_simple(1, &n, nullptr), H5Sclose);
+      Id d(H5Dcreate2(f, c.name.c_str(), H5T_IEEE_F64LE, space.get(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Dclose);
+      if (!d.ok() || H5Dwrite(d.get(), H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, c.values.data()) < 0) {
+        throw Error("cannot write /" + c.name);
+      }
+      text_attribute(d.get(), "units", c.unit);
+      text_attribute(d.get(), "description", c.description);
+    }
+  } catch (const Error& e) {
+    h_.reset();
+    throw WriteError(path_, e.what());
+  }
+  buffer_.assign(chunk_rows_ * spec_.columns, 0.0f);
+  samples_.reserve(chunk_rows_);
+  ok_.reserve(chunk_rows_);
+}
+
+WideColumnsWriter::~WideColumnsWriter() {
+  if (closed_) return;
+  try {
+    close();
+  } catch (const std::exception&) {  // a destructor does not throw: the run reports its own error
+  }
+}
+
+void WideColumnsWriter::append(std::size_t sample, bool ok, std::span<const float> values) {
+  require(!closed_, "samples.h5: append after close");
+  require(sample == rows_written_ + samples_.size(), "samples.h5: rows must come in sample order");
+  require(!ok || values.size() == spec_.columns, "samples.h5: a row has the wrong number of values");
+  const std::size_t r = samples_.size();
+  for (std::size_t p = 0; p < spec_.columns; ++p) {
+    buffer_[p * chunk_rows_ + r] = ok ? values[p] : NAN;
+  }
+  samples_.push_back(sample);
+  ok_.push_back(ok ? 1 : 0);
+  if (samples_.size() == chunk_rows_) flush();
+}
+
+void WideColumnsWriter::flush() {
+  const std::size_t r = samples_.size();
+  if (r == 0) return;
+  const std::size_t g = spec_.columns;
+  // The rows past r of a last, partial chunk are outside the dataset: zeros compress best.
+  for (std::size_t p = 0; p < g && r < chunk_rows_; ++p) {
+    std::fill(buffer_.begin() + static_cast<long>(p * chunk_rows_ + r), buffer_.begin() + static_cast<long>((p + 1) * chunk_rows_), 0.0f);
+  }
+  std::vector<std::string> encoded(g);
+  tbb::task_arena arena(threads_);
+  arena.execute([&] {
+    tbb::parallel_for(std::size_t{0}, g, [&](std::size_t p) {
+      const std::span<const float> column(buffer_.data() + p * chunk_rows_, chunk_rows_);
+      if (spec_.compress) {
+        encoded[p] = encode_chunk(column);
+      } else {
+        encoded[p].assign(reinterpret_cast<const char*>(column.data()), column.size() * sizeof(float));
+      }
+      crc_[p] = static_cast<std::uint32_t>(
+          crc32(crc_[p], reinterpret_cast<const Bytef*>(column.data()), static_cast<uInt>(r * sizeof(float))));
+    });
+  });
+  try {
+    const hsize_t first = rows_written_, n = r;
+    const hsize_t extent[2] = {first + n, g};
+    if (H5Dset_extent(h_->values.get(), extent) < 0) throw Error("cannot grow /" + spec_.dataset);
+    for (std::size_t p = 0; p < g; ++p) {
+      const hsize_t offset[2] = {first, p};
+      const std::uint32_t skipped = spec_.compress ? 0u : 3u;  // bit 0 shuffle, bit 1 deflate
+      if (H5Dwrite_chunk(h_->values.get(), H5P_DEFAULT, skipped, offset, encoded[p].size(), encoded[p].data()) < 0) {
+        throw Error("cannot write a chunk of /" + spec_.dataset);
+      }
+    }
+    append_rows(h_->sample.get(), H5T_NATIVE_UINT64, first, n, samples_.data());
+    append_rows(h_->ok.get(), H5T_NATIVE_UINT8, first, n, ok_.data());
+  } catch (const Error& e) {
+    throw WriteError(path_, e.what());
+  }
+  rows_written_ += r;
+  samples_.clear();
+  ok_.clear();
+}
+
+nlohmann::json WideColumnsWriter::close() {
+  if (closed_) return nullptr;
+  closed_ = true;
+  flush();
+  Sha1 all;
+  for (const std::uint32_t c : crc_) {
+    const unsigned char bytes[4] = {static_cast<unsigned char>(c >> 24), static_cast<unsigned char>(c >> 16),
+                                    static_cast<unsigned char>(c >> 8), static_cast<unsigned char>(c)};
+    all.process_bytes(bytes, sizeof bytes);
+  }
+  Sha1::digest_type total;
+  all.get_digest(total);
+  h_->values.reset();
+  h_->sample.reset();
+  h_->ok.reset();
+  if (H5Fflush(h_->file.get(), H5F_SCOPE_GLOBAL) < 0 || h_->file.reset() < 0) {
+    throw WriteError(path_, "HDF5 could not flush and close the file");
+  }
+  return {{"file", std::filesystem::path(path_).filename().string()}, {"dataset", spec_.dataset},
+          {"rows", rows_written_}, {"columns", spec_.columns}, {"unit", spec_.unit}, {"values_digest", hex(total)},
+          {"values_digest_is", "SHA-1 of the CRC-32s of each column's little-endian float32 values, in column order"}};
+}
+
+// ---- reading
+
+struct WideColumnsReader::Handles {
+  Id file, values;
+};
+
+WideColumnsReader::WideColumnsReader(std::string path, const std::string& dataset)
+    : path_(std::move(path)), h_(std::make_unique<Handles>()) {
+  quiet_hdf5();
+  h_->file = Id(H5Fopen(path_.c_str(), H5F_ACC_RDONLY, unlocked_access()), H5Fclose);
+  if (!h_->file.ok()) throw Error(path_ + ": not an HDF5 file HDF5 can open");
+  h_->values = Id(H5Dopen2(h_->file.get(), dataset.c_str(), H5P_DEFAULT), H5Dclose);
+  if (!h_->values.ok()) throw Error(path_ + ": no dataset /" + dataset);
+  Id space(H5Dget_space(h_->values.get()), H5Sclose);
+  hsize_t dims[2] = {0, 0};
+  if (H5Sget_simple_extent_ndims(space.get()) != 2 || H5Sget_simple_extent_dims(space.get(), dims, nullptr) < 0) {
+    throw Error(path_ + ": /" + dataset + " is not a [rows, columns] table");
+  }
+  rows_ = dims[0];
+  columns_ = dims[1];
+  Id dcpl(H5Dget_create_plist(h_->values.get()), H5Pclose);
+  hsize_t chunk[2] = {0, 0};
+  if (H5Pget_layout(dcpl.get()) != H5D_CHUNKED || H5Pget_chunk(dcpl.get(), 2, chunk) != 2 || chunk[1] != 1) {
+    throw Error(path_ + ": /" + dataset + " is not stored in chunks of one column");
+  }
+  chunk_rows_ = chunk[0];
+}
+
+WideColumnsReader::~WideColumnsReader() = default;
+
+void WideColumnsReader::read_column(std::size_t p, std::vector<float>& out) const {
+  require(p < columns_, path_ + ": column " + std::to_string(p) + " is past the last");
+  out.resize(rows_);
+  std::vector<float> chunk(chunk_rows_);
+  std::string stored;
+  for (std::size_t first = 0; first < rows_; first += chunk_rows_) {
+    std::uint32_t mask = 0;
+    {
+      const std::lock_guard<std::mutex> lock(hdf5_);
+      const hsize_t offset[2] = {first, p};
+      hsize_t size = 0;
+      if (H5Dget_chunk_storage_size(h_->values.get(), offset, &size) < 0) {
+        throw Error(path_ + ": cannot locate the chunk at row " + std::to_string(first));
+      }
+      stored.resize(size);
+      if (size > 0 && H5Dread_chunk(h_->values.get(), H5P_DEFAULT, offset, &mask, stored.data()) < 0) {
+        throw Error(path_ + ": cannot read the chunk at row " + std::to_string(first));
+      }
+    }
+    const std::size_t n = std::min(chunk_rows_, rows_ - first);
+    if (stored.empty()) {  // never written: the fill value
+      std::fill(out.begin() + static_cast<long>(first), out.begin() + static_cast<long>(first + n), NAN);
+      continue;
+    }
+    decode_chunk(stored, mask, chunk, path_);
+    std::copy(chunk.begin(), chunk.begin() + static_cast<long>(n), out.begin() + static_cast<long>(first));
+  }
+}
+
+namespace {
+template <class T>
+std::vector<T> read_1d(hid_t file, const std::string& path, const char* name, hid_t mem_type) {
+  Id d(H5Dopen2(file, name, H5P_DEFAULT), H5Dclose);
+  if (!d.ok()) throw Error(path + ": no dataset /" + name);
+  Id space(H5Dget_space(d.get()), H5Sclose);
+  hsize_t n = 0;
+  H5Sget_simple_extent_dims(space.get(), &n, nullptr);
+  std::vector<T> v(n);
+  if (n > 0 && H5Dread(d.get(), mem_type, H5S_ALL, H5S_ALL, H5P_DEFAULT, v.data()) < 0) {
+    throw Error(path + ": cannot read /" + name);
+  }
+  return v;
+}
+}  // namespace
+
+std::vector<std::uint64_t> WideColumnsReader::sample_index() const {
+  const std::lock_guard<std::mutex> lock(hdf5_);
+  return read_1d<std::uint64_t>(h_->file.get(), path_, "sample", H5T_NATIVE_UINT64);
+}
+
+std::vector<std::uint8_t> WideColumnsReader::ok() const {
+  const std::lock_guard<std::mutex> lock(hdf5_);
+  return read_1d<std::uint8_t>(h_->file.get(), path_, "ok", H5T_NATIVE_UINT8);
+}
+
+}  // namespace poise::studies

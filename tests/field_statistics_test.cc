@@ -1,0 +1,110 @@
+// Field statistics read column by column (engine/field_statistics.h) against the whole field
+// in memory: sampling::summarize of every value and sampling::quantile_value of each column.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+#include <vector>
+
+#include "engine/field_statistics.h"
+#include "sampling/statistics.h"
+
+namespace poise {
+namespace {
+
+using studies::field_statistics;
+
+// A field [rows][columns] with NaN holes (failed samples), ties and negative values.
+std::vector<std::vector<float>> make_field(std::size_t rows, std::size_t columns, unsigned seed) {
+  std::mt19937_64 rng(seed);
+  std::lognormal_distribution<double> big(1.0, 0.8);
+  std::normal_distribution<double> small(0.0, 1e-3);
+  std::vector<std::vector<float>> col(columns, std::vector<float>(rows));
+  for (std::size_t p = 0; p < columns; ++p) {
+    for (std::size_t r = 0; r < rows; ++r) {
+      double v = p % 5 == 0 ? small(rng) : big(rng) * (1.0 + 0.1 * static_cast<double>(p));
+      if (p % 7 == 3) v = std::round(v * 4.0) / 4.0;  // many equal values
+      col[p][r] = r % 97 == 13 ? NAN : static_cast<float>(v);
+    }
+  }
+  return col;
+}
+
+void expect_same_estimate(const sampling::Estimate& a, const sampling::Estimate& b, double rel, const char* what) {
+  EXPECT_NEAR(a.value, b.value, rel * std::abs(b.value) + 1e-300) << what;
+  ASSERT_EQ(a.lo.has_value(), b.lo.has_value()) << what;
+  ASSERT_EQ(a.hi.has_value(), b.hi.has_value()) << what;
+  if (a.lo) {
+    EXPECT_NEAR(*a.lo, *b.lo, rel * std::abs(*b.lo) + 1e-300) << what;
+  }
+  if (a.hi) {
+    EXPECT_NEAR(*a.hi, *b.hi, rel * std::abs(*b.hi) + 1e-300) << what;
+  }
+}
+
+TEST(FieldStatistics, EqualTheStatisticsOfTheWholeFieldInMemory) {
+  const std::size_t rows = 5003, columns = 23;
+  const auto field = make_field(rows, columns, 7);
+  const double quantiles[] = {0.5, 0.95, 0.9973};
+  std::vector<double> all;
+  for (const auto& c : field) {
+    for (float f : c) {
+      if (!std::isnan(f)) all.push_back(f);
+    }
+  }
+  const sampling::Summary want = sampling::summarize(all);
+  for (int threads : {1, 2, 3}) {
+    const auto got = field_statistics(
+        columns, [&](std::size_t p, std::vector<float>& out) { out = field[p]; }, quantiles, threads);
+    EXPECT_EQ(got.pooled.n, want.n);
+    // Order statistics are selected exactly: equal to the last bit.
+    EXPECT_EQ(got.pooled.p50.value, want.p50.value);
+    EXPECT_EQ(got.pooled.p95.lo, want.p95.lo);
+    EXPECT_EQ(got.pooled.p95.hi, want.p95.hi);
+    EXPECT_EQ(got.pooled.p99_73.value, want.p99_73.value);
+    EXPECT_EQ(got.pooled.max.value, want.max.value);
+    EXPECT_EQ(got.pooled.max.lo, want.max.lo);
+    // Sums in another order: equal to rounding.
+    expect_same_estimate(got.pooled.mean, want.mean, 1e-12, "mean");
+    expect_same_estimate(got.pooled.std, want.std, 1e-10, "std");
+    expect_same_estimate(got.pooled.p50, want.p50, 0, "p50");
+    for (std::size_t p = 0; p < columns; ++p) {
+      std::vector<double> column;
+      for (float f : field[p]) {
+        if (!std::isnan(f)) column.push_back(f);
+      }
+      for (std::size_t q = 0; q < 3; ++q) {
+        std::vector<double> copy = column;
+        EXPECT_EQ(got.per_point[q][p], sampling::quantile_value(copy, quantiles[q])) << "point " << p;
+      }
+    }
+  }
+}
+
+TEST(FieldStatistics, SameFiguresForAnyThreadCount) {
+  const auto field = make_field(2000, 31, 11);
+  const double quantiles[] = {0.95};
+  auto run = [&](int threads) {
+    return field_statistics(31, [&](std::size_t p, std::vector<float>& out) { out = field[p]; }, quantiles, threads);
+  };
+  const auto a = run(1), b = run(4);
+  EXPECT_EQ(a.pooled.mean.value, b.pooled.mean.value);  // bit for bit
+  EXPECT_EQ(a.pooled.std.value, b.pooled.std.value);
+  EXPECT_EQ(a.per_point, b.per_point);
+}
+
+TEST(FieldStatistics, OneValueAndNoValue) {
+  const double quantiles[] = {0.5};
+  const std::vector<std::vector<float>> one = {{NAN, 2.5f, NAN}, {NAN, NAN, NAN}};
+  const auto got = field_statistics(2, [&](std::size_t p, std::vector<float>& out) { out = one[p]; }, quantiles, 2);
+  EXPECT_EQ(got.pooled.n, 1u);
+  EXPECT_EQ(got.pooled.p50.value, 2.5);
+  EXPECT_EQ(got.pooled.max.value, 2.5);
+  EXPECT_EQ(got.per_point[0][0], 2.5);
+  EXPECT_TRUE(std::isnan(got.per_point[0][1]));
+  const auto none = field_statistics(1, [](std::size_t, std::vector<float>& out) { out.assign(4, NAN); }, quantiles, 1);
+  EXPECT_EQ(none.pooled.n, 0u);
+}
+
+}  // namespace
+}  // namespace poise
