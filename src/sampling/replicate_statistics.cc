@@ -77,7 +77,8 @@ void woodruff(Estimate& e, double p, const std::vector<double>& sorted, const st
   e.lo = ends.lo;
   e.hi = ends.hi;
   const double half = ends.half;
-  const std::string name = "p" + format("%.4g", 100.0 * p);
+  std::string name = "p";  // appended: "p" + a temporary trips GCC 12's -Wrestrict (PR 105329)
+  name += format("%.4g", 100.0 * p);
   if (!e.hi || !e.lo) {
     e.note = std::string("one-sided: the replicates' spread of the share below ") + name + " (+-" +
              format("%.2g", half) + ") reaches past the " + (e.hi ? "smallest" : "largest") + " of the " +
