@@ -81,6 +81,16 @@ TEST(StudyKeys, TheCommandListsTheKindsAndTheirKeys) {
   EXPECT_NE(r.out.find("[[group.load]]"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("[rotor]"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("[[reference]]"), std::string::npos) << r.out;
+  // A key required with one setting only says so instead of "(required)".
+  r = test::run_poise(d, "keys platform_balancing");
+  EXPECT_EQ(r.status, 0) << r.err;
+  for (const char* k : {"natural_frequency", "crossover"}) {
+    const auto at = r.out.find(std::string("    ") + k + " ");
+    ASSERT_NE(at, std::string::npos) << k << "\n" << r.out;
+    const std::string line = r.out.substr(at, r.out.find('\n', at) - at);
+    EXPECT_NE(line.find("required with loop = "), std::string::npos) << line;
+    EXPECT_EQ(line.find("(required)"), std::string::npos) << line;
+  }
   r = test::run_poise(d, "keys no_such_kind");
   EXPECT_EQ(r.status, 2);
   EXPECT_NE(r.err.find("seeker_los"), std::string::npos) << r.err;

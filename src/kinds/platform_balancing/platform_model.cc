@@ -90,6 +90,13 @@ PlatformModel load_platform_model(const std::string& path, const std::map<std::s
     }
     const std::string loop = t.choice("loop", {"position_pid", "rate_pi"}, "position_pid");
     s.type = loop == "rate_pi" ? models::LoopType::kRatePi : models::LoopType::kPositionPid;
+    if (t.schema_only()) {  // `poise keys`: each loop's own keys are required with that loop only
+      t.ask("natural_frequency", "a frequency with its unit, e.g. \"40 Hz\": the PD part's natural frequency w_n "
+            "(K_p = J w_n^2); required with loop = \"position_pid\" (the default)", "", false);
+      t.ask("damping", "a positive damping ratio; required with loop = \"position_pid\" (the default)", "", false);
+      t.ask("crossover", "a frequency with its unit, e.g. \"40 Hz\": the rate loop's open-loop crossover; "
+            "required with loop = \"rate_pi\"", "", false);
+    }
     if (t.schema_only() || s.type == models::LoopType::kPositionPid) {
       s.frequency_hz = t.quantity("natural_frequency", units::kFrequency, positive);
       s.damping = t.number("damping", [](double v) { return v > 0 ? "" : "a positive damping ratio"; });
