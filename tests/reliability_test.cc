@@ -140,6 +140,56 @@ TEST(Saltelli, LayoutTakesEachGroupFromB) {
   EXPECT_THROW(ps::Design(ps::SamplingMethod::kSobol, 3, 10, dim, o), poise::Error);
 }
 
+TEST(Saltelli, EachSourceOfTheWithinSampleRandomnessHasItsOwnGroup) {
+  // Two sources (per-test draws, measurement noise): group dim + s keys source s like B and
+  // the other source like A; A's and B's rows key both like themselves; the point of a
+  // source's row is A's.
+  const std::size_t n = 8, dim = 2, sources = 2;
+  ps::DesignOptions o;
+  o.saltelli_base = n;
+  o.saltelli_noise_group = true;
+  o.saltelli_noise_sources = sources;
+  const ps::Design d(ps::SamplingMethod::kSobol, 5, n * (dim + sources + 2), dim, o);
+  EXPECT_EQ(d.saltelli_groups(), dim + sources);
+  std::vector<double> a(dim), ab(dim);
+  for (std::size_t j = 0; j < n; ++j) {
+    d.point(j, a);
+    for (std::size_t s = 0; s < sources; ++s) {
+      EXPECT_EQ(d.stream_index(j, s), d.stream_index(j, 0));
+      EXPECT_EQ(d.stream_index(n + j, s), d.stream_index(n + j, 0));
+      EXPECT_NE(d.stream_index(j, s), d.stream_index(n + j, s));
+      for (std::size_t g = 0; g < sources; ++g) {
+        const std::size_t i = (2 + dim + g) * n + j;
+        d.point(i, ab);
+        for (std::size_t k = 0; k < dim; ++k) EXPECT_EQ(ab[k], a[k]);
+        EXPECT_EQ(d.stream_index(i, s), s == g ? d.stream_index(n + j, s) : d.stream_index(j, s)) << g << " " << s;
+      }
+    }
+  }
+}
+
+TEST(Sensitivity, BalancingMachineSplitsItsRandomnessBySource) {
+  // The balancing machine draws its per-test tolerances and its sensors' noise from two
+  // streams: two Sobol groups instead of one "within-sample randomness".
+  TempDir d;
+  std::string text = poise::test::read_text(poise::test::source_path("studies/wang2014_balancing_mc.toml"));
+  text = poise::test::replace_once(text, "model = \"../models/", "model = \"" + poise::test::source_path("models") + "/");
+  poise::test::write_text(d.file("b.toml"), text);
+  auto r = poise::test::run_poise(d, "sensitivity '" + d.file("b.toml") + "' --base 4 -q --no-plots --out '" +
+                                         d.file("s") + "'");
+  ASSERT_EQ(r.status, 0) << r.err;
+  const json s = json::parse(poise::test::read_text(d.file("s/summary.json")));
+  const json& groups = s["sensitivity"]["groups"];
+  int sources = 0;
+  for (const json& g : groups) {
+    sources += g == "(within-sample randomness: per-test draws)" || g == "(within-sample randomness: measurement noise)";
+  }
+  EXPECT_EQ(sources, 2) << groups.dump();
+  std::size_t closed = 0;
+  for (const json& t : s["sensitivity"]["outputs"].begin().value()["tolerances"]) closed += t["columns"].get<std::size_t>() > 1;
+  EXPECT_EQ(s["sampling"]["samples"].get<std::size_t>(), 4 * (groups.size() + closed + 2));
+}
+
 // ---- stop rule, atomic writes --------------------------------------------------------
 
 TEST(StopRule, UntilTargetsAreParsedStrictly) {

@@ -155,6 +155,7 @@ std::string run_procedure_study(const StudyConfig& cfg_in, const StudyFactory& m
   const int ranks = sampling::Cluster::size();
   // Sensitivity: one closed Sobol group per model tolerance drawn in several columns.
   ToleranceGroups tolerances;
+  std::vector<std::string> sources;  // of the within-sample randomness
   {
     const auto probe = make_study(cfg, 1, cfg.seed);
     const auto names = probe->design_dimension_names();
@@ -162,6 +163,9 @@ std::string run_procedure_study(const StudyConfig& cfg_in, const StudyFactory& m
     keys.resize(names.size());
     tolerances = tolerance_groups(names, keys);
     cfg.saltelli_groups = tolerances.closed_groups();
+    sources = probe->randomness_sources();
+    if (sources.empty()) sources = {"per-test draws, noise"};
+    cfg.saltelli_noise_sources = std::max<std::size_t>(sources.size(), 1);
   }
   RunPlan plan = plan_run(cfg, options, [&] {
     const auto probe = make_study(cfg, 1, cfg.seed);
@@ -250,7 +254,9 @@ std::string run_procedure_study(const StudyConfig& cfg_in, const StudyFactory& m
   if (sensitivity_base > 0 && status == "complete") {
     const auto names = study.design_dimension_names();
     std::vector<std::string> groups = names;
-    if (cfg.saltelli_noise_group) groups.push_back("(within-sample randomness: per-test draws, noise)");
+    if (cfg.saltelli_noise_group) {
+      for (const auto& src : sources) groups.push_back("(within-sample randomness: " + src + ")");
+    }
     // Every sample's value of output k (NaN where it failed), by sample index.
     std::vector<std::vector<double>> by_index(study.output_names().size(), std::vector<double>(ran, NAN));
     for (std::size_t k = 0; k < mc.values.size(); ++k) {

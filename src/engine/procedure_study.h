@@ -131,6 +131,9 @@ class ProcedureStudy {
   /// angle, one per plate or axis) gets one closed Sobol group. Empty = every column its own.
   virtual std::vector<std::string> design_dimension_tolerances() const { return {}; }
   virtual bool has_own_randomness() const { return true; }
+  /// The sources of that randomness, each drawn from its own stream keyed by
+  /// Design::stream_index(i, source) (one Sobol group each); one entry = one stream for all.
+  virtual std::vector<std::string> randomness_sources() const { return {"per-test draws, noise"}; }
   /// Sample i alone (depends only on seed, sample count, method and i).
   virtual SampleResult replay(std::size_t i) const = 0;
   /// Solver settings and counters for summary.json.

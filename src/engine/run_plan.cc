@@ -53,7 +53,8 @@ RunPlan plan_run(StudyConfig& cfg, const RunOptions& options,
     cfg.saltelli_base = p.sensitivity_base;
     cfg.saltelli_noise_group = own_randomness;
     cfg.replicate_size = 0;
-    p.samples = p.sensitivity_base * (dimensions + (own_randomness ? 1 : 0) + cfg.saltelli_groups.size() + 2);
+    const std::size_t noise = own_randomness ? std::max<std::size_t>(cfg.saltelli_noise_sources, 1) : 0;
+    p.samples = p.sensitivity_base * (dimensions + noise + cfg.saltelli_groups.size() + 2);
   } else {
     cfg.saltelli_groups.clear();
   }

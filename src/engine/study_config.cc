@@ -18,6 +18,7 @@ sampling::Design make_design(const StudyConfig& cfg, std::uint64_t seed, std::si
   o.replicate_size = cfg.replicate_size;
   o.saltelli_base = cfg.saltelli_base;
   o.saltelli_noise_group = cfg.saltelli_noise_group;
+  o.saltelli_noise_sources = cfg.saltelli_noise_sources;
   if (cfg.saltelli_base > 0) o.saltelli_extra_groups = cfg.saltelli_groups;
   return sampling::Design(cfg.method, seed, samples, dimension, o);
 }

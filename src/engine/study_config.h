@@ -93,6 +93,7 @@ struct StudyConfig {
   /// (sampling/design.h) and whether the within-sample randomness is a group of its own.
   std::size_t saltelli_base = 0;
   bool saltelli_noise_group = false;
+  std::size_t saltelli_noise_sources = 1;  ///< its sources, each a group (ProcedureStudy::randomness_sources)
   /// Closed groups of several design dimensions (one per model tolerance drawn in more than
   /// one column), laid out after the per-dimension groups; set by a kind before plan_run.
   std::vector<std::vector<std::size_t>> saltelli_groups;

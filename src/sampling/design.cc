@@ -92,10 +92,10 @@ Design::Design(SamplingMethod method, std::uint64_t seed, std::size_t n_samples,
   }
 }
 
-std::uint64_t Design::stream_index(std::size_t i) const {
+std::uint64_t Design::stream_index(std::size_t i, std::size_t source) const {
   if (!saltelli_base_) return i;
   const std::size_t n = options_.saltelli_base, m = i / n, j = i % n;
-  const bool from_b = m == 1 || (options_.saltelli_noise_group && m == 2 + dimension_);
+  const bool from_b = m == 1 || (source < noise_groups() && m == 2 + dimension_ + source);
   // B's keys lie above every index of the run, apart from A's.
   return from_b ? n_samples_ + j : j;
 }
@@ -131,7 +131,7 @@ void Design::point(std::size_t i, std::span<double> u) const {
     thread_local std::vector<double> ab;
     ab.resize(2 * dimension_);
     saltelli_base_->point(j, ab);
-    const std::size_t first_extra = 2 + dimension_ + (options_.saltelli_noise_group ? 1 : 0);
+    const std::size_t first_extra = 2 + dimension_ + noise_groups();
     const std::vector<std::size_t>* extra =
         m >= first_extra ? &options_.saltelli_extra_groups[m - first_extra] : nullptr;
     for (std::size_t d = 0; d < dimension_; ++d) {

@@ -23,12 +23,15 @@
 ///                 and m = 2 + g is A with the dimensions of group g taken from B. Group g
 ///                 is dimension g; with saltelli_noise_group the last group (g = dimension)
 ///                 is the within-sample randomness, whose key stream_index() gives: A's for
-///                 A and every AB_g but the noise group's, B's for B and AB_noise. A and B
+///                 A and every AB_g but the noise group's, B's for B and AB_noise; with
+///                 saltelli_noise_sources S > 1 the groups g = dimension .. dimension + S - 1
+///                 are its S sources, each keyed by stream_index(i, s). A and B
 ///                 are the two halves of one design of 2 x dimension over N points.
 ///                 saltelli_extra_groups appends closed groups of several dimensions (a
 ///                 tolerance's amplitude, phase and per-bearing columns together): group
 ///                 g = dimension (+ 1 with the noise group) + e takes every dimension of
 ///                 extra group e from B, and keys its own randomness like A.
+#include <algorithm>
 #include <cstddef>
 #include <cstdint>
 #include <memory>
@@ -45,6 +48,9 @@ struct DesignOptions {
   std::size_t replicate_size = 0;  ///< 0: one design of all samples
   std::size_t saltelli_base = 0;   ///< 0: no sensitivity layout
   bool saltelli_noise_group = false;
+  /// Sources of the within-sample randomness, each with its own stream and its own group
+  /// (per-test draws, measurement noise); 1 = all of it one group.
+  std::size_t saltelli_noise_sources = 1;
   std::vector<std::vector<std::size_t>> saltelli_extra_groups;  ///< closed groups of dimensions
   bool scramble = false;           ///< sobol: linear matrix scramble (set for replicates)
 };
@@ -68,10 +74,17 @@ class Design {
 
   /// The key of sample i's own random streams (procedure draws, noise): i itself, except
   /// in the Saltelli layout (see above).
-  std::uint64_t stream_index(std::size_t i) const;
+  std::uint64_t stream_index(std::size_t i) const { return stream_index(i, 0); }
+  /// The key of sample i's within-sample randomness source `source` (< saltelli_noise_sources):
+  /// B's in B and in that source's own group, A's elsewhere; i without the Saltelli layout.
+  std::uint64_t stream_index(std::size_t i, std::size_t source) const;
+  /// Groups of the within-sample randomness in the Saltelli layout (0 without it).
+  std::size_t noise_groups() const {
+    return options_.saltelli_noise_group ? std::max<std::size_t>(options_.saltelli_noise_sources, 1) : 0;
+  }
   /// Saltelli layout: the number of groups (dimension, plus one for the noise group).
   std::size_t saltelli_groups() const {
-    return dimension_ + (options_.saltelli_noise_group ? 1 : 0) + options_.saltelli_extra_groups.size();
+    return dimension_ + noise_groups() + options_.saltelli_extra_groups.size();
   }
 
  private:

@@ -130,7 +130,7 @@ void BalancingStudy::compute(std::size_t i, Workspace& ws, SampleResult& out) co
   out.outputs.assign(output_names_.size(), NAN);
   out.solver_steps = out.rhs_evals = 0;
   sampling::RandomStream rs(seed_, sampling::StreamId::kProcedure, design_.stream_index(i));
-  sampling::RandomStream noise(seed_, sampling::StreamId::kNoise, design_.stream_index(i));
+  sampling::RandomStream noise(seed_, sampling::StreamId::kNoise, design_.stream_index(i, 1));
   Draws d(model_, rs);
   long steps = 0, rhs = 0;
   try {

@@ -64,6 +64,8 @@ class BalancingStudy : public ProcedureStudyBase<BalancingStudy> {
   const StudyConfig& config() const override { return config_; }
   std::size_t samples() const { return samples_; }
   const std::vector<std::string>& input_names() const override { return input_names_; }
+  /// Per-test draws (kProcedure) and the sensors' noise (kNoise): two streams, two Sobol groups.
+  std::vector<std::string> randomness_sources() const override { return {"per-test draws", "measurement noise"}; }
   /// The model's tolerance key of each input column (one key covers the three plates).
   const std::vector<std::string>& input_tolerances() const { return input_tolerances_; }
   std::size_t design_dimension() const { return design_.dimension(); }

@@ -241,7 +241,7 @@ CampaignResult PlatformStudy::run_campaign(std::size_t i, const models::Platform
     plan.servo.current_limit = gim.current_limit;
     plan.servo.inertia_estimate = axis_inertia_[ia];
     plan.oscillation.centre = d.value[Slot::kGimbalZero][ia];
-    sampling::RandomStream noise(seed_, static_cast<sampling::StreamId>(kAxisNoiseStream + ia), design_.stream_index(i));
+    sampling::RandomStream noise(seed_, static_cast<sampling::StreamId>(kAxisNoiseStream + ia), design_.stream_index(i, 1));
     const procedures::MeasurementResult m = procedures::run_static_unbalance_procedure(plan, truth, noise, ws);
     r.solver_steps += m.solver.steps;
     r.rhs_evals += m.solver.rhs_evals;

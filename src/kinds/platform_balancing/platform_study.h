@@ -80,6 +80,8 @@ class PlatformStudy : public ProcedureStudyBase<PlatformStudy> {
                 std::vector<double> shafting_los_arcsec = {}, double pixel_arcsec = 0.0);
 
   const std::vector<std::string>& input_names() const override { return input_names_; }
+  /// Per-test draws (kProcedure) and each axis's measurement noise: two sources, two Sobol groups.
+  std::vector<std::string> randomness_sources() const override { return {"per-test draws", "measurement noise"}; }
   /// The model's tolerance key of each input column (its axes or components together).
   const std::vector<std::string>& input_tolerances() const { return input_tolerances_; }
   std::size_t design_dimension() const { return design_.dimension(); }
