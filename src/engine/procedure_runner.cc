@@ -153,24 +153,21 @@ std::string run_procedure_study(const StudyConfig& cfg_in, const StudyFactory& m
   StudyConfig cfg = cfg_in;
   const bool root = sampling::Cluster::root();
   const int ranks = sampling::Cluster::size();
+  // One probe study (one sample) answers what the plan needs: the design's dimensions, their
+  // tolerance keys and randomness sources (Sobol groups), and the output names.
+  const std::unique_ptr<ProcedureStudy> probe = make_study(cfg, 1, cfg.seed);
+  const std::vector<std::string> dimension_names = probe->design_dimension_names();
+  std::vector<std::string> keys = probe->design_dimension_tolerances();
+  keys.resize(dimension_names.size());
   // Sensitivity: one closed Sobol group per model tolerance drawn in several columns.
-  ToleranceGroups tolerances;
-  std::vector<std::string> sources;  // of the within-sample randomness
-  {
-    const auto probe = make_study(cfg, 1, cfg.seed);
-    const auto names = probe->design_dimension_names();
-    std::vector<std::string> keys = probe->design_dimension_tolerances();
-    keys.resize(names.size());
-    tolerances = tolerance_groups(names, keys);
-    cfg.saltelli_groups = tolerances.closed_groups();
-    sources = probe->randomness_sources();
-    if (sources.empty()) sources = {"per-test draws, noise"};
-    cfg.saltelli_noise_sources = std::max<std::size_t>(sources.size(), 1);
-  }
+  const ToleranceGroups tolerances = tolerance_groups(dimension_names, keys);
+  cfg.saltelli_groups = tolerances.closed_groups();
+  std::vector<std::string> sources = probe->randomness_sources();  // of the within-sample randomness
+  if (sources.empty()) sources = {"per-test draws, noise"};
+  cfg.saltelli_noise_sources = sources.size();
   RunPlan plan = plan_run(cfg, options, [&] {
-    const auto probe = make_study(cfg, 1, cfg.seed);
-    return std::make_pair(probe->design_dimension_names().size(), probe->has_own_randomness());
-  }, [&] { return make_study(cfg, 1, cfg.seed)->output_names(); });
+    return std::make_pair(dimension_names.size(), probe->has_own_randomness());
+  }, [&] { return probe->output_names(); });
   const std::size_t n = plan.samples;
   const std::uint64_t seed = plan.seed;
   const int threads = plan.threads;
