@@ -2,6 +2,7 @@
 
 #include <zlib.h>
 
+#include <cmath>
 #include <cstring>
 #include <vector>
 
@@ -24,21 +25,47 @@ void unshuffle(const unsigned char* in, unsigned char* out, std::size_t n) {
   }
 }
 
+// Bytes a Huffman code of this plane's byte frequencies needs, at best (its entropy).
+double entropy_bytes(const unsigned char* plane, std::size_t n) {
+  std::size_t counts[256] = {};
+  for (std::size_t i = 0; i < n; ++i) ++counts[plane[i]];
+  double bits = 0.0;
+  const double nn = static_cast<double>(n);
+  for (std::size_t c : counts) {
+    if (c != 0) bits -= static_cast<double>(c) * std::log2(static_cast<double>(c) / nn);
+  }
+  return bits / 8.0;
+}
+
 }  // namespace
 
 std::string encode_chunk(std::span<const float> values, int level) {
-  const std::size_t bytes = values.size() * kElement;
+  const std::size_t n = values.size();
+  const std::size_t bytes = n * kElement;
   std::vector<unsigned char> shuffled(bytes);
-  shuffle(reinterpret_cast<const unsigned char*>(values.data()), shuffled.data(), values.size());
+  shuffle(reinterpret_cast<const unsigned char*>(values.data()), shuffled.data(), n);
   z_stream z{};
   int rc = deflateInit2(&z, level, Z_DEFLATED, 15, 8, Z_HUFFMAN_ONLY);
   require(rc == Z_OK, "samples.h5: zlib could not start (code " + std::to_string(rc) + ")");
-  std::string out(deflateBound(&z, static_cast<uLong>(bytes)), '\0');
-  z.next_in = shuffled.data();
-  z.avail_in = static_cast<uInt>(bytes);
+  // Room for Huffman blocks no larger than stored ones (zlib falls back to stored blocks)
+  // and the 5-byte header of each stored block of at most 65535 bytes.
+  std::string out(deflateBound(&z, static_cast<uLong>(bytes)) + 5 * (bytes / 16384 + kElement) + 64, '\0');
   z.next_out = reinterpret_cast<Bytef*>(out.data());
   z.avail_out = static_cast<uInt>(out.size());
-  rc = deflate(&z, Z_FINISH);
+  bool huffman = true;
+  for (std::size_t j = 0; j < kElement && rc == Z_OK; ++j) {
+    unsigned char* plane = shuffled.data() + j * n;
+    const bool worth_it = entropy_bytes(plane, n) < kStoredAbove * static_cast<double>(n);
+    if (worth_it != huffman) {
+      huffman = worth_it;
+      rc = deflateParams(&z, huffman ? level : 0, huffman ? Z_HUFFMAN_ONLY : Z_DEFAULT_STRATEGY);
+      if (rc != Z_OK) break;
+    }
+    z.next_in = plane;
+    z.avail_in = static_cast<uInt>(n);
+    rc = deflate(&z, j + 1 == kElement ? Z_FINISH : Z_NO_FLUSH);
+    if (j + 1 < kElement && rc == Z_OK && z.avail_in != 0) rc = Z_BUF_ERROR;
+  }
   const std::size_t size = z.total_out;
   deflateEnd(&z);
   require(rc == Z_STREAM_END, "samples.h5: zlib could not compress a chunk (code " + std::to_string(rc) + ")");

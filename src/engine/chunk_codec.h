@@ -6,7 +6,10 @@
 ///   2. deflate (H5Z_FILTER_DEFLATE): a zlib stream, Huffman coding only (Z_HUFFMAN_ONLY):
 ///      float noise has no repeated strings for LZ77 to find, and on the LOS grid values this is
 ///      2.3x faster than the default strategy at level 1 for a smaller file (79% of the raw
-///      bytes against 82%). Any zlib reader inflates it.
+///      bytes against 82%). A byte plane whose Huffman code could not save 3% of it (its byte
+///      entropy at least 0.97 x 8 bits: the low mantissa bytes of noisy values) goes into
+///      stored blocks instead (zlib level 0, switched by deflateParams within the one stream):
+///      copying it costs a fraction of coding it for the same size. Any zlib reader inflates it.
 /// The dataset's creation property list declares the same pipeline (H5Pset_shuffle,
 /// H5Pset_deflate), so any HDF5 reader (h5py, pandas via h5py, h5dump) reads the chunks.
 #include <cstdint>
@@ -18,6 +21,9 @@ namespace poise::studies {
 
 /// zlib level of samples.h5 (declared in the file; with Huffman coding only it changes little).
 inline constexpr int kChunkDeflateLevel = 1;
+
+/// A byte plane is stored, not Huffman-coded, when its entropy is at least this share of 8 bits.
+inline constexpr double kStoredAbove = 0.97;
 
 /// Shuffled and deflated bytes of a chunk of 4-byte values.
 std::string encode_chunk(std::span<const float> values, int level = kChunkDeflateLevel);

@@ -5,6 +5,7 @@
 #include <tbb/task_arena.h>
 
 #include <algorithm>
+#include <array>
 #include <bit>
 #include <cmath>
 #include <cstdint>
@@ -26,6 +27,32 @@ float float_of(std::uint32_t key) {
   return std::bit_cast<float>((key & 0x80000000u) ? (key & 0x7fffffffu) : ~key);
 }
 
+// Sorts order-preserving keys ascending: least-significant-digit radix sort, 8 bits per pass,
+// all four byte histograms counted in one read; a pass whose byte is the same in every key
+// (the sign and exponent byte of values of one sign and magnitude) is skipped. About 5 memory
+// operations per key, without the mispredicted branches of a comparison sort or selection.
+void radix_sort(std::vector<std::uint32_t>& keys, std::vector<std::uint32_t>& scratch) {
+  const std::size_t n = keys.size();
+  if (n < 2) return;
+  std::array<std::array<std::uint32_t, 256>, 4> counts{};
+  for (const std::uint32_t k : keys) {
+    for (int b = 0; b < 4; ++b) ++counts[b][(k >> (8 * b)) & 0xffu];
+  }
+  scratch.resize(n);
+  for (int b = 0; b < 4; ++b) {
+    auto& c = counts[b];
+    if (c[(keys[0] >> (8 * b)) & 0xffu] == n) continue;
+    std::uint32_t sum = 0;
+    for (auto& v : c) {
+      const std::uint32_t here = v;
+      v = sum;
+      sum += here;
+    }
+    for (const std::uint32_t k : keys) scratch[c[(k >> (8 * b)) & 0xffu]++] = k;
+    keys.swap(scratch);
+  }
+}
+
 struct PointPass1 {
   std::size_t n = 0;
   double sum = 0.0;
@@ -42,27 +69,37 @@ FieldStatistics field_statistics(std::size_t columns,
   tbb::task_arena arena(std::max(1, threads));
   struct Local {
     std::vector<float> column;
-    std::vector<double> values;
+    std::vector<std::uint32_t> keys, scratch;
+    std::vector<float> values;
     std::vector<std::uint64_t> bins;
   };
-  tbb::enumerable_thread_specific<Local> locals([] { return Local{{}, {}, std::vector<std::uint64_t>(kBins, 0)}; });
+  tbb::enumerable_thread_specific<Local> locals([] {
+    Local l;
+    l.bins.assign(kBins, 0);
+    return l;
+  });
 
   // Pass 1: per-point quantiles, sums and counts, the upper-16-bit counts of every value.
   arena.execute([&] {
     tbb::parallel_for(std::size_t{0}, columns, [&](std::size_t p) {
       Local& l = locals.local();
       read_column(p, l.column);
-      l.values.clear();
+      l.keys.clear();
       for (float f : l.column) {
         if (std::isnan(f)) continue;
-        l.values.push_back(static_cast<double>(f));
+        const std::uint32_t key = key_of(f);
+        l.keys.push_back(key);
         pass1[p].sum += static_cast<double>(f);
-        ++l.bins[key_of(f) >> 16];
+        ++l.bins[key >> 16];
       }
-      pass1[p].n = l.values.size();
-      if (l.values.empty()) return;
+      pass1[p].n = l.keys.size();
+      if (l.keys.empty()) return;
+      // One sort serves every quantile (three selections cost about twice as much).
+      radix_sort(l.keys, l.scratch);
+      l.values.resize(l.keys.size());
+      std::transform(l.keys.begin(), l.keys.end(), l.values.begin(), float_of);
       for (std::size_t q = 0; q < quantiles.size(); ++q) {
-        out.per_point[q][p] = sampling::quantile_value(l.values, quantiles[q]);
+        out.per_point[q][p] = sampling::quantile_value_sorted(l.values, quantiles[q]);
       }
     });
   });

@@ -272,7 +272,7 @@ std::string run_procedure_study(const StudyConfig& cfg_in, const StudyFactory& m
                      {"study_file_sha1", file_sha1(cfg.file)}, {"model_file_sha1", file_sha1(cfg.model_path)},
                      {"seed", seed}, {"samples", ran}, {"threads", threads}, {"mpi_ranks", ranks},
                      {"wall_time_s", mc.wall_seconds},
-                     {"started", started}, {"finished", now_iso8601()}, {"libraries", library_versions()},
+                     {"started", started}, {"finished", now_iso8601()}, {"libraries", library_versions(options.plots && cfg.plots)},
                      {"resumed_after_sample", options.resume.empty() ? json(nullptr) : json(done.size())}};
   write_file_atomic((fs::path(dir) / "summary.json").string(), s.dump(2) + "\n");
 

@@ -1,14 +1,21 @@
 #include "engine/provenance.h"
 
+#include <fcntl.h>
+#include <spawn.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
 #include <Eigen/Core>
 #include <boost/uuid/detail/sha1.hpp>
 #include <boost/version.hpp>
 #include <chrono>
+#include <cerrno>
 #include <cstdio>
 #include <ctime>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <vector>
 #include <oneapi/tbb/version.h>
 #include <toml++/toml.h>
 
@@ -32,13 +39,41 @@ std::string file_sha1(const std::string& path) {
 }
 
 namespace {
-std::string run_capture(const std::string& cmd) {
+// Standard output of a program run directly, without a shell (posix_spawnp, the arguments as
+// given, standard error to /dev/null), trailing blanks removed; "" if it cannot be started or
+// fails.
+std::string program_output(const std::vector<std::string>& args) {
+  int fds[2];
+  if (pipe2(fds, O_CLOEXEC) != 0) return "";
+  posix_spawn_file_actions_t actions;
+  posix_spawn_file_actions_init(&actions);
+  posix_spawn_file_actions_adddup2(&actions, fds[1], STDOUT_FILENO);
+  posix_spawn_file_actions_addopen(&actions, STDERR_FILENO, "/dev/null", O_WRONLY, 0);
+  std::vector<char*> argv;
+  for (const auto& a : args) argv.push_back(const_cast<char*>(a.c_str()));
+  argv.push_back(nullptr);
+  pid_t pid = 0;
+  const int rc = posix_spawnp(&pid, argv[0], &actions, nullptr, argv.data(), environ);
+  posix_spawn_file_actions_destroy(&actions);
+  close(fds[1]);
   std::string out;
-  if (FILE* p = popen(cmd.c_str(), "r")) {
+  if (rc == 0) {
     char buf[256];
-    while (fgets(buf, sizeof buf, p)) out += buf;
-    pclose(p);
+    for (;;) {
+      const ssize_t n = read(fds[0], buf, sizeof buf);
+      if (n > 0) {
+        out.append(buf, static_cast<std::size_t>(n));
+      } else if (n == 0 || errno != EINTR) {
+        break;
+      }
+    }
   }
+  close(fds[0]);
+  if (rc != 0) return "";
+  int status = 0;
+  while (waitpid(pid, &status, 0) < 0 && errno == EINTR) {
+  }
+  if (!WIFEXITED(status) || WEXITSTATUS(status) != 0) return "";
   while (!out.empty() && (out.back() == '\n' || out.back() == ' ')) out.pop_back();
   return out;
 }
@@ -46,15 +81,15 @@ std::string run_capture(const std::string& cmd) {
 
 std::string git_commit() {
   const std::string dir = kSourceDir;
-  std::string c = run_capture("git -C '" + dir + "' rev-parse HEAD 2>/dev/null");
+  std::string c = program_output({"git", "-C", dir, "rev-parse", "HEAD"});
   if (c.empty()) return kGitCommit;
-  if (!run_capture("git -C '" + dir + "' status --porcelain --untracked-files=no 2>/dev/null").empty()) {
+  if (!program_output({"git", "-C", dir, "status", "--porcelain", "--untracked-files=no"}).empty()) {
     c += "-dirty";
   }
   return c;
 }
 
-nlohmann::json library_versions() {
+nlohmann::json library_versions(bool plots) {
   nlohmann::json j;
   j["poise"] = kVersion;
   j["compiler"] = std::string("g++ ") + __VERSION__;
@@ -69,8 +104,12 @@ nlohmann::json library_versions() {
                        std::to_string(NLOHMANN_JSON_VERSION_MINOR) + "." +
                        std::to_string(NLOHMANN_JSON_VERSION_PATCH);
   j["random123"] = "Philox4x64-10 (Random123, Debian librandom123-dev)";
-  const std::string gp = run_capture("gnuplot --version 2>/dev/null");
-  j["gnuplot"] = gp.empty() ? "not found" : gp;
+  if (plots) {
+    const std::string gp = program_output({"gnuplot", "--version"});
+    j["gnuplot"] = gp.empty() ? "not found" : gp;
+  } else {
+    j["gnuplot"] = "not run (no plots)";
+  }
   return j;
 }
 

@@ -2,6 +2,7 @@
 
 #include <hdf5.h>
 #include <zlib.h>
+#include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
@@ -186,8 +187,11 @@ void WideColumnsWriter::append(std::size_t sample, bool ok, std::span<const floa
   require(sample == rows_written_ + samples_.size(), "samples.h5: rows must come in sample order");
   require(!ok || values.size() == spec_.columns, "samples.h5: a row has the wrong number of values");
   const std::size_t r = samples_.size();
-  for (std::size_t p = 0; p < spec_.columns; ++p) {
-    buffer_[p * chunk_rows_ + r] = ok ? values[p] : NAN;
+  float* row = buffer_.data() + r * spec_.columns;
+  if (ok) {
+    std::copy(values.begin(), values.end(), row);
+  } else {
+    std::fill(row, row + spec_.columns, NAN);
   }
   samples_.push_back(sample);
   ok_.push_back(ok ? 1 : 0);
@@ -198,22 +202,33 @@ void WideColumnsWriter::flush() {
   const std::size_t r = samples_.size();
   if (r == 0) return;
   const std::size_t g = spec_.columns;
-  // The rows past r of a last, partial chunk are outside the dataset: zeros compress best.
-  for (std::size_t p = 0; p < g && r < chunk_rows_; ++p) {
-    std::fill(buffer_.begin() + static_cast<long>(p * chunk_rows_ + r), buffer_.begin() + static_cast<long>((p + 1) * chunk_rows_), 0.0f);
-  }
+  // The buffer holds rows; a chunk is a column. Each task transposes a block of columns as
+  // wide as a cache line, row by row, then encodes them. The rows past r of a last, partial
+  // chunk are outside the dataset: zeros compress best.
+  constexpr std::size_t kBlock = 64 / sizeof(float);
   std::vector<std::string> encoded(g);
+  tbb::enumerable_thread_specific<std::vector<float>> block_columns;  // one block's columns per thread
   tbb::task_arena arena(threads_);
   arena.execute([&] {
-    tbb::parallel_for(std::size_t{0}, g, [&](std::size_t p) {
-      const std::span<const float> column(buffer_.data() + p * chunk_rows_, chunk_rows_);
-      if (spec_.compress) {
-        encoded[p] = encode_chunk(column);
-      } else {
-        encoded[p].assign(reinterpret_cast<const char*>(column.data()), column.size() * sizeof(float));
+    tbb::parallel_for(std::size_t{0}, (g + kBlock - 1) / kBlock, [&](std::size_t b) {
+      const std::size_t p0 = b * kBlock, width = std::min(kBlock, g - p0);
+      std::vector<float>& columns = block_columns.local();
+      columns.assign(width * chunk_rows_, 0.0f);
+      for (std::size_t i = 0; i < r; ++i) {
+        const float* row = buffer_.data() + i * g + p0;
+        for (std::size_t k = 0; k < width; ++k) columns[k * chunk_rows_ + i] = row[k];
       }
-      crc_[p] = static_cast<std::uint32_t>(
-          crc32(crc_[p], reinterpret_cast<const Bytef*>(column.data()), static_cast<uInt>(r * sizeof(float))));
+      for (std::size_t k = 0; k < width; ++k) {
+        const std::size_t p = p0 + k;
+        const std::span<const float> column(columns.data() + k * chunk_rows_, chunk_rows_);
+        if (spec_.compress) {
+          encoded[p] = encode_chunk(column);
+        } else {
+          encoded[p].assign(reinterpret_cast<const char*>(column.data()), column.size() * sizeof(float));
+        }
+        crc_[p] = static_cast<std::uint32_t>(
+            crc32(crc_[p], reinterpret_cast<const Bytef*>(column.data()), static_cast<uInt>(r * sizeof(float))));
+      }
     });
   });
   try {

@@ -95,6 +95,14 @@ double quantile_value(std::span<double> data, double p) {
   return lo + r.frac * (hi - lo);
 }
 
+double quantile_value_sorted(std::span<const float> sorted, double p) {
+  require(!sorted.empty(), "quantile of an empty sample");
+  const QuantileRanks r = quantile_ranks(sorted.size(), p, false);
+  const double lo = static_cast<double>(sorted[r.lo_i]);
+  const double hi = static_cast<double>(sorted[r.hi_i]);
+  return lo + r.frac * (hi - lo);
+}
+
 Estimate fraction_wilson(std::size_t successes, std::size_t n) {
   require(n > 0, "fraction of an empty sample");
   const double z = 1.959963984540054;

@@ -49,6 +49,7 @@ GeometryRun start_geometry_run(const StudyConfig& cfg, const RunOptions& options
   run.size = size;
   run.dir = make_run_folder(options.results_root, cfg.name, options.out);
   run.started = now_iso8601();
+  run.plots = options.plots && cfg.plots;
   if (options.progress) {
     std::fprintf(stderr, "poise: study %s -> %s\n  %zu samples (%s, seed %llu) on %d thread(s)\n", cfg.name.c_str(),
                  run.dir.c_str(), size.samples, sampling::to_string(cfg.method).c_str(),
@@ -162,7 +163,7 @@ void write_geometry_summary(json& summary, const StudyConfig& cfg, const Geometr
                            {"study_file_sha1", file_sha1(cfg.file)}, {"model_file_sha1", file_sha1(cfg.model_path)},
                            {"seed", run.size.seed}, {"samples", run.size.samples}, {"threads", run.size.threads},
                            {"wall_time_s", results.wall_s}, {"started", run.started}, {"finished", now_iso8601()},
-                           {"libraries", library_versions()}};
+                           {"libraries", library_versions(run.plots)}};
   write_file_atomic((fs::path(run.dir) / "summary.json").string(), summary.dump(2) + "\n");
 }
 

@@ -74,6 +74,7 @@ struct GeometryRun {
   std::string dir;      ///< run folder
   std::string started;  ///< ISO 8601
   std::chrono::steady_clock::time_point t0;
+  bool plots = true;    ///< the run draws plots (gnuplot)
 };
 
 /// Creates the run folder, prints the progress line and starts the clock.

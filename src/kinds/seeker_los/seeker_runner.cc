@@ -341,7 +341,7 @@ std::string run_seeker_study(const StudyConfig& file_cfg, const RunOptions& opti
                      {"seed", seed}, {"samples", ran}, {"threads", threads}, {"mpi_ranks", ranks},
                      {"wall_time_s", mc.wall_seconds}, {"started", started}, {"finished", now_iso8601()},
                      {"command_line_overrides", {{"samples", options.samples.has_value()}, {"seed", options.seed.has_value()}}},
-                     {"libraries", library_versions()}};
+                     {"libraries", library_versions(options.plots && cfg.plots)}};
   write_file_atomic((fs::path(dir) / "summary.json").string(), s.dump(2) + "\n");
   ReportInputs rep{dir, s, mc, study.grid().alpha(), study.grid().beta(), options.plots && cfg.plots};
   write_report(rep);
