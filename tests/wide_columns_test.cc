@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <filesystem>
 #include <random>
 #include <vector>
 
@@ -212,6 +213,23 @@ TEST(WideColumns, ChunkCodecStoresNoisyPlanesAndCodesTheRest) {
   std::vector<float> flat_back(flat.size());
   studies::decode_chunk(zf, 0, flat_back, "x.h5");
   EXPECT_EQ(flat_back, flat);
+}
+
+// A device that accepts no byte (/dev/full: every write fails with ENOSPC, as on a full disk):
+// the error names the file and gives the system's reason.
+TEST(WideColumns, AFullDiskGivesTheSystemsReason) {
+  if (!std::filesystem::exists("/dev/full")) GTEST_SKIP() << "no /dev/full on this system";
+  try {
+    WideColumnsWriter w("/dev/full", spec(3), 100, {{"study", "x"}}, {}, 1);
+    const float row[3] = {1.0f, 2.0f, 3.0f};
+    for (std::size_t i = 0; i < 100; ++i) w.append(i, true, row);
+    w.close();
+    FAIL() << "writing to /dev/full succeeded";
+  } catch (const studies::WriteError& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("/dev/full"), std::string::npos) << what;
+    EXPECT_NE(what.find("No space left on device"), std::string::npos) << what;
+  }
 }
 
 TEST(WideColumns, RowsOutOfOrderAndUnwritableFilesAreRefused) {

@@ -30,6 +30,31 @@ void quiet_hdf5() {
   (void)once;
 }
 
+// The operating system's reason for HDF5's last failure on this thread, from its error stack:
+// the file driver records "errno = 28, error message = 'No space left on device'" when a
+// read or write fails. "" when the failure was not the system's.
+std::string system_reason() {
+  std::string reason;
+  H5Ewalk2(H5E_DEFAULT, H5E_WALK_DOWNWARD, [](unsigned, const H5E_error2_t* e, void* data) -> herr_t {
+    auto& out = *static_cast<std::string*>(data);
+    if (!out.empty() || e == nullptr || e->desc == nullptr) return 0;
+    const std::string desc = e->desc;
+    const std::string key = "error message = '";
+    if (const auto at = desc.find(key); at != std::string::npos) {
+      const auto end = desc.find('\'', at + key.size());
+      out = desc.substr(at + key.size(), end == std::string::npos ? std::string::npos : end - at - key.size());
+    }
+    return 0;
+  }, &reason);
+  return reason;
+}
+
+// `what` failed: with the system's reason when HDF5 recorded one.
+std::string failed(const std::string& what) {
+  const std::string reason = system_reason();
+  return reason.empty() ? what : what + ": " + reason;
+}
+
 // File access without HDF5's file locks: one process writes the file (rank 0), and the
 // locks fail on file systems that lack them (NFS, Lustre of a cluster).
 hid_t unlocked_access();
@@ -84,13 +109,13 @@ void text_attribute(hid_t obj, const std::string& name, const std::string& value
   Id space(H5Screate(H5S_SCALAR), H5Sclose);
   Id attr(H5Acreate2(obj, name.c_str(), type.get(), space.get(), H5P_DEFAULT, H5P_DEFAULT), H5Aclose);
   const char* p = value.c_str();
-  if (!attr.ok() || H5Awrite(attr.get(), type.get(), &p) < 0) throw Error("cannot write attribute " + name);
+  if (!attr.ok() || H5Awrite(attr.get(), type.get(), &p) < 0) throw Error(failed("cannot write attribute " + name));
 }
 
 void number_attribute(hid_t obj, const std::string& name, std::uint64_t value) {
   Id space(H5Screate(H5S_SCALAR), H5Sclose);
   Id attr(H5Acreate2(obj, name.c_str(), H5T_STD_U64LE, space.get(), H5P_DEFAULT, H5P_DEFAULT), H5Aclose);
-  if (!attr.ok() || H5Awrite(attr.get(), H5T_NATIVE_UINT64, &value) < 0) throw Error("cannot write attribute " + name);
+  if (!attr.ok() || H5Awrite(attr.get(), H5T_NATIVE_UINT64, &value) < 0) throw Error(failed("cannot write attribute " + name));
 }
 
 // A chunked, deflated, growable dataset of `rank` dimensions (the first unlimited).
@@ -107,19 +132,19 @@ Id growable(hid_t file, const std::string& name, hid_t type, hsize_t columns, hs
     H5Pset_fill_value(dcpl.get(), H5T_NATIVE_FLOAT, &fill);
   }
   Id d(H5Dcreate2(file, name.c_str(), type, space.get(), H5P_DEFAULT, dcpl.get(), H5P_DEFAULT), H5Dclose);
-  if (!d.ok()) throw Error("cannot create dataset /" + name);
+  if (!d.ok()) throw Error(failed("cannot create dataset /" + name));
   return d;
 }
 
 // Appends `n` values of a 1-D growable dataset at row `first`.
 void append_rows(hid_t dset, hid_t mem_type, hsize_t first, hsize_t n, const void* data) {
   const hsize_t size = first + n;
-  if (H5Dset_extent(dset, &size) < 0) throw Error("cannot grow a dataset");
+  if (H5Dset_extent(dset, &size) < 0) throw Error(failed("cannot grow a dataset"));
   Id file_space(H5Dget_space(dset), H5Sclose);
   H5Sselect_hyperslab(file_space.get(), H5S_SELECT_SET, &first, nullptr, &n, nullptr);
   Id mem_space(H5Screate_simple(1, &n, nullptr), H5Sclose);
   if (H5Dwrite(dset, mem_type, mem_space.get(), file_space.get(), H5P_DEFAULT, data) < 0) {
-    throw Error("cannot write rows");
+    throw Error(failed("cannot write rows"));
   }
 }
 
@@ -142,7 +167,7 @@ WideColumnsWriter::WideColumnsWriter(std::string path, WideColumnsSpec spec, std
   require(spec_.columns > 0, "samples.h5: a wide dataset needs at least one column");
   try {
     h_->file = Id(H5Fcreate(path_.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, unlocked_access()), H5Fclose);
-    if (!h_->file.ok()) throw Error("HDF5 cannot create the file");
+    if (!h_->file.ok()) throw Error(failed("HDF5 cannot create the file"));
     const hid_t f = h_->file.get();
     for (const auto& [k, v] : text_attributes) text_attribute(f, k, v);
     for (const auto& [k, v] : number_attributes) number_attribute(f, k, v);
@@ -160,7 +185,7 @@ WideColumnsWriter::WideColumnsWriter(std::string path, WideColumnsSpec spec, std
       Id space(H5Screate_simple(1, &n, nullptr), H5Sclose);
       Id d(H5Dcreate2(f, c.name.c_str(), H5T_IEEE_F64LE, space.get(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Dclose);
       if (!d.ok() || H5Dwrite(d.get(), H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, c.values.data()) < 0) {
-        throw Error("cannot write /" + c.name);
+        throw Error(failed("cannot write /" + c.name));
       }
       text_attribute(d.get(), "units", c.unit);
       text_attribute(d.get(), "description", c.description);
@@ -234,12 +259,12 @@ void WideColumnsWriter::flush() {
   try {
     const hsize_t first = rows_written_, n = r;
     const hsize_t extent[2] = {first + n, g};
-    if (H5Dset_extent(h_->values.get(), extent) < 0) throw Error("cannot grow /" + spec_.dataset);
+    if (H5Dset_extent(h_->values.get(), extent) < 0) throw Error(failed("cannot grow /" + spec_.dataset));
     for (std::size_t p = 0; p < g; ++p) {
       const hsize_t offset[2] = {first, p};
       const std::uint32_t skipped = spec_.compress ? 0u : 3u;  // bit 0 shuffle, bit 1 deflate
       if (H5Dwrite_chunk(h_->values.get(), H5P_DEFAULT, skipped, offset, encoded[p].size(), encoded[p].data()) < 0) {
-        throw Error("cannot write a chunk of /" + spec_.dataset);
+        throw Error(failed("cannot write a chunk of /" + spec_.dataset));
       }
     }
     append_rows(h_->sample.get(), H5T_NATIVE_UINT64, first, n, samples_.data());
@@ -264,11 +289,10 @@ nlohmann::json WideColumnsWriter::close() {
   }
   Sha1::digest_type total;
   all.get_digest(total);
-  h_->values.reset();
-  h_->sample.reset();
-  h_->ok.reset();
-  if (H5Fflush(h_->file.get(), H5F_SCOPE_GLOBAL) < 0 || h_->file.reset() < 0) {
-    throw WriteError(path_, "HDF5 could not flush and close the file");
+  // Closing a dataset writes what HDF5 still caches of it: a full disk can show here first.
+  const bool datasets_closed = h_->values.reset() >= 0 && h_->sample.reset() >= 0 && h_->ok.reset() >= 0;
+  if (!datasets_closed || H5Fflush(h_->file.get(), H5F_SCOPE_GLOBAL) < 0 || h_->file.reset() < 0) {
+    throw WriteError(path_, failed("HDF5 could not flush and close the file"));
   }
   return {{"file", std::filesystem::path(path_).filename().string()}, {"dataset", spec_.dataset},
           {"rows", rows_written_}, {"columns", spec_.columns}, {"unit", spec_.unit}, {"values_digest", hex(total)},
@@ -321,7 +345,7 @@ void WideColumnsReader::read_column(std::size_t p, std::vector<float>& out) cons
       }
       stored.resize(size);
       if (size > 0 && H5Dread_chunk(h_->values.get(), H5P_DEFAULT, offset, &mask, stored.data()) < 0) {
-        throw Error(path_ + ": cannot read the chunk at row " + std::to_string(first));
+        throw Error(failed(path_ + ": cannot read the chunk at row " + std::to_string(first)));
       }
     }
     const std::size_t n = std::min(chunk_rows_, rows_ - first);
