@@ -101,7 +101,7 @@ FieldStatistics field_statistics(std::size_t columns,
       for (std::size_t q = 0; q < quantiles.size(); ++q) {
         out.per_point[q][p] = sampling::quantile_value_sorted(l.values, quantiles[q]);
       }
-    });
+    }, tbb::simple_partitioner());  // one point per task: no thread left with a long last share
   });
   sampling::SummaryMoments m;
   for (const auto& c : pass1) {  // in point order: the same sum for any thread count
@@ -154,7 +154,7 @@ FieldStatistics field_statistics(std::size_t columns,
       }
       m2[p] = a2;
       m4[p] = a4;
-    });
+    }, tbb::simple_partitioner());  // one point per task: no thread left with a long last share
   });
   for (std::size_t p = 0; p < columns; ++p) {
     m.m2 += m2[p];

@@ -4,6 +4,7 @@
 #include <zlib.h>
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
+#include <tbb/parallel_pipeline.h>
 #include <tbb/task_arena.h>
 
 #include <algorithm>
@@ -194,7 +195,9 @@ WideColumnsWriter::WideColumnsWriter(std::string path, WideColumnsSpec spec, std
     h_.reset();
     throw WriteError(path_, e.what());
   }
-  buffer_.assign(chunk_rows_ * spec_.columns, 0.0f);
+  // Not zeroed: each row is written before it is read, and its pages are first touched by
+  // append, on the thread that gathers samples while the others compute.
+  buffer_.reset(new float[chunk_rows_ * spec_.columns]);
   samples_.reserve(chunk_rows_);
   ok_.reserve(chunk_rows_);
 }
@@ -212,7 +215,7 @@ void WideColumnsWriter::append(std::size_t sample, bool ok, std::span<const floa
   require(sample == rows_written_ + samples_.size(), "samples.h5: rows must come in sample order");
   require(!ok || values.size() == spec_.columns, "samples.h5: a row has the wrong number of values");
   const std::size_t r = samples_.size();
-  float* row = buffer_.data() + r * spec_.columns;
+  float* row = buffer_.get() + r * spec_.columns;
   if (ok) {
     std::copy(values.begin(), values.end(), row);
   } else {
@@ -227,46 +230,65 @@ void WideColumnsWriter::flush() {
   const std::size_t r = samples_.size();
   if (r == 0) return;
   const std::size_t g = spec_.columns;
-  // The buffer holds rows; a chunk is a column. Each task transposes a block of columns as
-  // wide as a cache line, row by row, then encodes them. The rows past r of a last, partial
-  // chunk are outside the dataset: zeros compress best.
+  // The buffer holds rows; a chunk is a column. A pipeline on the run's threads: blocks of
+  // columns as wide as a cache line are transposed row by row and encoded in parallel, and
+  // written in order by one stage at a time (HDF5 calls are serialized) while later blocks are
+  // still being encoded. The rows past r of a last, partial chunk are outside the dataset:
+  // zeros compress best.
   constexpr std::size_t kBlock = 64 / sizeof(float);
+  const std::size_t blocks = (g + kBlock - 1) / kBlock;
+  const hsize_t first = rows_written_, n = r;
+  const hsize_t extent[2] = {first + n, g};
+  if (H5Dset_extent(h_->values.get(), extent) < 0) throw WriteError(path_, failed("cannot grow /" + spec_.dataset));
   std::vector<std::string> encoded(g);
   tbb::enumerable_thread_specific<std::vector<float>> block_columns;  // one block's columns per thread
+  std::size_t next_block = 0;
+  std::string write_error;  // the first failed chunk write; the blocks after it are dropped
   tbb::task_arena arena(threads_);
   arena.execute([&] {
-    tbb::parallel_for(std::size_t{0}, (g + kBlock - 1) / kBlock, [&](std::size_t b) {
-      const std::size_t p0 = b * kBlock, width = std::min(kBlock, g - p0);
-      std::vector<float>& columns = block_columns.local();
-      columns.assign(width * chunk_rows_, 0.0f);
-      for (std::size_t i = 0; i < r; ++i) {
-        const float* row = buffer_.data() + i * g + p0;
-        for (std::size_t k = 0; k < width; ++k) columns[k * chunk_rows_ + i] = row[k];
-      }
-      for (std::size_t k = 0; k < width; ++k) {
-        const std::size_t p = p0 + k;
-        const std::span<const float> column(columns.data() + k * chunk_rows_, chunk_rows_);
-        if (spec_.compress) {
-          encoded[p] = encode_chunk(column);
-        } else {
-          encoded[p].assign(reinterpret_cast<const char*>(column.data()), column.size() * sizeof(float));
-        }
-        crc_[p] = static_cast<std::uint32_t>(
-            crc32(crc_[p], reinterpret_cast<const Bytef*>(column.data()), static_cast<uInt>(r * sizeof(float))));
-      }
-    });
+    tbb::parallel_pipeline(
+        2 * static_cast<std::size_t>(threads_) + 1,
+        tbb::make_filter<void, std::size_t>(tbb::filter_mode::serial_in_order,
+                                            [&](tbb::flow_control& fc) -> std::size_t {
+                                              if (next_block == blocks) fc.stop();
+                                              return next_block++;
+                                            }) &
+            tbb::make_filter<std::size_t, std::size_t>(tbb::filter_mode::parallel, [&](std::size_t b) {
+              const std::size_t p0 = b * kBlock, width = std::min(kBlock, g - p0);
+              std::vector<float>& columns = block_columns.local();
+              columns.assign(width * chunk_rows_, 0.0f);
+              for (std::size_t i = 0; i < r; ++i) {
+                const float* row = buffer_.get() + i * g + p0;
+                for (std::size_t k = 0; k < width; ++k) columns[k * chunk_rows_ + i] = row[k];
+              }
+              for (std::size_t k = 0; k < width; ++k) {
+                const std::size_t p = p0 + k;
+                const std::span<const float> column(columns.data() + k * chunk_rows_, chunk_rows_);
+                if (spec_.compress) {
+                  encoded[p] = encode_chunk(column);
+                } else {
+                  encoded[p].assign(reinterpret_cast<const char*>(column.data()), column.size() * sizeof(float));
+                }
+                crc_[p] = static_cast<std::uint32_t>(crc32(crc_[p], reinterpret_cast<const Bytef*>(column.data()),
+                                                           static_cast<uInt>(r * sizeof(float))));
+              }
+              return b;
+            }) &
+            tbb::make_filter<std::size_t, void>(tbb::filter_mode::serial_in_order, [&](std::size_t b) {
+              const std::size_t p0 = b * kBlock, width = std::min(kBlock, g - p0);
+              for (std::size_t p = p0; p < p0 + width && write_error.empty(); ++p) {
+                const hsize_t offset[2] = {first, p};
+                const std::uint32_t skipped = spec_.compress ? 0u : 3u;  // bit 0 shuffle, bit 1 deflate
+                if (H5Dwrite_chunk(h_->values.get(), H5P_DEFAULT, skipped, offset, encoded[p].size(),
+                                   encoded[p].data()) < 0) {
+                  write_error = failed("cannot write a chunk of /" + spec_.dataset);
+                }
+                std::string().swap(encoded[p]);  // written: its memory goes back at once
+              }
+            }));
   });
+  if (!write_error.empty()) throw WriteError(path_, write_error);
   try {
-    const hsize_t first = rows_written_, n = r;
-    const hsize_t extent[2] = {first + n, g};
-    if (H5Dset_extent(h_->values.get(), extent) < 0) throw Error(failed("cannot grow /" + spec_.dataset));
-    for (std::size_t p = 0; p < g; ++p) {
-      const hsize_t offset[2] = {first, p};
-      const std::uint32_t skipped = spec_.compress ? 0u : 3u;  // bit 0 shuffle, bit 1 deflate
-      if (H5Dwrite_chunk(h_->values.get(), H5P_DEFAULT, skipped, offset, encoded[p].size(), encoded[p].data()) < 0) {
-        throw Error(failed("cannot write a chunk of /" + spec_.dataset));
-      }
-    }
     append_rows(h_->sample.get(), H5T_NATIVE_UINT64, first, n, samples_.data());
     append_rows(h_->ok.get(), H5T_NATIVE_UINT8, first, n, ok_.data());
   } catch (const Error& e) {

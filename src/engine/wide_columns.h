@@ -77,7 +77,7 @@ class WideColumnsWriter {
   std::size_t chunk_rows_;
   int threads_;
   std::unique_ptr<Handles> h_;
-  std::vector<float> buffer_;           ///< [row in chunk][column]
+  std::unique_ptr<float[]> buffer_;     ///< [row in chunk][column], chunk_rows_ rows
   std::vector<std::uint64_t> samples_;  ///< rows in the buffer
   std::vector<std::uint8_t> ok_;
   std::size_t rows_written_ = 0;
