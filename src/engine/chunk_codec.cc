@@ -39,44 +39,93 @@ double entropy_bytes(const unsigned char* plane, std::size_t n) {
 
 }  // namespace
 
+namespace {
+
+// One zlib compressor per thread, reset between chunks: a fresh deflateInit2 allocates and
+// clears about 256 KB (window, hash chains, symbol buffer), more than a small chunk costs to
+// code. `level`/`strategy` are what it is set to now.
+struct Compressor {
+  z_stream z{};
+  bool ready = false;
+  int level = -1, strategy = -1;
+  Compressor() = default;
+  Compressor(const Compressor&) = delete;
+  Compressor& operator=(const Compressor&) = delete;
+  ~Compressor() { discard(); }
+  // After a failure: a stream in an unknown state is not reused.
+  void discard() {
+    if (ready) deflateEnd(&z);
+    z = z_stream{};
+    ready = false;
+    level = strategy = -1;
+  }
+  int start(int want_level) {
+    if (!ready) {
+      const int rc = deflateInit2(&z, want_level, Z_DEFLATED, 15, 8, Z_HUFFMAN_ONLY);
+      if (rc != Z_OK) return rc;
+      ready = true;
+      level = want_level;
+      strategy = Z_HUFFMAN_ONLY;
+      return Z_OK;
+    }
+    const int rc = deflateReset(&z);
+    return rc != Z_OK ? rc : set(want_level, Z_HUFFMAN_ONLY);
+  }
+  int set(int want_level, int want_strategy) {
+    if (want_level == level && want_strategy == strategy) return Z_OK;
+    const int rc = deflateParams(&z, want_level, want_strategy);
+    if (rc == Z_OK) {
+      level = want_level;
+      strategy = want_strategy;
+    }
+    return rc;
+  }
+};
+
+}  // namespace
+
 std::string encode_chunk(std::span<const float> values, int level) {
   const std::size_t n = values.size();
   const std::size_t bytes = n * kElement;
-  std::vector<unsigned char> shuffled(bytes);
+  thread_local std::vector<unsigned char> shuffled, out;
+  thread_local Compressor c;
+  shuffled.resize(bytes);
   shuffle(reinterpret_cast<const unsigned char*>(values.data()), shuffled.data(), n);
-  z_stream z{};
-  int rc = deflateInit2(&z, level, Z_DEFLATED, 15, 8, Z_HUFFMAN_ONLY);
-  require(rc == Z_OK, "samples.h5: zlib could not start (code " + std::to_string(rc) + ")");
+  int rc = c.start(level);
+  if (rc != Z_OK) {
+    c.discard();
+    throw Error("samples.h5: zlib could not start (code " + std::to_string(rc) + ")");
+  }
+  z_stream& z = c.z;
   // Room for Huffman blocks no larger than stored ones (zlib falls back to stored blocks)
   // and the 5-byte header of each stored block of at most 65535 bytes.
-  std::string out(deflateBound(&z, static_cast<uLong>(bytes)) + 5 * (bytes / 16384 + kElement) + 64, '\0');
-  z.next_out = reinterpret_cast<Bytef*>(out.data());
+  out.resize(deflateBound(&z, static_cast<uLong>(bytes)) + 5 * (bytes / 16384 + kElement) + 64);
+  z.next_out = out.data();
   z.avail_out = static_cast<uInt>(out.size());
-  bool huffman = true;
   for (std::size_t j = 0; j < kElement && rc == Z_OK; ++j) {
     unsigned char* plane = shuffled.data() + j * n;
-    const bool worth_it = entropy_bytes(plane, n) < kStoredAbove * static_cast<double>(n);
-    if (worth_it != huffman) {
-      huffman = worth_it;
-      rc = deflateParams(&z, huffman ? level : 0, huffman ? Z_HUFFMAN_ONLY : Z_DEFAULT_STRATEGY);
-      if (rc != Z_OK) break;
-    }
+    const bool huffman = entropy_bytes(plane, n) < kStoredAbove * static_cast<double>(n);
+    rc = huffman ? c.set(level, Z_HUFFMAN_ONLY) : c.set(0, Z_DEFAULT_STRATEGY);
+    if (rc != Z_OK) break;
     z.next_in = plane;
     z.avail_in = static_cast<uInt>(n);
     rc = deflate(&z, j + 1 == kElement ? Z_FINISH : Z_NO_FLUSH);
     if (j + 1 < kElement && rc == Z_OK && z.avail_in != 0) rc = Z_BUF_ERROR;
   }
   const std::size_t size = z.total_out;
-  deflateEnd(&z);
-  require(rc == Z_STREAM_END, "samples.h5: zlib could not compress a chunk (code " + std::to_string(rc) + ")");
-  return std::string(out.data(), size);  // exactly its size: 169 of them wait for the write
+  if (rc != Z_STREAM_END) {
+    c.discard();
+    throw Error("samples.h5: zlib could not compress a chunk (code " + std::to_string(rc) + ")");
+  }
+  return std::string(reinterpret_cast<const char*>(out.data()), size);  // exactly its size: all wait for the write
 }
 
 void decode_chunk(std::string_view stored, std::uint32_t filter_mask, std::span<float> out, const std::string& what) {
   const std::size_t bytes = out.size() * kElement;
   const bool shuffled = (filter_mask & 1u) == 0;
   const bool deflated = (filter_mask & 2u) == 0;
-  std::vector<unsigned char> plain(bytes);
+  thread_local std::vector<unsigned char> plain;
+  plain.resize(bytes);
   if (deflated) {
     uLongf size = static_cast<uLongf>(bytes);
     const int rc = uncompress(plain.data(), &size, reinterpret_cast<const Bytef*>(stored.data()),
