@@ -11,6 +11,7 @@
 #include <cstdint>
 
 #include "core/error.h"
+#include "engine/thread_arena.h"
 
 namespace poise::studies {
 namespace {
@@ -66,7 +67,6 @@ FieldStatistics field_statistics(std::size_t columns,
   FieldStatistics out;
   out.per_point.assign(quantiles.size(), std::vector<double>(columns, NAN));
   std::vector<PointPass1> pass1(columns);
-  tbb::task_arena arena(std::max(1, threads));
   struct Local {
     std::vector<float> column;
     std::vector<std::uint32_t> keys, scratch;
@@ -80,7 +80,7 @@ FieldStatistics field_statistics(std::size_t columns,
   });
 
   // Pass 1: per-point quantiles, sums and counts, the upper-16-bit counts of every value.
-  arena.execute([&] {
+  run_on_threads(threads, [&] {
     tbb::parallel_for(std::size_t{0}, columns, [&](std::size_t p) {
       Local& l = locals.local();
       read_column(p, l.column);
@@ -137,7 +137,7 @@ FieldStatistics field_statistics(std::size_t columns,
   std::vector<double> m2(columns, 0.0), m4(columns, 0.0);
   tbb::enumerable_thread_specific<std::vector<std::uint64_t>> fine([&] { return std::vector<std::uint64_t>(slots * kBins, 0); });
   tbb::enumerable_thread_specific<std::vector<float>> columns_2;
-  arena.execute([&] {
+  run_on_threads(threads, [&] {
     tbb::parallel_for(std::size_t{0}, columns, [&](std::size_t p) {
       std::vector<float>& column = columns_2.local();
       std::vector<std::uint64_t>& counts = fine.local();

@@ -16,6 +16,7 @@
 #include "core/error.h"
 #include "engine/checked_file.h"
 #include "engine/chunk_codec.h"
+#include "engine/thread_arena.h"
 
 namespace poise::studies {
 namespace {
@@ -244,8 +245,7 @@ void WideColumnsWriter::flush() {
   tbb::enumerable_thread_specific<std::vector<float>> block_columns;  // one block's columns per thread
   std::size_t next_block = 0;
   std::string write_error;  // the first failed chunk write; the blocks after it are dropped
-  tbb::task_arena arena(threads_);
-  arena.execute([&] {
+  run_on_threads(threads_, [&] {
     tbb::parallel_pipeline(
         2 * static_cast<std::size_t>(threads_) + 1,
         tbb::make_filter<void, std::size_t>(tbb::filter_mode::serial_in_order,

@@ -194,34 +194,45 @@ SeekerMcResult SeekerLosStudy::run(
   r.interrupted = outcome.interrupted;
   r.signal = outcome.signal;
   r.stop_reason = outcome.stop_reason;
-  if (field) r.field_file = field->close();
-  // The tail on all threads: the field figures read back point by point, then the per-sample
-  // outputs' summaries side by side.
-  if (n_ok > 0 && field) {
-    const WideColumnsReader reader(field_path, field_spec().dataset);
-    const double quantiles[] = {0.5, 0.95, 0.9973};
-    FieldStatistics fs = field_statistics(
-        g, [&](std::size_t p, std::vector<float>& out) { reader.read_column(p, out); }, quantiles, threads);
-    r.map_p50 = std::move(fs.per_point[0]);
-    r.map_p95 = std::move(fs.per_point[1]);
-    r.map_p99_73 = std::move(fs.per_point[2]);
-    r.pooled = fs.pooled;
-  }
+  // The tail on all threads, two independent halves side by side so that each fills the
+  // other's serial moments: closing samples.h5 and the field figures read back point by point;
+  // the per-sample outputs' summaries.
+  tbb::task_arena arena(std::max(1, threads));
+  arena.execute([&] {
+    tbb::parallel_invoke(
+        [&] {
+          if (field) r.field_file = field->close();
+          if (n_ok > 0 && field) {
+            const WideColumnsReader reader(field_path, field_spec().dataset);
+            const double quantiles[] = {0.5, 0.95, 0.9973};
+            FieldStatistics fs = field_statistics(
+                g, [&](std::size_t p, std::vector<float>& out) { reader.read_column(p, out); }, quantiles, threads);
+            r.map_p50 = std::move(fs.per_point[0]);
+            r.map_p95 = std::move(fs.per_point[1]);
+            r.map_p99_73 = std::move(fs.per_point[2]);
+            r.pooled = fs.pooled;
+          }
+          if (temporary) {
+            std::error_code ec;
+            std::filesystem::remove(field_path, ec);  // here, beside the summaries; `scratch` if a step throws
+          }
+        },
+        [&] {
+          if (n_ok == 0) return;
+          r.outputs.resize(kNumSeekerOutputs);
+          tbb::parallel_invoke(
+              [&] {
+                tbb::parallel_for(std::size_t{0}, kNumSeekerOutputs, [&](std::size_t k) {
+                  r.outputs[k] = summarize_output(out_values[k], r.ok_index, config_.replicate_size);
+                }, tbb::simple_partitioner());
+              },
+              [&] {
+                r.los_max_sorted = out_values[0];
+                std::sort(r.los_max_sorted.begin(), r.los_max_sorted.end());
+              });
+        });
+  });
   if (n_ok > 0) {
-    r.outputs.resize(kNumSeekerOutputs);
-    tbb::task_arena arena(std::max(1, threads));
-    arena.execute([&] {
-      tbb::parallel_invoke(
-          [&] {
-            tbb::parallel_for(std::size_t{0}, kNumSeekerOutputs, [&](std::size_t k) {
-              r.outputs[k] = summarize_output(out_values[k], r.ok_index, config_.replicate_size);
-            }, tbb::simple_partitioner());
-          },
-          [&] {
-            r.los_max_sorted = out_values[0];
-            std::sort(r.los_max_sorted.begin(), r.los_max_sorted.end());
-          });
-    });
     r.fraction_samples_ok = sampling::fraction_wilson(n_all_ok, n_ok);
     r.fraction_field_ok = r.outputs[5].mean;
   }
