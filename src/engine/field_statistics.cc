@@ -70,7 +70,6 @@ FieldStatistics field_statistics(std::size_t columns,
   struct Local {
     std::vector<float> column;
     std::vector<std::uint32_t> keys, scratch;
-    std::vector<float> values;
     std::vector<std::uint64_t> bins;
   };
   tbb::enumerable_thread_specific<Local> locals([] {
@@ -96,10 +95,9 @@ FieldStatistics field_statistics(std::size_t columns,
       if (l.keys.empty()) return;
       // One sort serves every quantile (three selections cost about twice as much).
       radix_sort(l.keys, l.scratch);
-      l.values.resize(l.keys.size());
-      std::transform(l.keys.begin(), l.keys.end(), l.values.begin(), float_of);
+      const auto sorted_at = [&](std::size_t k) { return static_cast<double>(float_of(l.keys[k])); };
       for (std::size_t q = 0; q < quantiles.size(); ++q) {
-        out.per_point[q][p] = sampling::quantile_value_sorted(l.values, quantiles[q]);
+        out.per_point[q][p] = sampling::quantile_value_sorted(l.keys.size(), quantiles[q], sorted_at);
       }
     }, tbb::simple_partitioner());  // one point per task: no thread left with a long last share
   });

@@ -95,11 +95,11 @@ double quantile_value(std::span<double> data, double p) {
   return lo + r.frac * (hi - lo);
 }
 
-double quantile_value_sorted(std::span<const float> sorted, double p) {
-  require(!sorted.empty(), "quantile of an empty sample");
-  const QuantileRanks r = quantile_ranks(sorted.size(), p, false);
-  const double lo = static_cast<double>(sorted[r.lo_i]);
-  const double hi = static_cast<double>(sorted[r.hi_i]);
+double quantile_value_sorted(std::size_t n, double p, const std::function<double(std::size_t)>& sorted_at) {
+  require(n > 0, "quantile of an empty sample");
+  const QuantileRanks r = quantile_ranks(n, p, false);
+  const double lo = sorted_at(r.lo_i);
+  const double hi = sorted_at(r.hi_i);
   return lo + r.frac * (hi - lo);
 }
 

@@ -96,9 +96,9 @@ Estimate quantile_sorted(std::span<const double> sorted, double p);
 /// Quantile value only (no CI) of unsorted data, which it partially reorders; O(n).
 double quantile_value(std::span<double> data, double p);
 
-/// Quantile value only (no CI) of ascending float values: equal to quantile_value of the same
-/// values as doubles; O(1).
-double quantile_value_sorted(std::span<const float> sorted, double p);
+/// Quantile value only (no CI) of n ascending values, the k-th (0-based) given by
+/// `sorted_at(k)`: equal to quantile_value of the same values; O(1).
+double quantile_value_sorted(std::size_t n, double p, const std::function<double(std::size_t)>& sorted_at);
 
 /// Fraction successes/n with the Wilson 95% interval.
 Estimate fraction_wilson(std::size_t successes, std::size_t n);
