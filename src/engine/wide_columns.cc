@@ -3,9 +3,7 @@
 #include <hdf5.h>
 #include <zlib.h>
 #include <tbb/enumerable_thread_specific.h>
-#include <tbb/parallel_for.h>
 #include <tbb/parallel_pipeline.h>
-#include <tbb/task_arena.h>
 
 #include <algorithm>
 #include <boost/uuid/detail/sha1.hpp>
