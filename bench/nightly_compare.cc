@@ -549,7 +549,8 @@ int run_make_reference(const std::vector<std::string>& args) {
                {"load_avg_start", run_baselines.value("load_avg_start", json())},
                {"load_avg_end", run_baselines.value("load_avg_end", json())}};
     json ratios = json::object();
-    for (const auto& [key, e] : run_baselines.value("ratios", json::object()).items()) {
+    const json run_ratios = run_baselines.value("ratios", json::object());  // named: items() keeps a reference
+    for (const auto& [key, e] : run_ratios.items()) {
       if (!e.contains("value") || !e["value"].is_number()) continue;
       ratios[key] = {{"value", e["value"]}, {"unit", "x"}, {"description", e.value("description", json())},
                      {"poise", e.value("poise", json())}, {"baseline", e.value("baseline", json())}};
@@ -692,11 +693,13 @@ void compare_baselines(const json& cur, const json& prev, const json& ref, const
   // Whole-run and compute ratios depend on the sample count: other counts are not compared.
   const bool prev_comparable = pb.is_object() && pb.value("samples", json()) == cb.value("samples", json());
   const bool ref_comparable = !rb.contains("samples") || rb.value("samples", json()) == cb.value("samples", json());
+  if (!prev.is_null() && !pb.is_object()) std::printf("  note: the previous run has no baseline ratios\n");
   if (pb.is_object() && !prev_comparable) std::printf("  note: the previous run used another sample count: not compared\n");
   if (!rr.empty() && !ref_comparable) std::printf("  note: the reference used another sample count: not compared\n");
   std::printf("  %-22s %10s %10s %10s %12s %8s %8s  %s\n", "ratio", "previous", "current", "reference", "target",
               "cur/prev", "cur/ref", "verdict");
-  for (const auto& [key, e] : cb.value("ratios", json::object()).items()) {
+  const json cr_all = cb.value("ratios", json::object());  // named: items() keeps a reference
+  for (const auto& [key, e] : cr_all.items()) {
     std::vector<std::string> verdicts;
     const auto v = num(e, "value");
     std::string ps = "-", rs = "-", ts = "-", cp = "-", cr = "-";
@@ -738,7 +741,7 @@ void compare_baselines(const json& cur, const json& prev, const json& ref, const
                 ts.c_str(), cp.c_str(), cr.c_str(), verdict.c_str());
   }
   for (const auto& [key, e] : rr.items()) {
-    if (!cb.value("ratios", json::object()).contains(key)) {
+    if (!cr_all.contains(key)) {
       std::printf("  %-22s in the reference, missing in the current run (warning)\n", key.c_str());
       ++t.warnings;
     }
