@@ -8,7 +8,9 @@
 ///       time the fixed calibration workload; prints {"values": [ns per step, ...]}.
 ///   poise_nightly_compare collect --out FILE --meta META.json [--calibration CAL.json]...
 ///                         [--bench BINARY RC BENCH.json]... [--study NAME RC WALL_S SUMMARY.json]...
-///       assemble one nightly file from the raw outputs (Google Benchmark JSON, summary.json).
+///                         [--baselines BASELINES.json]
+///       assemble one nightly file from the raw outputs (Google Benchmark JSON, summary.json,
+///       bench/baselines/compare.py --json).
 ///   poise_nightly_compare make-reference CURRENT.json --out REF.json [--old OLD_REF.json]
 ///       write the reference figures from a run (targets kept from OLD_REF.json if given).
 ///
@@ -26,6 +28,8 @@
 /// Reference-study statistics (fixed seed and sample count, deterministic) must equal the
 /// reference to a relative 1e-9. Absolute targets (README) are checked and only warned about.
 /// Study wall times (one run each, no noise estimate) are warned about beyond 25 %.
+/// Baseline ratios (NumPy/SciPy CPU time over Poise's, same run): a warning below their target, a
+/// regression below the previous run's or the reference's ratio / (1 + ratio_band), ratio_band 0.2.
 #include <algorithm>
 #include <array>
 #include <chrono>
@@ -274,6 +278,27 @@ json default_targets() {
   };
 }
 
+// The baselines' figures (bench/baselines/compare.py --json, schema poise-baselines/1) as they go
+// into the run file: {"status": "ran", ...the file...}, or {"status": "not run", "reason"} when
+// bench/nightly wrote that instead or the file cannot be read: the rest of the run is kept.
+json baselines_entry(const std::string& path) {
+  json j;
+  try {
+    j = read_json(path);
+  } catch (const InputError& e) {
+    return json{{"status", "not run"}, {"reason", e.what()}};
+  }
+  if (j.is_object() && j.value("schema", std::string()) == "poise-baselines/1" && j.contains("ratios") &&
+      j["ratios"].is_object()) {
+    json e = {{"status", "ran"}};
+    e.update(j);
+    return e;
+  }
+  if (j.is_object() && j.value("status", std::string()) == "not run") return j;
+  return json{{"status", "not run"},
+              {"reason", path + ": neither a poise-baselines/1 file with 'ratios' nor {\"status\": \"not run\"}"}};
+}
+
 int run_collect(const std::vector<std::string>& args) {
   std::string out, meta_path;
   std::vector<std::string> cal_paths;
@@ -290,6 +315,7 @@ int run_collect(const std::vector<std::string>& args) {
   };
   std::vector<BenchArg> benches;
   std::vector<StudyArg> studies;
+  std::string baselines_path;
   auto need = [&](std::size_t i, std::size_t n, const std::string& opt) {
     if (i + n >= args.size()) throw InputError("collect: " + opt + " needs " + std::to_string(n) + " values");
   };
@@ -310,7 +336,9 @@ int run_collect(const std::vector<std::string>& args) {
       studies.push_back(
           {args[i + 1], static_cast<int>(parse_double(args[i + 2], a)), parse_double(args[i + 3], a), args[i + 4]});
       i += 4;
-    } else
+    } else if (a == "--baselines")
+      need(i, 1, a), baselines_path = args[++i];
+    else
       throw InputError("collect: unknown argument '" + a + "'");
   }
   if (out.empty() || meta_path.empty()) throw InputError("collect: --out and --meta are required");
@@ -458,6 +486,7 @@ int run_collect(const std::vector<std::string>& args) {
     sj[st.name] = e;
   }
   doc["studies"] = sj;
+  if (!baselines_path.empty()) doc["baselines"] = baselines_entry(baselines_path);
   write_json(out, doc);
   return kExitOk;
 }
@@ -480,8 +509,9 @@ int run_make_reference(const std::vector<std::string>& args) {
   if (current.empty() || out.empty()) throw InputError("make-reference: CURRENT.json and --out REF.json needed");
   const json run = read_json(current);
   json targets = default_targets();
+  json o;
   if (!old.empty()) {
-    const json o = read_json(old);
+    o = read_json(old);
     if (o.contains("targets")) targets = o["targets"];
   }
   json ref = {{"schema", "poise-nightly-reference/1"},
@@ -510,6 +540,27 @@ int run_make_reference(const std::vector<std::string>& args) {
     d[key] = {{"value", e.value("value", 0.0)}, {"noise", e.value("noise", 0.0)}, {"unit", e.value("unit", "")}};
   }
   ref["derived"] = d;
+  // Baseline ratios: from this run when its baselines ran, else kept from the old reference.
+  const json run_baselines = run.value("baselines", json::object());
+  if (run_baselines.value("status", std::string()) == "ran") {
+    json rb = {{"source", "bench/baselines/compare.py in the source run"},
+               {"quick", run_baselines.value("quick", json())},
+               {"samples", run_baselines.value("samples", json())},
+               {"load_avg_start", run_baselines.value("load_avg_start", json())},
+               {"load_avg_end", run_baselines.value("load_avg_end", json())}};
+    json ratios = json::object();
+    const json run_ratios = run_baselines.value("ratios", json::object());  // named: items() keeps a reference
+    for (const auto& [key, e] : run_ratios.items()) {
+      if (!e.contains("value") || !e["value"].is_number()) continue;
+      ratios[key] = {{"value", e["value"]}, {"unit", "x"}, {"description", e.value("description", json())},
+                     {"poise", e.value("poise", json())}, {"baseline", e.value("baseline", json())}};
+    }
+    rb["ratios"] = ratios;
+    ref["baselines"] = rb;
+  } else if (o.is_object() && o.contains("baselines")) {
+    ref["baselines"] = o["baselines"];
+    ref["baselines"]["kept"] = "from the previous reference: the baselines did not run in the source run";
+  }
   json s = json::object();
   const json run_studies = run.value("studies", json::object());
   for (const auto& [name, e] : run_studies.items()) {
@@ -534,6 +585,9 @@ struct Options {
   double floor = 0.05;
   double stat_rtol = 1e-9;
   double wall_warn = 0.25;
+  // A baseline ratio regresses below previous (reference) / (1 + ratio_band): 0.2 catches a 1.3x
+  // slowdown of Poise (ratio / 1.3 < ratio / 1.2) and leaves 20 % to the ratio's own scatter.
+  double ratio_band = 0.2;
   bool all = false;
   bool warn_timing = false;  // timing regressions only warn (bench/nightly --quick: 2 repetitions)
 };
@@ -606,6 +660,97 @@ std::string describe(const json& run, const std::string& path) {
   return os.str();
 }
 
+// Baseline ratios (bench/baselines/compare.py): NumPy/SciPy CPU time over Poise's, measured in
+// the same run, so a loaded machine slows both sides. Below the target: a warning; below the
+// previous run's or the reference's ratio / (1 + ratio_band): a regression (a warning with
+// --warn-timing). Baselines not run, a ratio not computed, or no reference ratio: never a failure.
+void compare_baselines(const json& cur, const json& prev, const json& ref, const Options& opt, Tally& t) {
+  const auto ran = [](const json& run) {
+    const json b = run.is_object() ? run.value("baselines", json::object()) : json::object();
+    return b.value("status", std::string()) == "ran" ? b : json();
+  };
+  std::printf(
+      "\nbaselines: ratios of CPU time, NumPy/SciPy over Poise in the same run (higher = Poise faster); a regression "
+      "below previous or reference / %s\n",
+      fmt(1.0 + opt.ratio_band).c_str());
+  const json cb = cur.value("baselines", json());
+  const json rb = ref.is_object() ? ref.value("baselines", json::object()) : json::object();
+  const json rr = rb.value("ratios", json::object());
+  if (!cb.is_object() || cb.value("status", std::string()) != "ran") {
+    const std::string reason = cb.is_object() ? cb.value("reason", std::string("no reason given"))
+                                              : std::string("no \"baselines\" in the run file");
+    std::printf("  not run: %s (warning: %s)\n", reason.c_str(),
+                rr.empty() ? "nothing checked" : "the reference's ratios not checked");
+    ++t.warnings;
+    return;
+  }
+  // compare.py --quick times for 0.1-0.2 s and scans one LSODA tolerance: its ratios only warn,
+  // with or without --warn-timing.
+  const bool warn_only = opt.warn_timing || cb.value("quick", false);
+  const json pb = ran(prev);
+  const json pr = pb.is_object() ? pb.value("ratios", json::object()) : json::object();
+  const auto load = [](const json& v) { return v.is_array() && !v.empty() ? v.dump() : std::string("?"); };
+  std::printf("  %s samples%s; load average %s before, %s after\n", cb.value("samples", json()).dump().c_str(),
+              cb.value("quick", false) ? ", quick" : "", load(cb.value("load_avg_start", json())).c_str(),
+              load(cb.value("load_avg_end", json())).c_str());
+  // Whole-run and compute ratios depend on the sample count: other counts are not compared.
+  const bool prev_comparable = pb.is_object() && pb.value("samples", json()) == cb.value("samples", json());
+  const bool ref_comparable = !rb.contains("samples") || rb.value("samples", json()) == cb.value("samples", json());
+  if (!prev.is_null() && !pb.is_object()) std::printf("  note: the previous run has no baseline ratios\n");
+  if (pb.is_object() && !prev_comparable) std::printf("  note: the previous run used another sample count: not compared\n");
+  if (!rr.empty() && !ref_comparable) std::printf("  note: the reference used another sample count: not compared\n");
+  std::printf("  %-22s %10s %10s %10s %12s %8s %8s  %s\n", "ratio", "previous", "current", "reference", "target",
+              "cur/prev", "cur/ref", "verdict");
+  const json cr_all = cb.value("ratios", json::object());  // named: items() keeps a reference
+  for (const auto& [key, e] : cr_all.items()) {
+    std::vector<std::string> verdicts;
+    const auto v = num(e, "value");
+    std::string ps = "-", rs = "-", ts = "-", cp = "-", cr = "-";
+    const auto tmin = num(e.value("target", json::object()), "min");
+    if (tmin) ts = ">= " + fmt(*tmin);
+    if (!v || *v <= 0) {
+      std::printf("  %-22s %10s %10s %10s %12s %8s %8s  no ratio: %s (warning)\n", key.c_str(), ps.c_str(), "-",
+                  rs.c_str(), ts.c_str(), cp.c_str(), cr.c_str(), e.value("reason", std::string("not computed")).c_str());
+      ++t.warnings;
+      continue;
+    }
+    if (tmin && *v < *tmin) verdicts.push_back("below target (warning)"), ++t.warnings;
+    const auto against = [&](const json& other, const char* what, std::string& shown, std::string& ratio) {
+      const auto ov = num(other, "value");
+      if (!ov || *ov <= 0) return false;
+      shown = fmt(*ov), ratio = ratio_str(*v / *ov);
+      ++t.compared;
+      const Verdict vd = judge(*v, *ov, false, opt.ratio_band);
+      if (vd.regression) {
+        const std::string msg = "baseline ratio " + key + " vs " + what + " (" + fmt(*ov) + "x -> " + fmt(*v) + "x)";
+        if (warn_only)
+          ++t.warnings, verdicts.push_back(std::string("REGRESSION vs ") + what + " (warning)");
+        else
+          t.regressions.push_back(msg), verdicts.push_back(std::string("REGRESSION vs ") + what);
+      } else if (vd.text == "better") {
+        verdicts.push_back(std::string("better vs ") + what);
+      }
+      return true;
+    };
+    if (prev_comparable && pr.contains(key)) against(pr[key], "previous", ps, cp);
+    if (!ref.is_null()) {
+      if (!ref_comparable || !rr.contains(key) || !against(rr[key], "reference", rs, cr))
+        verdicts.push_back(ref_comparable ? "no reference ratio" : "reference not comparable");
+    }
+    std::string verdict;
+    for (const auto& x : verdicts) verdict += (verdict.empty() ? "" : ", ") + x;
+    if (verdict.empty()) verdict = tmin ? "meets target" : "ok";
+    std::printf("  %-22s %10s %10s %10s %12s %8s %8s  %s\n", key.c_str(), ps.c_str(), fmt(*v).c_str(), rs.c_str(),
+                ts.c_str(), cp.c_str(), cr.c_str(), verdict.c_str());
+  }
+  for (const auto& [key, e] : rr.items()) {
+    if (!cr_all.contains(key)) {
+      std::printf("  %-22s in the reference, missing in the current run (warning)\n", key.c_str());
+      ++t.warnings;
+    }
+  }
+}
+
 int run_compare(const std::vector<std::string>& args) {
   std::string cur_path, prev_path, ref_path;
   Options opt;
@@ -627,6 +772,8 @@ int run_compare(const std::vector<std::string>& args) {
       opt.stat_rtol = parse_double(value(), a);
     else if (a == "--wall-warn")
       opt.wall_warn = parse_double(value(), a);
+    else if (a == "--ratio-band")
+      opt.ratio_band = parse_double(value(), a);
     else if (a == "--all")
       opt.all = true;
     else if (a == "--warn-timing")
@@ -639,6 +786,7 @@ int run_compare(const std::vector<std::string>& args) {
       throw InputError("more than one CURRENT.json given ('" + a + "')");
   }
   if (cur_path.empty()) throw InputError("no CURRENT.json given (see --help)");
+  if (!(opt.ratio_band > 0)) throw InputError("--ratio-band must be > 0 (a relative band, e.g. 0.2)");
   const json cur = read_json(cur_path);
   if (cur.value("schema", std::string()) != "poise-nightly/1")
     throw InputError(cur_path + ": not a nightly run (schema poise-nightly/1 expected)");
@@ -827,6 +975,8 @@ int run_compare(const std::vector<std::string>& args) {
                 pct(cv).c_str(), rp.c_str(), bp.c_str(), rr.c_str(), br.c_str(), ts.c_str(), verdict.c_str());
   }
 
+  compare_baselines(cur, prev, ref, opt, t);
+
   // Reference studies.
   const json cs = cur.value("studies", json::object());
   const json ps = prev.is_object() ? prev.value("studies", json::object()) : json::object();
@@ -946,16 +1096,20 @@ void print_help() {
       "      --wall-warn W   warn when a study's wall time grows by more than W (default 0.25)\n"
       "      --all           print every statistic, not only the changed ones\n"
       "      --warn-timing   timing regressions only warn (bench/nightly --quick)\n"
+      "      --ratio-band B  a baseline ratio regresses below previous/reference / (1+B) (default 0.2)\n"
       "  Rule: a benchmark figure is its median time per iteration (CPU time; real time for /real_time\n"
       "  runs) / the calibration median of the same run; it regresses when worse than previous/reference\n"
       "  by more than max(floor, k*sqrt(n1^2+n2^2)), n = the figures' noise (relative standard error of\n"
       "  the medians x t(0.975, n-1)/1.96, benchmark and calibration combined). Speed-ups (2 threads over 1)\n"
       "  likewise. Study statistics (fixed seeds) must equal the reference to R. Targets: warnings only.\n"
+      "  Baseline ratios (NumPy/SciPy CPU time / Poise's, one run): below previous/reference / (1+B) a\n"
+      "  regression (1.3x slower Poise is caught at B 0.2); below target, not run or no reference: warnings.\n"
       "  Exit status: 0 fine (warnings allowed), 3 regression (listed at the end), 2 bad input or usage.\n"
       "\n"
       "  poise_nightly_compare calibrate [--repetitions N] [--min-time S]     time the calibration workload\n"
       "  poise_nightly_compare collect --out FILE --meta META.json [--calibration CAL.json]...\n"
       "        [--bench BINARY EXIT_STATUS BENCH.json]... [--study NAME EXIT_STATUS WALL_S SUMMARY.json]...\n"
+      "        [--baselines BASELINES.json]    (bench/baselines/compare.py --json, or {\"status\": \"not run\"})\n"
       "  poise_nightly_compare make-reference CURRENT.json --out REF.json [--old OLD_REF.json]\n"
       "\n"
       "See bench/NIGHTLY.md.\n");

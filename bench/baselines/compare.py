@@ -16,9 +16,14 @@
 The load average is printed beside the figures: on a loaded machine CPU times still grow
 (shared caches, frequency), so compare runs at similar load.
 
-Usage: compare.py [--build build] [--samples 16384] [--quick]
+--json FILE writes every printed figure in machine form (schema poise-baselines/1: each ratio
+with its two CPU figures and their units, its target, the load average before and after, the
+sample count, the quick flag), atomically (FILE.tmp, then renamed). bench/nightly embeds it in
+its run file and compares the ratios (bench/NIGHTLY.md).
+
+Usage: compare.py [--build build] [--samples 16384] [--quick] [--json FILE]
 """
-import argparse, json, os, re, subprocess, sys, tempfile
+import argparse, datetime, json, math, os, re, subprocess, sys, tempfile
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(os.path.dirname(HERE))
@@ -46,14 +51,50 @@ def child_cpu(cmd):
     return (after.children_user - before.children_user) + (after.children_system - before.children_system)
 
 
+def utc_now():
+    return datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%dT%H:%M:%SZ")
+
+
+def finite(x):
+    """A JSON-safe number: NaN and infinities (a benchmark without its counter) become null."""
+    return x if isinstance(x, (int, float)) and math.isfinite(x) else None
+
+
+def figure(value, unit, what):
+    return {"value": finite(value), "unit": unit, "what": what}
+
+
+def ratio_entry(description, baseline, poise, target_min):
+    """One ratio of CPU times: baseline / Poise (higher = Poise faster), with both figures."""
+    value = baseline["value"] / poise["value"] if baseline["value"] and poise["value"] else None
+    return {"description": description, "value": finite(value), "unit": "x", "better": "higher",
+            "target": {"min": target_min}, "poise": poise, "baseline": baseline}
+
+
+def write_json_atomic(path, doc):
+    tmp = path + ".tmp"
+    with open(tmp, "w") as f:
+        json.dump(doc, f, indent=2)
+        f.write("\n")
+        f.flush()
+        os.fsync(f.fileno())
+    os.replace(tmp, path)
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--build", default=os.path.join(ROOT, "build"))
     ap.add_argument("--samples", type=int, default=16384)
     ap.add_argument("--quick", action="store_true", help="shorter timings, LSODA at one tolerance")
+    ap.add_argument("--json", metavar="FILE", help="also write every figure to FILE (JSON, written atomically)")
     a = ap.parse_args()
     mt = "0.2" if a.quick else "1"
+    load_start = [round(x, 2) for x in os.getloadavg()]
+    started = utc_now()
     print(f"load average {os.getloadavg()[0]:.2f} {os.getloadavg()[1]:.2f} {os.getloadavg()[2]:.2f}")
+    doc = {"schema": "poise-baselines/1", "started_utc": started, "quick": a.quick, "samples": a.samples,
+           "min_time_s": float(mt), "figure": "CPU time per core (process time; Google Benchmark cpu_time)",
+           "load_avg_start": load_start, "ratios": {}, "gimbal_lsoda": [], "gimbal_poise": []}
 
     # LOS compute.
     b = gbench(os.path.join(a.build, "bench", "poise_bench"), "BM_SampleCompute", mt)["BM_SampleCompute"]
@@ -66,6 +107,12 @@ def main():
     print(f"LOS compute: poise {poise_us:.2f} us/sample; numpy {numpy_us['direct']:.2f} (direct sums), "
           f"{numpy_us['grouped']:.2f} (grouped) -> {numpy_us['direct'] / poise_us:.1f}x, "
           f"{numpy_us['grouped'] / poise_us:.1f}x (target >= 10x)")
+    poise_fig = figure(poise_us, "us/sample", "poise_bench BM_SampleCompute, CPU time")
+    for mode, key in (("direct", "los_compute"), ("grouped", "los_compute_grouped")):
+        doc["ratios"][key] = ratio_entry(
+            f"LOS compute per sample, NumPy {mode} harmonic sums over Poise", poise=poise_fig,
+            baseline=figure(numpy_us[mode], "us/sample", f"los_numpy.py --compute-only{' --grouped' if mode == 'grouped' else ''}, "
+                            f"{a.samples} samples, CPU time"), target_min=10.0)
 
     # LOS whole run, results written.
     with tempfile.TemporaryDirectory() as tmp:
@@ -83,6 +130,12 @@ def main():
                                "--out", os.path.join(tmp, "numpy")])
     print(f"LOS whole run ({a.samples} samples, 1 thread, results written): poise {poise_cpu:.2f} CPU-s, "
           f"numpy {numpy_cpu:.2f} CPU-s -> {numpy_cpu / poise_cpu:.1f}x (target >= 5x)")
+    doc["ratios"]["los_whole_run"] = ratio_entry(
+        f"LOS whole run, {a.samples} samples, 1 thread, results written: NumPy over Poise",
+        poise=figure(poise_cpu, "CPU-s", "poise run --threads 1 --no-plots of studies/los_seeker_wang2011.toml "
+                     "without sweeps and contribution reruns, user + system CPU"),
+        baseline=figure(numpy_cpu, "CPU-s", "los_numpy.py with samples.csv and summary written, user + system CPU"),
+        target_min=5.0)
 
     # Gimbal measurement.
     g = gbench(os.path.join(a.build, "bench", "poise_gimbal_bench"), "BM_Measurement36By", "0.5" if not a.quick else "0.1")
@@ -92,12 +145,16 @@ def main():
         r"rtol ([\d.e+-]+): MT_s [\d.]+ mN\*m, \|dMT_s\|/load ([\d.e+-]+), cpu ([\d.]+) s", out))
     for rt, err, cpu in lsoda:
         print(f"gimbal LSODA rtol {rt:g}: {cpu * 1e3:.0f} ms CPU per measurement, |dMT_s|/load {err:.1e}")
+        doc["gimbal_lsoda"].append({"rtol": rt, "cpu_ms": finite(cpu * 1e3), "torque_error_rel": finite(err)})
     rows = []  # (formulation, loose, max_order, ms, err)
     for name, bm in g.items():
         m = re.search(r"quasi_static:(\d)/loose:(\d+)/max_order:(\d)", name)
         rows.append((int(m.group(1)), int(m.group(2)), int(m.group(3)), cpu_seconds(bm) * 1e3,
                      bm.get("tol_torque_rel", float("nan"))))
         print(f"gimbal {name}: {rows[-1][3]:.1f} ms CPU, |dMT_s|/load {rows[-1][4]:.1e}")
+        doc["gimbal_poise"].append({"name": name, "quasi_static": bool(rows[-1][0]), "loose": rows[-1][1],
+                                    "max_order": rows[-1][2], "cpu_ms": finite(rows[-1][3]),
+                                    "torque_error_rel": finite(rows[-1][4])})
 
     # "At the same accuracy": the loosest setting that, with every tighter one scanned, keeps the
     # torque within 1e-4 of the load of its tight value (the error is not monotone in the
@@ -113,10 +170,31 @@ def main():
     ref = safest(lsoda)
     for quasi, label in ((0, "dynamic supports"), (1, "quasi-static supports")):
         mine = safest(sorted((r[1], r[4], r[3]) for r in rows if r[0] == quasi and r[2] == 0))
+        key = "gimbal_quasi_static" if quasi else "gimbal_dynamic"
         if ref and mine:
             print(f"gimbal {label}: {mine[2]:.1f} ms CPU at {mine[0]}x the model's tolerances (|dMT_s|/load "
                   f"{mine[1]:.1e}) vs LSODA {ref[2] * 1e3:.0f} ms at rtol {ref[0]:g} ({ref[1]:.1e}) -> "
                   f"{ref[2] * 1e3 / mine[2]:.1f}x per core (target >= 50x)")
+            e = ratio_entry(
+                f"gimbal 36-point measurement, {label}, at the same accuracy (torque within 1e-4 of the load): "
+                "LSODA over Poise",
+                poise=figure(mine[2], "ms", f"poise_gimbal_bench BM_Measurement36By, {mine[0]}x the model's "
+                             "tolerances, CPU time"),
+                baseline=figure(ref[2] * 1e3, "ms", f"gimbal_scipy.py LSODA rtol {ref[0]:g}, CPU time"), target_min=50.0)
+            e["poise"]["loose"] = mine[0]
+            e["poise"]["torque_error_rel"] = finite(mine[1])
+            e["baseline"]["rtol"] = ref[0]
+            e["baseline"]["torque_error_rel"] = finite(ref[1])
+        else:  # no setting kept the torque within 1e-4: no ratio at the same accuracy
+            e = {"description": f"gimbal 36-point measurement, {label}, at the same accuracy", "value": None,
+                 "unit": "x", "better": "higher", "target": {"min": 50.0},
+                 "reason": ("no LSODA tolerance" if not ref else "no Poise setting") +
+                           " kept the torque within 1e-4 of the load"}
+        doc["ratios"][key] = e
+    if a.json:
+        doc["finished_utc"] = utc_now()
+        doc["load_avg_end"] = [round(x, 2) for x in os.getloadavg()]
+        write_json_atomic(a.json, doc)
     return 0
 
 
