@@ -8,7 +8,7 @@
 ///       time the fixed calibration workload; prints {"values": [ns per step, ...]}.
 ///   poise_nightly_compare collect --out FILE --meta META.json [--calibration CAL.json]...
 ///                         [--bench BINARY RC BENCH.json]... [--study NAME RC WALL_S SUMMARY.json]...
-///                         [--baselines BASELINES.json]
+///                         [--baselines BASELINES.json] [--load NAME BEFORE AFTER]...
 ///       assemble one nightly file from the raw outputs (Google Benchmark JSON, summary.json,
 ///       bench/baselines/compare.py --json).
 ///   poise_nightly_compare make-reference CURRENT.json --out REF.json [--old OLD_REF.json]
@@ -1180,7 +1180,8 @@ void print_help() {
       "  runs) / the calibration median of the same run; it regresses when worse than previous/reference\n"
       "  by more than max(floor, k*sqrt(n1^2+n2^2)), n = the figures' noise (relative standard error of\n"
       "  the medians x t(0.975, n-1)/1.96, benchmark and calibration combined). Speed-ups (2 threads over 1)\n"
-      "  likewise. Study statistics (fixed seeds) must equal the reference to R. Targets: warnings only.\n"
+      "  likewise, judged only below a load of (cores - 1) + M. Study statistics and their 95 % interval\n"
+      "  ends (fixed seeds) must equal the reference to R. Targets: warnings only.\n"
       "  Baseline ratios (NumPy/SciPy CPU time / Poise's, one run): below previous/reference / (1+B) a\n"
       "  regression (1.3x slower Poise is caught at B 0.2); below target, not run or no reference: warnings.\n"
       "  Exit status: 0 fine (warnings allowed), 3 regression (listed at the end), 2 bad input or usage.\n"
@@ -1189,6 +1190,7 @@ void print_help() {
       "  poise_nightly_compare collect --out FILE --meta META.json [--calibration CAL.json]...\n"
       "        [--bench BINARY EXIT_STATUS BENCH.json]... [--study NAME EXIT_STATUS WALL_S SUMMARY.json]...\n"
       "        [--baselines BASELINES.json]    (bench/baselines/compare.py --json, or {\"status\": \"not run\"})\n"
+      "        [--load NAME BEFORE AFTER]...   (1-minute load average around a binary; NAME study:S for a study)\n"
       "  poise_nightly_compare make-reference CURRENT.json --out REF.json [--old OLD_REF.json]\n"
       "\n"
       "See bench/NIGHTLY.md.\n");
