@@ -1180,7 +1180,7 @@ void print_help() {
       "  runs) / the calibration median of the same run; it regresses when worse than previous/reference\n"
       "  by more than max(floor, k*sqrt(n1^2+n2^2)), n = the figures' noise (relative standard error of\n"
       "  the medians x t(0.975, n-1)/1.96, benchmark and calibration combined). Speed-ups (2 threads over 1)\n"
-      "  likewise, judged only below a load of (cores - 1) + M. Study statistics and their 95 % interval\n"
+      "  likewise, judged only below a load of (cores - 1) + M. Study statistics and their 95 %% interval\n"
       "  ends (fixed seeds) must equal the reference to R. Targets: warnings only.\n"
       "  Baseline ratios (NumPy/SciPy CPU time / Poise's, one run): below previous/reference / (1+B) a\n"
       "  regression (1.3x slower Poise is caught at B 0.2); below target, not run or no reference: warnings.\n"
