@@ -2,6 +2,7 @@
 
 #include <zlib.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <vector>
@@ -25,16 +26,23 @@ void unshuffle(const unsigned char* in, unsigned char* out, std::size_t n) {
   }
 }
 
-// Bytes a Huffman code of this plane's byte frequencies needs, at best (its entropy).
+// Bytes a Huffman code of this plane's byte frequencies needs, at best (its entropy), estimated
+// from at most kEntropySample evenly strided bytes: counting every byte of a 16384-row chunk
+// cost a third of the encoding. The plug-in estimate of 4096 bytes reads at most 0.045 bits
+// (0.6%) low for 256 equally likely values, far from the 3% margin that decides; the choice
+// only changes how the bytes are coded, never the values, and the same plane always gets the
+// same choice.
+constexpr std::size_t kEntropySample = 4096;
 double entropy_bytes(const unsigned char* plane, std::size_t n) {
-  std::size_t counts[256] = {};
-  for (std::size_t i = 0; i < n; ++i) ++counts[plane[i]];
+  const std::size_t stride = std::max<std::size_t>(1, n / kEntropySample);
+  std::size_t counts[256] = {}, m = 0;
+  for (std::size_t i = 0; i < n; i += stride, ++m) ++counts[plane[i]];
   double bits = 0.0;
-  const double nn = static_cast<double>(n);
+  const double mm = static_cast<double>(m);
   for (std::size_t c : counts) {
-    if (c != 0) bits -= static_cast<double>(c) * std::log2(static_cast<double>(c) / nn);
+    if (c != 0) bits -= static_cast<double>(c) * std::log2(static_cast<double>(c) / mm);
   }
-  return bits / 8.0;
+  return bits / mm / 8.0 * static_cast<double>(n);
 }
 
 }  // namespace

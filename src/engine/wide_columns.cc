@@ -161,44 +161,59 @@ WideColumnsWriter::WideColumnsWriter(std::string path, WideColumnsSpec spec, std
       spec_(std::move(spec)),
       chunk_rows_(std::clamp<std::size_t>(planned_rows, 1, kWideChunkRows)),
       threads_(std::max(1, threads)),
-      h_(std::make_unique<Handles>()),
+      planned_rows_(std::max<std::size_t>(planned_rows, 1)),
       crc_(spec_.columns, static_cast<std::uint32_t>(crc32(0L, Z_NULL, 0))) {
   quiet_hdf5();
   require(spec_.columns > 0, "samples.h5: a wide dataset needs at least one column");
-  try {
-    h_->file = Id(H5Fcreate(path_.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, unlocked_access()), H5Fclose);
-    if (!h_->file.ok()) throw Error(failed("HDF5 cannot create the file"));
-    const hid_t f = h_->file.get();
-    for (const auto& [k, v] : text_attributes) text_attribute(f, k, v);
-    for (const auto& [k, v] : number_attributes) number_attribute(f, k, v);
-    const auto rows = static_cast<hsize_t>(chunk_rows_);
-    h_->sample = growable(f, "sample", H5T_STD_U64LE, 0, rows, false);
-    text_attribute(h_->sample.get(), "description", "sample index of each row");
-    h_->ok = growable(f, "ok", H5T_STD_U8LE, 0, rows, false);
-    text_attribute(h_->ok.get(), "description", "1 = the sample succeeded, 0 = it failed (its values are NaN)");
-    h_->values = growable(f, spec_.dataset, H5T_IEEE_F32LE, static_cast<hsize_t>(spec_.columns), rows, true);
-    text_attribute(h_->values.get(), "units", spec_.unit);
-    text_attribute(h_->values.get(), "description", spec_.description);
-    for (const auto& c : spec_.coordinates) {
-      require(c.values.size() == spec_.columns, "samples.h5: coordinate " + c.name + " has the wrong length");
-      const hsize_t n = c.values.size();
-      Id space(H5Screate_simple(1, &n, nullptr), H5Sclose);
-      Id d(H5Dcreate2(f, c.name.c_str(), H5T_IEEE_F64LE, space.get(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Dclose);
-      if (!d.ok() || H5Dwrite(d.get(), H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, c.values.data()) < 0) {
-        throw Error(failed("cannot write /" + c.name));
+  const bool keep = planned_rows_ <= spec_.keep_up_to_bytes / sizeof(float) / spec_.columns;
+  require(keep || !path_.empty(), "wide columns kept in memory only need " +
+                                      std::to_string(planned_rows_ * spec_.columns * sizeof(float)) +
+                                      " bytes, more than the " + std::to_string(spec_.keep_up_to_bytes) + " allowed");
+  if (!path_.empty()) {
+    h_ = std::make_unique<Handles>();
+    try {
+      h_->file = Id(H5Fcreate(path_.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, unlocked_access()), H5Fclose);
+      if (!h_->file.ok()) throw Error(failed("HDF5 cannot create the file"));
+      const hid_t f = h_->file.get();
+      for (const auto& [k, v] : text_attributes) text_attribute(f, k, v);
+      for (const auto& [k, v] : number_attributes) number_attribute(f, k, v);
+      const auto rows = static_cast<hsize_t>(chunk_rows_);
+      h_->sample = growable(f, "sample", H5T_STD_U64LE, 0, rows, false);
+      text_attribute(h_->sample.get(), "description", "sample index of each row");
+      h_->ok = growable(f, "ok", H5T_STD_U8LE, 0, rows, false);
+      text_attribute(h_->ok.get(), "description", "1 = the sample succeeded, 0 = it failed (its values are NaN)");
+      h_->values = growable(f, spec_.dataset, H5T_IEEE_F32LE, static_cast<hsize_t>(spec_.columns), rows, true);
+      text_attribute(h_->values.get(), "units", spec_.unit);
+      text_attribute(h_->values.get(), "description", spec_.description);
+      for (const auto& c : spec_.coordinates) {
+        require(c.values.size() == spec_.columns, "samples.h5: coordinate " + c.name + " has the wrong length");
+        const hsize_t n = c.values.size();
+        Id space(H5Screate_simple(1, &n, nullptr), H5Sclose);
+        Id d(H5Dcreate2(f, c.name.c_str(), H5T_IEEE_F64LE, space.get(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
+             H5Dclose);
+        if (!d.ok() || H5Dwrite(d.get(), H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, c.values.data()) < 0) {
+          throw Error(failed("cannot write /" + c.name));
+        }
+        text_attribute(d.get(), "units", c.unit);
+        text_attribute(d.get(), "description", c.description);
       }
-      text_attribute(d.get(), "units", c.unit);
-      text_attribute(d.get(), "description", c.description);
+    } catch (const Error& e) {
+      h_.reset();
+      throw WriteError(path_, e.what());
     }
-  } catch (const Error& e) {
-    h_.reset();
-    throw WriteError(path_, e.what());
   }
   // Not zeroed: each row is written before it is read, and its pages are first touched by
-  // append, on the thread that gathers samples while the others compute.
-  buffer_.reset(new float[chunk_rows_ * spec_.columns]);
+  // append, on the thread that gathers samples while the others compute; the kept columns'
+  // pages by the flush that fills them.
+  buffer_ = LargeBuffer<float>(chunk_rows_ * spec_.columns);
+  if (keep) kept_ = LargeBuffer<float>(planned_rows_ * spec_.columns);
   samples_.reserve(chunk_rows_);
   ok_.reserve(chunk_rows_);
+}
+
+std::span<const float> WideColumnsWriter::kept_column(std::size_t p) const {
+  require(keeps() && p < spec_.columns, "wide columns: column " + std::to_string(p) + " is not kept");
+  return {kept_.data() + p * planned_rows_, rows_written_};
 }
 
 WideColumnsWriter::~WideColumnsWriter() {
@@ -212,9 +227,10 @@ WideColumnsWriter::~WideColumnsWriter() {
 void WideColumnsWriter::append(std::size_t sample, bool ok, std::span<const float> values) {
   require(!closed_, "samples.h5: append after close");
   require(sample == rows_written_ + samples_.size(), "samples.h5: rows must come in sample order");
+  require(rows_written_ + samples_.size() < planned_rows_ || !keeps(), "wide columns: more rows than planned");
   require(!ok || values.size() == spec_.columns, "samples.h5: a row has the wrong number of values");
   const std::size_t r = samples_.size();
-  float* row = buffer_.get() + r * spec_.columns;
+  float* row = buffer_.data() + r * spec_.columns;
   if (ok) {
     std::copy(values.begin(), values.end(), row);
   } else {
@@ -230,17 +246,20 @@ void WideColumnsWriter::flush() {
   if (r == 0) return;
   const std::size_t g = spec_.columns;
   // The buffer holds rows; a chunk is a column. A pipeline on the run's threads: blocks of
-  // columns as wide as a cache line are transposed row by row and encoded in parallel, and
-  // written in order by one stage at a time (HDF5 calls are serialized) while later blocks are
-  // still being encoded. The rows past r of a last, partial chunk are outside the dataset:
-  // zeros compress best.
+  // columns as wide as a cache line are transposed row by row (into the kept columns, or a
+  // block buffer per thread) and encoded in parallel, and written in order by one stage at a
+  // time (HDF5 calls are serialized) while later blocks are still being encoded. The rows past
+  // r of a last, partial chunk are outside the dataset: zeros compress best.
   constexpr std::size_t kBlock = 64 / sizeof(float);
   const std::size_t blocks = (g + kBlock - 1) / kBlock;
   const hsize_t first = rows_written_, n = r;
   const hsize_t extent[2] = {first + n, g};
-  if (H5Dset_extent(h_->values.get(), extent) < 0) throw WriteError(path_, failed("cannot grow /" + spec_.dataset));
+  if (h_ && H5Dset_extent(h_->values.get(), extent) < 0) {
+    throw WriteError(path_, failed("cannot grow /" + spec_.dataset));
+  }
   std::vector<std::string> encoded(g);
   tbb::enumerable_thread_specific<std::vector<float>> block_columns;  // one block's columns per thread
+  tbb::enumerable_thread_specific<std::vector<float>> padded;         // a kept partial column, padded
   std::size_t next_block = 0;
   std::string write_error;  // the first failed chunk write; the blocks after it are dropped
   run_on_threads(threads_, [&] {
@@ -253,26 +272,46 @@ void WideColumnsWriter::flush() {
                                             }) &
             tbb::make_filter<std::size_t, std::size_t>(tbb::filter_mode::parallel, [&](std::size_t b) {
               const std::size_t p0 = b * kBlock, width = std::min(kBlock, g - p0);
-              std::vector<float>& columns = block_columns.local();
-              columns.assign(width * chunk_rows_, 0.0f);
+              float* base = nullptr;  // column k of the block at base + k * stride
+              std::size_t stride = 0;
+              if (keeps()) {
+                base = kept_.data() + p0 * planned_rows_ + first;
+                stride = planned_rows_;
+              } else {
+                std::vector<float>& columns = block_columns.local();
+                columns.resize(width * chunk_rows_);
+                base = columns.data();
+                stride = chunk_rows_;
+              }
               for (std::size_t i = 0; i < r; ++i) {
-                const float* row = buffer_.get() + i * g + p0;
-                for (std::size_t k = 0; k < width; ++k) columns[k * chunk_rows_ + i] = row[k];
+                const float* row = buffer_.data() + i * g + p0;
+                for (std::size_t k = 0; k < width; ++k) base[k * stride + i] = row[k];
               }
               for (std::size_t k = 0; k < width; ++k) {
                 const std::size_t p = p0 + k;
-                const std::span<const float> column(columns.data() + k * chunk_rows_, chunk_rows_);
+                float* values = base + k * stride;
+                crc_[p] = static_cast<std::uint32_t>(crc32(crc_[p], reinterpret_cast<const Bytef*>(values),
+                                                           static_cast<uInt>(r * sizeof(float))));
+                if (!h_) continue;
+                if (r < chunk_rows_ && keeps()) {  // the kept rows end at r: pad a copy
+                  std::vector<float>& pad = padded.local();
+                  pad.assign(chunk_rows_, 0.0f);
+                  std::copy(values, values + r, pad.begin());
+                  values = pad.data();
+                } else if (r < chunk_rows_) {
+                  std::fill(values + r, values + chunk_rows_, 0.0f);
+                }
+                const std::span<const float> column(values, chunk_rows_);
                 if (spec_.compress) {
                   encoded[p] = encode_chunk(column);
                 } else {
                   encoded[p].assign(reinterpret_cast<const char*>(column.data()), column.size() * sizeof(float));
                 }
-                crc_[p] = static_cast<std::uint32_t>(crc32(crc_[p], reinterpret_cast<const Bytef*>(column.data()),
-                                                           static_cast<uInt>(r * sizeof(float))));
               }
               return b;
             }) &
             tbb::make_filter<std::size_t, void>(tbb::filter_mode::serial_in_order, [&](std::size_t b) {
+              if (!h_) return;
               const std::size_t p0 = b * kBlock, width = std::min(kBlock, g - p0);
               for (std::size_t p = p0; p < p0 + width && write_error.empty(); ++p) {
                 const hsize_t offset[2] = {first, p};
@@ -286,11 +325,13 @@ void WideColumnsWriter::flush() {
             }));
   });
   if (!write_error.empty()) throw WriteError(path_, write_error);
-  try {
-    append_rows(h_->sample.get(), H5T_NATIVE_UINT64, first, n, samples_.data());
-    append_rows(h_->ok.get(), H5T_NATIVE_UINT8, first, n, ok_.data());
-  } catch (const Error& e) {
-    throw WriteError(path_, e.what());
+  if (h_) {
+    try {
+      append_rows(h_->sample.get(), H5T_NATIVE_UINT64, first, n, samples_.data());
+      append_rows(h_->ok.get(), H5T_NATIVE_UINT8, first, n, ok_.data());
+    } catch (const Error& e) {
+      throw WriteError(path_, e.what());
+    }
   }
   rows_written_ += r;
   samples_.clear();
@@ -309,6 +350,7 @@ nlohmann::json WideColumnsWriter::close() {
   }
   Sha1::digest_type total;
   all.get_digest(total);
+  if (!h_) return nullptr;  // no file
   // Closing a dataset writes what HDF5 still caches of it: a full disk can show here first.
   const bool datasets_closed = h_->values.reset() >= 0 && h_->sample.reset() >= 0 && h_->ok.reset() >= 0;
   if (!datasets_closed || H5Fflush(h_->file.get(), H5F_SCOPE_GLOBAL) < 0 || h_->file.reset() < 0) {

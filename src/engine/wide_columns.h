@@ -11,7 +11,8 @@
 ///   /<coordinate>  float64 [columns]        what each column is (e.g. yaw_deg), attribute "units"
 ///   root attributes: whatever the run gives (study, kind, seed, planned samples, version).
 /// The writer keeps one chunk row (16384 rows x columns values) in memory, whatever the
-/// sample count; chunks are compressed on all the run's threads (chunk_codec.h) and written by
+/// sample count, and, when every planned row fits in `keep_up_to_bytes`, a column-major copy
+/// of all rows (kept_column: field statistics then never read the file back or inflate it); chunks are compressed on all the run's threads (chunk_codec.h) and written by
 /// HDF5's direct chunk write. A column's values are digested as they are written:
 /// values_digest = SHA-1 of the concatenated CRC-32s (zlib's, 4 bytes big-endian) of each
 /// column's little-endian float32 values in sample order, so equal data give equal digests
@@ -27,6 +28,8 @@
 #include <vector>
 
 #include <nlohmann/json.hpp>
+
+#include "core/large_buffer.h"
 
 namespace poise::studies {
 
@@ -45,7 +48,16 @@ struct WideColumnsSpec {
   /// false: chunks stored raw, with HDF5's per-chunk mask saying both filters were skipped
   /// (a scratch file read back at once and removed: compression would only cost time).
   bool compress = true;
+  /// All rows are also kept in memory, column by column, when the planned rows' values take at
+  /// most this many bytes (kKeepColumnsBytes for a run's file; 0 = never). A writer with no
+  /// file (an empty path) keeps them only there and needs them to fit.
+  std::size_t keep_up_to_bytes = 0;
 };
+
+/// What a run keeps in memory of its wide values at most: 128 MiB, 198,000 samples of a
+/// 169-point grid. A run planned larger streams them from its file (memory independent of the
+/// sample count); below it the copy saves reading back and inflating every chunk twice.
+inline constexpr std::size_t kKeepColumnsBytes = std::size_t{128} << 20;
 
 /// Rows per chunk of samples.h5 (fewer when the run plans fewer samples).
 inline constexpr std::size_t kWideChunkRows = 16384;
@@ -54,6 +66,8 @@ class WideColumnsWriter {
  public:
   /// Creates `path` (replacing any file there) for at most `planned_rows` rows. Root
   /// attributes: strings and unsigned integers. Throws WriteError if HDF5 cannot create it.
+  /// An empty path writes no file: the rows are only kept in memory (spec.keep_up_to_bytes
+  /// must hold them all, else poise::Error).
   WideColumnsWriter(std::string path, WideColumnsSpec spec, std::size_t planned_rows,
                     const std::map<std::string, std::string>& text_attributes,
                     const std::map<std::string, std::uint64_t>& number_attributes, int threads);
@@ -68,6 +82,11 @@ class WideColumnsWriter {
   /// "columns", "unit", "values_digest"} for summary.json. Throws WriteError on failure.
   nlohmann::json close();
   const std::string& path() const { return path_; }
+  /// Whether all rows are kept in memory (the planned rows fit in spec.keep_up_to_bytes).
+  bool keeps() const { return kept_.size() != 0; }
+  /// Column p's values of every row appended so far (after close: of the whole run); only
+  /// when keeps().
+  std::span<const float> kept_column(std::size_t p) const;
 
  private:
   void flush();
@@ -76,8 +95,10 @@ class WideColumnsWriter {
   WideColumnsSpec spec_;
   std::size_t chunk_rows_;
   int threads_;
-  std::unique_ptr<Handles> h_;
-  std::unique_ptr<float[]> buffer_;     ///< [row in chunk][column], chunk_rows_ rows
+  std::unique_ptr<Handles> h_;  ///< null: no file
+  std::size_t planned_rows_;
+  LargeBuffer<float> buffer_;           ///< [row in chunk][column], chunk_rows_ rows
+  LargeBuffer<float> kept_;             ///< [column][row], planned_rows_ rows, when kept
   std::vector<std::uint64_t> samples_;  ///< rows in the buffer
   std::vector<std::uint8_t> ok_;
   std::size_t rows_written_ = 0;

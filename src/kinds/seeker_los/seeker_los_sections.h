@@ -6,10 +6,14 @@
 ///                  least clearance to the housing as an output: geometry_study.h)
 ///   [[sweep]]      parameter = "dotted.model.key", values = [...], samples (optional)
 ///   [output]       contribution_samples = 4096 (each tolerance set to zero in turn; 0 = off)
+///                  grid_values_in_memory_mb = 128 (a run's grid values are kept in memory for
+///                  its field statistics when they take at most this much, else read back
+///                  from samples.h5 column by column; 0 = always read back)
 #include <string>
 #include <vector>
 
 #include "engine/study_config.h"
+#include "engine/wide_columns.h"
 #include "kinds/geometry_common/geometry_study.h"
 
 namespace poise::studies {
@@ -29,6 +33,8 @@ struct SeekerLosSections : KindSectionsOf<SeekerLosSections> {
   /// Contribution of each tolerance: the study re-run with that tolerance set to zero
   /// (same random numbers), with this many samples; 0 switches it off.
   std::size_t contribution_samples = 4096;
+  /// The grid values (4 bytes each) kept in memory at most, in MiB (SeekerRunControl).
+  std::size_t grid_values_in_memory_mb = kKeepColumnsBytes >> 20;
   GeometryStudySpec geometry;  ///< [clearance]
 };
 

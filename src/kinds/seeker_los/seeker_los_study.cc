@@ -7,6 +7,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <memory>
+#include <optional>
 
 #include "core/units.h"
 #include <tbb/parallel_for.h>
@@ -147,12 +148,16 @@ SeekerMcResult SeekerLosStudy::run(
   r.n = samples_;
   const std::size_t g = grid_.size();
   const bool writes = control.field_statistics && (!control.distributed || sampling::Cluster::root());
-  const bool temporary = writes && control.field_file.empty();
+  // The grid values go to the run's samples.h5; without one (sweeps, contributions) they are
+  // only kept in memory when they fit, else in an uncompressed scratch file read back once.
+  WideColumnsSpec layout = field_spec();
+  layout.keep_up_to_bytes = control.keep_grid_bytes;
+  const bool fits = samples_ <= layout.keep_up_to_bytes / sizeof(float) / std::max<std::size_t>(g, 1);
+  const bool temporary = writes && control.field_file.empty() && !fits;
   const std::string field_path = !writes ? "" : temporary ? temporary_field_file() : control.field_file;
   const TemporaryFile scratch{temporary ? field_path : std::string()};
   std::unique_ptr<WideColumnsWriter> field;
   if (writes) {
-    WideColumnsSpec layout = field_spec();
     layout.compress = !temporary;
     field = std::make_unique<WideColumnsWriter>(field_path, layout, samples_, control.field_attributes,
                                                 control.field_number_attributes, threads);
@@ -203,10 +208,17 @@ SeekerMcResult SeekerLosStudy::run(
         [&] {
           if (field) r.field_file = field->close();
           if (n_ok > 0 && field) {
-            const WideColumnsReader reader(field_path, field_spec().dataset);
+            std::optional<WideColumnsReader> reader;
+            if (!field->keeps()) reader.emplace(field_path, layout.dataset);
             const double quantiles[] = {0.5, 0.95, 0.9973};
             FieldStatistics fs = field_statistics(
-                g, [&](std::size_t p, std::vector<float>& out) { reader.read_column(p, out); }, quantiles, threads);
+                g,
+                [&](std::size_t p, std::vector<float>& column) -> std::span<const float> {
+                  if (!reader) return field->kept_column(p);
+                  reader->read_column(p, column);
+                  return column;
+                },
+                quantiles, threads);
             r.map_p50 = std::move(fs.per_point[0]);
             r.map_p95 = std::move(fs.per_point[1]);
             r.map_p99_73 = std::move(fs.per_point[2]);

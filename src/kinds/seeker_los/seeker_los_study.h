@@ -90,6 +90,10 @@ struct SeekerRunControl {
   /// that use only the per-sample outputs).
   bool field_statistics = true;
   std::string field_file;
+  /// The grid values are kept in memory for the field statistics when all planned samples'
+  /// take at most this many bytes: nothing is read back, and without a field_file no file is
+  /// written. Larger runs stream (memory independent of the sample count).
+  std::size_t keep_grid_bytes = kKeepColumnsBytes;
   std::map<std::string, std::string> field_attributes;             ///< root attributes of the file
   std::map<std::string, std::uint64_t> field_number_attributes;
   std::function<std::string(const std::vector<std::vector<double>>& values, const std::vector<std::size_t>& ok_index,

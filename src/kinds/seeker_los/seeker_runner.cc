@@ -4,12 +4,13 @@
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
+#include <algorithm>
+#include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
-#include <algorithm>
 #include <thread>
 
 #include "core/units.h"
@@ -172,39 +173,42 @@ std::string run_seeker_study(const StudyConfig& file_cfg, const RunOptions& opti
   // The grid values of every sample go to samples.h5 (a resumed run recomputes and rewrites
   // it whole: the same data); samples.csv keeps the inputs and the scalar outputs.
   control.field_file = (fs::path(dir) / "samples.h5").string();
+  control.keep_grid_bytes = sec.grid_values_in_memory_mb << 20;
   control.field_attributes = {{"study", cfg.name}, {"kind", cfg.kind}, {"study_file", cfg.file},
                               {"method", sampling::to_string(cfg.method)}, {"poise_version", kVersion}};
   control.field_number_attributes = {{"seed", seed}, {"planned_samples", n}};
   control.stop = [rule](const std::vector<std::vector<double>>& v, const std::vector<std::size_t>& ok, std::size_t f,
                         std::size_t c) { return (*rule)(v, ok, f, c); };
-  // The rows' text is made on all threads (70 numbers a row), then written in order.
+  // The rows' text is made on all threads (64 numbers a row), 64 rows to a piece, and the
+  // pieces written in order; their strings keep their capacity from block to block.
   tbb::task_arena arena(std::max(1, threads));
-  std::vector<std::string> row_text;
+  constexpr std::size_t kRowsPerPiece = 64;
+  std::vector<std::string> pieces;
   const SeekerMcResult mc = study.run(threads, options.progress, [&](std::span<const SeekerSampleResult> block) {
-    row_text.assign(block.size(), std::string());
+    const std::size_t n_pieces = (block.size() + kRowsPerPiece - 1) / kRowsPerPiece;
+    if (pieces.size() < n_pieces) pieces.resize(n_pieces);
     arena.execute([&] {
-      tbb::parallel_for(tbb::blocked_range<std::size_t>(0, block.size(), 64), [&](const tbb::blocked_range<std::size_t>& r) {
-        for (std::size_t k = r.begin(); k != r.end(); ++k) {
+      tbb::parallel_for(std::size_t{0}, n_pieces, [&](std::size_t piece) {
+        std::string& text = pieces[piece];
+        text.clear();
+        const std::size_t end = std::min(block.size(), (piece + 1) * kRowsPerPiece);
+        for (std::size_t k = piece * kRowsPerPiece; k < end; ++k) {
           const SeekerSampleResult& s = block[k];
           if (s.index < rows_on_disk) continue;
-          std::string& row = row_text[k];
-          row.reserve(24 * (s.inputs.size() + s.outputs.size()) + 32);
-          row = std::to_string(s.index);
-          row += s.ok ? ",ok" : ",failed";
-          for (double v : s.inputs) append_csv_number(row, v);
-          for (double v : s.outputs) append_csv_number(row, v);
-          row += ',';
-          row += csv_text(s.message);
-          row += '\n';
+          char index[24];
+          text.append(index, std::to_chars(index, index + sizeof index, s.index).ptr);
+          text += s.ok ? ",ok" : ",failed";
+          for (double v : s.inputs) append_csv_number(text, v);
+          for (double v : s.outputs) append_csv_number(text, v);
+          text += ',';
+          if (!s.message.empty()) text += csv_text(s.message);
+          text += '\n';
         }
       });
     });
-    std::size_t bytes = 0;
-    for (const auto& t : row_text) bytes += t.size();
-    std::string rows;
-    rows.reserve(bytes);
-    for (const auto& t : row_text) rows += t;
-    csv.write(rows);  // the first refused write stops the run (WriteError)
+    for (std::size_t piece = 0; piece < n_pieces; ++piece) {
+      if (!pieces[piece].empty()) csv.write(pieces[piece]);  // the first refused write stops the run (WriteError)
+    }
   }, control);
   if (!root) return "";  // rank 0 writes the folder
   csv.close();
@@ -213,6 +217,10 @@ std::string run_seeker_study(const StudyConfig& file_cfg, const RunOptions& opti
   finish_manifest(plan, status, ran);
   const bool extras = status == "complete" && sensitivity_base == 0;  // sweeps and contributions
 
+
+  // Sweeps and contributions keep no file of their grid values; the memory setting holds.
+  SeekerRunControl side_runs;
+  side_runs.keep_grid_bytes = control.keep_grid_bytes;
 
   // Sweeps: the same seed at every value (common random numbers), so differences between
   // values are the design's, not the sampling noise's.
@@ -223,7 +231,7 @@ std::string run_seeker_study(const StudyConfig& file_cfg, const RunOptions& opti
       const SeekerModel model_v = load_model(cfg, {{sw.parameter, v}});
       SeekerLosStudy sv(cfg, model_v, sw.samples, seed);
       if (options.progress) std::fprintf(stderr, "  sweep %s = %s\n", sw.parameter.c_str(), v.c_str());
-      const SeekerMcResult r = sv.run(threads, false, {});
+      const SeekerMcResult r = sv.run(threads, false, {}, side_runs);
       json p{{"value", v}, {"value_si", units::parse_quantity(v).value}, {"failures", r.failures}};
       if (!r.outputs.empty()) {
         p["los_max_arcsec"] = summary_json(r.outputs[0], "arcsec", "");
@@ -248,12 +256,12 @@ std::string run_seeker_study(const StudyConfig& file_cfg, const RunOptions& opti
                   {"los_max_p99_73", r.outputs[0].p99_73.value}, {"pooled_p95", r.pooled.p95.value},
                   {"fraction_samples_meeting", r.fraction_samples_ok.value}};
     };
-    const SeekerMcResult all = SeekerLosStudy(cfg, model, nc, seed).run(threads, false, {});
+    const SeekerMcResult all = SeekerLosStudy(cfg, model, nc, seed).run(threads, false, {}, side_runs);
     if (!all.outputs.empty()) {
       contributions.push_back({{"without", "(nothing: all tolerances)"}, {"samples", nc}, {"stats", stats(all)}});
       for (const auto& key : model.tolerance_keys()) {
         const SeekerModel model_v = load_model(cfg, {{key + ".tolerance", "0 mm"}});
-        const SeekerMcResult r = SeekerLosStudy(cfg, model_v, nc, seed).run(threads, false, {});
+        const SeekerMcResult r = SeekerLosStudy(cfg, model_v, nc, seed).run(threads, false, {}, side_runs);
         if (!r.outputs.empty()) contributions.push_back({{"without", key}, {"samples", nc}, {"stats", stats(r)}});
       }
     }
