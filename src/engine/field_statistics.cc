@@ -68,6 +68,30 @@ LargeBuffer<std::uint64_t> zeroed_counts(std::size_t n) {
   return c;
 }
 
+// Sum of term(v) over the non-NaN values in four interleaved partial sums (values 4i + j in
+// sum j), added as (s0 + s1) + (s2 + s3): a fixed order, so the same result on every run and
+// thread count, and four independent chains of additions instead of one.
+template <class Term>
+double lane_sum(std::span<const float> values, Term term) {
+  const auto at = [&](std::size_t i) {
+    const float f = values[i];
+    return std::isnan(f) ? 0.0 : term(static_cast<double>(f));
+  };
+  double s0 = 0.0, s1 = 0.0, s2 = 0.0, s3 = 0.0;
+  const std::size_t n = values.size();
+  std::size_t i = 0;
+  for (; i + 4 <= n; i += 4) {
+    s0 += at(i);
+    s1 += at(i + 1);
+    s2 += at(i + 2);
+    s3 += at(i + 3);
+  }
+  if (i < n) s0 += at(i++);
+  if (i < n) s1 += at(i++);
+  if (i < n) s2 += at(i++);
+  return (s0 + s1) + (s2 + s3);
+}
+
 struct PointPass1 {
   std::size_t n = 0;
   double sum = 0.0;
@@ -96,19 +120,25 @@ FieldStatistics field_statistics(std::size_t columns, const FieldColumnSource& c
     tbb::parallel_for(std::size_t{0}, columns, [&](std::size_t p) {
       Local& l = locals.local();
       const std::span<const float> values = column(p, l.column);
-      l.keys.clear();
-      l.keys.reserve(values.size());
+      l.keys.resize(values.size());
+      std::size_t kept = 0;
       for (float f : values) {
-        if (std::isnan(f)) continue;
-        const std::uint32_t key = key_of(f);
-        l.keys.push_back(key);
-        pass1[p].sum += static_cast<double>(f);
-        ++l.bins[key >> 16];
+        if (!std::isnan(f)) l.keys[kept++] = key_of(f);
       }
-      pass1[p].n = l.keys.size();
-      if (l.keys.empty()) return;
-      // One sort serves every quantile (three selections cost about twice as much).
+      l.keys.resize(kept);
+      pass1[p].sum = lane_sum(values, [](double v) { return v; });
+      pass1[p].n = kept;
+      if (kept == 0) return;
+      // One sort serves every quantile (three selections cost about twice as much), and the
+      // upper-16-bit counts by runs of equal bins.
       radix_sort(l.keys, l.scratch);
+      for (std::size_t i = 0; i < kept;) {
+        const std::uint32_t bin = l.keys[i] >> 16;
+        std::size_t j = i + 1;
+        while (j < kept && (l.keys[j] >> 16) == bin) ++j;
+        l.bins[bin] += j - i;
+        i = j;
+      }
       const auto sorted_at = [&](std::size_t k) { return static_cast<double>(float_of(l.keys[k])); };
       for (std::size_t q = 0; q < quantiles.size(); ++q) {
         out.per_point[q][p] = sampling::quantile_value_sorted(l.keys.size(), quantiles[q], sorted_at);
@@ -153,18 +183,18 @@ FieldStatistics field_statistics(std::size_t columns, const FieldColumnSource& c
     tbb::parallel_for(std::size_t{0}, columns, [&](std::size_t p) {
       LargeBuffer<std::uint64_t>& counts = fine.local();
       const std::span<const float> values = column(p, columns_2.local());
-      double a2 = 0.0, a4 = 0.0;
+      const double mean = m.mean;
+      m2[p] = lane_sum(values, [mean](double v) { return (v - mean) * (v - mean); });
+      m4[p] = lane_sum(values, [mean](double v) {
+        const double d = (v - mean) * (v - mean);
+        return d * d;
+      });
       for (float f : values) {
         if (std::isnan(f)) continue;
-        const double d = (static_cast<double>(f) - m.mean) * (static_cast<double>(f) - m.mean);
-        a2 += d;
-        a4 += d * d;
         const std::uint32_t key = key_of(f);
         const int slot = slot_of_bin[key >> 16];
         if (slot >= 0) ++counts[static_cast<std::size_t>(slot) * kBins + (key & 0xffffu)];
       }
-      m2[p] = a2;
-      m4[p] = a4;
     }, tbb::simple_partitioner());  // one point per task: no thread left with a long last share
   });
   for (std::size_t p = 0; p < columns; ++p) {

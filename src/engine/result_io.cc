@@ -2,6 +2,7 @@
 
 #include <charconv>
 #include <cmath>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 
@@ -36,6 +37,15 @@ std::string csv_number(double v) {
   char buf[40];
   const auto res = std::to_chars(buf, buf + sizeof buf, v);
   return std::string(buf, res.ptr);
+}
+
+char* put_csv_number(char* at, double v) {
+  *at++ = ',';
+  if (std::isnan(v)) {
+    std::memcpy(at, "nan", 3);
+    return at + 3;
+  }
+  return std::to_chars(at, at + (kCsvNumberChars - 1), v).ptr;
 }
 
 void append_csv_number(std::string& row, double v) {

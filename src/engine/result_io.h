@@ -16,6 +16,11 @@ nlohmann::json summary_json(const sampling::Summary& s);
 std::string csv_number(double v);
 /// Appends ',' and csv_number(v) to a row without a temporary string (rows of 70 numbers).
 void append_csv_number(std::string& row, double v);
+/// Room put_csv_number needs at most: ',' and the longest shortest double, -2.2250738585072014e-308.
+inline constexpr std::size_t kCsvNumberChars = 25;
+/// Writes ',' and csv_number(v) at `at` (kCsvNumberChars free) and returns the end: a row's
+/// numbers formatted into one buffer, appended to the text once.
+char* put_csv_number(char* at, double v);
 /// Free text for one CSV cell: quotes, commas and newlines become spaces.
 std::string csv_text(std::string s);
 /// Writes a whole file atomically: to a temporary beside it, flushed, then renamed over the

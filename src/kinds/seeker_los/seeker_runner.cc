@@ -191,16 +191,20 @@ std::string run_seeker_study(const StudyConfig& file_cfg, const RunOptions& opti
       tbb::parallel_for(std::size_t{0}, n_pieces, [&](std::size_t piece) {
         std::string& text = pieces[piece];
         text.clear();
+        std::vector<char> row;
         const std::size_t end = std::min(block.size(), (piece + 1) * kRowsPerPiece);
         for (std::size_t k = piece * kRowsPerPiece; k < end; ++k) {
           const SeekerSampleResult& s = block[k];
           if (s.index < rows_on_disk) continue;
-          char index[24];
-          text.append(index, std::to_chars(index, index + sizeof index, s.index).ptr);
-          text += s.ok ? ",ok" : ",failed";
-          for (double v : s.inputs) append_csv_number(text, v);
-          for (double v : s.outputs) append_csv_number(text, v);
-          text += ',';
+          // The numbers into one buffer, then one append (not one per number).
+          row.resize(32 + kCsvNumberChars * (s.inputs.size() + s.outputs.size()));
+          char* at = std::to_chars(row.data(), row.data() + 24, s.index).ptr;
+          const std::string_view status = s.ok ? ",ok" : ",failed";
+          at = std::copy(status.begin(), status.end(), at);
+          for (double v : s.inputs) at = put_csv_number(at, v);
+          for (double v : s.outputs) at = put_csv_number(at, v);
+          *at++ = ',';
+          text.append(row.data(), at);
           if (!s.message.empty()) text += csv_text(s.message);
           text += '\n';
         }
