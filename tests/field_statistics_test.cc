@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <random>
+#include <utility>
 #include <vector>
 
 #include "engine/field_statistics.h"
@@ -53,9 +54,10 @@ TEST(FieldStatistics, EqualTheStatisticsOfTheWholeFieldInMemory) {
     }
   }
   const sampling::Summary want = sampling::summarize(all);
-  for (int threads : {1, 2, 3}) {
-    // Columns read into the scratch (from a file) for 1 and 3 threads, viewed in place (kept
-    // in memory) for 2.
+  // Columns read into the scratch (from a file) for 1 and 3 threads, viewed in place (kept in
+  // memory) for 2; the pooled order statistics from collected values, or from counts (limit 0).
+  for (const auto& [threads, collect_limit] : {std::pair<int, std::size_t>{1, studies::kFieldCollectLimit},
+                                               {2, studies::kFieldCollectLimit}, {3, 0}, {2, 0}}) {
     const auto got = field_statistics(
         columns,
         [&](std::size_t p, std::vector<float>& out) -> std::span<const float> {
@@ -63,7 +65,7 @@ TEST(FieldStatistics, EqualTheStatisticsOfTheWholeFieldInMemory) {
           out = field[p];
           return out;
         },
-        quantiles, threads);
+        quantiles, threads, collect_limit);
     EXPECT_EQ(got.pooled.n, want.n);
     // Order statistics are selected exactly: equal to the last bit.
     EXPECT_EQ(got.pooled.p50.value, want.p50.value);
@@ -86,6 +88,34 @@ TEST(FieldStatistics, EqualTheStatisticsOfTheWholeFieldInMemory) {
         EXPECT_EQ(got.per_point[q][p], sampling::quantile_value(copy, quantiles[q])) << "point " << p;
       }
     }
+  }
+}
+
+TEST(FieldStatistics, AFieldOfFewDistinctValuesByCountsAsByCollection) {
+  // Every value in one of five bins: the wanted bins hold most of the field.
+  std::vector<std::vector<float>> field(7, std::vector<float>(3001));
+  for (std::size_t p = 0; p < field.size(); ++p) {
+    for (std::size_t i = 0; i < field[p].size(); ++i) {
+      field[p][i] = static_cast<float>((i * 7 + p) % 5) * 0.25f + 1.0f;
+    }
+  }
+  const double quantiles[] = {0.5, 0.99};
+  auto run = [&](std::size_t limit) {
+    return field_statistics(
+        field.size(), [&](std::size_t p, std::vector<float>&) -> std::span<const float> { return field[p]; },
+        quantiles, 2, limit);
+  };
+  const auto collected = run(studies::kFieldCollectLimit), counted = run(0), capped = run(100);
+  std::vector<double> all;
+  for (const auto& c : field) all.insert(all.end(), c.begin(), c.end());
+  const sampling::Summary want = sampling::summarize(all);
+  for (const auto* got : {&collected, &counted, &capped}) {
+    EXPECT_EQ(got->pooled.n, want.n);
+    EXPECT_EQ(got->pooled.p50.value, want.p50.value);
+    EXPECT_EQ(got->pooled.p95.lo, want.p95.lo);
+    EXPECT_EQ(got->pooled.p99_73.value, want.p99_73.value);
+    EXPECT_EQ(got->pooled.max.value, want.max.value);
+    EXPECT_EQ(got->per_point, collected.per_point);
   }
 }
 

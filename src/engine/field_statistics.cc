@@ -10,7 +10,6 @@
 #include <cstdint>
 
 #include "core/error.h"
-#include "core/large_buffer.h"
 #include "engine/thread_arena.h"
 
 namespace poise::studies {
@@ -60,14 +59,6 @@ void radix_sort(std::vector<std::uint32_t>& keys, std::vector<std::uint32_t>& sc
   }
 }
 
-// Counts of the two-level selection, zeroed: half a megabyte per bin level and thread, on huge
-// pages (one page fault instead of 128).
-LargeBuffer<std::uint64_t> zeroed_counts(std::size_t n) {
-  LargeBuffer<std::uint64_t> c(n);
-  std::fill(c.data(), c.data() + n, std::uint64_t{0});
-  return c;
-}
-
 // Sum of term(v) over the non-NaN values in four interleaved partial sums (values 4i + j in
 // sum j), added as (s0 + s1) + (s2 + s3): a fixed order, so the same result on every run and
 // thread count, and four independent chains of additions instead of one.
@@ -100,18 +91,18 @@ struct PointPass1 {
 }  // namespace
 
 FieldStatistics field_statistics(std::size_t columns, const FieldColumnSource& column,
-                                 std::span<const double> quantiles, int threads) {
+                                 std::span<const double> quantiles, int threads, std::size_t collect_limit) {
   FieldStatistics out;
   out.per_point.assign(quantiles.size(), std::vector<double>(columns, NAN));
   std::vector<PointPass1> pass1(columns);
   struct Local {
     std::vector<float> column;
     std::vector<std::uint32_t> keys, scratch;
-    LargeBuffer<std::uint64_t> bins;
+    std::vector<std::uint64_t> bins;
   };
   tbb::enumerable_thread_specific<Local> locals([] {
     Local l;
-    l.bins = zeroed_counts(kBins);
+    l.bins.assign(kBins, 0);
     return l;
   });
 
@@ -175,13 +166,24 @@ FieldStatistics field_statistics(std::size_t columns, const FieldColumnSource& c
     }
   }
 
-  // Pass 2: central moments about the pooled mean; lower-16-bit counts within the wanted bins.
+  // Pass 2: central moments about the pooled mean, and the values within the wanted bins:
+  // collected and sorted when they are few (pass 1 counted them), else their lower 16 bits
+  // counted (a dense count per wanted bin and thread, half a megabyte each).
+  std::size_t in_wanted = 0;
+  std::vector<std::size_t> first_of_slot(slots, 0);  // collected: where each wanted bin starts
+  for (std::size_t b = 0; b < kBins; ++b) {
+    if (slot_of_bin[b] < 0) continue;
+    first_of_slot[static_cast<std::size_t>(slot_of_bin[b])] = in_wanted;
+    in_wanted += bins[b];
+  }
+  const bool collect = in_wanted <= collect_limit;
   std::vector<double> m2(columns, 0.0), m4(columns, 0.0);
-  tbb::enumerable_thread_specific<LargeBuffer<std::uint64_t>> fine([&] { return zeroed_counts(slots * kBins); });
+  tbb::enumerable_thread_specific<std::vector<std::uint32_t>> picked;  // collect: keys in wanted bins
+  tbb::enumerable_thread_specific<std::vector<std::uint64_t>> fine(
+      [&] { return std::vector<std::uint64_t>(collect ? 0 : slots * kBins, 0); });
   tbb::enumerable_thread_specific<std::vector<float>> columns_2;
   run_on_threads(threads, [&] {
     tbb::parallel_for(std::size_t{0}, columns, [&](std::size_t p) {
-      LargeBuffer<std::uint64_t>& counts = fine.local();
       const std::span<const float> values = column(p, columns_2.local());
       const double mean = m.mean;
       m2[p] = lane_sum(values, [mean](double v) { return (v - mean) * (v - mean); });
@@ -189,11 +191,18 @@ FieldStatistics field_statistics(std::size_t columns, const FieldColumnSource& c
         const double d = (v - mean) * (v - mean);
         return d * d;
       });
+      std::vector<std::uint32_t>& keys = picked.local();
+      std::vector<std::uint64_t>& counts = fine.local();
       for (float f : values) {
         if (std::isnan(f)) continue;
         const std::uint32_t key = key_of(f);
         const int slot = slot_of_bin[key >> 16];
-        if (slot >= 0) ++counts[static_cast<std::size_t>(slot) * kBins + (key & 0xffffu)];
+        if (slot < 0) continue;
+        if (collect) {
+          keys.push_back(key);
+        } else {
+          ++counts[static_cast<std::size_t>(slot) * kBins + (key & 0xffffu)];
+        }
       }
     }, tbb::simple_partitioner());  // one point per task: no thread left with a long last share
   });
@@ -201,17 +210,28 @@ FieldStatistics field_statistics(std::size_t columns, const FieldColumnSource& c
     m.m2 += m2[p];
     m.m4 += m4[p];
   }
-  LargeBuffer<std::uint64_t> counts = zeroed_counts(slots * kBins);
-  for (const auto& f : fine) {
-    for (std::size_t i = 0; i < counts.size(); ++i) counts[i] += f[i];
-  }
   std::vector<double> value_at_rank(ranks.size());
-  for (std::size_t w = 0; w < wanted.size(); ++w) {
-    const std::uint64_t* c = counts.data() + wanted[w].slot * kBins;
-    std::size_t below = 0, low = 0;
-    while (below + c[low] <= wanted[w].rank_in_bin) below += c[low++];
-    require(low < kBins, "field statistics: a value counted in pass 1 is missing in pass 2");
-    value_at_rank[w] = static_cast<double>(float_of(static_cast<std::uint32_t>((wanted[w].bin << 16) | low)));
+  if (collect) {
+    std::vector<std::uint32_t> all, scratch;
+    all.reserve(in_wanted);
+    for (const auto& k : picked) all.insert(all.end(), k.begin(), k.end());
+    require(all.size() == in_wanted, "field statistics: the values of pass 1 and pass 2 differ in number");
+    radix_sort(all, scratch);  // the wanted bins in ascending order, each bin's values sorted
+    for (std::size_t w = 0; w < wanted.size(); ++w) {
+      value_at_rank[w] = static_cast<double>(float_of(all[first_of_slot[wanted[w].slot] + wanted[w].rank_in_bin]));
+    }
+  } else {
+    std::vector<std::uint64_t> counts(slots * kBins, 0);
+    for (const auto& f : fine) {
+      for (std::size_t i = 0; i < counts.size(); ++i) counts[i] += f[i];
+    }
+    for (std::size_t w = 0; w < wanted.size(); ++w) {
+      const std::uint64_t* c = counts.data() + wanted[w].slot * kBins;
+      std::size_t below = 0, low = 0;
+      while (below + c[low] <= wanted[w].rank_in_bin) below += c[low++];
+      require(low < kBins, "field statistics: a value counted in pass 1 is missing in pass 2");
+      value_at_rank[w] = static_cast<double>(float_of(static_cast<std::uint32_t>((wanted[w].bin << 16) | low)));
+    }
   }
   out.pooled = sampling::summarize_from(m, [&](std::size_t k) {
     const auto it = std::lower_bound(ranks.begin(), ranks.end(), k);
