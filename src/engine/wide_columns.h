@@ -54,10 +54,10 @@ struct WideColumnsSpec {
   std::size_t keep_up_to_bytes = 0;
 };
 
-/// What a run keeps in memory of its wide values at most: 128 MiB, 198,000 samples of a
+/// What a run keeps in memory of its wide values at most: 256 MiB, 397,000 samples of a
 /// 169-point grid. A run planned larger streams them from its file (memory independent of the
 /// sample count); below it the copy saves reading back and inflating every chunk twice.
-inline constexpr std::size_t kKeepColumnsBytes = std::size_t{128} << 20;
+inline constexpr std::size_t kKeepColumnsBytes = std::size_t{256} << 20;
 
 /// Rows per chunk of samples.h5 (fewer when the run plans fewer samples).
 inline constexpr std::size_t kWideChunkRows = 16384;

@@ -6,7 +6,7 @@
 ///                  least clearance to the housing as an output: geometry_study.h)
 ///   [[sweep]]      parameter = "dotted.model.key", values = [...], samples (optional)
 ///   [output]       contribution_samples = 4096 (each tolerance set to zero in turn; 0 = off)
-///                  grid_values_in_memory_mb = 128 (a run's grid values are kept in memory for
+///                  grid_values_in_memory_mb = 256 (a run's grid values are kept in memory for
 ///                  its field statistics when they take at most this much, else read back
 ///                  from samples.h5 column by column; 0 = always read back)
 #include <string>
