@@ -100,6 +100,43 @@ TEST(WideColumns, ColumnsReadBackExactlyAcrossChunks) {
   EXPECT_EQ(ok[10], 1);
 }
 
+TEST(WideColumns, KeptColumnsEqualWhatTheFileHolds) {
+  test::TempDir d;
+  const std::size_t rows = 2 * studies::kWideChunkRows + 123, columns = 5, planned = rows + 1000;
+  const auto data = make_rows(rows, columns);
+  WideColumnsSpec kept = spec(columns);
+  kept.keep_up_to_bytes = planned * columns * sizeof(float);
+  auto fill = [&](WideColumnsWriter& w) {
+    for (std::size_t i = 0; i < rows; ++i) w.append(i, i % 10 != 9, data[i]);
+  };
+  WideColumnsWriter with_file(d.file("kept.h5"), kept, planned, {}, {}, 2);
+  ASSERT_TRUE(with_file.keeps());
+  fill(with_file);
+  EXPECT_EQ(with_file.close()["values_digest"].get<std::string>(), expected_digest(data));
+  WideColumnsWriter memory_only("", kept, planned, {}, {}, 2);  // no file at all
+  fill(memory_only);
+  EXPECT_TRUE(memory_only.close().is_null());
+  const WideColumnsReader r(d.file("kept.h5"), "grid_total_arcsec");
+  std::vector<float> col;
+  for (std::size_t p = 0; p < columns; ++p) {
+    r.read_column(p, col);
+    for (const WideColumnsWriter* w : {&with_file, &memory_only}) {
+      const auto k = w->kept_column(p);
+      ASSERT_EQ(k.size(), rows);
+      EXPECT_EQ(std::memcmp(k.data(), col.data(), rows * sizeof(float)), 0) << "column " << p;  // NaN too
+    }
+  }
+  // A kept writer holds no more rows than planned; one without a file needs them to fit.
+  WideColumnsWriter small(d.file("small.h5"), kept, 3, {}, {}, 1);
+  for (std::size_t i = 0; i < 3; ++i) small.append(i, true, data[i]);
+  EXPECT_THROW(small.append(3, true, data[3]), Error);
+  WideColumnsSpec tight = spec(columns);
+  tight.keep_up_to_bytes = 100;
+  EXPECT_THROW(WideColumnsWriter("", tight, 1000, {}, {}, 1), Error);
+  WideColumnsWriter streams(d.file("streams.h5"), tight, 1000, {}, {}, 1);
+  EXPECT_FALSE(streams.keeps());
+}
+
 TEST(WideColumns, TheHdf5LibraryReadsWhatPoiseCompressed) {
   test::TempDir d;
   const std::size_t rows = 3000, columns = 7;

@@ -97,7 +97,7 @@ class WideColumnsWriter {
   int threads_;
   std::unique_ptr<Handles> h_;  ///< null: no file
   std::size_t planned_rows_;
-  LargeBuffer<float> buffer_;           ///< [row in chunk][column], chunk_rows_ rows
+  LargeBuffer<float> buffer_;           ///< [row in chunk][column], chunk_rows_ rows; when not kept
   LargeBuffer<float> kept_;             ///< [column][row], planned_rows_ rows, when kept
   std::vector<std::uint64_t> samples_;  ///< rows in the buffer
   std::vector<std::uint8_t> ok_;
