@@ -7,9 +7,10 @@
 ///                          scratch (both frames rebuilt, no factorization).
 ///   BM_SampleCompute       SeekerLosStudy::compute: design point + draw + grid + outputs.
 ///   BM_StudyRun/threads:N  SeekerLosStudy::run on N threads, 8192 samples, no sink: the
-///                          samples, their grid values into a temporary samples.h5, the
-///                          field statistics read back from it and the summaries (the tail).
-///                          Target: >= 1.8x samples/s from 1 to 2 threads.
+///                          samples, their grid values gathered column by column (kept in
+///                          memory: no file is written for a run without samples.h5), the
+///                          field statistics and the summaries (the tail). Target: >= 1.85x
+///                          samples/s from 1 to 2 threads (issue 19).
 ///   BM_StudyComputeOnly/threads:N  diagnostic: the parallel part of run() alone.
 ///
 /// The study and model are the project defaults (studies/los_seeker_wang2011.toml and the
