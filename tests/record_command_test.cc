@@ -159,6 +159,12 @@ TEST(SimulateRecord, RefusedInputGivesExit2WithTheKeyOrOption) {
   EXPECT_EQ(r.status, 2);
   EXPECT_NE(r.err.find("--theta '1e308 deg': expected a turntable angle within +-3600 deg"), std::string::npos)
       << r.err;
+  // A value the equations cannot integrate: the solver's failure, with the values set here.
+  r = poise_run(d, "simulate-record " + shq(kModel) + out +
+                       " --set 'rotor.cogging_torque=1e308 N*m' --set rotor.cogging_order=180");
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.err.find("the simulation of the position theta = 30 deg failed"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("rotor.cogging_torque = 1e308 N*m"), std::string::npos) << r.err;
   r = poise_run(d, "simulate-record " + shq(d.file("missing.toml")) + out);
   EXPECT_EQ(r.status, 2);
   EXPECT_NE(r.err.find("missing.toml"), std::string::npos) << r.err;

@@ -56,7 +56,16 @@ int simulate(const Args& a) {
   procedures::StaticUnbalanceWorkspace ws(plan.solver);
   sampling::RandomStream rs(a.seed, sampling::StreamId::kProcedure, 0);
   std::vector<procedures::RecordSample> rec;
-  const auto res = procedures::run_static_unbalance_procedure(plan, truth, rs, ws, 0, &rec);
+  procedures::MeasurementResult res;
+  try {
+    res = procedures::run_static_unbalance_procedure(plan, truth, rs, ws, 0, &rec);
+  } catch (const Error& e) {
+    // The solver's words name no key: say which values went in, the --set ones first.
+    std::string set;
+    for (const auto& [key, value] : overrides) set += (set.empty() ? "" : ", ") + key + " = " + value;
+    throw Error(a.model + ": the simulation of the position theta = " + a.theta_text + " failed (" + e.what() +
+                "): check the model's values" + (set.empty() ? std::string() : ", above all those set here: " + set));
+  }
   std::string out = "time_s,current_A,phi_deg\n";
   char buf[96];
   for (const auto& s : rec) {
