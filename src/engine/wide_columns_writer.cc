@@ -1,9 +1,9 @@
-#include "engine/wide_columns.h"
-
+/// WideColumnsWriter (wide_columns.h): samples.h5 created, its chunks written as the rows come
+/// (or the rows kept in memory only), closed with its values digest.
 #include <hdf5.h>
-#include <zlib.h>
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_pipeline.h>
+#include <zlib.h>
 
 #include <algorithm>
 #include <boost/uuid/detail/sha1.hpp>
@@ -14,87 +14,15 @@
 #include "core/error.h"
 #include "engine/checked_file.h"
 #include "engine/chunk_codec.h"
+#include "engine/hdf5_handles.h"
 #include "engine/thread_arena.h"
+#include "engine/wide_columns.h"
 
 namespace poise::studies {
 namespace {
 
 using Sha1 = boost::uuids::detail::sha1;
-
-// HDF5 prints its own error stack by default; Poise reports its errors itself.
-void quiet_hdf5() {
-  static const bool once = [] {
-    H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
-    return true;
-  }();
-  (void)once;
-}
-
-// The operating system's reason for HDF5's last failure on this thread, from its error stack:
-// the file driver records "errno = 28, error message = 'No space left on device'" when a
-// read or write fails. "" when the failure was not the system's.
-std::string system_reason() {
-  std::string reason;
-  H5Ewalk2(H5E_DEFAULT, H5E_WALK_DOWNWARD, [](unsigned, const H5E_error2_t* e, void* data) -> herr_t {
-    auto& out = *static_cast<std::string*>(data);
-    if (!out.empty() || e == nullptr || e->desc == nullptr) return 0;
-    const std::string desc = e->desc;
-    const std::string key = "error message = '";
-    if (const auto at = desc.find(key); at != std::string::npos) {
-      const auto end = desc.find('\'', at + key.size());
-      out = desc.substr(at + key.size(), end == std::string::npos ? std::string::npos : end - at - key.size());
-    }
-    return 0;
-  }, &reason);
-  return reason;
-}
-
-// `what` failed: with the system's reason when HDF5 recorded one.
-std::string failed(const std::string& what) {
-  const std::string reason = system_reason();
-  return reason.empty() ? what : what + ": " + reason;
-}
-
-// File access without HDF5's file locks: one process writes the file (rank 0), and the
-// locks fail on file systems that lack them (NFS, Lustre of a cluster).
-hid_t unlocked_access();
-
-// An HDF5 identifier closed by its own close function when it goes out of scope.
-class Id {
- public:
-  Id() = default;
-  Id(hid_t id, herr_t (*close)(hid_t)) : id_(id), close_(close) {}
-  Id(Id&& o) noexcept : id_(o.id_), close_(o.close_) { o.id_ = -1; }
-  Id& operator=(Id&& o) noexcept {
-    std::swap(id_, o.id_);
-    std::swap(close_, o.close_);
-    return *this;
-  }
-  Id(const Id&) = delete;
-  Id& operator=(const Id&) = delete;
-  ~Id() { reset(); }
-  herr_t reset() {
-    herr_t rc = 0;
-    if (id_ >= 0 && close_) rc = close_(id_);
-    id_ = -1;
-    return rc;
-  }
-  hid_t get() const { return id_; }
-  bool ok() const { return id_ >= 0; }
-
- private:
-  hid_t id_ = -1;
-  herr_t (*close_)(hid_t) = nullptr;
-};
-
-hid_t unlocked_access() {
-  static const hid_t fapl = [] {
-    const hid_t p = H5Pcreate(H5P_FILE_ACCESS);
-    H5Pset_file_locking(p, false, true);
-    return p;
-  }();
-  return fapl;
-}
+using hdf5::Id;
 
 std::string hex(const Sha1::digest_type& d) {
   char buf[41];
@@ -109,13 +37,17 @@ void text_attribute(hid_t obj, const std::string& name, const std::string& value
   Id space(H5Screate(H5S_SCALAR), H5Sclose);
   Id attr(H5Acreate2(obj, name.c_str(), type.get(), space.get(), H5P_DEFAULT, H5P_DEFAULT), H5Aclose);
   const char* p = value.c_str();
-  if (!attr.ok() || H5Awrite(attr.get(), type.get(), &p) < 0) throw Error(failed("cannot write attribute " + name));
+  if (!attr.ok() || H5Awrite(attr.get(), type.get(), &p) < 0) {
+    throw Error(hdf5::failed("cannot write attribute " + name));
+  }
 }
 
 void number_attribute(hid_t obj, const std::string& name, std::uint64_t value) {
   Id space(H5Screate(H5S_SCALAR), H5Sclose);
   Id attr(H5Acreate2(obj, name.c_str(), H5T_STD_U64LE, space.get(), H5P_DEFAULT, H5P_DEFAULT), H5Aclose);
-  if (!attr.ok() || H5Awrite(attr.get(), H5T_NATIVE_UINT64, &value) < 0) throw Error(failed("cannot write attribute " + name));
+  if (!attr.ok() || H5Awrite(attr.get(), H5T_NATIVE_UINT64, &value) < 0) {
+    throw Error(hdf5::failed("cannot write attribute " + name));
+  }
 }
 
 // A chunked, deflated, growable dataset of `rank` dimensions (the first unlimited).
@@ -132,19 +64,19 @@ Id growable(hid_t file, const std::string& name, hid_t type, hsize_t columns, hs
     H5Pset_fill_value(dcpl.get(), H5T_NATIVE_FLOAT, &fill);
   }
   Id d(H5Dcreate2(file, name.c_str(), type, space.get(), H5P_DEFAULT, dcpl.get(), H5P_DEFAULT), H5Dclose);
-  if (!d.ok()) throw Error(failed("cannot create dataset /" + name));
+  if (!d.ok()) throw Error(hdf5::failed("cannot create dataset /" + name));
   return d;
 }
 
 // Appends `n` values of a 1-D growable dataset at row `first`.
 void append_rows(hid_t dset, hid_t mem_type, hsize_t first, hsize_t n, const void* data) {
   const hsize_t size = first + n;
-  if (H5Dset_extent(dset, &size) < 0) throw Error(failed("cannot grow a dataset"));
+  if (H5Dset_extent(dset, &size) < 0) throw Error(hdf5::failed("cannot grow a dataset"));
   Id file_space(H5Dget_space(dset), H5Sclose);
   H5Sselect_hyperslab(file_space.get(), H5S_SELECT_SET, &first, nullptr, &n, nullptr);
   Id mem_space(H5Screate_simple(1, &n, nullptr), H5Sclose);
   if (H5Dwrite(dset, mem_type, mem_space.get(), file_space.get(), H5P_DEFAULT, data) < 0) {
-    throw Error(failed("cannot write rows"));
+    throw Error(hdf5::failed("cannot write rows"));
   }
 }
 
@@ -168,7 +100,7 @@ WideColumnsWriter::WideColumnsWriter(std::string path, WideColumnsSpec spec, std
       threads_(std::max(1, threads)),
       planned_rows_(std::max<std::size_t>(planned_rows, 1)),
       crc_(spec_.columns, static_cast<std::uint32_t>(crc32(0L, Z_NULL, 0))) {
-  quiet_hdf5();
+  hdf5::quiet();
   require(spec_.columns > 0, "samples.h5: a wide dataset needs at least one column");
   const bool keep = planned_rows_ <= spec_.keep_up_to_bytes / sizeof(float) / spec_.columns;
   require(keep || !path_.empty(), "wide columns kept in memory only need " +
@@ -177,8 +109,8 @@ WideColumnsWriter::WideColumnsWriter(std::string path, WideColumnsSpec spec, std
   if (!path_.empty()) {
     h_ = std::make_unique<Handles>();
     try {
-      h_->file = Id(H5Fcreate(path_.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, unlocked_access()), H5Fclose);
-      if (!h_->file.ok()) throw Error(failed("HDF5 cannot create the file"));
+      h_->file = Id(H5Fcreate(path_.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, hdf5::unlocked_access()), H5Fclose);
+      if (!h_->file.ok()) throw Error(hdf5::failed("HDF5 cannot create the file"));
       const hid_t f = h_->file.get();
       for (const auto& [k, v] : text_attributes) text_attribute(f, k, v);
       for (const auto& [k, v] : number_attributes) number_attribute(f, k, v);
@@ -197,7 +129,7 @@ WideColumnsWriter::WideColumnsWriter(std::string path, WideColumnsSpec spec, std
         Id d(H5Dcreate2(f, c.name.c_str(), H5T_IEEE_F64LE, space.get(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
              H5Dclose);
         if (!d.ok() || H5Dwrite(d.get(), H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, c.values.data()) < 0) {
-          throw Error(failed("cannot write /" + c.name));
+          throw Error(hdf5::failed("cannot write /" + c.name));
         }
         text_attribute(d.get(), "units", c.unit);
         text_attribute(d.get(), "description", c.description);
@@ -270,7 +202,7 @@ void WideColumnsWriter::flush() {
   const hsize_t first = rows_written_, n = r;
   const hsize_t extent[2] = {first + n, g};
   if (h_ && H5Dset_extent(h_->values.get(), extent) < 0) {
-    throw WriteError(path_, failed("cannot grow /" + spec_.dataset));
+    throw WriteError(path_, hdf5::failed("cannot grow /" + spec_.dataset));
   }
   std::vector<std::string> encoded(g);
   tbb::enumerable_thread_specific<std::vector<float>> block_columns;  // one block's columns per thread
@@ -333,7 +265,7 @@ void WideColumnsWriter::flush() {
                 const std::uint32_t skipped = spec_.compress ? 0u : 3u;  // bit 0 shuffle, bit 1 deflate
                 if (H5Dwrite_chunk(h_->values.get(), H5P_DEFAULT, skipped, offset, encoded[p].size(),
                                    encoded[p].data()) < 0) {
-                  write_error = failed("cannot write a chunk of /" + spec_.dataset);
+                  write_error = hdf5::failed("cannot write a chunk of /" + spec_.dataset);
                 }
                 std::string().swap(encoded[p]);  // written: its memory goes back at once
               }
@@ -369,96 +301,11 @@ nlohmann::json WideColumnsWriter::close() {
   // Closing a dataset writes what HDF5 still caches of it: a full disk can show here first.
   const bool datasets_closed = h_->values.reset() >= 0 && h_->sample.reset() >= 0 && h_->ok.reset() >= 0;
   if (!datasets_closed || H5Fflush(h_->file.get(), H5F_SCOPE_GLOBAL) < 0 || h_->file.reset() < 0) {
-    throw WriteError(path_, failed("HDF5 could not flush and close the file"));
+    throw WriteError(path_, hdf5::failed("HDF5 could not flush and close the file"));
   }
   return {{"file", std::filesystem::path(path_).filename().string()}, {"dataset", spec_.dataset},
           {"rows", rows_written_}, {"columns", spec_.columns}, {"unit", spec_.unit}, {"values_digest", hex(total)},
           {"values_digest_is", "SHA-1 of the CRC-32s of each column's little-endian float32 values, in column order"}};
-}
-
-// ---- reading
-
-struct WideColumnsReader::Handles {
-  Id file, values;
-};
-
-WideColumnsReader::WideColumnsReader(std::string path, const std::string& dataset)
-    : path_(std::move(path)), h_(std::make_unique<Handles>()) {
-  quiet_hdf5();
-  h_->file = Id(H5Fopen(path_.c_str(), H5F_ACC_RDONLY, unlocked_access()), H5Fclose);
-  if (!h_->file.ok()) throw Error(path_ + ": not an HDF5 file HDF5 can open");
-  h_->values = Id(H5Dopen2(h_->file.get(), dataset.c_str(), H5P_DEFAULT), H5Dclose);
-  if (!h_->values.ok()) throw Error(path_ + ": no dataset /" + dataset);
-  Id space(H5Dget_space(h_->values.get()), H5Sclose);
-  hsize_t dims[2] = {0, 0};
-  if (H5Sget_simple_extent_ndims(space.get()) != 2 || H5Sget_simple_extent_dims(space.get(), dims, nullptr) < 0) {
-    throw Error(path_ + ": /" + dataset + " is not a [rows, columns] table");
-  }
-  rows_ = dims[0];
-  columns_ = dims[1];
-  Id dcpl(H5Dget_create_plist(h_->values.get()), H5Pclose);
-  hsize_t chunk[2] = {0, 0};
-  if (H5Pget_layout(dcpl.get()) != H5D_CHUNKED || H5Pget_chunk(dcpl.get(), 2, chunk) != 2 || chunk[1] != 1) {
-    throw Error(path_ + ": /" + dataset + " is not stored in chunks of one column");
-  }
-  chunk_rows_ = chunk[0];
-}
-
-WideColumnsReader::~WideColumnsReader() = default;
-
-void WideColumnsReader::read_column(std::size_t p, std::vector<float>& out) const {
-  require(p < columns_, path_ + ": column " + std::to_string(p) + " is past the last");
-  out.resize(rows_);
-  std::vector<float> chunk(chunk_rows_);
-  std::string stored;
-  for (std::size_t first = 0; first < rows_; first += chunk_rows_) {
-    std::uint32_t mask = 0;
-    {
-      const std::lock_guard<std::mutex> lock(hdf5_);
-      const hsize_t offset[2] = {first, p};
-      hsize_t size = 0;
-      if (H5Dget_chunk_storage_size(h_->values.get(), offset, &size) < 0) {
-        throw Error(path_ + ": cannot locate the chunk at row " + std::to_string(first));
-      }
-      stored.resize(size);
-      if (size > 0 && H5Dread_chunk(h_->values.get(), H5P_DEFAULT, offset, &mask, stored.data()) < 0) {
-        throw Error(failed(path_ + ": cannot read the chunk at row " + std::to_string(first)));
-      }
-    }
-    const std::size_t n = std::min(chunk_rows_, rows_ - first);
-    if (stored.empty()) {  // never written: the fill value
-      std::fill(out.begin() + static_cast<long>(first), out.begin() + static_cast<long>(first + n), NAN);
-      continue;
-    }
-    decode_chunk(stored, mask, chunk, path_);
-    std::copy(chunk.begin(), chunk.begin() + static_cast<long>(n), out.begin() + static_cast<long>(first));
-  }
-}
-
-namespace {
-template <class T>
-std::vector<T> read_1d(hid_t file, const std::string& path, const char* name, hid_t mem_type) {
-  Id d(H5Dopen2(file, name, H5P_DEFAULT), H5Dclose);
-  if (!d.ok()) throw Error(path + ": no dataset /" + name);
-  Id space(H5Dget_space(d.get()), H5Sclose);
-  hsize_t n = 0;
-  H5Sget_simple_extent_dims(space.get(), &n, nullptr);
-  std::vector<T> v(n);
-  if (n > 0 && H5Dread(d.get(), mem_type, H5S_ALL, H5S_ALL, H5P_DEFAULT, v.data()) < 0) {
-    throw Error(path + ": cannot read /" + name);
-  }
-  return v;
-}
-}  // namespace
-
-std::vector<std::uint64_t> WideColumnsReader::sample_index() const {
-  const std::lock_guard<std::mutex> lock(hdf5_);
-  return read_1d<std::uint64_t>(h_->file.get(), path_, "sample", H5T_NATIVE_UINT64);
-}
-
-std::vector<std::uint8_t> WideColumnsReader::ok() const {
-  const std::lock_guard<std::mutex> lock(hdf5_);
-  return read_1d<std::uint8_t>(h_->file.get(), path_, "ok", H5T_NATIVE_UINT8);
 }
 
 }  // namespace poise::studies
