@@ -113,6 +113,26 @@ json baselines_entry(const std::string& path) {
               {"reason", path + ": neither a poise-baselines/1 file with 'ratios' nor {\"status\": \"not run\"}"}};
 }
 
+// A LOS run at scale (bench/los_scale --json, schema poise-los-scale/1) as it goes into the run
+// file: {"status": "ran", ...the file...}, or {"status": "not run", "reason"}.
+json scale_entry(const std::string& path) {
+  json j;
+  try {
+    j = read_json(path);
+  } catch (const InputError& e) {
+    return json{{"status", "not run"}, {"reason", e.what()}};
+  }
+  if (j.is_object() && j.value("schema", std::string()) == "poise-los-scale/1") {
+    json e = j;
+    e["exit_status"] = j.value("status", -1);
+    e["status"] = "ran";
+    return e;
+  }
+  if (j.is_object() && j.value("status", std::string()) == "not run") return j;
+  return json{{"status", "not run"},
+              {"reason", path + ": neither a poise-los-scale/1 file nor {\"status\": \"not run\"}"}};
+}
+
 int run_collect(const std::vector<std::string>& args) {
   std::string out, meta_path;
   std::vector<std::string> cal_paths;
@@ -129,7 +149,7 @@ int run_collect(const std::vector<std::string>& args) {
   };
   std::vector<BenchArg> benches;
   std::vector<StudyArg> studies;
-  std::string baselines_path;
+  std::string baselines_path, scale_path;
   std::map<std::string, std::pair<double, double>> loads;  // name -> load average before, after
   auto need = [&](std::size_t i, std::size_t n, const std::string& opt) {
     if (i + n >= args.size()) throw InputError("collect: " + opt + " needs " + std::to_string(n) + " values");
@@ -157,6 +177,8 @@ int run_collect(const std::vector<std::string>& args) {
       i += 3;
     } else if (a == "--baselines")
       need(i, 1, a), baselines_path = args[++i];
+    else if (a == "--scale")
+      need(i, 1, a), scale_path = args[++i];
     else
       throw InputError("collect: unknown argument '" + a + "'");
   }
@@ -324,6 +346,7 @@ int run_collect(const std::vector<std::string>& args) {
   }
   doc["studies"] = sj;
   if (!baselines_path.empty()) doc["baselines"] = baselines_entry(baselines_path);
+  if (!scale_path.empty()) doc["scale"] = scale_entry(scale_path);
   write_json(out, doc);
   return kExitOk;
 }

@@ -70,6 +70,8 @@ int run_compare(const std::vector<std::string>& args) {
       opt.gross = parse_double(value(), a);
     else if (a == "--idle-margin")
       opt.idle_margin = parse_double(value(), a);
+    else if (a == "--memory-band")
+      opt.memory_band = parse_double(value(), a);
     else if (a.rfind("--", 0) == 0)
       throw InputError("unknown option '" + a + "' (see --help)");
     else if (cur_path.empty())
@@ -141,6 +143,7 @@ int run_compare(const std::vector<std::string>& args) {
   compare_benchmarks(cur, prev, ref, rules);
   compare_derived(cur, prev, ref, targets, rules);
   compare_baselines(cur, prev, ref, opt, t);
+  compare_scale(cur, prev, rules);
   compare_studies(cur, prev, ref, opt, t);
 
   std::printf("\n%d figures compared, %d not judged (load), %d warnings, %zu regressions\n", t.compared, t.not_judged,

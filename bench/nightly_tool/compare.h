@@ -21,6 +21,7 @@ struct Options {
   bool warn_timing = false;  // timing regressions only warn (bench/nightly --quick: 2 repetitions)
   double gross = 0.5;        // ... unless worse by more than max(2 x band, gross)
   double idle_margin = 0.5;  // multi-threaded figures judged below load (cores - 1) + idle_margin
+  double memory_band = 0.25;  // a LOS run at scale regresses when its peak memory grows beyond x1.25
 };
 
 struct Tally {
@@ -73,6 +74,12 @@ void compare_derived(const json& cur, const json& prev, const json& ref, const j
 // --warn-timing). Baselines not run, a ratio not computed, or no reference ratio: never a failure.
 // (compare_baselines.cc)
 void compare_baselines(const json& cur, const json& prev, const json& ref, const Options& opt, Tally& t);
+// A LOS run at scale (bench/los_scale): peak memory against its target (a warning) and the
+// previous run's at the same sample count (a regression beyond x(1 + memory_band)); the
+// whole-study speed-up against its target (a warning, judged below the load rule); under MPI
+// the same data at every rank count (else a regression) and rank 0's growth (a warning).
+// (compare_scale.cc)
+void compare_scale(const json& cur, const json& prev, const TimingRules& rules);
 // Reference studies: statistics against the reference, wall times against the previous run (compare_studies.cc).
 void compare_studies(const json& cur, const json& prev, const json& ref, const Options& opt, Tally& t);
 

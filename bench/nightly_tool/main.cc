@@ -8,7 +8,7 @@
 ///       time the fixed calibration workload; prints {"values": [ns per step, ...]}.
 ///   poise_nightly_compare collect --out FILE --meta META.json [--calibration CAL.json]...
 ///                         [--bench BINARY RC BENCH.json]... [--study NAME RC WALL_S SUMMARY.json]...
-///                         [--baselines BASELINES.json] [--load NAME BEFORE AFTER]...
+///                         [--baselines BASELINES.json] [--scale SCALE.json] [--load NAME BEFORE AFTER]...
 ///       assemble one nightly file from the raw outputs (Google Benchmark JSON, summary.json,
 ///       bench/baselines/compare.py --json).
 ///   poise_nightly_compare make-reference CURRENT.json --out REF.json [--old OLD_REF.json]
@@ -65,6 +65,8 @@ void print_help() {
       "      --gross G       (default 0.5: 1.5x slower)\n"
       "      --idle-margin M multi-threaded figures (real time, speed-ups) are judged only when the load\n"
       "                      average beside them is below (cores - 1) + M (default 0.5)\n"
+      "      --memory-band B a LOS run at scale (bench/los_scale) regresses when its peak memory grows beyond\n"
+      "                      the previous run's x(1+B) at the same sample count (default 0.25)\n"
       "      --ratio-band B  a baseline ratio regresses below previous/reference / (1+B) (default 0.2)\n"
       "  Rule: a benchmark figure is its median time per iteration (CPU time; real time for /real_time\n"
       "  runs) / the calibration median of the same run; it regresses when worse than previous/reference\n"
@@ -80,6 +82,7 @@ void print_help() {
       "  poise_nightly_compare collect --out FILE --meta META.json [--calibration CAL.json]...\n"
       "        [--bench BINARY EXIT_STATUS BENCH.json]... [--study NAME EXIT_STATUS WALL_S SUMMARY.json]...\n"
       "        [--baselines BASELINES.json]    (bench/baselines/compare.py --json, or {\"status\": \"not run\"})\n"
+      "        [--scale SCALE.json]            (bench/los_scale --json, or {\"status\": \"not run\"})\n"
       "        [--load NAME BEFORE AFTER]...   (1-minute load average around a binary; NAME study:S for a study)\n"
       "  poise_nightly_compare make-reference CURRENT.json --out REF.json [--old OLD_REF.json]\n"
       "\n"
