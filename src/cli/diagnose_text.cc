@@ -1,0 +1,218 @@
+// `poise diagnose`'s result told as the --json object and as the text report on the
+// terminal, with the number and effect formatting the HTML report shares.
+#include <cmath>
+#include <cstdio>
+#include <string>
+
+#include "cli/diagnose_output.h"
+
+namespace poise::cli::diagnose_detail {
+namespace est = poise::estimators;
+using nlohmann::json;
+
+std::string num(double v, int significant) {
+  if (!std::isfinite(v)) return "n/a";
+  char buf[48];
+  std::snprintf(buf, sizeof buf, "%.*g", significant, v);
+  return buf;
+}
+
+namespace {
+
+json estimate_json(const est::UnbalanceEstimate& e) {
+  return {{"amplitude", e.amplitude},
+          {"phase_deg", e.phase * kDegPerRad},
+          {"offset", e.offset},
+          {"se_amplitude", e.se_amplitude},
+          {"se_phase_deg", e.se_phase * kDegPerRad},
+          {"se_offset", e.se_offset}};
+}
+
+}  // namespace
+
+json to_json(const est::TorqueTable& t, const est::DiagnosisResult& r,
+             const std::optional<Load>& load) {
+  json effects = json::array();
+  for (const est::Effect& e : r.effects) {
+    json params = json::object();
+    for (const auto& p : e.params)
+      params[p.name] = {{"value", p.value}, {"se", p.se}, {"unit", p.unit}};
+    json j = {{"name", e.name},           {"params", params},
+              {"p_value", e.p_value},     {"p_adjusted", e.p_adjusted},
+              {"delta_bic", e.delta_bic}, {"causes", e.causes}};
+    if (e.name == "harmonic") j["order"] = e.order;
+    if (e.name == "outlier" || e.name == "step") j["index"] = e.index, j["line"] = e.line;
+    j["shift_se"] = e.shift_se;
+    j["r_first_harmonic"] = e.r_first_harmonic;
+    j["moves_estimate"] = e.moves_estimate;
+    if (!e.estimate_note.empty()) j["estimate_note"] = e.estimate_note;
+    effects.push_back(std::move(j));
+  }
+  json omnibus = {{"p_value", r.omnibus.p_value},
+                  {"unexplained_structure", r.omnibus.unexplained},
+                  {"where", r.omnibus.where},
+                  {"message", r.omnibus.message},
+                  {"tests", json::array()}};
+  for (const est::StructureTest& st : r.omnibus.tests) {
+    json tj = {{"name", st.name}, {"examined", st.examined}, {"note", st.note}};
+    if (st.examined) tj["statistic"] = st.statistic, tj["p_value"] = st.p_value;
+    omnibus["tests"].push_back(std::move(tj));
+  }
+  json ambiguous = json::array();
+  for (const est::AmbiguousFinding& a : r.ambiguous) {
+    json readings = json::array();
+    for (const est::Reading& rd : a.readings) {
+      readings.push_back(
+          {{"effects", rd.effects}, {"delta_bic", rd.delta_bic}, {"estimate", estimate_json(rd.estimate)}});
+    }
+    ambiguous.push_back(
+        {{"readings", readings}, {"correlation", a.correlation}, {"why", a.why}, {"plan", a.plan}});
+  }
+  json collinearity = json::array();
+  for (const est::CandidateCollinearity& c : r.collinearity) {
+    collinearity.push_back({{"candidate", c.candidate},
+                            {"r_first_harmonic", c.r_first_harmonic},
+                            {"vif_base", std::isfinite(c.vif_base) ? json(c.vif_base) : json("inf")},
+                            {"most_collinear_with", c.most_collinear_with},
+                            {"r_other", c.r_other}});
+  }
+  json not_identifiable = json::array();
+  for (const auto& [name, why] : r.not_identifiable) {
+    not_identifiable.push_back({{"name", name}, {"why", why}});
+  }
+  json out = {{"effects", effects},
+              {"rmse_before", r.rmse_before},
+              {"rmse_after", r.rmse_after},
+              {"estimate_before", estimate_json(r.estimate_before)},
+              {"estimate_after", estimate_json(r.estimate_after)},
+              {"unit", t.unit},
+              {"n_points", t.size()},
+              {"estimate_selected_model", estimate_json(r.estimate_selected)},
+              {"plan", r.plan},
+              {"omnibus", omnibus},
+              {"ambiguous", ambiguous},
+              {"collinearity", collinearity},
+              {"not_identifiable", not_identifiable},
+              {"notes", r.notes}};
+  if (load) {
+    const est::KnownLoadErrors k = est::known_load_errors(r, load->torque, load->angle_rad);
+    out["load"] = {{"torque", load->torque}, {"angle_deg", load->angle_rad * kDegPerRad}};
+    out["error_before"] = {{"amplitude", k.before.amplitude}, {"phase_deg", k.before.phase_deg}};
+    out["error_after"] = {{"amplitude", k.after.amplitude}, {"phase_deg", k.after.phase_deg}};
+  }
+  return out;
+}
+
+std::string params_text(const est::Effect& e, const std::string& sep) {
+  std::string s;
+  for (const auto& p : e.params) {
+    s += (s.empty() ? "" : sep) + p.name + " = " + num(p.value) + " +- " + num(p.se, 2) +
+         (p.unit.empty() ? "" : " " + p.unit);
+  }
+  return s;
+}
+
+std::string effect_title(const est::Effect& e) {
+  if (e.name == "harmonic") return "harmonic " + std::to_string(e.order);
+  if (e.name == "outlier") {
+    return "outlier at row " + std::to_string(e.index) + " (file line " + std::to_string(e.line) +
+           ")";
+  }
+  if (e.name == "step") {
+    return "step before row " + std::to_string(e.index) + " (file line " + std::to_string(e.line) +
+           ")";
+  }
+  return e.name;
+}
+
+std::string estimate_text(const est::UnbalanceEstimate& e, const std::string& u) {
+  return "amplitude " + num(e.amplitude, 5) + " +- " + num(e.se_amplitude, 2) + " " + u +
+         ", phase " + num(e.phase * kDegPerRad, 5) + " +- " + num(e.se_phase * kDegPerRad, 2) +
+         " deg, offset " + num(e.offset, 4) + " +- " + num(e.se_offset, 2) + " " + u;
+}
+
+namespace {
+
+std::string error_text(const est::EstimateError& e, const std::string& u) {
+  return "amplitude " + num(e.amplitude, 3) + " " + u + ", phase " + num(e.phase_deg, 3) +
+         " deg, unbalance left after correction " + num(e.vector, 3) + " " + u;
+}
+
+}  // namespace
+
+void print_text(const est::TorqueTable& t, const est::DiagnosisResult& r, double alpha,
+                const std::optional<Load>& load, std::ostream& out) {
+  const std::string& u = t.unit;
+  const auto& b = r.estimate_before;
+  out << "Residual diagnosis of " << t.size() << " points from " << t.file << " (torque in " << u
+      << "; time: " << (t.time_s.empty() ? "row order" : "column time_s")
+      << "; sweep: " << (t.sweep.empty() ? "none" : "column sweep") << ")\n"
+      << "Searched: harmonics 2.." << r.max_harmonic
+      << ", time drift, K_T drift, direction offset, step, exponential settling, outliers, AR(1) "
+         "errors; forward stepwise, Holm per round at alpha = "
+      << alpha << ", delta_BIC < 0\n\n"
+      << "Base fit (Eq. 22): M(theta) = " << num(b.amplitude, 5) << " sin(theta + "
+      << num(b.phase * kDegPerRad, 4) << " deg) + " << num(b.offset, 4) << " " << u << "\n\n";
+  out << "Effects found (in the order added):" << (r.effects.empty() ? " none\n" : "\n");
+  for (std::size_t i = 0; i < r.effects.size(); ++i) {
+    const est::Effect& e = r.effects[i];
+    out << "  " << i + 1 << ". " << effect_title(e) << ": " << params_text(e, ", ") << "\n"
+        << "     p = " << num(e.p_value, 3) << ", Holm-adjusted p = " << num(e.p_adjusted, 3)
+        << ", delta_BIC = " << num(e.delta_bic, 3) << "\n"
+        << "     causes: " << e.causes << "\n"
+        << "     moves the unbalance estimate by " << num(e.shift_se, 3)
+        << " SE; trades off with the first harmonic at r = " << num(e.r_first_harmonic, 3)
+        << (e.moves_estimate ? "" : "; " + e.estimate_note) << "\n";
+  }
+  for (const auto& s : r.notes) out << "  note: " << s << "\n";
+  out << "\nPlan: " << r.plan << "\n"
+      << "Collinearity under this plan (r1: canonical correlation with the first harmonic; VIF "
+         "against Eq. 22; the closest other candidate, base projected out; limit 0.9):\n";
+  for (const est::CandidateCollinearity& c : r.collinearity) {
+    out << "  " << c.candidate << ": r1 " << num(c.r_first_harmonic, 3) << ", VIF "
+        << num(c.vif_base, 3) << (c.most_collinear_with.empty() ? "" : ", closest " +
+                                   c.most_collinear_with + " at r " + num(c.r_other, 3))
+        << (c.r_other >= 0.9 || c.r_first_harmonic >= 0.9 || c.vif_base >= 1.0 / (1.0 - 0.81)
+                ? "  (not separable on this plan)"
+                : "")
+        << "\n";
+  }
+  for (std::size_t i = 0; i < r.ambiguous.size(); ++i) {
+    const est::AmbiguousFinding& a = r.ambiguous[i];
+    out << "Ambiguous finding " << i + 1 << ": " << a.why << "\n";
+    for (const est::Reading& rd : a.readings) {
+      out << "  reading " << rd.effects << " (delta_BIC " << num(rd.delta_bic, 3)
+          << "): " << estimate_text(rd.estimate, u) << "\n";
+    }
+    out << "  a plan that would separate them: " << a.plan << "\n";
+  }
+  out << "\nOmnibus check of the final residual: " << r.omnibus.message << "\n";
+  for (const est::StructureTest& st : r.omnibus.tests) {
+    out << "  " << st.name << ": "
+        << (st.examined ? "statistic " + num(st.statistic, 4) + ", p = " + num(st.p_value, 3) +
+                              (st.note.empty() ? "" : " (" + st.note + ")")
+                        : st.note)
+        << "\n";
+  }
+  for (const auto& [name, why] : r.not_identifiable) {
+    out << "Not identifiable from one test: " << name << ": " << why << "\n";
+  }
+  out << "\nCandidates tested in the last round, not added:\n";
+  for (const auto& s : r.tested) out << "  " << s << "\n";
+  out << "\nrmse (sqrt(RSS/n)): before " << num(r.rmse_before) << " " << u << ", after "
+      << num(r.rmse_after) << " " << u << "\n"
+      << "Unbalance estimate (first harmonic, +- 1 SE):\n"
+      << "  before: " << estimate_text(r.estimate_before, u) << "\n"
+      << "  selected model: " << estimate_text(r.estimate_selected, u) << "\n"
+      << "  after:  " << estimate_text(r.estimate_after, u)
+      << " (the estimate reported: see the effects' notes)\n";
+  if (load) {
+    const est::KnownLoadErrors k = est::known_load_errors(r, load->torque, load->angle_rad);
+    out << "Error against the known load " << num(load->torque) << " " << u << " at "
+        << num(load->angle_rad * kDegPerRad) << " deg (estimate - load):\n"
+        << "  before: " << error_text(k.before, u) << "\n"
+        << "  after:  " << error_text(k.after, u) << "\n";
+  }
+}
+
+}  // namespace poise::cli::diagnose_detail
