@@ -42,7 +42,9 @@ std::string run_with_plots(const TempDir& d, const std::string& study, const std
     fs::path svg = e.path();
     svg.replace_extension(".svg");
     EXPECT_TRUE(fs::exists(svg)) << svg;
-    if (fs::exists(svg)) EXPECT_GT(fs::file_size(svg), 500u) << svg;
+    if (fs::exists(svg)) {
+      EXPECT_GT(fs::file_size(svg), 500u) << svg;
+    }
   }
   EXPECT_GE(scripts, min_figures) << study;
   EXPECT_GE(count_of(html, "<svg"), scripts) << study << ": a figure is missing from report.html";
