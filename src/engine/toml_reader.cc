@@ -1,243 +1,27 @@
+// TomlReader: a view of one table of a study or model file, its navigation (tables, arrays
+// of tables, keys) and its typed getters (string, choice, quantity, number, integer,
+// boolean, string array), each recording the key it asks for; the checks positive and
+// non_negative.
 #include "engine/toml_reader.h"
 
-#include "engine/toml_nesting.h"
+#include "engine/toml_reader_detail.h"
 
 #include <algorithm>
 #include <cmath>
-#include <filesystem>
-#include <fstream>
-#include <deque>
-#include <iterator>
-#include <mutex>
 #include <optional>
 #include <sstream>
 
 namespace poise::studies {
 namespace {
-std::string join_errors(const std::vector<InputError>& errors) {
-  std::string out = std::to_string(errors.size()) + (errors.size() == 1 ? " error" : " errors") +
-                    " in the input:";
-  constexpr std::size_t kMaxListed = 20;  // a message a person reads, not a dump
-  for (std::size_t k = 0; k < errors.size() && k < kMaxListed; ++k) out += "\n  " + std::string(errors[k].what());
-  if (errors.size() > kMaxListed) out += "\n  and " + std::to_string(errors.size() - kMaxListed) + " more";
-  return out;
-}
-
-SourceLocation location_of(const std::string& file, const toml::node* n) {
-  SourceLocation loc{file, 0, 0};
-  if (n) {
-    loc.line = static_cast<int>(n->source().begin.line);
-    loc.column = static_cast<int>(n->source().begin.column);
-  }
-  return loc;
-}
-
-thread_local KeySchemaRecorder* g_recorder = nullptr;
+using detail::location_of;
+using detail::schema_path;
 
 std::string describe_number(double v) {
   std::ostringstream os;
   os << v;
   return os.str();
 }
-
-// "group[3].load[0].mass" -> "group[].load[].mass": the schema's form of a path.
-std::string schema_path(const std::string& path) {
-  std::string out;
-  for (std::size_t i = 0; i < path.size(); ++i) {
-    out += path[i];
-    if (path[i] == '[') {
-      while (i + 1 < path.size() && path[i + 1] != ']') ++i;
-    }
-  }
-  return out;
-}
-
-std::size_t edit_distance(const std::string& a, const std::string& b) {
-  std::vector<std::size_t> row(b.size() + 1);
-  for (std::size_t j = 0; j <= b.size(); ++j) row[j] = j;
-  for (std::size_t i = 1; i <= a.size(); ++i) {
-    std::size_t diag = row[0];
-    row[0] = i;
-    for (std::size_t j = 1; j <= b.size(); ++j) {
-      const std::size_t up = row[j];
-      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diag + (a[i - 1] == b[j - 1] ? 0 : 1)});
-      diag = up;
-    }
-  }
-  return row[b.size()];
-}
-
-// The key asked for at the same place as the unknown `path` whose name is nearest to it.
-std::string nearest_key(const std::string& path, const ReadContext& ctx) {
-  const std::string sp = schema_path(path);
-  const auto dot = sp.rfind('.');
-  const std::string parent = dot == std::string::npos ? "" : sp.substr(0, dot);
-  const std::string name = dot == std::string::npos ? sp : sp.substr(dot + 1);
-  std::string best;
-  std::size_t best_d = std::max<std::size_t>(2, name.size() / 3) + 1;
-  for (const auto& k : ctx.asked) {
-    const auto kd = k.path.rfind('.');
-    const std::string kp = kd == std::string::npos ? "" : k.path.substr(0, kd);
-    const std::string kn = kd == std::string::npos ? k.path : k.path.substr(kd + 1);
-    if (kp != parent || kn == name) continue;
-    const std::size_t d = edit_distance(name, kn);
-    if (d < best_d) {
-      best_d = d;
-      best = kn;
-    }
-  }
-  return best;
-}
-
-void walk_unknown(const toml::table& t, const std::string& prefix, ReadContext& ctx) {
-  for (const auto& [k, v] : t) {
-    const std::string path = prefix.empty() ? std::string(k.str()) : prefix + "." + std::string(k.str());
-    if (!ctx.used.count(path)) {
-      const std::string near = nearest_key(path, ctx);
-      ctx.errors.emplace_back(location_of(ctx.file, &v), path, describe_node(v),
-                              near.empty() ? "no such key here (unknown key; `poise keys KIND` lists the keys)"
-                                           : "no such key here (unknown key); did you mean '" + near + "'?");
-      continue;
-    }
-    if (const auto* sub = v.as_table()) walk_unknown(*sub, path, ctx);
-    if (const auto* arr = v.as_array()) {
-      for (std::size_t i = 0; i < arr->size(); ++i) {
-        if (const auto* st = arr->get(i)->as_table()) {
-          walk_unknown(*st, path + "[" + std::to_string(i) + "]", ctx);
-        }
-      }
-    }
-  }
-}
 }  // namespace
-
-ValidationError::ValidationError(std::vector<InputError> errors)
-    : Error(join_errors(errors)), errors_(std::move(errors)) {}
-
-std::string quote_value(const std::string& v) {
-  constexpr std::size_t kMaxQuoted = 80;
-  if (v.size() <= kMaxQuoted) return "\"" + v + "\"";
-  std::size_t cut = kMaxQuoted;
-  while (cut > 0 && (static_cast<unsigned char>(v[cut]) & 0xC0) == 0x80) --cut;  // whole UTF-8 characters
-  return "\"" + v.substr(0, cut) + "...\" (" + std::to_string(v.size()) + " bytes)";
-}
-
-std::string describe_node(const toml::node& n) {
-  if (const auto* s = n.as_string()) return quote_value(s->get());
-  if (n.is_table()) return "{...}";
-  if (n.is_array()) return "[...]";
-  std::ostringstream os;
-  n.visit([&os](const auto& v) {
-    if constexpr (toml::is_integer<decltype(v)> || toml::is_floating_point<decltype(v)> ||
-                  toml::is_boolean<decltype(v)> || toml::is_date<decltype(v)> ||
-                  toml::is_time<decltype(v)> || toml::is_date_time<decltype(v)>) {
-      os << v.get();
-    } else {
-      os << "(value)";
-    }
-  });
-  return os.str();
-}
-
-KeySchemaRecorder::KeySchemaRecorder(std::string kind) : kind_(std::move(kind)), previous_(g_recorder) {
-  g_recorder = this;
-}
-KeySchemaRecorder::~KeySchemaRecorder() { g_recorder = previous_; }
-KeySchemaRecorder* KeySchemaRecorder::active() { return g_recorder; }
-
-void KeySchemaRecorder::add(const ReadContext& ctx) {
-  auto& into = ctx.file == kSchemaStudyFile ? study_keys : model_keys;
-  for (const auto& k : ctx.asked) {
-    if (std::none_of(into.begin(), into.end(), [&](const KeyDoc& d) { return d.path == k.path; })) into.push_back(k);
-  }
-}
-
-namespace {
-
-// The last files parsed, with their text: a study's model file is read by several stages
-// (validation, references, outputs, the run), and a file holding a 1 MB string must not be
-// parsed ten times. A file is taken from here only when its text is unchanged.
-struct ParsedFile {
-  std::string path, text;
-  toml::table table;
-};
-std::mutex g_parsed_mutex;
-std::deque<ParsedFile> g_parsed;
-
-std::optional<toml::table> parsed_before(const std::string& path, const std::string& text) {
-  const std::lock_guard<std::mutex> lock(g_parsed_mutex);
-  for (const auto& f : g_parsed) {
-    if (f.path == path && f.text == text) return f.table;
-  }
-  return std::nullopt;
-}
-
-void remember_parsed(const std::string& path, std::string text, const toml::table& table) {
-  constexpr std::size_t kKept = 4;
-  const std::lock_guard<std::mutex> lock(g_parsed_mutex);
-  g_parsed.push_front(ParsedFile{path, std::move(text), table});
-  if (g_parsed.size() > kKept) g_parsed.pop_back();
-}
-
-}  // namespace
-
-toml::table parse_toml_file(const std::string& path) {
-  if (const KeySchemaRecorder* rec = KeySchemaRecorder::active()) {
-    toml::table t;
-    if (path == kSchemaStudyFile) t.insert("study", toml::table{{"kind", rec->kind()}});
-    return t;
-  }
-  // Only regular files of sane size: a directory would read as an empty file, a device
-  // such as /dev/zero or a FIFO would be read forever.
-  std::error_code ec;
-  const auto status = std::filesystem::status(path, ec);
-  std::string problem;
-  if (ec && ec != std::errc::no_such_file_or_directory) {
-    problem = "cannot be read: " + ec.message();  // e.g. "File name too long"
-  } else if (!std::filesystem::exists(status)) {
-    problem = "no such file";
-  } else if (std::filesystem::is_directory(status)) {
-    problem = "a directory";
-  } else if (!std::filesystem::is_regular_file(status)) {
-    problem = "not a regular file (a device, FIFO or socket)";
-  } else if (const auto size = std::filesystem::file_size(path, ec); !ec && size > kMaxInputFileBytes) {
-    problem = std::to_string(size) + " bytes";
-  }
-  if (!problem.empty()) {
-    throw ValidationError({InputError(SourceLocation{path, 0, 0}, "(file)", problem,
-                                      "a readable TOML file (a regular file of at most " +
-                                          std::to_string(kMaxInputFileBytes >> 20) + " MiB)")});
-  }
-  std::ifstream in(path, std::ios::binary);
-  if (!in) {
-    throw ValidationError({InputError(SourceLocation{path, 0, 0}, "(file)", "cannot be opened",
-                                      "a readable TOML file")});
-  }
-  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  if (auto parsed = parsed_before(path, text)) return std::move(*parsed);
-  // toml++ descends recursively: a file nested tens of thousands of levels deep would
-  // overflow the stack. Such a file is refused before it is parsed.
-  if (const auto deep = find_too_deep_nesting(text)) {
-    throw ValidationError({InputError(SourceLocation{path, deep->line, deep->column}, "(syntax)", "",
-                                      "valid TOML nested at most " + std::to_string(kMaxTomlNesting) +
-                                          " levels deep (table headers, dotted keys, arrays and inline tables "
-                                          "together); it goes deeper here")});
-  }
-  try {
-    toml::table table = toml::parse(text, path);
-    remember_parsed(path, std::move(text), table);
-    return table;
-  } catch (const toml::parse_error& e) {
-    SourceLocation loc{path, static_cast<int>(e.source().begin.line),
-                       static_cast<int>(e.source().begin.column)};
-    if (e.source().begin.line == 0) {
-      throw ValidationError({InputError(loc, "(file)", "", "a readable TOML file: " +
-                                                              std::string(e.description()))});
-    }
-    throw ValidationError(
-        {InputError(loc, "(syntax)", "", "valid TOML: " + std::string(e.description()))});
-  }
-}
 
 TomlReader::TomlReader(const toml::table& table, std::shared_ptr<ReadContext> ctx,
                        std::string prefix)
@@ -516,20 +300,6 @@ void TomlReader::accept_all() {
 void TomlReader::accept_notes() {
   string("notes", "");
   string("source", "");
-}
-
-void finish(const toml::table& root, ReadContext& ctx) {
-  if (KeySchemaRecorder* rec = KeySchemaRecorder::active()) {
-    rec->add(ctx);
-    return;
-  }
-  walk_unknown(root, "", ctx);
-  if (!ctx.errors.empty()) {
-    std::stable_sort(ctx.errors.begin(), ctx.errors.end(), [](const InputError& a, const InputError& b) {
-      return a.where().line < b.where().line;
-    });
-    throw ValidationError(ctx.errors);
-  }
 }
 
 std::string positive(double v) { return v > 0 ? "" : "a positive value"; }
