@@ -92,45 +92,31 @@ constexpr std::array<DerivedDef, 5> kDerived{{
      "poise_gimbal_bench/BM_Measurement36/rate:500", nullptr, "time_ms", "lower"},
 }};
 
-// The baselines' figures (bench/baselines/compare.py --json, schema poise-baselines/1) as they go
-// into the run file: {"status": "ran", ...the file...}, or {"status": "not run", "reason"} when
-// bench/nightly wrote that instead or the file cannot be read: the rest of the run is kept.
-json baselines_entry(const std::string& path) {
+// A figures file of another program as it goes into the run file: {"status": "ran", ...the
+// file...} when it has `schema` (and, if given, the object `required`), else what bench/nightly
+// wrote instead ({"status": "not run", "reason"}), or "not run" with the reason it cannot be
+// read: the rest of the run is kept. Used for the baselines (bench/baselines/compare.py --json,
+// poise-baselines/1, its "ratios") and the LOS run at scale (bench/los_scale --json,
+// poise-los-scale/1, whose own "status" is its exit status: kept as "exit_status").
+json embedded_entry(const std::string& path, const std::string& schema, const char* required) {
   json j;
   try {
     j = read_json(path);
   } catch (const InputError& e) {
     return json{{"status", "not run"}, {"reason", e.what()}};
   }
-  if (j.is_object() && j.value("schema", std::string()) == "poise-baselines/1" && j.contains("ratios") &&
-      j["ratios"].is_object()) {
-    json e = {{"status", "ran"}};
-    e.update(j);
-    return e;
-  }
-  if (j.is_object() && j.value("status", std::string()) == "not run") return j;
-  return json{{"status", "not run"},
-              {"reason", path + ": neither a poise-baselines/1 file with 'ratios' nor {\"status\": \"not run\"}"}};
-}
-
-// A LOS run at scale (bench/los_scale --json, schema poise-los-scale/1) as it goes into the run
-// file: {"status": "ran", ...the file...}, or {"status": "not run", "reason"}.
-json scale_entry(const std::string& path) {
-  json j;
-  try {
-    j = read_json(path);
-  } catch (const InputError& e) {
-    return json{{"status", "not run"}, {"reason", e.what()}};
-  }
-  if (j.is_object() && j.value("schema", std::string()) == "poise-los-scale/1") {
+  if (j.is_object() && j.value("schema", std::string()) == schema &&
+      (required == nullptr || (j.contains(required) && j[required].is_object()))) {
     json e = j;
-    e["exit_status"] = j.value("status", -1);
+    if (j.contains("status")) e["exit_status"] = j["status"];
     e["status"] = "ran";
     return e;
   }
   if (j.is_object() && j.value("status", std::string()) == "not run") return j;
   return json{{"status", "not run"},
-              {"reason", path + ": neither a poise-los-scale/1 file nor {\"status\": \"not run\"}"}};
+              {"reason", path + ": neither a " + schema + " file" +
+                             (required ? std::string(" with '") + required + "'" : std::string()) +
+                             " nor {\"status\": \"not run\"}"}};
 }
 
 int run_collect(const std::vector<std::string>& args) {
@@ -345,8 +331,8 @@ int run_collect(const std::vector<std::string>& args) {
     sj[st.name] = e;
   }
   doc["studies"] = sj;
-  if (!baselines_path.empty()) doc["baselines"] = baselines_entry(baselines_path);
-  if (!scale_path.empty()) doc["scale"] = scale_entry(scale_path);
+  if (!baselines_path.empty()) doc["baselines"] = embedded_entry(baselines_path, "poise-baselines/1", "ratios");
+  if (!scale_path.empty()) doc["scale"] = embedded_entry(scale_path, "poise-los-scale/1", nullptr);
   write_json(out, doc);
   return kExitOk;
 }
