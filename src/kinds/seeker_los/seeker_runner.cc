@@ -11,6 +11,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <map>
 #include <thread>
 
 #include "core/units.h"
@@ -225,17 +226,45 @@ std::string run_seeker_study(const StudyConfig& file_cfg, const RunOptions& opti
   // Sweeps and contributions keep no file of their grid values; the memory setting holds.
   SeekerRunControl side_runs;
   side_runs.keep_grid_bytes = control.keep_grid_bytes;
+  // They are many short runs (a sweep value, a tolerance set to zero), each a whole run with
+  // its own serial moments: run side by side, one thread each, on the run's threads. A run's
+  // figures do not depend on its thread count, so this changes no result, only the order.
+  struct SideRun {
+    std::map<std::string, std::string> overrides;
+    std::size_t samples = 0;
+    SeekerMcResult result;
+  };
+  std::vector<SideRun> side;
+  for (const auto& sw : extras ? sec.sweeps : std::vector<SweepSpec>{}) {
+    for (const auto& v : sw.values) side.push_back({{{sw.parameter, v}}, sw.samples, {}});
+  }
+  const std::size_t first_contribution = side.size();
+  const bool contribute = extras && sec.contribution_samples > 0;
+  const std::size_t nc = std::min(sec.contribution_samples, ran);
+  if (contribute) {
+    side.push_back({{}, nc, {}});  // all tolerances
+    for (const auto& key : model.tolerance_keys()) side.push_back({{{key + ".tolerance", "0 mm"}}, nc, {}});
+  }
+  if (options.progress && !side.empty()) {
+    std::fprintf(stderr, "  sweeps and contributions: %zu runs side by side\n", side.size());
+  }
+  tbb::task_arena side_arena(std::max(1, threads));
+  side_arena.execute([&] {
+    tbb::parallel_for(std::size_t{0}, side.size(), [&](std::size_t k) {
+      SideRun& job = side[k];
+      const SeekerModel model_v = job.overrides.empty() ? model : load_model(cfg, job.overrides);
+      job.result = SeekerLosStudy(cfg, model_v, job.samples, seed).run(1, false, {}, side_runs);
+    }, tbb::simple_partitioner());
+  });
 
   // Sweeps: the same seed at every value (common random numbers), so differences between
   // values are the design's, not the sampling noise's.
   json sweeps = json::array();
+  std::size_t job = 0;
   for (const auto& sw : extras ? sec.sweeps : std::vector<SweepSpec>{}) {
     json js{{"parameter", sw.parameter}, {"samples", sw.samples}, {"points", json::array()}};
     for (const auto& v : sw.values) {
-      const SeekerModel model_v = load_model(cfg, {{sw.parameter, v}});
-      SeekerLosStudy sv(cfg, model_v, sw.samples, seed);
-      if (options.progress) std::fprintf(stderr, "  sweep %s = %s\n", sw.parameter.c_str(), v.c_str());
-      const SeekerMcResult r = sv.run(threads, false, {}, side_runs);
+      const SeekerMcResult& r = side[job++].result;
       json p{{"value", v}, {"value_si", units::parse_quantity(v).value}, {"failures", r.failures}};
       if (!r.outputs.empty()) {
         p["los_max_arcsec"] = summary_json(r.outputs[0], "arcsec", "");
@@ -250,22 +279,18 @@ std::string run_seeker_study(const StudyConfig& file_cfg, const RunOptions& opti
   // Contributions: each tolerance set to zero in turn, same seed (common random numbers);
   // the drop of the statistics is that tolerance's share of the error.
   json contributions = json::array();
-  if (extras && sec.contribution_samples > 0) {
-    const std::size_t nc = std::min(sec.contribution_samples, ran);
-    if (options.progress) {
-      std::fprintf(stderr, "  contributions: %zu tolerances, %zu samples each\n", model.tolerance_keys().size(), nc);
-    }
+  if (contribute) {
     auto stats = [&](const SeekerMcResult& r) {
       return json{{"los_max_p50", r.outputs[0].p50.value}, {"los_max_p95", r.outputs[0].p95.value},
                   {"los_max_p99_73", r.outputs[0].p99_73.value}, {"pooled_p95", r.pooled.p95.value},
                   {"fraction_samples_meeting", r.fraction_samples_ok.value}};
     };
-    const SeekerMcResult all = SeekerLosStudy(cfg, model, nc, seed).run(threads, false, {}, side_runs);
+    const SeekerMcResult& all = side[first_contribution].result;
     if (!all.outputs.empty()) {
       contributions.push_back({{"without", "(nothing: all tolerances)"}, {"samples", nc}, {"stats", stats(all)}});
+      std::size_t k = first_contribution + 1;
       for (const auto& key : model.tolerance_keys()) {
-        const SeekerModel model_v = load_model(cfg, {{key + ".tolerance", "0 mm"}});
-        const SeekerMcResult r = SeekerLosStudy(cfg, model_v, nc, seed).run(threads, false, {}, side_runs);
+        const SeekerMcResult& r = side[k++].result;
         if (!r.outputs.empty()) contributions.push_back({{"without", key}, {"samples", nc}, {"stats", stats(r)}});
       }
     }
