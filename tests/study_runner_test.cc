@@ -186,6 +186,23 @@ TEST(StudyRunner, DefaultStudyAgainstIndependentFigures) {
   EXPECT_TRUE(std::filesystem::exists(d.file("run/report.html")));
 }
 
+TEST(StudyRunner, SweepsAndContributionsDoNotDependOnTheThreadCount) {
+  // They run side by side on the run's threads, one thread each: the figures must not care.
+  TempDir d;
+  std::string text = test::read_text(small_study(d));
+  text += "\n[output]\ncontribution_samples = 64\n";
+  const std::string study = d.file("study_contributions.toml");
+  test::write_text(study, text);
+  run_study(study, options(d.file("t1"), 1));
+  run_study(study, options(d.file("t3"), 3));
+  const json a = json::parse(test::read_text(d.file("t1/summary.json")));
+  const json b = json::parse(test::read_text(d.file("t3/summary.json")));
+  ASSERT_EQ(a["sweeps"][0]["points"].size(), 2u);
+  ASSERT_GT(a["contributions"].size(), 2u);
+  EXPECT_EQ(a["sweeps"], b["sweeps"]);
+  EXPECT_EQ(a["contributions"], b["contributions"]);
+}
+
 TEST(StudyRunner, NeverOverwritesARun) {
   TempDir d;
   const std::string study = small_study(d);
