@@ -49,14 +49,8 @@ char* put_csv_number(char* at, double v) {
 }
 
 void append_csv_number(std::string& row, double v) {
-  if (std::isnan(v)) {
-    row += ",nan";
-    return;
-  }
-  char buf[40];
-  buf[0] = ',';
-  const auto res = std::to_chars(buf + 1, buf + sizeof buf, v);
-  row.append(buf, res.ptr);
+  char buf[kCsvNumberChars];
+  row.append(buf, put_csv_number(buf, v));
 }
 
 void write_file_atomic(const std::string& path, const std::string& text) {

@@ -11,13 +11,15 @@
 ///   /<coordinate>  float64 [columns]        what each column is (e.g. yaw_deg), attribute "units"
 ///   root attributes: whatever the run gives (study, kind, seed, planned samples, version).
 /// The writer keeps one chunk row (16384 rows x columns values) in memory, whatever the
-/// sample count, and, when every planned row fits in `keep_up_to_bytes`, a column-major copy
-/// of all rows (kept_column: field statistics then never read the file back or inflate it); chunks are compressed on all the run's threads (chunk_codec.h) and written by
-/// HDF5's direct chunk write. A column's values are digested as they are written:
+/// sample count; or, when every planned row fits in `keep_up_to_bytes` (fits_in_memory), all
+/// rows column by column instead (kept_column: field statistics then never read the file back
+/// or inflate it). Chunks are compressed on all the run's threads (chunk_codec.h) and written
+/// by HDF5's direct chunk write. A column's values are digested as they are written:
 /// values_digest = SHA-1 of the concatenated CRC-32s (zlib's, 4 bytes big-endian) of each
 /// column's little-endian float32 values in sample order, so equal data give equal digests
 /// whatever the file bytes (CRC-32 runs at memory speed; SHA-1 of the values would cost more
 /// than the compression).
+#include <algorithm>
 #include <cstddef>
 #include <cstdint>
 #include <map>
@@ -58,6 +60,13 @@ struct WideColumnsSpec {
 /// 169-point grid. A run planned larger streams them from its file (memory independent of the
 /// sample count); below it the copy saves reading back and inflating every chunk twice.
 inline constexpr std::size_t kKeepColumnsBytes = std::size_t{256} << 20;
+
+/// Whether `rows` rows of `spec` fit in spec.keep_up_to_bytes: a WideColumnsWriter planned for
+/// them keeps them in memory.
+inline bool fits_in_memory(const WideColumnsSpec& spec, std::size_t rows) {
+  const std::size_t values_per_row = std::max<std::size_t>(spec.columns, 1);
+  return std::max<std::size_t>(rows, 1) <= spec.keep_up_to_bytes / sizeof(float) / values_per_row;
+}
 
 /// Rows per chunk of samples.h5 (fewer when the run plans fewer samples).
 inline constexpr std::size_t kWideChunkRows = 16384;

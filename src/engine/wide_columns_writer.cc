@@ -102,7 +102,7 @@ WideColumnsWriter::WideColumnsWriter(std::string path, WideColumnsSpec spec, std
       crc_(spec_.columns, static_cast<std::uint32_t>(crc32(0L, Z_NULL, 0))) {
   hdf5::quiet();
   require(spec_.columns > 0, "samples.h5: a wide dataset needs at least one column");
-  const bool keep = planned_rows_ <= spec_.keep_up_to_bytes / sizeof(float) / spec_.columns;
+  const bool keep = fits_in_memory(spec_, planned_rows_);
   require(keep || !path_.empty(), "wide columns kept in memory only need " +
                                       std::to_string(planned_rows_ * spec_.columns * sizeof(float)) +
                                       " bytes, more than the " + std::to_string(spec_.keep_up_to_bytes) + " allowed");

@@ -152,8 +152,7 @@ SeekerMcResult SeekerLosStudy::run(
   // only kept in memory when they fit, else in an uncompressed scratch file read back once.
   WideColumnsSpec layout = field_spec();
   layout.keep_up_to_bytes = control.keep_grid_bytes;
-  const bool fits = samples_ <= layout.keep_up_to_bytes / sizeof(float) / std::max<std::size_t>(g, 1);
-  const bool temporary = writes && control.field_file.empty() && !fits;
+  const bool temporary = writes && control.field_file.empty() && !fits_in_memory(layout, samples_);
   const std::string field_path = !writes ? "" : temporary ? temporary_field_file() : control.field_file;
   const TemporaryFile scratch{temporary ? field_path : std::string()};
   std::unique_ptr<WideColumnsWriter> field;
