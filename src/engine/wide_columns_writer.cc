@@ -192,9 +192,9 @@ void WideColumnsWriter::flush() {
   const std::size_t r = samples_.size();
   if (r == 0) return;
   const std::size_t g = spec_.columns;
-  // The buffer holds rows; a chunk is a column. A pipeline on the run's threads: blocks of
-  // columns as wide as a cache line are transposed row by row (into the kept columns, or a
-  // block buffer per thread) and encoded in parallel, and written in order by one stage at a
+  // A chunk is a column. A pipeline on the run's threads: blocks of columns as wide as a cache
+  // line are taken from the kept columns, or transposed row by row from the row buffer into a
+  // block buffer per thread, and encoded in parallel, and written in order by one stage at a
   // time (HDF5 calls are serialized) while later blocks are still being encoded. The rows past
   // r of a last, partial chunk are outside the dataset: zeros compress best.
   constexpr std::size_t kBlock = 64 / sizeof(float);
