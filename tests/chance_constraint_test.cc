@@ -9,7 +9,7 @@
 
 #include "core/error.h"
 #include "optimize/choice_decision.h"
-#include "optimize/confidence_bound.h"
+#include "engine/confidence_bound.h"
 #include "optimize/design_search.h"
 #include "optimize/fresh_check.h"
 #include "optimize/optimizer.h"

@@ -49,7 +49,13 @@ Examples:
       slips, the combined figure at the requirement's confidence, the Monte Carlo beside it
 
 A run writes results/<study>/<run id>/ (never overwriting an earlier run): samples.csv,
-summary.json (statistics with 95% confidence intervals, provenance), plots/ and report.html.
+samples.h5, summary.json (statistics with 95% confidence intervals, provenance), plots/ and
+report.html. A study answers its question: each [[requirement]] (output, statistic,
+at_most or at_least, confidence) gets a verdict (met, not met, undecided) on the statistic's
+one-sided bound, and one sentence, summary.json "answer", says whether every requirement is
+met; the report opens with it and `poise run` prints it last, before the report's path:
+  poise run studies/gimbal_unbalance_mc.toml --require
+      exit 3 unless every requirement is met (nightly and CI)
 
 Long runs: samples stream to samples.csv as they finish. Ctrl-C (SIGINT) or SIGTERM stops
 after the block in flight and writes the summary of what was done; a second Ctrl-C, or
@@ -77,7 +83,8 @@ Exit status, the same for every command:
            (the message names the file and the system's reason; run.json says "failed";
            `poise run --resume DIR` continues once the cause is fixed)
   128 + N  stopped by signal N (130 for SIGINT, 143 for SIGTERM); resumable
-  3        `poise optimize` only: the best design found was not verified)";
+  3        `poise run --require`: a requirement of the study is not met or undecided;
+           `poise optimize`: the best design found was not verified)";
 
 }  // namespace
 
@@ -159,6 +166,10 @@ int run_main(int argc, char** argv) {
       ->check(poise::cli::at_least_one());
   run->add_flag("--quiet,-q", quiet, "no progress on stderr");
   run->add_flag("--no-plots", no_plots, "skip gnuplot figures");
+  run->add_flag("--require", opt.require,
+                "for nightly and CI use: exit 3 unless every [[requirement]] of the study is met (not met or "
+                "undecided: 3); a study without requirements is refused (exit 2). Without it a completed run exits 0 "
+                "whatever its verdicts");
 
   CLI::App* sens = app.add_subcommand(
       "sensitivity",
@@ -275,7 +286,14 @@ int run_main(int argc, char** argv) {
       std::cout << poise::studies::validate_study(study) << '\n';
     } else if (*run || *sens) {
       const std::string dir = poise::studies::run_study(study, opt);
-      if (root) std::cout << "report: " << dir << "/report.html\n";
+      if (root) {
+        // The answer is the last line before the report's path: the sentence summary.json
+        // and the report open with.
+        const poise::studies::RunAnswer answer = poise::studies::run_answer(dir);
+        if (!answer.answer.empty()) std::cout << answer.answer << '\n';
+        std::cout << "report: " << dir << "/report.html\n";
+        if (opt.require && answer.met != true) return 3;
+      }
     } else if (*replay) {
       std::cout << poise::studies::replay_sample(study, index, opt).dump(2) << '\n';
     }

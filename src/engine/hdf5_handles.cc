@@ -1,5 +1,7 @@
 #include "engine/hdf5_handles.h"
 
+#include "core/error.h"
+
 namespace poise::studies::hdf5 {
 
 void quiet() {
@@ -38,6 +40,24 @@ hid_t unlocked_access() {
     return p;
   }();
   return fapl;
+}
+
+void text_attribute(hid_t obj, const std::string& name, const std::string& value) {
+  Id type(H5Tcopy(H5T_C_S1), H5Tclose);
+  H5Tset_size(type.get(), H5T_VARIABLE);
+  H5Tset_cset(type.get(), H5T_CSET_UTF8);
+  Id space(H5Screate(H5S_SCALAR), H5Sclose);
+  Id attr(H5Acreate2(obj, name.c_str(), type.get(), space.get(), H5P_DEFAULT, H5P_DEFAULT), H5Aclose);
+  const char* p = value.c_str();
+  if (!attr.ok() || H5Awrite(attr.get(), type.get(), &p) < 0) throw Error(failed("cannot write attribute " + name));
+}
+
+void number_attribute(hid_t obj, const std::string& name, std::uint64_t value) {
+  Id space(H5Screate(H5S_SCALAR), H5Sclose);
+  Id attr(H5Acreate2(obj, name.c_str(), H5T_STD_U64LE, space.get(), H5P_DEFAULT, H5P_DEFAULT), H5Aclose);
+  if (!attr.ok() || H5Awrite(attr.get(), H5T_NATIVE_UINT64, &value) < 0) {
+    throw Error(failed("cannot write attribute " + name));
+  }
 }
 
 }  // namespace poise::studies::hdf5

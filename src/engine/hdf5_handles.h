@@ -4,6 +4,7 @@
 /// taken from HDF5's error stack, and file access without HDF5's file locks.
 #include <hdf5.h>
 
+#include <cstdint>
 #include <string>
 #include <utility>
 
@@ -47,6 +48,11 @@ std::string system_reason();
 
 /// `what` failed: with the system's reason when HDF5 recorded one.
 std::string failed(const std::string& what);
+
+/// A UTF-8 string attribute and an unsigned 64-bit attribute of an HDF5 object. Throw
+/// poise::Error with the system's reason when HDF5 cannot write them.
+void text_attribute(hid_t obj, const std::string& name, const std::string& value);
+void number_attribute(hid_t obj, const std::string& name, std::uint64_t value);
 
 /// File access without HDF5's file locks: one process writes the file (rank 0), and the
 /// locks fail on file systems that lack them (NFS, Lustre of a cluster).

@@ -74,6 +74,7 @@ ModelHeader read_model_header(TomlReader& root, const std::string& kind) {
   // than listing every key such a model would have.
   if (root.context().errors.size() != errors_before) throw ValidationError(root.context().errors);
   ModelHeader h;
+  h.file = root.context().file;
   h.name = t.string("name");
   h.title = t.string("title", "");
   h.source = t.string("source", "");

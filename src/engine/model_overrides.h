@@ -23,6 +23,7 @@ ModelDocument open_model_file(const std::string& path, const std::map<std::strin
 /// The [model] table every model file starts with; `kind` is the only accepted kind. Also
 /// reads the file's [[reference]] tables (their errors are the file's).
 struct ModelHeader {
+  std::string file;  ///< the model file's path
   std::string name, title, source;
 };
 ModelHeader read_model_header(TomlReader& root, const std::string& kind);

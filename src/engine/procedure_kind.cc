@@ -6,17 +6,14 @@
 namespace poise::studies {
 
 std::vector<OutputSpec> ProcedureKind::outputs(const StudyConfig& cfg) const {
-  const auto study = make_study(cfg, cfg.overrides, 1, cfg.seed);
-  std::vector<OutputSpec> out;
-  for (const auto& n : study->output_names()) out.push_back({n, unit_of_output(n), ""});
-  return out;
+  return make_study(cfg, cfg.overrides, 1, cfg.seed)->outputs();
 }
 
 std::string ProcedureKind::run(const StudyConfig& cfg, const RunOptions& options) const {
   return run_procedure_study(
       cfg,
       [&](const StudyConfig& c, std::size_t n, std::uint64_t seed) { return make_study(c, c.overrides, n, seed); },
-      options);
+      options, requirements(cfg));
 }
 
 nlohmann::json ProcedureKind::replay(const StudyConfig& cfg, std::size_t index, const RunOptions& options) const {

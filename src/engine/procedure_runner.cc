@@ -1,7 +1,10 @@
 #include "engine/procedure_runner.h"
 
 #include "engine/references.h"
+#include "engine/procedure_sweeps.h"
 #include "engine/report_figures.h"
+#include "engine/requirements.h"
+#include "engine/sample_columns_h5.h"
 #include "engine/study_kind.h"
 
 #include <algorithm>
@@ -61,25 +64,6 @@ void decode_result(ByteReader& rd, SampleResult& r) {
   r.rhs_evals = rd.get<long>();
 }
 
-std::string unit_of_output(const std::string& name) {
-  static const std::pair<const char*, const char*> kSuffixes[] = {
-      {"_mNm", "mN*m"}, {"_deg", "deg"}, {"_gmm", "g*mm"}, {"_kgm", "kg*m"}, {"_kgm2", "kg*m^2"},
-      {"_pct", "%"},    {"_mN", "mN"},   {"_N", "N"},      {"_g", "g"},     {"_mm", "mm"},
-      {"_arcsec", "arcsec"},
-      {"_Hz", "Hz"},    {"_per_mm", "1/mm"}, {"_ratio", "1"}, {"_um", "um"}, {"_min", "min"}, {"_s", "s"}, {"_MPa", "MPa"}, {"_urad", "urad"}};
-  // The longest matching suffix wins ("_per_mm" before "_mm").
-  std::size_t best = 0;
-  const char* found = "";
-  for (const auto& [suffix, unit] : kSuffixes) {
-    const std::size_t n = std::char_traits<char>::length(suffix);
-    if (n > best && name.size() > n && name.compare(name.size() - n, n, suffix) == 0) {
-      best = n;
-      found = unit;
-    }
-  }
-  return found;
-}
-
 namespace {
 
 std::string fmt(double v, int prec = 9) {
@@ -105,7 +89,8 @@ namespace {
 // and failure reasons): complete lines only, in order from 0; a partial last line is cut off
 // the file. Throws if the header is not this study's.
 std::vector<SampleResult> read_done_samples(const std::string& csv_path, const std::string& header,
-                                                  std::size_t n_inputs, std::size_t n_outputs) {
+                                           std::size_t n_inputs, std::size_t n_outputs, bool solver_steps) {
+  const std::size_t n_cells = 2 + n_inputs + n_outputs + (solver_steps ? 2 : 1);
   std::vector<SampleResult> done;
   std::istringstream lines(read_complete_rows(csv_path, header));
   std::string line;
@@ -115,9 +100,9 @@ std::vector<SampleResult> read_done_samples(const std::string& csv_path, const s
     std::string cell;
     while (std::getline(ss, cell, ',')) cells.push_back(cell);
     if (!line.empty() && line.back() == ',') cells.emplace_back();
-    if (cells.size() != 2 + n_inputs + n_outputs + 2) {
+    if (cells.size() != n_cells) {
       throw Error("--resume: " + csv_path + " row " + std::to_string(done.size() + 2) + " has " +
-                  std::to_string(cells.size()) + " cells, expected " + std::to_string(4 + n_inputs + n_outputs));
+                  std::to_string(cells.size()) + " cells, expected " + std::to_string(n_cells));
     }
     SampleResult r;
     r.index = std::stoul(cells[0]);
@@ -127,7 +112,7 @@ std::vector<SampleResult> read_done_samples(const std::string& csv_path, const s
     // row's message is empty (memory per resumed row: its outputs).
     r.outputs.reserve(n_outputs);
     for (std::size_t k = 0; k < n_outputs; ++k) r.outputs.push_back(std::stod(cells[2 + n_inputs + k]));
-    r.solver_steps = std::stol(cells[2 + n_inputs + n_outputs]);
+    if (solver_steps) r.solver_steps = std::stol(cells[2 + n_inputs + n_outputs]);
     if (!r.ok) r.message = cells.back();
     done.push_back(std::move(r));
   }
@@ -147,12 +132,203 @@ std::size_t add_resumed_counters(const json& manifest, std::size_t resumed, McRe
   return resumed - counted;
 }
 
+// samples.csv's header: sample, status, the inputs, the outputs, solver_steps (a study with
+// a solver) and message.
+std::string csv_header(const ProcedureStudy& study) {
+  std::string header = "sample,status";
+  for (const auto& c : study.input_names()) header += "," + c;
+  for (const auto& c : study.output_names()) header += "," + c;
+  return header + (study.has_solver() ? ",solver_steps,message" : ",message");
+}
+
+// The values of output `name` for a requirement's verdict.
+std::function<OutputValues(const std::string&)> values_in(const McResult& mc, const std::vector<std::string>& names,
+                                                          std::size_t replicate_size) {
+  return [&mc, &names, replicate_size](const std::string& name) {
+    const auto it = std::find(names.begin(), names.end(), name);
+    const auto k = static_cast<std::size_t>(it - names.begin());
+    OutputValues ov;
+    if (it != names.end() && k < mc.values.size()) ov = {&mc.values[k], &mc.ok_index, replicate_size};
+    return ov;
+  };
+}
+
+// Everything a finished run's summary and report are made from.
+struct FinishedRun {
+  const StudyConfig& cfg;
+  const ProcedureStudy& study;
+  const RunPlan& plan;
+  const McResult& mc;
+  std::size_t ran = 0, resumed = 0, rhs_uncounted = 0;
+  std::string status;
+  const std::vector<std::string>& sources;  ///< of the within-sample randomness
+  const ToleranceGroups& tolerances;
+  const std::vector<Requirement>& requirements;
+};
+
+// summary.json's statistics: outputs with their declared units, references, failures,
+// convergence and (poise sensitivity) Sobol indices.
+void add_statistics(json& s, const FinishedRun& f, const StopRule& rule) {
+  const auto& names = f.study.output_names();
+  const auto& specs = f.study.outputs();
+  json outputs = json::object();
+  for (std::size_t k = 0; k < f.mc.outputs.size() && k < specs.size(); ++k) {
+    json o = summary_json(f.mc.outputs[k]);
+    o["unit"] = specs[k].unit;
+    if (!specs[k].description.empty()) o["description"] = specs[k].description;
+    outputs[names[k]] = o;
+  }
+  s["outputs"] = outputs;
+  s["references"] = compare_references(declared_references(f.cfg, specs), specs, s["outputs"], [&](const std::string& name) {
+    const OutputValues ov = values_in(f.mc, names, 0)(name);
+    return ov.values;
+  });
+  s["failures"] = failures_json(f.mc.failures, f.ran, f.mc.failed, f.plan.seed, f.cfg.file);
+  s["failures"]["by_reason"] = f.mc.failure_reasons;
+  s["sample_convergence"] = convergence_json(names, f.mc.outputs, f.ran, f.cfg.replicate_size, rule.until_json());
+  if (f.plan.sensitivity_base > 0 && f.status == "complete") {
+    std::vector<std::string> groups = f.study.design_dimension_names();
+    if (f.cfg.saltelli_noise_group) {
+      for (const auto& src : f.sources) groups.push_back("(within-sample randomness: " + src + ")");
+    }
+    // Every sample's value of output k (NaN where it failed), by sample index.
+    std::vector<std::vector<double>> by_index(names.size(), std::vector<double>(f.ran, NAN));
+    for (std::size_t k = 0; k < f.mc.values.size(); ++k) {
+      for (std::size_t m = 0; m < f.mc.ok_index.size(); ++m) by_index[k][f.mc.ok_index[m]] = f.mc.values[k][m];
+    }
+    s["sensitivity"] = sensitivity_json(names, groups, f.plan.sensitivity_base, by_index, f.plan.seed, f.tolerances);
+  }
+}
+
+json summary_of(const FinishedRun& f, const StopRule& rule, const RunOptions& options) {
+  const StudyConfig& cfg = f.cfg;
+  json s;
+  s["status"] = f.status;
+  if (!f.mc.stop_reason.empty()) s["stop_reason"] = f.mc.stop_reason;
+  s["study"] = {{"name", cfg.name}, {"title", cfg.title}, {"kind", cfg.kind}, {"file", cfg.file},
+                {"model_file", cfg.model_path}, {"model_name", f.study.model_name()},
+                {"model_source", f.study.model_source()}, {"notes", cfg.notes}, {"overrides", cfg.overrides}};
+  s["sampling"] = {{"method", sampling::to_string(cfg.method)}, {"samples", f.ran}, {"planned_samples", f.plan.samples},
+                   {"seed", f.plan.seed}, {"threads", f.plan.threads}, {"mpi_ranks", sampling::Cluster::size()},
+                   {"replicate_size", cfg.replicate_size}, {"max_failure_share", cfg.max_failure_share},
+                   {"inputs", f.study.input_names()},
+                   {"ci_note", cfg.replicate_size > 0
+                                   ? "95% intervals from the spread of the independent randomized replicates"
+                                   : "95% intervals assume independent samples; for lhs and sobol designs they are "
+                                     "conservative for the mean, not necessarily for tail quantiles (measured on the "
+                                     "LOS study: replicate p99.73 interval wider than this one); [sampling] "
+                                     "replicate_size gives honest intervals"}};
+  add_statistics(s, f, rule);
+  add_answer(s, f.requirements, f.study.outputs(), values_in(f.mc, f.study.output_names(), cfg.replicate_size), f.status,
+             f.ran, f.plan.sensitivity_base > 0);
+  if (const json solver = f.study.solver_json(f.mc); !solver.is_null()) {
+    s["solver"] = solver;
+    if (f.rhs_uncounted > 0) {
+      s["solver"]["rhs_evals_note"] = "rhs_evals leaves out " + std::to_string(f.rhs_uncounted) +
+                                      " samples of the first part of the run (it was stopped before it could record "
+                                      "its counters in run.json)";
+    }
+  }
+  if (const json d = f.study.details(f.mc); !d.is_null()) s["details"] = d;
+  s["provenance"] = {{"poise_version", kVersion}, {"git_commit", git_commit()},
+                     {"study_file_sha1", file_sha1(cfg.file)}, {"model_file_sha1", file_sha1(cfg.model_path)},
+                     {"seed", f.plan.seed}, {"samples", f.ran}, {"threads", f.plan.threads},
+                     {"mpi_ranks", sampling::Cluster::size()}, {"wall_time_s", f.mc.wall_seconds},
+                     {"started", f.plan.started}, {"finished", now_iso8601()},
+                     {"libraries", library_versions(options.plots && cfg.plots)},
+                     {"resumed_after_sample", options.resume.empty() ? json(nullptr) : json(f.resumed)}};
+  return s;
+}
+
+// The distribution figures of the main outputs (those a reference or requirement names
+// first), with the references and requirement limits as lines; returns a note when gnuplot
+// could not make one.
+std::string distribution_plots(const json& s, const FinishedRun& f, const std::filesystem::path& pdir,
+                               std::vector<std::string>& figures) {
+  const auto& names = f.study.output_names();
+  json named = s["requirements"];
+  for (const auto& r : s["references"]) named.push_back(r);
+  std::string note;
+  for (const auto& name : main_outputs(names, named)) {
+    const auto k = static_cast<std::size_t>(std::find(names.begin(), names.end(), name) - names.begin());
+    if (k >= f.mc.values.size()) continue;
+    std::vector<FigureLine> lines;
+    for (const auto& r : s["requirements"]) {
+      if (r["output"] == name) {
+        lines.push_back({r["limit"]["value"].get<double>(),
+                         "requirement: " + r["statistic"].get<std::string>() + (r["at_most"].get<bool>() ? " <= " : " >= ") +
+                             r["limit"]["as_written"].get<std::string>(),
+                         "#cc3311"});
+      }
+    }
+    for (const auto& c : s["references"]) {
+      if (c["output"] == name) lines.push_back({c["reference"].get<double>(), c["name"].get<std::string>(),
+                                                c["role"] == "validation" ? "#228833" : "#999999"});
+    }
+    std::string why;
+    if (!distribution_figures(pdir, name, f.study.outputs()[k].unit, f.mc.values[k], f.mc.ok_index, lines, figures, why)) {
+      note = why;
+    }
+    if (s.contains("sensitivity") && !sensitivity_tornado(pdir, s["sensitivity"], name, figures, why)) note = why;
+  }
+  return note;
+}
+
+std::string statistic_cell(const json& e) {
+  std::string out = fmt(e["value"].get<double>(), 4) + " <small>[";
+  out += e["ci95"][0].is_number() ? fmt(e["ci95"][0].get<double>(), 4) : std::string("&ndash;");
+  out += ", ";
+  out += e["ci95"][1].is_number() ? fmt(e["ci95"][1].get<double>(), 4) : std::string("&ndash;");
+  return out + "]</small>";
+}
+
+// report.html: the answer first, then what was run, the study's own sections, the outputs,
+// sweeps, convergence, figures, notes and provenance.
+std::string report_of(const json& s, const FinishedRun& f, const std::filesystem::path& pdir, bool plots) {
+  const StudyConfig& cfg = f.cfg;
+  std::vector<std::string> figures;
+  const std::string plot_note = plots && !f.mc.outputs.empty() ? distribution_plots(s, f, pdir, figures) : "";
+  std::ostringstream h;
+  h << report_page_head(cfg.name) << "<h1>" << html_escape(cfg.title.empty() ? cfg.name : cfg.title) << "</h1>\n"
+    << answer_html(s["answer"].get<std::string>(), s["requirements"]) << "<p>Study <code>" << html_escape(cfg.file)
+    << "</code>, model <code>" << html_escape(cfg.model_path) << "</code> (" << html_escape(f.study.model_source())
+    << "). " << f.ran << " simulated samples (" << sampling::to_string(cfg.method) << ", seed " << f.plan.seed << "), "
+    << f.mc.failures << " failed.</p>\n";
+  if (f.status != "complete") {
+    h << "<p><b>This run is " << f.status << "</b>: "
+      << html_escape(f.mc.stop_reason.empty() ? "stopped by a signal" : f.mc.stop_reason) << ". The figures below cover the "
+      << f.ran << " samples that ran.</p>\n";
+  }
+  if (s.contains("sensitivity")) h << sensitivity_html(s["sensitivity"]);
+  h << references_html(s["references"]);
+  f.study.report_sections(f.mc, pdir.string(), plots, figures, h);
+  h << "<h2>Outputs per sample</h2>\n<table><tr><th class='l'>output</th><th>mean</th><th>std</th><th>p50</th>"
+       "<th>p95</th><th>p99.73</th><th>max</th></tr>\n";
+  for (const auto& [name, o] : s["outputs"].items()) {
+    h << "<tr><td class='l'><code>" << html_escape(name) << "</code> " << html_escape(o["unit"].get<std::string>());
+    if (o.contains("description")) h << "<br><small>" << html_escape(o["description"].get<std::string>()) << "</small>";
+    h << "</td><td>" << statistic_cell(o["mean"]) << "</td><td>" << statistic_cell(o["std"]) << "</td><td>"
+      << statistic_cell(o["p50"]) << "</td><td>" << statistic_cell(o["p95"]) << "</td><td>" << statistic_cell(o["p99_73"])
+      << "</td><td>" << statistic_cell(o["max"]) << "</td></tr>\n";
+  }
+  h << "</table>\n";
+  if (s.contains("sweeps")) h << sweeps_html(s["sweeps"], f.study.outputs(), pdir, plots);
+  h << convergence_html(s["sample_convergence"]) << "<h2>Figures</h2>\n";
+  if (!plot_note.empty()) h << "<p>" << html_escape(plot_note) << "</p>\n";
+  h << figures_html(pdir, figures);
+  if (!cfg.notes.empty()) h << "<h2>Notes of the study</h2>\n<pre>" << html_escape(cfg.notes) << "</pre>\n";
+  h << provenance_html(s["provenance"]);
+  if (s.contains("solver")) h << "<h3>Solver</h3>\n<pre>" << html_escape(s["solver"].dump(2)) << "</pre>\n";
+  h << "</body></html>\n";
+  return h.str();
+}
+
 }  // namespace
 
-std::string run_procedure_study(const StudyConfig& cfg_in, const StudyFactory& make_study, const RunOptions& options) {
+std::string run_procedure_study(const StudyConfig& cfg_in, const StudyFactory& make_study, const RunOptions& options,
+                                const std::vector<Requirement>& requirements) {
   StudyConfig cfg = cfg_in;
   const bool root = sampling::Cluster::root();
-  const int ranks = sampling::Cluster::size();
   // One probe study (one sample) answers what the plan needs: the design's dimensions, their
   // tolerance keys and randomness sources (Sobol groups), and the output names.
   const std::unique_ptr<ProcedureStudy> probe = make_study(cfg, 1, cfg.seed);
@@ -169,23 +345,16 @@ std::string run_procedure_study(const StudyConfig& cfg_in, const StudyFactory& m
     return std::make_pair(dimension_names.size(), probe->has_own_randomness());
   }, [&] { return probe->output_names(); });
   const std::size_t n = plan.samples;
-  const std::uint64_t seed = plan.seed;
-  const int threads = plan.threads;
-  const std::string& dir = plan.dir;
-  const std::string& started = plan.started;
-  const std::size_t sensitivity_base = plan.sensitivity_base;
-  const std::unique_ptr<ProcedureStudy> owned = make_study(cfg, n, seed);
+  const std::unique_ptr<ProcedureStudy> owned = make_study(cfg, n, plan.seed);
   const ProcedureStudy& study = *owned;
   const std::optional<UntilTarget> until = plan_until(plan, study.output_names());
   announce_run(cfg, plan, until, options.progress);
-  std::string header = "sample,status";
-  for (const auto& c : study.input_names()) header += "," + c;
-  for (const auto& c : study.output_names()) header += "," + c;
-  header += ",solver_steps,message";
-  const std::string csv_path = (fs::path(dir) / "samples.csv").string();
+  const std::string header = csv_header(study);
+  const std::string csv_path = (fs::path(plan.dir) / "samples.csv").string();
   std::vector<SampleResult> done;
   if (!options.resume.empty()) {
-    done = read_done_samples(csv_path, header, study.input_names().size(), study.output_names().size());
+    done = read_done_samples(csv_path, header, study.input_names().size(), study.output_names().size(),
+                             study.has_solver());
     if (options.progress && root) std::fprintf(stderr, "  resuming: %zu of %zu samples already done\n", done.size(), n);
   }
   CheckedFile csv = open_samples_csv(plan, header, !options.resume.empty());
@@ -195,13 +364,15 @@ std::string run_procedure_study(const StudyConfig& cfg_in, const StudyFactory& m
   RunControl control;
   control.distributed = true;
   control.stop = [rule](const McResult& r) { return (*rule)(r.values, r.ok_index, r.failures, r.ok_index.size() + r.failures); };
-  McResult mc = study.run(threads, options.progress, [&](std::span<const SampleResult> block) {
+  const bool solver_column = study.has_solver();
+  McResult mc = study.run(plan.threads, options.progress, [&](std::span<const SampleResult> block) {
     std::string rows;
     for (const auto& s : block) {
       rows += std::to_string(s.index) + ',' + (s.ok ? "ok" : "failed");
       for (double v : s.inputs) rows += ',' + csv_number(v);
       for (double v : s.outputs) rows += ',' + csv_number(v);
-      rows += ',' + std::to_string(s.solver_steps) + ',' + csv_text(s.message) + '\n';
+      if (solver_column) rows += ',' + std::to_string(s.solver_steps);
+      rows += ',' + csv_text(s.message) + '\n';
     }
     csv.write(rows);  // the first refused write stops the run (WriteError)
   }, done, control);
@@ -214,128 +385,23 @@ std::string run_procedure_study(const StudyConfig& cfg_in, const StudyFactory& m
   plan.manifest["solver_counters"] = {{"samples", ran}, {"rhs_evals", mc.rhs_evals}};
   finish_manifest(plan, status, ran);
 
-  json s;
-  s["status"] = status;
-  if (!mc.stop_reason.empty()) s["stop_reason"] = mc.stop_reason;
-  s["study"] = {{"name", cfg.name}, {"title", cfg.title}, {"kind", cfg.kind}, {"file", cfg.file},
-                {"model_file", cfg.model_path}, {"model_name", study.model_name()}, {"model_source", study.model_source()},
-                {"notes", cfg.notes}, {"overrides", cfg.overrides}};
-  s["sampling"] = {{"method", sampling::to_string(cfg.method)}, {"samples", ran}, {"planned_samples", n}, {"seed", seed},
-                   {"threads", threads}, {"mpi_ranks", ranks}, {"replicate_size", cfg.replicate_size},
-                   {"max_failure_share", cfg.max_failure_share}, {"inputs", study.input_names()},
-                   {"ci_note", cfg.replicate_size > 0
-                                   ? "95% intervals from the spread of the independent randomized replicates"
-                                   : "95% intervals assume independent samples; for lhs and sobol designs they are "
-                                     "conservative for the mean, not necessarily for tail quantiles (measured on the "
-                                     "LOS study: replicate p99.73 interval wider than this one); [sampling] "
-                                     "replicate_size gives honest intervals"}};
-  json outputs;
-  for (std::size_t k = 0; k < mc.outputs.size(); ++k) {
-    json o = summary_json(mc.outputs[k]);
-    o["unit"] = unit_of_output(study.output_names()[k]);
-    outputs[study.output_names()[k]] = o;
+  const FinishedRun f{cfg, study, plan, mc, ran, done.size(), rhs_uncounted, status, sources, tolerances, requirements};
+  json s = summary_of(f, *rule, options);
+  s["samples_h5"] = write_sample_columns_h5(
+      csv_path, (fs::path(plan.dir) / "samples.h5").string(), study.input_names(), study.outputs(),
+      {{"study", cfg.name}, {"kind", cfg.kind}, {"study_file", cfg.file}, {"method", sampling::to_string(cfg.method)},
+       {"poise_version", kVersion}},
+      {{"seed", plan.seed}, {"planned_samples", n}});
+  if (status == "complete" && plan.sensitivity_base == 0 && !cfg.sweeps.empty()) {
+    s["sweeps"] = run_procedure_sweeps(cfg, make_study, plan.seed, plan.threads, options.progress && root, requirements,
+                                       study.outputs());
   }
-  s["outputs"] = outputs;
-  // Declared reference figures (study and model files) beside the simulated distribution.
-  std::vector<OutputSpec> specs;
-  for (const auto& name : study.output_names()) specs.push_back({name, unit_of_output(name), ""});
-  s["references"] = compare_references(declared_references(cfg, specs), specs, s["outputs"], [&](const std::string& name) {
-    const auto& names = study.output_names();
-    const auto it = std::find(names.begin(), names.end(), name);
-    const auto k = static_cast<std::size_t>(it - names.begin());
-    return it == names.end() || k >= mc.values.size() ? nullptr : &mc.values[k];
-  });
-  s["failures"] = failures_json(mc.failures, ran, mc.failed, seed, cfg.file);
-  s["failures"]["by_reason"] = mc.failure_reasons;
-  s["sample_convergence"] = convergence_json(study.output_names(), mc.outputs, ran, cfg.replicate_size, rule->until_json());
-  if (sensitivity_base > 0 && status == "complete") {
-    const auto names = study.design_dimension_names();
-    std::vector<std::string> groups = names;
-    if (cfg.saltelli_noise_group) {
-      for (const auto& src : sources) groups.push_back("(within-sample randomness: " + src + ")");
-    }
-    // Every sample's value of output k (NaN where it failed), by sample index.
-    std::vector<std::vector<double>> by_index(study.output_names().size(), std::vector<double>(ran, NAN));
-    for (std::size_t k = 0; k < mc.values.size(); ++k) {
-      for (std::size_t m = 0; m < mc.ok_index.size(); ++m) by_index[k][mc.ok_index[m]] = mc.values[k][m];
-    }
-    s["sensitivity"] = sensitivity_json(study.output_names(), groups, sensitivity_base, by_index, seed, tolerances);
-  }
-  s["solver"] = study.solver_json(mc);
-  if (rhs_uncounted > 0) {
-    s["solver"]["rhs_evals_note"] = "rhs_evals leaves out " + std::to_string(rhs_uncounted) +
-                                    " samples of the first part of the run (it was stopped before it could record "
-                                    "its counters in run.json)";
-  }
-  if (const json d = study.details(mc); !d.is_null()) s["details"] = d;
-  s["provenance"] = {{"poise_version", kVersion}, {"git_commit", git_commit()},
-                     {"study_file_sha1", file_sha1(cfg.file)}, {"model_file_sha1", file_sha1(cfg.model_path)},
-                     {"seed", seed}, {"samples", ran}, {"threads", threads}, {"mpi_ranks", ranks},
-                     {"wall_time_s", mc.wall_seconds},
-                     {"started", started}, {"finished", now_iso8601()}, {"libraries", library_versions(options.plots && cfg.plots)},
-                     {"resumed_after_sample", options.resume.empty() ? json(nullptr) : json(done.size())}};
-  write_file_atomic((fs::path(dir) / "summary.json").string(), s.dump(2) + "\n");
-
-  // Figures: the distribution of each main output (histogram and CDF with its band, the
-  // declared references and requirements as lines) and its statistics against sample count.
-  const fs::path pdir = fs::path(dir) / "plots";
+  write_file_atomic((fs::path(plan.dir) / "summary.json").string(), s.dump(2) + "\n");
+  const fs::path pdir = fs::path(plan.dir) / "plots";
   fs::create_directories(pdir);
-  std::vector<std::string> figures;
-  std::string plot_note;
-  if (options.plots && cfg.plots && !mc.outputs.empty()) {
-    for (const auto& name : main_outputs(study.output_names(), s["references"])) {
-      const auto k = static_cast<std::size_t>(
-          std::find(study.output_names().begin(), study.output_names().end(), name) - study.output_names().begin());
-      if (k >= mc.values.size()) continue;
-      std::vector<FigureLine> lines;
-      for (const auto& c : s["references"]) {
-        if (c["output"] == name) lines.push_back({c["reference"].get<double>(), c["name"].get<std::string>(),
-                                                  c["role"] == "validation" ? "#cc3311" : "#999999"});
-      }
-      std::string why;
-      if (!distribution_figures(pdir, name, unit_of_output(name), mc.values[k], mc.ok_index, lines, figures, why)) {
-        plot_note = why;
-      }
-      if (s.contains("sensitivity") && !sensitivity_tornado(pdir, s["sensitivity"], name, figures, why)) plot_note = why;
-    }
-  }
-  // Report.
-  std::ostringstream h;
-  h << report_page_head(cfg.name) << "<h1>"
-    << html_escape(cfg.title.empty() ? cfg.name : cfg.title) << "</h1>\n<p>Study <code>" << html_escape(cfg.file) << "</code>, model <code>"
-    << html_escape(cfg.model_path) << "</code> (" << html_escape(study.model_source()) << "). " << ran << " simulated samples ("
-    << sampling::to_string(cfg.method) << ", seed " << seed << "), " << mc.failures << " failed.</p>\n";
-  if (status != "complete") {
-    h << "<p><b>This run is " << status << "</b>: " << html_escape(mc.stop_reason.empty() ? "stopped by a signal" : mc.stop_reason)
-      << ". The figures below cover the " << ran << " samples that ran.</p>\n";
-  }
-  if (s.contains("sensitivity")) h << sensitivity_html(s["sensitivity"]);
-  auto cell = [](const json& e) {
-    std::string out = fmt(e["value"].get<double>(), 4) + " <small>[";
-    out += e["ci95"][0].is_number() ? fmt(e["ci95"][0].get<double>(), 4) : std::string("&ndash;");
-    out += ", ";
-    out += e["ci95"][1].is_number() ? fmt(e["ci95"][1].get<double>(), 4) : std::string("&ndash;");
-    return out + "]</small>";
-  };
-  h << references_html(s["references"]);
-  study.report_sections(mc, pdir.string(), options.plots && cfg.plots, figures, h);
-  h << "<h2>Outputs per sample</h2>\n<table><tr><th class='l'>output</th><th>mean</th><th>std</th><th>p50</th>"
-       "<th>p95</th><th>p99.73</th><th>max</th></tr>\n";
-  for (const auto& [name, o] : s["outputs"].items()) {
-    h << "<tr><td class='l'><code>" << html_escape(name) << "</code> " << html_escape(o["unit"].get<std::string>()) << "</td><td>"
-      << cell(o["mean"]) << "</td><td>" << cell(o["std"]) << "</td><td>" << cell(o["p50"]) << "</td><td>"
-      << cell(o["p95"]) << "</td><td>" << cell(o["p99_73"]) << "</td><td>" << cell(o["max"]) << "</td></tr>\n";
-  }
-  h << "</table>\n" << convergence_html(s["sample_convergence"]) << "<h2>Figures</h2>\n";
-  if (!plot_note.empty()) h << "<p>" << html_escape(plot_note) << "</p>\n";
-  h << figures_html(pdir, figures);
-  if (!cfg.notes.empty()) h << "<h2>Notes of the study</h2>\n<pre>" << html_escape(cfg.notes) << "</pre>\n";
-  h << provenance_html(s["provenance"]) << "<h3>Solver</h3>\n<pre>" << html_escape(s["solver"].dump(2))
-    << "</pre>\n</body></html>\n";
-  write_file_atomic((fs::path(dir) / "report.html").string(), h.str());
-  if (options.progress) std::fprintf(stderr, "poise: report %s\n", (fs::path(dir) / "report.html").c_str());
-  finish_run_status(status, mc.stop_reason, mc.signal, ran, n, mc.failures, dir, cfg.file);
-  return dir;
+  write_file_atomic((fs::path(plan.dir) / "report.html").string(), report_of(s, f, pdir, options.plots && cfg.plots));
+  finish_run_status(status, mc.stop_reason, mc.signal, ran, n, mc.failures, plan.dir, cfg.file);
+  return plan.dir;
 }
 
 }  // namespace poise::studies

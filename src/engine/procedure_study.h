@@ -15,6 +15,7 @@
 
 #include "sampling/progress.h"
 #include "sampling/statistics.h"
+#include "engine/output_spec.h"
 #include "engine/sample_driver.h"
 #include "engine/study_config.h"
 
@@ -65,9 +66,6 @@ void collect_samples(McResult& r, std::span<const SampleResult> block);
 /// Statistics of every output once all samples are collected.
 void summarize_outputs(McResult& r);
 
-/// Display unit of an output from its name's suffix ("_mNm" -> "mN*m", "_pct" -> "%", ...).
-std::string unit_of_output(const std::string& name);
-
 /// The parallel run every procedure study shares: samples [done.size(), samples) in small
 /// in-order blocks (whole procedures are slow: progress and the CSV move often), one
 /// workspace per thread; `done` (a resumed run's samples) counted but not recomputed.
@@ -116,6 +114,9 @@ class ProcedureStudy {
   virtual ~ProcedureStudy() = default;
   virtual const StudyConfig& config() const = 0;
   virtual const std::vector<std::string>& input_names() const = 0;
+  /// The per-sample outputs as declared (name, unit, description), in samples.csv order.
+  virtual const std::vector<OutputSpec>& outputs() const = 0;
+  /// Their names, in the same order.
   virtual const std::vector<std::string>& output_names() const = 0;
   virtual std::string model_name() const = 0;
   virtual std::string model_source() const = 0;
@@ -130,14 +131,19 @@ class ProcedureStudy {
   /// by design_dimension_names()): a tolerance drawn in several columns (a magnitude and its
   /// angle, one per plate or axis) gets one closed Sobol group. Empty = every column its own.
   virtual std::vector<std::string> design_dimension_tolerances() const { return {}; }
-  virtual bool has_own_randomness() const { return true; }
+  /// Default: none. A study whose samples draw beyond their design point (per-test draws,
+  /// sensor noise) says so, and Sobol indices then give that randomness a group of its own.
+  virtual bool has_own_randomness() const { return false; }
   /// The sources of that randomness, each drawn from its own stream keyed by
   /// Design::stream_index(i, source) (one Sobol group each); one entry = one stream for all.
   virtual std::vector<std::string> randomness_sources() const { return {"per-test draws, noise"}; }
   /// Sample i alone (depends only on seed, sample count, method and i).
   virtual SampleResult replay(std::size_t i) const = 0;
-  /// Solver settings and counters for summary.json.
-  virtual nlohmann::json solver_json(const McResult& mc) const = 0;
+  /// Solver settings and counters for summary.json "solver" and the report's Solver section;
+  /// null (the default, a closed-form study): neither, and samples.csv has no solver_steps.
+  virtual nlohmann::json solver_json(const McResult&) const { return nullptr; }
+  /// Whether samples are integrated by a solver (samples.csv then has solver_steps).
+  virtual bool has_solver() const { return false; }
   /// Study-specific summary.json content (null if none), e.g. the nominal machine.
   virtual nlohmann::json details(const McResult&) const { return nullptr; }
   /// Study-specific figures (written into plots_dir; names of the SVGs made are appended to

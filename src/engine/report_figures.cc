@@ -188,4 +188,31 @@ bool sensitivity_tornado(const fs::path& dir, const json& sensitivity, const std
   return run(dir, name, g.str(), figures, why);
 }
 
+bool sweep_figure(const fs::path& dir, const std::string& name, const std::string& title, const std::string& xlabel,
+                  const std::string& ylabel, const std::vector<SweepFigurePoint>& points,
+                  const std::vector<FigureLine>& limits, std::vector<std::string>& figures, std::string& why) {
+  if (points.empty()) return true;
+  {
+    std::ostringstream d;
+    d << "# x  statistic  ci95_lo  ci95_hi\n";
+    d.precision(10);
+    for (const auto& p : points) {
+      d << p.x << ' ' << p.y << ' ' << (std::isfinite(p.lo) ? p.lo : p.y) << ' ' << (std::isfinite(p.hi) ? p.hi : p.y)
+        << '\n';
+    }
+    write_file_atomic((dir / (name + ".dat")).string(), d.str());
+  }
+  std::ostringstream g;
+  g << "set title " << quoted(title) << "\nset xlabel " << quoted(xlabel) << "\nset ylabel " << quoted(ylabel)
+    << "\nset key outside bottom center horizontal\nset offsets graph 0.05, graph 0.05, graph 0.1, graph 0.1\n";
+  for (const auto& l : limits) {
+    g << "set arrow from graph 0, first " << l.x << " to graph 1, first " << l.x << " nohead lw 2 lc rgb '" << l.colour
+      << "'\nset label " << quoted(l.label) << " at graph 0.02, first " << l.x << " offset 0,0.6 tc rgb '" << l.colour
+      << "'\n";
+  }
+  g << "plot '" << name << ".dat' u 1:2:3:4 with yerrorlines lw 2 pt 7 lc rgb '#4477aa' t " << quoted(ylabel + ", 95% interval")
+    << "\n";
+  return run(dir, name, g.str(), figures, why);
+}
+
 }  // namespace poise::studies

@@ -44,4 +44,16 @@ bool tornado_figure(const std::filesystem::path& plots_dir, const std::string& n
                     const std::string& xlabel, const std::vector<std::pair<std::string, double>>& bars,
                     std::vector<std::string>& figures, std::string& why);
 
+/// One point of a sweep figure: the swept value (in the unit it was written in) and a
+/// statistic with its 95% interval (NaN ends: none).
+struct SweepFigurePoint {
+  double x = 0.0, y = 0.0, lo = 0.0, hi = 0.0;
+};
+
+/// A statistic against a swept parameter with 95% error bars and, when given, the
+/// requirement's limit as a horizontal line. False (with `why`) if gnuplot failed.
+bool sweep_figure(const std::filesystem::path& plots_dir, const std::string& name, const std::string& title,
+                  const std::string& xlabel, const std::string& ylabel, const std::vector<SweepFigurePoint>& points,
+                  const std::vector<FigureLine>& limits, std::vector<std::string>& figures, std::string& why);
+
 }  // namespace poise::studies

@@ -95,3 +95,14 @@ std::string html_escape(const std::string& s) {
 }
 
 }  // namespace poise::studies
+
+namespace poise::studies {
+
+std::string format_significant(double v, int digits) {
+  if (!std::isfinite(v)) return std::isnan(v) ? "nan" : (v > 0 ? "inf" : "-inf");
+  char buf[48];
+  std::snprintf(buf, sizeof buf, "%.*g", digits, v);
+  return buf;
+}
+
+}  // namespace poise::studies

@@ -29,5 +29,7 @@ std::string csv_text(std::string s);
 void write_file_atomic(const std::string& path, const std::string& text);
 /// Text for HTML.
 std::string html_escape(const std::string& s);
+/// A figure for people: `digits` significant digits, no trailing zeros ("1.25", "3.2e-05").
+std::string format_significant(double v, int digits = 4);
 
 }  // namespace poise::studies

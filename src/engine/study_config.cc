@@ -1,9 +1,11 @@
 #include "engine/study_config.h"
 
+#include <algorithm>
 #include <cctype>
 #include <filesystem>
 
 #include "engine/references.h"
+#include "engine/requirements.h"
 #include "engine/study_kind.h"
 #include "engine/toml_reader.h"
 
@@ -42,8 +44,11 @@ StudyConfig load_study(const std::string& path) {
                 "a name of 1 to 100 letters, digits, '_' and '-' (it names the results folder)");
       }
     }
-    c.kind = t.choice("kind", study_kind_names());
-    if (!c.kind.empty()) kind = &study_kind(c.kind);
+    const std::vector<std::string> kinds = study_kind_names();
+    c.kind = t.choice("kind", kinds);
+    // An unknown kind is the error to report: no kind's sections are read in its place.
+    const std::string written = t.has("kind") ? t.raw()["kind"].value_or(std::string()) : std::string();
+    if (std::find(kinds.begin(), kinds.end(), written) != kinds.end()) kind = &study_kind(c.kind);
     const std::string model = t.string("model");
     c.model_path = (std::filesystem::path(path).parent_path() / model).lexically_normal().string();
     std::error_code ec;  // a name too long for the file system is a missing file, not an exception (exit 1)
@@ -76,7 +81,12 @@ StudyConfig load_study(const std::string& path) {
           0.05);
     }
   }
-  if (kind) c.sections = kind->read_sections(root, c);
+  c.requirements = read_requirements(root);  // before the kind's: a shorthand may add one
+  if (kind) {
+    c.sections = kind->read_sections(root, c);
+  } else if (!root.schema_only()) {
+    root.accept_all();  // the kind's sections are not known: they are not errors of their own
+  }
   if (root.has_or_schema("overrides")) {
     TomlReader t = root.table("overrides");
     for (const auto& key : t.keys()) c.overrides[key] = t.string(key);
@@ -87,6 +97,15 @@ StudyConfig load_study(const std::string& path) {
     c.block = static_cast<std::size_t>(t.integer("block", 1, 1'000'000, 1024));
   }
   c.references = read_references(root);
+  for (auto& t : root.table_array("sweep")) {
+    SweepSpec sw;
+    sw.line = t.line_of("parameter");
+    sw.parameter = t.string("parameter");
+    sw.values = t.string_array("values");
+    if (sw.values.empty() && t.has("values")) t.error("values", "[]", "at least one value, with its unit");
+    sw.samples = static_cast<std::size_t>(t.integer("samples", 1, 1'000'000'000, static_cast<std::int64_t>(c.samples)));
+    c.sweeps.push_back(sw);
+  }
   finish(doc, *ctx);
   c.overrides = apply_study_overrides(c, c.overrides);  // the kind's study keys apply here
   return c;

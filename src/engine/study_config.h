@@ -12,6 +12,8 @@
 ///   [output]      plots = true, block = 1024        (optional)
 ///   [[reference]] figures to compare with (engine/references.h): name, output, statistic,
 ///                 value, source, role = "validation" | "calibration_target"
+///   [[sweep]]     parameter = "dotted.model.key", values = [...], samples (optional)
+///   [[requirement]] output, statistic, at_most | at_least, confidence (engine/requirements.h)
 /// Every other section belongs to the kind and is read by its module (src/kinds/<kind>/);
 /// `poise keys KIND` lists them.
 #include <cstdint>
@@ -20,6 +22,7 @@
 #include <string>
 #include <vector>
 
+#include "engine/requirements.h"
 #include "sampling/design.h"
 
 namespace poise::studies {
@@ -75,6 +78,15 @@ struct ReferenceFigure {
   int line = 0;
 };
 
+/// A [[sweep]]: the study re-run at each value of one model key with the same seed (common
+/// random numbers), so that differences between values are the design's.
+struct SweepSpec {
+  std::string parameter;            ///< dotted model key ("yaw.bearing_span")
+  std::vector<std::string> values;  ///< as written, with units
+  std::size_t samples = 0;          ///< per value (default: the study's samples)
+  int line = 0;
+};
+
 struct StudyConfig {
   std::string file;        ///< path of the study file
   std::string name, kind, title, notes;
@@ -101,6 +113,10 @@ struct StudyConfig {
   bool plots = true;
   std::size_t block = 1024;
   std::vector<ReferenceFigure> references;  ///< the study file's [[reference]] tables
+  /// The study file's [[requirement]] tables (engine/requirements.h), and a kind's shorthand
+  /// for one (the seeker's [requirement] los_error) added by its section reader.
+  std::vector<Requirement> requirements;
+  std::vector<SweepSpec> sweeps;  ///< the study file's [[sweep]] tables
 
   /// The kind's own sections (its module's struct).
   KindSectionsPtr sections;

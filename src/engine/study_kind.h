@@ -19,19 +19,13 @@
 
 #include <nlohmann/json.hpp>
 
+#include "engine/output_spec.h"
 #include "engine/study_config.h"
 #include "engine/study_evaluation.h"
 #include "engine/study_runner.h"
 #include "engine/toml_reader.h"
 
 namespace poise::studies {
-
-/// A per-sample output: its samples.csv column, unit and meaning.
-struct OutputSpec {
-  std::string name;
-  std::string unit;
-  std::string description;
-};
 
 class StudyKind {
  public:
@@ -51,6 +45,9 @@ class StudyKind {
   virtual std::string validate(const StudyConfig& cfg) const = 0;
   /// Per-sample outputs of this study with units (validates the model).
   virtual std::vector<OutputSpec> outputs(const StudyConfig& cfg) const = 0;
+  /// The study's requirements: its [[requirement]] tables (the default) and any shorthand of
+  /// the kind's own (the seeker's [requirement] los_error), in the outputs' terms.
+  virtual std::vector<Requirement> requirements(const StudyConfig& cfg) const { return cfg.requirements; }
   /// Runs the study and writes its result folder; returns its path.
   virtual std::string run(const StudyConfig& cfg, const RunOptions& options) const = 0;
   /// Recomputes sample `index` alone (inputs and outputs by name).

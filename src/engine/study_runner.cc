@@ -1,23 +1,61 @@
 #include "engine/study_runner.h"
 
+#include <filesystem>
+#include <fstream>
+
 #include "engine/checked_file.h"
 #include "engine/references.h"
+#include "engine/requirements.h"
 #include "engine/run_plan.h"
 #include "engine/study_kind.h"
 #include "sampling/distributed.h"
 
 namespace poise::studies {
 
+namespace {
+
+// Each sweep value is a model the kind accepts: the study validated with it as an override.
+void check_sweeps(const StudyConfig& cfg, const StudyKind& kind) {
+  std::vector<InputError> errors;
+  for (const auto& sw : cfg.sweeps) {
+    for (const auto& v : sw.values) {
+      try {
+        StudyConfig c = cfg;
+        auto overrides = c.overrides;
+        overrides[sw.parameter] = v;
+        c.overrides = apply_study_overrides(c, overrides);
+        kind.validate(c);
+      } catch (const ValidationError& e) {
+        for (const auto& err : e.errors()) {
+          errors.emplace_back(SourceLocation{cfg.file, sw.line, 0}, "sweep " + sw.parameter, "\"" + v + "\"",
+                              std::string("a value the model accepts: ") + err.what());
+        }
+      }
+    }
+  }
+  if (!errors.empty()) throw ValidationError(errors);
+}
+
+// Everything a run needs valid before it starts: the study with its model, the declared
+// references, the requirements and every sweep value. Returns the kind's summary line.
+std::string check_study(const StudyConfig& cfg, const StudyKind& kind) {
+  std::string summary = kind.validate(cfg);
+  const std::vector<OutputSpec> outputs = kind.outputs(cfg);
+  const auto refs = declared_references(cfg, outputs);
+  check_requirements(kind.requirements(cfg), outputs);
+  check_sweeps(cfg, kind);
+  if (!refs.empty()) summary += " " + std::to_string(refs.size()) + " declared reference figure(s).";
+  return summary;
+}
+
+}  // namespace
+
 std::string validate_study(const std::string& study_path) {
   const StudyConfig cfg = load_study(study_path);
   const StudyKind& kind = study_kind(cfg.kind);
-  std::string summary = kind.validate(cfg);
-  const auto refs = declared_references(cfg, kind.outputs(cfg));
-  if (!refs.empty()) {
-    summary += ' ';
-    summary += std::to_string(refs.size());
-    summary += " declared reference figure(s).";
-  }
+  std::string summary = check_study(cfg, kind);
+  const std::size_t n_req = kind.requirements(cfg).size();
+  if (n_req > 0) summary += " " + std::to_string(n_req) + " requirement(s).";
   return summary;
 }
 
@@ -33,8 +71,11 @@ std::string run_study(const std::string& study_path, const RunOptions& options) 
     throw UsageError("--resume, --until and MPI runs are for study kinds that stream their samples; a " + cfg.kind +
                 " study runs in one process in seconds to minutes (Ctrl-C still stops it cleanly)");
   }
-  kind.validate(cfg);  // nothing runs until everything validates
-  declared_references(cfg, kind.outputs(cfg));
+  check_study(cfg, kind);  // nothing runs until everything validates
+  if (options.require && kind.requirements(cfg).empty()) {
+    throw UsageError("--require: " + cfg.file + " states no requirement; add a [[requirement]] table (output, "
+                     "statistic, at_most or at_least, confidence) or leave --require out");
+  }
   try {
     return kind.run(cfg, options);
   } catch (const WriteError& e) {
@@ -49,6 +90,17 @@ std::string run_study(const std::string& study_path, const RunOptions& options) 
     }
     throw Error(message);
   }
+}
+
+RunAnswer run_answer(const std::string& dir) {
+  RunAnswer a;
+  std::ifstream in(std::filesystem::path(dir) / "summary.json");
+  if (!in) return a;
+  const nlohmann::json s = nlohmann::json::parse(in, nullptr, false);
+  if (s.is_discarded() || !s.is_object()) return a;
+  a.answer = s.value("answer", "");
+  a.met = requirements_met(s);
+  return a;
 }
 
 }  // namespace poise::studies

@@ -30,6 +30,9 @@ struct RunOptions {
   /// the sample count is then the cap (max_samples, default 100 x the study's samples).
   std::string until;
   std::optional<std::size_t> max_samples;
+  /// `poise run --require`: the study must state a requirement (else UsageError before the
+  /// run); the command exits 3 unless every requirement is met.
+  bool require = false;
   /// > 0: `poise sensitivity`: Sobol indices from this many base rows (Saltelli layout).
   std::size_t sensitivity_base = 0;
 };
@@ -47,6 +50,14 @@ std::string run_study(const std::string& study_path, const RunOptions& options);
 /// The study file a run folder's run.json records (for `poise run --resume DIR` without the
 /// study path). Throws UsageError when DIR holds no run.json or it names no study file.
 std::string study_file_of_run(const std::string& dir);
+
+/// The answer of a finished run (its summary.json): the sentence and whether every
+/// requirement is met (nullopt: none declared). Empty answer when the folder has none.
+struct RunAnswer {
+  std::string answer;
+  std::optional<bool> met;
+};
+RunAnswer run_answer(const std::string& dir);
 
 /// Validates a study and its model; returns a short human summary. Throws ValidationError.
 std::string validate_study(const std::string& study_path);

@@ -23,31 +23,13 @@ namespace {
 
 using Sha1 = boost::uuids::detail::sha1;
 using hdf5::Id;
+using hdf5::number_attribute;
+using hdf5::text_attribute;
 
 std::string hex(const Sha1::digest_type& d) {
   char buf[41];
   for (int i = 0; i < 5; ++i) std::snprintf(buf + 8 * i, 9, "%08x", d[i]);
   return buf;
-}
-
-void text_attribute(hid_t obj, const std::string& name, const std::string& value) {
-  Id type(H5Tcopy(H5T_C_S1), H5Tclose);
-  H5Tset_size(type.get(), H5T_VARIABLE);
-  H5Tset_cset(type.get(), H5T_CSET_UTF8);
-  Id space(H5Screate(H5S_SCALAR), H5Sclose);
-  Id attr(H5Acreate2(obj, name.c_str(), type.get(), space.get(), H5P_DEFAULT, H5P_DEFAULT), H5Aclose);
-  const char* p = value.c_str();
-  if (!attr.ok() || H5Awrite(attr.get(), type.get(), &p) < 0) {
-    throw Error(hdf5::failed("cannot write attribute " + name));
-  }
-}
-
-void number_attribute(hid_t obj, const std::string& name, std::uint64_t value) {
-  Id space(H5Screate(H5S_SCALAR), H5Sclose);
-  Id attr(H5Acreate2(obj, name.c_str(), H5T_STD_U64LE, space.get(), H5P_DEFAULT, H5P_DEFAULT), H5Aclose);
-  if (!attr.ok() || H5Awrite(attr.get(), H5T_NATIVE_UINT64, &value) < 0) {
-    throw Error(hdf5::failed("cannot write attribute " + name));
-  }
 }
 
 // A chunked, deflated, growable dataset of `rank` dimensions (the first unlimited).

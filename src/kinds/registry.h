@@ -1,7 +1,7 @@
 #pragma once
-/// The table of study kinds. Adding a kind: a folder src/kinds/<kind>/ with a StudyKind
-/// (engine/study_kind.h), its library in src/kinds/CMakeLists.txt, and one line in
-/// registry.cc.
+/// The table of study kinds, generated at configure time (src/kinds/CMakeLists.txt): adding a
+/// kind is a folder src/kinds/<kind>/ with a StudyKind (engine/study_kind.h) and a
+/// CMakeLists.txt that calls poise_kind(<kind> SOURCES ... FACTORY make_<kind>_kind).
 namespace poise::studies {
 
 /// Registers every study kind with the engine (once; later calls do nothing). The CLI and

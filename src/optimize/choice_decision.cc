@@ -100,7 +100,7 @@ ChoiceDecision decide_choices(const OptimizationSpec& spec, const std::vector<Ch
   ChoiceDecision out;
   const std::string stat = spec.objective_statistic;
   const std::string unit = spec.objective_output.empty() ? (spec.variables.empty() ? "" : spec.variables[0].unit)
-                                                         : output_unit(spec.objective_output);
+                                                         : output_unit(spec, spec.objective_output);
   std::vector<std::size_t> feasible;
   for (std::size_t r = 0; r < runs.size(); ++r) {
     if (runs[r].result.feasible) feasible.push_back(r);
@@ -223,7 +223,7 @@ ChoiceDecision decide_choices(const OptimizationSpec& spec, const std::vector<Ch
           }
           if (c->comparison.second && H->comparison.second && spec.pareto) {
             const double sa = c->comparison.second->value, sb = H->comparison.second->value;
-            const std::string su = output_unit(spec.pareto->output);
+            const std::string su = output_unit(spec, spec.pareto->output);
             const bool b_costlier = sb > sa;
             char ratio[32];
             std::snprintf(ratio, sizeof ratio, "%.2g", b_costlier ? sb / sa : sa / sb);

@@ -4,7 +4,7 @@
 #include <cmath>
 #include <cstdio>
 
-#include "optimize/confidence_bound.h"
+#include "engine/confidence_bound.h"
 
 namespace poise::optimize {
 

@@ -14,10 +14,9 @@ nlohmann::json interval_json(const Interval& i) {
   return j;
 }
 
-std::string output_unit(const std::string& output) {
-  if (output.size() > 3 && output.compare(output.size() - 3, 3, "_px") == 0) return "px";
-  const std::string u = studies::unit_of_output(output);
-  return u == "1" ? "" : u;
+std::string output_unit(const OptimizationSpec& spec, const std::string& output) {
+  const auto it = spec.output_units.find(output);
+  return it == spec.output_units.end() || it->second == "1" ? "" : it->second;
 }
 
 std::string to_string(Verdict v) {
@@ -76,6 +75,7 @@ FreshCheck check_design(const OptimizationSpec& spec, const std::vector<double>&
   for (const auto& r : spec.constraints) {
     ConstraintCheck c;
     c.requirement = &r;
+    c.unit = output_unit(spec, r.output);
     const SampleSet s = set_of(r.output);
     c.interval = interval(s, r.statistic);
     auto meets = [&](double v) { return r.at_least ? v >= *r.at_least : v <= *r.at_most; };
@@ -101,7 +101,7 @@ FreshCheck check_design(const OptimizationSpec& spec, const std::vector<double>&
 std::string FreshCheck::describe_constraint(std::size_t k) const {
   const ConstraintCheck& c = constraints[k];
   const Requirement& r = *c.requirement;
-  const std::string unit = output_unit(r.output);
+  const std::string& unit = c.unit;
   std::string s = r.statistic + " of " + r.output + " " + interval_text(c.interval, unit);
   if (c.bound) {
     char buf[32];

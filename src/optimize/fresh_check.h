@@ -17,7 +17,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "optimize/confidence_bound.h"
+#include "engine/confidence_bound.h"
 #include "optimize/optimization_spec.h"
 #include "engine/study_evaluation.h"
 
@@ -28,6 +28,7 @@ std::string to_string(Verdict v);  ///< "passes", "straddles the limit", "fails"
 
 struct ConstraintCheck {
   const Requirement* requirement = nullptr;
+  std::string unit;              ///< of the requirement's output
   Interval interval;             ///< the statistic with its 95% interval
   std::optional<double> bound;   ///< the stated bound on these samples (bound constraints)
   bool stated_met = false;       ///< the figure as stated (value or bound) meets the limit
@@ -63,9 +64,9 @@ FreshCheck check_design(const OptimizationSpec& spec, const std::vector<double>&
 nlohmann::json interval_json(const Interval& i);
 /// "1.09 [1.02, 1.16] mN*m" (3 significant digits, "?" for a missing end).
 std::string interval_text(const Interval& i, const std::string& unit);
-/// The unit of a study output from its name's suffix ("los_max_px" -> "px",
-/// "g_rmse_torque_mNm" -> "mN*m"); "" for a dimensionless one.
-std::string output_unit(const std::string& output);
+/// The declared unit of an output of the optimization's study ("mN*m"); "" for a
+/// dimensionless one.
+std::string output_unit(const OptimizationSpec& spec, const std::string& output);
 /// A number with 3 significant digits ("1.09", "0.0124", "275").
 std::string short_number(double v);
 

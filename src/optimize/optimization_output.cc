@@ -228,9 +228,9 @@ OptimizationRun write_optimization(const OptimizationSpec& spec, const studies::
       }
       studies::write_file_atomic((pdir / "pareto.dat").string(), d2.str());
       const std::string xl = spec.pareto->statistic + " of " + spec.pareto->output + " [" +
-                             output_unit(spec.pareto->output) + "]";
+                             output_unit(spec, spec.pareto->output) + "]";
       const std::string yl = spec.objective_statistic + " of " + spec.objective_output + " [" +
-                             output_unit(spec.objective_output) + "]";
+                             output_unit(spec, spec.objective_output) + "]";
       std::ostringstream pgp;
       pgp << "set terminal svg size 760,480 dynamic noenhanced font 'Helvetica,12'\nset output 'pareto.svg'\n"
              "set grid\nset title 'Pareto front'\nset xlabel '" << xl << "'\nset ylabel '" << yl

@@ -1,5 +1,7 @@
 #include "optimize/optimization_spec.h"
 
+#include "engine/study_kind.h"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -239,6 +241,10 @@ OptimizationSpec load_optimization(const std::string& path) {
   studies::finish(doc, *ctx);
   // The base study, its model with the start values, and the outputs named.
   s.base = studies::load_study(study_path);
+  try {  // the declared units of the base study's outputs (an invalid model is reported below)
+    for (const auto& o : studies::study_kind(s.base.kind).outputs(s.base)) s.output_units[o.name] = o.unit;
+  } catch (const studies::ValidationError&) {
+  }
   std::vector<InputError> errors;
   if (replicate_size) s.base.replicate_size = *replicate_size;
   if (const std::size_t m = s.base.replicate_size; m > 0) {

@@ -350,7 +350,7 @@ OptimizationOutcome optimize(const OptimizationSpec& spec, int threads, bool pro
     std::string objective;
     if (!spec.objective_output.empty() && out.check.objective) {
       objective = spec.objective_statistic + " of " + spec.objective_output + " " +
-                  interval_text(*out.check.objective, output_unit(spec.objective_output));
+                  interval_text(*out.check.objective, output_unit(spec, spec.objective_output));
     } else {
       objective = "sum " + rounded_text(out.check.objective_value,
                                         out.spread.contains("objective") ? out.spread["objective"]["supported_step"].get<double>() : 0.0,

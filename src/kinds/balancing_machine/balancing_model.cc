@@ -30,11 +30,7 @@ BalancingModel load_balancing_model(const std::string& path, const std::map<std:
   auto [doc, ctx] = open_model_file(path, overrides);
   TomlReader root(doc, ctx);
   BalancingModel m;
-  m.file = path;
-  const ModelHeader header = read_model_header(root, "balancing_machine");
-  m.name = header.name;
-  m.title = header.title;
-  m.source = header.source;
+  static_cast<ModelHeader&>(m) = read_model_header(root, "balancing_machine");
   {
     TomlReader t = root.table("horizontal_plate");
     m.horizontal_plate = read_plate(t);

@@ -18,6 +18,7 @@
 #include "models/spring_plate_machine.h"
 #include "procedures/balancing_measurement.h"
 #include "engine/tolerance_spec.h"
+#include "engine/model_overrides.h"
 
 namespace poise::studies {
 
@@ -43,8 +44,7 @@ struct BalancingAsBuilt {
   double piece_centre_offset = 0.0;  ///< test piece's mass centre above the calibration rotor's (m)
 };
 
-struct BalancingModel {
-  std::string file, name, title, source;
+struct BalancingModel : ModelHeader {  ///< file, name, title, source of the model file
   models::SpringPlate horizontal_plate;  ///< each of the two (k5 each)
   models::SpringPlate torsional_plate;   ///< k6, acting at the lever
   /// [torsional_plate] end_condition: how the plate's end attaches to the swinging support

@@ -239,8 +239,12 @@ void BalancingStudy::report_sections(const McResult& mc, const std::string& plot
             for (double v : values(n)) dd << v << '\n';
             write_file_atomic((fs::path(dir) / (n + ".dat")).string(), dd.str());
           }
+          std::string unit;
+          for (const auto& spec : outputs_) {
+            if (spec.name == n) unit = spec.unit;
+          }
           svg_plot(dir, n,
-               "set title '" + n + "'\nset xlabel '" + unit_of_output(n) + "'\nset ylabel 'machines'\nstats '" + n +
+               "set title '" + n + "'\nset xlabel '" + unit + "'\nset ylabel 'machines'\nstats '" + n +
                    ".dat' u 1 nooutput\nbw = (STATS_max - STATS_min) / 25.0\nif (bw <= 0) bw = 1e-9\n"
                    "bin(x) = bw * floor(x / bw) + bw / 2\nset style fill solid 0.6\nplot '" + n +
                    ".dat' u (bin($1)):(1.0) smooth freq with boxes lc rgb '#4477aa' notitle\n",

@@ -69,7 +69,11 @@ class BalancingStudy : public ProcedureStudyBase<BalancingStudy> {
   /// The model's tolerance key of each input column (one key covers the three plates).
   const std::vector<std::string>& input_tolerances() const { return input_tolerances_; }
   std::size_t design_dimension() const { return design_.dimension(); }
+  const std::vector<OutputSpec>& outputs() const override { return outputs_; }
   const std::vector<std::string>& output_names() const override { return output_names_; }
+  /// Per-test draws and measurement noise beyond the design point.
+  bool has_own_randomness() const override { return true; }
+  bool has_solver() const override { return true; }
   std::string model_name() const override { return model_.name; }
   std::string model_source() const override { return model_.source; }
   const BalancingModel& model() const { return model_; }
@@ -96,6 +100,7 @@ class BalancingStudy : public ProcedureStudyBase<BalancingStudy> {
   BalancingModel model_;
   std::size_t samples_;
   std::uint64_t seed_;
+  std::vector<OutputSpec> outputs_;
   std::vector<std::string> input_names_, output_names_, warnings_, input_tolerances_;
   std::vector<std::string> input_warnings() const;
   std::size_t dimension_ = 0;

@@ -62,60 +62,85 @@ BalancingStudy::BalancingStudy(StudyConfig config, BalancingModel model, std::si
     if (s.magnitude) input_names_.push_back(std::string(s.name) + "_angle_deg");
     input_tolerances_.resize(input_names_.size(), std::string("tolerances.") + s.key);
   }
-  // Outputs.
-  output_names_ = {"omega1_Hz",           "omega2_Hz",         "hard_bearing_ratio",
-                   "static_buckling_ratio", "static_stress_MPa", "static_tilt_urad",
-                   "weight_stiffness_loss_pct", "pendulum_margin_ratio"};
+  // Outputs, each declared once with its unit and meaning.
+  auto declare = [&](const std::string& prefix, std::initializer_list<OutputDeclaration> list) {
+    append_outputs(outputs_, prefix, std::span<const OutputDeclaration>(list.begin(), list.size()));
+  };
+  auto readings = [&](const std::string& n, int positions, const char* suffix, const char* unit, const char* what) {
+    for (int p = 1; p <= 2; ++p) {
+      for (int k = 0; k < positions; ++k) {
+        outputs_.push_back({n + "_p" + std::to_string(p) + "_k" + std::to_string(k) + suffix, unit,
+                            n + ": " + what + ", plane " + std::to_string(p) + ", position " + std::to_string(k)});
+      }
+    }
+  };
+  declare("", {{"omega1_Hz", "Hz", "first natural frequency of the machine as built with rotor R"},
+               {"omega2_Hz", "Hz", "second natural frequency of the machine as built with rotor R"},
+               {"hard_bearing_ratio", "1", "hard-bearing ratio of the machine as built: natural frequency over the balancing speed"},
+               {"static_buckling_ratio", "1", "buckling factor P_cr / P of the horizontal plates under the weight (the smaller)"},
+               {"static_stress_MPa", "MPa", "largest plate stress under the weight of frame and rotor R"},
+               {"static_tilt_urad", "urad", "tilt of the swinging part from the rotor's mass-centre offset under the weight"},
+               {"weight_stiffness_loss_pct", "%", "share of the horizontal plates' stiffness k5 lost to the weight"},
+               {"pendulum_margin_ratio", "1", "pendulum margin K_rot / (m g H): below 1 the swinging part topples"}});
   for (const auto& x : balancing_sections(config_).experiments) {
     const std::string& n = x.name;
     if (x.type == "separation") {
       for (int s = 1; s <= surfaces; ++s) {
-        output_names_.push_back(n + "_s" + std::to_string(s) + "_sensor1_mN");
-        output_names_.push_back(n + "_s" + std::to_string(s) + "_sensor2_mN");
+        for (int k = 1; k <= 2; ++k) {
+          outputs_.push_back({n + "_s" + std::to_string(s) + "_sensor" + std::to_string(k) + "_mN", "mN",
+                              n + ": effect of the test mass on surface " + std::to_string(s) + " at sensor " +
+                                  std::to_string(k) + " (mean over the holes)"});
+        }
       }
-      for (const char* o : {"_sensor1_spread_pct", "_sensor2_zero_height_mm", "_sensor2_linearity_pct"}) {
-        output_names_.push_back(n + o);
-      }
+      declare(n, {{"_sensor1_spread_pct", "%", "spread of sensor 1's effect over the surfaces (max - min, of the mean)"},
+                  {"_sensor2_zero_height_mm", "mm", "height where sensor 2's fitted line crosses zero (the torsion centre)"},
+                  {"_sensor2_linearity_pct", "%", "linearity of sensor 2 against height"}});
     } else if (x.type == "umar") {
-      for (const char* o : {"_plane1_kgm", "_plane2_kgm", "_kgm", "_xmax1_g", "_xmin1_g", "_xmax2_g", "_xmin2_g",
-                            "_true_residual1_kgm", "_true_residual2_kgm", "_max_reading_error_g"}) {
-        output_names_.push_back(n + o);
-      }
-      for (int p = 1; p <= 2; ++p) {
-        for (int k = 0; k < x.positions; ++k) {
-          output_names_.push_back(n + "_p" + std::to_string(p) + "_k" + std::to_string(k) + "_g");
-        }
-      }
+      declare(n, {{"_plane1_kgm", "kg*m", "U_mar of plane 1: (X_max - X_min) r / 2"},
+                  {"_plane2_kgm", "kg*m", "U_mar of plane 2: (X_max - X_min) r / 2"},
+                  {"_kgm", "kg*m", "U_mar (Eq. 18): the sum of the planes'"},
+                  {"_xmax1_g", "g", "largest reading of plane 1"}, {"_xmin1_g", "g", "smallest reading of plane 1"},
+                  {"_xmax2_g", "g", "largest reading of plane 2"}, {"_xmin2_g", "g", "smallest reading of plane 2"},
+                  {"_true_residual1_kgm", "kg*m", "the rotor's true residual unbalance in plane 1"},
+                  {"_true_residual2_kgm", "kg*m", "the rotor's true residual unbalance in plane 2"},
+                  {"_max_reading_error_g", "g", "largest reading error"}});
+      readings(n, x.positions, "_g", "g", "reading");
     } else if (x.type == "stability") {
-      for (const char* o : {"_residual_gmm", "_plane1_max_dev_pct", "_plane2_max_dev_pct", "_pass_ratio"}) {
-        output_names_.push_back(n + o);
-      }
-      for (int p = 1; p <= 2; ++p) {
-        for (int k = 0; k < x.positions; ++k) {
-          output_names_.push_back(n + "_p" + std::to_string(p) + "_k" + std::to_string(k) + "_ratio");
-        }
-      }
+      declare(n, {{"_residual_gmm", "g*mm", "largest plane residual after balancing first"},
+                  {"_plane1_max_dev_pct", "%", "largest deviation of plane 1's readings from their mean"},
+                  {"_plane2_max_dev_pct", "%", "largest deviation of plane 2's readings from their mean"},
+                  {"_pass_ratio", "1", "1 when the stability test passes, else 0"}});
+      readings(n, x.positions, "_ratio", "1", "reading over the mean");
     } else if (x.type == "urr") {
-      for (const char* o : {"_plane1_pct", "_plane2_pct", "_min_pct", "_pass_ratio", "_iso_plane1_pct", "_iso_plane2_pct",
-                            "_iso_min_pct", "_iso_pass_ratio"}) {
-        output_names_.push_back(n + o);
-      }
+      declare(n, {{"_plane1_pct", "%", "unbalance reduction ratio of plane 1 after one physical correction"},
+                  {"_plane2_pct", "%", "unbalance reduction ratio of plane 2 after one physical correction"},
+                  {"_min_pct", "%", "the smaller of the planes' reduction ratios"},
+                  {"_pass_ratio", "1", "1 when the reduction ratio meets the claim, else 0"},
+                  {"_iso_plane1_pct", "%", "ISO 21940-21 reduction ratio of plane 1 (indication of known test masses)"},
+                  {"_iso_plane2_pct", "%", "ISO 21940-21 reduction ratio of plane 2 (indication of known test masses)"},
+                  {"_iso_min_pct", "%", "the smaller of the ISO reduction ratios"},
+                  {"_iso_pass_ratio", "1", "1 when the ISO reduction ratio meets the claim, else 0"}});
     } else if (x.type == "umar_iso") {
-      for (const char* o : {"_plane1_kgm", "_plane2_kgm", "_plane1_max_dev_g", "_plane2_max_dev_g", "_plane1_mean_g",
-                            "_plane2_mean_g", "_pass_ratio"}) {
-        output_names_.push_back(n + o);
-      }
-      for (int p = 1; p <= 2; ++p) {
-        for (int k = 0; k < x.positions; ++k) output_names_.push_back(n + "_p" + std::to_string(p) + "_k" + std::to_string(k) + "_g");
-      }
+      declare(n, {{"_plane1_kgm", "kg*m", "U_mar of plane 1 (both planes loaded): (X_max - X_min) r / 2"},
+                  {"_plane2_kgm", "kg*m", "U_mar of plane 2 (both planes loaded): (X_max - X_min) r / 2"},
+                  {"_plane1_max_dev_g", "g", "largest |X - mean| of plane 1"},
+                  {"_plane2_max_dev_g", "g", "largest |X - mean| of plane 2"},
+                  {"_plane1_mean_g", "g", "mean reading of plane 1"}, {"_plane2_mean_g", "g", "mean reading of plane 2"},
+                  {"_pass_ratio", "1", "1 when every reading lies within mean +- claim / r, else 0"}});
+      readings(n, x.positions, "_g", "g", "reading");
     } else {
-      for (const char* o : {"_u_error_ic_gmm", "_v_error_ic_gmm", "_plane_error_ic_pct", "_u_error_cf_gmm",
-                            "_v_error_cf_gmm", "_plane_error_cf_pct", "_interference_ic_per_mm",
-                            "_interference_cf_per_mm", "_x_amplitude_um"}) {
-        output_names_.push_back(n + o);
-      }
+      declare(n, {{"_u_error_ic_gmm", "g*mm", "static unbalance error |U^ - U|, influence coefficients"},
+                  {"_v_error_ic_gmm", "g*mm", "couple unbalance error |V^ - V| / (z2 - z1), influence coefficients"},
+                  {"_plane_error_ic_pct", "%", "larger plane error |U_p^ - U_p| / |U_p|, influence coefficients"},
+                  {"_u_error_cf_gmm", "g*mm", "static unbalance error |U^ - U|, corrected closed form (Eq. 13)"},
+                  {"_v_error_cf_gmm", "g*mm", "couple unbalance error |V^ - V| / (z2 - z1), corrected closed form"},
+                  {"_plane_error_cf_pct", "%", "larger plane error |U_p^ - U_p| / |U_p|, corrected closed form"},
+                  {"_interference_ic_per_mm", "1/mm", "static unbalance indicated per unit of couple unbalance (ISO I_s,c), influence coefficients"},
+                  {"_interference_cf_per_mm", "1/mm", "static unbalance indicated per unit of couple unbalance (ISO I_s,c), corrected closed form"},
+                  {"_x_amplitude_um", "um", "amplitude of the horizontal plates' motion for the piece's static unbalance"}});
     }
   }
+  output_names_ = output_names_of(outputs_);
   if (!errors.empty()) throw ValidationError(errors);
   warnings_ = input_warnings();
 }

@@ -4,6 +4,7 @@
 #include <sstream>
 
 #include "engine/report_plot.h"
+#include "engine/requirements.h"
 #include "engine/result_io.h"
 
 namespace poise::studies {
@@ -58,7 +59,8 @@ void write_geometry_report(const GeometryReport& r) {
   const auto& st = s["study"];
   const std::string title = st.value("title", "").empty() ? st.value("name", "") : st.value("title", "");
   h << report_page_head(st.value("name", ""))
-    << "<h1>" << html_escape(title) << "</h1>\n<p>Study <code>"
+    << "<h1>" << html_escape(title) << "</h1>\n"
+    << answer_html(s.value("answer", std::string()), s.value("requirements", json::array())) << "<p>Study <code>"
     << html_escape(st.value("file", "")) << "</code>, model <code>" << html_escape(st.value("model_file", ""))
     << "</code> (" << html_escape(st.value("model_source", "")) << ").</p>\n";
   if (!st.value("notes", "").empty()) h << "<pre>" << html_escape(st.value("notes", "")) << "</pre>\n";

@@ -1,6 +1,7 @@
 #include "kinds/geometry_common/geometry_runner_common.h"
 
 #include "engine/references.h"
+#include "engine/requirements.h"
 #include "engine/report_figures.h"
 #include "engine/study_kind.h"
 
@@ -159,6 +160,17 @@ void write_geometry_summary(json& summary, const StudyConfig& cfg, const Geometr
     for (const auto& g : groups) group_names.push_back(g.name);
     summary["sensitivity"] = sensitivity_json(output_names, group_names, cfg.saltelli_base, by_index, run.size.seed);
   }
+  {
+    std::vector<OutputSpec> specs;
+    for (const auto& o : outputs) specs.push_back({o.name, o.unit, o.description});
+    add_answer(summary, cfg.requirements, specs, [&](const std::string& n) {
+      OutputValues ov;
+      for (std::size_t k = 0; k < outputs.size() && k < results.values.size(); ++k) {
+        if (n == outputs[k].name) ov = {&results.values[k], &results.ok_index, 0};
+      }
+      return ov;
+    }, results.status, results.completed, cfg.saltelli_base > 0);
+  }
   summary["provenance"] = {{"poise_version", kVersion}, {"git_commit", git_commit()},
                            {"study_file_sha1", file_sha1(cfg.file)}, {"model_file_sha1", file_sha1(cfg.model_path)},
                            {"seed", run.size.seed}, {"samples", run.size.samples}, {"threads", run.size.threads},
@@ -200,7 +212,6 @@ void finish_geometry_report(const StudyConfig& cfg, const RunOptions& options, c
   }
   tables.push_back(convergence_html(summary["sample_convergence"]));
   write_geometry_report({run.dir, summary, std::move(tables), std::move(plots), options.plots && cfg.plots, figures});
-  if (options.progress) std::fprintf(stderr, "poise: report %s\n", (fs::path(run.dir) / "report.html").c_str());
   finish_run_status(summary["status"].get<std::string>(), summary.value("stop_reason", std::string()),
                     summary.value("signal", 0), summary["sampling"]["samples"].get<std::size_t>(), run.size.samples,
                     summary["failures"]["count"].get<std::size_t>(), run.dir, cfg.file);

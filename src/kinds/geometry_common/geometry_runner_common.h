@@ -17,17 +17,14 @@
 #include "sampling/design.h"
 #include "kinds/geometry_common/geometry_report.h"
 #include "kinds/seeker_los/seeker_model.h"
+#include "engine/output_spec.h"
 #include "engine/study_config.h"
 #include "engine/study_runner.h"
 
 namespace poise::studies {
 
 /// One per-sample output: its column in samples.csv and its entry in summary.json.
-struct GeometryOutputDef {
-  const char* name;
-  const char* unit;
-  const char* description;
-};
+using GeometryOutputDef = OutputDeclaration;
 
 /// One sample: drawn inputs and outputs (NaN when it failed, with the reason).
 struct GeometrySample {

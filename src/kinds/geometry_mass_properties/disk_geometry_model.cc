@@ -15,11 +15,7 @@ DiskGeometryModel load_disk_geometry_model(const std::string& path, const std::m
   auto [doc, ctx] = open_model_file(path, overrides);
   TomlReader root(doc, ctx);
   DiskGeometryModel m;
-  m.file = path;
-  const ModelHeader header = read_model_header(root, "simulator_disk");
-  m.name = header.name;
-  m.title = header.title;
-  m.source = header.source;
+  static_cast<ModelHeader&>(m) = read_model_header(root, "simulator_disk");
   geometry::DiskSpec& s = m.nominal;
   {
     TomlReader t = root.table("disk");

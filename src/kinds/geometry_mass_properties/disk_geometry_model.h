@@ -17,11 +17,11 @@
 #include "geometry/generators.h"
 #include "kinds/seeker_los/seeker_model.h"
 #include "engine/tolerance_spec.h"
+#include "engine/model_overrides.h"
 
 namespace poise::studies {
 
-struct DiskGeometryModel {
-  std::string file, name, title, source;
+struct DiskGeometryModel : ModelHeader {  ///< file, name, title, source of the model file
   geometry::DiskSpec nominal;
   ToleranceSpec hole_position, clump_mass, thickness, wedge;
 };

@@ -111,11 +111,7 @@ GimbalModel load_gimbal_model(const std::string& path,
   auto [doc, ctx] = open_model_file(path, overrides);
   TomlReader root(doc, ctx);
   GimbalModel m;
-  m.file = path;
-  const ModelHeader header = read_model_header(root, "gimbal_static_unbalance");
-  m.name = header.name;
-  m.title = header.title;
-  m.source = header.source;
+  static_cast<ModelHeader&>(m) = read_model_header(root, "gimbal_static_unbalance");
   {
     TomlReader t = root.table("rotor");
     auto& r = m.rotor;

@@ -14,11 +14,11 @@
 #include "engine/tolerance_spec.h"
 #include "engine/user_parts.h"
 #include "engine/toml_reader.h"
+#include "engine/model_overrides.h"
 
 namespace poise::studies {
 
-struct GimbalModel {
-  std::string file, name, title, source;
+struct GimbalModel : ModelHeader {  ///< file, name, title, source of the model file
   models::DiskRotorParams rotor;   ///< eccentricity comes from the sampled unbalance
   procedures::TestPlan plan;       ///< positions are set per test group
   double counterweight_radius = 0; ///< R of Eq. 23 (m)

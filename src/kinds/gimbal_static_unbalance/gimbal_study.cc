@@ -96,13 +96,23 @@ GimbalStudy::GimbalStudy(StudyConfig config, GimbalModel model, std::size_t samp
       input_names_.push_back(n);
     }
   }
+  static constexpr OutputDeclaration kGroupOutputs[] = {
+      {"rmse_torque_mNm", "mN*m", "RMSE of the estimated MT_s against the loads over the group's tests"},
+      {"rmse_angle_deg", "deg", "RMSE of the estimated unbalance angle b against the loads"},
+      {"mean_torque_error_mNm", "mN*m", "mean error of MT_s over the group's tests"},
+      {"mean_angle_error_deg", "deg", "mean error of b over the group's tests"},
+      {"sd_torque_mNm", "mN*m", "standard deviation of the MT_s estimates over the group's tests"},
+      {"sd_angle_deg", "deg", "standard deviation of the b estimates over the group's tests"},
+      {"mean_offset_mNm", "mN*m", "mean fitted offset MK (Eq. 22)"},
+      {"max_residual_gmm", "g*mm", "largest residual unbalance after the counterweight (Eq. 23)"},
+      {"max_swing_deg", "deg", "largest swing |phi - phi_c| reached in the oscillation"},
+      {"mean_fit_rmse_mNm", "mN*m", "RMS residual of the Eq. 22 sine fit"},
+      {"test_time_min", "min", "duration of one test of the group"},
+  };
   for (const auto& g : gimbal_sections(config_).groups) {
-    for (const char* o : {"rmse_torque_mNm", "rmse_angle_deg", "mean_torque_error_mNm",
-                          "mean_angle_error_deg", "sd_torque_mNm", "sd_angle_deg", "mean_offset_mNm",
-                          "max_residual_gmm", "max_swing_deg", "mean_fit_rmse_mNm", "test_time_min"}) {
-      output_names_.push_back(g.name + "_" + o);
-    }
+    append_outputs(outputs_, g.name + "_", kGroupOutputs, "group " + g.name + ": ");
   }
+  output_names_ = output_names_of(outputs_);
 }
 
 void GimbalStudy::check_positions(const procedures::MeasurementResult& m, const std::string& group, std::size_t test,

@@ -46,9 +46,12 @@ class PlatformBalancingKind final : public ProcedureKind {
     return run_procedure_study(
         cfg,
         [&](const StudyConfig& c, std::size_t n, std::uint64_t seed) {
-          return std::make_unique<PlatformStudy>(c, model, n, seed, shafting.los_max_arcsec, shafting.pixel_arcsec);
+          // A sweep's value comes as an override of the model.
+          return std::make_unique<PlatformStudy>(
+              c, c.overrides == cfg.overrides ? model : load_platform_model(cfg.model_path, c.overrides), n, seed,
+              shafting.los_max_arcsec, shafting.pixel_arcsec);
         },
-        options);
+        options, requirements(cfg));
   }
   std::string validate(const StudyConfig& cfg) const override {
     const PlatformModel model = load_platform_model(cfg.model_path, cfg.overrides);

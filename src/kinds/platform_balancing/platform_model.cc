@@ -64,11 +64,7 @@ PlatformModel load_platform_model(const std::string& path, const std::map<std::s
   auto [doc, ctx] = open_model_file(path, overrides);
   TomlReader root(doc, ctx);
   PlatformModel m;
-  m.file = path;
-  const ModelHeader header = read_model_header(root, "platform_three_gimbal");
-  m.name = header.name;
-  m.title = header.title;
-  m.source = header.source;
+  static_cast<ModelHeader&>(m) = read_model_header(root, "platform_three_gimbal");
   for (models::Axis a : models::kAllAxes) {
     TomlReader t = root.table(models::axis_name(a));
     m.gimbals[static_cast<std::size_t>(a)] = read_gimbal(t);

@@ -37,6 +37,7 @@
 #include "models/stabilization_loop.h"
 #include "procedures/static_unbalance_procedure.h"
 #include "engine/tolerance_spec.h"
+#include "engine/model_overrides.h"
 
 namespace poise::studies {
 
@@ -54,8 +55,7 @@ struct PlatformGimbal {
   double lock_angle = 0.0;           ///< rad, while another axis is tested
 };
 
-struct PlatformModel {
-  std::string file, name, title, source;
+struct PlatformModel : ModelHeader {  ///< file, name, title, source of the model file
   std::array<PlatformGimbal, 3> gimbals;  ///< indexed by models::Axis (inner, middle, outer)
   procedures::TestPlan plan;              ///< servo gains, oscillation, acquisition, turntable, solver
   models::StabilizationLoop stabilization;  ///< inertia set per axis

@@ -116,17 +116,29 @@ PlatformStudy::PlatformStudy(StudyConfig config, PlatformModel model, std::size_
     if (s == Slot::kFixtureTilt) input_names_.push_back(std::string(slot_name(s)) + "_" + instance_label(s, k) + "_azimuth_deg");
     input_tolerances_.resize(input_names_.size(), std::string("tolerances.") + slot_name(s));
   }
-  for (Axis a : models::kAllAxes) output_names_.push_back(std::string("initial_") + models::axis_name(a) + "_torque_max_mNm");
+  for (Axis a : models::kAllAxes) {
+    outputs_.push_back({std::string("initial_") + models::axis_name(a) + "_torque_max_mNm", "mN*m",
+                        std::string("largest unbalance torque on the ") + models::axis_name(a) +
+                            " axis before balancing, over the gimbal-angle grid"});
+  }
+  static constexpr OutputDeclaration kAxisOutputs[] = {
+      {"measured_mNm", "mN*m", "MT_s measured in the axis test"},
+      {"residual_gmm", "g*mm", "residual first moment perpendicular to the axis after the campaign, at the lock angles"},
+      {"residual_grid_max_gmm", "g*mm", "the same, greatest over the gimbal-angle grid"},
+      {"torque_max_mNm", "mN*m", "largest residual unbalance torque over the grid, under gravity"},
+      {"torque_rms_mNm", "mN*m", "RMS residual unbalance torque over the grid, under gravity"},
+      {"torque_max_acc_mNm", "mN*m", "largest residual unbalance torque over the grid, under gravity plus the stated carrier acceleration"},
+      {"torque_rms_acc_mNm", "mN*m", "RMS residual unbalance torque over the grid, under gravity plus the stated carrier acceleration"},
+  };
   for (const auto& label : platform_sections(config_).platform.order_labels) {
     for (Axis a : models::kAllAxes) {
-      for (const char* o : {"measured_mNm", "residual_gmm", "residual_grid_max_gmm", "torque_max_mNm", "torque_rms_mNm", "torque_max_acc_mNm",
-                            "torque_rms_acc_mNm"}) {
-        output_names_.push_back(label + "_" + models::axis_name(a) + "_" + o);
-      }
+      append_outputs(outputs_, label + "_" + models::axis_name(a) + "_", kAxisOutputs,
+                     "order " + label + ", " + models::axis_name(a) + " axis: ");
     }
-    output_names_.push_back(label + "_los_max_arcsec");
-    output_names_.push_back(label + "_los_rms_arcsec");
+    outputs_.push_back({label + "_los_max_arcsec", "arcsec", "order " + label + ": peak LOS error over the carrier profile, worst grid point"});
+    outputs_.push_back({label + "_los_rms_arcsec", "arcsec", "order " + label + ": RMS LOS error over the carrier profile, worst grid point"});
   }
+  output_names_ = output_names_of(outputs_);
   // Grid of gimbal angles.
   const PlatformStudySection& ps = platform_sections(config_).platform;
   for (double al : models::linspace(ps.outer_min, ps.outer_max, ps.outer_points)) {

@@ -37,8 +37,27 @@ class SeekerLosKind final : public StudyKind {
     }
     return out;
   }
+  /// The [[requirement]] tables, and [requirement] los_error as the requirement it stands for:
+  /// p99.73 of the greatest LOS error over the field at most the limit, at 95% confidence.
+  std::vector<Requirement> requirements(const StudyConfig& cfg) const override {
+    std::vector<Requirement> out = cfg.requirements;
+    const SeekerLosSections& sec = seeker_sections(cfg);
+    if (sec.requirement_shorthand && !sec.requirement_text.empty()) {
+      Requirement r;
+      r.output = sec.requirement_in_pixels ? "los_max_px" : "los_max_arcsec";
+      r.statistic = "p99_73";
+      r.at_most = true;
+      r.limit_text = sec.requirement_text;
+      r.confidence = 0.95;
+      r.file = cfg.file;
+      r.origin = cfg.file + ": [requirement] los_error = \"" + sec.requirement_text +
+                 "\" (read as p99.73 of " + r.output + " at most " + sec.requirement_text + ", 95% confidence)";
+      out.push_back(r);
+    }
+    return out;
+  }
   std::string run(const StudyConfig& cfg, const RunOptions& options) const override {
-    return run_seeker_study(cfg, options);
+    return run_seeker_study(cfg, options, requirements(cfg));
   }
   nlohmann::json replay(const StudyConfig& cfg, std::size_t index, const RunOptions& options) const override {
     return replay_seeker_sample(cfg, index, options);

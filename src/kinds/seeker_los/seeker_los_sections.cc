@@ -13,7 +13,23 @@ std::unique_ptr<KindSections> read_seeker_los_sections(TomlReader& root, const S
     c->yaw_points = static_cast<std::size_t>(t.integer("yaw_points", 1, 1001));
     c->pitch_points = static_cast<std::size_t>(t.integer("pitch_points", 1, 1001));
   }
-  {
+  // The LOS limit of the field figures: the [requirement] shorthand, or else the first
+  // [[requirement]] on los_max_arcsec or los_max_px.
+  const Requirement* stated = nullptr;
+  for (const auto& r : cfg.requirements) {
+    if (!stated && (r.output == "los_max_arcsec" || r.output == "los_max_px")) stated = &r;
+  }
+  if (stated && !root.has("requirement")) {
+    c->requirement_text = stated->limit_text;
+    c->requirement_shorthand = false;
+    try {
+      const units::Quantity q = units::parse_quantity(c->requirement_text);
+      c->requirement_in_pixels = q.dim == units::kPixel;
+      c->requirement = q.value;
+    } catch (const Error&) {
+      // reported with the [[requirement]]
+    }
+  } else if (!root.has("requirement") || root.raw()["requirement"].is_table() || root.schema_only()) {
     TomlReader t = root.table("requirement");
     c->requirement_text = t.string("los_error");
     if (t.has("los_error") && t.raw()["los_error"].is_string()) {  // else: t.string reported it
@@ -33,15 +49,9 @@ std::unique_ptr<KindSections> read_seeker_los_sections(TomlReader& root, const S
                 std::string("a positive angle or pixel count, e.g. \"1 px\" or \"18 arcsec\" (") + e.what() + ")");
       }
     }
-  }
-  for (auto& s : root.table_array("sweep")) {
-    SweepSpec sw;
-    sw.parameter = s.string("parameter");
-    sw.values = s.string_array("values");
-    if (sw.values.empty()) s.error("values", "[]", "at least one value");
-    sw.samples =
-        static_cast<std::size_t>(s.integer("samples", 1, 1'000'000'000, static_cast<std::int64_t>(cfg.samples)));
-    c->sweeps.push_back(sw);
+  } else {
+    root.error("requirement", "[[requirement]] tables",
+               "an LOS limit: [requirement] los_error = \"1 px\", or a [[requirement]] on los_max_arcsec or los_max_px");
   }
   if (root.has_or_schema("output")) {
     TomlReader t = root.table("output");

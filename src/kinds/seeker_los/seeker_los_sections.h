@@ -1,10 +1,13 @@
 #pragma once
 /// The sections of a seeker_los study file (the shared ones are in engine/study_config.h):
 ///   [grid]         yaw_points, pitch_points (over the model's field of regard)
-///   [requirement]  los_error = "1 px" (or any angle)
+///   [requirement]  los_error = "1 px" (or any angle): the limit of the field figures, and a
+///                  shorthand for the requirement "p99.73 of los_max_px (or los_max_arcsec)
+///                  at most 1 px, at 95% confidence"; or, instead, [[requirement]] tables
+///                  (engine/requirements.h), the first on los_max_arcsec or los_max_px
+///                  giving the field figures their limit
 ///   [clearance]    output = true, yaw_points, pitch_points (optional; the nominal frames'
 ///                  least clearance to the housing as an output: geometry_study.h)
-///   [[sweep]]      parameter = "dotted.model.key", values = [...], samples (optional)
 ///   [output]       contribution_samples = 4096 (each tolerance set to zero in turn; 0 = off)
 ///                  grid_values_in_memory_mb = 256 (a run's grid values are kept in memory for
 ///                  its field statistics when they take at most this much, else read back
@@ -18,18 +21,12 @@
 
 namespace poise::studies {
 
-struct SweepSpec {
-  std::string parameter;
-  std::vector<std::string> values;
-  std::size_t samples = 0;
-};
-
 struct SeekerLosSections : KindSectionsOf<SeekerLosSections> {
   std::size_t yaw_points = 13, pitch_points = 13;
   double requirement = 0.0;  ///< as written, in its unit's SI (rad or px)
   bool requirement_in_pixels = true;
   std::string requirement_text;
-  std::vector<SweepSpec> sweeps;
+  bool requirement_shorthand = true;  ///< stated as [requirement] los_error (not [[requirement]])
   /// Contribution of each tolerance: the study re-run with that tolerance set to zero
   /// (same random numbers), with this many samples; 0 switches it off.
   std::size_t contribution_samples = 4096;

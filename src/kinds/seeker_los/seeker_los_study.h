@@ -27,6 +27,7 @@
 #include "sampling/design.h"
 #include "sampling/statistics.h"
 #include "kinds/seeker_los/seeker_model.h"
+#include "engine/output_spec.h"
 #include "engine/study_config.h"
 #include "engine/wide_columns.h"
 
@@ -42,12 +43,7 @@ struct SeekerSampleResult {
 };
 
 /// Names and units of the per-sample outputs, in order.
-struct OutputDef {
-  const char* name;
-  const char* unit;
-  const char* description;
-};
-inline constexpr OutputDef kSeekerOutputs[] = {
+inline constexpr OutputDeclaration kSeekerOutputs[] = {
     {"los_max_arcsec", "arcsec", "greatest total LOS error over the field of regard"},
     {"los_rms_arcsec", "arcsec", "RMS total LOS error over the field of regard"},
     {"yaw_max_arcsec", "arcsec", "greatest |yaw-angle error| over the field"},

@@ -131,11 +131,7 @@ SeekerModel load_seeker_model(const std::string& path,
   auto [doc, ctx] = open_model_file(path, overrides);
   TomlReader root(doc, ctx);
   SeekerModel m;
-  m.file = path;
-  const ModelHeader header = read_model_header(root, "seeker_two_axis");
-  m.name = header.name;
-  m.title = header.title;
-  m.source = header.source;
+  static_cast<ModelHeader&>(m) = read_model_header(root, "seeker_two_axis");
   {
     TomlReader t = root.table("field_of_regard");
     m.yaw_min = t.quantity("yaw_min", kAngle);

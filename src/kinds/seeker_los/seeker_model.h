@@ -34,6 +34,7 @@
 #include "models/seeker_los_chain.h"
 #include "engine/input_column.h"
 #include "engine/tolerance_spec.h"
+#include "engine/model_overrides.h"
 
 namespace poise::studies {
 
@@ -59,9 +60,7 @@ struct SeekerAxis {
   std::vector<BearingSource> bearing_sources;
 };
 
-struct SeekerModel {
-  std::string file;
-  std::string name, title, source;
+struct SeekerModel : ModelHeader {  ///< file, name, title, source of the model file
   double yaw_min = 0, yaw_max = 0, pitch_min = 0, pitch_max = 0;  ///< rad
   double pixel_ifov = 0;   ///< rad per pixel
   std::string pixel_ifov_source;

@@ -1,5 +1,6 @@
 #include "kinds/seeker_los/seeker_report.h"
 #include "engine/references.h"
+#include "engine/requirements.h"
 #include "engine/report_figures.h"
 #include "engine/report_plot.h"
 
@@ -149,7 +150,7 @@ void write_report(const ReportInputs& in) {
   h << report_page_head(st["name"].get<std::string>());
   h << "<h1>" << html_escape(st["title"].get<std::string>().empty() ? st["name"].get<std::string>()
                                                            : st["title"].get<std::string>())
-    << "</h1>\n<p>Study <code>" << html_escape(st["file"].get<std::string>()) << "</code>, model <code>"
+    << "</h1>\n" << answer_html(s.value("answer", std::string()), s.value("requirements", json::array())) << "<p>Study <code>" << html_escape(st["file"].get<std::string>()) << "</code>, model <code>"
     << html_escape(st["model_file"].get<std::string>()) << "</code> (" << html_escape(st["model_source"].get<std::string>())
     << ").</p>\n";
 
@@ -160,7 +161,7 @@ void write_report(const ReportInputs& in) {
   }
   // Verdict.
   const auto& req_j = s["requirement"];
-  h << "<h2>Verdict</h2>\n";
+  h << "<h2>Units and field within the LOS limit</h2>\n";
   if (s.contains("fraction_samples_meeting")) {
     const auto& fs_ = s["fraction_samples_meeting"];
     const auto& ff = s["fraction_field_meeting"];

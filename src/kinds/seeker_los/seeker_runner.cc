@@ -21,6 +21,7 @@
 #include "engine/convergence.h"
 #include "engine/provenance.h"
 #include "engine/references.h"
+#include "engine/requirements.h"
 #include "engine/study_kind.h"
 #include "engine/result_io.h"
 #include "engine/run_plan.h"
@@ -55,21 +56,6 @@ SeekerModel load_model(const StudyConfig& cfg, const std::map<std::string, std::
 std::string validate_seeker_study(const StudyConfig& cfg) {
   const SeekerModel model = load_model(cfg);
   const SeekerLosSections& sec = seeker_sections(cfg);
-  // Sweep values are validated by loading the model with each of them.
-  std::vector<InputError> errors;
-  for (const auto& sw : sec.sweeps) {
-    for (const auto& v : sw.values) {
-      try {
-        load_model(cfg, {{sw.parameter, v}});
-      } catch (const ValidationError& e) {
-        for (const auto& err : e.errors()) {
-          errors.emplace_back(SourceLocation{cfg.file, 0, 0}, "sweep " + sw.parameter, "\"" + v + "\"",
-                              std::string("a value the model accepts: ") + err.what());
-        }
-      }
-    }
-  }
-  if (!errors.empty()) throw ValidationError(errors);
   SeekerSampler sampler(model);
   char buf[512];
   std::snprintf(buf, sizeof buf,
@@ -81,7 +67,7 @@ std::string validate_seeker_study(const StudyConfig& cfg) {
                 static_cast<unsigned long long>(cfg.seed), sec.yaw_points, sec.pitch_points,
                 model.yaw_min / units::kRadPerDeg, model.yaw_max / units::kRadPerDeg,
                 model.pitch_min / units::kRadPerDeg, model.pitch_max / units::kRadPerDeg,
-                sec.requirement_text.c_str(), sec.sweeps.size());
+                sec.requirement_text.c_str(), cfg.sweeps.size());
   return buf;
 }
 
@@ -117,7 +103,8 @@ json replay_seeker_sample(const StudyConfig& cfg, std::size_t index, const RunOp
   return j;
 }
 
-std::string run_seeker_study(const StudyConfig& file_cfg, const RunOptions& options) {
+std::string run_seeker_study(const StudyConfig& file_cfg, const RunOptions& options,
+                             const std::vector<Requirement>& requirements) {
   StudyConfig cfg = file_cfg;
   const SeekerModel model = load_model(cfg);
   const SeekerLosSections& sec = seeker_sections(cfg);
@@ -235,7 +222,7 @@ std::string run_seeker_study(const StudyConfig& file_cfg, const RunOptions& opti
     SeekerMcResult result;
   };
   std::vector<SideRun> side;
-  for (const auto& sw : extras ? sec.sweeps : std::vector<SweepSpec>{}) {
+  for (const auto& sw : extras ? cfg.sweeps : std::vector<SweepSpec>{}) {
     for (const auto& v : sw.values) side.push_back({{{sw.parameter, v}}, sw.samples, {}});
   }
   const std::size_t first_contribution = side.size();
@@ -261,7 +248,7 @@ std::string run_seeker_study(const StudyConfig& file_cfg, const RunOptions& opti
   // values are the design's, not the sampling noise's.
   json sweeps = json::array();
   std::size_t job = 0;
-  for (const auto& sw : extras ? sec.sweeps : std::vector<SweepSpec>{}) {
+  for (const auto& sw : extras ? cfg.sweeps : std::vector<SweepSpec>{}) {
     json js{{"parameter", sw.parameter}, {"samples", sw.samples}, {"points", json::array()}};
     for (const auto& v : sw.values) {
       const SeekerMcResult& r = side[job++].result;
@@ -373,6 +360,17 @@ std::string run_seeker_study(const StudyConfig& file_cfg, const RunOptions& opti
     s["sensitivity"] = sensitivity_json(output_names, groups, sensitivity_base, by_index, seed, tolerances);
   }
   s["sweeps"] = sweeps;
+  {
+    std::vector<OutputSpec> specs;
+    for (const auto& o : kSeekerOutputs) specs.push_back({o.name, o.unit, o.description});
+    add_answer(s, requirements, specs, [&](const std::string& name) {
+      OutputValues ov;
+      for (std::size_t k = 0; k < mc.values.size() && k < kNumSeekerOutputs; ++k) {
+        if (name == kSeekerOutputs[k].name) ov = {&mc.values[k], &mc.ok_index, cfg.replicate_size};
+      }
+      return ov;
+    }, status, ran, sensitivity_base > 0);
+  }
   s["provenance"] = {{"poise_version", kVersion}, {"git_commit", git_commit()},
                      {"study_file_sha1", file_sha1(cfg.file)}, {"model_file_sha1", file_sha1(cfg.model_path)},
                      {"seed", seed}, {"samples", ran}, {"threads", threads}, {"mpi_ranks", ranks},
@@ -382,9 +380,6 @@ std::string run_seeker_study(const StudyConfig& file_cfg, const RunOptions& opti
   write_file_atomic((fs::path(dir) / "summary.json").string(), s.dump(2) + "\n");
   ReportInputs rep{dir, s, mc, study.grid().alpha(), study.grid().beta(), options.plots && cfg.plots};
   write_report(rep);
-  if (options.progress) {
-    std::fprintf(stderr, "poise: report %s\n", (fs::path(dir) / "report.html").c_str());
-  }
   finish_run_status(status, mc.stop_reason, mc.signal, ran, n, mc.failures, dir, cfg.file);
   return dir;
 }

@@ -1,7 +1,9 @@
 #!/usr/bin/env bash
-# Records samples.csv of every study in plan.txt with the given poise binary (files over
-# 200 kB as their SHA-1) and, for a study with samples.h5, the digest of its values:
-#   tests/data/study_reference/record.sh build/poise
+# Records samples.csv of every shipped study (studies/*.toml with a [study] table; samples and
+# seed from plan.txt, else 2 and 11) with the given poise binary (files over 200 kB as their
+# SHA-1) and, for a study with wide values in samples.h5, the digest of its values:
+#   tests/data/study_reference/record.sh build/poise               # every study
+#   tests/data/study_reference/record.sh build/poise my_new_study  # only these
 # Run it only when a change is meant to change the samples (and say so in the commit).
 set -euo pipefail
 here="$(cd "$(dirname "$0")" && pwd)"
@@ -9,8 +11,16 @@ root="$(cd "$here/../../.." && pwd)"
 poise="$(realpath "${1:?usage: record.sh POISE_BINARY}")"
 tmp="$(mktemp -d)"
 trap 'rm -rf "$tmp"' EXIT
-grep -v '^#' "$here/plan.txt" | while read -r study samples seed; do
-  [ -n "$study" ] || continue
+shift
+wanted=" $* "
+for file in "$root"/studies/*.toml; do
+  grep -q '^\[study\]' "$file" || continue  # an optimization file
+  study="$(basename "$file" .toml)"
+  [ "$wanted" = "  " ] || [[ "$wanted" == *" $study "* ]] || continue
+  samples=""; seed=""
+  read -r samples seed < <(awk -v s="$study" '$1 == s { print $2, $3 }' "$here/plan.txt") || true
+  samples="${samples:-2}"
+  seed="${seed:-11}"
   echo "record: $study ($samples samples, seed $seed)"
   (cd "$root" && "$poise" run "studies/$study.toml" --samples "$samples" --seed "$seed" --threads 2 \
      --out "$tmp/$study" --quiet --no-plots > /dev/null)
@@ -22,7 +32,7 @@ grep -v '^#' "$here/plan.txt" | while read -r study samples seed; do
   fi
   # A run with wide data (samples.h5) records the digest of its values (summary.json).
   rm -f "$here/$study.h5.digest"
-  if [ -f "$tmp/$study/samples.h5" ]; then
+  if grep -q '"values_digest"' "$tmp/$study/summary.json"; then
     grep -o '"values_digest": "[0-9a-f]*"' "$tmp/$study/summary.json" | cut -d'"' -f4 > "$here/$study.h5.digest"
   fi
 done

@@ -1,4 +1,4 @@
-#include "optimize/confidence_bound.h"
+#include "engine/confidence_bound.h"
 
 #include <algorithm>
 #include <cmath>
@@ -15,12 +15,12 @@
 #include "engine/study_evaluation.h"
 #include "sampling/statistics.h"
 
-namespace poise::optimize {
+namespace poise::studies {
 namespace {
 
 // q of "p99.73" / "p99_73" (as a fraction), or nullopt for another statistic.
 std::optional<double> quantile_level(const std::string& stat) {
-  if (stat.size() < 2 || stat[0] != 'p' || !studies::is_statistic(stat)) return std::nullopt;
+  if (stat.size() < 2 || stat[0] != 'p' || !is_statistic(stat)) return std::nullopt;
   std::string q = stat.substr(1);
   std::replace(q.begin(), q.end(), '_', '.');
   return std::stod(q) / 100.0;
@@ -74,7 +74,7 @@ std::vector<double> per_replicate(const SampleSet& s, const std::string& stat) {
   for (std::size_t i = 0; i < s.values.size(); ++i) groups[s.replicate[i]].push_back(s.values[i]);
   std::vector<double> out;
   for (const auto& [r, g] : groups) {
-    if (g.size() >= 2) out.push_back(studies::statistic(g, stat));
+    if (g.size() >= 2) out.push_back(statistic(g, stat));
   }
   return out;
 }
@@ -130,7 +130,7 @@ std::string describe(const BoundSpec& b) {
 }
 
 bool bound_supported(const std::string& stat) {
-  return stat == "mean" || quantile_level(stat).has_value() || (is_fraction(stat) && studies::is_statistic(stat));
+  return stat == "mean" || quantile_level(stat).has_value() || (is_fraction(stat) && is_statistic(stat));
 }
 
 std::size_t SampleSet::replicates() const {
@@ -154,7 +154,7 @@ SampleSet sample_set(const std::vector<double>& values, const std::vector<std::s
 }
 
 std::optional<double> one_sided_bound(const SampleSet& s, const std::string& stat, const BoundSpec& b) {
-  if (b.side == BoundSide::kNone) return studies::statistic(s.values, stat);
+  if (b.side == BoundSide::kNone) return statistic(s.values, stat);
   if (s.values.empty() || stat == "min" || stat == "max") return std::nullopt;
   const bool upper = b.side == BoundSide::kUpper;
   const double c = b.confidence;
@@ -168,7 +168,7 @@ std::optional<double> one_sided_bound(const SampleSet& s, const std::string& sta
     if (per.size() < 2) return std::nullopt;
     const double half = t_quantile(static_cast<double>(per.size() - 1), c) * sd_of(per) /
                         std::sqrt(static_cast<double>(per.size()));
-    const double pooled = studies::statistic(s.values, stat);
+    const double pooled = statistic(s.values, stat);
     return upper ? pooled + half : pooled - half;
   }
   const double n = static_cast<double>(s.values.size());
@@ -179,7 +179,7 @@ std::optional<double> one_sided_bound(const SampleSet& s, const std::string& sta
     return upper ? mean_of(s.values) + half : mean_of(s.values) - half;
   }
   if (is_fraction(stat)) {
-    const double k = std::round(studies::statistic(s.values, stat) * n);
+    const double k = std::round(statistic(s.values, stat) * n);
     return upper ? clopper_pearson_upper(k, n, c) : clopper_pearson_lower(k, n, c);
   }
   if (stat == "std" && s.values.size() >= 2) {
@@ -193,7 +193,7 @@ std::optional<double> one_sided_bound(const SampleSet& s, const std::string& sta
 
 Interval interval(const SampleSet& s, const std::string& stat, double confidence) {
   Interval r;
-  r.value = studies::statistic(s.values, stat);
+  r.value = statistic(s.values, stat);
   const double one_sided = 1.0 - (1.0 - confidence) / 2.0;
   if (stat == "min" || stat == "max") {
     r.method = "sample " + stat + ", no interval";
@@ -217,4 +217,4 @@ Interval interval(const SampleSet& s, const std::string& stat, double confidence
   return r;
 }
 
-}  // namespace poise::optimize
+}  // namespace poise::studies

@@ -1,7 +1,8 @@
 #pragma once
-/// Confidence bounds and intervals of the statistics an optimization states its objective and
-/// constraints on (studies::statistic: mean, std, min, max, p<q>, fraction_le/ge:<x>), for a
-/// chance constraint ("the upper 95% bound of p99.73 <= 1 px") and for the fresh-sample check.
+/// Confidence bounds and intervals of the statistics a requirement or an optimization states
+/// its limits on (statistic(): mean, std, min, max, p<q>, fraction_le/ge:<x>): the verdicts of
+/// [[requirement]] (requirements.h), a chance constraint of `poise optimize` ("the upper 95%
+/// bound of p99.73 <= 1 px") and its fresh-sample check.
 ///
 /// Independent samples (monte_carlo, or any design without replicates):
 ///   p<q>       distribution-free order-statistic bound: the upper bound at confidence c is
@@ -24,7 +25,7 @@
 #include <string>
 #include <vector>
 
-namespace poise::optimize {
+namespace poise::studies {
 
 enum class BoundSide { kNone, kUpper, kLower };
 
@@ -68,4 +69,4 @@ struct Interval {
 /// The statistic with its two-sided interval at `confidence` (0.95: 95%).
 Interval interval(const SampleSet& s, const std::string& statistic, double confidence = 0.95);
 
-}  // namespace poise::optimize
+}  // namespace poise::studies

@@ -1,0 +1,164 @@
+#include "engine/procedure_sweeps.h"
+
+#include <cmath>
+#include <cstdio>
+
+#include "core/units.h"
+#include "engine/report_figures.h"
+#include "engine/report_plot.h"
+#include "engine/result_io.h"
+
+namespace poise::studies {
+namespace {
+using nlohmann::json;
+
+// The number and unit of a value as written ("70 mm" -> 70, "mm"): sweep axes in the
+// user's own unit, not SI.
+std::pair<double, std::string> as_written(const std::string& text) {
+  std::size_t used = 0;
+  double x = NAN;
+  try {
+    x = std::stod(text, &used);
+  } catch (const std::exception&) {
+    return {NAN, ""};
+  }
+  std::string unit = text.substr(used);
+  unit.erase(0, unit.find_first_not_of(' '));
+  return {x, unit};
+}
+
+// The outputs a sweep shows, each with its statistic: those the requirements name (their
+// statistic), else the first two outputs' p95.
+std::vector<std::pair<std::string, std::string>> shown(const std::vector<Requirement>& requirements,
+                                                       const std::vector<OutputSpec>& outputs) {
+  std::vector<std::pair<std::string, std::string>> out;
+  for (const auto& r : requirements) {
+    const std::string stat = r.statistic == "max" ? "max" : r.statistic;
+    std::pair<std::string, std::string> p{r.output, stat};
+    if (std::find(out.begin(), out.end(), p) == out.end()) out.push_back(p);
+  }
+  for (std::size_t k = 0; out.empty() && k < outputs.size() && k < 2; ++k) out.emplace_back(outputs[k].name, "p95");
+  if (out.size() == 1 && requirements.empty() && outputs.size() > 1) out.emplace_back(outputs[1].name, "p95");
+  return out;
+}
+
+}  // namespace
+
+json run_procedure_sweeps(const StudyConfig& cfg, const StudyFactory& make_study, std::uint64_t seed, int threads,
+                          bool progress, const std::vector<Requirement>& requirements,
+                          const std::vector<OutputSpec>& outputs) {
+  json sweeps = json::array();
+  for (const auto& sw : cfg.sweeps) {
+    json js{{"parameter", sw.parameter}, {"samples", sw.samples}, {"points", json::array()}};
+    for (const auto& v : sw.values) {
+      if (progress) std::fprintf(stderr, "  sweep %s = %s: %zu samples\n", sw.parameter.c_str(), v.c_str(), sw.samples);
+      StudyConfig c = cfg;
+      auto overrides = c.overrides;
+      overrides[sw.parameter] = v;
+      c.overrides = apply_study_overrides(c, overrides);
+      const std::unique_ptr<ProcedureStudy> study = make_study(c, sw.samples, seed);
+      const McResult mc = study->run(threads, false, nullptr, {});
+      json p{{"value", v}, {"value_si", units::parse_quantity(v).value}, {"samples", mc.completed},
+             {"failures", mc.failures}};
+      json outs = json::object();
+      for (std::size_t k = 0; k < mc.outputs.size() && k < outputs.size(); ++k) {
+        json o = summary_json(mc.outputs[k]);
+        o["unit"] = outputs[k].unit;
+        outs[outputs[k].name] = o;
+      }
+      p["outputs"] = outs;
+      p["requirements"] = judge_requirements(requirements, outputs, [&](const std::string& name) {
+        const auto it = std::find_if(outputs.begin(), outputs.end(), [&](const OutputSpec& o) { return o.name == name; });
+        const auto k = static_cast<std::size_t>(it - outputs.begin());
+        OutputValues ov;
+        if (it != outputs.end() && k < mc.values.size()) ov = {&mc.values[k], &mc.ok_index, cfg.replicate_size};
+        return ov;
+      });
+      js["points"].push_back(p);
+    }
+    sweeps.push_back(js);
+  }
+  return sweeps;
+}
+
+std::string sweeps_html(const json& sweeps, const std::vector<OutputSpec>& outputs, const std::filesystem::path& plots_dir,
+                        bool plots) {
+  if (!sweeps.is_array() || sweeps.empty()) return "";
+  std::string h = "<h2>Sweeps</h2>\n<p>Each value runs the same samples (common random numbers): the differences "
+                  "between values are the design's, not the sampling's. Intervals are 95%.</p>\n";
+  std::vector<Requirement> none;
+  for (std::size_t s = 0; s < sweeps.size(); ++s) {
+    const json& sw = sweeps[s];
+    const std::string param = sw["parameter"].get<std::string>();
+    const auto [x0, x_unit] = as_written(sw["points"].empty() ? std::string() : sw["points"][0]["value"].get<std::string>());
+    (void)x0;
+    // The outputs shown: those a requirement names (with its statistic), else the first two.
+    std::vector<std::pair<std::string, std::string>> show;
+    std::vector<FigureLine> limits_of;
+    if (!sw["points"].empty()) {
+      for (const auto& r : sw["points"][0]["requirements"]) {
+        std::pair<std::string, std::string> p{r["output"].get<std::string>(), r["statistic"].get<std::string>()};
+        if (std::find(show.begin(), show.end(), p) == show.end()) show.push_back(p);
+      }
+    }
+    if (show.empty()) show = shown(none, outputs);
+    h += "<h3>" + html_escape(param) + "</h3>\n<table><tr><th>" + html_escape(param) + "</th>";
+    for (const auto& [name, stat] : show) h += "<th>" + html_escape(stat + " of " + name) + "</th>";
+    h += "<th>failed</th></tr>\n";
+    for (const auto& p : sw["points"]) {
+      h += "<tr><td>" + html_escape(p["value"].get<std::string>()) + "</td>";
+      for (const auto& [name, stat] : show) {
+        std::string cell = "&ndash;";
+        if (p["outputs"].contains(name) && p["outputs"][name].contains(stat)) {
+          const json& e = p["outputs"][name][stat];
+          cell = format_significant(e["value"].get<double>()) + " " + html_escape(p["outputs"][name]["unit"].get<std::string>());
+          if (e["ci95"][0].is_number() && e["ci95"][1].is_number()) {
+            cell += " <small>[" + format_significant(e["ci95"][0].get<double>()) + ", " +
+                    format_significant(e["ci95"][1].get<double>()) + "]</small>";
+          }
+        }
+        for (const auto& r : p["requirements"]) {
+          if (r["output"] == name && r["statistic"] == stat) cell += " <b>" + html_escape(r["verdict"].get<std::string>()) + "</b>";
+        }
+        h += "<td>" + cell + "</td>";
+      }
+      h += "<td>" + std::to_string(p["failures"].get<std::size_t>()) + "</td></tr>\n";
+    }
+    h += "</table>\n";
+    if (!plots) continue;
+    std::vector<std::string> figures;
+    std::string why;
+    for (std::size_t k = 0; k < show.size(); ++k) {
+      const auto& [name, stat] = show[k];
+      std::vector<SweepFigurePoint> pts;
+      std::string unit;
+      for (const auto& p : sw["points"]) {
+        if (!p["outputs"].contains(name) || !p["outputs"][name].contains(stat)) continue;
+        const json& e = p["outputs"][name][stat];
+        unit = p["outputs"][name]["unit"].get<std::string>();
+        pts.push_back({as_written(p["value"].get<std::string>()).first, e["value"].get<double>(),
+                       e["ci95"][0].is_number() ? e["ci95"][0].get<double>() : NAN,
+                       e["ci95"][1].is_number() ? e["ci95"][1].get<double>() : NAN});
+      }
+      std::vector<FigureLine> limits;
+      if (!sw["points"].empty()) {
+        for (const auto& r : sw["points"][0]["requirements"]) {
+          if (r["output"] == name && r["statistic"] == stat) {
+            limits.push_back({r["limit"]["value"].get<double>(),
+                              std::string(r["at_most"].get<bool>() ? "at most " : "at least ") +
+                                  r["limit"]["as_written"].get<std::string>(),
+                              "#cc3311"});
+          }
+        }
+      }
+      const std::string label = stat + " of " + name + (unit.empty() || unit == "1" ? "" : " [" + unit + "]");
+      sweep_figure(plots_dir, "sweep" + std::to_string(s) + "_" + name + "_" + stat, label + " against " + param,
+                   param + (x_unit.empty() ? "" : " [" + x_unit + "]"), label, pts, limits, figures, why);
+    }
+    h += figures_html(plots_dir, figures);
+    if (!why.empty()) h += "<p><small>" + html_escape(why) + "</small></p>\n";
+  }
+  return h;
+}
+
+}  // namespace poise::studies
