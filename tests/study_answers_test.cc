@@ -158,5 +158,18 @@ TEST(StudyAnswers, RequirementOnAnUnknownOutputIsRefusedWithItsLine) {
   EXPECT_NE(r.err.find("g_rmse_torque_mNm"), std::string::npos) << r.err;  // the outputs it could name
 }
 
+TEST(StudyAnswers, GeometryStudyAnswersAndRefusesASweep) {
+  TempDir dir;
+  const std::string study = user_study(dir, "geometry_mass_properties", "simulator_disk_yang2015.toml",
+                                       requirement("mass_ray_error_pct", "max", "50 %"));
+  const json s = run_and_check(dir, study, "--samples 2", 1);
+  EXPECT_EQ(s["outputs"]["mass_ray_error_pct"]["unit"], "%");
+  // A kind whose runner carries out no sweep refuses one, at its line.
+  test::write_text(dir.file("sweep.toml"), read_text(study) + "\n[[sweep]]\nparameter = \"disk.radius\"\nvalues = [\"1 mm\"]\n");
+  const auto r = test::run_poise(dir, "validate '" + dir.file("sweep.toml") + "'");
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.err.find("runs none"), std::string::npos) << r.err;
+}
+
 }  // namespace
 }  // namespace poise

@@ -47,7 +47,15 @@ nlohmann::json write_sample_columns_h5(const std::string& csv_path, const std::s
   if (!in) throw Error(csv_path + ": cannot be read back for samples.h5");
   std::string line;
   std::getline(in, line);  // header
-  const std::size_t n_in = input_names.size(), n_out = outputs.size();
+  std::vector<std::string> inputs_named = input_names;
+  if (inputs_named.empty() && !outputs.empty()) {  // the header's columns before the first output
+    std::stringstream hs(line);
+    std::string cell;
+    for (std::size_t k = 0; std::getline(hs, cell, ',') && cell != outputs.front().name; ++k) {
+      if (k >= 2) inputs_named.push_back(cell);
+    }
+  }
+  const std::size_t n_in = inputs_named.size(), n_out = outputs.size();
   std::vector<std::uint64_t> sample;
   std::vector<std::uint8_t> ok;
   std::vector<std::vector<double>> inputs(n_in), values(n_out);
@@ -78,7 +86,7 @@ nlohmann::json write_sample_columns_h5(const std::string& csv_path, const std::s
     Id out_group(H5Gcreate2(file.get(), "outputs", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose);
     if (!in_group.ok() || !out_group.ok()) throw Error(hdf5::failed("cannot create the groups"));
     for (std::size_t k = 0; k < n_in; ++k) {
-      write_column(in_group.get(), input_names[k], H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, inputs[k].data(), rows, "",
+      write_column(in_group.get(), inputs_named[k], H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, inputs[k].data(), rows, "",
                    "drawn input (its unit ends its name)");
     }
     for (std::size_t k = 0; k < n_out; ++k) {

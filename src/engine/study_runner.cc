@@ -17,6 +17,10 @@ namespace {
 // Each sweep value is a model the kind accepts: the study validated with it as an override.
 void check_sweeps(const StudyConfig& cfg, const StudyKind& kind) {
   std::vector<InputError> errors;
+  if (!kind.runs_sweeps() && !cfg.sweeps.empty()) {
+    throw ValidationError({InputError(SourceLocation{cfg.file, cfg.sweeps.front().line, 0}, "sweep", "[[sweep]]",
+                                      "no [[sweep]]: a " + cfg.kind + " study runs none (run the study once per value)")});
+  }
   for (const auto& sw : cfg.sweeps) {
     for (const auto& v : sw.values) {
       try {

@@ -2,6 +2,7 @@
 
 #include "engine/references.h"
 #include "engine/requirements.h"
+#include "engine/sample_columns_h5.h"
 #include "engine/report_figures.h"
 #include "engine/study_kind.h"
 
@@ -176,6 +177,15 @@ void write_geometry_summary(json& summary, const StudyConfig& cfg, const Geometr
                            {"seed", run.size.seed}, {"samples", run.size.samples}, {"threads", run.size.threads},
                            {"wall_time_s", results.wall_s}, {"started", run.started}, {"finished", now_iso8601()},
                            {"libraries", library_versions(run.plots)}};
+  {
+    std::vector<OutputSpec> specs;
+    append_outputs(specs, "", outputs);
+    summary["samples_h5"] = write_sample_columns_h5(
+        (fs::path(run.dir) / "samples.csv").string(), (fs::path(run.dir) / "samples.h5").string(), {}, specs,
+        {{"study", cfg.name}, {"kind", cfg.kind}, {"study_file", cfg.file}, {"method", sampling::to_string(cfg.method)},
+         {"poise_version", kVersion}},
+        {{"seed", run.size.seed}, {"planned_samples", run.size.samples}});
+  }
   write_file_atomic((fs::path(run.dir) / "summary.json").string(), summary.dump(2) + "\n");
 }
 

@@ -28,6 +28,7 @@ class GeometryMassPropertiesKind final : public StudyKind {
   nlohmann::json replay(const StudyConfig& cfg, std::size_t index, const RunOptions& options) const override {
     return replay_geometry_mass_sample(cfg, index, options);
   }
+  bool runs_sweeps() const override { return false; }
   bool streams() const override { return false; }
 };
 

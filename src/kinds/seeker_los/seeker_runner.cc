@@ -30,25 +30,157 @@
 #include "kinds/seeker_los/seeker_los_sections.h"
 #include "kinds/seeker_los/seeker_los_study.h"
 #include "kinds/seeker_los/seeker_report.h"
+#include "kinds/seeker_los/seeker_summary.h"
 
 namespace poise::studies {
 namespace {
 namespace fs = std::filesystem;
 using nlohmann::json;
 
-json summary_json(const sampling::Summary& s, const std::string& unit, const std::string& desc) {
-  json j = studies::summary_json(s);
-  j["unit"] = unit;
-  if (!desc.empty()) j["description"] = desc;
-  return j;
-}
-
-
 // The study's model with its overrides and `extra` on top.
 SeekerModel load_model(const StudyConfig& cfg, const std::map<std::string, std::string>& extra = {}) {
   auto overrides = cfg.overrides;
   for (const auto& [k, v] : extra) overrides[k] = v;
   return load_seeker_model(cfg.model_path, overrides);
+}
+
+// samples.csv rows of each block: the rows' text is made on all threads (64 numbers a row),
+// 64 rows to a piece, and the pieces written in order; their strings keep their capacity from
+// block to block. Rows a resumed run already has on disk are skipped.
+class SeekerRowWriter {
+ public:
+  SeekerRowWriter(CheckedFile& csv, int threads, std::size_t rows_on_disk)
+      : csv_(csv), arena_(std::max(1, threads)), rows_on_disk_(rows_on_disk) {}
+
+  void operator()(std::span<const SeekerSampleResult> block) {
+    const std::size_t n_pieces = (block.size() + kRowsPerPiece - 1) / kRowsPerPiece;
+    if (pieces_.size() < n_pieces) pieces_.resize(n_pieces);
+    arena_.execute([&] {
+      tbb::parallel_for(std::size_t{0}, n_pieces, [&](std::size_t piece) { format_piece(block, piece); });
+    });
+    for (std::size_t piece = 0; piece < n_pieces; ++piece) {
+      if (!pieces_[piece].empty()) csv_.write(pieces_[piece]);  // the first refused write stops the run (WriteError)
+    }
+  }
+
+ private:
+  static constexpr std::size_t kRowsPerPiece = 64;
+
+  void format_piece(std::span<const SeekerSampleResult> block, std::size_t piece) {
+    std::string& text = pieces_[piece];
+    text.clear();
+    std::vector<char> row;
+    const std::size_t end = std::min(block.size(), (piece + 1) * kRowsPerPiece);
+    for (std::size_t k = piece * kRowsPerPiece; k < end; ++k) {
+      const SeekerSampleResult& s = block[k];
+      if (s.index < rows_on_disk_) continue;
+      // The numbers into one buffer, then one append (not one per number).
+      row.resize(32 + kCsvNumberChars * (s.inputs.size() + s.outputs.size()));
+      char* at = std::to_chars(row.data(), row.data() + 24, s.index).ptr;
+      const std::string_view status = s.ok ? ",ok" : ",failed";
+      at = std::copy(status.begin(), status.end(), at);
+      for (double v : s.inputs) at = put_csv_number(at, v);
+      for (double v : s.outputs) at = put_csv_number(at, v);
+      *at++ = ',';
+      text.append(row.data(), at);
+      if (!s.message.empty()) text += csv_text(s.message);
+      text += '\n';
+    }
+  }
+
+  CheckedFile& csv_;
+  tbb::task_arena arena_;
+  std::size_t rows_on_disk_;
+  std::vector<std::string> pieces_;
+};
+
+// Sweeps and contributions of a complete run (`extras`), from `ran` samples run.
+SideResults run_side_studies(const StudyConfig& cfg, const SeekerModel& model, std::uint64_t seed, int threads,
+                             std::size_t ran, std::size_t contribution_samples, std::size_t keep_grid_bytes,
+                             bool extras, bool progress, const std::vector<Requirement>& requirements) {
+  // Sweeps and contributions keep no file of their grid values; the memory setting holds.
+  SeekerRunControl side_runs;
+  side_runs.keep_grid_bytes = keep_grid_bytes;
+  // They are many short runs (a sweep value, a tolerance set to zero), each a whole run with
+  // its own serial moments: run side by side, one thread each, on the run's threads. A run's
+  // figures do not depend on its thread count, so this changes no result, only the order.
+  struct SideRun {
+    std::map<std::string, std::string> overrides;
+    std::size_t samples = 0;
+    SeekerMcResult result;
+  };
+  std::vector<SideRun> side;
+  for (const auto& sw : extras ? cfg.sweeps : std::vector<SweepSpec>{}) {
+    for (const auto& v : sw.values) side.push_back({{{sw.parameter, v}}, sw.samples, {}});
+  }
+  const std::size_t first_contribution = side.size();
+  const bool contribute = extras && contribution_samples > 0;
+  const std::size_t nc = std::min(contribution_samples, ran);
+  if (contribute) {
+    side.push_back({{}, nc, {}});  // all tolerances
+    for (const auto& key : model.tolerance_keys()) side.push_back({{{key + ".tolerance", "0 mm"}}, nc, {}});
+  }
+  if (progress && !side.empty()) {
+    std::fprintf(stderr, "  sweeps and contributions: %zu runs side by side\n", side.size());
+  }
+  tbb::task_arena side_arena(std::max(1, threads));
+  side_arena.execute([&] {
+    tbb::parallel_for(std::size_t{0}, side.size(), [&](std::size_t k) {
+      SideRun& job = side[k];
+      const SeekerModel model_v = job.overrides.empty() ? model : load_model(cfg, job.overrides);
+      job.result = SeekerLosStudy(cfg, model_v, job.samples, seed).run(1, false, {}, side_runs);
+    }, tbb::simple_partitioner());
+  });
+
+  // Sweeps: the same seed at every value (common random numbers), so differences between
+  // values are the design's, not the sampling noise's.
+  json sweeps = json::array();
+  std::size_t job = 0;
+  for (const auto& sw : extras ? cfg.sweeps : std::vector<SweepSpec>{}) {
+    json js{{"parameter", sw.parameter}, {"samples", sw.samples}, {"points", json::array()}};
+    for (const auto& v : sw.values) {
+      const SeekerMcResult& r = side[job++].result;
+      json p{{"value", v}, {"value_si", units::parse_quantity(v).value}, {"failures", r.failures}};
+      if (!r.outputs.empty()) {
+        p["los_max_arcsec"] = output_summary_json(r.outputs[0], "arcsec", "");
+        p["fraction_samples_meeting"] = estimate_json(r.fraction_samples_ok);
+        p["pooled_arcsec"] = output_summary_json(r.pooled, "arcsec", "");
+        // The same shape as every kind's sweep points: each output, each requirement's verdict.
+        json outs = json::object();
+        for (std::size_t k = 0; k < r.outputs.size() && k < kNumSeekerOutputs; ++k) {
+          outs[kSeekerOutputs[k].name] = output_summary_json(r.outputs[k], kSeekerOutputs[k].unit, "");
+        }
+        p["outputs"] = outs;
+        p["requirements"] = judge_requirements(requirements, seeker_output_specs(), [&](const std::string& name) {
+          return seeker_values(r, name, cfg.replicate_size);
+        });
+      }
+      js["points"].push_back(p);
+    }
+    sweeps.push_back(js);
+  }
+
+  // Contributions: each tolerance set to zero in turn, same seed (common random numbers);
+  // the drop of the statistics is that tolerance's share of the error.
+  json contributions = json::array();
+  if (contribute) {
+    auto stats = [&](const SeekerMcResult& r) {
+      return json{{"los_max_p50", r.outputs[0].p50.value}, {"los_max_p95", r.outputs[0].p95.value},
+                  {"los_max_p99_73", r.outputs[0].p99_73.value}, {"pooled_p95", r.pooled.p95.value},
+                  {"fraction_samples_meeting", r.fraction_samples_ok.value}};
+    };
+    const SeekerMcResult& all = side[first_contribution].result;
+    if (!all.outputs.empty()) {
+      contributions.push_back({{"without", "(nothing: all tolerances)"}, {"samples", nc}, {"stats", stats(all)}});
+      std::size_t k = first_contribution + 1;
+      for (const auto& key : model.tolerance_keys()) {
+        const SeekerMcResult& r = side[k++].result;
+        if (!r.outputs.empty()) contributions.push_back({{"without", key}, {"samples", nc}, {"stats", stats(r)}});
+      }
+    }
+  }
+
+  return {sweeps, contributions};
 }
 
 }  // namespace
@@ -109,7 +241,6 @@ std::string run_seeker_study(const StudyConfig& file_cfg, const RunOptions& opti
   const SeekerModel model = load_model(cfg);
   const SeekerLosSections& sec = seeker_sections(cfg);
   const bool root = sampling::Cluster::root();
-  const int ranks = sampling::Cluster::size();
   // Sensitivity: one closed Sobol group per model tolerance drawn in several columns.
   ToleranceGroups tolerances;
   {
@@ -131,7 +262,6 @@ std::string run_seeker_study(const StudyConfig& file_cfg, const RunOptions& opti
   const std::uint64_t seed = plan.seed;
   const int threads = plan.threads;
   const std::string& dir = plan.dir;
-  const std::string& started = plan.started;
   const std::size_t sensitivity_base = plan.sensitivity_base;
   std::size_t rows_on_disk = 0;  // a resumed run's complete samples.csv rows
   std::vector<std::string> output_names;
@@ -167,41 +297,9 @@ std::string run_seeker_study(const StudyConfig& file_cfg, const RunOptions& opti
   control.field_number_attributes = {{"seed", seed}, {"planned_samples", n}};
   control.stop = [rule](const std::vector<std::vector<double>>& v, const std::vector<std::size_t>& ok, std::size_t f,
                         std::size_t c) { return (*rule)(v, ok, f, c); };
-  // The rows' text is made on all threads (64 numbers a row), 64 rows to a piece, and the
-  // pieces written in order; their strings keep their capacity from block to block.
-  tbb::task_arena arena(std::max(1, threads));
-  constexpr std::size_t kRowsPerPiece = 64;
-  std::vector<std::string> pieces;
-  const SeekerMcResult mc = study.run(threads, options.progress, [&](std::span<const SeekerSampleResult> block) {
-    const std::size_t n_pieces = (block.size() + kRowsPerPiece - 1) / kRowsPerPiece;
-    if (pieces.size() < n_pieces) pieces.resize(n_pieces);
-    arena.execute([&] {
-      tbb::parallel_for(std::size_t{0}, n_pieces, [&](std::size_t piece) {
-        std::string& text = pieces[piece];
-        text.clear();
-        std::vector<char> row;
-        const std::size_t end = std::min(block.size(), (piece + 1) * kRowsPerPiece);
-        for (std::size_t k = piece * kRowsPerPiece; k < end; ++k) {
-          const SeekerSampleResult& s = block[k];
-          if (s.index < rows_on_disk) continue;
-          // The numbers into one buffer, then one append (not one per number).
-          row.resize(32 + kCsvNumberChars * (s.inputs.size() + s.outputs.size()));
-          char* at = std::to_chars(row.data(), row.data() + 24, s.index).ptr;
-          const std::string_view status = s.ok ? ",ok" : ",failed";
-          at = std::copy(status.begin(), status.end(), at);
-          for (double v : s.inputs) at = put_csv_number(at, v);
-          for (double v : s.outputs) at = put_csv_number(at, v);
-          *at++ = ',';
-          text.append(row.data(), at);
-          if (!s.message.empty()) text += csv_text(s.message);
-          text += '\n';
-        }
-      });
-    });
-    for (std::size_t piece = 0; piece < n_pieces; ++piece) {
-      if (!pieces[piece].empty()) csv.write(pieces[piece]);  // the first refused write stops the run (WriteError)
-    }
-  }, control);
+  SeekerRowWriter rows(csv, threads, rows_on_disk);
+  const SeekerMcResult mc = study.run(threads, options.progress, [&](std::span<const SeekerSampleResult> block) { rows(block); },
+                                      control);
   if (!root) return "";  // rank 0 writes the folder
   csv.close();
   const std::size_t ran = mc.completed;
@@ -209,174 +307,9 @@ std::string run_seeker_study(const StudyConfig& file_cfg, const RunOptions& opti
   finish_manifest(plan, status, ran);
   const bool extras = status == "complete" && sensitivity_base == 0;  // sweeps and contributions
 
-
-  // Sweeps and contributions keep no file of their grid values; the memory setting holds.
-  SeekerRunControl side_runs;
-  side_runs.keep_grid_bytes = control.keep_grid_bytes;
-  // They are many short runs (a sweep value, a tolerance set to zero), each a whole run with
-  // its own serial moments: run side by side, one thread each, on the run's threads. A run's
-  // figures do not depend on its thread count, so this changes no result, only the order.
-  struct SideRun {
-    std::map<std::string, std::string> overrides;
-    std::size_t samples = 0;
-    SeekerMcResult result;
-  };
-  std::vector<SideRun> side;
-  for (const auto& sw : extras ? cfg.sweeps : std::vector<SweepSpec>{}) {
-    for (const auto& v : sw.values) side.push_back({{{sw.parameter, v}}, sw.samples, {}});
-  }
-  const std::size_t first_contribution = side.size();
-  const bool contribute = extras && sec.contribution_samples > 0;
-  const std::size_t nc = std::min(sec.contribution_samples, ran);
-  if (contribute) {
-    side.push_back({{}, nc, {}});  // all tolerances
-    for (const auto& key : model.tolerance_keys()) side.push_back({{{key + ".tolerance", "0 mm"}}, nc, {}});
-  }
-  if (options.progress && !side.empty()) {
-    std::fprintf(stderr, "  sweeps and contributions: %zu runs side by side\n", side.size());
-  }
-  tbb::task_arena side_arena(std::max(1, threads));
-  side_arena.execute([&] {
-    tbb::parallel_for(std::size_t{0}, side.size(), [&](std::size_t k) {
-      SideRun& job = side[k];
-      const SeekerModel model_v = job.overrides.empty() ? model : load_model(cfg, job.overrides);
-      job.result = SeekerLosStudy(cfg, model_v, job.samples, seed).run(1, false, {}, side_runs);
-    }, tbb::simple_partitioner());
-  });
-
-  // Sweeps: the same seed at every value (common random numbers), so differences between
-  // values are the design's, not the sampling noise's.
-  json sweeps = json::array();
-  std::size_t job = 0;
-  for (const auto& sw : extras ? cfg.sweeps : std::vector<SweepSpec>{}) {
-    json js{{"parameter", sw.parameter}, {"samples", sw.samples}, {"points", json::array()}};
-    for (const auto& v : sw.values) {
-      const SeekerMcResult& r = side[job++].result;
-      json p{{"value", v}, {"value_si", units::parse_quantity(v).value}, {"failures", r.failures}};
-      if (!r.outputs.empty()) {
-        p["los_max_arcsec"] = summary_json(r.outputs[0], "arcsec", "");
-        p["fraction_samples_meeting"] = estimate_json(r.fraction_samples_ok);
-        p["pooled_arcsec"] = summary_json(r.pooled, "arcsec", "");
-      }
-      js["points"].push_back(p);
-    }
-    sweeps.push_back(js);
-  }
-
-  // Contributions: each tolerance set to zero in turn, same seed (common random numbers);
-  // the drop of the statistics is that tolerance's share of the error.
-  json contributions = json::array();
-  if (contribute) {
-    auto stats = [&](const SeekerMcResult& r) {
-      return json{{"los_max_p50", r.outputs[0].p50.value}, {"los_max_p95", r.outputs[0].p95.value},
-                  {"los_max_p99_73", r.outputs[0].p99_73.value}, {"pooled_p95", r.pooled.p95.value},
-                  {"fraction_samples_meeting", r.fraction_samples_ok.value}};
-    };
-    const SeekerMcResult& all = side[first_contribution].result;
-    if (!all.outputs.empty()) {
-      contributions.push_back({{"without", "(nothing: all tolerances)"}, {"samples", nc}, {"stats", stats(all)}});
-      std::size_t k = first_contribution + 1;
-      for (const auto& key : model.tolerance_keys()) {
-        const SeekerMcResult& r = side[k++].result;
-        if (!r.outputs.empty()) contributions.push_back({{"without", key}, {"samples", nc}, {"stats", stats(r)}});
-      }
-    }
-  }
-
-  json s;
-  s["contributions"] = contributions;
-  s["study"] = {{"name", cfg.name}, {"title", cfg.title}, {"kind", cfg.kind}, {"file", cfg.file},
-                {"model_file", cfg.model_path}, {"model_name", model.name}, {"model_source", model.source},
-                {"notes", cfg.notes}, {"overrides", cfg.overrides}};
-  const double req_arcsec = study.requirement_rad() * units::kArcsecPerRad;
-  s["requirement"] = {{"as_written", sec.requirement_text}, {"arcsec", req_arcsec},
-                      {"px", study.requirement_rad() / model.pixel_ifov},
-                      {"pixel_ifov_arcsec", model.pixel_ifov * units::kArcsecPerRad},
-                      {"pixel_ifov_source", model.pixel_ifov_source}};
-  json inputs = json::array();
-  inputs.push_back({{"name", "load_deformation (k')"}, {"distribution", model.load_deformation.dist.describe(1.0, "")},
-                    {"source", model.load_deformation.source}});
-  auto tol_json = [&](const std::string& name, const ToleranceSpec& t) {
-    inputs.push_back({{"name", name}, {"distribution", t.dist.describe(t.display_factor, t.display_unit)},
-                      {"source", t.source}});
-  };
-  tol_json("yaw.perpendicularity (over " + units::format(model.yaw.span, "mm") + "; " + model.yaw.tilt_reading.describe() + ")",
-           model.yaw.perpendicularity);
-  tol_json("pitch.perpendicularity (over " + units::format(model.pitch.span, "mm") + ")", model.pitch.perpendicularity);
-  tol_json("optics.axis_error (over " + units::format(model.barrel_length, "mm") + ")", model.optical_axis);
-  for (const auto* a : {&model.yaw, &model.pitch}) {
-    for (const auto& src : a->bearing_sources) {
-      tol_json(std::string(a == &model.yaw ? "yaw." : "pitch.") + src.name + " (per bearing, order " +
-                   csv_number(src.order) + (src.load_scaled ? ", x k')" : ")"),
-               src.spec);
-    }
-  }
-  s["status"] = status;
-  if (!mc.stop_reason.empty()) s["stop_reason"] = mc.stop_reason;
-  s["sampling"] = {{"method", sampling::to_string(cfg.method)}, {"samples", ran}, {"planned_samples", n}, {"seed", seed},
-                   {"threads", threads}, {"mpi_ranks", ranks}, {"replicate_size", cfg.replicate_size},
-                   {"max_failure_share", cfg.max_failure_share}, {"dimension", study.sampler().dimension()},
-                   {"grid", {{"yaw_points", sec.yaw_points}, {"pitch_points", sec.pitch_points},
-                             {"yaw_deg", {model.yaw_min / units::kRadPerDeg, model.yaw_max / units::kRadPerDeg}},
-                             {"pitch_deg", {model.pitch_min / units::kRadPerDeg, model.pitch_max / units::kRadPerDeg}}}},
-                   {"inputs", inputs},
-                   {"ci_note", cfg.replicate_size > 0
-                                   ? "95% intervals of the per-sample outputs from the spread of the independent "
-                                     "randomized replicates; pooled field figures assume independent samples"
-                                   : "95% intervals assume independent samples; for lhs and sobol designs they are "
-                                     "conservative for the mean, not necessarily for tail quantiles (measured on the "
-                                     "LOS study: replicate p99.73 interval wider than this one); [sampling] "
-                                     "replicate_size gives honest intervals"}};
-  json outputs;
-  for (std::size_t k = 0; k < mc.outputs.size(); ++k) {
-    outputs[kSeekerOutputs[k].name] = summary_json(mc.outputs[k], kSeekerOutputs[k].unit, kSeekerOutputs[k].description);
-  }
-  s["outputs"] = outputs;
-  if (mc.outputs.size() == kNumSeekerOutputs) {
-    s["pooled_field_arcsec"] = summary_json(mc.pooled, "arcsec", "total LOS error over every (sample, grid point)");
-    s["fraction_samples_meeting"] = estimate_json(mc.fraction_samples_ok);
-    s["fraction_field_meeting"] = estimate_json(mc.fraction_field_ok);
-  }
-  {
-    std::vector<OutputSpec> specs;
-    for (const auto& o : kSeekerOutputs) specs.push_back({o.name, o.unit, o.description});
-    std::map<std::string, const std::vector<double>*> by_name;
-    for (std::size_t k = 0; k < mc.values.size() && k < kNumSeekerOutputs; ++k) by_name[kSeekerOutputs[k].name] = &mc.values[k];
-    s["references"] = compare_references(declared_references(cfg, specs), specs, s["outputs"], [&](const std::string& output) {
-      const auto it = by_name.find(output);
-      return it == by_name.end() ? nullptr : it->second;
-    });
-  }
-  s["failures"] = failures_json(mc.failures, ran, mc.failed, seed, cfg.file);
-  if (!mc.field_file.is_null()) s["samples_h5"] = mc.field_file;
-  s["sample_convergence"] = convergence_json(output_names, mc.outputs, ran, cfg.replicate_size, rule->until_json());
-  if (sensitivity_base > 0 && status == "complete") {
-    std::vector<std::string> groups;
-    for (const auto& c : study.sampler().columns()) groups.push_back(c.name);
-    std::vector<std::vector<double>> by_index(output_names.size(), std::vector<double>(ran, NAN));
-    for (std::size_t k = 0; k < mc.values.size(); ++k) {
-      for (std::size_t m = 0; m < mc.ok_index.size(); ++m) by_index[k][mc.ok_index[m]] = mc.values[k][m];
-    }
-    s["sensitivity"] = sensitivity_json(output_names, groups, sensitivity_base, by_index, seed, tolerances);
-  }
-  s["sweeps"] = sweeps;
-  {
-    std::vector<OutputSpec> specs;
-    for (const auto& o : kSeekerOutputs) specs.push_back({o.name, o.unit, o.description});
-    add_answer(s, requirements, specs, [&](const std::string& name) {
-      OutputValues ov;
-      for (std::size_t k = 0; k < mc.values.size() && k < kNumSeekerOutputs; ++k) {
-        if (name == kSeekerOutputs[k].name) ov = {&mc.values[k], &mc.ok_index, cfg.replicate_size};
-      }
-      return ov;
-    }, status, ran, sensitivity_base > 0);
-  }
-  s["provenance"] = {{"poise_version", kVersion}, {"git_commit", git_commit()},
-                     {"study_file_sha1", file_sha1(cfg.file)}, {"model_file_sha1", file_sha1(cfg.model_path)},
-                     {"seed", seed}, {"samples", ran}, {"threads", threads}, {"mpi_ranks", ranks},
-                     {"wall_time_s", mc.wall_seconds}, {"started", started}, {"finished", now_iso8601()},
-                     {"command_line_overrides", {{"samples", options.samples.has_value()}, {"seed", options.seed.has_value()}}},
-                     {"libraries", library_versions(options.plots && cfg.plots)}};
+  const SideResults side = run_side_studies(cfg, model, seed, threads, ran, sec.contribution_samples,
+                                            control.keep_grid_bytes, extras, options.progress, requirements);
+  const json s = seeker_summary({cfg, model, study, mc, plan, *rule, tolerances, requirements, status, ran}, side, options);
   write_file_atomic((fs::path(dir) / "summary.json").string(), s.dump(2) + "\n");
   ReportInputs rep{dir, s, mc, study.grid().alpha(), study.grid().beta(), options.plots && cfg.plots};
   write_report(rep);
