@@ -66,6 +66,13 @@ TEST(ShaftSag, LimitsAndSymmetry) {
   EXPECT_EQ(shaft_sag(L, 0.0, d, 0.0, E, P).deflection, 0.0);  // a load on the bearing
 }
 
+// The example's model file by absolute path, in quotes, for a copy of its study elsewhere.
+std::string quoted_model() {
+  std::string q = "\"";
+  q.append(source_path("models/shaft_sag_example.toml")).append("\"");
+  return q;
+}
+
 std::vector<std::map<std::string, std::string>> read_csv(const std::string& path) {
   std::ifstream in(path);
   std::string line;
@@ -121,10 +128,37 @@ TEST(ShaftSag, SensitivityHasNoWithinSampleGroup) {
   EXPECT_EQ(summary.dump().find("within-sample randomness"), std::string::npos);
 }
 
+// Contributions of a kind without a runner of its own: each tolerance set to zero in turn (a
+// range has no zero and says so); with the load position or the mass fixed the spread of the
+// LOS error shrinks, so its p99.73 drops (Young's modulus, a range, dominates it).
+TEST(ShaftSag, ContributionsZeroEachToleranceInTurn) {
+  TempDir dir;
+  std::string text = read_text(source_path("studies/shaft_sag_example.toml"));
+  text = test::replace_once(text, "\"../models/shaft_sag_example.toml\"", quoted_model());
+  test::write_text(dir.file("c.toml"), text + "\n[output]\ncontribution_samples = 512\n");
+  const std::string out = dir.file("run");
+  const auto r = test::run_poise(dir, "run '" + dir.file("c.toml") + "' --samples 512 --threads 2 -q --out '" + out + "'");
+  ASSERT_EQ(r.status, 0) << r.err;
+  const auto s = nlohmann::json::parse(read_text(out + "/summary.json"));
+  const auto& c = s["contributions"];
+  ASSERT_EQ(c.size(), 5u);  // all, then the four toleranced parameters
+  std::map<std::string, nlohmann::json> by;
+  for (const auto& e : c) by[e["without"].get<std::string>()] = e;
+  ASSERT_TRUE(by.count("tolerances.load_position"));
+  EXPECT_TRUE(by["tolerances.youngs_modulus"].contains("skipped"));  // a range: no zero
+  const double all = c[0]["outputs"]["los_error_arcsec"]["p99_73"]["value"].get<double>();
+  const double fixed = by["tolerances.load_position"]["outputs"]["los_error_arcsec"]["p99_73"]["value"].get<double>();
+  EXPECT_LT(fixed, all);
+  EXPECT_LT(by["tolerances.load_mass"]["outputs"]["los_error_arcsec"]["p99_73"]["value"].get<double>(), all);
+  // The same samples with nothing zeroed are the main run's (common random numbers).
+  EXPECT_DOUBLE_EQ(all, s["outputs"]["los_error_arcsec"]["p99_73"]["value"].get<double>());
+  EXPECT_NE(read_text(out + "/report.html").find("Which tolerance drives the error"), std::string::npos);
+}
+
 TEST(ShaftSag, DrawOffTheShaftFailsItsSampleWithTheReason) {
   TempDir dir;
   std::string text = read_text(source_path("studies/shaft_sag_example.toml"));
-  text = test::replace_once(text, "\"../models/shaft_sag_example.toml\"", "\"" + source_path("models/shaft_sag_example.toml") + "\"");
+  text = test::replace_once(text, "\"../models/shaft_sag_example.toml\"", quoted_model());
   text = test::replace_once(text, "[[requirement]]", "[overrides]\n\"parameters.load_position\" = \"56 mm\"\n\n[[requirement]]");
   test::write_text(dir.file("off.toml"), text);
   const auto r = test::run_poise(dir, "run '" + dir.file("off.toml") + "' --samples 8 --quiet --no-plots --out '" +

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <map>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -104,6 +105,20 @@ TEST(StudyAnswers, GimbalStudyWithRequirementsAndSweep) {
   }
   EXPECT_EQ(s["outputs"]["g_rmse_torque_mNm"]["unit"], "mN*m");
   EXPECT_EQ(s["outputs"]["g_test_time_min"]["unit"], "min");
+}
+
+// Contributions of a procedure kind: every toleranced slot, those drawn per test included, set
+// to zero in turn in its own unit; without the K_T drift the torque error collapses.
+TEST(StudyAnswers, GimbalContributionsIncludePerTestTolerances) {
+  TempDir dir;
+  std::string study = user_study(dir, "gimbal_unbalance_mc", "gimbal_simulator_yang2015.toml", "");
+  test::write_text(study, test::replace_once(read_text(study), "[output]\nblock = 8", "[output]\nblock = 8\ncontribution_samples = 2"));
+  const json s = run_and_check(dir, study, "--samples 2", 0);
+  std::map<std::string, json> by;
+  for (const auto& c : s["contributions"]) by[c["without"].get<std::string>()] = c;
+  ASSERT_TRUE(by.count("(nothing: all tolerances)") && by.count("tolerances.kt_drift")) << s["contributions"].dump();
+  const auto p95 = [](const json& c) { return c["outputs"]["g_rmse_torque_mNm"]["p95"]["value"].get<double>(); };
+  EXPECT_LT(p95(by["tolerances.kt_drift"]), 0.5 * p95(by["(nothing: all tolerances)"]));
 }
 
 TEST(StudyAnswers, RequireExitsThreeWhenNotMet) {

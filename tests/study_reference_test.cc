@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <filesystem>
 #include <map>
+#include <ostream>
 #include <fstream>
 #include <set>
 #include <sstream>
@@ -28,6 +29,8 @@ struct PlannedRun {
   std::string study;
   std::string samples, seed;
 };
+// gtest prints a parameter in a test's name line: the study, not the struct's bytes.
+void PrintTo(const PlannedRun& r, std::ostream* os) { *os << r.study << " (" << r.samples << " samples, seed " << r.seed << ")"; }
 
 // Every shipped study (studies/*.toml with a [study] table), at the sample count and seed
 // plan.txt gives it, else 2 samples at seed 11: a new study enters the test by its file alone.

@@ -5,6 +5,7 @@
 #include <iostream>
 #include <memory>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <set>
 #include <string>
 
@@ -93,7 +94,7 @@ studies::ValidationError input_error(const std::string& file, int line, const st
 
 // The Monte Carlo's kind and the model's tolerances, checked before anything is computed.
 struct MonteCarloPlan {
-  const MonteCarloKind* kind = nullptr;
+  std::optional<MonteCarloKind> kind;
   std::string output_unit;
   std::vector<std::string> tolerance_keys;
 };
@@ -111,7 +112,7 @@ MonteCarloPlan plan_monte_carlo(const budget::BudgetSpec& spec) {
                           model_kind + "\"");
   }
   std::string names;
-  for (const auto& o : plan.kind->outputs()) {
+  for (const auto& o : plan.kind->outputs(spec.model_path)) {
     names += (names.empty() ? "" : ", ") + o.name;
     if (o.name == spec.output) plan.output_unit = o.unit;
   }

@@ -1,16 +1,16 @@
 #pragma once
 /// The Monte Carlo set beside a budget (`poise budget`, [budget] model/output/samples/seed):
-/// the model file's exact chain sampled, one output's values returned. One entry per model
-/// kind, looked up by the model file's [model] kind; adding a kind is one entry in
-/// monte_carlo_kinds() (budget_monte_carlo.cc) with these three functions:
-///   outputs()                 the per-sample outputs it can give, with their units
+/// the model file's exact chain sampled, one output's values returned. Every study kind that
+/// names a model_kind() (engine/study_kind.h) serves the model files of that [model] kind,
+/// through the kind interface (model_study, outputs, evaluate); no list to edit:
+///   outputs(model)            the per-sample outputs it can give, with their units
 ///   tolerance_keys(model)     the model's sampled tolerances, dotted ("yaw.perpendicularity"),
 ///                             for a budget line's model_key
 ///   run(model, output, samples, seed) -> the output's values (same seed, same values)
-/// Today: "seeker_two_axis" (studies/seeker_los_study.h: plain Monte Carlo of the two-axis
-/// chain over the field of regard).
+/// Today: the seeker_los kind for "seeker_two_axis" models.
 #include <cstdint>
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -29,17 +29,17 @@ struct MonteCarloValues {
 struct MonteCarloKind {
   std::string model_kind;  ///< [model] kind of the model files it samples
   std::string description;
-  std::function<std::vector<MonteCarloOutput>()> outputs;
+  std::function<std::vector<MonteCarloOutput>(const std::string& model_path)> outputs;
   std::function<std::vector<std::string>(const std::string& model_path)> tolerance_keys;
   std::function<MonteCarloValues(const std::string& model_path, const std::string& output, std::size_t samples,
                                  std::uint64_t seed)>
       run;
 };
 
-/// The registered kinds.
-const std::vector<MonteCarloKind>& monte_carlo_kinds();
-/// The kind for a model kind, or nullptr.
-const MonteCarloKind* find_monte_carlo_kind(const std::string& model_kind);
+/// The study kinds that sample a model file alone.
+std::vector<MonteCarloKind> monte_carlo_kinds();
+/// The one for a model kind, or nullopt.
+std::optional<MonteCarloKind> find_monte_carlo_kind(const std::string& model_kind);
 /// [model] kind of a model file ("" when it has none). Throws studies::ValidationError when the
 /// file does not parse.
 std::string model_kind_of(const std::string& model_path);

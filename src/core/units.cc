@@ -49,6 +49,9 @@ const std::map<std::string, UnitDef, std::less<>>& unit_table() {
       {"arcsec", {kRadPerArcsec, kAngle}},
       {"rev", {2.0 * kPi, kAngle}},
       // pixel
+      // temperature difference (a change or a spread, e.g. "40 K"; no absolute temperatures)
+      {"K", {1.0, kTemperature}},
+      {"mK", {1e-3, kTemperature}},
       {"px", {1.0, kPixel}},
       {"pixel", {1.0, kPixel}},
       // derived
@@ -124,7 +127,7 @@ UnitDef parse_unit(std::string_view text) {
 
 // "m*kg", "m^2*kg*s^-2": the SI units of a dimension, in a form parse_quantity accepts.
 std::string si_composition(const Dimension& d) {
-  static const char* names[] = {"m", "kg", "s", "A", "rad", "px"};
+  static const char* names[] = {"m", "kg", "s", "A", "rad", "px", "K"};
   std::string out;
   for (std::size_t i = 0; i < d.e.size(); ++i) {
     if (d.e[i] == 0) continue;
@@ -145,6 +148,7 @@ std::string dimension_name(const Dimension& d) {
   if (d == kCurrent) return "a current";
   if (d == kAngle) return "an angle";
   if (d == kPixel) return "a pixel count";
+  if (d == kTemperature) return "a temperature difference";
   if (d == kFrequency) return "a frequency";
   if (d == kForce) return "a force";
   if (d == kTorque) return "a torque";
@@ -160,6 +164,7 @@ std::string example_unit(const Dimension& d) {
   if (d == kCurrent) return "A";
   if (d == kAngle) return "deg";
   if (d == kPixel) return "px";
+  if (d == kTemperature) return "K";
   if (d == kFrequency) return "Hz";
   if (d == kForce) return "N";
   if (d == kTorque) return "N*m";

@@ -3,7 +3,7 @@
 /// "<number> <unit>", e.g. "0.004 mm", "82 mm", "30 deg", "4 arcsec", "9.81 m/s^2".
 /// Inside Poise everything is SI (angles in radians); this module converts.
 ///
-/// Units compose with '*', '/' and '^n' ("kg*m^2", "N*m/rad", "m/s^2"). Angles and
+/// Units compose with '*', '/' and '^n' ("kg*m^2", "N*m/rad", "m/s^2", "ppm/K"). Angles and
 /// pixels are dimensions of their own, so "30" or "30 m" is refused where an
 /// angle is expected. Pixels convert to angles only through an explicit IFOV.
 #include <array>
@@ -18,9 +18,9 @@ inline constexpr double kArcsecPerRad = 180.0 * 3600.0 / kPi;  // 206264.806...
 inline constexpr double kRadPerArcsec = 1.0 / kArcsecPerRad;
 inline constexpr double kRadPerDeg = kPi / 180.0;
 
-/// Exponents of length, mass, time, current, plane angle, pixel.
+/// Exponents of length, mass, time, current, plane angle, pixel, temperature.
 struct Dimension {
-  std::array<std::int8_t, 6> e{};
+  std::array<std::int8_t, 7> e{};
   friend bool operator==(const Dimension&, const Dimension&) = default;
 };
 
@@ -31,6 +31,8 @@ inline constexpr Dimension kTime{{0, 0, 1, 0, 0, 0}};
 inline constexpr Dimension kCurrent{{0, 0, 0, 1, 0, 0}};
 inline constexpr Dimension kAngle{{0, 0, 0, 0, 1, 0}};
 inline constexpr Dimension kPixel{{0, 0, 0, 0, 0, 1}};
+/// A temperature difference (K): a change or a spread, never an absolute temperature.
+inline constexpr Dimension kTemperature{{0, 0, 0, 0, 0, 0, 1}};
 inline constexpr Dimension kFrequency{{0, 0, -1, 0, 0, 0}};
 inline constexpr Dimension kForce{{1, 1, -2, 0, 0, 0}};
 inline constexpr Dimension kTorque{{2, 1, -2, 0, 0, 0}};

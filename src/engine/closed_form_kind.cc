@@ -34,7 +34,9 @@ ClosedFormModel load_model(const ClosedFormDeclaration& d, const std::string& pa
   model.header = read_model_header(root, d.name);
   TomlReader p = root.table("parameters");
   for (const auto& par : d.parameters) {
-    model.values.push_back(par.dimension == units::kDimensionless ? p.number(par.name) : p.quantity(par.name, par.dimension));
+    // A dimensionless value may be a plain number or carry a dimensionless unit ("23.6 ppm").
+    const bool plain = par.dimension == units::kDimensionless && !(p.has(par.name) && p.raw()[par.name].is_string());
+    model.values.push_back(plain ? p.number(par.name) : p.quantity(par.name, par.dimension));
   }
   if (root.has_or_schema("tolerances")) {
     TomlReader t = root.table("tolerances");
@@ -82,7 +84,7 @@ class ClosedFormStudy final : public ProcedureStudyBase<ClosedFormStudy> {
       input_tolerances_.push_back("tolerances." + d.parameters[dr.parameter].name);
     }
     for (const auto& o : d.outputs) output_factor_.push_back(display_factor(o.unit));
-    output_names_ = output_names_of(d.outputs);
+    declare_outputs(d.outputs);
   }
 
   struct Workspace {};
@@ -111,11 +113,7 @@ class ClosedFormStudy final : public ProcedureStudyBase<ClosedFormStudy> {
 
   std::size_t samples() const { return samples_; }
   std::size_t design_dimension() const { return design_.dimension(); }
-  const std::vector<std::string>& input_tolerances() const { return input_tolerances_; }
   const StudyConfig& config() const override { return cfg_; }
-  const std::vector<std::string>& input_names() const override { return input_names_; }
-  const std::vector<OutputSpec>& outputs() const override { return kind_.declaration().outputs; }
-  const std::vector<std::string>& output_names() const override { return output_names_; }
   std::string model_name() const override { return model_.header.name; }
   std::string model_source() const override { return model_.header.source; }
   void report_sections(const McResult&, const std::string&, bool, std::vector<std::string>&,
@@ -128,7 +126,12 @@ class ClosedFormStudy final : public ProcedureStudyBase<ClosedFormStudy> {
       std::string tol = "fixed", source;
       for (const auto& dr : model_.drawn) {
         if (dr.parameter != k) continue;
-        tol = (dr.range ? "range: " : "deviation: ") + dr.spec.dist.describe(dr.spec.display_factor, p.display_unit);
+        const double f = display_factor(p.display_unit);
+        const std::string unit = p.display_unit.empty() || p.display_unit == "1" ? "" : " " + p.display_unit;
+        tol = dr.range ? "range " + format_significant(dr.spec.dist.lower() / f, 6) + " to " +
+                             format_significant(dr.spec.dist.upper() / f, 6) + unit + " (" +
+                             sampling::to_string(dr.spec.dist.kind()) + "; the value above is not used)"
+                       : "deviation: " + dr.spec.dist.describe(dr.spec.display_factor, p.display_unit);
         source = dr.spec.source;
       }
       html << "<tr><td class='l'><code>" << html_escape(p.name) << "</code> " << html_escape(p.description) << "</td><td>"
@@ -145,7 +148,6 @@ class ClosedFormStudy final : public ProcedureStudyBase<ClosedFormStudy> {
   ClosedFormModel model_;
   std::size_t samples_;
   sampling::Design design_;
-  std::vector<std::string> input_names_, input_tolerances_, output_names_;
   std::vector<double> output_factor_;
 };
 
@@ -159,6 +161,18 @@ std::unique_ptr<KindSections> ClosedFormKind::read_sections(TomlReader&, const S
 
 std::string ClosedFormKind::validate(const StudyConfig& cfg) const {
   const ClosedFormModel m = load_model(declaration_, cfg.model_path, cfg.overrides);
+  // A parameter drawn from a range has no value to sweep: its range sets it.
+  for (const auto& sw : cfg.sweeps) {
+    for (const auto& dr : m.drawn) {
+      const std::string name = declaration_.parameters[dr.parameter].name;
+      if (dr.range && sw.parameter == "parameters." + name) {
+        throw ValidationError({InputError(SourceLocation{cfg.file, sw.line, 0}, "sweep.parameter", quote_value(sw.parameter),
+                                          "a parameter whose value counts: " + name + " is drawn from its range "
+                                          "([tolerances." + name + "] min, max); sweep tolerances." + name +
+                                          ".min and .max, or give it a deviation instead")});
+      }
+    }
+  }
   return cfg.file + ": valid. Study '" + cfg.name + "' (" + cfg.kind + ") on model '" + m.header.name + "': " +
          std::to_string(m.drawn.size()) + " toleranced parameter(s) of " + std::to_string(declaration_.parameters.size()) +
          ", " + std::to_string(declaration_.outputs.size()) + " outputs, " + sampling::to_string(cfg.method) + " design, " +

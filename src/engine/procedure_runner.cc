@@ -1,6 +1,7 @@
 #include "engine/procedure_runner.h"
 
 #include "engine/references.h"
+#include "engine/procedure_contributions.h"
 #include "engine/procedure_sweeps.h"
 #include "engine/report_figures.h"
 #include "engine/requirements.h"
@@ -143,12 +144,14 @@ std::string csv_header(const ProcedureStudy& study) {
 
 // The values of output `name` for a requirement's verdict.
 std::function<OutputValues(const std::string&)> values_in(const McResult& mc, const std::vector<std::string>& names,
-                                                          std::size_t replicate_size) {
-  return [&mc, &names, replicate_size](const std::string& name) {
+                                                          const StudyConfig& cfg) {
+  return [&mc, &names, &cfg](const std::string& name) {
     const auto it = std::find(names.begin(), names.end(), name);
     const auto k = static_cast<std::size_t>(it - names.begin());
     OutputValues ov;
-    if (it != names.end() && k < mc.values.size()) ov = {&mc.values[k], &mc.ok_index, replicate_size};
+    if (it != names.end() && k < mc.values.size()) {
+      ov = {&mc.values[k], &mc.ok_index, cfg.replicate_size, independent_samples(cfg)};
+    }
     return ov;
   };
 }
@@ -180,7 +183,7 @@ void add_statistics(json& s, const FinishedRun& f, const StopRule& rule) {
   }
   s["outputs"] = outputs;
   s["references"] = compare_references(declared_references(f.cfg, specs), specs, s["outputs"], [&](const std::string& name) {
-    const OutputValues ov = values_in(f.mc, names, 0)(name);
+    const OutputValues ov = values_in(f.mc, names, f.cfg)(name);
     return ov.values;
   });
   s["failures"] = failures_json(f.mc.failures, f.ran, f.mc.failed, f.plan.seed, f.cfg.file);
@@ -219,7 +222,7 @@ json summary_of(const FinishedRun& f, const StopRule& rule, const RunOptions& op
                                      "LOS study: replicate p99.73 interval wider than this one); [sampling] "
                                      "replicate_size gives honest intervals"}};
   add_statistics(s, f, rule);
-  add_answer(s, f.requirements, f.study.outputs(), values_in(f.mc, f.study.output_names(), cfg.replicate_size), f.status,
+  add_answer(s, f.requirements, f.study.outputs(), values_in(f.mc, f.study.output_names(), cfg), f.status,
              f.ran, f.plan.sensitivity_base > 0);
   if (const json solver = f.study.solver_json(f.mc); !solver.is_null()) {
     s["solver"] = solver;
@@ -313,6 +316,9 @@ std::string report_of(const json& s, const FinishedRun& f, const std::filesystem
   }
   h << "</table>\n";
   if (s.contains("sweeps")) h << sweeps_html(s["sweeps"], f.study.outputs(), pdir, plots);
+  if (s.contains("contributions")) {
+    h << contributions_html(s["contributions"], s["requirements"], f.study.outputs(), pdir, plots);
+  }
   h << convergence_html(s["sample_convergence"]) << "<h2>Figures</h2>\n";
   if (!plot_note.empty()) h << "<p>" << html_escape(plot_note) << "</p>\n";
   h << figures_html(pdir, figures);
@@ -393,8 +399,12 @@ std::string run_procedure_study(const StudyConfig& cfg_in, const StudyFactory& m
        {"poise_version", kVersion}},
       {{"seed", plan.seed}, {"planned_samples", n}});
   if (status == "complete" && plan.sensitivity_base == 0 && !cfg.sweeps.empty()) {
-    s["sweeps"] = run_procedure_sweeps(cfg, make_study, plan.seed, plan.threads, options.progress && root, requirements,
+    s["sweeps"] = run_procedure_sweeps(cfg, make_study, n, plan.seed, plan.threads, options.progress && root, requirements,
                                        study.outputs());
+  }
+  if (status == "complete" && plan.sensitivity_base == 0 && cfg.contribution_samples > 0) {
+    s["contributions"] = run_procedure_contributions(cfg, make_study, study.tolerance_keys(), std::min(cfg.contribution_samples, n),
+                                                     plan.seed, plan.threads, options.progress && root, study.outputs());
   }
   write_file_atomic((fs::path(plan.dir) / "summary.json").string(), s.dump(2) + "\n");
   const fs::path pdir = fs::path(plan.dir) / "plots";

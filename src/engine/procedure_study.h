@@ -131,6 +131,9 @@ class ProcedureStudy {
   /// by design_dimension_names()): a tolerance drawn in several columns (a magnitude and its
   /// angle, one per plate or axis) gets one closed Sobol group. Empty = every column its own.
   virtual std::vector<std::string> design_dimension_tolerances() const { return {}; }
+  /// Every model tolerance the study samples, by key ("tolerances.kt_drift"), those drawn per
+  /// test included (for contributions). Default: those of the design's dimensions.
+  virtual std::vector<std::string> tolerance_keys() const { return design_dimension_tolerances(); }
   /// Default: none. A study whose samples draw beyond their design point (per-test draws,
   /// sensor noise) says so, and Sobol indices then give that randomness a group of its own.
   virtual bool has_own_randomness() const { return false; }
@@ -153,10 +156,19 @@ class ProcedureStudy {
 };
 
 /// run() and replay() of a study that has samples(), config(), make_workspace() and
-/// compute(i, workspace, result) (CRTP): one implementation for every procedure study.
+/// compute(i, workspace, result) (CRTP): one implementation for every procedure study. It
+/// holds the study's input columns (input_names_, the model's tolerance key of each in
+/// input_tolerances_) and declared outputs (declare_outputs), which the derived study fills
+/// in its constructor.
 template <class Derived>
 class ProcedureStudyBase : public ProcedureStudy {
  public:
+  const std::vector<std::string>& input_names() const override { return input_names_; }
+  /// The model's tolerance key of each input column ("" for a derived column).
+  const std::vector<std::string>& input_tolerances() const { return input_tolerances_; }
+  const std::vector<OutputSpec>& outputs() const override { return outputs_; }
+  const std::vector<std::string>& output_names() const override { return output_names_; }
+
   McResult run(int threads, bool progress, const SampleSink& sink, std::span<const SampleResult> done = {},
                const RunControl& control = {}) const override {
     const Derived& d = static_cast<const Derived&>(*this);
@@ -187,6 +199,18 @@ class ProcedureStudyBase : public ProcedureStudy {
     d.compute(i, *ws, r);
     return r;
   }
+
+ protected:
+  /// The outputs, declared once (their names follow).
+  void declare_outputs(std::vector<OutputSpec> outputs) {
+    outputs_ = std::move(outputs);
+    output_names_ = output_names_of(outputs_);
+  }
+  std::vector<std::string> input_names_, input_tolerances_;
+
+ private:
+  std::vector<OutputSpec> outputs_;
+  std::vector<std::string> output_names_;
 };
 
 }  // namespace poise::studies

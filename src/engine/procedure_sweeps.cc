@@ -44,19 +44,20 @@ std::vector<std::pair<std::string, std::string>> shown(const std::vector<Require
 
 }  // namespace
 
-json run_procedure_sweeps(const StudyConfig& cfg, const StudyFactory& make_study, std::uint64_t seed, int threads,
-                          bool progress, const std::vector<Requirement>& requirements,
+json run_procedure_sweeps(const StudyConfig& cfg, const StudyFactory& make_study, std::size_t run_samples,
+                          std::uint64_t seed, int threads, bool progress, const std::vector<Requirement>& requirements,
                           const std::vector<OutputSpec>& outputs) {
   json sweeps = json::array();
   for (const auto& sw : cfg.sweeps) {
-    json js{{"parameter", sw.parameter}, {"samples", sw.samples}, {"points", json::array()}};
+    const std::size_t n = sweep_samples(sw, run_samples);
+    json js{{"parameter", sw.parameter}, {"samples", n}, {"points", json::array()}};
     for (const auto& v : sw.values) {
-      if (progress) std::fprintf(stderr, "  sweep %s = %s: %zu samples\n", sw.parameter.c_str(), v.c_str(), sw.samples);
+      if (progress) std::fprintf(stderr, "  sweep %s = %s: %zu samples\n", sw.parameter.c_str(), v.c_str(), n);
       StudyConfig c = cfg;
       auto overrides = c.overrides;
       overrides[sw.parameter] = v;
       c.overrides = apply_study_overrides(c, overrides);
-      const std::unique_ptr<ProcedureStudy> study = make_study(c, sw.samples, seed);
+      const std::unique_ptr<ProcedureStudy> study = make_study(c, n, seed);
       const McResult mc = study->run(threads, false, nullptr, {});
       json p{{"value", v}, {"value_si", units::parse_quantity(v).value}, {"samples", mc.completed},
              {"failures", mc.failures}};
@@ -71,7 +72,7 @@ json run_procedure_sweeps(const StudyConfig& cfg, const StudyFactory& make_study
         const auto it = std::find_if(outputs.begin(), outputs.end(), [&](const OutputSpec& o) { return o.name == name; });
         const auto k = static_cast<std::size_t>(it - outputs.begin());
         OutputValues ov;
-        if (it != outputs.end() && k < mc.values.size()) ov = {&mc.values[k], &mc.ok_index, cfg.replicate_size};
+        if (it != outputs.end() && k < mc.values.size()) ov = {&mc.values[k], &mc.ok_index, cfg.replicate_size, independent_samples(cfg)};
         return ov;
       });
       js["points"].push_back(p);

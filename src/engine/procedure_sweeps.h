@@ -26,8 +26,9 @@ namespace poise::studies {
 using StudyFactory = std::function<std::unique_ptr<ProcedureStudy>(const StudyConfig& cfg, std::size_t samples, std::uint64_t seed)>;
 
 /// Runs every sweep of `cfg` and returns summary.json's "sweeps".
-nlohmann::json run_procedure_sweeps(const StudyConfig& cfg, const StudyFactory& make_study, std::uint64_t seed,
-                                    int threads, bool progress, const std::vector<Requirement>& requirements,
+/// `run_samples`: the run's sample count (a sweep without its own samples takes it).
+nlohmann::json run_procedure_sweeps(const StudyConfig& cfg, const StudyFactory& make_study, std::size_t run_samples,
+                                    std::uint64_t seed, int threads, bool progress, const std::vector<Requirement>& requirements,
                                     const std::vector<OutputSpec>& outputs);
 
 /// The report's "Sweeps" section (figures written into plots_dir when `plots`).

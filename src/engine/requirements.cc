@@ -67,6 +67,10 @@ Judged judge(const Requirement& r, const OutputValues& ov, double limit, double 
     }
     return j;
   }
+  if (!ov.independent && ov.replicate_size == 0) {
+    j.note = "the bounds assume independent samples; this lhs or sobol design without [sampling] replicate_size "
+             "does not guarantee them (set replicate_size, or method = \"monte_carlo\")";
+  }
   const BoundSpec up{BoundSide::kUpper, r.confidence}, down{BoundSide::kLower, r.confidence};
   j.bound = one_sided_bound(set, r.statistic, r.at_most ? up : down);
   j.other = one_sided_bound(set, r.statistic, r.at_most ? down : up);
@@ -82,8 +86,8 @@ Judged judge(const Requirement& r, const OutputValues& ov, double limit, double 
     const double gap = std::abs(value - limit);
     const double n = static_cast<double>(ov.values->size());
     if (!facing) {
-      j.note = "too few samples for an " + std::string(r.at_most ? "upper" : "lower") + " bound of " +
-               statistic_label(r.statistic);
+      j.note = (j.note.empty() ? "" : j.note + "; ") + "too few samples for an " +
+               std::string(r.at_most ? "upper" : "lower") + " bound of " + statistic_label(r.statistic);
       // A distribution-free bound of the q-quantile exists from n >= ln(1 - c) / ln(q) (upper)
       // or ln(1 - c) / ln(1 - q) (lower) samples on.
       if (r.statistic.size() > 1 && r.statistic[0] == 'p' && ov.replicate_size == 0) {
@@ -100,7 +104,7 @@ Judged judge(const Requirement& r, const OutputValues& ov, double limit, double 
       const double half = std::abs(*facing - value);
       j.samples_to_decide = static_cast<std::size_t>(std::ceil(n * (half / gap) * (half / gap) * 1.1));
     } else {
-      j.note = "the statistic sits on the limit: no sample count decides it";
+      j.note = (j.note.empty() ? "" : j.note + "; ") + "the statistic sits on the limit: no sample count decides it";
     }
   }
   return j;
@@ -284,6 +288,13 @@ std::string answer_sentence(const json& verdicts, const json& outputs_summary, c
   } else {
     s = (verdicts.size() == 1 ? std::string("The requirement is met") : "Every requirement is met (" + count + " of " + count + ")") +
         partial + ": " + join(met);
+  }
+  for (const auto& v : verdicts) {
+    if (v.value("note", std::string()).find("assume independent samples") != std::string::npos) {
+      s += " (the bounds assume independent samples, which this lhs or sobol design without replicate_size does not "
+           "guarantee)";
+      break;
+    }
   }
   return s + ".";
 }

@@ -65,6 +65,10 @@ struct OutputValues {
   const std::vector<double>* values = nullptr;
   const std::vector<std::size_t>* ok_index = nullptr;
   std::size_t replicate_size = 0;
+  /// Whether the samples are independent draws (plain Monte Carlo) or come in randomized
+  /// replicates; false for an lhs or sobol design without replicates, whose order-statistic
+  /// and Student-t bounds are then not guaranteed (each verdict says so).
+  bool independent = true;
 };
 
 /// The verdict of each requirement (summary.json "requirements": output, statistic, limit

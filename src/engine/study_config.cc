@@ -95,6 +95,7 @@ StudyConfig load_study(const std::string& path) {
     TomlReader t = root.table("output");
     c.plots = t.boolean("plots", true);
     c.block = static_cast<std::size_t>(t.integer("block", 1, 1'000'000, 1024));
+    c.contribution_samples = static_cast<std::size_t>(t.integer("contribution_samples", 0, 1'000'000'000, 0));
   }
   c.references = read_references(root);
   for (auto& t : root.table_array("sweep")) {
@@ -103,7 +104,7 @@ StudyConfig load_study(const std::string& path) {
     sw.parameter = t.string("parameter");
     sw.values = t.string_array("values");
     if (sw.values.empty() && t.has("values")) t.error("values", "[]", "at least one value, with its unit");
-    sw.samples = static_cast<std::size_t>(t.integer("samples", 1, 1'000'000'000, static_cast<std::int64_t>(c.samples)));
+    sw.samples = static_cast<std::size_t>(t.integer("samples", 1, 1'000'000'000, 0));  // 0: the run's
     c.sweeps.push_back(sw);
   }
   finish(doc, *ctx);

@@ -9,10 +9,11 @@
 ///   [sampling]    method = "sobol" | "lhs" | "monte_carlo", samples, seed,
 ///                 replicate_size (optional), max_failure_share (optional, default 0.05)
 ///   [overrides]   "dotted.model.key" = "value"      (optional)
-///   [output]      plots = true, block = 1024        (optional)
+///   [output]      plots = true, block = 1024, contribution_samples = 0 (optional)
 ///   [[reference]] figures to compare with (engine/references.h): name, output, statistic,
 ///                 value, source, role = "validation" | "calibration_target"
-///   [[sweep]]     parameter = "dotted.model.key", values = [...], samples (optional)
+///   [[sweep]]     parameter = "dotted.model.key", values = [...], samples (optional; default:
+///                 the run's sample count, --samples included)
 ///   [[requirement]] output, statistic, at_most | at_least, confidence (engine/requirements.h)
 /// Every other section belongs to the kind and is read by its module (src/kinds/<kind>/);
 /// `poise keys KIND` lists them.
@@ -83,9 +84,14 @@ struct ReferenceFigure {
 struct SweepSpec {
   std::string parameter;            ///< dotted model key ("yaw.bearing_span")
   std::vector<std::string> values;  ///< as written, with units
-  std::size_t samples = 0;          ///< per value (default: the study's samples)
+  std::size_t samples = 0;          ///< per value; 0 (not given): the run's sample count
   int line = 0;
 };
+
+/// The samples of each value of a sweep in a run of `run_samples` samples.
+inline std::size_t sweep_samples(const SweepSpec& sw, std::size_t run_samples) {
+  return sw.samples > 0 ? sw.samples : run_samples;
+}
 
 struct StudyConfig {
   std::string file;        ///< path of the study file
@@ -112,6 +118,9 @@ struct StudyConfig {
   std::map<std::string, std::string> overrides;
   bool plots = true;
   std::size_t block = 1024;
+  /// [output] contribution_samples: each model tolerance set to zero in turn, with this many
+  /// samples (engine/procedure_contributions.h); 0 = off (the seeker reads its own default).
+  std::size_t contribution_samples = 0;
   std::vector<ReferenceFigure> references;  ///< the study file's [[reference]] tables
   /// The study file's [[requirement]] tables (engine/requirements.h), and a kind's shorthand
   /// for one (the seeker's [requirement] los_error) added by its section reader.
@@ -137,6 +146,11 @@ T& mutable_sections_of(StudyConfig& cfg) {
   T* t = dynamic_cast<T*>(cfg.sections.get());
   if (!t) throw_wrong_sections(cfg);
   return *t;
+}
+/// Whether a study's samples are independent draws or randomized replicates (monte_carlo, or
+/// any design with replicate_size): the one-sided bounds of its statistics then hold.
+inline bool independent_samples(const StudyConfig& cfg) {
+  return cfg.method == sampling::SamplingMethod::kMonteCarlo || cfg.replicate_size > 0;
 }
 /// The design of a study's samples: method, seed, replicates and Saltelli layout as configured.
 sampling::Design make_design(const StudyConfig& cfg, std::uint64_t seed, std::size_t samples, std::size_t dimension);

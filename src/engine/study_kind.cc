@@ -21,9 +21,12 @@ std::map<std::string, std::string> StudyKind::apply_study_overrides(
 
 StudyEvaluation StudyKind::evaluate(const StudyConfig& cfg, const std::map<std::string, std::string>&, std::size_t,
                                     std::uint64_t, int) const {
-  throw Error(cfg.file + ": a " + name() + " study cannot be the base of an optimization (it has no in-memory "
-              "evaluation); optimize over a seeker_los, gimbal_static_unbalance, balancing_machine or "
-              "platform_balancing study");
+  throw Error(cfg.file + ": a " + name() + " study cannot be the base of an optimization (its kind has no in-memory "
+              "evaluation); optimize over a study of a kind that streams its samples (`poise --help` lists the kinds)");
+}
+
+StudyConfig StudyKind::model_study(const std::string& model_path) const {
+  throw Error(model_path + ": a " + name() + " study has no Monte Carlo on a model file alone");
 }
 
 void register_study_kind(std::unique_ptr<StudyKind> kind) {

@@ -56,6 +56,16 @@ class StudyKind {
   virtual bool runs_sweeps() const { return true; }
   /// Whether runs stream sample by sample (--resume, --until, MPI ranks).
   virtual bool streams() const { return true; }
+  /// For a Monte Carlo on a model file alone (the one `poise budget` sets beside a budget):
+  /// the [model] kind of the files this kind samples ("seeker_two_axis"); "" (the default):
+  /// none, and the two functions below are not called.
+  virtual std::string model_kind() const { return ""; }
+  /// A study of this kind on `model_path` alone: the kind's default sections, plain Monte
+  /// Carlo (independent samples). Default: refused (poise::Error).
+  virtual StudyConfig model_study(const std::string& model_path) const;
+  /// The model's sampled tolerances, dotted ("yaw.perpendicularity"), for a budget line's
+  /// model_key. Default: none.
+  virtual std::vector<std::string> model_tolerance_keys(const std::string& /*model_path*/) const { return {}; }
   /// One in-memory run with extra model overrides, for the optimizer (common random
   /// numbers: the same seed gives every design point the same draws). Default: refused.
   virtual StudyEvaluation evaluate(const StudyConfig& cfg, const std::map<std::string, std::string>& model_overrides,

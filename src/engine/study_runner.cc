@@ -48,7 +48,7 @@ std::string check_study(const StudyConfig& cfg, const StudyKind& kind) {
   const auto refs = declared_references(cfg, outputs);
   check_requirements(kind.requirements(cfg), outputs);
   check_sweeps(cfg, kind);
-  if (!refs.empty()) summary += " " + std::to_string(refs.size()) + " declared reference figure(s).";
+  if (!refs.empty()) summary.append(" ").append(std::to_string(refs.size())).append(" declared reference figure(s).");
   return summary;
 }
 
@@ -59,7 +59,13 @@ std::string validate_study(const std::string& study_path) {
   const StudyKind& kind = study_kind(cfg.kind);
   std::string summary = check_study(cfg, kind);
   const std::size_t n_req = kind.requirements(cfg).size();
-  if (n_req > 0) summary += " " + std::to_string(n_req) + " requirement(s).";
+  if (n_req > 0) summary.append(" ").append(std::to_string(n_req)).append(" requirement(s).");
+  // What a requirement, a reference or a sweep's figure may name: each output with its unit.
+  summary.append("\nOutputs per sample (name [unit]: what it is):");
+  for (const auto& o : kind.outputs(cfg)) {
+    summary.append("\n  ").append(o.name).append(" [").append(o.unit.empty() ? "1" : o.unit).append("]");
+    if (!o.description.empty()) summary.append(": ").append(o.description);
+  }
   return summary;
 }
 

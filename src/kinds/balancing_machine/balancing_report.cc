@@ -104,7 +104,7 @@ void BalancingStudy::report_sections(const McResult& mc, const std::string& plot
     << html_escape(hb["message"].get<std::string>()) << "</td></tr></table>\n";
   for (const auto& w : warnings_) h << "<p><b>Warning</b>: " << html_escape(w) << "</p>\n";
 
-  const auto& names = output_names_;
+  const auto& names = output_names();
   const fs::path dir(plots_dir);
   for (const auto& x : balancing_sections(config_).experiments) {
     if (mc.outputs.empty()) break;
@@ -240,7 +240,7 @@ void BalancingStudy::report_sections(const McResult& mc, const std::string& plot
             write_file_atomic((fs::path(dir) / (n + ".dat")).string(), dd.str());
           }
           std::string unit;
-          for (const auto& spec : outputs_) {
+          for (const auto& spec : outputs()) {
             if (spec.name == n) unit = spec.unit;
           }
           svg_plot(dir, n,

@@ -127,7 +127,7 @@ void BalancingStudy::compute(std::size_t i, Workspace& ws, SampleResult& out) co
   out.ok = true;
   out.message.clear();
   out.inputs.assign(input_names_.size(), NAN);
-  out.outputs.assign(output_names_.size(), NAN);
+  out.outputs.assign(output_names().size(), NAN);
   out.solver_steps = out.rhs_evals = 0;
   sampling::RandomStream rs(seed_, sampling::StreamId::kProcedure, design_.stream_index(i));
   sampling::RandomStream noise(seed_, sampling::StreamId::kNoise, design_.stream_index(i, 1));

@@ -63,14 +63,9 @@ class BalancingStudy : public ProcedureStudyBase<BalancingStudy> {
 
   const StudyConfig& config() const override { return config_; }
   std::size_t samples() const { return samples_; }
-  const std::vector<std::string>& input_names() const override { return input_names_; }
   /// Per-test draws (kProcedure) and the sensors' noise (kNoise): two streams, two Sobol groups.
   std::vector<std::string> randomness_sources() const override { return {"per-test draws", "measurement noise"}; }
-  /// The model's tolerance key of each input column (one key covers the three plates).
-  const std::vector<std::string>& input_tolerances() const { return input_tolerances_; }
   std::size_t design_dimension() const { return design_.dimension(); }
-  const std::vector<OutputSpec>& outputs() const override { return outputs_; }
-  const std::vector<std::string>& output_names() const override { return output_names_; }
   /// Per-test draws and measurement noise beyond the design point.
   bool has_own_randomness() const override { return true; }
   bool has_solver() const override { return true; }
@@ -100,8 +95,7 @@ class BalancingStudy : public ProcedureStudyBase<BalancingStudy> {
   BalancingModel model_;
   std::size_t samples_;
   std::uint64_t seed_;
-  std::vector<OutputSpec> outputs_;
-  std::vector<std::string> input_names_, output_names_, warnings_, input_tolerances_;
+  std::vector<std::string> warnings_;
   std::vector<std::string> input_warnings() const;
   std::size_t dimension_ = 0;
   sampling::Design design_;

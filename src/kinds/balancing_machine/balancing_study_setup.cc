@@ -63,13 +63,14 @@ BalancingStudy::BalancingStudy(StudyConfig config, BalancingModel model, std::si
     input_tolerances_.resize(input_names_.size(), std::string("tolerances.") + s.key);
   }
   // Outputs, each declared once with its unit and meaning.
+  std::vector<OutputSpec> outputs;
   auto declare = [&](const std::string& prefix, std::initializer_list<OutputDeclaration> list) {
-    append_outputs(outputs_, prefix, std::span<const OutputDeclaration>(list.begin(), list.size()));
+    append_outputs(outputs, prefix, std::span<const OutputDeclaration>(list.begin(), list.size()));
   };
   auto readings = [&](const std::string& n, int positions, const char* suffix, const char* unit, const char* what) {
     for (int p = 1; p <= 2; ++p) {
       for (int k = 0; k < positions; ++k) {
-        outputs_.push_back({n + "_p" + std::to_string(p) + "_k" + std::to_string(k) + suffix, unit,
+        outputs.push_back({n + "_p" + std::to_string(p) + "_k" + std::to_string(k) + suffix, unit,
                             n + ": " + what + ", plane " + std::to_string(p) + ", position " + std::to_string(k)});
       }
     }
@@ -87,7 +88,7 @@ BalancingStudy::BalancingStudy(StudyConfig config, BalancingModel model, std::si
     if (x.type == "separation") {
       for (int s = 1; s <= surfaces; ++s) {
         for (int k = 1; k <= 2; ++k) {
-          outputs_.push_back({n + "_s" + std::to_string(s) + "_sensor" + std::to_string(k) + "_mN", "mN",
+          outputs.push_back({n + "_s" + std::to_string(s) + "_sensor" + std::to_string(k) + "_mN", "mN",
                               n + ": effect of the test mass on surface " + std::to_string(s) + " at sensor " +
                                   std::to_string(k) + " (mean over the holes)"});
         }
@@ -140,7 +141,7 @@ BalancingStudy::BalancingStudy(StudyConfig config, BalancingModel model, std::si
                   {"_x_amplitude_um", "um", "amplitude of the horizontal plates' motion for the piece's static unbalance"}});
     }
   }
-  output_names_ = output_names_of(outputs_);
+  declare_outputs(std::move(outputs));
   if (!errors.empty()) throw ValidationError(errors);
   warnings_ = input_warnings();
 }

@@ -167,7 +167,7 @@ void write_geometry_summary(json& summary, const StudyConfig& cfg, const Geometr
     add_answer(summary, cfg.requirements, specs, [&](const std::string& n) {
       OutputValues ov;
       for (std::size_t k = 0; k < outputs.size() && k < results.values.size(); ++k) {
-        if (n == outputs[k].name) ov = {&results.values[k], &results.ok_index, 0};
+        if (n == outputs[k].name) ov = {&results.values[k], &results.ok_index, 0, independent_samples(cfg)};
       }
       return ov;
     }, results.status, results.completed, cfg.saltelli_base > 0);

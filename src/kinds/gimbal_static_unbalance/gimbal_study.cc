@@ -109,10 +109,19 @@ GimbalStudy::GimbalStudy(StudyConfig config, GimbalModel model, std::size_t samp
       {"mean_fit_rmse_mNm", "mN*m", "RMS residual of the Eq. 22 sine fit"},
       {"test_time_min", "min", "duration of one test of the group"},
   };
+  std::vector<OutputSpec> outputs;
   for (const auto& g : gimbal_sections(config_).groups) {
-    append_outputs(outputs_, g.name + "_", kGroupOutputs, "group " + g.name + ": ");
+    append_outputs(outputs, g.name + "_", kGroupOutputs, "group " + g.name + ": ");
   }
-  output_names_ = output_names_of(outputs_);
+  declare_outputs(std::move(outputs));
+}
+
+std::vector<std::string> GimbalStudy::tolerance_keys() const {
+  std::vector<std::string> keys;
+  for (const auto& s : kSlots) {
+    if ((model_.*s.tol).spec.tolerance > 0.0) keys.push_back(std::string("tolerances.") + s.name);
+  }
+  return keys;
 }
 
 void GimbalStudy::check_positions(const procedures::MeasurementResult& m, const std::string& group, std::size_t test,
@@ -152,7 +161,7 @@ void GimbalStudy::compute(std::size_t i, Workspace& ws, SampleResult& out) const
   out.ok = true;
   out.message.clear();
   out.inputs.assign(input_names_.size(), NAN);
-  out.outputs.assign(output_names_.size(), NAN);
+  out.outputs.assign(output_names().size(), NAN);
   out.solver_steps = out.rhs_evals = 0;
   try {
     // Unit-scope draws from the design point; test-scope ones from the sample's stream.

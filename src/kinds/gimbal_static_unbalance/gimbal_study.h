@@ -37,15 +37,12 @@ class GimbalStudy : public ProcedureStudyBase<GimbalStudy> {
  public:
   GimbalStudy(StudyConfig config, GimbalModel model, std::size_t samples, std::uint64_t seed);
 
-  const std::vector<std::string>& input_names() const override { return input_names_; }
-  /// The model's tolerance key of each input column ("" for the geometry's derived columns).
-  const std::vector<std::string>& input_tolerances() const { return input_tolerances_; }
   std::size_t design_dimension() const { return design_.dimension(); }
-  const std::vector<OutputSpec>& outputs() const override { return outputs_; }
-  const std::vector<std::string>& output_names() const override { return output_names_; }
   /// Per-test draws and measurement noise beyond the design point.
   bool has_own_randomness() const override { return true; }
   bool has_solver() const override { return true; }
+  /// Every toleranced slot of the model, the per-test ones (K_T drift, zeros) included.
+  std::vector<std::string> tolerance_keys() const override;
   const StudyConfig& config() const override { return config_; }
   std::size_t samples() const { return samples_; }
   std::string model_name() const override { return model_.name; }
@@ -70,8 +67,6 @@ class GimbalStudy : public ProcedureStudyBase<GimbalStudy> {
   GimbalModel model_;
   std::size_t samples_;
   std::uint64_t seed_;
-  std::vector<OutputSpec> outputs_;
-  std::vector<std::string> input_names_, output_names_, input_tolerances_;
   std::size_t dimension_ = 0;
   std::optional<DiskSampler> disk_;  ///< the disk as built ([geometry]), after the tolerances' dimensions
   std::optional<UserPartsSampler> parts_;  ///< or the rotor's parts as built ([[geometry.part]])

@@ -119,7 +119,7 @@ json PlatformStudy::details(const McResult& mc) const {
   d["stated_acceleration_m_s2"] = ps.acceleration;
   d["orders"] = json::array();
   for (std::size_t o = 0; o < ps.orders.size(); ++o) d["orders"].push_back({{"label", ps.order_labels[o]}, {"order", ps.order_texts[o]}});
-  const auto& names = output_names_;
+  const auto& names = output_names();
   json res;
   for (models::Axis a : models::kAllAxes) {
     const std::string ax = models::axis_name(a);
@@ -258,7 +258,7 @@ void PlatformStudy::report_sections(const McResult& mc, const std::string& plots
                         "set xlabel 'residual torque (mN m)'\nset ylabel 'fraction of platforms'\nset logscale x\n"
                         "set key bottom right\nset yrange [0:1]\nplot ";
       for (std::size_t o = 0; o < ps.order_labels.size(); ++o) {
-        std::vector<double> v = values_of(mc, output_names_, ps.order_labels[o] + "_" + ax + "_torque_max_acc_mNm");
+        std::vector<double> v = values_of(mc, output_names(), ps.order_labels[o] + "_" + ax + "_torque_max_acc_mNm");
         std::sort(v.begin(), v.end());
         const std::string file = name + "_" + ps.order_labels[o] + ".dat";
         std::ostringstream f;

@@ -116,8 +116,9 @@ PlatformStudy::PlatformStudy(StudyConfig config, PlatformModel model, std::size_
     if (s == Slot::kFixtureTilt) input_names_.push_back(std::string(slot_name(s)) + "_" + instance_label(s, k) + "_azimuth_deg");
     input_tolerances_.resize(input_names_.size(), std::string("tolerances.") + slot_name(s));
   }
+  std::vector<OutputSpec> outputs;
   for (Axis a : models::kAllAxes) {
-    outputs_.push_back({std::string("initial_") + models::axis_name(a) + "_torque_max_mNm", "mN*m",
+    outputs.push_back({std::string("initial_") + models::axis_name(a) + "_torque_max_mNm", "mN*m",
                         std::string("largest unbalance torque on the ") + models::axis_name(a) +
                             " axis before balancing, over the gimbal-angle grid"});
   }
@@ -132,13 +133,13 @@ PlatformStudy::PlatformStudy(StudyConfig config, PlatformModel model, std::size_
   };
   for (const auto& label : platform_sections(config_).platform.order_labels) {
     for (Axis a : models::kAllAxes) {
-      append_outputs(outputs_, label + "_" + models::axis_name(a) + "_", kAxisOutputs,
+      append_outputs(outputs, label + "_" + models::axis_name(a) + "_", kAxisOutputs,
                      "order " + label + ", " + models::axis_name(a) + " axis: ");
     }
-    outputs_.push_back({label + "_los_max_arcsec", "arcsec", "order " + label + ": peak LOS error over the carrier profile, worst grid point"});
-    outputs_.push_back({label + "_los_rms_arcsec", "arcsec", "order " + label + ": RMS LOS error over the carrier profile, worst grid point"});
+    outputs.push_back({label + "_los_max_arcsec", "arcsec", "order " + label + ": peak LOS error over the carrier profile, worst grid point"});
+    outputs.push_back({label + "_los_rms_arcsec", "arcsec", "order " + label + ": RMS LOS error over the carrier profile, worst grid point"});
   }
-  output_names_ = output_names_of(outputs_);
+  declare_outputs(std::move(outputs));
   // Grid of gimbal angles.
   const PlatformStudySection& ps = platform_sections(config_).platform;
   for (double al : models::linspace(ps.outer_min, ps.outer_max, ps.outer_points)) {
@@ -351,7 +352,7 @@ void PlatformStudy::compute(std::size_t i, Workspace& ws, SampleResult& out) con
   out.ok = true;
   out.message.clear();
   out.inputs.assign(input_names_.size(), NAN);
-  out.outputs.assign(output_names_.size(), NAN);
+  out.outputs.assign(output_names().size(), NAN);
   out.solver_steps = out.rhs_evals = 0;
   try {
     const PlatformDraws d = draws(i);

@@ -79,14 +79,9 @@ class PlatformStudy : public ProcedureStudyBase<PlatformStudy> {
   PlatformStudy(StudyConfig config, PlatformModel model, std::size_t samples, std::uint64_t seed,
                 std::vector<double> shafting_los_arcsec = {}, double pixel_arcsec = 0.0);
 
-  const std::vector<std::string>& input_names() const override { return input_names_; }
   /// Per-test draws (kProcedure) and each axis's measurement noise: two sources, two Sobol groups.
   std::vector<std::string> randomness_sources() const override { return {"per-test draws", "measurement noise"}; }
-  /// The model's tolerance key of each input column (its axes or components together).
-  const std::vector<std::string>& input_tolerances() const { return input_tolerances_; }
   std::size_t design_dimension() const { return design_.dimension(); }
-  const std::vector<OutputSpec>& outputs() const override { return outputs_; }
-  const std::vector<std::string>& output_names() const override { return output_names_; }
   /// Per-test draws and measurement noise beyond the design point.
   bool has_own_randomness() const override { return true; }
   bool has_solver() const override { return true; }
@@ -129,8 +124,6 @@ class PlatformStudy : public ProcedureStudyBase<PlatformStudy> {
   std::uint64_t seed_;
   std::vector<double> shafting_, shafting_sorted_;
   double pixel_arcsec_ = 0.0;
-  std::vector<OutputSpec> outputs_;
-  std::vector<std::string> input_names_, output_names_, input_tolerances_;
   std::vector<std::pair<int, int>> unit_slots_;  ///< (slot, instance) drawn from the design
   std::size_t dimension_ = 0;
   sampling::Design design_;

@@ -56,6 +56,30 @@ class SeekerLosKind final : public StudyKind {
     }
     return out;
   }
+  std::string model_kind() const override { return "seeker_two_axis"; }
+  /// Plain Monte Carlo (independent samples, so a quantile's order-statistic interval holds)
+  /// of the chain over a 13 x 13 grid of the field of regard, as the LOS study does.
+  StudyConfig model_study(const std::string& model_path) const override {
+    StudyConfig cfg;
+    cfg.kind = name();
+    cfg.name = "model_monte_carlo";
+    cfg.file = model_path;
+    cfg.model_path = model_path;
+    cfg.method = sampling::SamplingMethod::kMonteCarlo;
+    cfg.plots = false;
+    auto sections = std::make_unique<SeekerLosSections>();  // a 13 x 13 grid
+    sections->requirement = 1.0;  // 1 px: only the field_ok_fraction output depends on it
+    sections->requirement_in_pixels = true;
+    sections->requirement_shorthand = false;
+    sections->contribution_samples = 0;
+    cfg.sections = std::move(sections);
+    return cfg;
+  }
+  std::vector<std::string> model_tolerance_keys(const std::string& model_path) const override {
+    std::vector<std::string> keys = load_seeker_model(model_path).tolerance_keys();
+    keys.insert(keys.begin(), "load_deformation");  // k', sampled too (SeekerSampler's k_load)
+    return keys;
+  }
   std::string run(const StudyConfig& cfg, const RunOptions& options) const override {
     return run_seeker_study(cfg, options, requirements(cfg));
   }

@@ -96,7 +96,7 @@ class SeekerRowWriter {
 
 // Sweeps and contributions of a complete run (`extras`), from `ran` samples run.
 SideResults run_side_studies(const StudyConfig& cfg, const SeekerModel& model, std::uint64_t seed, int threads,
-                             std::size_t ran, std::size_t contribution_samples, std::size_t keep_grid_bytes,
+                             std::size_t run_samples, std::size_t ran, std::size_t contribution_samples, std::size_t keep_grid_bytes,
                              bool extras, bool progress, const std::vector<Requirement>& requirements) {
   // Sweeps and contributions keep no file of their grid values; the memory setting holds.
   SeekerRunControl side_runs;
@@ -111,7 +111,7 @@ SideResults run_side_studies(const StudyConfig& cfg, const SeekerModel& model, s
   };
   std::vector<SideRun> side;
   for (const auto& sw : extras ? cfg.sweeps : std::vector<SweepSpec>{}) {
-    for (const auto& v : sw.values) side.push_back({{{sw.parameter, v}}, sw.samples, {}});
+    for (const auto& v : sw.values) side.push_back({{{sw.parameter, v}}, sweep_samples(sw, run_samples), {}});
   }
   const std::size_t first_contribution = side.size();
   const bool contribute = extras && contribution_samples > 0;
@@ -137,7 +137,7 @@ SideResults run_side_studies(const StudyConfig& cfg, const SeekerModel& model, s
   json sweeps = json::array();
   std::size_t job = 0;
   for (const auto& sw : extras ? cfg.sweeps : std::vector<SweepSpec>{}) {
-    json js{{"parameter", sw.parameter}, {"samples", sw.samples}, {"points", json::array()}};
+    json js{{"parameter", sw.parameter}, {"samples", sweep_samples(sw, run_samples)}, {"points", json::array()}};
     for (const auto& v : sw.values) {
       const SeekerMcResult& r = side[job++].result;
       json p{{"value", v}, {"value_si", units::parse_quantity(v).value}, {"failures", r.failures}};
@@ -152,7 +152,7 @@ SideResults run_side_studies(const StudyConfig& cfg, const SeekerModel& model, s
         }
         p["outputs"] = outs;
         p["requirements"] = judge_requirements(requirements, seeker_output_specs(), [&](const std::string& name) {
-          return seeker_values(r, name, cfg.replicate_size);
+          return seeker_values(r, name, cfg.replicate_size, independent_samples(cfg));
         });
       }
       js["points"].push_back(p);
@@ -307,7 +307,7 @@ std::string run_seeker_study(const StudyConfig& file_cfg, const RunOptions& opti
   finish_manifest(plan, status, ran);
   const bool extras = status == "complete" && sensitivity_base == 0;  // sweeps and contributions
 
-  const SideResults side = run_side_studies(cfg, model, seed, threads, ran, sec.contribution_samples,
+  const SideResults side = run_side_studies(cfg, model, seed, threads, n, ran, sec.contribution_samples,
                                             control.keep_grid_bytes, extras, options.progress, requirements);
   const json s = seeker_summary({cfg, model, study, mc, plan, *rule, tolerances, requirements, status, ran}, side, options);
   write_file_atomic((fs::path(dir) / "summary.json").string(), s.dump(2) + "\n");

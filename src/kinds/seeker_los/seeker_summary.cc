@@ -28,10 +28,11 @@ std::vector<OutputSpec> seeker_output_specs() {
 }
 
 // The values of one seeker output of a run, for a requirement's verdict.
-OutputValues seeker_values(const SeekerMcResult& mc, const std::string& name, std::size_t replicate_size) {
+OutputValues seeker_values(const SeekerMcResult& mc, const std::string& name, std::size_t replicate_size,
+                           bool independent) {
   OutputValues ov;
   for (std::size_t k = 0; k < mc.values.size() && k < kNumSeekerOutputs; ++k) {
-    if (name == kSeekerOutputs[k].name) ov = {&mc.values[k], &mc.ok_index, replicate_size};
+    if (name == kSeekerOutputs[k].name) ov = {&mc.values[k], &mc.ok_index, replicate_size, independent};
   }
   return ov;
 }
@@ -133,7 +134,7 @@ json seeker_summary(const SeekerRun& r, const SideResults& side, const RunOption
   }
   s["sweeps"] = side.sweeps;
   add_answer(s, r.requirements, seeker_output_specs(),
-             [&](const std::string& name) { return seeker_values(mc, name, cfg.replicate_size); }, status, ran,
+             [&](const std::string& name) { return seeker_values(mc, name, cfg.replicate_size, independent_samples(cfg)); }, status, ran,
              sensitivity_base > 0);
   s["provenance"] = {{"poise_version", kVersion}, {"git_commit", git_commit()},
                      {"study_file_sha1", file_sha1(cfg.file)}, {"model_file_sha1", file_sha1(cfg.model_path)},

@@ -27,7 +27,8 @@ nlohmann::json output_summary_json(const sampling::Summary& s, const std::string
 /// The seeker's outputs as declared.
 std::vector<OutputSpec> seeker_output_specs();
 /// The values of one seeker output of a run, for a requirement's verdict.
-OutputValues seeker_values(const SeekerMcResult& mc, const std::string& name, std::size_t replicate_size);
+OutputValues seeker_values(const SeekerMcResult& mc, const std::string& name, std::size_t replicate_size,
+                           bool independent);
 
 /// summary.json's "sweeps" and "contributions".
 struct SideResults {
