@@ -205,13 +205,10 @@ bool sweep_figure(const fs::path& dir, const std::string& name, const std::strin
   std::ostringstream g;
   g << "set title " << quoted(title) << "\nset xlabel " << quoted(xlabel) << "\nset ylabel " << quoted(ylabel)
     << "\nset key outside bottom center horizontal\nset offsets graph 0.05, graph 0.05, graph 0.1, graph 0.1\n";
-  for (const auto& l : limits) {
-    g << "set arrow from graph 0, first " << l.x << " to graph 1, first " << l.x << " nohead lw 2 lc rgb '" << l.colour
-      << "'\nset label " << quoted(l.label) << " at graph 0.02, first " << l.x << " offset 0,0.6 tc rgb '" << l.colour
-      << "'\n";
-  }
-  g << "plot '" << name << ".dat' u 1:2:3:4 with yerrorlines lw 2 pt 7 lc rgb '#4477aa' t " << quoted(ylabel + ", 95% interval")
-    << "\n";
+  // The limits as constant functions: the y range then takes them in.
+  g << "plot '" << name << ".dat' u 1:2:3:4 with yerrorlines lw 2 pt 7 lc rgb '#4477aa' t " << quoted(ylabel + ", 95% interval");
+  for (const auto& l : limits) g << ", " << l.x << " w l lw 2 lc rgb '" << l.colour << "' t " << quoted(l.label);
+  g << "\n";
   return run(dir, name, g.str(), figures, why);
 }
 

@@ -47,6 +47,7 @@ struct Judged {
   std::optional<double> bound;  // on the requirement's side
   std::optional<double> other;  // on the other side
   std::string note;
+  std::string design_note;  ///< the bounds' assumption the design does not meet
   std::optional<std::size_t> samples_to_decide;
 };
 
@@ -68,8 +69,8 @@ Judged judge(const Requirement& r, const OutputValues& ov, double limit, double 
     return j;
   }
   if (!ov.independent && ov.replicate_size == 0) {
-    j.note = "the bounds assume independent samples; this lhs or sobol design without [sampling] replicate_size "
-             "does not guarantee them (set replicate_size, or method = \"monte_carlo\")";
+    j.design_note = "the bounds assume independent samples; this lhs or sobol design without [sampling] "
+                    "replicate_size does not guarantee them (set replicate_size, or method = \"monte_carlo\")";
   }
   const BoundSpec up{BoundSide::kUpper, r.confidence}, down{BoundSide::kLower, r.confidence};
   j.bound = one_sided_bound(set, r.statistic, r.at_most ? up : down);
@@ -86,8 +87,8 @@ Judged judge(const Requirement& r, const OutputValues& ov, double limit, double 
     const double gap = std::abs(value - limit);
     const double n = static_cast<double>(ov.values->size());
     if (!facing) {
-      j.note = (j.note.empty() ? "" : j.note + "; ") + "too few samples for an " +
-               std::string(r.at_most ? "upper" : "lower") + " bound of " + statistic_label(r.statistic);
+      j.note = "too few samples for an " + std::string(r.at_most ? "upper" : "lower") + " bound of " +
+               statistic_label(r.statistic);
       // A distribution-free bound of the q-quantile exists from n >= ln(1 - c) / ln(q) (upper)
       // or ln(1 - c) / ln(1 - q) (lower) samples on.
       if (r.statistic.size() > 1 && r.statistic[0] == 'p' && ov.replicate_size == 0) {
@@ -104,7 +105,7 @@ Judged judge(const Requirement& r, const OutputValues& ov, double limit, double 
       const double half = std::abs(*facing - value);
       j.samples_to_decide = static_cast<std::size_t>(std::ceil(n * (half / gap) * (half / gap) * 1.1));
     } else {
-      j.note = (j.note.empty() ? "" : j.note + "; ") + "the statistic sits on the limit: no sample count decides it";
+      j.note = "the statistic sits on the limit: no sample count decides it";
     }
   }
   return j;
@@ -209,6 +210,7 @@ nlohmann::json judge_requirements(const std::vector<Requirement>& requirements, 
     v["margin"] = r.at_most ? limit - value : value - limit;  // > 0: on the right side of the limit
     if (j.samples_to_decide) v["samples_to_decide"] = *j.samples_to_decide;
     if (!j.note.empty()) v["note"] = j.note;
+    if (!j.design_note.empty()) v["design_note"] = j.design_note;
     out.push_back(v);
   }
   return out;
@@ -290,7 +292,7 @@ std::string answer_sentence(const json& verdicts, const json& outputs_summary, c
         partial + ": " + join(met);
   }
   for (const auto& v : verdicts) {
-    if (v.value("note", std::string()).find("assume independent samples") != std::string::npos) {
+    if (v.contains("design_note")) {
       s += " (the bounds assume independent samples, which this lhs or sobol design without replicate_size does not "
            "guarantee)";
       break;
@@ -332,7 +334,9 @@ std::string answer_html(const std::string& answer, const json& verdicts) {
          (v["value"].is_number() ? html_escape(with_unit(v["value"].get<double>(), unit)) : "&ndash;") + "</td><td>" +
          number(lower) + "</td><td>" + number(upper) + "</td><td>" + format_significant(v["confidence"].get<double>(), 4) +
          "</td><td class='l'><b>" + html_escape(v["verdict"].get<std::string>()) + "</b>" +
-         (v.contains("note") ? " <small>" + html_escape(v["note"].get<std::string>()) + "</small>" : "") + "</td></tr>\n";
+         (v.contains("note") ? " <small>" + html_escape(v["note"].get<std::string>()) + "</small>" : "") +
+         (v.contains("design_note") ? " <small>(" + html_escape(v["design_note"].get<std::string>()) + ")</small>" : "") +
+         "</td></tr>\n";
   }
   return h + "</table>\n";
 }
