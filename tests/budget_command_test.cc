@@ -2,6 +2,10 @@
 // Carlo beside it, text and report), and every bad-input message with file, line and key, exit 2.
 #include <gtest/gtest.h>
 
+#include <sstream>
+#include <string>
+#include <vector>
+
 #include <nlohmann/json.hpp>
 #include <set>
 #include <string>
@@ -91,6 +95,25 @@ TEST(BudgetCommand, WangBudgetInWordsAndItsReport) {
   EXPECT_EQ(html.find("src="), std::string::npos);  // self-contained
   const nlohmann::json j = nlohmann::json::parse(poise::test::read_text(dir.file("out/budget.json")));
   EXPECT_EQ(j["budget_vs_monte_carlo"], "optimistic");
+  // One answer everywhere: the Monte Carlo decides (its quantile's lower 95% bound is past the
+  // 1 px requirement) although the combination rule alone says met; the terminal ends with it
+  // before the report's path, budget.json holds it and the report opens with it.
+  EXPECT_EQ(j["requirement_met"], true);
+  EXPECT_EQ(j["requirement_verdict"]["verdict"], "not met");
+  const std::string answer = j["answer"].get<std::string>();
+  EXPECT_EQ(answer.rfind("By the Monte Carlo of the model's exact chain: NOT met", 0), 0u) << answer;
+  EXPECT_NE(answer.find("which the Monte Carlo contradicts"), std::string::npos) << answer;
+  std::vector<std::string> lines;
+  std::istringstream in(r.out);
+  for (std::string line; std::getline(in, line);) {
+    if (!line.empty()) lines.push_back(line);
+  }
+  ASSERT_GE(lines.size(), 2u);
+  EXPECT_EQ(lines[lines.size() - 2], answer);
+  const auto at = html.find("class='answer'");
+  ASSERT_NE(at, std::string::npos);
+  EXPECT_LT(at, html.find("<h2"));
+  EXPECT_EQ(html.find("The Monte Carlo does NOT meet"), std::string::npos);
 }
 
 TEST(BudgetCommand, UnmappedToleranceAndUnknownModelKeyAreListed) {

@@ -13,6 +13,9 @@
 #include "budget/budget_file.h"
 #include "budget/budget_json.h"
 #include "cli/budget_monte_carlo.h"
+#include "engine/output_spec.h"
+#include "engine/requirements.h"
+#include "engine/result_io.h"
 #include "cli/budget_report.h"
 #include "cli/budget_text.h"
 #include "core/error.h"
@@ -200,6 +203,49 @@ std::vector<double> add_monte_carlo(const budget::BudgetSpec& spec, const budget
   return v;
 }
 
+// The one answer to the budget's question, "is the requirement met at the confidence?": decided
+// on the Monte Carlo of the exact chain (its quantile's one-sided 95% bound, the verdicts every
+// study's requirements get), the combination rule's figure set beside it; by the rule alone
+// only when no model is named. Adds "requirement_verdict" and "answer".
+void add_budget_answer(const budget::BudgetSpec& spec, const std::vector<double>& mc_values, json& out) {
+  out["requirement_verdict"] = nullptr;
+  if (!spec.requirement) {
+    out["answer"] = "No requirement is stated: the budget and the Monte Carlo are set side by side only.";
+    return;
+  }
+  const json& a = out["at_confidence"];
+  const double limit = *spec.requirement / spec.unit_factor;
+  const double rule = a["greatest"].get<double>();  // in the budget's unit already
+  const std::string rule_text = "the combination rule gives " + studies::format_significant(rule) + " " + spec.unit +
+                                " at the confidence " + studies::format_significant(spec.confidence) + " and says " +
+                                (rule <= limit ? "met" : "not met");
+  if (mc_values.empty()) {
+    out["answer"] = std::string(rule <= limit ? "Met" : "NOT met") + " by the budget's combination rule alone (no model "
+                    "to sample): " + rule_text + " against " + spec.requirement_text + ".";
+    return;
+  }
+  studies::Requirement r;
+  r.output = spec.output;
+  r.statistic = "p" + studies::format_significant(100.0 * spec.confidence, 6);
+  r.at_most = true;
+  r.limit_text = studies::format_significant(limit, 10) + (spec.unit.empty() ? "" : " " + spec.unit);
+  r.confidence = 0.95;
+  r.origin = spec.file;
+  std::vector<std::size_t> index(mc_values.size());
+  for (std::size_t i = 0; i < index.size(); ++i) index[i] = i;
+  const std::vector<studies::OutputSpec> outputs = {{spec.output, spec.unit, ""}};
+  const json verdicts = studies::judge_requirements({r}, outputs, [&](const std::string&) {
+    return studies::OutputValues{&mc_values, &index, 0, true};
+  });
+  out["requirement_verdict"] = verdicts[0];
+  std::string answer = studies::answer_sentence(verdicts, json::object(), outputs, "complete", mc_values.size());
+  answer.pop_back();  // its period: the budget's clause follows
+  const std::string verdict = verdicts[0]["verdict"].get<std::string>();
+  const bool agree = (verdict == "met") == (rule <= limit) && verdict != "undecided";
+  out["answer"] = "By the Monte Carlo of the model's exact chain: " + answer + "; " + rule_text +
+                  (verdict == "undecided" ? "" : agree ? ", in agreement" : ", which the Monte Carlo contradicts") + ".";
+}
+
 int run_budget(const std::string& path, bool as_json, const std::string& out_dir) {
   try {
     const budget::BudgetSpec spec = budget::load_budget(path);
@@ -208,16 +254,18 @@ int run_budget(const std::string& path, bool as_json, const std::string& out_dir
     json j = budget::budget_json(spec, res);
     add_model_keys(spec, plan, j);
     const std::vector<double> mc_values = add_monte_carlo(spec, res, plan, j);
+    add_budget_answer(spec, mc_values, j);
     if (as_json) {
       std::cout << j.dump(2) << '\n';
     } else {
       print_budget_text(j, std::cout);
+      std::cout << '\n' << j["answer"].get<std::string>() << '\n';  // the answer, last (before the report's path)
     }
     if (!out_dir.empty()) {
       std::filesystem::create_directories(out_dir);
       studies::write_file_atomic((std::filesystem::path(out_dir) / "budget.json").string(), j.dump(2) + "\n");
       write_budget_report((std::filesystem::path(out_dir) / "report.html").string(), j, mc_values);
-      if (!as_json) std::cout << "\nreport: " << out_dir << "/report.html\n";
+      if (!as_json) std::cout << "report: " << out_dir << "/report.html\n";
     }
   } catch (const studies::ValidationError& e) {
     std::cerr << "poise: " << e.what() << "\nNothing was checked.\n";

@@ -1,5 +1,7 @@
 #include "cli/budget_report.h"
 
+#include "engine/requirements.h"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -164,7 +166,9 @@ void write_budget_report(const std::string& path, const json& j, const std::vect
     << "padding:3px 6px;text-align:right;vertical-align:top}td.l,th.l{text-align:left}small{color:#555}</style></head>"
     << "<body>\n<h1>" << html_escape(b["title"].get<std::string>().empty() ? b["name"].get<std::string>()
                                                                            : b["title"].get<std::string>())
-    << "</h1>\n<p>Budget <code>" << html_escape(b["file"].get<std::string>()) << "</code>: contributions in "
+    << "</h1>\n" << studies::answer_html(j.value("answer", std::string()),
+                                            j["requirement_verdict"].is_null() ? json::array() : json::array({j["requirement_verdict"]}))
+    << "<p>Budget <code>" << html_escape(b["file"].get<std::string>()) << "</code>: contributions in "
     << html_escape(unit) << " at " << html_escape(b["level"].get<std::string>()) << ", combined by "
     << html_escape(b["combination"].get<std::string>()) << ". Every line is recomputed from its inputs (sigma of the "
     << "tolerance by its distribution and tolerance_is, over the lever, times the gain, at the level); a declared "
@@ -231,8 +235,9 @@ void write_budget_report(const std::string& path, const json& j, const std::vect
     << budget_number(a["random_scale"]) << ", normal two-sided multiple " << budget_number(a["multiple"])
     << ")</td><td>" << budget_number(a["least"]) << "</td><td>" << budget_number(a["greatest"]) << "</td><td class='l'>";
   if (!j["requirement_met"].is_null()) {
-    h << "requirement " << budget_number(b["requirement"]) << " " << html_escape(unit) << ": <b>"
-      << (j["requirement_met"].get<bool>() ? "met" : "not met") << "</b>";
+    h << "requirement " << budget_number(b["requirement"]) << " " << html_escape(unit) << ": "
+      << (j["requirement_met"].get<bool>() ? "met" : "not met") << " by the combination rule alone (the answer above "
+      << "decides on the Monte Carlo)";
   }
   h << "</td></tr>\n</table>\n<p><small>Figures in " << html_escape(unit) << ".</small></p>\n";
   h << "<h2>The budget against the Monte Carlo</h2>\n";

@@ -143,8 +143,8 @@ void print_budget_text(const json& j, std::ostream& out) {
   if (!j["requirement_met"].is_null()) {
     out << "Requirement " << budget_number(b["requirement"]) << " " << unit << " ("
         << b["requirement_as_written"].get<std::string>() << "): "
-        << (j["requirement_met"].get<bool>() ? "met" : "NOT met") << " by the budget's greatest "
-        << budget_number(a["greatest"]) << " " << unit << ".\n";
+        << (j["requirement_met"].get<bool>() ? "met" : "NOT met") << " by the combination rule alone (the budget's greatest "
+        << budget_number(a["greatest"]) << " " << unit << "); the answer below decides on the Monte Carlo where there is one.\n";
   }
   if (!j["monte_carlo"].is_null()) {
     const json& m = j["monte_carlo"];
@@ -156,10 +156,7 @@ void print_budget_text(const json& j, std::ostream& out) {
         << ") is " << j["budget_vs_monte_carlo"].get<std::string>() << " against it"
         << (j["budget_vs_monte_carlo_decided"].get<bool>() ? "" : " (within the Monte Carlo's 95% interval: not decided)")
         << ".\n";
-    if (!j["requirement_met"].is_null()) {
-      const bool mc_met = m["value"].get<double>() <= b["requirement"].get<double>();
-      out << "  The Monte Carlo " << (mc_met ? "meets" : "does NOT meet") << " the requirement at this confidence.\n";
-    }
+
   }
   if (!j["unmapped_model_tolerances"].empty()) {
     out << "Model tolerances no line covers (the budget leaves them out):";
