@@ -2,6 +2,7 @@
 
 #include "engine/references.h"
 #include "engine/procedure_contributions.h"
+#include "engine/procedure_resume.h"
 #include "engine/procedure_sweeps.h"
 #include "engine/report_figures.h"
 #include "engine/requirements.h"
@@ -31,40 +32,6 @@ namespace poise::studies {
 namespace fs = std::filesystem;
 using nlohmann::json;
 
-void collect_samples(McResult& r, std::span<const SampleResult> block) {
-  for (const auto& s : block) {
-    r.solver_steps += s.solver_steps;
-    r.rhs_evals += s.rhs_evals;
-    if (!s.ok) {
-      ++r.failures;
-      if (r.failed.size() < 100) r.failed.emplace_back(s.index, s.message);
-      ++r.failure_reasons[s.message.substr(0, s.message.find(": "))];
-      continue;
-    }
-    if (r.values.size() < s.outputs.size()) r.values.resize(s.outputs.size());
-    for (std::size_t k = 0; k < s.outputs.size(); ++k) r.values[k].push_back(s.outputs[k]);
-    r.ok_index.push_back(s.index);
-  }
-}
-
-void summarize_outputs(McResult& r) {
-  r.outputs.clear();
-  if (r.values.empty() || r.values[0].empty()) return;
-  for (const auto& v : r.values) r.outputs.push_back(summarize_output(v, r.ok_index, r.replicate_size));
-}
-
-void encode_result(const SampleResult& r, ByteWriter& w) {
-  encode_sample_fields(r, w);
-  w.put(r.solver_steps);
-  w.put(r.rhs_evals);
-}
-
-void decode_result(ByteReader& rd, SampleResult& r) {
-  decode_sample_fields(rd, r);
-  r.solver_steps = rd.get<long>();
-  r.rhs_evals = rd.get<long>();
-}
-
 namespace {
 
 std::string fmt(double v, int prec = 9) {
@@ -85,53 +52,6 @@ json replay_procedure_sample(const ProcedureStudy& study, std::size_t index) {
 }
 
 namespace {
-
-// Samples already in an interrupted run's samples.csv (their outputs, status, solver steps
-// and failure reasons): complete lines only, in order from 0; a partial last line is cut off
-// the file. Throws if the header is not this study's.
-std::vector<SampleResult> read_done_samples(const std::string& csv_path, const std::string& header,
-                                           std::size_t n_inputs, std::size_t n_outputs, bool solver_steps) {
-  const std::size_t n_cells = 2 + n_inputs + n_outputs + (solver_steps ? 2 : 1);
-  std::vector<SampleResult> done;
-  std::istringstream lines(read_complete_rows(csv_path, header));
-  std::string line;
-  while (std::getline(lines, line)) {
-    std::vector<std::string> cells;
-    std::stringstream ss(line);
-    std::string cell;
-    while (std::getline(ss, cell, ',')) cells.push_back(cell);
-    if (!line.empty() && line.back() == ',') cells.emplace_back();
-    if (cells.size() != n_cells) {
-      throw Error("--resume: " + csv_path + " row " + std::to_string(done.size() + 2) + " has " +
-                  std::to_string(cells.size()) + " cells, expected " + std::to_string(n_cells));
-    }
-    SampleResult r;
-    r.index = std::stoul(cells[0]);
-    if (r.index != done.size()) throw Error("--resume: samples.csv rows are not in order at sample " + cells[0]);
-    r.ok = cells[1] == "ok";
-    // Only what the statistics and the stop rule read: the inputs stay on disk, and an ok
-    // row's message is empty (memory per resumed row: its outputs).
-    r.outputs.reserve(n_outputs);
-    for (std::size_t k = 0; k < n_outputs; ++k) r.outputs.push_back(std::stod(cells[2 + n_inputs + k]));
-    if (solver_steps) r.solver_steps = std::stol(cells[2 + n_inputs + n_outputs]);
-    if (!r.ok) r.message = cells.back();
-    done.push_back(std::move(r));
-  }
-  return done;
-}
-
-// A resumed run's samples come back from samples.csv with their solver steps but not their
-// right-hand-side evaluations: those the interrupted part recorded in run.json are added to
-// `mc`. Returns how many of the `resumed` samples have none recorded (a run killed before it
-// could write run.json), 0 when the count is whole.
-std::size_t add_resumed_counters(const json& manifest, std::size_t resumed, McResult& mc) {
-  if (resumed == 0) return 0;
-  const auto it = manifest.find("solver_counters");
-  if (it == manifest.end() || !it->is_object()) return resumed;
-  const std::size_t counted = std::min(it->value("samples", std::size_t{0}), resumed);
-  mc.rhs_evals += it->value("rhs_evals", 0L);
-  return resumed - counted;
-}
 
 // samples.csv's header: sample, status, the inputs, the outputs, solver_steps (a study with
 // a solver) and message.

@@ -135,8 +135,11 @@ std::vector<Requirement> read_requirements(TomlReader& root) {
               "exactly one of at_most or at_least, a value with the output's unit, e.g. at_most = \"1.5 mN*m\"");
     }
     r.at_most = most || !least;
+    if (t.schema_only()) {  // both, as alternatives
+      t.ask("at_most", "a value with the output's unit, e.g. \"1.5 mN*m\" (or at_least)", "", false);
+      t.ask("at_least", "a value with the output's unit (or at_most)", "", false);
+    }
     r.limit_text = t.string(r.at_most ? "at_most" : "at_least", t.schema_only() ? std::optional<std::string>("") : std::nullopt);
-    if (t.schema_only()) t.string("at_least", "");
     if (!r.limit_text.empty()) {
       try {
         units::parse_quantity(r.limit_text);

@@ -95,6 +95,8 @@ StudyConfig load_study(const std::string& path) {
     TomlReader t = root.table("output");
     c.plots = t.boolean("plots", true);
     c.block = static_cast<std::size_t>(t.integer("block", 1, 1'000'000, 1024));
+    t.ask("contribution_samples", "an integer from 0 to 1000000000 (0: no contributions)",
+          "0 (the seeker: 4096)", false);
     c.contribution_samples = static_cast<std::size_t>(t.integer("contribution_samples", 0, 1'000'000'000, 0));
   }
   c.references = read_references(root);
@@ -104,6 +106,7 @@ StudyConfig load_study(const std::string& path) {
     sw.parameter = t.string("parameter");
     sw.values = t.string_array("values");
     if (sw.values.empty() && t.has("values")) t.error("values", "[]", "at least one value, with its unit");
+    t.ask("samples", "an integer from 1 to 1000000000", "the run's sample count", false);  // its schema's default
     sw.samples = static_cast<std::size_t>(t.integer("samples", 1, 1'000'000'000, 0));  // 0: the run's
     c.sweeps.push_back(sw);
   }
