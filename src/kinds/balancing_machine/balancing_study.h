@@ -69,6 +69,8 @@ class BalancingStudy : public ProcedureStudyBase<BalancingStudy> {
   /// Per-test draws and measurement noise beyond the design point.
   bool has_own_randomness() const override { return true; }
   bool has_solver() const override { return true; }
+  /// Every toleranced slot of the model, the per-test ones included (for contributions).
+  std::vector<std::string> tolerance_keys() const override;
   std::string model_name() const override { return model_.name; }
   std::string model_source() const override { return model_.source; }
   const BalancingModel& model() const { return model_; }

@@ -146,6 +146,15 @@ BalancingStudy::BalancingStudy(StudyConfig config, BalancingModel model, std::si
   warnings_ = input_warnings();
 }
 
+std::vector<std::string> BalancingStudy::tolerance_keys() const {
+  std::vector<std::string> keys;
+  for (const auto& s : kSlots) {
+    const std::string key = std::string("tolerances.") + s.key;
+    if ((model_.*s.tol).spec.tolerance > 0.0 && std::find(keys.begin(), keys.end(), key) == keys.end()) keys.push_back(key);
+  }
+  return keys;
+}
+
 std::vector<std::string> BalancingStudy::input_warnings() const {
   std::vector<std::string> w;
   const BalancingRotor& r = model_.rotor;

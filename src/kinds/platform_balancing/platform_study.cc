@@ -388,6 +388,14 @@ void PlatformStudy::compute(std::size_t i, Workspace& ws, SampleResult& out) con
   }
 }
 
+std::vector<std::string> PlatformStudy::tolerance_keys() const {
+  std::vector<std::string> keys;
+  for (int s = 0; s < PlatformDraws::kNumSlots; ++s) {
+    if (tolerance_of(model_, s).spec.tolerance > 0.0) keys.push_back(std::string("tolerances.") + slot_name(s));
+  }
+  return keys;
+}
+
 nlohmann::json PlatformStudy::solver_json(const McResult& mc) const {
   return {{"steps", mc.solver_steps}, {"rhs_evals", mc.rhs_evals}, {"rtol", model_.plan.solver.rtol},
           {"max_order", model_.plan.solver.max_order}};

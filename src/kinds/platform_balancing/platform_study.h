@@ -85,6 +85,8 @@ class PlatformStudy : public ProcedureStudyBase<PlatformStudy> {
   /// Per-test draws and measurement noise beyond the design point.
   bool has_own_randomness() const override { return true; }
   bool has_solver() const override { return true; }
+  /// Every toleranced slot of the model, the per-test ones included (for contributions).
+  std::vector<std::string> tolerance_keys() const override;
   const StudyConfig& config() const override { return config_; }
   std::size_t samples() const { return samples_; }
   std::string model_name() const override { return model_.name; }
