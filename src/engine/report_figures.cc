@@ -37,15 +37,45 @@ bool run(const fs::path& dir, const std::string& name, const std::string& script
   return true;
 }
 
-std::string vertical_lines(const std::vector<FigureLine>& lines) {
+// Labelled vertical lines; a label beside a line in the right half of the values [lo, hi]
+// stands to its left, so that it stays inside the figure.
+std::string vertical_lines(const std::vector<FigureLine>& lines, double lo, double hi) {
   std::ostringstream g;
   int i = 0;
   for (const auto& l : lines) {
+    const bool left = l.x > 0.5 * (lo + hi);
     g << "set arrow from " << l.x << ", graph 0 to " << l.x << ", graph 1 nohead lw 2 lc rgb '" << l.colour << "'\n"
       << "set label " << quoted(l.label) << " at " << l.x << ", graph " << (0.95 - 0.08 * (i++ % 6))
-      << " offset 0.5,0 tc rgb '" << l.colour << "'\n";
+      << (left ? " right offset -0.5,0" : " offset 0.5,0") << " tc rgb '" << l.colour << "'\n";
   }
   return g.str();
+}
+
+// Histogram bins of sorted values: Freedman-Diaconis width 2 IQR n^(-1/3) (Sturges' count
+// when the IQR is zero), 5 to 60 bins, each sample in exactly one bin.
+struct HistogramBins {
+  double first = 0.0, width = 1.0;
+  std::vector<std::size_t> counts;
+};
+
+HistogramBins histogram_bins(const std::vector<double>& sorted) {
+  HistogramBins h;
+  const std::size_t n = sorted.size();
+  const double lo = sorted.front(), hi = sorted.back(), range = hi - lo;
+  const double iqr = sorted[(3 * n) / 4] - sorted[n / 4];
+  std::size_t bins = static_cast<std::size_t>(std::ceil(std::log2(static_cast<double>(n)))) + 1;  // Sturges
+  if (iqr > 0.0 && range > 0.0) {
+    bins = static_cast<std::size_t>(std::ceil(range / (2.0 * iqr * std::cbrt(1.0 / static_cast<double>(n)))));
+  }
+  bins = std::clamp<std::size_t>(bins, 5, 60);
+  h.width = range > 0.0 ? range / static_cast<double>(bins) : (std::abs(hi) > 0.0 ? std::abs(hi) * 1e-3 : 1e-9);
+  h.first = range > 0.0 ? lo : lo - 0.5 * h.width * static_cast<double>(bins);
+  h.counts.assign(bins, 0);
+  for (double x : sorted) {
+    const auto b = static_cast<std::size_t>(std::floor((x - h.first) / h.width));
+    ++h.counts[std::min(b, bins - 1)];  // the largest value closes the last bin
+  }
+  return h;
 }
 
 }  // namespace
@@ -88,18 +118,29 @@ bool distribution_figures(const fs::path& dir, const std::string& output, const 
     write_file_atomic((dir / (output + "_cdf.dat")).string(), d.str());
   }
   const std::string xl = output + (unit.empty() ? "" : " [" + unit + "]");
+  const HistogramBins bins = histogram_bins(sorted);
+  {
+    std::ostringstream d;
+    d.precision(10);
+    d << "# bin_centre  samples  (bin width " << bins.width << ")\n";
+    for (std::size_t b = 0; b < bins.counts.size(); ++b) {
+      d << bins.first + (static_cast<double>(b) + 0.5) * bins.width << ' ' << bins.counts[b] << '\n';
+    }
+    write_file_atomic((dir / (output + "_hist.dat")).string(), d.str());
+  }
+  const std::size_t most = *std::max_element(bins.counts.begin(), bins.counts.end());
   std::ostringstream hist;
+  hist.precision(10);
   hist << "set title " << quoted("Distribution of " + output + " over " + std::to_string(sorted.size()) + " samples")
        << "\nset xlabel " << quoted(xl) << "\nset ylabel 'samples'\nset key outside bottom center horizontal\n"
-       << "stats '" << output << "_cdf.dat' u 1 nooutput\nbw = (STATS_max - STATS_min) / 30.0\n"
-       << "if (bw <= 0) bw = (abs(STATS_max) > 0 ? abs(STATS_max) * 1e-3 : 1e-9)\n"
-       << "bin(x) = bw * floor(x / bw) + bw / 2\nset style fill solid 0.6\n" << vertical_lines(lines)
-       << "plot '" << output << "_cdf.dat' u (bin($1)):(1.0) smooth freq with boxes lc rgb '#4477aa' title 'simulated'\n";
+       << "set boxwidth " << bins.width << " absolute\nset yrange [0:*]\n" << (most <= 10 ? "set ytics 1\n" : "")
+       << "set style fill solid 0.6\n" << vertical_lines(lines, sorted.front(), sorted.back()) << "plot '" << output
+       << "_hist.dat' u 1:2 with boxes lc rgb '#4477aa' title 'simulated'\n";
   if (!run(dir, output + "_hist", hist.str(), figures, why)) return false;
   std::ostringstream cdf;
   cdf << "set title " << quoted("CDF of " + output + " with its 95% band (DKW)") << "\nset xlabel " << quoted(xl)
       << "\nset ylabel 'share of samples at or below'\nset yrange [0:1]\nset key outside bottom center horizontal\n"
-      << vertical_lines(lines) << "plot '" << output
+      << vertical_lines(lines, sorted.front(), sorted.back()) << "plot '" << output
       << "_cdf.dat' u 1:3:4 with filledcurves lc rgb '#bbccee' title '95% band', '' u 1:2 with steps lw 2 lc rgb "
          "'#4477aa' title 'empirical CDF'\n";
   if (!run(dir, output + "_cdf", cdf.str(), figures, why)) return false;

@@ -245,8 +245,10 @@ void BalancingStudy::report_sections(const McResult& mc, const std::string& plot
           }
           svg_plot(dir, n,
                "set title '" + n + "'\nset xlabel '" + unit + "'\nset ylabel 'machines'\nstats '" + n +
-                   ".dat' u 1 nooutput\nbw = (STATS_max - STATS_min) / 25.0\nif (bw <= 0) bw = 1e-9\n"
-                   "bin(x) = bw * floor(x / bw) + bw / 2\nset style fill solid 0.6\nplot '" + n +
+                   ".dat' u 1 nooutput\nnb = ceil(sqrt(STATS_records)); nb = (nb < 5 ? 5 : (nb > 25 ? 25 : nb))\n"
+                   "bw = (STATS_max - STATS_min) / nb\nif (bw <= 0) bw = 1e-9\n"
+                   "bin(x) = bw * floor(x / bw) + bw / 2\nset boxwidth bw absolute\nset yrange [0:*]\n"
+                   "set style fill solid 0.6\nplot '" + n +
                    ".dat' u (bin($1)):(1.0) smooth freq with boxes lc rgb '#4477aa' notitle\n",
                figures, h);
         }

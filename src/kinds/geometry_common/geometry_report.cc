@@ -26,8 +26,10 @@ std::string histogram_script(const std::string& dat, int column, const std::stri
   std::ostringstream g;
   g << "set title '" << title << "'\nset xlabel '" << xlabel << "'\nset ylabel 'samples'\n"
     << "stats '" << dat << "' u " << column << " nooutput\n"
-    << "bw = (STATS_max - STATS_min) / 40.0\nif (bw <= 0) bw = (abs(STATS_max) > 0 ? abs(STATS_max) * 1e-3 : 1e-9)\n"
-    << "bin(x) = bw * floor(x / bw) + bw / 2\nset style fill solid 0.6\nset grid\n"
+    // About sqrt(n) bins (5 to 40), each box as wide as its bin.
+    << "nb = ceil(sqrt(STATS_records)); nb = (nb < 5 ? 5 : (nb > 40 ? 40 : nb))\n"
+    << "bw = (STATS_max - STATS_min) / nb\nif (bw <= 0) bw = (abs(STATS_max) > 0 ? abs(STATS_max) * 1e-3 : 1e-9)\n"
+    << "bin(x) = bw * floor(x / bw) + bw / 2\nset boxwidth bw absolute\nset yrange [0:*]\nset style fill solid 0.6\nset grid\n"
     << "plot '" << dat << "' u (bin($" << column << ")):(1.0) smooth freq with boxes lc rgb '#4477aa' notitle\n";
   return g.str();
 }
