@@ -66,11 +66,12 @@ TEST(ShaftSag, LimitsAndSymmetry) {
   EXPECT_EQ(shaft_sag(L, 0.0, d, 0.0, E, P).deflection, 0.0);  // a load on the bearing
 }
 
-// The example's model file by absolute path, in quotes, for a copy of its study elsewhere.
-std::string quoted_model() {
-  std::string q = "\"";
-  q.append(source_path("models/shaft_sag_example.toml")).append("\"");
-  return q;
+// The example study's text for a copy elsewhere: its model by absolute path.
+std::string example_study_text() {
+  std::string model = "\"";
+  model.append(source_path("models/shaft_sag_example.toml")).append("\"");
+  return test::replace_once(read_text(source_path("studies/shaft_sag_example.toml")),
+                            "\"../models/shaft_sag_example.toml\"", model);
 }
 
 std::vector<std::map<std::string, std::string>> read_csv(const std::string& path) {
@@ -133,8 +134,7 @@ TEST(ShaftSag, SensitivityHasNoWithinSampleGroup) {
 // LOS error shrinks, so its p99.73 drops (Young's modulus, a range, dominates it).
 TEST(ShaftSag, ContributionsZeroEachToleranceInTurn) {
   TempDir dir;
-  std::string text = read_text(source_path("studies/shaft_sag_example.toml"));
-  text = test::replace_once(text, "\"../models/shaft_sag_example.toml\"", quoted_model());
+  std::string text = example_study_text();
   test::write_text(dir.file("c.toml"), text + "\n[output]\ncontribution_samples = 512\n");
   const std::string out = dir.file("run");
   const auto r = test::run_poise(dir, "run '" + dir.file("c.toml") + "' --samples 512 --threads 2 -q --out '" + out + "'");
@@ -157,8 +157,7 @@ TEST(ShaftSag, ContributionsZeroEachToleranceInTurn) {
 
 TEST(ShaftSag, DrawOffTheShaftFailsItsSampleWithTheReason) {
   TempDir dir;
-  std::string text = read_text(source_path("studies/shaft_sag_example.toml"));
-  text = test::replace_once(text, "\"../models/shaft_sag_example.toml\"", quoted_model());
+  std::string text = example_study_text();
   text = test::replace_once(text, "[[requirement]]", "[overrides]\n\"parameters.load_position\" = \"56 mm\"\n\n[[requirement]]");
   test::write_text(dir.file("off.toml"), text);
   const auto r = test::run_poise(dir, "run '" + dir.file("off.toml") + "' --samples 8 --quiet --no-plots --out '" +

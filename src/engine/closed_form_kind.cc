@@ -63,9 +63,7 @@ std::string column_name(const ClosedFormParameter& p) {
   return unit.empty() || unit == "1" ? p.name : p.name + "_" + unit;
 }
 
-double display_factor(const std::string& unit) {
-  return unit.empty() || unit == "1" ? 1.0 : units::parse_quantity("1 " + unit).value;
-}
+double display_factor(const std::string& unit) { return unit_quantity(unit).value; }
 
 // The study of a closed-form kind: each sample draws the toleranced parameters from its
 // design point and evaluates the kind's formula.
@@ -81,6 +79,7 @@ class ClosedFormStudy final : public ProcedureStudyBase<ClosedFormStudy> {
     const ClosedFormDeclaration& d = kind_.declaration();
     for (const auto& dr : model_.drawn) {
       input_names_.push_back(column_name(d.parameters[dr.parameter]));
+      input_factor_.push_back(display_factor(d.parameters[dr.parameter].display_unit));
       input_tolerances_.push_back("tolerances." + d.parameters[dr.parameter].name);
     }
     for (const auto& o : d.outputs) output_factor_.push_back(display_factor(o.unit));
@@ -99,7 +98,7 @@ class ClosedFormStudy final : public ProcedureStudyBase<ClosedFormStudy> {
       const auto& dr = model_.drawn[k];
       const double x = dr.spec.dist.quantile(u[k]);
       values[dr.parameter] = dr.range ? x : values[dr.parameter] + x;
-      out.inputs.push_back(values[dr.parameter] / display_factor(d.parameters[dr.parameter].display_unit));
+      out.inputs.push_back(values[dr.parameter] / input_factor_[k]);
     }
     try {
       out.outputs = kind_.compute(values);
@@ -148,7 +147,7 @@ class ClosedFormStudy final : public ProcedureStudyBase<ClosedFormStudy> {
   ClosedFormModel model_;
   std::size_t samples_;
   sampling::Design design_;
-  std::vector<double> output_factor_;
+  std::vector<double> input_factor_, output_factor_;  ///< SI per display unit (not parsed per sample)
 };
 
 }  // namespace

@@ -6,6 +6,8 @@
 #include <string>
 #include <vector>
 
+#include "core/units.h"
+
 namespace poise::studies {
 
 struct OutputSpec {
@@ -26,6 +28,13 @@ struct OutputDeclaration {
 inline void append_outputs(std::vector<OutputSpec>& out, const std::string& prefix,
                            std::span<const OutputDeclaration> declared, const std::string& what = "") {
   for (const auto& d : declared) out.push_back({prefix + d.name, d.unit, what + d.description});
+}
+
+/// One of a display unit in SI with its dimension ("" and "1": dimensionless); throws
+/// poise::Error for a unit the parser does not know.
+inline units::Quantity unit_quantity(const std::string& unit) {
+  if (unit.empty() || unit == "1") return {1.0, units::kDimensionless};
+  return units::parse_quantity("1 " + unit);
 }
 
 /// The names of a list of outputs, in order.

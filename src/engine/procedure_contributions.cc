@@ -7,6 +7,7 @@
 
 #include "engine/report_figures.h"
 #include "engine/report_plot.h"
+#include "engine/requirements.h"
 #include "engine/result_io.h"
 #include "engine/toml_reader.h"
 
@@ -40,13 +41,7 @@ json run_without(const StudyConfig& cfg, const StudyFactory& make_study, const s
   for (const auto& [k, v] : extra) overrides[k] = v;
   c.overrides = apply_study_overrides(c, overrides);
   const McResult mc = make_study(c, samples, seed)->run(threads, false, nullptr, {});
-  json outs = json::object();
-  for (std::size_t k = 0; k < mc.outputs.size() && k < outputs.size(); ++k) {
-    json o = summary_json(mc.outputs[k]);
-    o["unit"] = outputs[k].unit;
-    outs[outputs[k].name] = o;
-  }
-  return {{"samples", mc.completed}, {"failures", mc.failures}, {"outputs", outs}};
+  return {{"samples", mc.completed}, {"failures", mc.failures}, {"outputs", outputs_json(mc, outputs, false)}};
 }
 
 }  // namespace
@@ -85,12 +80,7 @@ std::string contributions_html(const json& contributions, const json& requiremen
                                const std::filesystem::path& plots_dir, bool plots) {
   if (!contributions.is_array() || contributions.empty() || !contributions[0].contains("outputs")) return "";
   // The statistics shown: those the requirements name, else p95 of the first output.
-  std::vector<std::pair<std::string, std::string>> shown;
-  for (const auto& r : requirements) {
-    std::pair<std::string, std::string> p{r["output"].get<std::string>(), r["statistic"].get<std::string>()};
-    if (std::find(shown.begin(), shown.end(), p) == shown.end()) shown.push_back(p);
-  }
-  if (shown.empty() && !outputs.empty()) shown.emplace_back(outputs.front().name, "p95");
+  const auto shown = shown_statistics(requirements, outputs, 1);
   const json& all = contributions[0];
   std::string h = "<h2>Which tolerance drives the error</h2>\n<p>The study re-run with one tolerance set to zero "
                   "at a time (" + std::to_string(all["samples"].get<std::size_t>()) + " samples each, the same random "

@@ -32,16 +32,6 @@ namespace poise::studies {
 namespace fs = std::filesystem;
 using nlohmann::json;
 
-namespace {
-
-std::string fmt(double v, int prec = 9) {
-  char buf[40];
-  std::snprintf(buf, sizeof buf, "%.*g", prec, v);
-  return buf;
-}
-
-}  // namespace
-
 json replay_procedure_sample(const ProcedureStudy& study, std::size_t index) {
   const SampleResult r = study.replay(index);
   json j{{"sample", index}, {"status", r.ok ? "ok" : "failed"}};
@@ -62,20 +52,6 @@ std::string csv_header(const ProcedureStudy& study) {
   return header + (study.has_solver() ? ",solver_steps,message" : ",message");
 }
 
-// The values of output `name` for a requirement's verdict.
-std::function<OutputValues(const std::string&)> values_in(const McResult& mc, const std::vector<std::string>& names,
-                                                          const StudyConfig& cfg) {
-  return [&mc, &names, &cfg](const std::string& name) {
-    const auto it = std::find(names.begin(), names.end(), name);
-    const auto k = static_cast<std::size_t>(it - names.begin());
-    OutputValues ov;
-    if (it != names.end() && k < mc.values.size()) {
-      ov = {&mc.values[k], &mc.ok_index, cfg.replicate_size, independent_samples(cfg)};
-    }
-    return ov;
-  };
-}
-
 // Everything a finished run's summary and report are made from.
 struct FinishedRun {
   const StudyConfig& cfg;
@@ -94,17 +70,9 @@ struct FinishedRun {
 void add_statistics(json& s, const FinishedRun& f, const StopRule& rule) {
   const auto& names = f.study.output_names();
   const auto& specs = f.study.outputs();
-  json outputs = json::object();
-  for (std::size_t k = 0; k < f.mc.outputs.size() && k < specs.size(); ++k) {
-    json o = summary_json(f.mc.outputs[k]);
-    o["unit"] = specs[k].unit;
-    if (!specs[k].description.empty()) o["description"] = specs[k].description;
-    outputs[names[k]] = o;
-  }
-  s["outputs"] = outputs;
+  s["outputs"] = outputs_json(f.mc, specs, true);
   s["references"] = compare_references(declared_references(f.cfg, specs), specs, s["outputs"], [&](const std::string& name) {
-    const OutputValues ov = values_in(f.mc, names, f.cfg)(name);
-    return ov.values;
+    return requirement_values(f.mc, specs, f.cfg)(name).values;
   });
   s["failures"] = failures_json(f.mc.failures, f.ran, f.mc.failed, f.plan.seed, f.cfg.file);
   s["failures"]["by_reason"] = f.mc.failure_reasons;
@@ -142,7 +110,7 @@ json summary_of(const FinishedRun& f, const StopRule& rule, const RunOptions& op
                                      "LOS study: replicate p99.73 interval wider than this one); [sampling] "
                                      "replicate_size gives honest intervals"}};
   add_statistics(s, f, rule);
-  add_answer(s, f.requirements, f.study.outputs(), values_in(f.mc, f.study.output_names(), cfg), f.status,
+  add_answer(s, f.requirements, f.study.outputs(), requirement_values(f.mc, f.study.outputs(), cfg), f.status,
              f.ran, f.plan.sensitivity_base > 0);
   if (const json solver = f.study.solver_json(f.mc); !solver.is_null()) {
     s["solver"] = solver;
@@ -198,10 +166,10 @@ std::string distribution_plots(const json& s, const FinishedRun& f, const std::f
 }
 
 std::string statistic_cell(const json& e) {
-  std::string out = fmt(e["value"].get<double>(), 4) + " <small>[";
-  out += e["ci95"][0].is_number() ? fmt(e["ci95"][0].get<double>(), 4) : std::string("&ndash;");
+  std::string out = format_significant(e["value"].get<double>(), 4) + " <small>[";
+  out += e["ci95"][0].is_number() ? format_significant(e["ci95"][0].get<double>(), 4) : std::string("&ndash;");
   out += ", ";
-  out += e["ci95"][1].is_number() ? fmt(e["ci95"][1].get<double>(), 4) : std::string("&ndash;");
+  out += e["ci95"][1].is_number() ? format_significant(e["ci95"][1].get<double>(), 4) : std::string("&ndash;");
   return out + "]</small>";
 }
 

@@ -1,5 +1,6 @@
 // A procedure run's samples: collected into its result, sent between MPI ranks, read back on
 // resume (procedure_study.h, procedure_resume.h).
+#include <algorithm>
 #include <sstream>
 
 #include "core/error.h"
@@ -32,6 +33,31 @@ void summarize_outputs(McResult& r) {
   r.outputs.clear();
   if (r.values.empty() || r.values[0].empty()) return;
   for (const auto& v : r.values) r.outputs.push_back(summarize_output(v, r.ok_index, r.replicate_size));
+}
+
+json outputs_json(const McResult& r, const std::vector<OutputSpec>& outputs, bool with_descriptions) {
+  json out = json::object();
+  for (std::size_t k = 0; k < r.outputs.size() && k < outputs.size(); ++k) {
+    json o = summary_json(r.outputs[k]);
+    o["unit"] = outputs[k].unit;
+    if (with_descriptions && !outputs[k].description.empty()) o["description"] = outputs[k].description;
+    out[outputs[k].name] = o;
+  }
+  return out;
+}
+
+std::function<OutputValues(const std::string&)> requirement_values(const McResult& r,
+                                                                   const std::vector<OutputSpec>& outputs,
+                                                                   const StudyConfig& cfg) {
+  return [&r, &outputs, &cfg](const std::string& name) {
+    const auto it = std::find_if(outputs.begin(), outputs.end(), [&](const OutputSpec& o) { return o.name == name; });
+    const auto k = static_cast<std::size_t>(it - outputs.begin());
+    OutputValues ov;
+    if (it != outputs.end() && k < r.values.size()) {
+      ov = {&r.values[k], &r.ok_index, cfg.replicate_size, independent_samples(cfg)};
+    }
+    return ov;
+  };
 }
 
 void encode_result(const SampleResult& r, ByteWriter& w) {

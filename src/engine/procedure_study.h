@@ -66,6 +66,14 @@ void collect_samples(McResult& r, std::span<const SampleResult> block);
 /// Statistics of every output once all samples are collected.
 void summarize_outputs(McResult& r);
 
+/// summary.json's statistics of each declared output of a run, with its unit (and, when asked,
+/// its description), by name.
+nlohmann::json outputs_json(const McResult& r, const std::vector<OutputSpec>& outputs, bool with_descriptions);
+/// The values of a run's outputs by name, for requirements' verdicts (none for a name it lacks).
+std::function<OutputValues(const std::string&)> requirement_values(const McResult& r,
+                                                                   const std::vector<OutputSpec>& outputs,
+                                                                   const StudyConfig& cfg);
+
 /// The parallel run every procedure study shares: samples [done.size(), samples) in small
 /// in-order blocks (whole procedures are slow: progress and the CSV move often), one
 /// workspace per thread; `done` (a resumed run's samples) counted but not recomputed.

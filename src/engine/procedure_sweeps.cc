@@ -27,21 +27,6 @@ std::pair<double, std::string> as_written(const std::string& text) {
   return {x, unit};
 }
 
-// The outputs a sweep shows, each with its statistic: those the requirements name (their
-// statistic), else the first two outputs' p95.
-std::vector<std::pair<std::string, std::string>> shown(const std::vector<Requirement>& requirements,
-                                                       const std::vector<OutputSpec>& outputs) {
-  std::vector<std::pair<std::string, std::string>> out;
-  for (const auto& r : requirements) {
-    const std::string stat = r.statistic == "max" ? "max" : r.statistic;
-    std::pair<std::string, std::string> p{r.output, stat};
-    if (std::find(out.begin(), out.end(), p) == out.end()) out.push_back(p);
-  }
-  for (std::size_t k = 0; out.empty() && k < outputs.size() && k < 2; ++k) out.emplace_back(outputs[k].name, "p95");
-  if (out.size() == 1 && requirements.empty() && outputs.size() > 1) out.emplace_back(outputs[1].name, "p95");
-  return out;
-}
-
 }  // namespace
 
 json run_procedure_sweeps(const StudyConfig& cfg, const StudyFactory& make_study, std::size_t run_samples,
@@ -61,20 +46,8 @@ json run_procedure_sweeps(const StudyConfig& cfg, const StudyFactory& make_study
       const McResult mc = study->run(threads, false, nullptr, {});
       json p{{"value", v}, {"value_si", units::parse_quantity(v).value}, {"samples", mc.completed},
              {"failures", mc.failures}};
-      json outs = json::object();
-      for (std::size_t k = 0; k < mc.outputs.size() && k < outputs.size(); ++k) {
-        json o = summary_json(mc.outputs[k]);
-        o["unit"] = outputs[k].unit;
-        outs[outputs[k].name] = o;
-      }
-      p["outputs"] = outs;
-      p["requirements"] = judge_requirements(requirements, outputs, [&](const std::string& name) {
-        const auto it = std::find_if(outputs.begin(), outputs.end(), [&](const OutputSpec& o) { return o.name == name; });
-        const auto k = static_cast<std::size_t>(it - outputs.begin());
-        OutputValues ov;
-        if (it != outputs.end() && k < mc.values.size()) ov = {&mc.values[k], &mc.ok_index, cfg.replicate_size, independent_samples(cfg)};
-        return ov;
-      });
+      p["outputs"] = outputs_json(mc, outputs, false);
+      p["requirements"] = judge_requirements(requirements, outputs, requirement_values(mc, outputs, cfg));
       js["points"].push_back(p);
     }
     sweeps.push_back(js);
@@ -87,22 +60,14 @@ std::string sweeps_html(const json& sweeps, const std::vector<OutputSpec>& outpu
   if (!sweeps.is_array() || sweeps.empty()) return "";
   std::string h = "<h2>Sweeps</h2>\n<p>Each value runs the same samples (common random numbers): the differences "
                   "between values are the design's, not the sampling's. Intervals are 95%.</p>\n";
-  std::vector<Requirement> none;
   for (std::size_t s = 0; s < sweeps.size(); ++s) {
     const json& sw = sweeps[s];
     const std::string param = sw["parameter"].get<std::string>();
-    const auto [x0, x_unit] = as_written(sw["points"].empty() ? std::string() : sw["points"][0]["value"].get<std::string>());
-    (void)x0;
+    const std::string x_unit =
+        as_written(sw["points"].empty() ? std::string() : sw["points"][0]["value"].get<std::string>()).second;
     // The outputs shown: those a requirement names (with its statistic), else the first two.
-    std::vector<std::pair<std::string, std::string>> show;
-    std::vector<FigureLine> limits_of;
-    if (!sw["points"].empty()) {
-      for (const auto& r : sw["points"][0]["requirements"]) {
-        std::pair<std::string, std::string> p{r["output"].get<std::string>(), r["statistic"].get<std::string>()};
-        if (std::find(show.begin(), show.end(), p) == show.end()) show.push_back(p);
-      }
-    }
-    if (show.empty()) show = shown(none, outputs);
+    const auto show =
+        shown_statistics(sw["points"].empty() ? json::array() : sw["points"][0]["requirements"], outputs, 2);
     h += "<h3>" + html_escape(param) + "</h3>\n<table><tr><th>" + html_escape(param) + "</th>";
     for (const auto& [name, stat] : show) h += "<th>" + html_escape(stat + " of " + name) + "</th>";
     h += "<th>failed</th></tr>\n";

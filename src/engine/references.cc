@@ -24,12 +24,6 @@ std::string fmt(double v, int prec = 4) {
   return buf;
 }
 
-// SI value of one of the output's display unit ("" and "1": dimensionless).
-units::Quantity unit_quantity(const std::string& unit) {
-  if (unit.empty() || unit == "1") return {1.0, units::kDimensionless};
-  return units::parse_quantity("1 " + unit);
-}
-
 }  // namespace
 
 std::vector<ReferenceFigure> read_references(TomlReader& root) {

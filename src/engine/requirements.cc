@@ -14,12 +14,6 @@ namespace poise::studies {
 namespace {
 using nlohmann::json;
 
-// SI value of one of the output's display unit ("" and "1": dimensionless).
-units::Quantity unit_quantity(const std::string& unit) {
-  if (unit.empty() || unit == "1") return {1.0, units::kDimensionless};
-  return units::parse_quantity("1 " + unit);
-}
-
 const OutputSpec* find_output(const std::vector<OutputSpec>& outputs, const std::string& name) {
   const auto it = std::find_if(outputs.begin(), outputs.end(), [&](const OutputSpec& o) { return o.name == name; });
   return it == outputs.end() ? nullptr : &*it;
@@ -319,6 +313,19 @@ void add_answer(json& summary, const std::vector<Requirement>& requirements, con
   summary["requirements"] = judge_requirements(requirements, outputs, values_of);
   summary["answer"] = answer_sentence(summary["requirements"], summary.value("outputs", json::object()), outputs, status,
                                       samples);
+}
+
+std::vector<std::pair<std::string, std::string>> shown_statistics(const json& verdicts, const std::vector<OutputSpec>& outputs,
+                                                                  std::size_t fallback) {
+  std::vector<std::pair<std::string, std::string>> shown;
+  for (const auto& v : verdicts) {
+    std::pair<std::string, std::string> p{v["output"].get<std::string>(), v["statistic"].get<std::string>()};
+    if (std::find(shown.begin(), shown.end(), p) == shown.end()) shown.push_back(p);
+  }
+  if (shown.empty()) {
+    for (std::size_t k = 0; k < outputs.size() && k < fallback; ++k) shown.emplace_back(outputs[k].name, "p95");
+  }
+  return shown;
 }
 
 std::string answer_html(const std::string& answer, const json& verdicts) {

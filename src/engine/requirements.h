@@ -27,6 +27,7 @@
 #include <functional>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <nlohmann/json.hpp>
@@ -90,6 +91,12 @@ void add_answer(nlohmann::json& summary, const std::vector<Requirement>& require
                 const std::vector<OutputSpec>& outputs,
                 const std::function<OutputValues(const std::string&)>& values_of, const std::string& status,
                 std::size_t samples, bool saltelli_layout);
+
+/// The statistics a report shows for a study (in sweeps, contributions): each (output,
+/// statistic) the verdicts name, once; with none, p95 of the first `fallback` outputs.
+std::vector<std::pair<std::string, std::string>> shown_statistics(const nlohmann::json& verdicts,
+                                                                  const std::vector<OutputSpec>& outputs,
+                                                                  std::size_t fallback);
 
 /// The report's opening: the answer in bold and a table of the verdicts.
 std::string answer_html(const std::string& answer, const nlohmann::json& verdicts);

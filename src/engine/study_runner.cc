@@ -40,29 +40,34 @@ void check_sweeps(const StudyConfig& cfg, const StudyKind& kind) {
   if (!errors.empty()) throw ValidationError(errors);
 }
 
+// What checking a study found: the kind's summary line, its outputs and requirements.
+struct CheckedStudy {
+  std::string summary;
+  std::vector<OutputSpec> outputs;
+  std::vector<Requirement> requirements;
+};
+
 // Everything a run needs valid before it starts: the study with its model, the declared
-// references, the requirements and every sweep value. Returns the kind's summary line.
-std::string check_study(const StudyConfig& cfg, const StudyKind& kind) {
-  std::string summary = kind.validate(cfg);
-  const std::vector<OutputSpec> outputs = kind.outputs(cfg);
-  const auto refs = declared_references(cfg, outputs);
-  check_requirements(kind.requirements(cfg), outputs);
+// references, the requirements and every sweep value.
+CheckedStudy check_study(const StudyConfig& cfg, const StudyKind& kind) {
+  CheckedStudy c{kind.validate(cfg), kind.outputs(cfg), kind.requirements(cfg)};
+  const auto refs = declared_references(cfg, c.outputs);
+  check_requirements(c.requirements, c.outputs);
   check_sweeps(cfg, kind);
-  if (!refs.empty()) summary.append(" ").append(std::to_string(refs.size())).append(" declared reference figure(s).");
-  return summary;
+  if (!refs.empty()) c.summary.append(" ").append(std::to_string(refs.size())).append(" declared reference figure(s).");
+  return c;
 }
 
 }  // namespace
 
 std::string validate_study(const std::string& study_path) {
   const StudyConfig cfg = load_study(study_path);
-  const StudyKind& kind = study_kind(cfg.kind);
-  std::string summary = check_study(cfg, kind);
-  const std::size_t n_req = kind.requirements(cfg).size();
-  if (n_req > 0) summary.append(" ").append(std::to_string(n_req)).append(" requirement(s).");
+  const CheckedStudy c = check_study(cfg, study_kind(cfg.kind));
+  std::string summary = c.summary;
+  if (!c.requirements.empty()) summary.append(" ").append(std::to_string(c.requirements.size())).append(" requirement(s).");
   // What a requirement, a reference or a sweep's figure may name: each output with its unit.
   summary.append("\nOutputs per sample (name [unit]: what it is):");
-  for (const auto& o : kind.outputs(cfg)) {
+  for (const auto& o : c.outputs) {
     summary.append("\n  ").append(o.name).append(" [").append(o.unit.empty() ? "1" : o.unit).append("]");
     if (!o.description.empty()) summary.append(": ").append(o.description);
   }
@@ -81,8 +86,8 @@ std::string run_study(const std::string& study_path, const RunOptions& options) 
     throw UsageError("--resume, --until and MPI runs are for study kinds that stream their samples; a " + cfg.kind +
                 " study runs in one process in seconds to minutes (Ctrl-C still stops it cleanly)");
   }
-  check_study(cfg, kind);  // nothing runs until everything validates
-  if (options.require && kind.requirements(cfg).empty()) {
+  const CheckedStudy checked = check_study(cfg, kind);  // nothing runs until everything validates
+  if (options.require && checked.requirements.empty()) {
     throw UsageError("--require: " + cfg.file + " states no requirement; add a [[requirement]] table (output, "
                      "statistic, at_most or at_least, confidence) or leave --require out");
   }
