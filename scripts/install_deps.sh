@@ -12,6 +12,8 @@ PKGS=(
   libgtest-dev libbenchmark-dev libopenmpi-dev openmpi-bin gnuplot-nox
   clang-14 libclang-rt-14-dev  # tests/fuzz: libFuzzer, ASan, UBSan (clang++-14 -fsanitize=fuzzer)
   python3-numpy python3-scipy  # bench/baselines: the NumPy and SciPy scripts Poise is compared with
+  python3-dev pybind11-dev python3-pybind11  # python/: the module build/python/poise (pybind11)
+  python3-pytest python3-openturns  # python/tests (pytest) and the OpenTURNS example
 )
 missing=()
 for p in "${PKGS[@]}"; do

@@ -246,15 +246,26 @@ void add_budget_answer(const budget::BudgetSpec& spec, const std::vector<double>
                   (verdict == "undecided" ? "" : agree ? ", in agreement" : ", which the Monte Carlo contradicts") + ".";
 }
 
+}  // namespace
+
+json check_budget_file(const std::string& path, std::vector<double>* mc_values) {
+  const budget::BudgetSpec spec = budget::load_budget(path);
+  const MonteCarloPlan plan = plan_monte_carlo(spec);
+  const budget::BudgetResult res = budget::check_budget(spec);
+  json j = budget::budget_json(spec, res);
+  add_model_keys(spec, plan, j);
+  std::vector<double> values = add_monte_carlo(spec, res, plan, j);
+  add_budget_answer(spec, values, j);
+  if (mc_values) *mc_values = std::move(values);
+  return j;
+}
+
+namespace {
+
 int run_budget(const std::string& path, bool as_json, const std::string& out_dir) {
   try {
-    const budget::BudgetSpec spec = budget::load_budget(path);
-    const MonteCarloPlan plan = plan_monte_carlo(spec);
-    const budget::BudgetResult res = budget::check_budget(spec);
-    json j = budget::budget_json(spec, res);
-    add_model_keys(spec, plan, j);
-    const std::vector<double> mc_values = add_monte_carlo(spec, res, plan, j);
-    add_budget_answer(spec, mc_values, j);
+    std::vector<double> mc_values;
+    const json j = check_budget_file(path, &mc_values);
     if (as_json) {
       std::cout << j.dump(2) << '\n';
     } else {

@@ -6,12 +6,21 @@
 #include <CLI/CLI.hpp>
 #include <functional>
 #include <optional>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
 
 namespace poise::cli {
 
 /// Runs `poise budget` if it was the subcommand given: its exit status (0 success, 2 invalid
 /// input, 1 other failure), or nullopt when another subcommand was given.
 using BudgetHandler = std::function<std::optional<int>()>;
+
+/// The budget file checked: the `--json` object (lines, groups, combined, monte_carlo,
+/// answer, ...); the Monte Carlo's values go to `mc_values` when given. Throws
+/// studies::ValidationError or UsageError for invalid input, poise::Error otherwise.
+nlohmann::json check_budget_file(const std::string& path, std::vector<double>* mc_values = nullptr);
 
 /// Registers the `budget` subcommand on app (before app is parsed).
 BudgetHandler add_budget_command(CLI::App& app);

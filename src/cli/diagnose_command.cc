@@ -79,17 +79,12 @@ Exit status: 0 success, 2 invalid input (the message names the file, line and co
 1 the output folder cannot be written.
 )";
 
-struct Options {
-  std::string data, out, load_torque, load_angle;
+struct Options : DiagnoseRequest {
+  std::string out;
   bool json = false;
-  double alpha = 0.05;
-  int max_harmonic = 6;
-  std::string noise;
-  std::string study;
-  std::size_t study_samples = 64;
 };
 
-std::optional<Load> parse_load(const Options& o, const est::TorqueTable& t) {
+std::optional<Load> parse_load(const DiagnoseRequest& o, const est::TorqueTable& t) {
   if (o.load_torque.empty() && o.load_angle.empty()) return std::nullopt;
   if (o.load_torque.empty() || o.load_angle.empty()) {
     throw Error(
@@ -117,10 +112,48 @@ std::optional<Load> parse_load(const Options& o, const est::TorqueTable& t) {
   return l;
 }
 
-int run_diagnose(const Options& o) {
+// The table read and diagnosed, with its known load and the closed loop (--study).
+struct Diagnosed {
   est::TorqueTable table;
   est::DiagnosisResult result;
   std::optional<Load> load;
+  std::optional<LoopResult> loop;
+  json j;
+};
+
+// Throws poise::Error (a ValidationError among them) for invalid input.
+Diagnosed diagnose(const DiagnoseRequest& o) {
+  Diagnosed d;
+  d.table = est::read_torque_table(o.data);
+  d.load = parse_load(o, d.table);
+  est::DiagnosisOptions opt;
+  opt.alpha = o.alpha;
+  opt.max_harmonic = o.max_harmonic;
+  if (!o.noise.empty()) {
+    try {
+      opt.noise = units::parse_as(o.noise, units::kTorque) / d.table.unit_factor;
+    } catch (const Error& e) {
+      throw Error("--noise '" + o.noise + "': " + e.what());
+    }
+    if (!(opt.noise > 0.0) || !std::isfinite(opt.noise)) {
+      throw Error("--noise '" + o.noise + "': expected a torque > 0, e.g. \"0.2 mN*m\"");
+    }
+  }
+  d.result = est::diagnose_residuals(d.table, opt);
+  d.j = to_json(d.table, d.result, d.load);
+  return d;
+}
+
+// The closed loop of --study on a diagnosis; throws poise::Error for an invalid study.
+void close_loop(const DiagnoseRequest& o, Diagnosed& d) {
+  if (o.study.empty()) return;
+  if (o.study_samples < 2) throw Error("--study-samples " + std::to_string(o.study_samples) + ": expected >= 2");
+  d.loop = close_the_loop(o.study, d.table, d.result, o.study_samples);
+  d.j["closed_loop"] = loop_json(*d.loop);
+}
+
+int run_diagnose(const Options& o) {
+  Diagnosed d;
   const fs::path dir(o.out);
   try {
     if (!o.out.empty() && fs::exists(dir / "diagnosis.json")) {
@@ -128,38 +161,22 @@ int run_diagnose(const Options& o) {
                   " already holds diagnosis.json; expected a new or empty folder "
                   "(nothing is overwritten)");
     }
-    table = est::read_torque_table(o.data);
-    load = parse_load(o, table);
-    est::DiagnosisOptions opt;
-    opt.alpha = o.alpha;
-    opt.max_harmonic = o.max_harmonic;
-    if (!o.noise.empty()) {
-      try {
-        opt.noise = units::parse_as(o.noise, units::kTorque) / table.unit_factor;
-      } catch (const Error& e) {
-        throw Error("--noise '" + o.noise + "': " + e.what());
-      }
-      if (!(opt.noise > 0.0) || !std::isfinite(opt.noise)) {
-        throw Error("--noise '" + o.noise + "': expected a torque > 0, e.g. \"0.2 mN*m\"");
-      }
-    }
-    result = est::diagnose_residuals(table, opt);
+    d = diagnose(o);
   } catch (const Error& e) {
     std::cerr << "poise: " << e.what() << "\nNothing was diagnosed.\n";
     return 2;
   }
-  std::optional<LoopResult> loop;
-  if (!o.study.empty()) {
-    try {
-      if (o.study_samples < 2) throw Error("--study-samples " + std::to_string(o.study_samples) + ": expected >= 2");
-      loop = close_the_loop(o.study, table, result, o.study_samples);
-    } catch (const Error& e) {  // ValidationError derives from Error
-      std::cerr << "poise: " << e.what() << "\nNothing was printed: fix --study or leave it out.\n";
-      return 2;
-    }
+  try {
+    close_loop(o, d);
+  } catch (const Error& e) {  // ValidationError derives from Error
+    std::cerr << "poise: " << e.what() << "\nNothing was printed: fix --study or leave it out.\n";
+    return 2;
   }
-  json j = to_json(table, result, load);
-  if (loop) j["closed_loop"] = loop_json(*loop);
+  const est::TorqueTable& table = d.table;
+  const est::DiagnosisResult& result = d.result;
+  const std::optional<Load>& load = d.load;
+  const std::optional<LoopResult>& loop = d.loop;
+  const json& j = d.j;
   if (o.json) {
     std::cout << j.dump(2) << '\n';
   } else {
@@ -182,6 +199,12 @@ int run_diagnose(const Options& o) {
 }
 
 }  // namespace
+
+json diagnose_json(const DiagnoseRequest& request) {
+  Diagnosed d = diagnose(request);
+  close_loop(request, d);
+  return d.j;
+}
 
 DiagnoseHandler add_diagnose_command(CLI::App& app) {
   auto opt = std::make_shared<Options>();  // outlives this call: CLI11 writes into it

@@ -12,8 +12,26 @@
 #include <CLI/CLI.hpp>
 #include <functional>
 #include <optional>
+#include <string>
+
+#include <nlohmann/json.hpp>
 
 namespace poise::cli {
+
+/// What `poise diagnose` is given besides --json and --out (the options of the same names).
+struct DiagnoseRequest {
+  std::string data;
+  double alpha = 0.05;
+  int max_harmonic = 6;
+  std::string noise;                    ///< "0.2 mN*m"; "" = none
+  std::string load_torque, load_angle;  ///< a known load; both or neither
+  std::string study;                    ///< a gimbal study to close the loop on; "" = none
+  std::size_t study_samples = 64;
+};
+
+/// The diagnosis as `poise diagnose --json` prints it (with "closed_loop" for a study).
+/// Throws poise::Error (studies::ValidationError for a bad file) for invalid input.
+nlohmann::json diagnose_json(const DiagnoseRequest& request);
 
 /// Runs `poise diagnose` if it was the subcommand given: returns its exit status (0 success,
 /// 2 invalid input, with the message on stderr, 1 when the output folder cannot be written),

@@ -4,6 +4,8 @@
 #include <cstdio>
 #include <thread>
 #include <iostream>
+#include <string>
+#include <vector>
 
 #include "cli/budget_command.h"
 #include "cli/count_check.h"
@@ -164,6 +166,11 @@ int run_main(int argc, char** argv) {
   run->add_option("--max-samples", max_samples, "cap of an --until run (default 100 x the study's samples)")
       ->needs("--until")
       ->check(poise::cli::at_least_one());
+  std::vector<std::string> settings;
+  run->add_option("--set", settings,
+                  "KEY=VALUE: set a model key (or a study key the kind allows) for this run on top of the study "
+                  "file's [overrides], e.g. --set \"yaw.bearing_span=70 mm\"; repeat for more keys")
+      ->excludes("--resume");
   run->add_flag("--quiet,-q", quiet, "no progress on stderr");
   run->add_flag("--no-plots", no_plots, "skip gnuplot figures");
   run->add_flag("--require", opt.require,
@@ -262,6 +269,14 @@ int run_main(int argc, char** argv) {
       std::cerr << "poise: " << e.what() << "\nNothing was run.\n";
       return 2;
     }
+  }
+  for (const auto& setting : settings) {
+    const auto eq = setting.find('=');
+    if (eq == std::string::npos || eq == 0) {
+      std::cerr << "poise run: --set '" << setting << "': expected KEY=VALUE, e.g. --set \"yaw.bearing_span=70 mm\"\n";
+      return 2;
+    }
+    opt.overrides[setting.substr(0, eq)] = setting.substr(eq + 1);
   }
   if (samples > 0) opt.samples = samples;
   if (max_samples > 0) opt.max_samples = max_samples;

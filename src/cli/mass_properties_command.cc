@@ -208,83 +208,101 @@ std::vector<Part> read_parts(const Options& opt, double unit_m) {
   return parts;
 }
 
-int run(const Options& opt) {
+// Every part checked and integrated, and the assembly; the warnings a person should see.
+struct Computed {
   std::vector<Part> parts;
-  double unit_m = 1.0;
-  try {
-    unit_m = unit_size(opt.unit);
-    parts = read_parts(opt, unit_m);
-  } catch (const geometry::MeshCheckError& e) {
-    std::cerr << "poise mass-properties: " << e.what() << "\nNothing was computed.\n";
-    return 2;
+  double unit_m = 1.0, volume = 0.0;
+  int rays = 0;
+  geometry::MassProperties total;
+  RaycastDifference total_diff;
+  std::vector<std::string> warnings;
+};
+
+Computed compute(const Options& opt) {
+  Computed c;
+  c.unit_m = unit_size(opt.unit);
+  c.parts = read_parts(opt, c.unit_m);
+  geometry::RayGridOptions grid;
+  grid.rays_per_side = c.rays = rays_per_side(opt);
+  std::vector<geometry::MassProperties> exact, ray;
+  for (auto& p : c.parts) {
+    const std::string warning = geometry::unit_warning(p.mesh, opt.unit, c.unit_m);
+    if (!warning.empty()) c.warnings.push_back(warning);
+    p.exact = geometry::to_mass_properties(geometry::exact_moments(p.mesh, p.density));
+    // Rays along the part's thinnest side: a plate is crossed through its thickness, where
+    // each segment is integrated exactly, and sampled across its face.
+    p.mesh.bounds().sizes().minCoeff(&grid.axis);
+    geometry::RayCastStats stats;
+    p.raycast = geometry::to_mass_properties(geometry::raycast_moments({{p.mesh, p.density}}, grid, &stats));
+    if (stats.overlap_rays > 0) {
+      // Each shell is closed, but two of them enclose common material: the divergence
+      // theorem (and the rays) would count it twice.
+      refuse(p.file + ": shells overlap: " + std::to_string(stats.overlap_rays) + " of " + std::to_string(stats.rays) +
+             " check rays pass through material enclosed by two shells (solids exported into one another); unite "
+             "them in CAD, or export them as separate files");
+    }
+    exact.push_back(p.exact);
+    ray.push_back(p.raycast);
+    c.volume += p.check.volume_m3;
   }
+  c.total = geometry::assemble(exact);
+  c.total_diff = difference(c.total, geometry::assemble(ray));
+  if (c.total_diff.mass > 0.02) {  // thin members at 256 rays agree to about 1 %
+    c.warnings.push_back("the ray-cast check differs from the exact mass by " + g(100.0 * c.total_diff.mass, 3) +
+                         " %: raise --rays for a part with thin walls");
+  }
+  return c;
+}
+
+std::size_t cavities_of(const Part& p) {
+  std::size_t cavities = 0;
+  for (const auto& s : p.check.shells) cavities += s.cavity;
+  return cavities;
+}
+
+nlohmann::json to_json(const Computed& c, const Options& opt) {
+  nlohmann::json out = properties_json(c.total, c.volume, c.total_diff, c.rays);
+  if (c.parts.size() > 1) {
+    nlohmann::json list = nlohmann::json::array();
+    for (const auto& p : c.parts) {
+      nlohmann::json j = properties_json(p.exact, p.check.volume_m3, difference(p.exact, p.raycast), c.rays);
+      j["file"] = p.file;
+      j["unit"] = opt.unit;
+      j["density_kg_m3"] = p.density;
+      j["triangles"] = p.mesh.triangles.size();
+      j["shells"] = p.check.shells.size();
+      j["cavities"] = cavities_of(p);
+      list.push_back(std::move(j));
+    }
+    out["parts"] = std::move(list);
+  }
+  return out;
+}
+
+void print_text(const Computed& c, const Options& opt) {
+  for (const auto& p : c.parts) {
+    const std::size_t cavities = cavities_of(p);
+    std::cout << p.file << " (" << opt.unit << ", " << g(p.density) << " kg/m^3): " << p.mesh.triangles.size()
+              << " triangles, " << p.check.shells.size() << (p.check.shells.size() == 1 ? " shell" : " shells");
+    if (cavities) std::cout << " (" << cavities << (cavities == 1 ? " cavity" : " cavities") << ")";
+    std::cout << ", closed and consistently oriented\n";
+    print_properties(p.exact, p.check.volume_m3, difference(p.exact, p.raycast), opt.unit, c.unit_m, std::cout);
+    std::cout << '\n';
+  }
+  if (c.parts.size() > 1) {
+    std::cout << "assembly of " << c.parts.size() << " parts (parallel-axis sum):\n";
+    print_properties(c.total, c.volume, c.total_diff, opt.unit, c.unit_m, std::cout);
+  }
+}
+
+int run(const Options& opt) {
   try {
-    geometry::RayGridOptions grid;
-    grid.rays_per_side = rays_per_side(opt);
-    std::vector<geometry::MassProperties> exact, ray;
-    double volume = 0.0;
-    for (auto& p : parts) {
-      const std::string warning = geometry::unit_warning(p.mesh, opt.unit, unit_m);
-      if (!warning.empty()) std::cerr << "poise mass-properties: warning: " << warning << '\n';
-      p.exact = geometry::to_mass_properties(geometry::exact_moments(p.mesh, p.density));
-      // Rays along the part's thinnest side: a plate is crossed through its thickness, where
-      // each segment is integrated exactly, and sampled across its face.
-      p.mesh.bounds().sizes().minCoeff(&grid.axis);
-      geometry::RayCastStats stats;
-      p.raycast = geometry::to_mass_properties(geometry::raycast_moments({{p.mesh, p.density}}, grid, &stats));
-      if (stats.overlap_rays > 0) {
-        // Each shell is closed, but two of them enclose common material: the divergence
-        // theorem (and the rays) would count it twice.
-        refuse(p.file + ": shells overlap: " + std::to_string(stats.overlap_rays) + " of " +
-               std::to_string(stats.rays) +
-               " check rays pass through material enclosed by two shells (solids exported into one another); unite "
-               "them in CAD, or export them as separate files");
-      }
-      exact.push_back(p.exact);
-      ray.push_back(p.raycast);
-      volume += p.check.volume_m3;
-    }
-    const geometry::MassProperties total = geometry::assemble(exact);
-    const RaycastDifference total_diff = difference(total, geometry::assemble(ray));
-    if (total_diff.mass > 0.02) {  // thin members at 256 rays agree to about 1 %
-      std::cerr << "poise mass-properties: warning: the ray-cast check differs from the exact mass by "
-                << g(100.0 * total_diff.mass, 3) << " %: raise --rays for a part with thin walls\n";
-    }
+    const Computed c = compute(opt);
+    for (const auto& w : c.warnings) std::cerr << "poise mass-properties: warning: " << w << '\n';
     if (opt.json) {
-      nlohmann::json out = properties_json(total, volume, total_diff, grid.rays_per_side);
-      if (parts.size() > 1) {
-        nlohmann::json list = nlohmann::json::array();
-        for (const auto& p : parts) {
-          nlohmann::json j =
-              properties_json(p.exact, p.check.volume_m3, difference(p.exact, p.raycast), grid.rays_per_side);
-          std::size_t cavities = 0;
-          for (const auto& s : p.check.shells) cavities += s.cavity;
-          j["file"] = p.file;
-          j["unit"] = opt.unit;
-          j["density_kg_m3"] = p.density;
-          j["triangles"] = p.mesh.triangles.size();
-          j["shells"] = p.check.shells.size();
-          j["cavities"] = cavities;
-          list.push_back(std::move(j));
-        }
-        out["parts"] = std::move(list);
-      }
-      std::cout << out.dump(2) << '\n';
-      return 0;
-    }
-    for (const auto& p : parts) {
-      std::size_t cavities = 0;
-      for (const auto& s : p.check.shells) cavities += s.cavity;
-      std::cout << p.file << " (" << opt.unit << ", " << g(p.density) << " kg/m^3): " << p.mesh.triangles.size()
-                << " triangles, " << p.check.shells.size() << (p.check.shells.size() == 1 ? " shell" : " shells");
-      if (cavities) std::cout << " (" << cavities << (cavities == 1 ? " cavity" : " cavities") << ")";
-      std::cout << ", closed and consistently oriented\n";
-      print_properties(p.exact, p.check.volume_m3, difference(p.exact, p.raycast), opt.unit, unit_m, std::cout);
-      std::cout << '\n';
-    }
-    if (parts.size() > 1) {
-      std::cout << "assembly of " << parts.size() << " parts (parallel-axis sum):\n";
-      print_properties(total, volume, total_diff, opt.unit, unit_m, std::cout);
+      std::cout << to_json(c, opt).dump(2) << '\n';
+    } else {
+      print_text(c, opt);
     }
   } catch (const geometry::MeshCheckError& e) {
     std::cerr << "poise mass-properties: " << e.what() << "\nNothing was computed.\n";
@@ -297,6 +315,18 @@ int run(const Options& opt) {
 }
 
 }  // namespace
+
+nlohmann::json mass_properties_json(const MassPropertiesRequest& request) {
+  Options opt;
+  opt.meshes = request.meshes;
+  opt.unit = request.unit;
+  opt.densities = request.densities;
+  opt.rays = std::to_string(request.rays);
+  const Computed c = compute(opt);
+  nlohmann::json out = to_json(c, opt);
+  out["warnings"] = c.warnings;
+  return out;
+}
 
 MassPropertiesHandler add_mass_properties_command(CLI::App& app) {
   auto opt = std::make_shared<Options>();  // outlives this call: CLI11 writes into it

@@ -7,12 +7,30 @@
 #include <CLI/CLI.hpp>
 #include <functional>
 #include <optional>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
 
 namespace poise::cli {
 
 /// Runs `poise mass-properties` if it was the subcommand given: returns its exit status
 /// (0 success, 2 bad mesh or argument, 1 other failure), or nullopt for another subcommand.
 using MassPropertiesHandler = std::function<std::optional<int>()>;
+
+/// What `poise mass-properties` is given: meshes, their length unit (mm, cm, m, in), one
+/// density for all or one per mesh ("2700 kg/m^3"), rays per side of the check grid.
+struct MassPropertiesRequest {
+  std::vector<std::string> meshes;
+  std::string unit;
+  std::vector<std::string> densities;
+  int rays = 256;
+};
+
+/// The `--json` object of those meshes, with "warnings" (a unit that looks wrong, a ray-cast
+/// check that differs). Throws geometry::MeshCheckError (a poise::Error) for a bad mesh or
+/// argument, naming the file and what is wrong.
+nlohmann::json mass_properties_json(const MassPropertiesRequest& request);
 
 /// Registers the `mass-properties` subcommand on app; call the handler after parsing.
 MassPropertiesHandler add_mass_properties_command(CLI::App& app);

@@ -110,6 +110,22 @@ class ClosedFormStudy final : public ProcedureStudyBase<ClosedFormStudy> {
     }
   }
 
+  bool evaluates_inputs() const override { return true; }
+  std::vector<double> nominal_inputs() const override {
+    std::vector<double> x;
+    for (std::size_t k = 0; k < model_.drawn.size(); ++k) {
+      const auto& dr = model_.drawn[k];
+      x.push_back((dr.range ? dr.spec.dist.quantile(0.5) : model_.values[dr.parameter]) / input_factor_[k]);
+    }
+    return x;
+  }
+  void evaluate_point(std::size_t, std::span<const double> inputs, std::span<double> outputs) const override {
+    std::vector<double> values = model_.values;
+    for (std::size_t k = 0; k < model_.drawn.size(); ++k) values[model_.drawn[k].parameter] = inputs[k] * input_factor_[k];
+    const std::vector<double> si = kind_.compute(values);
+    for (std::size_t k = 0; k < si.size() && k < outputs.size(); ++k) outputs[k] = si[k] / output_factor_[k];
+  }
+
   std::size_t samples() const { return samples_; }
   std::size_t design_dimension() const { return design_.dimension(); }
   const StudyConfig& config() const override { return cfg_; }

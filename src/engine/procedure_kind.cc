@@ -1,5 +1,8 @@
 #include "engine/procedure_kind.h"
 
+#include <algorithm>
+#include <cmath>
+
 #include "core/error.h"
 #include "engine/procedure_runner.h"
 
@@ -21,6 +24,50 @@ nlohmann::json ProcedureKind::replay(const StudyConfig& cfg, std::size_t index, 
   if (index >= n) throw UsageError("sample index " + std::to_string(index) + " is outside 0.." + std::to_string(n - 1));
   const auto study = make_study(cfg, cfg.overrides, n, options.seed.value_or(cfg.seed));
   return replay_procedure_sample(*study, index);
+}
+
+namespace {
+
+// A procedure study's evaluate_point over a range of points.
+class ProcedureInputEvaluator final : public InputEvaluator {
+ public:
+  explicit ProcedureInputEvaluator(std::unique_ptr<ProcedureStudy> study) : study_(std::move(study)) {}
+  const std::vector<std::string>& input_names() const override { return study_->input_names(); }
+  const std::vector<OutputSpec>& outputs() const override { return study_->outputs(); }
+  std::vector<double> nominal_inputs() const override { return study_->nominal_inputs(); }
+  bool has_own_randomness() const override { return study_->has_own_randomness(); }
+  void evaluate_points(const InputColumns& inputs, double* values, std::size_t begin, std::size_t end,
+                       std::vector<std::pair<std::size_t, std::string>>& failures) const override {
+    const std::size_t ni = input_names().size(), no = outputs().size();
+    std::vector<double> x(ni);
+    for (std::size_t k = begin; k < end; ++k) {
+      const std::span<double> out(values + k * no, no);
+      for (std::size_t j = 0; j < ni; ++j) x[j] = inputs.at(j, k);
+      try {
+        study_->evaluate_point(k, x, out);
+      } catch (const std::exception& e) {
+        std::fill(out.begin(), out.end(), NAN);
+        failures.emplace_back(k, e.what());
+      }
+    }
+  }
+
+ private:
+  std::unique_ptr<ProcedureStudy> study_;
+};
+
+}  // namespace
+
+std::unique_ptr<InputEvaluator> ProcedureKind::input_evaluator(const StudyConfig& cfg,
+                                                               const std::map<std::string, std::string>& model_overrides,
+                                                               std::uint64_t seed) const {
+  auto overrides = cfg.overrides;
+  for (const auto& [k, v] : model_overrides) overrides[k] = v;
+  // One sample's study: the inputs are given, no design point is drawn (a study with draws of
+  // its own keys them by the point index evaluate_point gets, not by a sample count).
+  std::unique_ptr<ProcedureStudy> study = make_study(cfg, overrides, 1, seed);
+  if (!study->evaluates_inputs()) return StudyKind::input_evaluator(cfg, model_overrides, seed);
+  return std::make_unique<ProcedureInputEvaluator>(std::move(study));
 }
 
 StudyEvaluation evaluate_procedure(const ProcedureStudy& study, int threads) {

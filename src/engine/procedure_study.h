@@ -157,6 +157,16 @@ class ProcedureStudy {
   virtual bool has_solver() const { return false; }
   /// Study-specific summary.json content (null if none), e.g. the nominal machine.
   virtual nlohmann::json details(const McResult&) const { return nullptr; }
+  /// Whether outputs can be computed at input values a caller gives (evaluate_point); false
+  /// (the default): this study's inputs do not determine a sample.
+  virtual bool evaluates_inputs() const { return false; }
+  /// The nominal unit's inputs (engine/input_evaluation.h), input_names() order.
+  virtual std::vector<double> nominal_inputs() const { return {}; }
+  /// Point k: inputs (input_names() order and units) -> outputs (outputs() order and units);
+  /// k picks the draws of a study with randomness of its own. Throws poise::Error for a point
+  /// without a physical answer. Called only when evaluates_inputs().
+  virtual void evaluate_point(std::size_t /*k*/, std::span<const double> /*inputs*/,
+                              std::span<double> /*outputs*/) const {}
   /// Study-specific figures (written into plots_dir; names of the SVGs made are appended to
   /// `figures`) and HTML sections for report.html.
   virtual void report_sections(const McResult&, const std::string& /*plots_dir*/, bool /*plots*/,

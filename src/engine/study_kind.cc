@@ -25,6 +25,14 @@ StudyEvaluation StudyKind::evaluate(const StudyConfig& cfg, const std::map<std::
               "evaluation); optimize over a study of a kind that streams its samples (`poise --help` lists the kinds)");
 }
 
+std::unique_ptr<InputEvaluator> StudyKind::input_evaluator(const StudyConfig& cfg,
+                                                           const std::map<std::string, std::string>&,
+                                                           std::uint64_t) const {
+  throw Error(cfg.file + ": a " + name() + " study cannot be evaluated at inputs you give: its samples.csv inputs "
+              "do not determine a sample (some are derived from others, or drawn per test); run it instead "
+              "(poise run, poise.run), whose outputs come with the inputs each sample drew");
+}
+
 StudyConfig StudyKind::model_study(const std::string& model_path) const {
   throw Error(model_path + ": a " + name() + " study has no Monte Carlo on a model file alone");
 }

@@ -19,6 +19,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "engine/input_evaluation.h"
 #include "engine/output_spec.h"
 #include "engine/study_config.h"
 #include "engine/study_evaluation.h"
@@ -70,6 +71,12 @@ class StudyKind {
   /// numbers: the same seed gives every design point the same draws). Default: refused.
   virtual StudyEvaluation evaluate(const StudyConfig& cfg, const std::map<std::string, std::string>& model_overrides,
                                    std::size_t samples, std::uint64_t seed, int threads) const;
+  /// The study's outputs at input values a caller gives (engine/input_evaluation.h), on its
+  /// model with `model_overrides` on top; point k of a kind with randomness of its own gets
+  /// the draws of sample k of a run with `seed`. Default: refused (poise::Error saying why).
+  virtual std::unique_ptr<InputEvaluator> input_evaluator(const StudyConfig& cfg,
+                                                          const std::map<std::string, std::string>& model_overrides,
+                                                          std::uint64_t seed) const;
 };
 
 /// Adds a kind to the table (src/kinds/registry.cc calls it once per kind).

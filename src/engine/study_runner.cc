@@ -80,7 +80,12 @@ nlohmann::json replay_sample(const std::string& study_path, std::size_t index, c
 }
 
 std::string run_study(const std::string& study_path, const RunOptions& options) {
-  const StudyConfig cfg = load_study(study_path);
+  StudyConfig cfg = load_study(study_path);
+  if (!options.overrides.empty()) {
+    auto overrides = cfg.overrides;
+    for (const auto& [key, value] : options.overrides) overrides[key] = value;
+    cfg.overrides = apply_study_overrides(cfg, overrides);
+  }
   const StudyKind& kind = study_kind(cfg.kind);
   if (!kind.streams() && (!options.resume.empty() || !options.until.empty() || sampling::Cluster::size() > 1)) {
     throw UsageError("--resume, --until and MPI runs are for study kinds that stream their samples; a " + cfg.kind +

@@ -6,6 +6,7 @@
 ///   plots/        gnuplot scripts, data and SVG figures
 ///   report.html   the report a reviewer reads
 #include <cstdint>
+#include <map>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -33,6 +34,10 @@ struct RunOptions {
   /// `poise run --require`: the study must state a requirement (else UsageError before the
   /// run); the command exits 3 unless every requirement is met.
   bool require = false;
+  /// Keys set for this run on top of the study file's [overrides] (`poise run --set`,
+  /// poise.run(overrides=...)): model keys ("yaw.bearing_span" = "70 mm") or study keys a
+  /// kind lets an override set; summary.json records them with the study.
+  std::map<std::string, std::string> overrides;
   /// > 0: `poise sensitivity`: Sobol indices from this many base rows (Saltelli layout).
   std::size_t sensitivity_base = 0;
 };

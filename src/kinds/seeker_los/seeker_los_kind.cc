@@ -3,6 +3,7 @@
 #include <span>
 
 #include "kinds/seeker_los/seeker_clearance.h"
+#include "kinds/seeker_los/seeker_input_evaluator.h"
 #include "kinds/seeker_los/seeker_los_sections.h"
 #include "kinds/seeker_los/seeker_los_study.h"
 #include "kinds/seeker_los/seeker_model.h"
@@ -85,6 +86,13 @@ class SeekerLosKind final : public StudyKind {
   }
   nlohmann::json replay(const StudyConfig& cfg, std::size_t index, const RunOptions& options) const override {
     return replay_seeker_sample(cfg, index, options);
+  }
+  std::unique_ptr<InputEvaluator> input_evaluator(const StudyConfig& cfg,
+                                                  const std::map<std::string, std::string>& model_overrides,
+                                                  std::uint64_t) const override {
+    auto overrides = cfg.overrides;
+    for (const auto& [k, v] : model_overrides) overrides[k] = v;
+    return make_seeker_input_evaluator(cfg, load_seeker_model(cfg.model_path, overrides));
   }
   StudyEvaluation evaluate(const StudyConfig& cfg, const std::map<std::string, std::string>& model_overrides,
                            std::size_t samples, std::uint64_t seed, int threads) const override {

@@ -54,35 +54,40 @@ void SeekerLosStudy::compute(std::size_t i, Workspace& ws, SeekerSampleResult& o
   out.grid_total_arcsec.assign(grid_.size(), NAN);
   try {
     design_.point(i, ws.u);
-    const models::SeekerErrorState state = sampler_.draw(ws.u, out.inputs);
-    grid_.evaluate(state, ws.grid, ws.errors);
-    double max_total = 0, sum_sq = 0, max_yaw = 0, max_pitch = 0;
-    std::size_t ok_points = 0;
-    for (std::size_t g = 0; g < ws.errors.size(); ++g) {
-      const auto& e = ws.errors[g];
-      if (!std::isfinite(e.total) || !std::isfinite(e.yaw) || !std::isfinite(e.pitch)) {
-        throw Error("non-finite pointing error at grid point " + std::to_string(g));
-      }
-      max_total = std::max(max_total, e.total);
-      sum_sq += e.total * e.total;
-      max_yaw = std::max(max_yaw, std::abs(e.yaw));
-      max_pitch = std::max(max_pitch, std::abs(e.pitch));
-      ok_points += e.total <= requirement_rad_ ? 1 : 0;
-      out.grid_total_arcsec[g] = static_cast<float>(e.total * kArcsec);
-    }
-    const double n = static_cast<double>(ws.errors.size());
-    out.outputs = {max_total * kArcsec,
-                   std::sqrt(sum_sq / n) * kArcsec,
-                   max_yaw * kArcsec,
-                   max_pitch * kArcsec,
-                   max_total / model_.pixel_ifov,
-                   static_cast<double>(ok_points) / n,
-                   max_yaw / model_.pixel_ifov,
-                   max_pitch / model_.pixel_ifov};
+    evaluate_state(sampler_.draw(ws.u, out.inputs), ws, out.outputs, out.grid_total_arcsec);
   } catch (const std::exception& e) {
     out.ok = false;
     out.message = e.what();
   }
+}
+
+void SeekerLosStudy::evaluate_state(const models::SeekerErrorState& state, Workspace& ws, std::span<double> outputs,
+                                    std::span<float> grid_total_arcsec) const {
+  grid_.evaluate(state, ws.grid, ws.errors);
+  double max_total = 0, sum_sq = 0, max_yaw = 0, max_pitch = 0;
+  std::size_t ok_points = 0;
+  for (std::size_t g = 0; g < ws.errors.size(); ++g) {
+    const auto& e = ws.errors[g];
+    if (!std::isfinite(e.total) || !std::isfinite(e.yaw) || !std::isfinite(e.pitch)) {
+      throw Error("non-finite pointing error at grid point " + std::to_string(g));
+    }
+    max_total = std::max(max_total, e.total);
+    sum_sq += e.total * e.total;
+    max_yaw = std::max(max_yaw, std::abs(e.yaw));
+    max_pitch = std::max(max_pitch, std::abs(e.pitch));
+    ok_points += e.total <= requirement_rad_ ? 1 : 0;
+    if (!grid_total_arcsec.empty()) grid_total_arcsec[g] = static_cast<float>(e.total * kArcsec);
+  }
+  const double n = static_cast<double>(ws.errors.size());
+  const double values[kNumSeekerOutputs] = {max_total * kArcsec,
+                                            std::sqrt(sum_sq / n) * kArcsec,
+                                            max_yaw * kArcsec,
+                                            max_pitch * kArcsec,
+                                            max_total / model_.pixel_ifov,
+                                            static_cast<double>(ok_points) / n,
+                                            max_yaw / model_.pixel_ifov,
+                                            max_pitch / model_.pixel_ifov};
+  std::copy(std::begin(values), std::end(values), outputs.begin());
 }
 
 std::vector<models::PointingError> SeekerLosStudy::grid_errors(std::size_t i) const {

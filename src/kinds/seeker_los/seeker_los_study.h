@@ -125,6 +125,11 @@ class SeekerLosStudy {
   Workspace make_workspace() const;
   /// Computes sample i alone (replay); depends only on (seed, samples, method, i).
   void compute(std::size_t i, Workspace& ws, SeekerSampleResult& out) const;
+  /// The per-sample outputs (kSeekerOutputs order, into `outputs`) of one error realization
+  /// and, unless `grid_total_arcsec` is empty, the total error at each grid point. Throws
+  /// poise::Error for a non-finite pointing error.
+  void evaluate_state(const models::SeekerErrorState& state, Workspace& ws, std::span<double> outputs,
+                      std::span<float> grid_total_arcsec) const;
   /// The grid values' layout in samples.h5: one column per grid point, its yaw and pitch.
   WideColumnsSpec field_spec() const;
   /// Per-grid-point errors of sample i (for replay reports).

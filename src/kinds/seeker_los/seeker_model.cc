@@ -203,45 +203,76 @@ models::SeekerErrorState SeekerSampler::draw(std::span<const double> u,
   if (u.size() != dimension() || values.size() != dimension()) {  // per sample: no string unless wrong
     throw Error("seeker sampler: design point of the wrong size");
   }
-  models::SeekerErrorState s;
   std::size_t k = 0;
   // Drawn values go to `values` in SI first, converted to display units at the end.
-  auto take = [&](double v) { values[k++] = v; return v; };
-  const double k_load = take(model_.load_deformation.dist.quantile(u[k]));
+  auto take = [&](double v) { values[k++] = v; };
+  take(model_.load_deformation.dist.quantile(u[k]));
   // Yaw axis perpendicularity over the span, read as the model says (two design dimensions
   // in every reading, so the other inputs keep their draws).
   const TiltReading& reading = model_.yaw.tilt_reading;
   const sampling::Distribution& perp = model_.yaw.perpendicularity.dist;
   const double span = model_.yaw.span;
   if (!reading.random_direction) {  // signed, along the stated azimuth; the second dimension unused
-    const double tilt = take(perp.quantile(u[k]) / span);
-    const double azimuth = take(reading.azimuth);
-    s.yaw.static_tilt = {tilt * std::cos(azimuth), tilt * std::sin(azimuth)};
+    take(perp.quantile(u[k]) / span);
+    take(reading.azimuth);
   } else if (reading.per_component) {
-    const double tx = take(perp.quantile(u[k]) / span);
-    const double ty = take(perp.quantile(u[k]) / span);
-    s.yaw.static_tilt = {tx, ty};
+    take(perp.quantile(u[k]) / span);
+    take(perp.quantile(u[k]) / span);
   } else {  // the magnitude towards a uniformly random azimuth
-    const double tilt = take(perp.magnitude_quantile(u[k]) / span);
-    const double azimuth = take(2.0 * units::kPi * u[k]);
-    s.yaw.static_tilt = {tilt * std::cos(azimuth), tilt * std::sin(azimuth)};
+    take(perp.magnitude_quantile(u[k]) / span);
+    take(2.0 * units::kPi * u[k]);
   }
-  s.pitch.static_tilt = {0.0, take(model_.pitch.perpendicularity.dist.quantile(u[k]) / model_.pitch.span)};
-  s.collimation = take(model_.optical_axis.dist.quantile(u[k]) / model_.barrel_length);
+  take(model_.pitch.perpendicularity.dist.quantile(u[k]) / model_.pitch.span);
+  take(model_.optical_axis.dist.quantile(u[k]) / model_.barrel_length);
+  for (int axis = 0; axis < 2; ++axis) {
+    const SeekerAxis& a = axis == 0 ? model_.yaw : model_.pitch;
+    for (const auto& src : a.bearing_sources) {
+      for (int bearing = 0; bearing < 2; ++bearing) {
+        take(src.spec.dist.magnitude_quantile(u[k]));
+        take(2.0 * units::kPi * u[k]);
+      }
+    }
+  }
+  const models::SeekerErrorState s = state_of(values);
+  for (std::size_t i = 0; i < values.size(); ++i) values[i] /= columns_[i].display_factor;
+  return s;
+}
+
+models::SeekerErrorState SeekerSampler::state_of(std::span<const double> si) const {
+  if (si.size() != dimension()) throw Error("seeker sampler: input values of the wrong size");
+  models::SeekerErrorState s;
+  const double k_load = si[0];
+  const TiltReading& reading = model_.yaw.tilt_reading;
+  if (reading.random_direction && reading.per_component) {
+    s.yaw.static_tilt = {si[1], si[2]};
+  } else {  // a tilt towards an azimuth
+    s.yaw.static_tilt = {si[1] * std::cos(si[2]), si[1] * std::sin(si[2])};
+  }
+  s.pitch.static_tilt = {0.0, si[3]};
+  s.collimation = si[4];
+  std::size_t k = 5;
   for (int axis = 0; axis < 2; ++axis) {
     const SeekerAxis& a = axis == 0 ? model_.yaw : model_.pitch;
     models::AxisErrorState& st = axis == 0 ? s.yaw : s.pitch;
     for (const auto& src : a.bearing_sources) {
       const double scale = (src.load_scaled ? k_load : 1.0) / a.span;
       for (double sign : {-1.0, +1.0}) {  // bearing A at -L/2, bearing B at +L/2
-        const double amp = take(src.spec.dist.magnitude_quantile(u[k]));
-        const double phase = take(2.0 * units::kPi * u[k]);
+        const double amp = si[k++];
+        const double phase = si[k++];
         st.add({sign * scale * amp, src.order, phase});
       }
     }
   }
-  for (std::size_t i = 0; i < values.size(); ++i) values[i] /= columns_[i].display_factor;
   return s;
+}
+
+std::vector<double> SeekerSampler::nominal() const {
+  std::vector<double> si(dimension(), 0.0);
+  si[0] = model_.load_deformation.dist.quantile(0.5);
+  const TiltReading& reading = model_.yaw.tilt_reading;
+  if (!reading.random_direction) si[2] = reading.azimuth;
+  for (std::size_t i = 0; i < si.size(); ++i) si[i] /= columns_[i].display_factor;
+  return si;
 }
 
 }  // namespace poise::studies

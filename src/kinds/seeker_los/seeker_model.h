@@ -101,6 +101,12 @@ class SeekerSampler {
   const std::vector<std::string>& column_tolerances() const { return column_tolerances_; }
   /// u: design point (size dimension()); values: drawn inputs in display units (same size).
   models::SeekerErrorState draw(std::span<const double> u, std::span<double> values) const;
+  /// The error realization of input values in SI, in columns()' order (display value x
+  /// display_factor): what draw() returns for the values it draws.
+  models::SeekerErrorState state_of(std::span<const double> si) const;
+  /// The nominal unit's input values in display units: load factor at its median, every
+  /// tilt, axis error and run-out amplitude zero (phases and a random azimuth 0).
+  std::vector<double> nominal() const;
 
  private:
   SeekerModel model_;

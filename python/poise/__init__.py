@@ -1,0 +1,234 @@
+"""Poise from Python: run studies, get their samples as NumPy arrays, evaluate a study's
+outputs at inputs you choose, check error budgets, CAD mass properties and measured data.
+
+Built with Poise (CMake target ``_poise``); import with ``PYTHONPATH=build/python``::
+
+    import poise
+    r = poise.run("studies/los_seeker_wang2011.toml", samples=4096, seed=1, threads=2,
+                  overrides={"yaw.bearing_span": "70 mm"})
+    r.outputs["los_max_arcsec"]        # numpy float64 array, one value per sample
+    r.summary["answer"]                # the run's answer, as summary.json holds it
+
+    s = poise.Study("studies/los_seeker_wang2011.toml")
+    y = s.evaluate({"pitch_perpendicularity_arcsec": x1})   # other inputs at nominal
+
+Every number is the command line's: ``poise.run`` writes the folder ``poise run`` writes
+(``out=None``: a temporary one, removed) and reads its samples.csv back, so its arrays equal
+that file value for value. Invalid input raises :class:`InputError` (a ``ValueError``) with
+``file``, ``line`` and ``key``; any other failure :class:`Error`. Poise computes with the GIL
+released; Ctrl-C during a run stops it as on the command line (``KeyboardInterrupt``).
+"""
+import difflib
+import json
+import os
+import re
+
+import numpy as np
+
+from . import _poise
+
+__all__ = ["run", "Study", "Result", "budget", "mass_properties", "diagnose", "Error", "InputError", "version"]
+
+version = _poise.version
+
+
+class Error(RuntimeError):
+    """A failure of Poise that is not a refused input (a run that could not write, ...)."""
+
+
+class InputError(ValueError, Error):
+    """Refused input: ``file``, ``line`` and ``key`` say where (None where not known)."""
+
+    def __init__(self, message, file=None, line=None, key=None):
+        super().__init__(message)
+        self.file = file or None
+        self.line = line or None
+        self.key = key or None
+
+
+def _call(function, *args):
+    try:
+        return function(*args)
+    except _poise.NativeError as e:
+        category, message, file, line, key = e.args[0] if len(e.args) == 1 else e.args
+        if category == "input":
+            if not file:  # "data.csv:12: ...": the message names where
+                where = re.match(r"(?:\d+ errors? in the input:\s+)?([^\s:][^:\n]*):(\d+):", message)
+                if where:
+                    file, line = where.group(1), int(where.group(2))
+            raise InputError(message, file, line, key) from None
+        if category == "interrupt":
+            raise KeyboardInterrupt(message) from None
+        raise Error(message) from None
+
+
+def _overrides(overrides):
+    if overrides is None:
+        return {}
+    if not isinstance(overrides, dict):
+        raise InputError("overrides: expected a dict of key -> value with its unit, e.g. "
+                         "{\"yaw.bearing_span\": \"70 mm\"}")
+    return {str(k): str(v) for k, v in overrides.items()}
+
+
+class Result:
+    """One run: its samples as arrays (one value per sample, in sample order) and its summary.
+
+    ``outputs`` and ``inputs``: dict name -> numpy float64 array (a failed sample's outputs
+    are NaN; ``ok`` and ``messages`` say which failed and why). ``units``: dict name -> unit.
+    ``summary``: summary.json as a dict (requirements and answer included). ``path``: the
+    result folder, or None when the run was made with ``out=None``.
+    """
+
+    def __init__(self, raw):
+        self.inputs = dict(raw["inputs"])
+        self.outputs = dict(raw["outputs"])
+        self.units = dict(raw["units"])
+        self.sample = raw["sample"].astype(np.int64)
+        self.ok = raw["ok"]
+        self.messages = list(raw["messages"])
+        self.summary = json.loads(raw["summary"]) if raw["summary"] else {}
+        self.path = raw["path"]
+
+    @property
+    def answer(self):
+        """The run's answer in words (summary.json "answer"); "" when it has none."""
+        return self.summary.get("answer", "")
+
+    def __repr__(self):
+        n = len(self.sample)
+        return f"<poise.Result {n} samples, {len(self.outputs)} outputs, path={self.path!r}>"
+
+
+def run(study, samples=None, seed=None, threads=0, overrides=None, plots=False, out=None, progress=False,
+        sensitivity_base=0):
+    """Runs a study file as ``poise run`` does and returns a :class:`Result`.
+
+    samples, seed: override the file's [sampling]; threads: 0 = all cores (results do not
+    depend on it); overrides: model keys (or study keys the kind allows) with their units, as
+    ``poise run --set``; plots: make the report's gnuplot figures; out: the result folder
+    (must not hold a run), None = nothing kept; progress: show progress on stderr;
+    sensitivity_base: > 0 runs ``poise sensitivity --base N`` instead (Sobol indices with
+    their intervals in ``summary["sensitivity"]``; samples is then set by the layout).
+    """
+    raw = _call(_poise.run, os.fspath(study), samples, seed, int(threads), _overrides(overrides), bool(plots),
+                None if out is None else os.fspath(out), bool(progress), int(sensitivity_base))
+    return Result(raw)
+
+
+def _poise_columns(names, columns, nominal):
+    return [columns[name] if name in columns else nominal[j] for j, name in enumerate(names)]
+
+
+class Study:
+    """A study file, to evaluate its outputs at inputs you give (kinds that can: the seeker's
+    LOS study and the closed-form kinds; :attr:`evaluates` says, :attr:`why_not` says why not).
+
+    ``input_names``: the inputs, as samples.csv names them, each in the unit that ends its
+    name (``input_units``); ``output_names`` and ``output_units``: the study's outputs.
+    """
+
+    def __init__(self, path, overrides=None):
+        self._s = _call(_poise.Study, os.fspath(path), _overrides(overrides))
+
+    kind = property(lambda self: self._s.kind)
+    file = property(lambda self: self._s.file)
+    output_names = property(lambda self: list(self._s.output_names))
+    output_units = property(lambda self: dict(self._s.output_units))
+    output_descriptions = property(lambda self: dict(self._s.output_descriptions))
+    evaluates = property(lambda self: self._s.evaluates)
+    why_not = property(lambda self: self._s.why_not)
+
+    @property
+    def input_names(self):
+        return list(_call(lambda: self._s.input_names))
+
+    @property
+    def input_units(self):
+        return dict(zip(self.input_names, _call(lambda: self._s.input_units)))
+
+    @property
+    def has_own_randomness(self):
+        """Whether a sample draws beyond its inputs (then point k gets sample k's draws)."""
+        return _call(lambda: self._s.has_own_randomness)
+
+    def nominal(self):
+        """The nominal unit's inputs: dict name -> value (every deviation and magnitude zero)."""
+        return dict(zip(self.input_names, _call(lambda: self._s.nominal())))
+
+    def evaluate(self, inputs, threads=0):
+        """Outputs at the given inputs, vectorized: ``inputs`` is a dict name -> array (all of
+        one length; scalars broadcast; inputs left out stay at nominal) or a 2-D array with one
+        column per input in ``input_names`` order. Returns dict output name -> array. A point
+        without a physical answer gets NaN outputs; ``last_failures`` lists (point, reason)."""
+        names = self._names()
+        if isinstance(inputs, dict):
+            unknown = [k for k in inputs if k not in self._index]
+            if unknown:
+                close = difflib.get_close_matches(unknown[0], names, n=1)
+                hint = f" (did you mean {close[0]!r}?)" if close else ""
+                raise InputError(f"evaluate: {unknown[0]!r} is not an input of {self.file}{hint}; its inputs: "
+                                 + ", ".join(names), key=unknown[0])
+            columns = {k: np.ascontiguousarray(v, dtype=np.float64).reshape(-1) for k, v in inputs.items()}
+            lengths = {c.size for c in columns.values() if c.size != 1}
+            if len(lengths) > 1:
+                raise InputError(f"evaluate: the input arrays differ in length ({sorted(lengths)})")
+            n = lengths.pop() if lengths else 1
+            # Read in place by the C++ loop: no points x inputs copy; a missing input is its
+            # nominal value at every point.
+            nominal = self._nominal_columns()
+            args = (_poise_columns(names, columns, nominal), n, int(threads))
+            y, failed, first = _call(self._s.evaluate, *args)
+        else:
+            x = np.ascontiguousarray(inputs, dtype=np.float64)
+            if x.ndim == 1:
+                x = x.reshape(1, -1)
+            if x.ndim != 2 or x.shape[1] != len(names):
+                raise InputError(f"evaluate: expected a 2-D array with {len(names)} columns ({', '.join(names)})")
+            y, failed, first = _call(self._s.evaluate_matrix, x, int(threads))
+        self.last_failures = list(first)
+        self.failure_count = int(failed)
+        return {name: y[:, k] for k, name in enumerate(self._outputs())}
+
+    # What every evaluate needs, asked of Poise once.
+    def _names(self):
+        if not hasattr(self, "_cached_names"):
+            self._cached_names = list(_call(lambda: self._s.input_names))
+            self._index = {n: j for j, n in enumerate(self._cached_names)}
+        return self._cached_names
+
+    def _nominal_columns(self):
+        if not hasattr(self, "_cached_nominal"):
+            self._cached_nominal = [np.array([v], dtype=np.float64) for v in _call(lambda: self._s.nominal())]
+        return self._cached_nominal
+
+    def _outputs(self):
+        if not hasattr(self, "_cached_outputs"):
+            self._cached_outputs = list(_call(lambda: self._s.evaluator_outputs))
+        return self._cached_outputs
+
+    def __repr__(self):
+        return f"<poise.Study {self.file!r} kind={self.kind!r}>"
+
+
+def budget(path):
+    """An error budget checked as ``poise budget --json`` does: that object as a dict."""
+    return json.loads(_call(_poise.budget, os.fspath(path)))
+
+
+def mass_properties(meshes, unit, density, rays=256):
+    """Mass properties of CAD meshes as ``poise mass-properties --json`` gives them (with a
+    "warnings" list). meshes: a path or a list; unit: "mm", "cm", "m" or "in"; density: one
+    string with its unit ("2700 kg/m^3") or one per mesh."""
+    if isinstance(meshes, (str, os.PathLike)):
+        meshes = [meshes]
+    densities = [density] if isinstance(density, str) else list(density)
+    return json.loads(_call(_poise.mass_properties, [os.fspath(m) for m in meshes], str(unit), densities, int(rays)))
+
+
+def diagnose(data, alpha=0.05, max_harmonic=6, noise=None, load_torque=None, load_angle=None, study=None,
+             study_samples=64):
+    """A measured static-unbalance table diagnosed as ``poise diagnose --json`` does."""
+    return json.loads(_call(_poise.diagnose, os.fspath(data), float(alpha), int(max_harmonic), noise or "",
+                            load_torque or "", load_angle or "", "" if study is None else os.fspath(study),
+                            int(study_samples)))

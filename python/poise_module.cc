@@ -1,0 +1,331 @@
+// _poise: the C++ side of the Python package poise (python/poise/__init__.py is what a user
+// imports). Every function here is the command line's own code path: a run writes the same
+// folder as `poise run` and its samples are read back from that samples.csv; budget,
+// mass_properties and diagnose return the objects their --json prints. The GIL is released
+// while Poise computes. Errors cross as _poise.NativeError(category, message, file, line,
+// key), which __init__.py turns into poise.InputError or poise.Error.
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <map>
+#include <memory>
+#include <optional>
+#include <random>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "cli/budget_command.h"
+#include "cli/diagnose_command.h"
+#include "cli/mass_properties_command.h"
+#include "core/error.h"
+#include "core/version.h"
+#include "engine/input_evaluation.h"
+#include "engine/study_config.h"
+#include "engine/study_kind.h"
+#include "engine/study_runner.h"
+#include "engine/toml_reader.h"
+#include "geometry/mesh_check.h"
+#include "kinds/registry.h"
+#include "python_results.h"
+
+namespace py = pybind11;
+
+namespace poise::python {
+namespace {
+
+// The one exception type that crosses into Python; __init__.py maps it.
+struct NativeError {
+  std::string category;  ///< "input", "error" or "interrupt"
+  std::string message, file, key;
+  int line = 0;
+};
+
+// Runs f, turning Poise's exceptions into NativeError (with the file, line and key of the
+// first refused value of a ValidationError).
+template <class F>
+auto guarded(F&& f) -> decltype(f()) {
+  try {
+    return f();
+  } catch (const studies::ValidationError& e) {
+    NativeError n{"input", e.what(), "", ""};
+    if (!e.errors().empty()) {
+      n.file = e.errors().front().where().file;
+      n.line = e.errors().front().where().line;
+      n.key = e.errors().front().key();
+    }
+    throw n;
+  } catch (const InputError& e) {
+    throw NativeError{"input", e.what(), e.where().file, e.key(), e.where().line};
+  } catch (const UsageError& e) {
+    throw NativeError{"input", e.what(), "", "", 0};
+  } catch (const geometry::MeshCheckError& e) {
+    throw NativeError{"input", e.what(), "", "", 0};
+  } catch (const studies::Interrupted& e) {
+    throw NativeError{"interrupt", e.what(), "", "", 0};
+  } catch (const std::exception& e) {
+    throw NativeError{"error", e.what(), "", "", 0};
+  }
+}
+
+py::array_t<double> array_of(const std::vector<double>& v) {
+  py::array_t<double> a(static_cast<py::ssize_t>(v.size()));
+  std::copy(v.begin(), v.end(), a.mutable_data());
+  return a;
+}
+
+// A fresh folder for a run the caller keeps no files of (out=None), removed afterwards.
+std::string temporary_run_folder() {
+  std::random_device rd;
+  const auto base = std::filesystem::temp_directory_path();
+  for (int attempt = 0; attempt < 100; ++attempt) {
+    const auto dir = base / ("poise-python-" + std::to_string(rd()) + std::to_string(rd()));
+    if (std::filesystem::create_directory(dir)) return (dir / "run").string();
+  }
+  throw Error("cannot make a temporary folder in " + base.string());
+}
+
+// poise.run: the study run as `poise run` runs it; the folder's samples and summary read back.
+py::dict run(const std::string& study, std::optional<std::size_t> samples, std::optional<std::uint64_t> seed,
+             int threads, const std::map<std::string, std::string>& overrides, bool plots, std::optional<std::string> out,
+             bool progress, std::size_t sensitivity_base) {
+  studies::RunOptions opt;
+  opt.sensitivity_base = sensitivity_base;
+  opt.samples = samples;
+  opt.seed = seed;
+  opt.threads = threads;
+  opt.overrides = overrides;
+  opt.plots = plots;
+  opt.progress = progress;
+  const bool keep = out.has_value();
+  opt.out = keep ? *out : temporary_run_folder();
+  std::string dir, summary;
+  SampleTable table;
+  std::vector<studies::OutputSpec> outputs;
+  try {
+    guarded([&] {
+      py::gil_scoped_release release;
+      dir = studies::run_study(study, opt);
+      studies::StudyConfig cfg = studies::load_study(study);
+      outputs = studies::study_kind(cfg.kind).outputs(cfg);
+      table = read_samples_csv((std::filesystem::path(dir) / "samples.csv").string(), studies::output_names_of(outputs));
+      std::ifstream in(std::filesystem::path(dir) / "summary.json");
+      summary.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+      return 0;
+    });
+  } catch (...) {
+    if (!keep) std::filesystem::remove_all(std::filesystem::path(opt.out).parent_path());
+    throw;
+  }
+  if (!keep) std::filesystem::remove_all(std::filesystem::path(opt.out).parent_path());
+  py::dict r, in, outs, units;
+  for (std::size_t k = 0; k < table.input_names.size(); ++k) {
+    in[py::str(table.input_names[k])] = array_of(table.inputs[k]);
+    units[py::str(table.input_names[k])] = input_unit(table.input_names[k]);
+  }
+  for (std::size_t k = 0; k < outputs.size(); ++k) {
+    outs[py::str(outputs[k].name)] = array_of(table.outputs[k]);
+    units[py::str(outputs[k].name)] = outputs[k].unit.empty() ? "1" : outputs[k].unit;
+  }
+  py::array_t<bool> ok(static_cast<py::ssize_t>(table.ok.size()));
+  for (std::size_t k = 0; k < table.ok.size(); ++k) ok.mutable_data()[k] = table.ok[k];
+  r["inputs"] = in;
+  r["outputs"] = outs;
+  r["units"] = units;
+  r["sample"] = array_of(table.sample);
+  r["ok"] = ok;
+  r["messages"] = table.messages;
+  r["summary"] = summary;
+  r["path"] = keep ? py::object(py::str(dir)) : py::object(py::none());
+  return r;
+}
+
+// poise.Study: a study file with its kind; evaluates at given inputs where the kind can.
+class Study {
+ public:
+  Study(const std::string& path, const std::map<std::string, std::string>& overrides) {
+    guarded([&] {
+      cfg_ = studies::load_study(path);
+      if (!overrides.empty()) {
+        auto all = cfg_.overrides;
+        for (const auto& [k, v] : overrides) all[k] = v;
+        cfg_.overrides = studies::apply_study_overrides(cfg_, all);
+      }
+      const studies::StudyKind& kind = studies::study_kind(cfg_.kind);
+      kind.validate(cfg_);
+      outputs_ = kind.outputs(cfg_);
+      try {
+        evaluator_ = kind.input_evaluator(cfg_, {}, cfg_.seed);
+      } catch (const Error& e) {
+        why_not_ = e.what();
+      }
+      return 0;
+    });
+  }
+  std::string kind() const { return cfg_.kind; }
+  std::string file() const { return cfg_.file; }
+  std::vector<std::string> output_names() const { return studies::output_names_of(outputs_); }
+  std::map<std::string, std::string> output_units() const {
+    std::map<std::string, std::string> u;
+    for (const auto& o : outputs_) u[o.name] = o.unit.empty() ? "1" : o.unit;
+    return u;
+  }
+  std::map<std::string, std::string> output_descriptions() const {
+    std::map<std::string, std::string> u;
+    for (const auto& o : outputs_) u[o.name] = o.description;
+    return u;
+  }
+  bool evaluates() const { return evaluator_ != nullptr; }
+  std::string why_not() const { return why_not_; }
+  std::vector<std::string> input_names() const { return need().input_names(); }
+  std::vector<std::string> input_units() const {
+    std::vector<std::string> u;
+    for (const auto& n : need().input_names()) u.push_back(input_unit(n));
+    return u;
+  }
+  std::vector<double> nominal() const { return need().nominal_inputs(); }
+  bool has_own_randomness() const { return need().has_own_randomness(); }
+  std::vector<std::string> evaluator_outputs() const { return studies::output_names_of(need().outputs()); }
+
+  // One array per input (input_names() order; each of the points' length, or of length 1 for
+  // one value at every point), read in place -> (points x outputs, failure count, the first
+  // failures as (point, reason)).
+  using Column = py::array_t<double, py::array::c_style | py::array::forcecast>;
+  py::tuple evaluate(const std::vector<Column>& columns, std::size_t points, int threads) const {
+    const studies::InputEvaluator& ev = need();
+    if (columns.size() != ev.input_names().size()) {
+      throw NativeError{"input", "evaluate: expected " + std::to_string(ev.input_names().size()) + " input columns, got " +
+                                     std::to_string(columns.size()), "", "", 0};
+    }
+    studies::InputColumns in;
+    for (std::size_t j = 0; j < columns.size(); ++j) {
+      const auto size = static_cast<std::size_t>(columns[j].size());
+      if (size != points && size != 1) {
+        throw NativeError{"input", "evaluate: input " + ev.input_names()[j] + " has " + std::to_string(size) +
+                                       " values for " + std::to_string(points) + " points", "", ev.input_names()[j], 0};
+      }
+      in.data.push_back(columns[j].data());
+      in.stride.push_back(size == 1 ? 0 : 1);
+    }
+    return run_evaluation(ev, in, points, threads);
+  }
+  // A points x inputs matrix (C order).
+  py::tuple evaluate_matrix(const Column& x, int threads) const {
+    const studies::InputEvaluator& ev = need();
+    if (x.ndim() != 2 || static_cast<std::size_t>(x.shape(1)) != ev.input_names().size()) {
+      throw NativeError{"input", "evaluate: expected a 2-D array with " + std::to_string(ev.input_names().size()) +
+                                     " columns, one per input", "", "", 0};
+    }
+    return run_evaluation(ev, studies::InputColumns::row_major(x.data(), ev.input_names().size()),
+                          static_cast<std::size_t>(x.shape(0)), threads);
+  }
+
+ private:
+  static py::tuple run_evaluation(const studies::InputEvaluator& ev, const studies::InputColumns& in, std::size_t n,
+                                  int threads) {
+    const std::size_t m = ev.outputs().size();
+    py::array_t<double> y({static_cast<py::ssize_t>(n), static_cast<py::ssize_t>(m)});
+    double* out = y.mutable_data();
+    studies::InputEvaluationFailures f;
+    guarded([&] {
+      py::gil_scoped_release release;
+      f = studies::evaluate_inputs(ev, in, n, std::span<double>(out, n * m), threads);
+      return 0;
+    });
+    return py::make_tuple(y, f.count, f.first);
+  }
+  const studies::InputEvaluator& need() const {
+    if (!evaluator_) throw NativeError{"error", why_not_, cfg_.file, "", 0};
+    return *evaluator_;
+  }
+  studies::StudyConfig cfg_;
+  std::vector<studies::OutputSpec> outputs_;
+  std::unique_ptr<studies::InputEvaluator> evaluator_;
+  std::string why_not_;
+};
+
+std::string budget(const std::string& path) {
+  return guarded([&] {
+    py::gil_scoped_release release;
+    return cli::check_budget_file(path).dump();
+  });
+}
+
+std::string mass_properties(const std::vector<std::string>& meshes, const std::string& unit,
+                            const std::vector<std::string>& densities, int rays) {
+  return guarded([&] {
+    py::gil_scoped_release release;
+    return cli::mass_properties_json({meshes, unit, densities, rays}).dump();
+  });
+}
+
+std::string diagnose(const std::string& data, double alpha, int max_harmonic, const std::string& noise,
+                     const std::string& load_torque, const std::string& load_angle, const std::string& study,
+                     std::size_t study_samples) {
+  return guarded([&] {
+    py::gil_scoped_release release;
+    cli::DiagnoseRequest r;
+    r.data = data;
+    r.alpha = alpha;
+    r.max_harmonic = max_harmonic;
+    r.noise = noise;
+    r.load_torque = load_torque;
+    r.load_angle = load_angle;
+    r.study = study;
+    r.study_samples = study_samples;
+    try {
+      return cli::diagnose_json(r).dump();
+    } catch (const studies::ValidationError&) {
+      throw;
+    } catch (const Error& e) {  // the command line refuses each of these as invalid input (exit 2)
+      throw UsageError(e.what());
+    }
+  });
+}
+
+}  // namespace
+}  // namespace poise::python
+
+PYBIND11_MODULE(_poise, m) {
+  using namespace poise::python;
+  m.doc() = "C++ side of the poise package (import poise, not this module)";
+  poise::studies::register_study_kinds();
+  static py::exception<NativeError> native(m, "NativeError");
+  py::register_exception_translator([](std::exception_ptr p) {
+    try {
+      if (p) std::rethrow_exception(p);
+    } catch (const NativeError& e) {
+      py::object args = py::make_tuple(e.category, e.message, e.file, e.line, e.key);
+      PyErr_SetObject(native.ptr(), args.ptr());
+    }
+  });
+  m.attr("version") = std::string(poise::kVersion) + " (" + poise::kGitCommit + ")";
+  m.def("run", &run, py::arg("study"), py::arg("samples"), py::arg("seed"), py::arg("threads"), py::arg("overrides"),
+        py::arg("plots"), py::arg("out"), py::arg("progress"), py::arg("sensitivity_base"));
+  m.def("budget", &budget, py::arg("path"));
+  m.def("mass_properties", &mass_properties, py::arg("meshes"), py::arg("unit"), py::arg("densities"), py::arg("rays"));
+  m.def("diagnose", &diagnose, py::arg("data"), py::arg("alpha"), py::arg("max_harmonic"), py::arg("noise"),
+        py::arg("load_torque"), py::arg("load_angle"), py::arg("study"), py::arg("study_samples"));
+  py::class_<Study>(m, "Study")
+      .def(py::init<const std::string&, const std::map<std::string, std::string>&>(), py::arg("path"),
+           py::arg("overrides"))
+      .def_property_readonly("kind", &Study::kind)
+      .def_property_readonly("file", &Study::file)
+      .def_property_readonly("output_names", &Study::output_names)
+      .def_property_readonly("output_units", &Study::output_units)
+      .def_property_readonly("output_descriptions", &Study::output_descriptions)
+      .def_property_readonly("evaluates", &Study::evaluates)
+      .def_property_readonly("why_not", &Study::why_not)
+      .def_property_readonly("input_names", &Study::input_names)
+      .def_property_readonly("input_units", &Study::input_units)
+      .def_property_readonly("has_own_randomness", &Study::has_own_randomness)
+      .def_property_readonly("evaluator_outputs", &Study::evaluator_outputs)
+      .def("nominal", &Study::nominal)
+      .def("evaluate", &Study::evaluate, py::arg("columns"), py::arg("points"), py::arg("threads"))
+      .def("evaluate_matrix", &Study::evaluate_matrix, py::arg("x"), py::arg("threads"));
+}

@@ -1,0 +1,226 @@
+"""The Python module against the command line and against physics it can be checked on.
+
+Run by ctest (python_api) with PYTHONPATH=build/python, POISE_EXE=build/poise and
+POISE_SOURCE_DIR=the repository. Small sample counts: the big runs belong to studies.
+"""
+import csv
+import json
+import math
+import os
+import signal
+import subprocess
+import sys
+import threading
+import time
+
+import numpy as np
+import pytest
+
+import poise
+
+SRC = os.environ.get("POISE_SOURCE_DIR", os.path.join(os.path.dirname(__file__), "..", ".."))
+EXE = os.environ.get("POISE_EXE", os.path.join(SRC, "build", "poise"))
+SEEKER = os.path.join(SRC, "studies", "los_seeker_wang2011.toml")
+SHAFT = os.path.join(SRC, "studies", "shaft_sag_example.toml")
+GIMBAL = os.path.join(SRC, "studies", "gimbal_unbalance_mc.toml")
+
+
+def read_csv_columns(path):
+    with open(path, newline="") as f:
+        rows = list(csv.reader(f))
+    header, body = rows[0], rows[1:]
+    return {name: [row[k] for row in body] for k, name in enumerate(header)}
+
+
+def cli_run(study, out, *args):
+    subprocess.run([EXE, "run", study, "--out", str(out), "-q", "--no-plots", *args], check=True,
+                   stdout=subprocess.DEVNULL)
+    return read_csv_columns(os.path.join(out, "samples.csv"))
+
+
+def as_float(cells):
+    return np.array([float(c) if c not in ("", "nan") else math.nan for c in cells])
+
+
+@pytest.mark.parametrize("study", [SEEKER, SHAFT])
+def test_run_equals_the_command_line_value_for_value(tmp_path, study):
+    r = poise.run(study, samples=48, seed=5, threads=2, out=tmp_path / "py")
+    cli = cli_run(study, tmp_path / "cli", "-n", "48", "-s", "5", "-j", "1")
+    assert r.path == str(tmp_path / "py")
+    assert len(r.sample) == 48 and list(r.sample) == [int(c) for c in cli["sample"]]
+    for name, values in r.outputs.items():
+        np.testing.assert_array_equal(values, as_float(cli[name]), err_msg=name)
+    for name, values in r.inputs.items():
+        np.testing.assert_array_equal(values, as_float(cli[name]), err_msg=name)
+    # Both folders hold the same samples.csv, byte for byte.
+    with open(tmp_path / "py" / "samples.csv") as a, open(tmp_path / "cli" / "samples.csv") as b:
+        assert a.read() == b.read()
+    with open(tmp_path / "cli" / "summary.json") as f:
+        assert r.summary["answer"] == json.load(f)["answer"]
+    assert r.units["los_max_arcsec" if study == SEEKER else "los_error_arcsec"] == "arcsec"
+
+
+def test_run_without_out_keeps_nothing(tmp_path, monkeypatch):
+    monkeypatch.setenv("TMPDIR", str(tmp_path))  # where the run's temporary folder goes
+    r = poise.run(SHAFT, samples=16, seed=1)
+    assert r.path is None
+    assert len(r.outputs["tilt_urad"]) == 16 and np.all(np.isfinite(r.outputs["tilt_urad"]))
+    assert os.listdir(tmp_path) == []
+
+
+def test_overrides_reach_the_model_and_the_summary():
+    base = poise.run(SEEKER, samples=32, seed=2, threads=1)
+    longer = poise.run(SEEKER, samples=32, seed=2, threads=1, overrides={"yaw.bearing_span": "164 mm"})
+    assert longer.summary["study"]["overrides"]["yaw.bearing_span"] == "164 mm"
+    # A yaw axis twice as long tilts half as much for the same run-outs: less yaw error.
+    assert np.mean(longer.outputs["yaw_max_arcsec"]) < np.mean(base.outputs["yaw_max_arcsec"])
+
+
+@pytest.mark.parametrize("study", [SEEKER, SHAFT])
+def test_evaluate_at_a_runs_inputs_gives_its_outputs(study):
+    r = poise.run(study, samples=64, seed=9, threads=2)
+    s = poise.Study(study)
+    assert s.evaluates and not s.has_own_randomness
+    assert s.input_names == list(r.inputs)
+    y = s.evaluate(r.inputs, threads=2)
+    assert list(y) == s.output_names
+    for name in s.output_names:
+        ok = r.ok
+        np.testing.assert_allclose(y[name][ok], r.outputs[name][ok], rtol=1e-12, atol=1e-12, err_msg=name)
+
+
+def test_evaluate_takes_a_matrix_and_leaves_missing_inputs_nominal():
+    s = poise.Study(SEEKER)
+    nominal = s.nominal()
+    y0 = s.evaluate(nominal)
+    # A perfect seeker points exactly: no tolerance, no LOS error.
+    assert y0["los_max_arcsec"][0] == pytest.approx(0.0, abs=1e-9)
+    # Only the pitch axis leaning: the error at the boresight grows with it, linearly.
+    tilt = np.array([0.0, 5.0, 10.0, 20.0])
+    y = s.evaluate({"pitch_perpendicularity_arcsec": tilt})
+    assert np.all(np.diff(y["los_max_arcsec"]) > 0)
+    x = np.tile([nominal[n] for n in s.input_names], (4, 1))
+    x[:, s.input_names.index("pitch_perpendicularity_arcsec")] = tilt
+    np.testing.assert_array_equal(s.evaluate(x)["los_max_arcsec"], y["los_max_arcsec"])
+
+
+def test_shaft_sag_evaluate_against_euler_bernoulli():
+    s = poise.Study(SHAFT)
+    nominal = s.nominal()
+    y = s.evaluate(nominal)
+    # Simply supported shaft, point load P at a from bearing A (b = L - a): slope at the load
+    # P a b (b - a) / (3 E I L), deflection P a^2 b^2 / (3 E I L), I = pi d^4 / 64 (solid).
+    L, a, d, E, m, g = 0.056, nominal["load_position_mm"] * 1e-3, nominal["diameter_mm"] * 1e-3, \
+        nominal["youngs_modulus_GPa"] * 1e9, nominal["load_mass_g"] * 1e-3, 9.80665
+    b, inertia = L - a, math.pi * d**4 / 64
+    slope = m * g * a * b * (b - a) / (3 * E * inertia * L)
+    deflection = m * g * a**2 * b**2 / (3 * E * inertia * L)
+    assert y["tilt_urad"][0] == pytest.approx(slope * 1e6, rel=1e-9)
+    assert y["deflection_um"][0] == pytest.approx(deflection * 1e6, rel=1e-9)
+    assert y["los_error_arcsec"][0] == pytest.approx(2 * abs(slope) * 206264.80624709636, rel=1e-9)
+    # A point without a physical answer fails alone, with its reason.
+    y = s.evaluate({"load_position_mm": np.array([20.0, 80.0, 30.0])})
+    assert np.isfinite(y["tilt_urad"][0]) and np.isnan(y["tilt_urad"][1]) and np.isfinite(y["tilt_urad"][2])
+    assert s.failure_count == 1 and s.last_failures[0][0] == 1 and "load off the shaft" in s.last_failures[0][1]
+
+
+def test_evaluate_refuses_unknown_inputs_with_a_suggestion():
+    s = poise.Study(SEEKER)
+    with pytest.raises(poise.InputError, match="did you mean 'pitch_perpendicularity_arcsec'"):
+        s.evaluate({"pitch_perpendicularity_arcsek": [1.0]})
+
+
+def test_a_kind_that_cannot_evaluate_says_why():
+    s = poise.Study(GIMBAL)
+    assert not s.evaluates and "cannot be evaluated" in s.why_not
+    assert "g_rmse_torque_mNm" in s.output_names
+    with pytest.raises(poise.Error, match="cannot be evaluated"):
+        s.evaluate({})
+
+
+def test_input_error_carries_file_line_and_key(tmp_path):
+    text = open(SHAFT).read().replace('model = "../models/', 'model = "' + os.path.join(SRC, "models") + '/')
+    bad = tmp_path / "bad.toml"
+    assert "\nseed = 1\n" in text
+    bad.write_text(text.replace("\nseed = 1\n", "\nseed = \"eleven\"\n", 1))
+    with pytest.raises(poise.InputError) as e:
+        poise.run(bad, samples=4)
+    assert isinstance(e.value, ValueError)
+    assert e.value.file == str(bad) and e.value.line and e.value.key == "sampling.seed"
+    with pytest.raises(poise.InputError):
+        poise.Study(bad)
+    with pytest.raises(poise.InputError, match="overrides"):
+        poise.run(SHAFT, overrides=["x"])
+
+
+def test_budget_is_the_json_of_the_command_line():
+    budget = os.path.join(SRC, "studies", "wang2011_budget.toml")
+    j = poise.budget(budget)
+    cli = json.loads(subprocess.run([EXE, "budget", budget, "--json"], check=True, capture_output=True,
+                                    text=True).stdout)
+    assert j["answer"] == cli["answer"] and j["combined"] == cli["combined"]
+
+
+def test_mass_properties_of_a_cube(tmp_path):
+    # A 10 mm cube of 1000 kg/m^3: 1 g, centre at its middle, I = m a^2 / 6 about each axis.
+    v = [(x, y, z) for x in (0, 10) for y in (0, 10) for z in (0, 10)]
+    faces = [(0, 1, 3), (0, 3, 2), (4, 6, 7), (4, 7, 5), (0, 4, 5), (0, 5, 1), (2, 3, 7), (2, 7, 6),
+             (0, 2, 6), (0, 6, 4), (1, 5, 7), (1, 7, 3)]
+    lines = ["solid cube"]
+    for f in faces:
+        lines += ["facet normal 0 0 0", "outer loop"] + [f"vertex {v[i][0]} {v[i][1]} {v[i][2]}" for i in f] + \
+                 ["endloop", "endfacet"]
+    (tmp_path / "cube.stl").write_text("\n".join(lines + ["endsolid cube"]) + "\n")
+    j = poise.mass_properties(tmp_path / "cube.stl", unit="mm", density="1000 kg/m^3")
+    text = json.dumps(j)
+    cli = json.loads(subprocess.run([EXE, "mass-properties", str(tmp_path / "cube.stl"), "--unit", "mm", "--density",
+                                     "1000 kg/m^3", "--json"], check=True, capture_output=True, text=True).stdout)
+    assert {k: v for k, v in j.items() if k != "warnings"} == cli, text
+    assert j["mass_kg"] == pytest.approx(1e-3, rel=1e-12)
+    with pytest.raises(poise.InputError, match="unit"):
+        poise.mass_properties(tmp_path / "cube.stl", unit="furlong", density="1000 kg/m^3")
+
+
+def test_diagnose_is_the_json_of_the_command_line():
+    data = os.path.join(SRC, "data", "yang2015", "table1_loading_test_36pt.csv")
+    j = poise.diagnose(data)
+    cli = json.loads(subprocess.run([EXE, "diagnose", data, "--json"], check=True, capture_output=True,
+                                    text=True).stdout)
+    assert j == cli
+    with pytest.raises(poise.InputError, match="theta_deg") as e:
+        poise.diagnose(os.path.join(SRC, "README.md"))
+    assert e.value.file == os.path.join(SRC, "README.md") and e.value.line == 1
+
+
+def test_evaluate_releases_the_gil():
+    s = poise.Study(SEEKER)
+    x = np.tile([v for v in s.nominal().values()], (60000, 1))
+    done = threading.Event()
+    ticks = 0
+
+    def work():
+        s.evaluate(x, threads=1)
+        done.set()
+
+    t = threading.Thread(target=work)
+    t.start()
+    while not done.is_set():  # this thread runs only while the other has let the GIL go
+        ticks += 1
+        time.sleep(0.001)
+    t.join()
+    assert ticks > 10
+
+
+def test_ctrl_c_stops_a_run():
+    code = ("import poise, sys\n"
+            "try:\n"
+            f"    poise.run({SEEKER!r}, samples=20000000, seed=1, threads=1)\n"
+            "except KeyboardInterrupt as e:\n"
+            "    print('interrupted:', e); sys.exit(42)\n")
+    p = subprocess.Popen([sys.executable, "-c", code], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                         env=dict(os.environ))
+    time.sleep(3.0)
+    p.send_signal(signal.SIGINT)
+    out, err = p.communicate(timeout=120)
+    assert p.returncode == 42, out + err
+    assert "SIGINT" in out
