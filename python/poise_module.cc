@@ -148,7 +148,7 @@ py::dict run(const std::string& study, std::optional<std::size_t> samples, std::
 // poise.Study: a study file with its kind; evaluates at given inputs where the kind can.
 class Study {
  public:
-  Study(const std::string& path, const std::map<std::string, std::string>& overrides) {
+  Study(const std::string& path, const std::map<std::string, std::string>& overrides, std::optional<std::uint64_t> seed) {
     guarded([&] {
       cfg_ = studies::load_study(path);
       if (!overrides.empty()) {
@@ -160,7 +160,7 @@ class Study {
       kind.validate(cfg_);
       outputs_ = kind.outputs(cfg_);
       try {
-        evaluator_ = kind.input_evaluator(cfg_, {}, cfg_.seed);
+        evaluator_ = kind.input_evaluator(cfg_, {}, seed.value_or(cfg_.seed));
       } catch (const Error& e) {
         why_not_ = e.what();
       }
@@ -312,8 +312,8 @@ PYBIND11_MODULE(_poise, m) {
   m.def("diagnose", &diagnose, py::arg("data"), py::arg("alpha"), py::arg("max_harmonic"), py::arg("noise"),
         py::arg("load_torque"), py::arg("load_angle"), py::arg("study"), py::arg("study_samples"));
   py::class_<Study>(m, "Study")
-      .def(py::init<const std::string&, const std::map<std::string, std::string>&>(), py::arg("path"),
-           py::arg("overrides"))
+      .def(py::init<const std::string&, const std::map<std::string, std::string>&, std::optional<std::uint64_t>>(),
+           py::arg("path"), py::arg("overrides"), py::arg("seed"))
       .def_property_readonly("kind", &Study::kind)
       .def_property_readonly("file", &Study::file)
       .def_property_readonly("output_names", &Study::output_names)

@@ -122,14 +122,18 @@ def _poise_columns(names, columns, nominal):
 
 class Study:
     """A study file, to evaluate its outputs at inputs you give (kinds that can: the seeker's
-    LOS study and the closed-form kinds; :attr:`evaluates` says, :attr:`why_not` says why not).
+    LOS study, the closed-form kinds and the gimbal static-unbalance study without a drawn
+    disk; :attr:`evaluates` says, :attr:`why_not` says why not).
 
     ``input_names``: the inputs, as samples.csv names them, each in the unit that ends its
     name (``input_units``); ``output_names`` and ``output_units``: the study's outputs.
+    overrides: model keys with their units, as for :func:`run`. seed: of the draws a kind
+    with randomness of its own gives point k (those of sample k of a run with that seed;
+    default the file's [sampling] seed).
     """
 
-    def __init__(self, path, overrides=None):
-        self._s = _call(_poise.Study, os.fspath(path), _overrides(overrides))
+    def __init__(self, path, overrides=None, seed=None):
+        self._s = _call(_poise.Study, os.fspath(path), _overrides(overrides), seed)
 
     kind = property(lambda self: self._s.kind)
     file = property(lambda self: self._s.file)

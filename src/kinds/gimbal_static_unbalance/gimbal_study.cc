@@ -10,22 +10,26 @@
 #include "kinds/gimbal_static_unbalance/gimbal_sections.h"
 #include "sampling/normal_stream.h"
 #include "core/error.h"
+#include <algorithm>
 #include <array>
 #include <cstdio>
 
 namespace poise::studies {
-namespace {
-
-using units::kPi;
 
 // The unit-scope draws, in design-dimension order: scalars take one dimension, vectors a
-// magnitude and a uniform direction.
-struct UnitDraws {
+// magnitude and a uniform direction; and the disk's (or the parts') effects as built.
+struct GimbalStudy::RigAsBuilt {
   double residual_unbalance = 0, residual_angle = 0, runout = 0, runout_angle = 0;
   double clump_mass = 0, hole_radius = 0, hole_angle = 0, kt_calibration = 0, kt_drift = 0;
   double turntable_zero = 0, gimbal_zero = 0, axis_tilt = 0, tilt_azimuth = 0;
   double cw_mass = 0, cw_radius = 0, cw_angle = 0;
+  double disk_ux = 0, disk_uy = 0, disk_dm = 0, disk_dj = 0;  ///< kg m, kg m, kg, kg m^2
 };
+
+namespace {
+
+using units::kPi;
+using UnitDraws = GimbalStudy::RigAsBuilt;
 
 struct Slot {
   const char* name;
@@ -167,9 +171,7 @@ void GimbalStudy::compute(std::size_t i, Workspace& ws, SampleResult& out) const
     // Unit-scope draws from the design point; test-scope ones from the sample's stream.
     std::vector<double> u(std::max<std::size_t>(dimension_ + geometry_dimension(), 1));
     design_.point(i, u);
-    sampling::RandomStream rs(seed_, sampling::StreamId::kProcedure, design_.stream_index(i));
-    sampling::NormalStream normal(&rs);
-    UnitDraws unit;
+    RigAsBuilt unit;
     std::size_t k = 0, col = 0;
     for (const auto& s : kSlots) {
       const ScopedTolerance& t = model_.*s.tol;
@@ -182,7 +184,10 @@ void GimbalStudy::compute(std::size_t i, Workspace& ws, SampleResult& out) const
       }
     }
     // The disk as built: its unbalance about the gimbal axis and its mass and inertia.
-    double disk_ux = 0.0, disk_uy = 0.0, disk_dm = 0.0, disk_dj = 0.0;
+    double& disk_ux = unit.disk_ux;
+    double& disk_uy = unit.disk_uy;
+    double& disk_dm = unit.disk_dm;
+    double& disk_dj = unit.disk_dj;
     if (disk_) {
       std::vector<double> shown(disk_->dimension());
       const geometry::DiskSpec spec = disk_->draw(std::span<const double>(u).subspan(dimension_, disk_->dimension()), shown);
@@ -213,6 +218,18 @@ void GimbalStudy::compute(std::size_t i, Workspace& ws, SampleResult& out) const
       out.inputs[col++] = mp.mass * 1e3;
       out.inputs[col++] = j;
     }
+    run_campaign(design_.stream_index(i), unit, ws, out);
+  } catch (const std::exception& e) {
+    out.ok = false;
+    out.message = e.what();
+  }
+}
+
+void GimbalStudy::run_campaign(std::uint64_t stream, const RigAsBuilt& unit, Workspace& ws, SampleResult& out) const {
+  sampling::RandomStream rs(seed_, sampling::StreamId::kProcedure, stream);
+  sampling::NormalStream normal(&rs);
+  const double disk_ux = unit.disk_ux, disk_uy = unit.disk_uy, disk_dm = unit.disk_dm, disk_dj = unit.disk_dj;
+  {
     auto draw_test = [&](UnitDraws d) {
       for (const auto& s : kSlots) {
         const ScopedTolerance& t = model_.*s.tol;
@@ -304,10 +321,34 @@ void GimbalStudy::compute(std::size_t i, Workspace& ws, SampleResult& out) const
                                sum_fit_rmse / nn * 1e3, procedures::test_duration(plan) / 60.0};
       for (double v : values) out.outputs[o++] = v;
     }
-  } catch (const std::exception& e) {
-    out.ok = false;
-    out.message = e.what();
   }
+}
+
+std::vector<double> GimbalStudy::nominal_inputs() const {
+  std::vector<double> x;
+  for (const auto& s : kSlots) {
+    const ScopedTolerance& t = model_.*s.tol;
+    if (t.per_test) continue;
+    x.push_back(s.magnitude ? 0.0 : t.spec.dist.quantile(0.5) / t.spec.display_factor);
+    if (s.angle) x.push_back(0.0);
+  }
+  return x;
+}
+
+void GimbalStudy::evaluate_point(std::size_t k, std::span<const double> inputs, std::span<double> outputs) const {
+  RigAsBuilt rig;
+  std::size_t col = 0;
+  for (const auto& s : kSlots) {
+    const ScopedTolerance& t = model_.*s.tol;
+    if (t.per_test) continue;
+    rig.*s.value = inputs[col++] * t.spec.display_factor;
+    if (s.angle) rig.*s.angle = inputs[col++] * units::kRadPerDeg;
+  }
+  const auto ws = make_workspace();
+  SampleResult r;
+  r.outputs.assign(output_names().size(), NAN);
+  run_campaign(k, rig, *ws, r);  // per-test draws and noise of sample k (stream k without the Saltelli layout)
+  std::copy(r.outputs.begin(), r.outputs.end(), outputs.begin());
 }
 
 nlohmann::json GimbalStudy::solver_json(const McResult& mc) const {

@@ -49,6 +49,16 @@ class GimbalStudy : public ProcedureStudyBase<GimbalStudy> {
   std::string model_source() const override { return model_.source; }
   const GimbalModel& model() const { return model_; }
 
+  /// The rig as built for one sample: its unit-scope draws and the disk's effects (defined
+  /// in gimbal_study.cc).
+  struct RigAsBuilt;
+  /// At given inputs (poise.Study.evaluate): the unit-scope tolerances' columns; the per-test
+  /// draws and the noise of point k are those of sample k. A rig whose disk or parts are drawn
+  /// ([geometry]) has derived columns and is not evaluated at inputs.
+  bool evaluates_inputs() const override { return !disk_ && !parts_; }
+  std::vector<double> nominal_inputs() const override;
+  void evaluate_point(std::size_t k, std::span<const double> inputs, std::span<double> outputs) const override;
+
   using Workspace = procedures::StaticUnbalanceWorkspace;
   std::unique_ptr<Workspace> make_workspace() const;
   /// Sample i alone (replayable): depends only on (seed, samples, method, i).
@@ -74,6 +84,9 @@ class GimbalStudy : public ProcedureStudyBase<GimbalStudy> {
   /// when a position of test `test` saturated its drive or swung past [oscillation] swing_range.
   void check_positions(const procedures::MeasurementResult& m, const std::string& group, std::size_t test,
                        double load_torque, double load_angle) const;
+  /// Every group's tests on `rig`, the per-test draws and noise from stream `stream`: the
+  /// outputs and solver counters into `out` (throws poise::Error for a failed position).
+  void run_campaign(std::uint64_t stream, const RigAsBuilt& rig, Workspace& ws, SampleResult& out) const;
   std::size_t geometry_dimension() const { return disk_ ? disk_->dimension() : parts_ ? parts_->dimension() : 0; }
   sampling::Design design_;
 };
