@@ -118,6 +118,16 @@ py::dict run(const std::string& study, std::optional<std::size_t> samples, std::
       summary.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
       return 0;
     });
+  } catch (NativeError& e) {
+    if (!keep) {
+      std::filesystem::remove_all(std::filesystem::path(opt.out).parent_path());
+      if (e.category == "interrupt") {  // its message names a folder that no longer is
+        e.message = "the run was stopped (" + e.message.substr(0, e.message.find(':')) +
+                    "); nothing was kept (out=None): give out=FOLDER to keep a stopped run's samples and resume it "
+                    "with `poise run --resume FOLDER`";
+      }
+    }
+    throw;
   } catch (...) {
     if (!keep) std::filesystem::remove_all(std::filesystem::path(opt.out).parent_path());
     throw;
@@ -252,7 +262,7 @@ class Study {
 std::string budget(const std::string& path) {
   return guarded([&] {
     py::gil_scoped_release release;
-    return cli::check_budget_file(path).dump();
+    return cli::check_budget_file(path, nullptr, false).dump();
   });
 }
 

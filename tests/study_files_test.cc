@@ -88,7 +88,8 @@ TEST(ModelFile, BareNumberNamesTheMissingUnit) {
 TEST(ModelFile, WrongUnit) {
   TempDir d;
   const std::string e = model_error(d, "bearing_span = \"82 mm\"", "bearing_span = \"82 deg\"");
-  EXPECT_NE(e.find("wrong unit: got an angle, expected a length"), std::string::npos) << e;
+  EXPECT_NE(e.find("key 'yaw.bearing_span' = \"82 deg\": expected a length, e.g. \"1 mm\" (wrong unit: got an angle)"),
+            std::string::npos) << e;
 }
 
 TEST(ModelFile, LineNumberOfTheBadValue) {

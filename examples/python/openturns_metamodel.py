@@ -116,8 +116,12 @@ def main():
     # 5. Side by side.
     print(f"{os.path.basename(args.study)}: {output} [{unit}], {len(names)} inputs; the kriging learns the {dim} "
           f"with the largest total indices (poise sensitivity, base {args.base})")
-    print(f"kriging on {args.training} of the study's draws: Q2 on 1000 fresh draws = {q2:.3f}; it carries "
-          f"{share:.3f} of the output's variance (its indices below are scaled by that share)")
+    print(f"kriging on {args.training} of the study's draws: Q2 on 1000 fresh draws = {q2:.3f} (the share of the "
+          f"output's variance it predicts); its own variance is {share:.3f} of the output's, and its indices below "
+          f"are scaled by that")
+    if q2 < 0.5:
+        print(f"warning: Q2 = {q2:.3f} < 0.5: the metamodel predicts little of {output}; its indices are no check of "
+              f"Poise's (more training points, fewer inputs, or a smoother output would help)")
     print("Sobol indices as shares of the output's variance, 95% intervals: metamodel (OpenTURNS) beside the full "
           "model (poise sensitivity)")
     print(f"{'input':36s} {'S kriging':>24s} {'S poise':>24s}  {'ST kriging':>24s} {'ST poise':>24s}  overlap")

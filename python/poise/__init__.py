@@ -62,6 +62,15 @@ def _call(function, *args):
         raise Error(message) from None
 
 
+def _count(name, value, least):
+    """None, or a whole number >= least (not a bool, not 10.5)."""
+    if value is None:
+        return None
+    if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < least:
+        raise InputError(f"{name}={value!r}: expected a whole number >= {least}", key=name)
+    return int(value)
+
+
 def _overrides(overrides):
     if overrides is None:
         return {}
@@ -111,8 +120,15 @@ def run(study, samples=None, seed=None, threads=0, overrides=None, plots=False, 
     sensitivity_base: > 0 runs ``poise sensitivity --base N`` instead (Sobol indices with
     their intervals in ``summary["sensitivity"]``; samples is then set by the layout).
     """
-    raw = _call(_poise.run, os.fspath(study), samples, seed, int(threads), _overrides(overrides), bool(plots),
-                None if out is None else os.fspath(out), bool(progress), int(sensitivity_base))
+    samples, seed = _count("samples", samples, 1), _count("seed", seed, 0)
+    threads, sensitivity_base = _count("threads", threads, 0), _count("sensitivity_base", sensitivity_base, 0)
+    try:
+        raw = _call(_poise.run, os.fspath(study), samples, seed, threads, _overrides(overrides), bool(plots),
+                    None if out is None else os.fspath(out), bool(progress), sensitivity_base)
+    except InputError as e:
+        if str(e).startswith("--out "):  # the command line's words for this function's out=
+            raise InputError("out=" + str(e)[len("--out "):], e.file, e.line, "out") from None
+        raise
     return Result(raw)
 
 
@@ -173,7 +189,17 @@ class Study:
                 hint = f" (did you mean {close[0]!r}?)" if close else ""
                 raise InputError(f"evaluate: {unknown[0]!r} is not an input of {self.file}{hint}; its inputs: "
                                  + ", ".join(names), key=unknown[0])
-            columns = {k: np.ascontiguousarray(v, dtype=np.float64).reshape(-1) for k, v in inputs.items()}
+            columns = {}
+            for k, v in inputs.items():
+                try:
+                    column = np.ascontiguousarray(v, dtype=np.float64)
+                except (TypeError, ValueError):
+                    raise InputError(f"evaluate: input {k!r} = {v!r}: expected numbers in {self.input_units[k]} "
+                                     "(the unit that ends the input's name), not text", key=k) from None
+                if column.ndim > 1:
+                    raise InputError(f"evaluate: input {k!r} is a {column.ndim}-D array; expected one value per point "
+                                     "(a 1-D array) or one value for all", key=k)
+                columns[k] = column.reshape(-1)
             lengths = {c.size for c in columns.values() if c.size != 1}
             if len(lengths) > 1:
                 raise InputError(f"evaluate: the input arrays differ in length ({sorted(lengths)})")
@@ -181,7 +207,7 @@ class Study:
             # Read in place by the C++ loop: no points x inputs copy; a missing input is its
             # nominal value at every point.
             nominal = self._nominal_columns()
-            args = (_poise_columns(names, columns, nominal), n, int(threads))
+            args = (_poise_columns(names, columns, nominal), n, _count("threads", threads, 0))
             y, failed, first = _call(self._s.evaluate, *args)
         else:
             x = np.ascontiguousarray(inputs, dtype=np.float64)
@@ -189,7 +215,7 @@ class Study:
                 x = x.reshape(1, -1)
             if x.ndim != 2 or x.shape[1] != len(names):
                 raise InputError(f"evaluate: expected a 2-D array with {len(names)} columns ({', '.join(names)})")
-            y, failed, first = _call(self._s.evaluate_matrix, x, int(threads))
+            y, failed, first = _call(self._s.evaluate_matrix, x, _count("threads", threads, 0))
         self.last_failures = list(first)
         self.failure_count = int(failed)
         return {name: y[:, k] for k, name in enumerate(self._outputs())}
@@ -226,8 +252,12 @@ def mass_properties(meshes, unit, density, rays=256):
     string with its unit ("2700 kg/m^3") or one per mesh."""
     if isinstance(meshes, (str, os.PathLike)):
         meshes = [meshes]
-    densities = [density] if isinstance(density, str) else list(density)
-    return json.loads(_call(_poise.mass_properties, [os.fspath(m) for m in meshes], str(unit), densities, int(rays)))
+    densities = [density] if isinstance(density, str) else list(density) if isinstance(density, (list, tuple)) else None
+    if not densities or not all(isinstance(d, str) for d in densities):
+        raise InputError(f"density={density!r}: expected a density with its unit, e.g. \"2700 kg/m^3\", or a list of "
+                         "them, one per mesh", key="density")
+    return json.loads(_call(_poise.mass_properties, [os.fspath(m) for m in meshes], str(unit), densities,
+                            _count("rays", rays, 1)))
 
 
 def diagnose(data, alpha=0.05, max_harmonic=6, noise=None, load_torque=None, load_angle=None, study=None,

@@ -148,6 +148,10 @@ json budget_json(const BudgetSpec& spec, const BudgetResult& res) {
                           {"multiple", res.multiple},
                           {"random_scale", res.random_scale}};
   out["requirement_met"] = res.requirement_met ? json(*res.requirement_met) : json(nullptr);
+  if (res.requirement_met) {
+    out["requirement_met_note"] = "requirement_met is the combination rule's verdict alone; where the budget has a "
+                                  "model, the Monte Carlo of its exact chain decides (requirement_verdict, answer)";
+  }
   return out;
 }
 

@@ -169,11 +169,11 @@ void add_model_keys(const budget::BudgetSpec& spec, const MonteCarloPlan& plan, 
 
 // The Monte Carlo beside the budget: the output's quantile at the confidence, its 95% interval.
 std::vector<double> add_monte_carlo(const budget::BudgetSpec& spec, const budget::BudgetResult& res,
-                                    const MonteCarloPlan& plan, json& out) {
+                                    const MonteCarloPlan& plan, json& out, bool progress) {
   out["monte_carlo"] = nullptr;
   out["budget_vs_monte_carlo"] = nullptr;
   if (!plan.kind) return {};
-  std::cerr << "poise budget: Monte Carlo of " << spec.model_path << ", " << spec.samples << " samples (seed "
+  if (progress) std::cerr << "poise budget: Monte Carlo of " << spec.model_path << ", " << spec.samples << " samples (seed "
             << spec.seed << ")...\n";
   const MonteCarloValues mc = plan.kind->run(spec.model_path, spec.output, spec.samples, spec.seed);
   if (mc.values.empty()) throw Error("every Monte Carlo sample failed; nothing to compare the budget with");
@@ -248,13 +248,13 @@ void add_budget_answer(const budget::BudgetSpec& spec, const std::vector<double>
 
 }  // namespace
 
-json check_budget_file(const std::string& path, std::vector<double>* mc_values) {
+json check_budget_file(const std::string& path, std::vector<double>* mc_values, bool progress) {
   const budget::BudgetSpec spec = budget::load_budget(path);
   const MonteCarloPlan plan = plan_monte_carlo(spec);
   const budget::BudgetResult res = budget::check_budget(spec);
   json j = budget::budget_json(spec, res);
   add_model_keys(spec, plan, j);
-  std::vector<double> values = add_monte_carlo(spec, res, plan, j);
+  std::vector<double> values = add_monte_carlo(spec, res, plan, j, progress);
   add_budget_answer(spec, values, j);
   if (mc_values) *mc_values = std::move(values);
   return j;

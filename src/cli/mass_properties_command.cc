@@ -56,7 +56,7 @@ object per mesh, with file, unit, density_kg_m3, triangles, shells and cavities)
 Exit status: 0 success, 2 bad mesh or argument (nothing computed), 1 other failure.
 )";
 
-constexpr units::Dimension kDensity{{-3, 1, 0, 0, 0, 0}};
+using units::kDensity;
 
 struct Part {
   std::string file;

@@ -127,15 +127,24 @@ UnitDef parse_unit(std::string_view text) {
 
 // "m*kg", "m^2*kg*s^-2": the SI units of a dimension, in a form parse_quantity accepts.
 std::string si_composition(const Dimension& d) {
+  // Positive powers first, then each negative one after a slash ("kg/m^3", "m/s^2"); with no
+  // positive power, negative exponents ("s^-1"). Either form parses back.
   static const char* names[] = {"m", "kg", "s", "A", "rad", "px", "K"};
-  std::string out;
+  std::string up, down, all;
   for (std::size_t i = 0; i < d.e.size(); ++i) {
     if (d.e[i] == 0) continue;
-    if (!out.empty()) out.append("*");
-    out.append(names[i]);
-    if (d.e[i] != 1) out.append("^").append(std::to_string(d.e[i]));
+    const int power = d.e[i] > 0 ? d.e[i] : -d.e[i];
+    std::string factor(names[i]);
+    if (power != 1) factor.append("^").append(std::to_string(power));  // (not "^" + s: gcc 12's false -Wrestrict)
+    if (d.e[i] > 0) {
+      up.append(up.empty() ? "" : "*").append(factor);
+    } else {
+      down.append("/").append(factor);
+    }
+    all.append(all.empty() ? "" : "*").append(names[i]);
+    if (d.e[i] != 1) all.append("^").append(std::to_string(d.e[i]));
   }
-  return out;
+  return up.empty() ? all : up + down;
 }
 
 }  // namespace
@@ -154,6 +163,7 @@ std::string dimension_name(const Dimension& d) {
   if (d == kTorque) return "a torque";
   if (d == kPressure) return "a pressure";
   if (d == kAcceleration) return "an acceleration";
+  if (d == kDensity) return "a density";
   return std::string("a quantity in ").append(si_composition(d));
 }
 
@@ -170,6 +180,7 @@ std::string example_unit(const Dimension& d) {
   if (d == kTorque) return "N*m";
   if (d == kPressure) return "MPa";
   if (d == kAcceleration) return "m/s^2";
+  if (d == kDensity) return "kg/m^3";
   if (d == kDimensionless) return "";
   return si_composition(d);  // any other dimension: its SI units, which parse
 }

@@ -38,6 +38,7 @@ inline constexpr Dimension kForce{{1, 1, -2, 0, 0, 0}};
 inline constexpr Dimension kTorque{{2, 1, -2, 0, 0, 0}};
 inline constexpr Dimension kPressure{{-1, 1, -2, 0, 0, 0}};
 inline constexpr Dimension kAcceleration{{1, 0, -2, 0, 0, 0}};
+inline constexpr Dimension kDensity{{-3, 1, 0, 0, 0, 0}};
 
 /// A value in SI units with its dimension.
 struct Quantity {

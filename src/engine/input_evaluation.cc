@@ -5,6 +5,7 @@
 #include <tbb/task_arena.h>
 
 #include <algorithm>
+#include <cmath>
 #include <mutex>
 #include <thread>
 
@@ -38,13 +39,27 @@ InputEvaluationFailures evaluate_inputs(const InputEvaluator& evaluator, const I
       // The chunk's inputs gathered row by row first: an evaluator then reads one row per
       // point, not one value from each of dozens of column arrays (which defeats the caches).
       std::vector<double> rows((r.end() - r.begin()) * ni);
+      std::vector<std::pair<std::size_t, std::string>> local, not_finite;
       for (std::size_t j = 0; j < ni; ++j) {
-        for (std::size_t k = r.begin(); k < r.end(); ++k) rows[(k - r.begin()) * ni + j] = inputs.at(j, k);
+        for (std::size_t k = r.begin(); k < r.end(); ++k) {
+          const double x = inputs.at(j, k);
+          rows[(k - r.begin()) * ni + j] = x;
+          if (!std::isfinite(x)) not_finite.emplace_back(k, "input " + evaluator.input_names()[j] + " is not a finite number");
+        }
       }
       InputColumns chunk = InputColumns::row_major(rows.data(), ni);
       chunk.first = r.begin();
-      std::vector<std::pair<std::size_t, std::string>> local;
       evaluator.evaluate_points(chunk, outputs.data(), r.begin(), r.end(), local);
+      // A point with a NaN or infinite input has no answer, whatever the formula made of it.
+      for (const auto& [k, why] : not_finite) {
+        std::fill(outputs.begin() + static_cast<std::ptrdiff_t>(k * no), outputs.begin() + static_cast<std::ptrdiff_t>((k + 1) * no), NAN);
+        std::erase_if(local, [k = k](const auto& f) { return f.first == k; });
+      }
+      std::sort(not_finite.begin(), not_finite.end());
+      not_finite.erase(std::unique(not_finite.begin(), not_finite.end(),
+                                   [](const auto& a, const auto& b) { return a.first == b.first; }),
+                       not_finite.end());
+      local.insert(local.end(), not_finite.begin(), not_finite.end());
       if (!local.empty()) {
         const std::lock_guard<std::mutex> lock(failed_mutex);
         failed.insert(failed.end(), local.begin(), local.end());

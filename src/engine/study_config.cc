@@ -33,6 +33,13 @@ StudyConfig load_study(const std::string& path) {
   StudyConfig c;
   c.file = path;
   const StudyKind* kind = nullptr;
+  if (!doc.contains("study")) {  // one error naming what the file is, not one per missing key
+    const std::string what =
+        doc.contains("budget")  ? "a study file; this is an error budget: check it with `poise budget " + path + "`"
+        : doc.contains("model") ? "a study file; this is a model file, which a study names in [study] model"
+                                : "a study file: a [study] table with name, kind and model";
+    throw ValidationError({InputError(SourceLocation{path, 1, 1}, "study", "(no [study] table)", what)});
+  }
   {
     TomlReader t = root.table("study");
     c.name = t.string("name");

@@ -192,9 +192,11 @@ double TomlReader::quantity(const std::string& key, const units::Dimension& dim,
     }
     return v;
   } catch (const Error& e) {
-    // units::parse_as says "<problem>; expected <what>": lead with what was expected.
+    // units::parse_as says "<problem>; expected <what>" (or "wrong unit: got <x>, expected
+    // <what>"): lead with what was expected.
     const std::string msg = e.what();
-    const auto split = msg.find("; expected ");
+    auto split = msg.find("; expected ");
+    if (split == std::string::npos) split = msg.find(", expected ");
     error(key, describe_node(*n),
           split == std::string::npos ? msg : msg.substr(split + 11) + " (" + msg.substr(0, split) + ")");
     return fallback.value_or(0.0);

@@ -13,7 +13,7 @@
 namespace poise::studies {
 namespace {
 
-constexpr units::Dimension kDensity{{-3, 1, 0, 0, 0, 0}};
+using units::kDensity;
 
 // Three quantities of one dimension ["1 mm", "2 mm", "3 mm"]; a missing key is zero.
 Eigen::Vector3d read_triple(TomlReader& t, const std::string& key, const units::Dimension& dim,

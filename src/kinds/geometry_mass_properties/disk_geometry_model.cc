@@ -3,12 +3,13 @@
 #include <cmath>
 #include <numbers>
 
+#include "core/error.h"
 #include "core/units.h"
 #include "engine/model_overrides.h"
 
 namespace poise::studies {
 namespace {
-const units::Dimension kDensity{{-3, 1, 0, 0, 0, 0}};  // kg/m^3
+using units::kDensity;
 }  // namespace
 
 DiskGeometryModel load_disk_geometry_model(const std::string& path, const std::map<std::string, std::string>& overrides) {
@@ -85,25 +86,38 @@ DiskSampler::DiskSampler(const DiskGeometryModel& model) : model_(model) {
 }
 
 geometry::DiskSpec DiskSampler::draw(std::span<const double> u, std::span<double> values) const {
+  std::size_t k = 0;
+  auto put = [&](double v) { values[k++] = v; };
+  for (std::size_t h = 0; h < model_.nominal.holes.size(); ++h) {
+    put(model_.hole_position.dist.quantile(u[k]));  // position error (dx, dy) of the centre, disk frame
+    put(model_.hole_position.dist.quantile(u[k]));
+  }
+  for (std::size_t c = 0; c < model_.nominal.clumps.size(); ++c) put(model_.clump_mass.dist.quantile(u[k]));
+  put(model_.thickness.dist.quantile(u[k]));
+  put(model_.wedge.dist.magnitude_quantile(u[k]));
+  put(2.0 * std::numbers::pi * u[k]);
+  const geometry::DiskSpec s = spec_of(values);
+  for (std::size_t i = 0; i < values.size(); ++i) values[i] /= columns_[i].display_factor;
+  return s;
+}
+
+geometry::DiskSpec DiskSampler::spec_of(std::span<const double> si) const {
+  if (si.size() != dimension()) throw Error("disk sampler: input values of the wrong size");
   geometry::DiskSpec s = model_.nominal;
   std::size_t k = 0;
-  auto put = [&](double v) {
-    values[k] = v / columns_[k].display_factor;
-    ++k;
-    return v;
-  };
   for (auto& h : s.holes) {
-    // Position error (dx, dy) of the centre, applied in the disk frame.
-    const double x = h.radius * std::cos(h.angle) + put(model_.hole_position.dist.quantile(u[k]));
-    const double y = h.radius * std::sin(h.angle) + put(model_.hole_position.dist.quantile(u[k]));
+    const double x = h.radius * std::cos(h.angle) + si[k++];
+    const double y = h.radius * std::sin(h.angle) + si[k++];
     h.radius = std::hypot(x, y);
     h.angle = std::atan2(y, x);
   }
-  for (auto& c : s.clumps) c.mass += put(model_.clump_mass.dist.quantile(u[k]));
-  s.thickness += put(model_.thickness.dist.quantile(u[k]));
-  s.wedge = put(model_.wedge.dist.magnitude_quantile(u[k]));
-  s.wedge_angle = put(2.0 * std::numbers::pi * u[k]);
+  for (auto& c : s.clumps) c.mass += si[k++];
+  s.thickness += si[k++];
+  s.wedge = si[k++];
+  s.wedge_angle = si[k++];
   return s;
 }
+
+std::vector<double> DiskSampler::nominal() const { return std::vector<double>(dimension(), 0.0); }
 
 }  // namespace poise::studies

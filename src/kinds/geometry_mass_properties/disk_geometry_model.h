@@ -38,6 +38,11 @@ class DiskSampler {
   const std::vector<InputColumn>& columns() const { return columns_; }
   /// u: design point (size dimension()); values: drawn inputs in display units.
   geometry::DiskSpec draw(std::span<const double> u, std::span<double> values) const;
+  /// The disk of input values in SI (columns()' order, display value x display_factor): what
+  /// draw() returns for the values it draws.
+  geometry::DiskSpec spec_of(std::span<const double> si) const;
+  /// The nominal disk's inputs: every deviation zero.
+  std::vector<double> nominal() const;
 
  private:
   DiskGeometryModel model_;

@@ -28,6 +28,11 @@ class GeometryMassPropertiesKind final : public StudyKind {
   nlohmann::json replay(const StudyConfig& cfg, std::size_t index, const RunOptions& options) const override {
     return replay_geometry_mass_sample(cfg, index, options);
   }
+  std::unique_ptr<InputEvaluator> input_evaluator(const StudyConfig& cfg,
+                                                  const std::map<std::string, std::string>& model_overrides,
+                                                  std::uint64_t) const override {
+    return geometry_mass_input_evaluator(cfg, model_overrides);
+  }
   bool runs_sweeps() const override { return false; }
   bool streams() const override { return false; }
 };

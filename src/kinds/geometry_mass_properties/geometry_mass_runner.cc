@@ -71,7 +71,12 @@ class MassStudy {
   void compute(std::size_t i, GeometrySample& out) const {
     compute_geometry_sample(i, design_, sampler_.dimension(), kNumOutputs, out,
                             [&](std::span<const double> u, std::vector<double>& inputs) {
-      const geometry::DiskSpec spec = sampler_.draw(u, inputs);
+      return outputs_of(sampler_.draw(u, inputs));
+    });
+  }
+
+  /// The outputs of one disk as built; throws poise::Error for a non-finite property.
+  std::vector<double> outputs_of(const geometry::DiskSpec& spec) const {
       const geometry::Assembly parts = geometry::simulator_disk(spec);
       const MassProperties r = geometry::to_mass_properties(ray(parts, geometry_sections(cfg_).geometry.rays_per_side));
       const MassProperties x = geometry::to_mass_properties(geometry::exact_moments(parts));
@@ -91,7 +96,6 @@ class MassStudy {
         if (!std::isfinite(v)) throw Error("non-finite mass property");
       }
       return outputs;
-    });
   }
 
  private:
@@ -99,6 +103,44 @@ class MassStudy {
   DiskGeometryModel model_;
   DiskSampler sampler_;
   sampling::Design design_;
+};
+
+// At given inputs (the hole, clump, thickness and wedge deviations: the disk itself): the same
+// mass properties as a drawn sample's. No randomness of its own.
+class MassInputEvaluator final : public InputEvaluator {
+ public:
+  explicit MassInputEvaluator(StudyConfig cfg) : cfg_(std::move(cfg)), study_(cfg_, 1, cfg_.seed) {
+    for (const auto& c : study_.sampler().columns()) {
+      names_.push_back(c.name);
+      factors_.push_back(c.display_factor);
+    }
+    for (const auto& o : kOutputs) outputs_.push_back({o.name, o.unit, o.description});
+  }
+  const std::vector<std::string>& input_names() const override { return names_; }
+  const std::vector<OutputSpec>& outputs() const override { return outputs_; }
+  std::vector<double> nominal_inputs() const override { return study_.sampler().nominal(); }
+  void evaluate_points(const InputColumns& inputs, double* values, std::size_t begin, std::size_t end,
+                       std::vector<std::pair<std::size_t, std::string>>& failures) const override {
+    std::vector<double> si(names_.size());
+    for (std::size_t k = begin; k < end; ++k) {
+      double* y = values + k * kNumOutputs;
+      for (std::size_t j = 0; j < si.size(); ++j) si[j] = inputs.at(j, k) * factors_[j];
+      try {
+        const std::vector<double> o = study_.outputs_of(study_.sampler().spec_of(si));
+        std::copy(o.begin(), o.end(), y);
+      } catch (const std::exception& e) {
+        std::fill(y, y + kNumOutputs, NAN);
+        failures.emplace_back(k, e.what());
+      }
+    }
+  }
+
+ private:
+  StudyConfig cfg_;  // before study_, which refers to it
+  MassStudy study_;
+  std::vector<std::string> names_;
+  std::vector<double> factors_;
+  std::vector<OutputSpec> outputs_;
 };
 
 // Closed form of the nominal disk: cylinder minus 16 through holes plus clump cylinders on top.
@@ -131,6 +173,13 @@ json closed_form_check(const DiskGeometryModel& m, const MassProperties& exact, 
 }
 
 }  // namespace
+
+std::unique_ptr<InputEvaluator> geometry_mass_input_evaluator(const StudyConfig& cfg,
+                                                               const std::map<std::string, std::string>& model_overrides) {
+  StudyConfig c = cfg;
+  for (const auto& [k, v] : model_overrides) c.overrides[k] = v;
+  return std::make_unique<MassInputEvaluator>(std::move(c));
+}
 
 std::vector<OutputSpec> geometry_mass_outputs() {
   std::vector<OutputSpec> out;

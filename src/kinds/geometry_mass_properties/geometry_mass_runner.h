@@ -1,4 +1,6 @@
 #pragma once
+#include <map>
+#include <memory>
 #include <vector>
 /// The geometry_mass_properties study: the simulator disk as built (models/simulator_disk_*.toml)
 /// sampled from its tolerances; per sample the mesh is generated and its mass properties
@@ -14,6 +16,7 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
+#include "engine/input_evaluation.h"
 #include "engine/study_config.h"
 #include "engine/study_runner.h"
 
@@ -22,6 +25,9 @@ namespace poise::studies {
 struct OutputSpec;
 /// The per-sample outputs with units.
 std::vector<OutputSpec> geometry_mass_outputs();
+/// The study's outputs at given inputs (the disk's deviation columns; engine/input_evaluation.h).
+std::unique_ptr<InputEvaluator> geometry_mass_input_evaluator(const StudyConfig& cfg,
+                                                               const std::map<std::string, std::string>& model_overrides);
 
 std::string validate_geometry_mass_study(const StudyConfig& cfg);
 std::string run_geometry_mass_study(const StudyConfig& cfg, const RunOptions& options);

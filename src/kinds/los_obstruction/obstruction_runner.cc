@@ -90,17 +90,21 @@ class ObstructionStudy {
   void compute(std::size_t i, const std::vector<double>& nominal, GeometrySample& out) const {
     compute_geometry_sample(i, design_, sampler_.dimension(), kNumOutputs, out,
                             [&](std::span<const double> u, std::vector<double>& inputs) {
-      const models::SeekerErrorState state = sampler_.draw(u, inputs);
-      std::vector<double> o = outputs(field(state, geometry_sections(cfg_).geometry.clearance_per_sample));
-      o[3] = (o[0] - nominal[0]) * 1e4;  // pct -> ppm
-      if (geometry_sections(cfg_).geometry.clearance_per_sample) {
-        o[8] = (o[4] - nominal[4]) * 1e3;  // mm -> um
-      } else {
-        for (std::size_t k = 4; k < kNumOutputs; ++k) o[k] = nominal[k];
-        o[8] = 0.0;
-      }
-      return o;
+      return outputs_of(sampler_.draw(u, inputs), nominal);
     });
+  }
+
+  /// The outputs of one error realization, with the shifts from the nominal design's.
+  std::vector<double> outputs_of(const models::SeekerErrorState& state, const std::vector<double>& nominal) const {
+    std::vector<double> o = outputs(field(state, geometry_sections(cfg_).geometry.clearance_per_sample));
+    o[3] = (o[0] - nominal[0]) * 1e4;  // pct -> ppm
+    if (geometry_sections(cfg_).geometry.clearance_per_sample) {
+      o[8] = (o[4] - nominal[4]) * 1e3;  // mm -> um
+    } else {
+      for (std::size_t k = 4; k < kNumOutputs; ++k) o[k] = nominal[k];
+      o[8] = 0.0;
+    }
+    return o;
   }
 
  private:
@@ -112,7 +116,53 @@ class ObstructionStudy {
   std::vector<double> yaw_, pitch_;
 };
 
+// At given inputs (the seeker's columns: the error realization itself): the same tracing as
+// a drawn sample's. No randomness of its own.
+class ObstructionInputEvaluator final : public InputEvaluator {
+ public:
+  explicit ObstructionInputEvaluator(StudyConfig cfg) : cfg_(std::move(cfg)), study_(cfg_, 1, cfg_.seed) {
+    for (const auto& c : study_.sampler().columns()) {
+      names_.push_back(c.name);
+      factors_.push_back(c.display_factor);
+    }
+    for (const auto& o : kOutputs) outputs_.push_back({o.name, o.unit, o.description});
+    nominal_ = ObstructionStudy::outputs(study_.field(models::SeekerErrorState{}, true));
+  }
+  const std::vector<std::string>& input_names() const override { return names_; }
+  const std::vector<OutputSpec>& outputs() const override { return outputs_; }
+  std::vector<double> nominal_inputs() const override { return study_.sampler().nominal(); }
+  void evaluate_points(const InputColumns& inputs, double* values, std::size_t begin, std::size_t end,
+                       std::vector<std::pair<std::size_t, std::string>>& failures) const override {
+    std::vector<double> si(names_.size());
+    for (std::size_t k = begin; k < end; ++k) {
+      double* y = values + k * kNumOutputs;
+      for (std::size_t j = 0; j < si.size(); ++j) si[j] = inputs.at(j, k) * factors_[j];
+      try {
+        const std::vector<double> o = study_.outputs_of(study_.sampler().state_of(si), nominal_);
+        std::copy(o.begin(), o.end(), y);
+      } catch (const std::exception& e) {
+        std::fill(y, y + kNumOutputs, NAN);
+        failures.emplace_back(k, e.what());
+      }
+    }
+  }
+
+ private:
+  StudyConfig cfg_;  // before study_, which refers to it
+  ObstructionStudy study_;
+  std::vector<std::string> names_;
+  std::vector<double> factors_, nominal_;
+  std::vector<OutputSpec> outputs_;
+};
+
 }  // namespace
+
+std::unique_ptr<InputEvaluator> obstruction_input_evaluator(const StudyConfig& cfg,
+                                                             const std::map<std::string, std::string>& model_overrides) {
+  StudyConfig c = cfg;
+  for (const auto& [k, v] : model_overrides) c.overrides[k] = v;
+  return std::make_unique<ObstructionInputEvaluator>(std::move(c));
+}
 
 std::vector<OutputSpec> obstruction_outputs() {
   std::vector<OutputSpec> out;

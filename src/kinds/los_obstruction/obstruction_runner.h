@@ -1,5 +1,7 @@
 #pragma once
 #include <vector>
+#include <map>
+#include <memory>
 /// The los_obstruction study: the optical beam of a two-axis seeker traced through its own
 /// frames and housing over the field of regard (geometry/obstruction.h), and the clearance
 /// between the moving frames and the housing, for the nominal design and for every sample
@@ -17,6 +19,7 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
+#include "engine/input_evaluation.h"
 #include "engine/study_config.h"
 #include "engine/study_runner.h"
 
@@ -25,6 +28,9 @@ namespace poise::studies {
 struct OutputSpec;
 /// The per-sample outputs with units.
 std::vector<OutputSpec> obstruction_outputs();
+/// The study's outputs at given inputs (the seeker's columns; engine/input_evaluation.h).
+std::unique_ptr<InputEvaluator> obstruction_input_evaluator(const StudyConfig& cfg,
+                                                             const std::map<std::string, std::string>& model_overrides);
 
 std::string validate_obstruction_study(const StudyConfig& cfg);
 std::string run_obstruction_study(const StudyConfig& cfg, const RunOptions& options);
