@@ -199,7 +199,10 @@ class Study {
     return u;
   }
   std::vector<double> nominal() const { return need().nominal_inputs(); }
-  bool has_own_randomness() const { return need().has_own_randomness(); }
+  bool has_own_randomness() const {
+    if (evaluator_) return evaluator_->has_own_randomness();
+    return guarded([&] { return studies::study_kind(cfg_.kind).has_own_randomness(cfg_); });
+  }
   std::vector<std::string> evaluator_outputs() const { return studies::output_names_of(need().outputs()); }
 
   // One array per input (input_names() order; each of the points' length, or of length 1 for

@@ -58,6 +58,10 @@ class ProcedureInputEvaluator final : public InputEvaluator {
 
 }  // namespace
 
+bool ProcedureKind::has_own_randomness(const StudyConfig& cfg) const {
+  return make_study(cfg, cfg.overrides, 1, cfg.seed)->has_own_randomness();
+}
+
 std::unique_ptr<InputEvaluator> ProcedureKind::input_evaluator(const StudyConfig& cfg,
                                                                const std::map<std::string, std::string>& model_overrides,
                                                                std::uint64_t seed) const {

@@ -23,6 +23,7 @@ class ProcedureKind : public StudyKind {
   std::vector<OutputSpec> outputs(const StudyConfig& cfg) const override;
   std::string run(const StudyConfig& cfg, const RunOptions& options) const override;
   nlohmann::json replay(const StudyConfig& cfg, std::size_t index, const RunOptions& options) const override;
+  bool has_own_randomness(const StudyConfig& cfg) const override;
   /// Through the study's evaluate_point, if it evaluates inputs (else refused).
   std::unique_ptr<InputEvaluator> input_evaluator(const StudyConfig& cfg,
                                                   const std::map<std::string, std::string>& model_overrides,

@@ -71,6 +71,9 @@ class StudyKind {
   /// numbers: the same seed gives every design point the same draws). Default: refused.
   virtual StudyEvaluation evaluate(const StudyConfig& cfg, const std::map<std::string, std::string>& model_overrides,
                                    std::size_t samples, std::uint64_t seed, int threads) const;
+  /// Whether a sample draws beyond its design point (per-test draws, sensor noise). Default:
+  /// no.
+  virtual bool has_own_randomness(const StudyConfig& /*cfg*/) const { return false; }
   /// The study's outputs at input values a caller gives (engine/input_evaluation.h), on its
   /// model with `model_overrides` on top; point k of a kind with randomness of its own gets
   /// the draws of sample k of a run with `seed`. Default: refused (poise::Error saying why).

@@ -14,21 +14,15 @@
 #include "kinds/balancing_machine/balancing_slots.h"
 
 namespace poise::studies {
-namespace {
-
-using cd = std::complex<double>;
-using models::PlaneMass;
-using units::kPi;
-
-// ---- the tolerances and their draws --------------------------------------------------------
-
-using namespace balancing_detail;
+namespace balancing_detail {
 
 // Draws of one sample: unit-scope values from the design point, test-scope ones from the
 // sample's stream each time they are asked for (in a fixed order: deterministic).
 class Draws {
  public:
   Draws(const BalancingModel& m, sampling::RandomStream& rs) : m_(m), rs_(rs) {}
+  /// The sample's stream of test-scope draws (also the accuracy test's random angles).
+  sampling::RandomStream& stream() { return rs_; }
   double value[kSlotCount]{};
   double angle[kSlotCount]{};
   bool unit[kSlotCount]{};
@@ -43,6 +37,18 @@ class Draws {
   const BalancingModel& m_;
   sampling::RandomStream& rs_;
 };
+
+}  // namespace balancing_detail
+
+namespace {
+
+using cd = std::complex<double>;
+using models::PlaneMass;
+using units::kPi;
+
+// ---- the tolerances and their draws --------------------------------------------------------
+
+using namespace balancing_detail;
 
 double plane_height(const BalancingModel& m, int surface) { return m.rotor.surface_height(surface); }
 
@@ -132,7 +138,6 @@ void BalancingStudy::compute(std::size_t i, Workspace& ws, SampleResult& out) co
   sampling::RandomStream rs(seed_, sampling::StreamId::kProcedure, design_.stream_index(i));
   sampling::RandomStream noise(seed_, sampling::StreamId::kNoise, design_.stream_index(i, 1));
   Draws d(model_, rs);
-  long steps = 0, rhs = 0;
   try {
     std::vector<double> u(std::max<std::size_t>(dimension_, 1));
     design_.point(i, u);
@@ -148,6 +153,49 @@ void BalancingStudy::compute(std::size_t i, Workspace& ws, SampleResult& out) co
         out.inputs[col++] = d.angle[s] / units::kRadPerDeg;
       }
     }
+    run_tests(d, noise, ws, out);
+  } catch (const std::exception& e) {
+    out.ok = false;
+    out.message = e.what();
+  }
+}
+
+std::vector<double> BalancingStudy::nominal_inputs() const {
+  std::vector<double> x;
+  for (std::size_t s = 0; s < kSlotCount; ++s) {
+    const ScopedTolerance& t = model_.*kSlots[s].tol;
+    if (t.per_test) continue;
+    x.push_back(kSlots[s].magnitude ? 0.0 : t.spec.dist.quantile(0.5) / t.spec.display_factor);
+    if (kSlots[s].magnitude) x.push_back(0.0);
+  }
+  return x;
+}
+
+void BalancingStudy::evaluate_point(std::size_t k, std::span<const double> inputs, std::span<double> outputs) const {
+  // Point k's per-test draws and noise: those of sample k (its streams without the Saltelli layout).
+  sampling::RandomStream rs(seed_, sampling::StreamId::kProcedure, k);
+  sampling::RandomStream noise(seed_, sampling::StreamId::kNoise, k);
+  Draws d(model_, rs);
+  std::size_t col = 0;
+  for (std::size_t s = 0; s < kSlotCount; ++s) {
+    const ScopedTolerance& t = model_.*kSlots[s].tol;
+    if (t.per_test) continue;
+    d.unit[s] = true;
+    d.value[s] = inputs[col++] * t.spec.display_factor;
+    if (kSlots[s].magnitude) d.angle[s] = inputs[col++] * units::kRadPerDeg;
+  }
+  const auto ws = make_workspace();
+  SampleResult r;
+  r.outputs.assign(output_names().size(), NAN);
+  run_tests(d, noise, *ws, r);
+  if (!r.ok) throw Error(r.message);
+  std::copy(r.outputs.begin(), r.outputs.end(), outputs.begin());
+}
+
+void BalancingStudy::run_tests(Draws& d, sampling::RandomStream& noise, Workspace& ws, SampleResult& out) const {
+  sampling::RandomStream& rs = d.stream();
+  long steps = 0, rhs = 0;
+  try {
     // The machine as built.
     BalancingAsBuilt b = nominal_as_built(model_);
     auto plate = [&](models::SpringPlate& p, Slot t, Slot w, Slot l) {

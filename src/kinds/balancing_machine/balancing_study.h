@@ -54,7 +54,14 @@
 #include "kinds/balancing_machine/balancing_model.h"
 #include "engine/procedure_study.h"
 
+namespace poise::sampling {
+class RandomStream;
+}
+
 namespace poise::studies {
+namespace balancing_detail {
+class Draws;  // one sample's draws (balancing_study.cc)
+}
 
 class BalancingStudy : public ProcedureStudyBase<BalancingStudy> {
  public:
@@ -74,6 +81,12 @@ class BalancingStudy : public ProcedureStudyBase<BalancingStudy> {
   std::string model_name() const override { return model_.name; }
   std::string model_source() const override { return model_.source; }
   const BalancingModel& model() const { return model_; }
+
+  /// At given inputs (poise.Study.evaluate): the unit-scope tolerances' columns; the per-test
+  /// draws and the noise of point k are those of sample k.
+  bool evaluates_inputs() const override { return true; }
+  std::vector<double> nominal_inputs() const override;
+  void evaluate_point(std::size_t k, std::span<const double> inputs, std::span<double> outputs) const override;
 
   using Workspace = procedures::BalancingWorkspace;
   std::unique_ptr<Workspace> make_workspace() const;
@@ -101,6 +114,10 @@ class BalancingStudy : public ProcedureStudyBase<BalancingStudy> {
   std::vector<std::string> input_warnings() const;
   std::size_t dimension_ = 0;
   sampling::Design design_;
+  /// Every test of the study on the machine as built from `d` (its unit draws set, its
+  /// per-test ones drawn as used), the sensors' noise from `noise`: the outputs, solver
+  /// counters and any failure into `out`.
+  void run_tests(balancing_detail::Draws& d, sampling::RandomStream& noise, Workspace& ws, SampleResult& out) const;
 };
 
 }  // namespace poise::studies
