@@ -2,6 +2,7 @@
 // (tests/data/meshes/bad_*) is refused with the line or triangle and what is wrong.
 #include <gtest/gtest.h>
 
+#include <cctype>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -49,6 +50,40 @@ TEST(MeshIo, AsciiStlIsWeldedAndClosed) {
   EXPECT_EQ(m.vertices.size(), 4u);  // 12 STL vertices merged
   EXPECT_EQ(check_closed(m), "");
   EXPECT_NEAR(exact_moments(m, 1.0).mass, 8.0 / 6.0, 1e-12);
+}
+
+// What some exporters write: a UTF-8 byte-order mark, keywords in capitals, numbers with a
+// '+'. The same tetrahedron, read as ASCII (not taken for a binary header).
+TEST(MeshIo, AsciiStlWithByteOrderMarkCapitalsAndPlusSigns) {
+  test::TempDir dir;
+  std::ifstream in(corpus("tetra_ascii.stl"));
+  std::stringstream text;
+  text << in.rdbuf();
+  std::string upper = text.str();
+  for (const char* kw : {"solid", "facet", "normal", "outer", "loop", "vertex", "endloop", "endfacet", "endsolid"}) {
+    const std::string k(kw);
+    std::string K = k;
+    for (auto& c : K) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+    for (std::size_t at = upper.find(k); at != std::string::npos; at = upper.find(k, at + K.size())) upper.replace(at, k.size(), K);
+  }
+  std::string plus;
+  for (std::size_t i = 0; i < upper.size(); ++i) {  // a '+' before every unsigned number
+    const bool starts = std::isdigit(static_cast<unsigned char>(upper[i])) && i > 0 && upper[i - 1] == ' ';
+    if (starts) plus += '+';
+    plus += upper[i];
+  }
+  const std::string path = dir.file("bom.stl");
+  std::ofstream(path, std::ios::binary) << "\xEF\xBB\xBF" << plus;
+  const Mesh m = load_mesh(path);
+  EXPECT_EQ(m.vertices.size(), 4u);
+  EXPECT_EQ(check_closed(m), "");
+  EXPECT_NEAR(exact_moments(m, 1.0).mass, 8.0 / 6.0, 1e-12);
+  // An OBJ with a byte-order mark before its first vertex.
+  std::ifstream obj(corpus("tetra.obj"));
+  std::stringstream obj_text;
+  obj_text << obj.rdbuf();
+  std::ofstream(dir.file("bom.obj"), std::ios::binary) << "\xEF\xBB\xBF" << obj_text.str();
+  EXPECT_EQ(load_mesh(dir.file("bom.obj"), 1e-3).triangles.size(), 4u);
 }
 
 TEST(MeshIo, BinaryStlRoundTrip) {

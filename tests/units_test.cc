@@ -191,6 +191,29 @@ TEST(Units, DimensionNamesAndExamples) {
                         u::kFrequency, u::kForce, u::kTorque, u::kPressure, u::kAcceleration}) {
     EXPECT_EQ(u::parse_quantity("1 " + u::example_unit(d)).dim, d) << u::example_unit(d);
   }
+  // A density reads as one, and a composite dimension as its SI units with powers below a
+  // slash, which parse back.
+  EXPECT_EQ(u::dimension_name(u::kDensity), "a density");
+  EXPECT_EQ(u::example_unit(u::kDensity), "kg/m^3");
+  const u::Dimension odd{{-2, 1, -1, 0, 0, 0}};
+  EXPECT_EQ(u::dimension_name(odd), "a quantity in kg/m^2/s");
+  EXPECT_EQ(u::parse_quantity("1 " + u::example_unit(odd)).dim, odd);
+  EXPECT_EQ(u::dimension_name(u::Dimension{{0, 0, -1, 1, 0, 0}}), "a quantity in A/s");
+  EXPECT_EQ(u::parse_quantity("1 " + u::example_unit(u::Dimension{{0, 0, -2, 0, 0, 0}})).dim,
+            (u::Dimension{{0, 0, -2, 0, 0, 0}}));
+}
+
+// A value of megabytes is quoted by its start and its length: the message stays a line.
+TEST(Units, MessagesStayShortWhateverTheInput) {
+  const std::string huge = "56 " + std::string(2000000, 'x');
+  try {
+    (void)u::parse_as(huge, u::kLength);
+    FAIL() << "a unit of 2 MB parsed";
+  } catch (const poise::Error& e) {
+    const std::string what = e.what();
+    EXPECT_LT(what.size(), 400u) << what.substr(0, 400);
+    EXPECT_NE(what.find("(2000000 bytes)"), std::string::npos) << what.substr(0, 400);
+  }
 }
 
 }  // namespace

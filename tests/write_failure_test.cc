@@ -225,3 +225,22 @@ seed = 5
 }
 
 }  // namespace
+
+// A real full file system (a 300 KB tmpfs, where the machine lets this test mount one: root
+// in CI), not the injected failure: HDF5 then fails inside samples.h5 too, and its own exit
+// cleanup used to close that file again and crash (SIGSEGV, exit 139) after the run had
+// printed its error. The run must end with its error and status 1.
+TEST(WriteFailure, AFullFileSystemEndsWithTheErrorNotACrash) {
+  TempDir d;
+  const std::string mnt = d.file("small");
+  fs::create_directories(mnt);
+  if (std::system(("mount -t tmpfs -o size=300k tmpfs " + quoted(mnt) + " >/dev/null 2>&1").c_str()) != 0) {
+    GTEST_SKIP() << "cannot mount a tmpfs here (needs root); the injected-failure tests above still run";
+  }
+  const std::string study = quoted(poise::test::source_path("studies/los_seeker_wang2011.toml"));
+  const auto r = run_poise(d, "run " + study + " --samples 200000 --threads 2 -q --no-plots --out " +
+                                  quoted(mnt + "/r"));
+  std::system(("umount " + quoted(mnt) + " >/dev/null 2>&1").c_str());
+  EXPECT_EQ(r.status, 1) << r.err;
+  EXPECT_NE(r.err.find("No space left on device"), std::string::npos) << r.err;
+}

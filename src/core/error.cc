@@ -8,7 +8,7 @@ namespace {
 // and its length (a 3 MB value must not become a 3 MB message).
 std::string bounded(const std::string& text, std::size_t limit) {
   if (text.size() <= limit) return text;
-  std::size_t cut = 80;
+  std::size_t cut = limit > 400 ? limit / 2 : 80;
   while (cut > 0 && (static_cast<unsigned char>(text[cut]) & 0xC0) == 0x80) --cut;  // whole UTF-8 characters
   return text.substr(0, cut) + "... (" + std::to_string(text.size()) + " bytes)";
 }
@@ -23,7 +23,8 @@ std::string format(const SourceLocation& where, const std::string& key, const st
   }
   out.append(": key '").append(bounded(key, 120)).append("'");
   if (!value.empty()) out.append(" = ").append(bounded(value, 200));
-  out.append(": expected ").append(expected);
+  // What was expected may quote the value again ("unknown unit \"...\""): bounded too.
+  out.append(": expected ").append(bounded(expected, 600));
   return out;
 }
 }  // namespace

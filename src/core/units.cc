@@ -11,6 +11,15 @@
 namespace poise::units {
 namespace {
 
+// Text quoted in a message: whole up to a line's worth, else its start and its length (a
+// 2 MB unit string must not become a 2 MB message).
+std::string quoted(std::string_view text) {
+  if (text.size() <= 120) return "\"" + std::string(text) + "\"";
+  std::size_t cut = 80;
+  while (cut > 0 && (static_cast<unsigned char>(text[cut]) & 0xC0) == 0x80) --cut;  // whole UTF-8 characters
+  return "\"" + std::string(text.substr(0, cut)) + "...\" (" + std::to_string(text.size()) + " bytes)";
+}
+
 struct UnitDef {
   double factor;
   Dimension dim;
@@ -78,7 +87,7 @@ Dimension combine(const Dimension& a, const Dimension& b, int power, std::string
   for (std::size_t i = 0; i < out.e.size(); ++i) {
     const int e = out.e[i] + power * b.e[i];
     // Exponents beyond +-12 are no physical unit (and would wrap around in int8).
-    if (e < -12 || e > 12) throw Error("exponent out of range in unit \"" + std::string(text) + "\"");
+    if (e < -12 || e > 12) throw Error("exponent out of range in unit " + quoted(text));
     out.e[i] = static_cast<std::int8_t>(e);
   }
   return out;
@@ -102,19 +111,19 @@ UnitDef parse_unit(std::string_view text) {
   while (pos <= text.size()) {
     std::size_t next = text.find_first_of("*/", pos);
     std::string_view factor = trim(text.substr(pos, next == std::string_view::npos ? text.npos : next - pos));
-    if (factor.empty()) throw Error("malformed unit \"" + std::string(text) + "\"");
+    if (factor.empty()) throw Error("malformed unit " + quoted(text));
     int power = 1;
     if (auto caret = factor.find('^'); caret != std::string_view::npos) {
       std::string_view p = factor.substr(caret + 1);
       auto res = std::from_chars(p.data(), p.data() + p.size(), power);
       if (res.ec != std::errc() || res.ptr != p.data() + p.size() || power < -12 || power > 12) {
-        throw Error("malformed exponent in unit \"" + std::string(text) + "\"");
+        throw Error("malformed exponent in unit " + quoted(text));
       }
       factor = factor.substr(0, caret);
     }
     auto it = unit_table().find(factor);
     if (it == unit_table().end()) {
-      throw Error("unknown unit \"" + std::string(factor) + "\"");
+      throw Error("unknown unit " + quoted(factor));
     }
     out.factor *= std::pow(it->second.factor, sign * power);
     out.dim = combine(out.dim, it->second.dim, sign * power, text);
@@ -192,20 +201,20 @@ Quantity parse_quantity(std::string_view text) {
   if (s.size() > 1 && s.front() == '+') s.remove_prefix(1);  // from_chars refuses '+'
   auto res = std::from_chars(s.data(), s.data() + s.size(), number);
   if (res.ec == std::errc::result_out_of_range) {
-    throw Error("number out of range (beyond 1e308 or below 1e-308) in \"" + std::string(text) + "\"");
+    throw Error("number out of range (beyond 1e308 or below 1e-308) in " + quoted(text));
   }
   if (res.ec != std::errc()) {
-    throw Error("no number at the start of \"" + std::string(text) + "\"");
+    throw Error("no number at the start of " + quoted(text));
   }
-  if (!std::isfinite(number)) throw Error("number is not finite in \"" + std::string(text) + "\"");
+  if (!std::isfinite(number)) throw Error("number is not finite in " + quoted(text));
   std::string_view rest = s.substr(static_cast<std::size_t>(res.ptr - s.data()));
   if (!rest.empty() && rest.front() != ' ' && rest.front() != '\t' && rest.front() != '%') {
-    throw Error("expected a space between number and unit in \"" + std::string(text) + "\"");
+    throw Error("expected a space between number and unit in " + quoted(text));
   }
   UnitDef u = parse_unit(rest);
   const double value = number * u.factor;
   if (!std::isfinite(value) || (value == 0.0 && number != 0.0)) {
-    throw Error("number out of range once converted to SI units in \"" + std::string(text) + "\"");
+    throw Error("number out of range once converted to SI units in " + quoted(text));
   }
   return {value, u.dim};
 }

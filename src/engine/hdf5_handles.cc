@@ -6,6 +6,11 @@ namespace poise::studies::hdf5 {
 
 void quiet() {
   static const bool once = [] {
+    // No cleanup of HDF5's own at exit: every file Poise opens is closed by its handles, and
+    // after a failed write (a full disk) a file whose close failed stays in the library's
+    // table, which H5_term_library then closed again and crashed in (SIGSEGV after the
+    // run's error was printed). Called before any other HDF5 function, as it must be.
+    H5dont_atexit();
     H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
     return true;
   }();

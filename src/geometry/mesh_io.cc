@@ -1,6 +1,7 @@
 #include "geometry/mesh_io.h"
 
 #include <algorithm>
+#include <cctype>
 #include <cerrno>
 #include <charconv>
 #include <cmath>
@@ -9,6 +10,7 @@
 #include <fstream>
 #include <map>
 #include <sstream>
+#include <string_view>
 #include <unordered_map>
 #include <vector>
 
@@ -25,9 +27,22 @@ std::string lower(std::string s) {
 }
 
 bool parse_double(const std::string& tok, double& out) {
+  const char* begin = tok.data();
   const char* end = tok.data() + tok.size();
-  auto [p, ec] = std::from_chars(tok.data(), end, out);
+  // from_chars takes no '+'; exporters write "+1.5e+01" (one '+', then a digit or a point).
+  if (tok.size() > 1 && tok[0] == '+' && tok[1] != '-' && tok[1] != '+') ++begin;
+  auto [p, ec] = std::from_chars(begin, end, out);
   return ec == std::errc() && p == end;
+}
+
+// A UTF-8 byte-order mark some exporters put before the text.
+constexpr std::string_view kByteOrderMark = "\xEF\xBB\xBF";
+
+// Whether `text` holds `word` in any letter case (ASCII).
+bool contains_word_any_case(std::string_view text, std::string_view word) {
+  return std::search(text.begin(), text.end(), word.begin(), word.end(), [](char a, char b) {
+           return std::tolower(static_cast<unsigned char>(a)) == std::tolower(static_cast<unsigned char>(b));
+         }) != text.end();
 }
 
 std::vector<std::string> split(const std::string& line) {
@@ -193,6 +208,7 @@ Mesh read_obj(std::istream& in, const std::string& name, double unit_m) {
   std::size_t ln = 0;
   while (std::getline(in, line)) {
     ++ln;
+    if (ln == 1 && line.starts_with(kByteOrderMark)) line.erase(0, kByteOrderMark.size());
     if (const auto hash = line.find('#'); hash != std::string::npos) line.resize(hash);
     const auto tok = split(line);
     if (tok.empty()) continue;
@@ -249,11 +265,13 @@ Mesh read_stl(const std::string& bytes, const std::string& name, double unit_m) 
     std::memcpy(&n, bytes.data() + 80, 4);
     if (bytes.size() == 84 + 50 * static_cast<std::size_t>(n)) return read_stl_binary(bytes, name, unit_m);
   }
-  // Not a well-sized binary file: ASCII, or a truncated/padded binary one.
-  std::size_t first = bytes.find_first_not_of(" \t\r\n");
+  // Not a well-sized binary file: ASCII (keywords in any case, after a byte-order mark if
+  // there is one), or a truncated/padded binary one.
+  const bool bom = bytes.compare(0, kByteOrderMark.size(), kByteOrderMark) == 0;
+  std::size_t first = bytes.find_first_not_of(" \t\r\n", bom ? kByteOrderMark.size() : 0);
   if (first != std::string::npos && lower(bytes.substr(first, 5)) == "solid" &&
-      bytes.find("facet", first) != std::string::npos) {
-    return read_stl_ascii(bytes, name, unit_m);
+      contains_word_any_case(std::string_view(bytes).substr(first, std::size_t{1} << 16), "facet")) {
+    return read_stl_ascii(bom ? bytes.substr(kByteOrderMark.size()) : bytes, name, unit_m);
   }
   if (bytes.size() < 84) {
     throw MeshFormatError(name + ": " + std::to_string(bytes.size()) +
