@@ -171,5 +171,27 @@ TEST(MassPropertiesCommand, WrongUnitIsAWarningOnly) {
       << r.err;
 }
 
+// An export that lists every face twice (as a MeshLab OBJ did): the divergence theorem would
+// give twice the volume. Refused, naming the copies; --drop-duplicates removes them and the
+// figures are the single part's.
+TEST(MassPropertiesCommand, FacesListedTwiceAreRefusedOrDropped) {
+  TempDir dir;
+  geometry::Mesh twice = disk();
+  const std::size_t n = twice.triangles.size();
+  for (std::size_t k = 0; k < n; ++k) twice.triangles.push_back(twice.triangles[k]);
+  test::write_text(dir.file("twice.obj"), geometry::obj_text(twice, 1e-3));
+  const std::string args = dir.file("twice.obj") + " --unit mm --density \"2700 kg/m^3\"";
+  const auto refused = run_poise(dir, "mass-properties " + args);
+  EXPECT_EQ(refused.status, 2) << refused.err;
+  EXPECT_NE(refused.err.find(std::to_string(n) + " triangles repeat another with the same vertices and winding"),
+            std::string::npos) << refused.err;
+  EXPECT_NE(refused.err.find("--drop-duplicates"), std::string::npos) << refused.err;
+  const auto kept = run_poise(dir, "mass-properties " + args + " --drop-duplicates --json");
+  ASSERT_EQ(kept.status, 0) << kept.err;
+  EXPECT_NE(kept.err.find("dropped " + std::to_string(n) + " duplicate triangles"), std::string::npos) << kept.err;
+  expect_figures(nlohmann::json::parse(kept.out),
+                 geometry::to_mass_properties(geometry::exact_moments(disk(), kRho)), 1e-9);
+}
+
 }  // namespace
 }  // namespace poise

@@ -246,10 +246,11 @@ def budget(path):
     return json.loads(_call(_poise.budget, os.fspath(path)))
 
 
-def mass_properties(meshes, unit, density, rays=256):
+def mass_properties(meshes, unit, density, rays=256, drop_duplicates=False):
     """Mass properties of CAD meshes as ``poise mass-properties --json`` gives them (with a
     "warnings" list). meshes: a path or a list; unit: "mm", "cm", "m" or "in"; density: one
-    string with its unit ("2700 kg/m^3") or one per mesh."""
+    string with its unit ("2700 kg/m^3") or one per mesh; drop_duplicates: remove triangles
+    exported twice (and say so in "warnings") instead of refusing the mesh."""
     if isinstance(meshes, (str, os.PathLike)):
         meshes = [meshes]
     densities = [density] if isinstance(density, str) else list(density) if isinstance(density, (list, tuple)) else None
@@ -257,7 +258,7 @@ def mass_properties(meshes, unit, density, rays=256):
         raise InputError(f"density={density!r}: expected a density with its unit, e.g. \"2700 kg/m^3\", or a list of "
                          "them, one per mesh", key="density")
     return json.loads(_call(_poise.mass_properties, [os.fspath(m) for m in meshes], str(unit), densities,
-                            _count("rays", rays, 1)))
+                            _count("rays", rays, 1), bool(drop_duplicates)))
 
 
 def diagnose(data, alpha=0.05, max_harmonic=6, noise=None, load_torque=None, load_angle=None, study=None,

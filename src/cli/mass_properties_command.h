@@ -25,6 +25,7 @@ struct MassPropertiesRequest {
   std::string unit;
   std::vector<std::string> densities;
   int rays = 256;
+  bool drop_duplicates = false;  ///< remove repeated triangles (and say so) instead of refusing
 };
 
 /// The `--json` object of those meshes, with "warnings" (a unit that looks wrong, a ray-cast

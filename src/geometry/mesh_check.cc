@@ -69,8 +69,66 @@ std::string describe_triangle(const Mesh& mesh, std::size_t k) {
   return s;
 }
 
+namespace {
+
+// A triangle's vertices from its smallest index on, keeping its winding: equal for the same
+// face in the same winding, different for the face turned over.
+std::array<std::uint32_t, 3> winding_key(const Triangle& t) {
+  const int m = t[0] < t[1] ? (t[0] < t[2] ? 0 : 2) : (t[1] < t[2] ? 1 : 2);
+  return {t[m], t[(m + 1) % 3], t[(m + 2) % 3]};
+}
+
+// Indices of the triangles that repeat an earlier one (same vertices, same winding), ascending.
+std::vector<std::size_t> repeated_triangles(const Mesh& mesh) {
+  std::vector<std::pair<std::array<std::uint32_t, 3>, std::size_t>> keys(mesh.triangles.size());
+  for (std::size_t k = 0; k < keys.size(); ++k) keys[k] = {winding_key(mesh.triangles[k]), k};
+  std::sort(keys.begin(), keys.end());
+  std::vector<std::size_t> repeats;
+  for (std::size_t k = 1; k < keys.size(); ++k) {
+    if (keys[k].first == keys[k - 1].first) repeats.push_back(keys[k].second);
+  }
+  std::sort(repeats.begin(), repeats.end());
+  return repeats;
+}
+
+}  // namespace
+
+std::size_t drop_duplicate_triangles(Mesh& mesh) {
+  const std::vector<std::size_t> repeats = repeated_triangles(mesh);
+  if (repeats.empty()) return 0;
+  std::vector<char> drop(mesh.triangles.size(), 0);
+  for (std::size_t k : repeats) drop[k] = 1;
+  std::size_t out = 0;
+  for (std::size_t k = 0; k < mesh.triangles.size(); ++k) {
+    if (drop[k]) continue;
+    mesh.triangles[out] = mesh.triangles[k];
+    if (k < mesh.triangle_lines.size()) mesh.triangle_lines[out] = mesh.triangle_lines[k];
+    ++out;
+  }
+  mesh.triangles.resize(out);
+  if (!mesh.triangle_lines.empty()) mesh.triangle_lines.resize(out);
+  return repeats.size();
+}
+
+namespace {
+
+// The duplicates as an error (their count and the first).
+void note_repeats(const Mesh& mesh, MeshCheck& r) {
+  const std::vector<std::size_t> repeats = repeated_triangles(mesh);
+  if (repeats.empty()) return;
+  r.duplicate_triangles = {repeats.size(), repeats.front()};
+  r.errors.push_back(mesh.name + ": " + plural(repeats.size(), "triangle repeats", "triangles repeat") +
+                     " another with the same vertices and winding, the first is " +
+                     describe_triangle(mesh, repeats.front()) +
+                     ": a face or shell exported twice would count its volume twice; remove the copies in CAD, or "
+                     "pass --drop-duplicates to drop them");
+}
+
+}  // namespace
+
 MeshCheck check_mesh(const Mesh& mesh) {
   MeshCheck r;
+  note_repeats(mesh, r);
   const std::size_t n = mesh.triangles.size();
   std::vector<char> usable(n, 1);
   std::vector<HalfEdge> edges;

@@ -49,6 +49,10 @@ struct Defect {
 
 struct MeshCheck {
   Defect open_edges, non_manifold_edges, degenerate_triangles;
+  /// Triangles that repeat another with the same three vertices in the same winding: a face
+  /// (or a whole shell) exported twice, whose volume the divergence theorem would count twice.
+  /// (The same face wound the other way is two bodies touching, not a duplicate.)
+  Defect duplicate_triangles;
   /// Edges of four or more triangles, run as often each way: closed solids touching along an
   /// edge or a face (bodies exported together). Not an error: the surface bounds a region.
   Defect shared_edges;
@@ -65,6 +69,10 @@ struct MeshCheck {
 
 /// Checks topology, orientation, degeneracy and shells. Never throws on a bad mesh.
 MeshCheck check_mesh(const Mesh& mesh);
+
+/// Removes every triangle that repeats an earlier one (same vertices, same winding); returns
+/// how many (the `--drop-duplicates` of poise mass-properties).
+std::size_t drop_duplicate_triangles(Mesh& mesh);
 
 /// check_mesh(), throwing MeshCheckError with every error (one per line) if any.
 MeshCheck require_valid_mesh(const Mesh& mesh);
