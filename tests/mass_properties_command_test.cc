@@ -2,6 +2,9 @@
 // unit, the assembly, the JSON keys, and the exit status and message of each refusal.
 #include <gtest/gtest.h>
 
+#include <iomanip>
+#include <sstream>
+
 #include <nlohmann/json.hpp>
 
 #include "closed_form_meshes.h"
@@ -191,6 +194,46 @@ TEST(MassPropertiesCommand, FacesListedTwiceAreRefusedOrDropped) {
   EXPECT_NE(kept.err.find("dropped " + std::to_string(n) + " duplicate triangles"), std::string::npos) << kept.err;
   expect_figures(nlohmann::json::parse(kept.out),
                  geometry::to_mass_properties(geometry::exact_moments(disk(), kRho)), 1e-9);
+}
+
+// Two exports CAD tools make of a closed part: an OBJ that gives each triangle its own three
+// vertices (assimp), and an STL whose shared vertices differ in their last digits (cracks of
+// a few float32 ulps). Both are welded by default, say so, and give the part's figures;
+// --weld 0 shows the cracks were there.
+TEST(MassPropertiesCommand, UnsharedAndCrackedVerticesAreWelded) {
+  TempDir dir;
+  const geometry::Mesh m = disk();
+  std::ostringstream obj, stl;
+  stl.precision(17);
+  stl << "solid cracked\n";
+  std::size_t v = 0;
+  for (std::size_t k = 0; k < m.triangles.size(); ++k) {
+    stl << " facet normal 0 0 0\n  outer loop\n";
+    for (int e = 0; e < 3; ++e) {
+      const Eigen::Vector3d p = m.vertices[m.triangles[k][e]] * 1e3;  // mm
+      obj << "v " << std::setprecision(17) << p.x() << ' ' << p.y() << ' ' << p.z() << '\n';
+      // Each facet's copy of a vertex a few parts in 1e8 off the others (float32 ulps).
+      const double crack = 1.0 + 3e-8 * static_cast<double>(k % 5);
+      stl << "   vertex " << p.x() * crack << ' ' << p.y() * crack << ' ' << p.z() * crack << '\n';
+    }
+    obj << "f " << v + 1 << ' ' << v + 2 << ' ' << v + 3 << '\n';
+    v += 3;
+    stl << "  endloop\n endfacet\n";
+  }
+  stl << "endsolid cracked\n";
+  test::write_text(dir.file("unshared.obj"), obj.str());
+  test::write_text(dir.file("cracked.stl"), stl.str());
+  const auto exact = geometry::to_mass_properties(geometry::exact_moments(m, kRho));
+  for (const char* file : {"unshared.obj", "cracked.stl"}) {
+    const std::string args = dir.file(file) + " --unit mm --density \"2700 kg/m^3\"";
+    const auto r = run_poise(dir, "mass-properties " + args + " --json");
+    ASSERT_EQ(r.status, 0) << file << ": " << r.err;
+    EXPECT_NE(r.err.find("vertices onto others within"), std::string::npos) << r.err;
+    expect_figures(nlohmann::json::parse(r.out), exact, 1e-6);
+    const auto open = run_poise(dir, "mass-properties " + args + " --weld 0");
+    EXPECT_EQ(open.status, 2) << file;
+    EXPECT_NE(open.err.find("open edges"), std::string::npos) << open.err;
+  }
 }
 
 }  // namespace

@@ -246,11 +246,12 @@ def budget(path):
     return json.loads(_call(_poise.budget, os.fspath(path)))
 
 
-def mass_properties(meshes, unit, density, rays=256, drop_duplicates=False):
+def mass_properties(meshes, unit, density, rays=256, drop_duplicates=False, weld=None):
     """Mass properties of CAD meshes as ``poise mass-properties --json`` gives them (with a
     "warnings" list). meshes: a path or a list; unit: "mm", "cm", "m" or "in"; density: one
     string with its unit ("2700 kg/m^3") or one per mesh; drop_duplicates: remove triangles
-    exported twice (and say so in "warnings") instead of refusing the mesh."""
+    exported twice (and say so in "warnings") instead of refusing the mesh; weld: the weld
+    tolerance with its unit ("0.0001 mm"; "0" none; None the default, 1e-6 of the part's size)."""
     if isinstance(meshes, (str, os.PathLike)):
         meshes = [meshes]
     densities = [density] if isinstance(density, str) else list(density) if isinstance(density, (list, tuple)) else None
@@ -258,7 +259,7 @@ def mass_properties(meshes, unit, density, rays=256, drop_duplicates=False):
         raise InputError(f"density={density!r}: expected a density with its unit, e.g. \"2700 kg/m^3\", or a list of "
                          "them, one per mesh", key="density")
     return json.loads(_call(_poise.mass_properties, [os.fspath(m) for m in meshes], str(unit), densities,
-                            _count("rays", rays, 1), bool(drop_duplicates)))
+                            _count("rays", rays, 1), bool(drop_duplicates), "" if weld is None else str(weld)))
 
 
 def diagnose(data, alpha=0.05, max_harmonic=6, noise=None, load_torque=None, load_angle=None, study=None,

@@ -69,6 +69,7 @@ struct Part {
   geometry::MeshCheck check;
   geometry::MassProperties exact, raycast;
   std::size_t dropped = 0;  // duplicate triangles removed (--drop-duplicates)
+  geometry::WeldReport weld;
 };
 
 struct RaycastDifference {
@@ -165,6 +166,7 @@ struct Options {
   std::string rays = "256";
   bool json = false;
   bool drop_duplicates = false;
+  std::string weld;  // a length with its unit, "0" for none; "" = the default, relative to the part
   std::vector<std::string> extras;  // arguments CLI11 did not recognise
 };
 
@@ -188,6 +190,15 @@ std::vector<Part> read_parts(const Options& opt, double unit_m) {
   }
   if (rays_per_side(opt) < 0)
     refuse("--rays " + opt.rays + ": expected a whole number from 8 to 4096 (rays across the part)");
+  double weld_m = -1.0;  // the default
+  if (!opt.weld.empty()) {
+    try {
+      weld_m = opt.weld == "0" ? 0.0 : units::parse_as(opt.weld, units::kLength);
+    } catch (const Error& e) {
+      refuse("--weld \"" + opt.weld + "\": " + e.what());
+    }
+    if (!(weld_m >= 0.0) || !std::isfinite(weld_m)) refuse("--weld \"" + opt.weld + "\": expected a length >= 0, e.g. \"0.0001 mm\"");
+  }
   std::vector<Part> parts;
   for (std::size_t i = 0; i < opt.meshes.size(); ++i) {
     Part p;
@@ -204,7 +215,7 @@ std::vector<Part> read_parts(const Options& opt, double unit_m) {
     std::error_code ec;
     if (!std::filesystem::is_regular_file(p.file, ec)) refuse(p.file + ": no such mesh file (or not a regular file)");
     try {
-      p.mesh = geometry::load_mesh(p.file, unit_m);
+      p.mesh = geometry::load_mesh(p.file, unit_m, &p.weld, weld_m);
     } catch (const Error& e) {
       refuse(e.what());  // MeshFormatError (names file and line), unreadable file, unknown extension
     }
@@ -235,6 +246,15 @@ Computed compute(const Options& opt) {
   for (auto& p : c.parts) {
     const std::string warning = geometry::unit_warning(p.mesh, opt.unit, c.unit_m);
     if (!warning.empty()) c.warnings.push_back(warning);
+    if (p.weld.merged_vertices > 0 || p.weld.dropped_triangles > 0) {
+      c.warnings.push_back(p.file + ": welded " + std::to_string(p.weld.merged_vertices) +
+                           " vertices onto others within " + g(p.weld.tolerance_m / c.unit_m, 3) + " " + opt.unit +
+                           (p.weld.dropped_triangles > 0
+                                ? " and dropped the " + std::to_string(p.weld.dropped_triangles) +
+                                      " triangles this left without area"
+                                : std::string()) +
+                           " (--weld sets the tolerance, \"0\" none)");
+    }
     if (p.dropped > 0) {
       c.warnings.push_back(p.file + ": dropped " + std::to_string(p.dropped) +
                            " duplicate triangles (--drop-duplicates); the figures are those of the mesh without them");
@@ -339,6 +359,7 @@ nlohmann::json mass_properties_json(const MassPropertiesRequest& request) {
   opt.densities = request.densities;
   opt.rays = std::to_string(request.rays);
   opt.drop_duplicates = request.drop_duplicates;
+  opt.weld = request.weld;
   const Computed c = compute(opt);
   nlohmann::json out = to_json(c, opt);
   out["warnings"] = c.warnings;
@@ -359,6 +380,10 @@ MassPropertiesHandler add_mass_properties_command(CLI::App& app) {
                   "mesh in their order (required)");
   sub->add_option("--rays", opt->rays, "rays per side of the ray-cast check grid (default 256)");
   sub->add_flag("--json", opt->json, "print one JSON object");
+  sub->add_option("--weld", opt->weld,
+                  "weld vertices closer than this length, e.g. \"0.0001 mm\" (\"0\": none; default 1e-6 of the "
+                  "part's bounding-box diagonal): closes the cracks of an export and joins an OBJ's unshared "
+                  "vertices; what was welded is said");
   sub->add_flag("--drop-duplicates", opt->drop_duplicates,
                 "remove triangles that repeat another (same vertices, same winding: a face or shell exported "
                 "twice) and say how many; without it such a mesh is refused");

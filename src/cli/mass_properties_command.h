@@ -26,6 +26,7 @@ struct MassPropertiesRequest {
   std::vector<std::string> densities;
   int rays = 256;
   bool drop_duplicates = false;  ///< remove repeated triangles (and say so) instead of refusing
+  std::string weld;              ///< weld tolerance, a length ("0.0001 mm"); "0" none; "" the default
 };
 
 /// The `--json` object of those meshes, with "warnings" (a unit that looks wrong, a ray-cast

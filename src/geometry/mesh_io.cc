@@ -286,17 +286,23 @@ Mesh read_stl(const std::string& bytes, const std::string& name, double unit_m) 
                         " bytes" + (bytes.size() < expected ? " (truncated in triangle " + std::to_string(whole) + ")" : ""));
 }
 
-Mesh load_mesh(const std::string& path, double unit_m) {
+Mesh load_mesh(const std::string& path, double unit_m, WeldReport* weld, double weld_m) {
   std::ifstream in(path, std::ios::binary);
   if (!in) throw Error("cannot read mesh file " + path);
   const std::string ext = lower(path.size() >= 4 ? path.substr(path.size() - 4) : "");
-  if (ext == ".obj") return read_obj(in, path, unit_m);
-  if (ext == ".stl") {
+  Mesh mesh;
+  if (ext == ".obj") {
+    mesh = read_obj(in, path, unit_m);
+  } else if (ext == ".stl") {
     std::ostringstream ss;
     ss << in.rdbuf();
-    return read_stl(ss.str(), path, unit_m);
+    mesh = read_stl(ss.str(), path, unit_m);
+  } else {
+    throw Error(path + ": unknown mesh format (expected a .obj or .stl file)");
   }
-  throw Error(path + ": unknown mesh format (expected a .obj or .stl file)");
+  const WeldReport w = weld_vertices(mesh, weld_m < 0.0 ? default_weld_tolerance(mesh) : weld_m);
+  if (weld) *weld = w;
+  return mesh;
 }
 
 std::string obj_text(const Mesh& mesh, double unit_m) {

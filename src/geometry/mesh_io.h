@@ -19,6 +19,7 @@
 
 #include "core/error.h"
 #include "geometry/mesh.h"
+#include "geometry/mesh_weld.h"
 
 namespace poise::geometry {
 
@@ -27,8 +28,10 @@ class MeshFormatError : public Error {
   using Error::Error;
 };
 
-/// By extension (.obj, .stl, case-insensitive).
-Mesh load_mesh(const std::string& path, double unit_m = 1.0);
+/// By extension (.obj, .stl, case-insensitive); the same for both: vertices closer than the
+/// weld tolerance are welded (geometry/mesh_weld.h), `weld_m` in metres (< 0: the default,
+/// relative to the part's size; 0: none), and what was welded goes to `weld` if given.
+Mesh load_mesh(const std::string& path, double unit_m = 1.0, WeldReport* weld = nullptr, double weld_m = -1.0);
 Mesh read_obj(std::istream& in, const std::string& name, double unit_m = 1.0);
 /// `bytes`: the whole file.
 Mesh read_stl(const std::string& bytes, const std::string& name, double unit_m = 1.0);
