@@ -196,6 +196,26 @@ TEST(MassPropertiesCommand, FacesListedTwiceAreRefusedOrDropped) {
                  geometry::to_mass_properties(geometry::exact_moments(disk(), kRho)), 1e-9);
 }
 
+// An assembly whose parts were exported in different units: --unit once per mesh, in order.
+TEST(MassPropertiesCommand, UnitPerMesh) {
+  TempDir dir;
+  geometry::write_stl(disk(), dir.file("disk_mm.stl"), 1e-3);
+  geometry::write_obj(disk(), dir.file("disk_m.obj"), 1.0);
+  const auto j = run_json(dir, dir.file("disk_mm.stl") + " " + dir.file("disk_m.obj") +
+                                   " --unit mm --unit m --density \"2700 kg/m^3\"");
+  ASSERT_TRUE(j.contains("parts"));
+  const double one = geometry::to_mass_properties(geometry::exact_moments(disk(), kRho)).mass;
+  EXPECT_NEAR(j["parts"][0]["mass_kg"].get<double>(), one, 1e-6 * one);
+  EXPECT_NEAR(j["parts"][1]["mass_kg"].get<double>(), one, 1e-6 * one);
+  EXPECT_EQ(j["parts"][0]["unit"], "mm");
+  EXPECT_EQ(j["parts"][1]["unit"], "m");
+  EXPECT_NEAR(j["mass_kg"].get<double>(), 2 * one, 2e-6 * one);
+  const auto r = run_poise(dir, "mass-properties " + dir.file("disk_mm.stl") + " " + dir.file("disk_m.obj") + " " +
+                                    dir.file("disk_m.obj") + " --unit mm --unit m --density \"2700 kg/m^3\"");
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.err.find("--unit given 2 times for 3 meshes"), std::string::npos) << r.err;
+}
+
 // Two exports CAD tools make of a closed part: an OBJ that gives each triangle its own three
 // vertices (assimp), and an STL whose shared vertices differ in their last digits (cracks of
 // a few float32 ulps). Both are welded by default, say so, and give the part's figures;

@@ -248,8 +248,8 @@ def budget(path):
 
 def mass_properties(meshes, unit, density, rays=256, drop_duplicates=False, weld=None):
     """Mass properties of CAD meshes as ``poise mass-properties --json`` gives them (with a
-    "warnings" list). meshes: a path or a list; unit: "mm", "cm", "m" or "in"; density: one
-    string with its unit ("2700 kg/m^3") or one per mesh; drop_duplicates: remove triangles
+    "warnings" list). meshes: a path or a list; unit: "mm", "cm", "m" or "in", or one per mesh;
+    density: one string with its unit ("2700 kg/m^3") or one per mesh; drop_duplicates: remove triangles
     exported twice (and say so in "warnings") instead of refusing the mesh; weld: the weld
     tolerance with its unit ("0.0001 mm"; "0" none; None the default, 1e-6 of the part's size)."""
     if isinstance(meshes, (str, os.PathLike)):
@@ -258,7 +258,11 @@ def mass_properties(meshes, unit, density, rays=256, drop_duplicates=False, weld
     if not densities or not all(isinstance(d, str) for d in densities):
         raise InputError(f"density={density!r}: expected a density with its unit, e.g. \"2700 kg/m^3\", or a list of "
                          "them, one per mesh", key="density")
-    return json.loads(_call(_poise.mass_properties, [os.fspath(m) for m in meshes], str(unit), densities,
+    units = [unit] if isinstance(unit, str) else list(unit) if isinstance(unit, (list, tuple)) else None
+    if not units or not all(isinstance(u, str) for u in units):
+        raise InputError(f"unit={unit!r}: expected \"mm\", \"cm\", \"m\" or \"in\", or a list of them, one per "
+                         "mesh", key="unit")
+    return json.loads(_call(_poise.mass_properties, [os.fspath(m) for m in meshes], units, densities,
                             _count("rays", rays, 1), bool(drop_duplicates), "" if weld is None else str(weld)))
 
 

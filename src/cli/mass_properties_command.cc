@@ -70,6 +70,8 @@ struct Part {
   geometry::MassProperties exact, raycast;
   std::size_t dropped = 0;  // duplicate triangles removed (--drop-duplicates)
   geometry::WeldReport weld;
+  std::string unit;     // the length unit the file was exported in
+  double unit_m = 1.0;  // its size
 };
 
 struct RaycastDifference {
@@ -161,7 +163,7 @@ double unit_size(const std::string& unit) {
 
 struct Options {
   std::vector<std::string> meshes;
-  std::string unit;
+  std::vector<std::string> units;  // once for all meshes, or once per mesh
   std::vector<std::string> densities;
   std::string rays = "256";
   bool json = false;
@@ -178,8 +180,12 @@ int rays_per_side(const Options& opt) {
   return ec == std::errc() && p == end && n >= 8 && n <= 4096 ? n : -1;
 }
 
-std::vector<Part> read_parts(const Options& opt, double unit_m) {
+std::vector<Part> read_parts(const Options& opt) {
   if (opt.meshes.empty()) refuse("no mesh given: poise mass-properties MESH... --unit mm --density \"2700 kg/m^3\"");
+  if (opt.units.size() > 1 && opt.units.size() != opt.meshes.size()) {
+    refuse("--unit given " + std::to_string(opt.units.size()) + " times for " + std::to_string(opt.meshes.size()) +
+           " meshes: give one for all, or one per mesh in their order");
+  }
   if (opt.densities.empty()) refuse("--density is required, e.g. --density \"2700 kg/m^3\" (aluminium)");
   if (opt.densities.size() != 1 && opt.densities.size() != opt.meshes.size()) {
     refuse("--density given " + std::to_string(opt.densities.size()) + " times for " +
@@ -203,6 +209,8 @@ std::vector<Part> read_parts(const Options& opt, double unit_m) {
   for (std::size_t i = 0; i < opt.meshes.size(); ++i) {
     Part p;
     p.file = opt.meshes[i];
+    p.unit = opt.units.empty() ? std::string() : opt.units.size() == 1 ? opt.units[0] : opt.units[i];
+    p.unit_m = unit_size(p.unit);
     const std::string& dtext = opt.densities.size() == 1 ? opt.densities[0] : opt.densities[i];
     try {
       p.density = units::parse_as(dtext, kDensity);
@@ -215,7 +223,7 @@ std::vector<Part> read_parts(const Options& opt, double unit_m) {
     std::error_code ec;
     if (!std::filesystem::is_regular_file(p.file, ec)) refuse(p.file + ": no such mesh file (or not a regular file)");
     try {
-      p.mesh = geometry::load_mesh(p.file, unit_m, &p.weld, weld_m);
+      p.mesh = geometry::load_mesh(p.file, p.unit_m, &p.weld, weld_m);
     } catch (const Error& e) {
       refuse(e.what());  // MeshFormatError (names file and line), unreadable file, unknown extension
     }
@@ -229,6 +237,7 @@ std::vector<Part> read_parts(const Options& opt, double unit_m) {
 // Every part checked and integrated, and the assembly; the warnings a person should see.
 struct Computed {
   std::vector<Part> parts;
+  std::string unit;  // the assembly's: the first mesh's
   double unit_m = 1.0, volume = 0.0;
   int rays = 0;
   geometry::MassProperties total;
@@ -238,17 +247,18 @@ struct Computed {
 
 Computed compute(const Options& opt) {
   Computed c;
-  c.unit_m = unit_size(opt.unit);
-  c.parts = read_parts(opt, c.unit_m);
+  c.parts = read_parts(opt);
+  c.unit = c.parts.front().unit;
+  c.unit_m = c.parts.front().unit_m;
   geometry::RayGridOptions grid;
   grid.rays_per_side = c.rays = rays_per_side(opt);
   std::vector<geometry::MassProperties> exact, ray;
   for (auto& p : c.parts) {
-    const std::string warning = geometry::unit_warning(p.mesh, opt.unit, c.unit_m);
+    const std::string warning = geometry::unit_warning(p.mesh, p.unit, p.unit_m);
     if (!warning.empty()) c.warnings.push_back(warning);
     if (p.weld.merged_vertices > 0 || p.weld.dropped_triangles > 0) {
       c.warnings.push_back(p.file + ": welded " + std::to_string(p.weld.merged_vertices) +
-                           " vertices onto others within " + g(p.weld.tolerance_m / c.unit_m, 3) + " " + opt.unit +
+                           " vertices onto others within " + g(p.weld.tolerance_m / p.unit_m, 3) + " " + p.unit +
                            (p.weld.dropped_triangles > 0
                                 ? " and dropped the " + std::to_string(p.weld.dropped_triangles) +
                                       " triangles this left without area"
@@ -296,14 +306,14 @@ std::size_t cavities_of(const Part& p) {
   return cavities;
 }
 
-nlohmann::json to_json(const Computed& c, const Options& opt) {
+nlohmann::json to_json(const Computed& c) {
   nlohmann::json out = properties_json(c.total, c.volume, c.total_diff, c.rays);
   if (c.parts.size() > 1) {
     nlohmann::json list = nlohmann::json::array();
     for (const auto& p : c.parts) {
       nlohmann::json j = properties_json(p.exact, p.check.volume_m3, difference(p.exact, p.raycast), c.rays);
       j["file"] = p.file;
-      j["unit"] = opt.unit;
+      j["unit"] = p.unit;
       j["density_kg_m3"] = p.density;
       j["triangles"] = p.mesh.triangles.size();
       j["shells"] = p.check.shells.size();
@@ -315,19 +325,19 @@ nlohmann::json to_json(const Computed& c, const Options& opt) {
   return out;
 }
 
-void print_text(const Computed& c, const Options& opt) {
+void print_text(const Computed& c) {
   for (const auto& p : c.parts) {
     const std::size_t cavities = cavities_of(p);
-    std::cout << p.file << " (" << opt.unit << ", " << g(p.density) << " kg/m^3): " << p.mesh.triangles.size()
+    std::cout << p.file << " (" << p.unit << ", " << g(p.density) << " kg/m^3): " << p.mesh.triangles.size()
               << " triangles, " << p.check.shells.size() << (p.check.shells.size() == 1 ? " shell" : " shells");
     if (cavities) std::cout << " (" << cavities << (cavities == 1 ? " cavity" : " cavities") << ")";
     std::cout << ", closed and consistently oriented\n";
-    print_properties(p.exact, p.check.volume_m3, difference(p.exact, p.raycast), opt.unit, c.unit_m, std::cout);
+    print_properties(p.exact, p.check.volume_m3, difference(p.exact, p.raycast), p.unit, p.unit_m, std::cout);
     std::cout << '\n';
   }
   if (c.parts.size() > 1) {
     std::cout << "assembly of " << c.parts.size() << " parts (parallel-axis sum):\n";
-    print_properties(c.total, c.volume, c.total_diff, opt.unit, c.unit_m, std::cout);
+    print_properties(c.total, c.volume, c.total_diff, c.unit, c.unit_m, std::cout);
   }
 }
 
@@ -336,9 +346,9 @@ int run(const Options& opt) {
     const Computed c = compute(opt);
     for (const auto& w : c.warnings) std::cerr << "poise mass-properties: warning: " << w << '\n';
     if (opt.json) {
-      std::cout << to_json(c, opt).dump(2) << '\n';
+      std::cout << to_json(c).dump(2) << '\n';
     } else {
-      print_text(c, opt);
+      print_text(c);
     }
   } catch (const geometry::MeshCheckError& e) {
     std::cerr << "poise mass-properties: " << e.what() << "\nNothing was computed.\n";
@@ -355,13 +365,13 @@ int run(const Options& opt) {
 nlohmann::json mass_properties_json(const MassPropertiesRequest& request) {
   Options opt;
   opt.meshes = request.meshes;
-  opt.unit = request.unit;
+  opt.units = request.units;
   opt.densities = request.densities;
   opt.rays = std::to_string(request.rays);
   opt.drop_duplicates = request.drop_duplicates;
   opt.weld = request.weld;
   const Computed c = compute(opt);
-  nlohmann::json out = to_json(c, opt);
+  nlohmann::json out = to_json(c);
   out["warnings"] = c.warnings;
   return out;
 }
@@ -374,7 +384,9 @@ MassPropertiesHandler add_mass_properties_command(CLI::App& app) {
       "several meshes: each part and the assembly");
   // Not required through CLI11, so that a missing argument is refused here with exit status 2.
   sub->add_option("MESH", opt->meshes, "mesh files: .stl (binary or ASCII) or .obj, e.g. rotor_disk.stl");
-  sub->add_option("--unit,-u", opt->unit, "length unit of the files: mm, cm, m or in (required: STL has no unit)");
+  sub->add_option("--unit,-u", opt->units,
+                  "length unit the files were exported in: mm, cm, m or in (required: STL has no unit); once for "
+                  "all meshes, or once per mesh in their order (the assembly is printed in the first's)");
   sub->add_option("--density,-d", opt->densities,
                   "density with its unit, e.g. \"2700 kg/m^3\" or \"7.85 g/cm^3\"; once for all meshes, or once per "
                   "mesh in their order (required)");

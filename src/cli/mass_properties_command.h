@@ -18,11 +18,11 @@ namespace poise::cli {
 /// (0 success, 2 bad mesh or argument, 1 other failure), or nullopt for another subcommand.
 using MassPropertiesHandler = std::function<std::optional<int>()>;
 
-/// What `poise mass-properties` is given: meshes, their length unit (mm, cm, m, in), one
-/// density for all or one per mesh ("2700 kg/m^3"), rays per side of the check grid.
+/// What `poise mass-properties` is given: meshes, their length unit (mm, cm, m, in) and their
+/// density ("2700 kg/m^3"), each once for all or one per mesh, rays per side of the check grid.
 struct MassPropertiesRequest {
   std::vector<std::string> meshes;
-  std::string unit;
+  std::vector<std::string> units;
   std::vector<std::string> densities;
   int rays = 256;
   bool drop_duplicates = false;  ///< remove repeated triangles (and say so) instead of refusing
