@@ -107,6 +107,14 @@ py::dict run(const std::string& study, std::optional<std::size_t> samples, std::
   std::string dir, summary;
   SampleTable table;
   std::vector<studies::OutputSpec> outputs;
+  // out=None: the temporary folder goes however the run ends.
+  struct RemoveFolder {
+    std::string path;
+    ~RemoveFolder() {
+      std::error_code ec;
+      if (!path.empty()) std::filesystem::remove_all(path, ec);
+    }
+  } const temporary{keep ? std::string() : std::filesystem::path(opt.out).parent_path().string()};
   try {
     guarded([&] {
       py::gil_scoped_release release;
@@ -119,20 +127,13 @@ py::dict run(const std::string& study, std::optional<std::size_t> samples, std::
       return 0;
     });
   } catch (NativeError& e) {
-    if (!keep) {
-      std::filesystem::remove_all(std::filesystem::path(opt.out).parent_path());
-      if (e.category == "interrupt") {  // its message names a folder that no longer is
-        e.message = "the run was stopped (" + e.message.substr(0, e.message.find(':')) +
-                    "); nothing was kept (out=None): give out=FOLDER to keep a stopped run's samples and resume it "
-                    "with `poise run --resume FOLDER`";
-      }
+    if (!keep && e.category == "interrupt") {  // its message names a folder that will be gone
+      e.message = "the run was stopped (" + e.message.substr(0, e.message.find(':')) +
+                  "); nothing was kept (out=None): give out=FOLDER to keep a stopped run's samples and resume it "
+                  "with `poise run --resume FOLDER`";
     }
     throw;
-  } catch (...) {
-    if (!keep) std::filesystem::remove_all(std::filesystem::path(opt.out).parent_path());
-    throw;
   }
-  if (!keep) std::filesystem::remove_all(std::filesystem::path(opt.out).parent_path());
   py::dict r, in, outs, units;
   for (std::size_t k = 0; k < table.input_names.size(); ++k) {
     in[py::str(table.input_names[k])] = array_of(table.inputs[k]);

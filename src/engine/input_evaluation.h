@@ -10,7 +10,10 @@
 /// rounding of the inputs as samples.csv prints them) for a kind whose samples have no
 /// randomness beyond their inputs. A kind with such randomness (per-test draws, sensor noise)
 /// says so (has_own_randomness), and point k then gets the draws of the run's sample k.
+#include <algorithm>
+#include <cmath>
 #include <cstddef>
+#include <exception>
 #include <span>
 #include <string>
 #include <utility>
@@ -50,6 +53,27 @@ class InputEvaluator {
   virtual void evaluate_points(const InputColumns& inputs, double* values, std::size_t begin, std::size_t end,
                                std::vector<std::pair<std::size_t, std::string>>& failures) const = 0;
 };
+
+/// Points [begin, end) one at a time, for an evaluator's evaluate_points: each point's inputs,
+/// times `factors` (display unit to SI; empty: as given), go to compute(x, y), which writes the
+/// point's outputs into y (n_outputs values at values + k * n_outputs); a point whose compute
+/// throws gets NaN outputs and its reason in `failures`.
+template <class Compute>
+void evaluate_each_point(const InputColumns& inputs, std::span<const double> factors, std::size_t n_inputs,
+                         std::size_t n_outputs, double* values, std::size_t begin, std::size_t end,
+                         std::vector<std::pair<std::size_t, std::string>>& failures, Compute compute) {
+  std::vector<double> x(n_inputs);
+  for (std::size_t k = begin; k < end; ++k) {
+    const std::span<double> y(values + k * n_outputs, n_outputs);
+    for (std::size_t j = 0; j < n_inputs; ++j) x[j] = inputs.at(j, k) * (factors.empty() ? 1.0 : factors[j]);
+    try {
+      compute(k, std::span<const double>(x), y);
+    } catch (const std::exception& e) {
+      std::fill(y.begin(), y.end(), NAN);
+      failures.emplace_back(k, e.what());
+    }
+  }
+}
 
 /// Failed points of evaluate_inputs, in point order.
 struct InputEvaluationFailures {

@@ -38,18 +38,10 @@ class ProcedureInputEvaluator final : public InputEvaluator {
   bool has_own_randomness() const override { return study_->has_own_randomness(); }
   void evaluate_points(const InputColumns& inputs, double* values, std::size_t begin, std::size_t end,
                        std::vector<std::pair<std::size_t, std::string>>& failures) const override {
-    const std::size_t ni = input_names().size(), no = outputs().size();
-    std::vector<double> x(ni);
-    for (std::size_t k = begin; k < end; ++k) {
-      const std::span<double> out(values + k * no, no);
-      for (std::size_t j = 0; j < ni; ++j) x[j] = inputs.at(j, k);
-      try {
-        study_->evaluate_point(k, x, out);
-      } catch (const std::exception& e) {
-        std::fill(out.begin(), out.end(), NAN);
-        failures.emplace_back(k, e.what());
-      }
-    }
+    evaluate_each_point(inputs, {}, input_names().size(), outputs().size(), values, begin, end, failures,
+                        [&](std::size_t k, std::span<const double> x, std::span<double> y) {
+                          study_->evaluate_point(k, x, y);
+                        });
   }
 
  private:

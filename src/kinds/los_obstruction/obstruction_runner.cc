@@ -133,18 +133,11 @@ class ObstructionInputEvaluator final : public InputEvaluator {
   std::vector<double> nominal_inputs() const override { return study_.sampler().nominal(); }
   void evaluate_points(const InputColumns& inputs, double* values, std::size_t begin, std::size_t end,
                        std::vector<std::pair<std::size_t, std::string>>& failures) const override {
-    std::vector<double> si(names_.size());
-    for (std::size_t k = begin; k < end; ++k) {
-      double* y = values + k * kNumOutputs;
-      for (std::size_t j = 0; j < si.size(); ++j) si[j] = inputs.at(j, k) * factors_[j];
-      try {
-        const std::vector<double> o = study_.outputs_of(study_.sampler().state_of(si), nominal_);
-        std::copy(o.begin(), o.end(), y);
-      } catch (const std::exception& e) {
-        std::fill(y, y + kNumOutputs, NAN);
-        failures.emplace_back(k, e.what());
-      }
-    }
+    evaluate_each_point(inputs, factors_, names_.size(), kNumOutputs, values, begin, end, failures,
+                        [&](std::size_t, std::span<const double> si, std::span<double> y) {
+                          const std::vector<double> o = study_.outputs_of(study_.sampler().state_of(si), nominal_);
+                          std::copy(o.begin(), o.end(), y.begin());
+                        });
   }
 
  private:

@@ -30,20 +30,12 @@ class SeekerInputEvaluator final : public InputEvaluator {
   std::vector<double> nominal_inputs() const override { return study_.sampler().nominal(); }
   void evaluate_points(const InputColumns& inputs, double* values, std::size_t begin, std::size_t end,
                        std::vector<std::pair<std::size_t, std::string>>& failures) const override {
-    const std::size_t ni = names_.size(), no = outputs_.size();
     SeekerLosStudy::Workspace ws = study_.make_workspace();
-    std::vector<double> si(ni);
-    for (std::size_t k = begin; k < end; ++k) {
-      double* y = values + k * no;
-      for (std::size_t j = 0; j < ni; ++j) si[j] = inputs.at(j, k) * factors_[j];
-      try {
-        study_.evaluate_state(study_.sampler().state_of(si), ws, std::span<double>(y, kNumSeekerOutputs), {});
-        if (no > kNumSeekerOutputs) y[kNumSeekerOutputs] = clearance_mm_;
-      } catch (const std::exception& e) {
-        std::fill(y, y + no, NAN);
-        failures.emplace_back(k, e.what());
-      }
-    }
+    evaluate_each_point(inputs, factors_, names_.size(), outputs_.size(), values, begin, end, failures,
+                        [&](std::size_t, std::span<const double> si, std::span<double> y) {
+                          study_.evaluate_state(study_.sampler().state_of(si), ws, y.first(kNumSeekerOutputs), {});
+                          if (y.size() > kNumSeekerOutputs) y[kNumSeekerOutputs] = clearance_mm_;
+                        });
   }
 
  private:
