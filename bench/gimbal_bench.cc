@@ -44,7 +44,7 @@
 #include "procedures/static_unbalance_procedure.h"
 #include "sampling/random_stream.h"
 #include "solvers/cvode_integrator.h"
-#include "kinds/gimbal_static_unbalance/gimbal_model.h"
+#include "model_files/gimbal_model.h"
 
 namespace {
 

@@ -32,7 +32,7 @@
 #include "engine/sample_driver.h"
 #include "kinds/registry.h"
 #include "kinds/seeker_los/seeker_los_study.h"
-#include "kinds/seeker_los/seeker_model.h"
+#include "model_files/seeker_model.h"
 #include "engine/study_config.h"
 
 namespace {

@@ -15,7 +15,7 @@
 #include "budget_test_util.h"
 #include "core/units.h"
 #include "models/seeker_los_budget.h"
-#include "kinds/seeker_los/seeker_model.h"
+#include "model_files/seeker_model.h"
 
 namespace {
 

@@ -13,7 +13,7 @@
 #include "core/error.h"
 #include "core/units.h"
 #include "engine/toml_reader.h"
-#include "kinds/gimbal_static_unbalance/gimbal_model.h"
+#include "model_files/gimbal_model.h"
 #include "models/disk_rotor.h"
 #include "procedures/static_unbalance_procedure.h"
 #include "test_util.h"

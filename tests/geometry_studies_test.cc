@@ -5,7 +5,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "kinds/geometry_mass_properties/disk_geometry_model.h"
+#include "model_files/disk_geometry_model.h"
 #include "engine/study_config.h"
 #include "engine/result_io.h"
 #include "engine/study_evaluation.h"

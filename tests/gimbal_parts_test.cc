@@ -12,7 +12,7 @@
 #include "geometry/generators.h"
 #include "geometry/mass_properties.h"
 #include "geometry/mesh_io.h"
-#include "kinds/gimbal_static_unbalance/gimbal_model.h"
+#include "model_files/gimbal_model.h"
 #include "kinds/gimbal_static_unbalance/gimbal_study.h"
 #include "engine/study_config.h"
 #include "engine/toml_reader.h"

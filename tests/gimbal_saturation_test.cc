@@ -9,7 +9,7 @@
 #include <nlohmann/json.hpp>
 
 #include "kinds/gimbal_static_unbalance/counterweight_residual.h"
-#include "kinds/gimbal_static_unbalance/gimbal_model.h"
+#include "model_files/gimbal_model.h"
 #include "kinds/gimbal_static_unbalance/gimbal_sections.h"
 #include "kinds/gimbal_static_unbalance/gimbal_study.h"
 #include "engine/study_config.h"

@@ -7,7 +7,7 @@
 #include <tuple>
 #include <nlohmann/json.hpp>
 
-#include "kinds/gimbal_static_unbalance/gimbal_model.h"
+#include "model_files/gimbal_model.h"
 #include "kinds/gimbal_static_unbalance/gimbal_study.h"
 #include "engine/study_config.h"
 #include "engine/study_evaluation.h"

@@ -15,7 +15,7 @@
 #include "core/error.h"
 #include "engine/study_config.h"
 #include "kinds/seeker_los/seeker_los_study.h"
-#include "kinds/seeker_los/seeker_model.h"
+#include "model_files/seeker_model.h"
 #include "models/seeker_los_chain.h"
 #include "sampling/design.h"
 

@@ -12,8 +12,8 @@
 #include "geometry/mesh_io.h"
 #include "geometry/obstruction.h"
 #include "kinds/seeker_los/seeker_clearance.h"
-#include "kinds/seeker_los/seeker_geometry.h"
-#include "kinds/seeker_los/seeker_model.h"
+#include "model_files/seeker_geometry.h"
+#include "model_files/seeker_model.h"
 #include "engine/toml_reader.h"
 #include "test_util.h"
 

@@ -12,7 +12,7 @@
 #include "core/error.h"
 #include "core/units.h"
 #include "engine/toml_reader.h"
-#include "kinds/seeker_los/seeker_model.h"
+#include "model_files/seeker_model.h"
 #include "sampling/design.h"
 #include "sampling/distribution.h"
 #include "test_util.h"

@@ -4,7 +4,7 @@
 
 #include <filesystem>
 
-#include "kinds/seeker_los/seeker_model.h"
+#include "model_files/seeker_model.h"
 #include "engine/study_config.h"
 #include "engine/study_runner.h"
 #include "engine/toml_reader.h"

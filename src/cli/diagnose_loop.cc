@@ -6,7 +6,7 @@
 #include <numeric>
 
 #include "core/error.h"
-#include "kinds/gimbal_static_unbalance/gimbal_model.h"
+#include "model_files/gimbal_model.h"
 #include "engine/study_config.h"
 #include "engine/study_evaluation.h"
 

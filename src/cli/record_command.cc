@@ -13,7 +13,7 @@
 #include "core/units.h"
 #include "estimators/oscillation_diagnosis.h"
 #include "estimators/oscillation_record.h"
-#include "kinds/gimbal_static_unbalance/gimbal_model.h"
+#include "model_files/gimbal_model.h"
 #include "engine/checked_file.h"
 #include "engine/result_io.h"
 #include "engine/toml_reader.h"

@@ -2,7 +2,7 @@
 
 #include "engine/study_kind.h"
 #include "kinds/geometry_mass_properties/geometry_mass_runner.h"
-#include "kinds/geometry_common/geometry_study.h"
+#include "geometry_studies/geometry_study.h"
 
 namespace poise::studies {
 namespace {

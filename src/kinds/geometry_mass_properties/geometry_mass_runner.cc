@@ -16,11 +16,11 @@
 #include "geometry/mass_properties.h"
 #include "geometry/mesh_io.h"
 #include "sampling/design.h"
-#include "kinds/geometry_mass_properties/disk_geometry_model.h"
-#include "kinds/geometry_common/geometry_runner_common.h"
+#include "model_files/disk_geometry_model.h"
+#include "geometry_studies/geometry_runner_common.h"
 #include "engine/result_io.h"
 #include "engine/study_kind.h"
-#include "kinds/geometry_common/geometry_study.h"
+#include "geometry_studies/geometry_study.h"
 
 namespace poise::studies {
 namespace {

@@ -3,7 +3,7 @@
 #include <cstdio>
 
 #include "engine/procedure_kind.h"
-#include "kinds/gimbal_static_unbalance/gimbal_model.h"
+#include "model_files/gimbal_model.h"
 #include "kinds/gimbal_static_unbalance/gimbal_sections.h"
 #include "kinds/gimbal_static_unbalance/gimbal_study.h"
 

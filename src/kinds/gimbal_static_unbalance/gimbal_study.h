@@ -27,7 +27,7 @@
 
 #include "sampling/design.h"
 #include "sampling/statistics.h"
-#include "kinds/gimbal_static_unbalance/gimbal_model.h"
+#include "model_files/gimbal_model.h"
 #include "engine/procedure_study.h"
 #include "engine/study_config.h"
 

@@ -11,12 +11,12 @@
 #include "core/units.h"
 #include "geometry/obstruction.h"
 #include "sampling/design.h"
-#include "kinds/geometry_common/geometry_runner_common.h"
+#include "geometry_studies/geometry_runner_common.h"
 #include "engine/report_plot.h"
 #include "engine/study_kind.h"
-#include "kinds/seeker_los/seeker_geometry.h"
-#include "kinds/seeker_los/seeker_model.h"
-#include "kinds/geometry_common/geometry_study.h"
+#include "model_files/seeker_geometry.h"
+#include "model_files/seeker_model.h"
+#include "geometry_studies/geometry_study.h"
 
 namespace poise::studies {
 namespace {

@@ -8,7 +8,7 @@
 #include "kinds/platform_balancing/platform_report.h"
 #include "kinds/platform_balancing/platform_study_config.h"
 #include "engine/procedure_runner.h"
-#include "kinds/seeker_los/seeker_model.h"
+#include "model_files/seeker_model.h"
 #include <algorithm>
 #include <thread>
 

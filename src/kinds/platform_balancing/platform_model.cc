@@ -3,7 +3,7 @@
 #include <cmath>
 
 #include "core/units.h"
-#include "kinds/gimbal_static_unbalance/gimbal_model.h"
+#include "model_files/gimbal_model.h"
 #include "engine/model_overrides.h"
 
 namespace poise::studies {

@@ -14,8 +14,8 @@
 #include "engine/procedure_runner.h"
 #include "engine/report_plot.h"
 #include "engine/result_io.h"
-#include "kinds/seeker_los/seeker_los_study.h"
-#include "kinds/seeker_los/seeker_model.h"
+#include "engine/study_evaluation.h"
+#include "model_files/seeker_model.h"
 #include "kinds/platform_balancing/platform_study_config.h"
 
 namespace poise::studies {
@@ -77,9 +77,10 @@ ShaftingLos compute_shafting_los(const StudyConfig& cfg, int threads) {
     throw Error(cfg.file + ": [platform.shafting] study " + sc.file + " is of kind '" + sc.kind + "', expected 'seeker_los'");
   }
   const SeekerModel model = load_seeker_model(sc.model_path, sc.overrides);
-  const SeekerLosStudy study(sc, model, platform_sections(cfg).platform.shafting_samples, sc.seed);
-  const SeekerMcResult r = study.run(threads, false, {}, outputs_only());
-  out.los_max_arcsec = r.los_max_sorted;
+  // Through the kind interface (no kind includes another): the seeker study's ok samples.
+  const StudyEvaluation e = evaluate_study(sc, {}, platform_sections(cfg).platform.shafting_samples, sc.seed, threads);
+  out.los_max_arcsec = e.values[e.index("los_max_arcsec")];
+  std::sort(out.los_max_arcsec.begin(), out.los_max_arcsec.end());
   out.pixel_arcsec = model.pixel_ifov * units::kArcsecPerRad;
   return out;
 }

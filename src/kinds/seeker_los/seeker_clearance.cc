@@ -5,7 +5,7 @@
 
 #include "core/error.h"
 #include "geometry/obstruction.h"
-#include "kinds/seeker_los/seeker_geometry.h"
+#include "model_files/seeker_geometry.h"
 
 namespace poise::studies {
 

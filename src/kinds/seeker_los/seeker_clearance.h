@@ -5,7 +5,7 @@
 /// bearing spans, so each design point of the optimizer gets its own frames.
 #include <cstddef>
 
-#include "kinds/seeker_los/seeker_model.h"
+#include "model_files/seeker_model.h"
 
 namespace poise::studies {
 

@@ -7,7 +7,7 @@
 
 #include "engine/input_evaluation.h"
 #include "engine/study_config.h"
-#include "kinds/seeker_los/seeker_model.h"
+#include "model_files/seeker_model.h"
 
 namespace poise::studies {
 

@@ -6,7 +6,7 @@
 #include "kinds/seeker_los/seeker_input_evaluator.h"
 #include "kinds/seeker_los/seeker_los_sections.h"
 #include "kinds/seeker_los/seeker_los_study.h"
-#include "kinds/seeker_los/seeker_model.h"
+#include "model_files/seeker_model.h"
 #include "kinds/seeker_los/seeker_runner.h"
 
 namespace poise::studies {

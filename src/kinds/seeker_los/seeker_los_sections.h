@@ -17,7 +17,7 @@
 
 #include "engine/study_config.h"
 #include "engine/wide_columns.h"
-#include "kinds/geometry_common/geometry_study.h"
+#include "geometry_studies/geometry_study.h"
 
 namespace poise::studies {
 

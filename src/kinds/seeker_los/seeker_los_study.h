@@ -26,7 +26,7 @@
 #include "models/seeker_los_chain.h"
 #include "sampling/design.h"
 #include "sampling/statistics.h"
-#include "kinds/seeker_los/seeker_model.h"
+#include "model_files/seeker_model.h"
 #include "engine/output_spec.h"
 #include "engine/study_config.h"
 #include "engine/wide_columns.h"

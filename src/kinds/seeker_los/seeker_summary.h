@@ -17,7 +17,7 @@
 #include "engine/study_config.h"
 #include "engine/study_runner.h"
 #include "kinds/seeker_los/seeker_los_study.h"
-#include "kinds/seeker_los/seeker_model.h"
+#include "model_files/seeker_model.h"
 
 namespace poise::studies {
 

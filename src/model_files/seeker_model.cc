@@ -1,11 +1,11 @@
-#include "kinds/seeker_los/seeker_model.h"
+#include "model_files/seeker_model.h"
 
 #include <cmath>
 #include <filesystem>
 
 #include "core/units.h"
 #include "engine/model_overrides.h"
-#include "kinds/seeker_los/seeker_geometry.h"
+#include "model_files/seeker_geometry.h"
 
 namespace poise::studies {
 namespace {

@@ -1,4 +1,4 @@
-#include "kinds/seeker_los/seeker_geometry.h"
+#include "model_files/seeker_geometry.h"
 
 #include <filesystem>
 

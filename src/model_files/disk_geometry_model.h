@@ -15,7 +15,7 @@
 #include <vector>
 
 #include "geometry/generators.h"
-#include "kinds/seeker_los/seeker_model.h"
+#include "model_files/seeker_model.h"
 #include "engine/tolerance_spec.h"
 #include "engine/model_overrides.h"
 

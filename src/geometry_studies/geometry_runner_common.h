@@ -15,8 +15,8 @@
 #include <vector>
 
 #include "sampling/design.h"
-#include "kinds/geometry_common/geometry_report.h"
-#include "kinds/seeker_los/seeker_model.h"
+#include "geometry_studies/geometry_report.h"
+#include "model_files/seeker_model.h"
 #include "engine/output_spec.h"
 #include "engine/study_config.h"
 #include "engine/study_runner.h"

@@ -1,4 +1,4 @@
-#include "kinds/geometry_common/geometry_study.h"
+#include "geometry_studies/geometry_study.h"
 
 #include "core/units.h"
 #include "engine/toml_reader.h"

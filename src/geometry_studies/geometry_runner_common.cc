@@ -1,4 +1,4 @@
-#include "kinds/geometry_common/geometry_runner_common.h"
+#include "geometry_studies/geometry_runner_common.h"
 
 #include "engine/references.h"
 #include "engine/requirements.h"

@@ -1,4 +1,4 @@
-#include "kinds/gimbal_static_unbalance/gimbal_model.h"
+#include "model_files/gimbal_model.h"
 
 #include <cmath>
 #include <cstdio>

@@ -1,4 +1,4 @@
-#include "kinds/geometry_common/geometry_report.h"
+#include "geometry_studies/geometry_report.h"
 
 #include <fstream>
 #include <sstream>

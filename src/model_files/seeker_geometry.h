@@ -27,7 +27,7 @@
 
 #include "geometry/generators.h"
 #include "engine/toml_reader.h"
-#include "kinds/seeker_los/seeker_model.h"
+#include "model_files/seeker_model.h"
 
 namespace poise::studies {
 

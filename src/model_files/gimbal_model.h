@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "procedures/static_unbalance_procedure.h"
-#include "kinds/geometry_mass_properties/disk_geometry_model.h"
+#include "model_files/disk_geometry_model.h"
 #include "engine/tolerance_spec.h"
 #include "engine/user_parts.h"
 #include "engine/toml_reader.h"

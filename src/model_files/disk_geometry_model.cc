@@ -1,4 +1,4 @@
-#include "kinds/geometry_mass_properties/disk_geometry_model.h"
+#include "model_files/disk_geometry_model.h"
 
 #include <cmath>
 #include <numbers>
