@@ -42,14 +42,14 @@ TEST(GeometryStudies, MassPropertiesRunAgreesWithTheClosedForm) {
   o.samples = 4;
   const std::string dir = run_study(study, o);
   const json s = read_json(dir + "/summary.json");
-  const auto& cf = s["nominal"]["closed_form_check"];
+  const auto& cf = s["details"]["nominal"]["closed_form_check"];
   for (const char* q : {"mass_kg", "e_m", "Jzz_kgm2"}) {
     EXPECT_LT(std::abs(cf[q]["exact_mesh"]["relative_error"].get<double>()), 1e-6) << q;
     EXPECT_LT(std::abs(cf[q]["ray_cast"]["relative_error"].get<double>()), 2e-2) << q;  // 40 rays per side
   }
   // The two clump weights (25.81 g at 45 deg, 15.53 g at 270 deg, on r = 51 mm) set e.
   EXPECT_NEAR(cf["e_m"]["exact_mesh"]["closed_form"].get<double>(), 2.074e-3, 0.005e-3);
-  EXPECT_EQ(s["convergence"].size(), 2u);
+  EXPECT_EQ(s["details"]["convergence"].size(), 2u);
   EXPECT_EQ(s["outputs"]["e_um"]["n"].get<int>(), 4);
   EXPECT_TRUE(std::filesystem::exists(dir + "/nominal_disk.stl"));
   EXPECT_TRUE(std::filesystem::exists(dir + "/report.html"));
@@ -100,7 +100,7 @@ TEST(GeometryStudies, ObstructionRun) {
   o.samples = 2;
   const std::string dir = run_study(study, o);
   const json s = read_json(dir + "/summary.json");
-  const auto& nom = s["nominal"]["outputs"];
+  const auto& nom = s["details"]["nominal"]["outputs"];
   // The flat window vignettes the field's corners; the centre passes whole.
   EXPECT_LT(nom["min_fraction_pct"].get<double>(), 50.0);
   EXPECT_GT(nom["full_field_pct"].get<double>(), 0.0);

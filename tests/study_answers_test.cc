@@ -181,17 +181,29 @@ TEST(StudyAnswers, RequirementOnAnUnknownOutputIsRefusedWithItsLine) {
   EXPECT_NE(r.err.find("g_rmse_torque_mNm"), std::string::npos) << r.err;  // the outputs it could name
 }
 
-TEST(StudyAnswers, GeometryStudyAnswersAndRefusesASweep) {
+TEST(StudyAnswers, GeometryStudyRunsTheOnePathWithSweepsAndResume) {
   TempDir dir;
-  const std::string study = user_study(dir, "geometry_mass_properties", "simulator_disk_yang2015.toml",
-                                       requirement("mass_ray_error_pct", "max", "50 %"));
-  const json s = run_and_check(dir, study, "--samples 2", 1);
+  const std::string base = user_study(dir, "geometry_mass_properties", "simulator_disk_yang2015.toml",
+                                      requirement("mass_ray_error_pct", "max", "50 %"));
+  // The geometry kinds run through the engine's one path: a sweep of a model key, with every
+  // requirement judged at each value, as for the other kinds.
+  const std::string study = dir.file("sweep.toml");
+  test::write_text(study, read_text(base) + "\n[[sweep]]\nparameter = \"disk.thickness\"\nvalues = [\"10 mm\", \"14 mm\"]\n"
+                                            "samples = 2\n");
+  const json s = run_and_check(dir, study, "--samples 3", 1);
   EXPECT_EQ(s["outputs"]["mass_ray_error_pct"]["unit"], "%");
-  // A kind whose runner carries out no sweep refuses one, at its line.
-  test::write_text(dir.file("sweep.toml"), read_text(study) + "\n[[sweep]]\nparameter = \"disk.radius\"\nvalues = [\"1 mm\"]\n");
-  const auto r = test::run_poise(dir, "validate '" + dir.file("sweep.toml") + "'");
-  EXPECT_EQ(r.status, 2);
-  EXPECT_NE(r.err.find("runs none"), std::string::npos) << r.err;
+  ASSERT_EQ(s["sweeps"].size(), 1u);
+  ASSERT_EQ(s["sweeps"][0]["points"].size(), 2u);
+  const double thin = s["sweeps"][0]["points"][0]["outputs"]["mass_g"]["mean"]["value"].get<double>();
+  const double thick = s["sweeps"][0]["points"][1]["outputs"]["mass_g"]["mean"]["value"].get<double>();
+  EXPECT_GT(thick, thin * 1.2) << "a thicker disk is heavier";
+  for (const auto& p : s["sweeps"][0]["points"]) EXPECT_EQ(p["requirements"].size(), 1u);
+  EXPECT_TRUE(s["details"]["nominal"].contains("closed_form_check"));
+  // --resume keeps the samples a run has: the rows come back byte for byte.
+  const std::string csv = read_text(dir.file("run") + "/samples.csv");
+  const auto r = test::run_poise(dir, "run --resume '" + dir.file("run") + "' --threads 1 --quiet --no-plots");
+  EXPECT_EQ(r.status, 0) << r.err;
+  EXPECT_EQ(read_text(dir.file("run") + "/samples.csv"), csv);
 }
 
 }  // namespace

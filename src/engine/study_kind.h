@@ -53,10 +53,6 @@ class StudyKind {
   virtual std::string run(const StudyConfig& cfg, const RunOptions& options) const = 0;
   /// Recomputes sample `index` alone (inputs and outputs by name).
   virtual nlohmann::json replay(const StudyConfig& cfg, std::size_t index, const RunOptions& options) const = 0;
-  /// Whether its runs carry out [[sweep]] tables (a kind with its own runner may not).
-  virtual bool runs_sweeps() const { return true; }
-  /// Whether runs stream sample by sample (--resume, --until, MPI ranks).
-  virtual bool streams() const { return true; }
   /// For a Monte Carlo on a model file alone (the one `poise budget` sets beside a budget):
   /// the [model] kind of the files this kind samples ("seeker_two_axis"); "" (the default):
   /// none, and the two functions below are not called.

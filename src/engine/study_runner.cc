@@ -17,10 +17,6 @@ namespace {
 // Each sweep value is a model the kind accepts: the study validated with it as an override.
 void check_sweeps(const StudyConfig& cfg, const StudyKind& kind) {
   std::vector<InputError> errors;
-  if (!kind.runs_sweeps() && !cfg.sweeps.empty()) {
-    throw ValidationError({InputError(SourceLocation{cfg.file, cfg.sweeps.front().line, 0}, "sweep", "[[sweep]]",
-                                      "no [[sweep]]: a " + cfg.kind + " study runs none (run the study once per value)")});
-  }
   for (const auto& sw : cfg.sweeps) {
     for (const auto& v : sw.values) {
       try {
@@ -87,10 +83,6 @@ std::string run_study(const std::string& study_path, const RunOptions& options) 
     cfg.overrides = apply_study_overrides(cfg, overrides);
   }
   const StudyKind& kind = study_kind(cfg.kind);
-  if (!kind.streams() && (!options.resume.empty() || !options.until.empty() || sampling::Cluster::size() > 1)) {
-    throw UsageError("--resume, --until and MPI runs are for study kinds that stream their samples; a " + cfg.kind +
-                " study runs in one process in seconds to minutes (Ctrl-C still stops it cleanly)");
-  }
   const CheckedStudy checked = check_study(cfg, kind);  // nothing runs until everything validates
   if (options.require && checked.requirements.empty()) {
     throw UsageError("--require: " + cfg.file + " states no requirement; add a [[requirement]] table (output, "
@@ -105,8 +97,8 @@ std::string run_study(const std::string& study_path, const RunOptions& options) 
     const std::string dir = record_write_failure(e.path(), e.what());
     std::string message = std::string(e.what()) + ". The run stopped";
     if (!dir.empty()) {
-      message += "; " + dir + " is marked \"failed\"";
-      if (kind.streams()) message += ", and `poise run --resume " + dir + "` continues it once the cause is fixed";
+      message += "; " + dir + " is marked \"failed\", and `poise run --resume " + dir +
+                 "` continues it once the cause is fixed";
     }
     throw Error(message);
   }

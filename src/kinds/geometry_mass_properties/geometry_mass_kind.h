@@ -1,6 +1,6 @@
 #pragma once
 /// The geometry_mass_properties study kind (engine/study_kind.h): a part as built, its mass properties by ray casting
-/// and the divergence theorem, sampled over its making tolerances (runs in one process).
+/// and the divergence theorem, sampled over its making tolerances (engine/procedure_kind.h).
 #include <memory>
 
 #include "engine/study_kind.h"

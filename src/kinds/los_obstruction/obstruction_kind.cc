@@ -1,13 +1,13 @@
 #include "kinds/los_obstruction/obstruction_kind.h"
 
-#include "engine/study_kind.h"
-#include "kinds/los_obstruction/obstruction_runner.h"
+#include "engine/procedure_kind.h"
+#include "kinds/los_obstruction/obstruction_study.h"
 #include "geometry_studies/geometry_study.h"
 
 namespace poise::studies {
 namespace {
 
-class LosObstructionKind final : public StudyKind {
+class LosObstructionKind final : public ProcedureKind {
  public:
   std::string name() const override { return "los_obstruction"; }
   std::string summary() const override {
@@ -21,20 +21,10 @@ class LosObstructionKind final : public StudyKind {
     return s;
   }
   std::string validate(const StudyConfig& cfg) const override { return validate_obstruction_study(cfg); }
-  std::vector<OutputSpec> outputs(const StudyConfig&) const override { return obstruction_outputs(); }
-  std::string run(const StudyConfig& cfg, const RunOptions& options) const override {
-    return run_obstruction_study(cfg, options);
+  std::unique_ptr<ProcedureStudy> make_study(const StudyConfig& cfg, const std::map<std::string, std::string>& o,
+                                             std::size_t samples, std::uint64_t seed) const override {
+    return make_obstruction_study(cfg, o, samples, seed);
   }
-  nlohmann::json replay(const StudyConfig& cfg, std::size_t index, const RunOptions& options) const override {
-    return replay_obstruction_sample(cfg, index, options);
-  }
-  std::unique_ptr<InputEvaluator> input_evaluator(const StudyConfig& cfg,
-                                                  const std::map<std::string, std::string>& model_overrides,
-                                                  std::uint64_t) const override {
-    return obstruction_input_evaluator(cfg, model_overrides);
-  }
-  bool runs_sweeps() const override { return false; }
-  bool streams() const override { return false; }
 };
 
 }  // namespace
