@@ -42,7 +42,7 @@ using poise::models::LosGrid;
 using poise::models::PointingError;
 using poise::models::SeekerErrorState;
 using poise::studies::SeekerLosStudy;
-using poise::studies::SeekerSampleResult;
+using SeekerSampleResult = poise::studies::SampleResult;
 
 constexpr std::size_t kRunSamples = 8192;  // samples per BM_StudyRun iteration
 
@@ -172,7 +172,9 @@ void BM_StudyRun(benchmark::State& state) {
   const int threads = static_cast<int>(state.range(0));
   std::size_t failures = 0;
   for (auto _ : state) {
-    poise::studies::SeekerMcResult r = study.run(threads, false, {});
+    poise::studies::RunControl control;
+    control.field_figures = true;  // as a run does: the grid values kept, the field figures made
+    poise::studies::McResult r = study.run(threads, false, {}, {}, control);
     failures += r.failures;
     benchmark::DoNotOptimize(r.outputs.data());
   }

@@ -68,7 +68,9 @@ TEST_F(ReportPlots, SeekerLos) {
   poise::test::write_text(d.file("seeker.toml"), text);
   const std::string html = run_with_plots(d, d.file("seeker.toml"), "--samples 16", 4);
   EXPECT_TRUE(fs::exists(d.file("run/plots/map_p95.svg")));  // the field map
-  for (const char* sweep : {"sweep_0.svg", "sweep_1.svg", "sweep_2.svg"}) {
+  // Each sweep draws the statistic its requirement names against the value (the engine's
+  // sweep figures, as for every kind).
+  for (const char* sweep : {"sweep0_los_max_px_p99_73.svg", "sweep1_los_max_px_p99_73.svg", "sweep2_los_max_px_p99_73.svg"}) {
     EXPECT_TRUE(fs::exists(d.file("run/plots/") + sweep)) << sweep;
   }
   EXPECT_NE(html.find("yaw.bearing_span"), std::string::npos);

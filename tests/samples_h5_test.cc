@@ -90,7 +90,7 @@ TEST(SamplesH5, GridValuesOfEverySampleTheSameForAnyThreadCount) {
     if (!std::isnan(v)) all.push_back(v);
   }
   const sampling::Summary want = sampling::summarize(all);
-  const json& pooled = s1["pooled_field_arcsec"];
+  const json& pooled = s1["details"]["pooled_field_arcsec"];
   EXPECT_EQ(pooled["n"].get<std::size_t>(), want.n);
   EXPECT_EQ(pooled["p95"]["value"].get<double>(), want.p95.value);
   EXPECT_EQ(pooled["p99_73"]["ci95"][0].get<double>(), *want.p99_73.lo);
@@ -133,7 +133,7 @@ with h5py.File(sys.argv[1], "r") as f:
   EXPECT_EQ(columns, 169u);
   EXPECT_EQ(digest, s["samples_h5"]["values_digest"].get<std::string>());
   // numpy's median_unbiased is definition 8; the interpolation rounds differently in the last bits.
-  EXPECT_NEAR(p95, s["pooled_field_arcsec"]["p95"]["value"].get<double>(), 1e-12 * std::abs(p95));
+  EXPECT_NEAR(p95, s["details"]["pooled_field_arcsec"]["p95"]["value"].get<double>(), 1e-12 * std::abs(p95));
   EXPECT_EQ(corner, 168u);  // the last column: yaw +30, pitch +30
   EXPECT_EQ(last, 699u);
   EXPECT_EQ(ok, 700u);

@@ -161,7 +161,7 @@ TEST(StudyRunner, DefaultStudyAgainstIndependentFigures) {
   // 2. The summary's statistics recomputed from samples.csv.
   std::vector<double> v;
   std::size_t meet = 0;
-  const double req = s["requirement"]["arcsec"].get<double>();
+  const double req = s["details"]["requirement"]["arcsec"].get<double>();
   for (std::size_t i = 0; i < csv.rows.size(); ++i) {
     v.push_back(csv.num(i, "los_max_arcsec"));
     meet += v.back() <= req ? 1 : 0;
@@ -170,7 +170,7 @@ TEST(StudyRunner, DefaultStudyAgainstIndependentFigures) {
   const double median = 0.5 * (v[149] + v[150]);
   EXPECT_NEAR(s["outputs"]["los_max_arcsec"]["p50"]["value"].get<double>(), median, 1e-6);
   EXPECT_NEAR(s["outputs"]["los_max_arcsec"]["max"]["value"].get<double>(), v.back(), 1e-6);
-  EXPECT_NEAR(s["fraction_samples_meeting"]["value"].get<double>(), static_cast<double>(meet) / 300.0, 1e-12);
+  EXPECT_NEAR(s["details"]["fraction_samples_meeting"]["value"].get<double>(), static_cast<double>(meet) / 300.0, 1e-12);
   EXPECT_NEAR(req, 18.75, 1e-9);  // 1 px at the model's IFOV
   // 3. No budget is built into the seeker kind: the paper's budget is a budget file
   //    (studies/wang2011_budget.toml), checked term by term in budget_test.
@@ -181,8 +181,8 @@ TEST(StudyRunner, DefaultStudyAgainstIndependentFigures) {
   ASSERT_EQ(s["sweeps"].size(), 1u);
   const auto& pts = s["sweeps"][0]["points"];
   // A longer yaw span lowers the LOS error (same random numbers at both values).
-  EXPECT_GT(pts[0]["los_max_arcsec"]["p95"]["value"].get<double>(),
-            pts[1]["los_max_arcsec"]["p95"]["value"].get<double>());
+  EXPECT_GT(pts[0]["outputs"]["los_max_arcsec"]["p95"]["value"].get<double>(),
+            pts[1]["outputs"]["los_max_arcsec"]["p95"]["value"].get<double>());
   EXPECT_TRUE(std::filesystem::exists(d.file("run/report.html")));
 }
 
@@ -247,8 +247,8 @@ TEST(StudyRunner, DefaultStudyFiguresQuotedInItsNotes) {
   EXPECT_NEAR(lm["p50"]["value"].get<double>(), 16.9, 0.05);
   EXPECT_NEAR(lm["p95"]["value"].get<double>(), 31.2, 0.05);
   EXPECT_NEAR(lm["p99_73"]["value"].get<double>(), 43.1, 0.05);
-  EXPECT_NEAR(s["fraction_samples_meeting"]["value"].get<double>(), 0.60, 0.005);
-  EXPECT_NEAR(s["fraction_field_meeting"]["value"].get<double>(), 0.86, 0.005);
+  EXPECT_NEAR(s["details"]["fraction_samples_meeting"]["value"].get<double>(), 0.60, 0.005);
+  EXPECT_NEAR(s["details"]["fraction_field_meeting"]["value"].get<double>(), 0.86, 0.005);
   EXPECT_EQ(s["failures"]["count"], 0);
 }
 

@@ -7,6 +7,7 @@
 #include "engine/report_figures.h"
 #include "engine/requirements.h"
 #include "engine/sample_columns_h5.h"
+#include "engine/sample_rows.h"
 #include "engine/study_kind.h"
 
 #include <algorithm>
@@ -258,18 +259,20 @@ std::string run_procedure_study(const StudyConfig& cfg_in, const StudyFactory& m
   RunControl control;
   control.distributed = true;
   control.stop = [rule](const McResult& r) { return (*rule)(r.values, r.ok_index, r.failures, r.ok_index.size() + r.failures); };
-  const bool solver_column = study.has_solver();
-  McResult mc = study.run(plan.threads, options.progress, [&](std::span<const SampleResult> block) {
-    std::string rows;
-    for (const auto& s : block) {
-      rows += std::to_string(s.index) + ',' + (s.ok ? "ok" : "failed");
-      for (double v : s.inputs) rows += ',' + csv_number(v);
-      for (double v : s.outputs) rows += ',' + csv_number(v);
-      if (solver_column) rows += ',' + std::to_string(s.solver_steps);
-      rows += ',' + csv_text(s.message) + '\n';
-    }
-    csv.write(rows);  // the first refused write stops the run (WriteError)
-  }, done, control);
+  // A study with a per-sample field writes it to samples.h5 as the samples stream in (a
+  // resumed run recomputes it whole) and makes its figures.
+  const std::string h5_path = (fs::path(plan.dir) / "samples.h5").string();
+  const std::map<std::string, std::string> h5_text{{"study", cfg.name}, {"kind", cfg.kind}, {"study_file", cfg.file},
+                                                   {"method", sampling::to_string(cfg.method)}, {"poise_version", kVersion}};
+  const std::map<std::string, std::uint64_t> h5_numbers{{"seed", plan.seed}, {"planned_samples", n}};
+  control.field_figures = true;
+  control.field_file = h5_path;
+  control.field_attributes = h5_text;
+  control.field_number_attributes = h5_numbers;
+  // Rows on disk are not written again (a study may recompute them: a resumed LOS run).
+  SampleRowWriter rows(csv, plan.threads, done.size(), study.has_solver());
+  McResult mc = study.run(plan.threads, options.progress, [&](std::span<const SampleResult> block) { rows(block); },
+                          done, control);
   if (!root) return "";  // rank 0 writes the folder
   csv.close();
   const std::size_t ran = mc.completed;
@@ -281,11 +284,11 @@ std::string run_procedure_study(const StudyConfig& cfg_in, const StudyFactory& m
 
   const FinishedRun f{cfg, study, plan, mc, ran, done.size(), rhs_uncounted, status, sources, tolerances, requirements};
   json s = summary_of(f, *rule, options);
-  s["samples_h5"] = write_sample_columns_h5(
-      csv_path, (fs::path(plan.dir) / "samples.h5").string(), study.input_names(), study.outputs(),
-      {{"study", cfg.name}, {"kind", cfg.kind}, {"study_file", cfg.file}, {"method", sampling::to_string(cfg.method)},
-       {"poise_version", kVersion}},
-      {{"seed", plan.seed}, {"planned_samples", n}});
+  // samples.h5: the field of a study that has one (written during the run); else the inputs
+  // and outputs as named columns, from the finished samples.csv.
+  s["samples_h5"] = mc.field.present && !mc.field.file.is_null()
+                        ? mc.field.file
+                        : write_sample_columns_h5(csv_path, h5_path, study.input_names(), study.outputs(), h5_text, h5_numbers);
   if (status == "complete" && plan.sensitivity_base == 0 && !cfg.sweeps.empty()) {
     s["sweeps"] = run_procedure_sweeps(cfg, make_study, n, plan.seed, plan.threads, options.progress && root, requirements,
                                        study.outputs());

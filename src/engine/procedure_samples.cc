@@ -64,12 +64,14 @@ void encode_result(const SampleResult& r, ByteWriter& w) {
   encode_sample_fields(r, w);
   w.put(r.solver_steps);
   w.put(r.rhs_evals);
+  w.put_vector(r.field);
 }
 
 void decode_result(ByteReader& rd, SampleResult& r) {
   decode_sample_fields(rd, r);
   r.solver_steps = rd.get<long>();
   r.rhs_evals = rd.get<long>();
+  rd.get_vector(r.field);
 }
 
 std::vector<SampleResult> read_done_samples(const std::string& csv_path, const std::string& header,

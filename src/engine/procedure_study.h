@@ -28,6 +28,18 @@ struct SampleResult {
   std::vector<double> inputs;   ///< unit-scope draws, display units
   std::vector<double> outputs;  ///< output_names() order
   long solver_steps = 0, rhs_evals = 0;
+  /// A study's values at every point of a field (the LOS error at each grid point), for one
+  /// whose samples have one (empty otherwise): samples.h5 keeps them, the field figures
+  /// (McResult::field) are made from them.
+  std::vector<float> field;
+};
+
+/// The figures of a per-sample field over a run's ok samples (a study that has one).
+struct FieldFigures {
+  bool present = false;
+  sampling::Summary pooled;                  ///< over every (ok sample, field point)
+  std::vector<double> p50, p95, p99_73;      ///< per field point, over the ok samples
+  nlohmann::json file;                       ///< samples.h5's field (WideColumnsWriter::close), rank 0
 };
 
 struct McResult {
@@ -45,6 +57,7 @@ struct McResult {
   int signal = 0;
   std::string stop_reason;                  ///< why the run stopped before n ("" = it did not)
   std::size_t replicate_size = 0;           ///< summaries by replicate (design.h) when > 0
+  FieldFigures field;                       ///< a study with a per-sample field, when asked for
 };
 
 using SampleSink = std::function<void(std::span<const SampleResult>)>;
@@ -55,6 +68,13 @@ struct RunControl {
   bool distributed = false;
   std::size_t replicate_size = 0;  ///< set from the study's config by ProcedureStudyBase::run
   std::function<std::string(const McResult&)> stop;  ///< "" = go on
+  /// A study with a per-sample field: make its figures (McResult::field) and write its values
+  /// to `field_file` (samples.h5 of a run; "" = kept in memory, or a scratch file when too
+  /// big), with these root attributes. Off: the field is not kept (sweeps, the optimizer).
+  bool field_figures = false;
+  std::string field_file;
+  std::map<std::string, std::string> field_attributes;
+  std::map<std::string, std::uint64_t> field_number_attributes;
 };
 
 /// A SampleResult's trip between MPI ranks.

@@ -2,6 +2,7 @@
 
 #include <span>
 
+#include "engine/procedure_kind.h"
 #include "kinds/seeker_los/seeker_clearance.h"
 #include "kinds/seeker_los/seeker_input_evaluator.h"
 #include "kinds/seeker_los/seeker_los_sections.h"
@@ -12,7 +13,7 @@
 namespace poise::studies {
 namespace {
 
-class SeekerLosKind final : public StudyKind {
+class SeekerLosKind final : public ProcedureKind {
  public:
   std::string name() const override { return "seeker_los"; }
   std::string summary() const override {
@@ -81,8 +82,15 @@ class SeekerLosKind final : public StudyKind {
     keys.insert(keys.begin(), "load_deformation");  // k', sampled too (SeekerSampler's k_load)
     return keys;
   }
+  std::unique_ptr<ProcedureStudy> make_study(const StudyConfig& cfg, const std::map<std::string, std::string>& o,
+                                             std::size_t samples, std::uint64_t seed) const override {
+    return std::make_unique<SeekerLosStudy>(cfg, load_seeker_model(cfg.model_path, o), samples, seed);
+  }
+  /// The engine's one path; contributions by default (the seeker's [output] default: 4096).
   std::string run(const StudyConfig& cfg, const RunOptions& options) const override {
-    return run_seeker_study(cfg, options, requirements(cfg));
+    StudyConfig c = cfg;
+    c.contribution_samples = seeker_sections(cfg).contribution_samples;
+    return ProcedureKind::run(c, options);
   }
   nlohmann::json replay(const StudyConfig& cfg, std::size_t index, const RunOptions& options) const override {
     return replay_seeker_sample(cfg, index, options);
@@ -94,25 +102,11 @@ class SeekerLosKind final : public StudyKind {
     for (const auto& [k, v] : model_overrides) overrides[k] = v;
     return make_seeker_input_evaluator(cfg, load_seeker_model(cfg.model_path, overrides));
   }
+  /// The engine's in-memory run, and the nominal clearance as one more output when asked for.
   StudyEvaluation evaluate(const StudyConfig& cfg, const std::map<std::string, std::string>& model_overrides,
                            std::size_t samples, std::uint64_t seed, int threads) const override {
     const SeekerLosStudy study(cfg, load_seeker_model(cfg.model_path, model_overrides), samples, seed);
-    StudyEvaluation e;
-    for (const auto& d : kSeekerOutputs) e.names.emplace_back(d.name);
-    e.values.resize(e.names.size());
-    const SeekerMcResult mc = study.run(threads, false, [&](std::span<const SeekerSampleResult> block) {
-      for (const auto& s : block) {
-        if (!s.ok) {
-          if (e.first_failure.empty()) e.first_failure = s.message;
-          continue;
-        }
-        for (std::size_t k = 0; k < e.names.size(); ++k) e.values[k].push_back(s.outputs[k]);
-        e.ok_index.push_back(s.index);
-      }
-    }, outputs_only());
-    e.samples = mc.n;
-    e.failures = mc.failures;
-    e.wall_seconds = mc.wall_seconds;
+    StudyEvaluation e = evaluate_procedure(study, threads);
     const GeometryStudySpec& g = seeker_sections(cfg).geometry;
     if (g.clearance_output) {  // a design constraint: the same for every sample
       const double c = nominal_min_clearance(study.model(), g.clearance_yaw_points, g.clearance_pitch_points);

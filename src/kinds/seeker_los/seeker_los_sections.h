@@ -30,7 +30,7 @@ struct SeekerLosSections : KindSectionsOf<SeekerLosSections> {
   /// Contribution of each tolerance: the study re-run with that tolerance set to zero
   /// (same random numbers), with this many samples; 0 switches it off.
   std::size_t contribution_samples = 4096;
-  /// The grid values (4 bytes each) kept in memory at most, in MiB (SeekerRunControl).
+  /// The grid values (4 bytes each) kept in memory at most, in MiB (SeekerLosStudy::run).
   std::size_t grid_values_in_memory_mb = kKeepColumnsBytes >> 20;
   GeometryStudySpec geometry;  ///< [clearance]
 };

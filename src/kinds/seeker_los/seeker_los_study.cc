@@ -17,6 +17,8 @@
 #include "engine/convergence.h"
 #include "engine/field_statistics.h"
 #include "engine/sample_driver.h"
+#include "sampling/distributed.h"
+#include "sampling/progress.h"
 #include "kinds/seeker_los/seeker_los_sections.h"
 
 namespace poise::studies {
@@ -35,7 +37,11 @@ SeekerLosStudy::SeekerLosStudy(StudyConfig config, SeekerModel model, std::size_
       grid_(models::linspace(model_.yaw_min, model_.yaw_max, seeker_sections(config_).yaw_points),
             models::linspace(model_.pitch_min, model_.pitch_max, seeker_sections(config_).pitch_points)),
       requirement_rad_(seeker_sections(config_).requirement_in_pixels ? seeker_sections(config_).requirement * model_.pixel_ifov
-                                                     : seeker_sections(config_).requirement) {}
+                                                     : seeker_sections(config_).requirement) {
+  for (const auto& c : sampler_.columns()) input_names_.push_back(c.name);
+  append_outputs(outputs_, "", kSeekerOutputs);
+  output_names_ = output_names_of(outputs_);
+}
 
 SeekerLosStudy::Workspace SeekerLosStudy::make_workspace() const {
   Workspace ws;
@@ -45,16 +51,16 @@ SeekerLosStudy::Workspace SeekerLosStudy::make_workspace() const {
   return ws;
 }
 
-void SeekerLosStudy::compute(std::size_t i, Workspace& ws, SeekerSampleResult& out) const {
+void SeekerLosStudy::compute(std::size_t i, Workspace& ws, SampleResult& out) const {
   out.index = i;
   out.ok = true;
   out.message.clear();
   out.inputs.assign(sampler_.dimension(), NAN);
   out.outputs.assign(kNumSeekerOutputs, NAN);
-  out.grid_total_arcsec.assign(grid_.size(), NAN);
+  out.field.assign(grid_.size(), NAN);
   try {
     design_.point(i, ws.u);
-    evaluate_state(sampler_.draw(ws.u, out.inputs), ws, out.outputs, out.grid_total_arcsec);
+    evaluate_state(sampler_.draw(ws.u, out.inputs), ws, out.outputs, out.field);
   } catch (const std::exception& e) {
     out.ok = false;
     out.message = e.what();
@@ -98,17 +104,6 @@ std::vector<models::PointingError> SeekerLosStudy::grid_errors(std::size_t i) co
   return ws.errors;
 }
 
-namespace {
-void encode_seeker(const SeekerSampleResult& r, ByteWriter& w) {
-  encode_sample_fields(r, w);
-  w.put_vector(r.grid_total_arcsec);
-}
-void decode_seeker(ByteReader& rd, SeekerSampleResult& r) {
-  decode_sample_fields(rd, r);
-  rd.get_vector(r.grid_total_arcsec);
-}
-}  // namespace
-
 WideColumnsSpec SeekerLosStudy::field_spec() const {
   WideColumnsSpec spec{"grid_total_arcsec", "arcsec",
                        "total LOS pointing error of each sample (row) at each grid point (column)", grid_.size(), {}};
@@ -146,17 +141,24 @@ std::string temporary_field_file() {
 
 }  // namespace
 
-SeekerMcResult SeekerLosStudy::run(
-    int threads, bool progress,
-    const std::function<void(std::span<const SeekerSampleResult>)>& sink, const SeekerRunControl& control) const {
-  SeekerMcResult r;
+SampleResult SeekerLosStudy::replay(std::size_t i) const {
+  Workspace ws = make_workspace();
+  SampleResult r;
+  compute(i, ws, r);
+  return r;
+}
+
+McResult SeekerLosStudy::run(int threads, bool progress, const SampleSink& sink, std::span<const SampleResult>,
+                             const RunControl& control) const {
+  McResult r;
   r.n = samples_;
+  r.replicate_size = config_.replicate_size;
   const std::size_t g = grid_.size();
-  const bool writes = control.field_statistics && (!control.distributed || sampling::Cluster::root());
-  // The grid values go to the run's samples.h5; without one (sweeps, contributions) they are
-  // only kept in memory when they fit, else in an uncompressed scratch file read back once.
+  const bool writes = control.field_figures && (!control.distributed || sampling::Cluster::root());
+  // The grid values go to the run's samples.h5; without one they are only kept in memory
+  // when they fit, else in an uncompressed scratch file read back once.
   WideColumnsSpec layout = field_spec();
-  layout.keep_up_to_bytes = control.keep_grid_bytes;
+  layout.keep_up_to_bytes = seeker_sections(config_).grid_values_in_memory_mb << 20;
   const bool temporary = writes && control.field_file.empty() && !fits_in_memory(layout, samples_);
   const std::string field_path = !writes ? "" : temporary ? temporary_field_file() : control.field_file;
   const TemporaryFile scratch{temporary ? field_path : std::string()};
@@ -169,40 +171,29 @@ SeekerMcResult SeekerLosStudy::run(
   // The scalar columns, sized for every planned sample at once: a growing vector would hold
   // its old and new storage at once (3x); untouched pages (a run stopped early, MPI ranks
   // other than 0) take no memory.
-  std::vector<std::vector<double>> out_values(kNumSeekerOutputs);
-  for (auto& v : out_values) v.reserve(samples_);
+  r.values.resize(kNumSeekerOutputs);
+  for (auto& v : r.values) v.reserve(samples_);
   r.ok_index.reserve(samples_);
-  std::size_t n_ok = 0, n_all_ok = 0;
 
   sampling::Progress bar("samples", samples_, progress && (!control.distributed || sampling::Cluster::root()));
   DriveSpec spec{0, samples_, config_.block, 16, threads, control.distributed};
-  const DriveOutcome outcome = drive_samples<SeekerSampleResult>(
+  const DriveOutcome outcome = drive_samples<SampleResult>(
       spec, [this] { return make_workspace(); },
-      [this](std::size_t i, Workspace& ws, SeekerSampleResult& res) { compute(i, ws, res); },
-      [&](std::size_t, std::span<const SeekerSampleResult> block) {
+      [this](std::size_t i, Workspace& ws, SampleResult& res) { compute(i, ws, res); },
+      [&](std::size_t, std::span<const SampleResult> block) {
         if (sink) sink(block);
-        for (const auto& s : block) {
-          if (field) field->append(s.index, s.ok, s.grid_total_arcsec);
-          if (!s.ok) {
-            ++r.failures;
-            if (r.failed.size() < 100) r.failed.emplace_back(s.index, s.message);
-            continue;
-          }
-          ++n_ok;
-          r.ok_index.push_back(s.index);
-          for (std::size_t k = 0; k < kNumSeekerOutputs; ++k) out_values[k].push_back(s.outputs[k]);
-          if (s.outputs[0] <= requirement_rad_ * kArcsec) ++n_all_ok;
+        if (field) {
+          for (const auto& s : block) field->append(s.index, s.ok, s.field);
         }
+        collect_samples(r, block);
       },
-      [&](std::size_t completed) {
-        return control.stop ? control.stop(out_values, r.ok_index, r.failures, completed) : std::string();
-      },
-      encode_seeker, decode_seeker, &bar);
+      [&](std::size_t) { return control.stop ? control.stop(r) : std::string(); }, encode_result, decode_result, &bar);
   bar.finish();
   r.completed = outcome.completed;
   r.interrupted = outcome.interrupted;
   r.signal = outcome.signal;
   r.stop_reason = outcome.stop_reason;
+  const std::size_t n_ok = r.ok_index.size();
   // The tail on all threads, two independent halves side by side so that each fills the
   // other's serial moments: closing samples.h5 and the field figures read back point by point;
   // the per-sample outputs' summaries.
@@ -210,8 +201,10 @@ SeekerMcResult SeekerLosStudy::run(
   arena.execute([&] {
     tbb::parallel_invoke(
         [&] {
-          if (field) r.field_file = field->close();
-          if (n_ok > 0 && field) {
+          if (!field) return;
+          r.field.present = true;
+          r.field.file = field->close();
+          if (n_ok > 0) {
             std::optional<WideColumnsReader> reader;
             if (!field->keeps()) reader.emplace(field_path, layout.dataset);
             const double quantiles[] = {0.5, 0.95, 0.9973};
@@ -223,12 +216,13 @@ SeekerMcResult SeekerLosStudy::run(
                   return column;
                 },
                 quantiles, threads);
-            r.map_p50 = std::move(fs.per_point[0]);
-            r.map_p95 = std::move(fs.per_point[1]);
-            r.map_p99_73 = std::move(fs.per_point[2]);
-            r.pooled = fs.pooled;
+            r.field.p50 = std::move(fs.per_point[0]);
+            r.field.p95 = std::move(fs.per_point[1]);
+            r.field.p99_73 = std::move(fs.per_point[2]);
+            r.field.pooled = fs.pooled;
           }
           if (temporary) {
+            r.field.file = nullptr;  // a scratch file, not the run's
             std::error_code ec;
             std::filesystem::remove(field_path, ec);  // here, beside the summaries; `scratch` if a step throws
           }
@@ -236,24 +230,12 @@ SeekerMcResult SeekerLosStudy::run(
         [&] {
           if (n_ok == 0) return;
           r.outputs.resize(kNumSeekerOutputs);
-          tbb::parallel_invoke(
-              [&] {
-                tbb::parallel_for(std::size_t{0}, kNumSeekerOutputs, [&](std::size_t k) {
-                  r.outputs[k] = summarize_output(out_values[k], r.ok_index, config_.replicate_size);
-                }, tbb::simple_partitioner());
-              },
-              [&] {
-                r.los_max_sorted = out_values[0];
-                std::sort(r.los_max_sorted.begin(), r.los_max_sorted.end());
-              });
+          tbb::parallel_for(std::size_t{0}, kNumSeekerOutputs, [&](std::size_t k) {
+            r.outputs[k] = summarize_output(r.values[k], r.ok_index, config_.replicate_size);
+          }, tbb::simple_partitioner());
         });
   });
-  if (n_ok > 0) {
-    r.fraction_samples_ok = sampling::fraction_wilson(n_all_ok, n_ok);
-    r.fraction_field_ok = r.outputs[5].mean;
-  }
   r.wall_seconds = bar.elapsed_seconds();
-  r.values = std::move(out_values);
   return r;
 }
 

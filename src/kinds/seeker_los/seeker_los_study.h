@@ -28,19 +28,11 @@
 #include "sampling/statistics.h"
 #include "model_files/seeker_model.h"
 #include "engine/output_spec.h"
+#include "engine/procedure_study.h"
 #include "engine/study_config.h"
 #include "engine/wide_columns.h"
 
 namespace poise::studies {
-
-struct SeekerSampleResult {
-  std::size_t index = 0;
-  bool ok = true;
-  std::string message;
-  std::vector<double> inputs;  ///< display units, SeekerSampler::columns()
-  std::vector<double> outputs; ///< kOutputNames order
-  std::vector<float> grid_total_arcsec;  ///< total error at each grid point
-};
 
 /// Names and units of the per-sample outputs, in order.
 inline constexpr OutputDeclaration kSeekerOutputs[] = {
@@ -55,61 +47,14 @@ inline constexpr OutputDeclaration kSeekerOutputs[] = {
 };
 inline constexpr std::size_t kNumSeekerOutputs = std::size(kSeekerOutputs);
 
-/// Aggregated results of one Monte Carlo run.
-struct SeekerMcResult {
-  std::size_t n = 0, failures = 0;
-  std::vector<std::pair<std::size_t, std::string>> failed;  ///< (index, reason), first 100
-  std::vector<sampling::Summary> outputs;                    ///< per kSeekerOutputs
-  sampling::Summary pooled;      ///< total error over (sample, grid point), arcsec
-  sampling::Estimate fraction_samples_ok;  ///< samples whose whole field meets the requirement
-  sampling::Estimate fraction_field_ok;    ///< mean field_ok_fraction (t interval)
-  std::vector<double> map_p50, map_p95, map_p99_73;  ///< per grid point, arcsec (with field statistics)
-  nlohmann::json field_file;               ///< the grid values' file (WideColumnsWriter::close), rank 0
-  std::vector<double> los_max_sorted;      ///< for histogram/CDF
-  double wall_seconds = 0.0;
-  std::vector<std::vector<double>> values;  ///< per output, ok samples in order
-  std::vector<std::size_t> ok_index;        ///< sample index of each ok sample
-  std::size_t completed = 0;                ///< samples [0, completed) ran
-  bool interrupted = false;
-  int signal = 0;
-  std::string stop_reason;
-};
-
-/// How SeekerLosStudy::run is driven: over MPI ranks (a run's main loop only), with a
-/// stop rule (convergence.h) checked on rank 0 after each block, and where the per-sample
-/// grid values go.
-struct SeekerRunControl {
-  bool distributed = false;
-  /// The pooled field figures and per-point maps need every grid value: they are written to
-  /// `field_file` (a run's samples.h5; "" = a temporary file, removed after the run) as the
-  /// samples stream in, and read back column by column. false: no grid value is kept (callers
-  /// that use only the per-sample outputs).
-  bool field_statistics = true;
-  std::string field_file;
-  /// The grid values are kept in memory for the field statistics when all planned samples'
-  /// take at most this many bytes: nothing is read back, and without a field_file no file is
-  /// written. Larger runs stream (memory independent of the sample count).
-  std::size_t keep_grid_bytes = kKeepColumnsBytes;
-  std::map<std::string, std::string> field_attributes;             ///< root attributes of the file
-  std::map<std::string, std::uint64_t> field_number_attributes;
-  std::function<std::string(const std::vector<std::vector<double>>& values, const std::vector<std::size_t>& ok_index,
-                            std::size_t failures, std::size_t completed)>
-      stop;
-};
-
-/// A run that keeps only the per-sample outputs: no grid value stored, no pooled figure or map.
-inline SeekerRunControl outputs_only() {
-  SeekerRunControl c;
-  c.field_statistics = false;
-  return c;
-}
-
-/// A study ready to run: model, sampler, design and grid built and validated.
-class SeekerLosStudy {
+/// A study ready to run: model, sampler, design and grid built and validated. The engine runs
+/// it as every kind (engine/procedure_runner.h); its own run() streams each sample's grid
+/// values (SampleResult::field) into samples.h5 and makes the field figures from them.
+class SeekerLosStudy final : public ProcedureStudy {
  public:
   SeekerLosStudy(StudyConfig config, SeekerModel model, std::size_t samples, std::uint64_t seed);
 
-  const StudyConfig& config() const { return config_; }
+  const StudyConfig& config() const override { return config_; }
   const SeekerModel& model() const { return model_; }
   const SeekerSampler& sampler() const { return sampler_; }
   const models::LosGrid& grid() const { return grid_; }
@@ -117,14 +62,25 @@ class SeekerLosStudy {
   std::size_t samples() const { return samples_; }
   std::uint64_t seed() const { return seed_; }
 
+  const std::vector<std::string>& input_names() const override { return input_names_; }
+  const std::vector<OutputSpec>& outputs() const override { return outputs_; }
+  const std::vector<std::string>& output_names() const override { return output_names_; }
+  std::string model_name() const override { return model_.name; }
+  std::string model_source() const override { return model_.source; }
+  std::vector<std::string> design_dimension_names() const override { return input_names_; }
+  std::vector<std::string> design_dimension_tolerances() const override { return sampler_.column_tolerances(); }
+  /// The model's tolerances, each set to zero in turn for contributions.
+  std::vector<std::string> tolerance_keys() const override { return model_.tolerance_keys(); }
+
   struct Workspace {
     std::vector<double> u;
     models::LosGrid::Workspace grid;
     std::vector<models::PointingError> errors;
   };
   Workspace make_workspace() const;
-  /// Computes sample i alone (replay); depends only on (seed, samples, method, i).
-  void compute(std::size_t i, Workspace& ws, SeekerSampleResult& out) const;
+  /// Computes sample i alone (replay); depends only on (seed, samples, method, i). The
+  /// result's field is the total error at each grid point (arcsec).
+  void compute(std::size_t i, Workspace& ws, SampleResult& out) const;
   /// The per-sample outputs (kSeekerOutputs order, into `outputs`) of one error realization
   /// and, unless `grid_total_arcsec` is empty, the total error at each grid point. Throws
   /// poise::Error for a non-finite pointing error.
@@ -135,10 +91,20 @@ class SeekerLosStudy {
   /// Per-grid-point errors of sample i (for replay reports).
   std::vector<models::PointingError> grid_errors(std::size_t i) const;
 
-  /// Runs all samples on `threads` threads; each finished block goes to `sink` in order.
-  SeekerMcResult run(int threads, bool progress,
-                     const std::function<void(std::span<const SeekerSampleResult>)>& sink,
-                     const SeekerRunControl& control = {}) const;
+  /// Runs all samples on `threads` threads; each finished block goes to `sink` in order. A
+  /// resumed run's `done` samples are recomputed (microseconds each; the field figures need
+  /// their grid values), and the sink's writer skips the rows it has.
+  McResult run(int threads, bool progress, const SampleSink& sink, std::span<const SampleResult> done,
+               const RunControl& control = {}) const override;
+  SampleResult replay(std::size_t i) const override;
+
+  /// summary.json "details": the LOS limit, the grid, the tolerances sampled, the pooled field
+  /// figures and the shares of units and of the field meeting the limit.
+  nlohmann::json details(const McResult& mc) const override;
+  /// The report's own sections: units and field within the limit, the field figures in arcsec
+  /// and pixels, the map of p95 over the field, the tolerances sampled.
+  void report_sections(const McResult& mc, const std::string& plots_dir, bool plots, std::vector<std::string>& figures,
+                       std::ostringstream& html) const override;
 
  private:
   StudyConfig config_;
@@ -149,6 +115,8 @@ class SeekerLosStudy {
   sampling::Design design_;
   models::LosGrid grid_;
   double requirement_rad_;
+  std::vector<std::string> input_names_, output_names_;
+  std::vector<OutputSpec> outputs_;
 };
 
 }  // namespace poise::studies
