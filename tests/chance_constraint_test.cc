@@ -143,12 +143,12 @@ TEST(ChanceConstraint, PointValueIsFooledByTheDrawTheConfidenceBoundIsNot) {
   EXPECT_LE(fooled_bound, draws / 10);
 }
 
-studies::StudyEvaluation evaluation(std::size_t samples, std::size_t failures, double scale) {
-  studies::StudyEvaluation e;
+studies::McResult evaluation(std::size_t samples, std::size_t failures, double scale) {
+  studies::McResult e;
   e.names = {"err_mm"};
-  e.samples = samples;
+  e.n = samples;
   e.failures = failures;
-  e.first_failure = "CVODE failed";
+  e.failed = {{samples - 1, "CVODE failed"}};
   const auto z = normals(samples - failures, 9);
   for (std::size_t i = 0; i < z.size(); ++i) {
     e.values.resize(1);

@@ -131,7 +131,7 @@ TEST(GeometryStudies, ClearanceOutputFollowsTheSpans) {
   const auto names = study_output_names(cfg);
   ASSERT_EQ(names.back(), "min_clearance_mm");
   const auto at = [&](const char* yaw, const char* pitch) {
-    const StudyEvaluation e =
+    const McResult e =
         evaluate_study(cfg, {{"yaw.bearing_span", yaw}, {"pitch.bearing_span", pitch}}, 16, 1, 1);
     return e.values[e.index("min_clearance_mm")].front();
   };

@@ -203,7 +203,7 @@ TEST(GimbalStudy, StudyKeysChangeTheTestPlan) {
     }
   }
   // The test time follows the plan: 12 positions of 5 s move, 1 s settle, 0.5 s lead-in, 2 x 4 s.
-  const StudyEvaluation e = evaluate_study(cfg, {{"group.positions", "12"}}, 1, 3, 1);
+  const McResult e = evaluate_study(cfg, {{"group.positions", "12"}}, 1, 3, 1);
   EXPECT_NEAR(e.values[e.index("g_test_time_min")].at(0), 12 * 14.5 / 60.0, 1e-12);
 }
 

@@ -14,9 +14,9 @@ namespace {
 MonteCarloValues run_kind(const studies::StudyKind& kind, const std::string& model_path, const std::string& output,
                           std::size_t samples, std::uint64_t seed) {
   const int threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
-  const studies::StudyEvaluation e = kind.evaluate(kind.model_study(model_path), {}, samples, seed, threads);
+  const studies::McResult e = kind.evaluate(kind.model_study(model_path), {}, samples, seed, threads);
   MonteCarloValues v;
-  v.samples = e.samples;
+  v.samples = e.n;
   v.failures = e.failures;
   v.wall_seconds = e.wall_seconds;
   v.values = e.values.at(e.index(output));

@@ -80,8 +80,8 @@ LoopResult close_the_loop(const std::string& study_path, const est::TorqueTable&
     out.sentence = "No effect found maps to a key of the simulation model: the study is not re-run.";
     return out;
   }
-  const studies::StudyEvaluation without = studies::evaluate_study(cfg, {}, samples, cfg.seed, 0);
-  const studies::StudyEvaluation with = studies::evaluate_study(cfg, overrides, samples, cfg.seed, 0);
+  const studies::McResult without = studies::evaluate_study(cfg, {}, samples, cfg.seed, 0);
+  const studies::McResult with = studies::evaluate_study(cfg, overrides, samples, cfg.seed, 0);
   for (std::size_t i = 0; i < without.names.size(); ++i) {
     if (!is_error_output(without.names[i])) continue;
     LoopOutput o;

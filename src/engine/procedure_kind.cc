@@ -66,21 +66,14 @@ std::unique_ptr<InputEvaluator> ProcedureKind::input_evaluator(const StudyConfig
   return std::make_unique<ProcedureInputEvaluator>(std::move(study));
 }
 
-StudyEvaluation evaluate_procedure(const ProcedureStudy& study, int threads) {
-  const McResult mc = study.run(threads, false, nullptr, {});
-  StudyEvaluation e;
+McResult evaluate_procedure(const ProcedureStudy& study, int threads) {
+  McResult e = study.run(threads, false, nullptr, {});
   e.names = study.output_names();
-  e.values = mc.values;
   e.values.resize(e.names.size());
-  e.ok_index = mc.ok_index;
-  e.samples = mc.n;
-  e.failures = mc.failures;
-  if (!mc.failed.empty()) e.first_failure = mc.failed.front().second;
-  e.wall_seconds = mc.wall_seconds;
   return e;
 }
 
-StudyEvaluation ProcedureKind::evaluate(const StudyConfig& cfg, const std::map<std::string, std::string>& model_overrides,
+McResult ProcedureKind::evaluate(const StudyConfig& cfg, const std::map<std::string, std::string>& model_overrides,
                                         std::size_t samples, std::uint64_t seed, int threads) const {
   return evaluate_procedure(*make_study(cfg, model_overrides, samples, seed), threads);
 }

@@ -28,11 +28,11 @@ class ProcedureKind : public StudyKind {
   std::unique_ptr<InputEvaluator> input_evaluator(const StudyConfig& cfg,
                                                   const std::map<std::string, std::string>& model_overrides,
                                                   std::uint64_t seed) const override;
-  StudyEvaluation evaluate(const StudyConfig& cfg, const std::map<std::string, std::string>& model_overrides,
+  McResult evaluate(const StudyConfig& cfg, const std::map<std::string, std::string>& model_overrides,
                            std::size_t samples, std::uint64_t seed, int threads) const override;
 };
 
 /// The optimizer's view of one in-memory run of a procedure study.
-StudyEvaluation evaluate_procedure(const ProcedureStudy& study, int threads);
+McResult evaluate_procedure(const ProcedureStudy& study, int threads);
 
 }  // namespace poise::studies

@@ -13,6 +13,14 @@
 namespace poise::studies {
 using nlohmann::json;
 
+std::size_t McResult::index(const std::string& output) const {
+  const auto it = std::find(names.begin(), names.end(), output);
+  if (it != names.end()) return static_cast<std::size_t>(it - names.begin());
+  std::string all;
+  for (const auto& name : names) all += (all.empty() ? "" : ", ") + name;
+  throw Error("no output '" + output + "' in this study; its outputs are: " + all);
+}
+
 void collect_samples(McResult& r, std::span<const SampleResult> block) {
   for (const auto& s : block) {
     r.solver_steps += s.solver_steps;

@@ -15,50 +15,12 @@
 
 #include "sampling/progress.h"
 #include "sampling/statistics.h"
+#include "engine/mc_result.h"
 #include "engine/output_spec.h"
 #include "engine/sample_driver.h"
 #include "engine/study_config.h"
 
 namespace poise::studies {
-
-struct SampleResult {
-  std::size_t index = 0;
-  bool ok = true;
-  std::string message;
-  std::vector<double> inputs;   ///< unit-scope draws, display units
-  std::vector<double> outputs;  ///< output_names() order
-  long solver_steps = 0, rhs_evals = 0;
-  /// A study's values at every point of a field (the LOS error at each grid point), for one
-  /// whose samples have one (empty otherwise): samples.h5 keeps them, the field figures
-  /// (McResult::field) are made from them.
-  std::vector<float> field;
-};
-
-/// The figures of a per-sample field over a run's ok samples (a study that has one).
-struct FieldFigures {
-  bool present = false;
-  sampling::Summary pooled;                  ///< over every (ok sample, field point)
-  std::vector<double> p50, p95, p99_73;      ///< per field point, over the ok samples
-  nlohmann::json file;                       ///< samples.h5's field (WideColumnsWriter::close), rank 0
-};
-
-struct McResult {
-  std::size_t n = 0, failures = 0;
-  std::vector<std::pair<std::size_t, std::string>> failed;
-  /// Every failure counted by its reason's head (the message up to its first ": ").
-  std::map<std::string, std::size_t> failure_reasons;
-  std::vector<sampling::Summary> outputs;
-  std::vector<std::vector<double>> values;  ///< per output, ok samples in order
-  std::vector<std::size_t> ok_index;        ///< sample index of each ok sample (values' order)
-  double wall_seconds = 0.0;
-  long solver_steps = 0, rhs_evals = 0;
-  std::size_t completed = 0;                ///< samples [0, completed) ran (n unless stopped)
-  bool interrupted = false;                 ///< stopped by SIGINT / SIGTERM
-  int signal = 0;
-  std::string stop_reason;                  ///< why the run stopped before n ("" = it did not)
-  std::size_t replicate_size = 0;           ///< summaries by replicate (design.h) when > 0
-  FieldFigures field;                       ///< a study with a per-sample field, when asked for
-};
 
 using SampleSink = std::function<void(std::span<const SampleResult>)>;
 

@@ -10,14 +10,6 @@
 
 namespace poise::studies {
 
-std::size_t StudyEvaluation::index(const std::string& output) const {
-  const auto it = std::find(names.begin(), names.end(), output);
-  if (it != names.end()) return static_cast<std::size_t>(it - names.begin());
-  std::string all;
-  for (const auto& n : names) all += (all.empty() ? "" : ", ") + n;
-  throw Error("no output '" + output + "' in this study; its outputs are: " + all);
-}
-
 namespace {
 
 std::map<std::string, std::string> merged(const StudyConfig& cfg, const std::map<std::string, std::string>& extra) {
@@ -28,12 +20,12 @@ std::map<std::string, std::string> merged(const StudyConfig& cfg, const std::map
 
 }  // namespace
 
-StudyEvaluation evaluate_study(const StudyConfig& base, const std::map<std::string, std::string>& overrides,
+McResult evaluate_study(const StudyConfig& base, const std::map<std::string, std::string>& overrides,
                                std::size_t samples, std::uint64_t seed, int threads) {
   StudyConfig cfg = base;
   const StudyKind& kind = study_kind(cfg.kind);
   const auto model_overrides = kind.apply_study_overrides(cfg, merged(base, overrides));
-  StudyEvaluation e = kind.evaluate(cfg, model_overrides, samples, seed, threads);
+  McResult e = kind.evaluate(cfg, model_overrides, samples, seed, threads);
   e.replicate_size = cfg.replicate_size;  // the design's replicates, for intervals that cover
   return e;
 }

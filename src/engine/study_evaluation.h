@@ -8,27 +8,15 @@
 #include <string>
 #include <vector>
 
+#include "engine/mc_result.h"
 #include "engine/study_config.h"
 
 namespace poise::studies {
 
-struct StudyEvaluation {
-  std::vector<std::string> names;            ///< output names of the study
-  std::vector<std::vector<double>> values;   ///< per output, the ok samples in order
-  std::vector<std::size_t> ok_index;         ///< sample index of each ok sample (values' order)
-  std::size_t replicate_size = 0;            ///< [sampling] replicate_size of the run (0: none)
-  std::size_t samples = 0, failures = 0;
-  std::string first_failure;                 ///< reason of the first failed sample
-  double wall_seconds = 0.0;
-
-  /// Index of an output; throws poise::Error listing the names if absent.
-  std::size_t index(const std::string& output) const;
-};
-
 /// Runs `cfg` (its model with cfg.overrides, then `overrides` on top) with `samples` samples
 /// and `seed`. Study keys among the overrides (group.positions, ...: apply_study_overrides)
 /// change the study's test plan instead of its model. Throws ValidationError if an override is not valid for the model.
-StudyEvaluation evaluate_study(const StudyConfig& cfg, const std::map<std::string, std::string>& overrides,
+McResult evaluate_study(const StudyConfig& cfg, const std::map<std::string, std::string>& overrides,
                                std::size_t samples, std::uint64_t seed, int threads);
 
 /// Output names of a study without running it (validates study and model).

@@ -19,7 +19,7 @@ std::map<std::string, std::string> StudyKind::apply_study_overrides(
   return overrides;
 }
 
-StudyEvaluation StudyKind::evaluate(const StudyConfig& cfg, const std::map<std::string, std::string>&, std::size_t,
+McResult StudyKind::evaluate(const StudyConfig& cfg, const std::map<std::string, std::string>&, std::size_t,
                                     std::uint64_t, int) const {
   throw Error(cfg.file + ": a " + name() + " study cannot be the base of an optimization (its kind has no in-memory "
               "evaluation); optimize over a study of a kind that streams its samples (`poise --help` lists the kinds)");

@@ -65,7 +65,7 @@ class StudyKind {
   virtual std::vector<std::string> model_tolerance_keys(const std::string& /*model_path*/) const { return {}; }
   /// One in-memory run with extra model overrides, for the optimizer (common random
   /// numbers: the same seed gives every design point the same draws). Default: refused.
-  virtual StudyEvaluation evaluate(const StudyConfig& cfg, const std::map<std::string, std::string>& model_overrides,
+  virtual McResult evaluate(const StudyConfig& cfg, const std::map<std::string, std::string>& model_overrides,
                                    std::size_t samples, std::uint64_t seed, int threads) const;
   /// Whether a sample draws beyond its design point (per-test draws, sensor noise). Default:
   /// no.

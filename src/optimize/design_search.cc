@@ -17,7 +17,7 @@ void RunProgress::step(double samples, const std::string& line) {
   std::fprintf(stderr, "  %s  (%.0f s, ETA <= %.1f min)\n", line.c_str(), elapsed, eta / 60.0);
 }
 
-double objective_value(const OptimizationSpec& spec, const std::vector<double>& x, const studies::StudyEvaluation& e) {
+double objective_value(const OptimizationSpec& spec, const std::vector<double>& x, const studies::McResult& e) {
   if (!spec.objective_output.empty()) {
     return studies::statistic(e.values[e.index(spec.objective_output)], spec.objective_statistic);
   }
@@ -33,16 +33,16 @@ double objective_value(const OptimizationSpec& spec, const std::vector<double>& 
 
 double constraint_figure(const Requirement& r, double c) { return r.at_least ? *r.at_least - c : c + *r.at_most; }
 
-ScoredDesign score_design(const OptimizationSpec& spec, const std::vector<double>& x, const studies::StudyEvaluation& e) {
+ScoredDesign score_design(const OptimizationSpec& spec, const std::vector<double>& x, const studies::McResult& e) {
   ScoredDesign s;
-  s.failure_share = e.samples > 0 ? static_cast<double>(e.failures) / static_cast<double>(e.samples) : 0.0;
+  s.failure_share = e.n > 0 ? static_cast<double>(e.failures) / static_cast<double>(e.n) : 0.0;
   Evaluation& r = s.primary;
   if (s.failure_share > spec.max_failure_share()) {
     char buf[160];
     std::snprintf(buf, sizeof buf, "%zu of %zu samples failed (%.1f%%, over the study's max_failure_share %.3g): ",
-                  e.failures, e.samples, 100.0 * s.failure_share, spec.max_failure_share());
+                  e.failures, e.n, 100.0 * s.failure_share, spec.max_failure_share());
     r.ok = false;
-    r.message = buf + e.first_failure;
+    r.message = buf + e.first_failure();
     return s;
   }
   r.objective = objective_value(spec, x, e);
@@ -92,7 +92,7 @@ ChoiceResult search_choice(const OptimizationSpec& spec, const std::map<std::str
     if (auto it = cr.designs.find(x); it != cr.designs.end()) return it->second;
     ScoredDesign sc;
     try {
-      const studies::StudyEvaluation e =
+      const studies::McResult e =
           studies::evaluate_study(spec.base, overrides_of(spec, x, choice), spec.samples, setup.seed, threads);
       sc = score_design(spec, x, e);
     } catch (const std::exception& ex) {

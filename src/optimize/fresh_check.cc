@@ -46,14 +46,14 @@ std::string interval_text(const Interval& i, const std::string& unit) {
   return unit.empty() ? s : s + " " + unit;
 }
 
-FreshCheck check_design(const OptimizationSpec& spec, const std::vector<double>& x, const studies::StudyEvaluation& e,
+FreshCheck check_design(const OptimizationSpec& spec, const std::vector<double>& x, const studies::McResult& e,
                         std::uint64_t seed) {
   FreshCheck f;
-  f.samples = e.samples;
+  f.samples = e.n;
   f.failures = e.failures;
   f.seed = seed;
   f.ok_index = e.ok_index;
-  f.failure_share = e.samples > 0 ? static_cast<double>(e.failures) / static_cast<double>(e.samples) : 0.0;
+  f.failure_share = e.n > 0 ? static_cast<double>(e.failures) / static_cast<double>(e.n) : 0.0;
   f.failures_ok = f.failure_share <= spec.max_failure_share();
   f.verdict = f.failures_ok ? Verdict::kPasses : Verdict::kFails;
   f.stated_met = f.failures_ok;

@@ -57,7 +57,7 @@ struct FreshCheck {
 };
 
 /// Checks the design that gave `e` (run with `samples`, `seed`) against spec's constraints.
-FreshCheck check_design(const OptimizationSpec& spec, const std::vector<double>& x, const studies::StudyEvaluation& e,
+FreshCheck check_design(const OptimizationSpec& spec, const std::vector<double>& x, const studies::McResult& e,
                         std::uint64_t seed);
 
 /// {value, lo, hi, method}; an end that does not exist is left out.

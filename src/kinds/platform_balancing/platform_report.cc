@@ -78,7 +78,7 @@ ShaftingLos compute_shafting_los(const StudyConfig& cfg, int threads) {
   }
   const SeekerModel model = load_seeker_model(sc.model_path, sc.overrides);
   // Through the kind interface (no kind includes another): the seeker study's ok samples.
-  const StudyEvaluation e = evaluate_study(sc, {}, platform_sections(cfg).platform.shafting_samples, sc.seed, threads);
+  const McResult e = evaluate_study(sc, {}, platform_sections(cfg).platform.shafting_samples, sc.seed, threads);
   out.los_max_arcsec = e.values[e.index("los_max_arcsec")];
   std::sort(out.los_max_arcsec.begin(), out.los_max_arcsec.end());
   out.pixel_arcsec = model.pixel_ifov * units::kArcsecPerRad;

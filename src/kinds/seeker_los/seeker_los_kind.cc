@@ -103,10 +103,10 @@ class SeekerLosKind final : public ProcedureKind {
     return make_seeker_input_evaluator(cfg, load_seeker_model(cfg.model_path, overrides));
   }
   /// The engine's in-memory run, and the nominal clearance as one more output when asked for.
-  StudyEvaluation evaluate(const StudyConfig& cfg, const std::map<std::string, std::string>& model_overrides,
+  McResult evaluate(const StudyConfig& cfg, const std::map<std::string, std::string>& model_overrides,
                            std::size_t samples, std::uint64_t seed, int threads) const override {
     const SeekerLosStudy study(cfg, load_seeker_model(cfg.model_path, model_overrides), samples, seed);
-    StudyEvaluation e = evaluate_procedure(study, threads);
+    McResult e = evaluate_procedure(study, threads);
     const GeometryStudySpec& g = seeker_sections(cfg).geometry;
     if (g.clearance_output) {  // a design constraint: the same for every sample
       const double c = nominal_min_clearance(study.model(), g.clearance_yaw_points, g.clearance_pitch_points);
