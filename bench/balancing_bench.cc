@@ -59,6 +59,8 @@
 #include "sampling/random_stream.h"
 #include "kinds/balancing_machine/balancing_model.h"
 
+using namespace poise::kinds::balancing_machine;  // the kinds' and model files' own namespaces
+
 #ifndef POISE_SOURCE_DIR
 #error "POISE_SOURCE_DIR must be defined (bench/CMakeLists.txt)"
 #endif
@@ -92,7 +94,7 @@ double max_rel(const Eigen::Vector2cd& got, const Eigen::Vector2cd& exact) {
 
 // Built once on first use, never inside a timed loop.
 struct Setup {
-  poise::studies::BalancingModel model;
+  poise::kinds::balancing_machine::BalancingModel model;
   md::SpringPlateMachineParams machine;
   pr::CorrectionPlanes planes;
   std::vector<md::PlaneMass> rotor;
@@ -102,9 +104,9 @@ struct Setup {
   pr::SensorConfig quiet;        // the model's sensors without noise
 
   Setup()
-      : model(poise::studies::load_balancing_model(
+      : model(poise::kinds::balancing_machine::load_balancing_model(
             (source_dir() / "models" / "balancing_machine_wang2014.toml").string())) {
-    machine = poise::studies::machine_params(model, poise::studies::nominal_as_built(model), model.rotor);
+    machine = poise::kinds::balancing_machine::machine_params(model, poise::kinds::balancing_machine::nominal_as_built(model), model.rotor);
     const double z1 = model.rotor.surface_height(kPlane1), z2 = model.rotor.surface_height(kPlane2);
     planes = {z1, z2};
     rotor = {{20e-3, 0.050, 30.0 * kRadPerDeg, z1}, {15e-3, 0.050, -100.0 * kRadPerDeg, z2}};

@@ -46,6 +46,8 @@
 #include "solvers/cvode_integrator.h"
 #include "model_files/gimbal_model.h"
 
+using namespace poise::model_files;  // the kinds' and model files' own namespaces
+
 namespace {
 
 namespace pr = poise::procedures;
@@ -97,7 +99,7 @@ int replica_rhs(double t, const double* y, double* ydot, void* user) {
   return 0;
 }
 
-pr::TestPlan make_plan(const poise::studies::GimbalModel& m, int positions, double rate_hz) {
+pr::TestPlan make_plan(const poise::model_files::GimbalModel& m, int positions, double rate_hz) {
   pr::TestPlan plan = m.plan;  // the model's servo, oscillation, acquisition and solver
   plan.positions.clear();
   for (int p = 0; p < positions; ++p) plan.positions.push_back(2.0 * kPi * p / positions);
@@ -146,14 +148,14 @@ double rhs_cost_ns(const pr::TestPlan& plan, const pr::GimbalTruth& truth, long*
 
 // Built once on first use, never inside a timed loop.
 struct Setup {
-  poise::studies::GimbalModel model;
+  poise::model_files::GimbalModel model;
   pr::GimbalTruth truth;
   double load_torque = 0, rhs_ns = 0, torque_rel = 0, phase_deg = 0;
   double tight_amplitude = 0;  ///< MT_s of the model's acquisition at rtol 1e-9 (dynamic)
   long replica_calls = 0;
 
   Setup()
-      : model(poise::studies::load_gimbal_model(
+      : model(poise::model_files::load_gimbal_model(
             (source_dir() / "models" / "gimbal_simulator_yang2015.toml").string())) {
     truth.disk = model.rotor;  // the clump on the rotor, as studies/gimbal_study.cc adds it
     truth.disk.mass = model.rotor.mass + kClump;

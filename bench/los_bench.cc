@@ -29,11 +29,14 @@
 
 #include "models/seeker_los_chain.h"
 #include "sampling/design.h"
-#include "engine/sample_driver.h"
+#include "engine/run/sample_driver.h"
 #include "kinds/registry.h"
 #include "kinds/seeker_los/seeker_los_study.h"
 #include "model_files/seeker_model.h"
-#include "engine/study_config.h"
+#include "engine/study_files/study_config.h"
+
+using namespace poise::kinds::seeker_los;  // the kinds' and model files' own namespaces
+using namespace poise::model_files;  // the kinds' and model files' own namespaces
 
 namespace {
 
@@ -41,8 +44,8 @@ namespace fs = std::filesystem;
 using poise::models::LosGrid;
 using poise::models::PointingError;
 using poise::models::SeekerErrorState;
-using poise::studies::SeekerLosStudy;
-using SeekerSampleResult = poise::studies::SampleResult;
+using poise::kinds::seeker_los::SeekerLosStudy;
+using SeekerSampleResult = poise::engine::SampleResult;
 
 constexpr std::size_t kRunSamples = 8192;  // samples per BM_StudyRun iteration
 
@@ -65,12 +68,12 @@ struct Setup {
   std::vector<SeekerErrorState> states;
 
   static SeekerLosStudy make_study() {
-    poise::studies::register_study_kinds();  // as the CLI does: load_study checks the kind by name
+    poise::kinds::register_study_kinds();  // as the CLI does: load_study checks the kind by name
     const fs::path study_file = source_dir() / "studies" / "los_seeker_wang2011.toml";
-    poise::studies::StudyConfig cfg = poise::studies::load_study(study_file.string());
+    poise::engine::StudyConfig cfg = poise::engine::load_study(study_file.string());
     // As the study runner does: the study's own [overrides] apply to the model.
-    poise::studies::SeekerModel model =
-        poise::studies::load_seeker_model(cfg.model_path, cfg.overrides);
+    poise::model_files::SeekerModel model =
+        poise::model_files::load_seeker_model(cfg.model_path, cfg.overrides);
     const std::uint64_t seed = cfg.seed;
     return SeekerLosStudy(std::move(cfg), std::move(model), kRunSamples, seed);
   }
@@ -172,9 +175,9 @@ void BM_StudyRun(benchmark::State& state) {
   const int threads = static_cast<int>(state.range(0));
   std::size_t failures = 0;
   for (auto _ : state) {
-    poise::studies::RunControl control;
+    poise::engine::RunControl control;
     control.field_figures = true;  // as a run does: the grid values kept, the field figures made
-    poise::studies::McResult r = study.run(threads, false, {}, {}, control);
+    poise::engine::McResult r = study.run(threads, false, {}, {}, control);
     failures += r.failures;
     benchmark::DoNotOptimize(r.outputs.data());
   }
@@ -191,18 +194,18 @@ BENCHMARK(BM_StudyRun)->ArgName("threads")->Arg(1)->Arg(2)
 // (aggregation, pooled summary and per-grid-point quantile maps) that run() adds.
 void BM_StudyComputeOnly(benchmark::State& state) {
   const SeekerLosStudy& study = setup().study;
-  const poise::studies::DriveSpec spec{0, study.samples(), study.config().block, 16, static_cast<int>(state.range(0)),
+  const poise::engine::DriveSpec spec{0, study.samples(), study.config().block, 16, static_cast<int>(state.range(0)),
                                        false};
   for (auto _ : state) {
-    poise::studies::drive_samples<SeekerSampleResult>(
+    poise::engine::drive_samples<SeekerSampleResult>(
         spec, [&] { return study.make_workspace(); },
         [&](std::size_t i, SeekerLosStudy::Workspace& ws, SeekerSampleResult& r) {
           study.compute(i, ws, r);
           benchmark::DoNotOptimize(r.outputs.data());
         },
         [](std::size_t, std::span<const SeekerSampleResult>) {}, [](std::size_t) { return std::string(); },
-        [](const SeekerSampleResult&, poise::studies::ByteWriter&) {},
-        [](poise::studies::ByteReader&, SeekerSampleResult&) {});
+        [](const SeekerSampleResult&, poise::engine::ByteWriter&) {},
+        [](poise::engine::ByteReader&, SeekerSampleResult&) {});
   }
   rate(state, "samples_per_s", study.samples());
 }

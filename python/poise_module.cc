@@ -25,11 +25,11 @@
 #include "cli/mass_properties_command.h"
 #include "core/error.h"
 #include "core/version.h"
-#include "engine/input_evaluation.h"
-#include "engine/study_config.h"
-#include "engine/study_kind.h"
-#include "engine/study_runner.h"
-#include "engine/toml_reader.h"
+#include "engine/kind_interface/input_evaluation.h"
+#include "engine/study_files/study_config.h"
+#include "engine/kind_interface/study_kind.h"
+#include "engine/run/study_runner.h"
+#include "engine/study_files/toml_reader.h"
 #include "geometry/mesh_check.h"
 #include "kinds/registry.h"
 #include "python_results.h"
@@ -52,7 +52,7 @@ template <class F>
 auto guarded(F&& f) -> decltype(f()) {
   try {
     return f();
-  } catch (const studies::ValidationError& e) {
+  } catch (const engine::ValidationError& e) {
     NativeError n{"input", e.what(), "", ""};
     if (!e.errors().empty()) {
       n.file = e.errors().front().where().file;
@@ -66,7 +66,7 @@ auto guarded(F&& f) -> decltype(f()) {
     throw NativeError{"input", e.what(), "", "", 0};
   } catch (const geometry::MeshCheckError& e) {
     throw NativeError{"input", e.what(), "", "", 0};
-  } catch (const studies::Interrupted& e) {
+  } catch (const engine::Interrupted& e) {
     throw NativeError{"interrupt", e.what(), "", "", 0};
   } catch (const std::exception& e) {
     throw NativeError{"error", e.what(), "", "", 0};
@@ -94,7 +94,7 @@ std::string temporary_run_folder() {
 py::dict run(const std::string& study, std::optional<std::size_t> samples, std::optional<std::uint64_t> seed,
              int threads, const std::map<std::string, std::string>& overrides, bool plots, std::optional<std::string> out,
              bool progress, std::size_t sensitivity_base) {
-  studies::RunOptions opt;
+  engine::RunOptions opt;
   opt.sensitivity_base = sensitivity_base;
   opt.samples = samples;
   opt.seed = seed;
@@ -106,7 +106,7 @@ py::dict run(const std::string& study, std::optional<std::size_t> samples, std::
   opt.out = keep ? *out : temporary_run_folder();
   std::string dir, summary;
   SampleTable table;
-  std::vector<studies::OutputSpec> outputs;
+  std::vector<engine::OutputSpec> outputs;
   // out=None: the temporary folder goes however the run ends.
   struct RemoveFolder {
     std::string path;
@@ -118,10 +118,10 @@ py::dict run(const std::string& study, std::optional<std::size_t> samples, std::
   try {
     guarded([&] {
       py::gil_scoped_release release;
-      dir = studies::run_study(study, opt);
-      studies::StudyConfig cfg = studies::load_study(study);
-      outputs = studies::study_kind(cfg.kind).outputs(cfg);
-      table = read_samples_csv((std::filesystem::path(dir) / "samples.csv").string(), studies::output_names_of(outputs));
+      dir = engine::run_study(study, opt);
+      engine::StudyConfig cfg = engine::load_study(study);
+      outputs = engine::study_kind(cfg.kind).outputs(cfg);
+      table = read_samples_csv((std::filesystem::path(dir) / "samples.csv").string(), engine::output_names_of(outputs));
       std::ifstream in(std::filesystem::path(dir) / "summary.json");
       summary.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
       return 0;
@@ -161,13 +161,13 @@ class Study {
  public:
   Study(const std::string& path, const std::map<std::string, std::string>& overrides, std::optional<std::uint64_t> seed) {
     guarded([&] {
-      cfg_ = studies::load_study(path);
+      cfg_ = engine::load_study(path);
       if (!overrides.empty()) {
         auto all = cfg_.overrides;
         for (const auto& [k, v] : overrides) all[k] = v;
-        cfg_.overrides = studies::apply_study_overrides(cfg_, all);
+        cfg_.overrides = engine::apply_study_overrides(cfg_, all);
       }
-      const studies::StudyKind& kind = studies::study_kind(cfg_.kind);
+      const engine::StudyKind& kind = engine::study_kind(cfg_.kind);
       kind.validate(cfg_);
       outputs_ = kind.outputs(cfg_);
       try {
@@ -180,7 +180,7 @@ class Study {
   }
   std::string kind() const { return cfg_.kind; }
   std::string file() const { return cfg_.file; }
-  std::vector<std::string> output_names() const { return studies::output_names_of(outputs_); }
+  std::vector<std::string> output_names() const { return engine::output_names_of(outputs_); }
   std::map<std::string, std::string> output_units() const {
     std::map<std::string, std::string> u;
     for (const auto& o : outputs_) u[o.name] = o.unit.empty() ? "1" : o.unit;
@@ -202,21 +202,21 @@ class Study {
   std::vector<double> nominal() const { return need().nominal_inputs(); }
   bool has_own_randomness() const {
     if (evaluator_) return evaluator_->has_own_randomness();
-    return guarded([&] { return studies::study_kind(cfg_.kind).has_own_randomness(cfg_); });
+    return guarded([&] { return engine::study_kind(cfg_.kind).has_own_randomness(cfg_); });
   }
-  std::vector<std::string> evaluator_outputs() const { return studies::output_names_of(need().outputs()); }
+  std::vector<std::string> evaluator_outputs() const { return engine::output_names_of(need().outputs()); }
 
   // One array per input (input_names() order; each of the points' length, or of length 1 for
   // one value at every point), read in place -> (points x outputs, failure count, the first
   // failures as (point, reason)).
   using Column = py::array_t<double, py::array::c_style | py::array::forcecast>;
   py::tuple evaluate(const std::vector<Column>& columns, std::size_t points, int threads) const {
-    const studies::InputEvaluator& ev = need();
+    const engine::InputEvaluator& ev = need();
     if (columns.size() != ev.input_names().size()) {
       throw NativeError{"input", "evaluate: expected " + std::to_string(ev.input_names().size()) + " input columns, got " +
                                      std::to_string(columns.size()), "", "", 0};
     }
-    studies::InputColumns in;
+    engine::InputColumns in;
     for (std::size_t j = 0; j < columns.size(); ++j) {
       const auto size = static_cast<std::size_t>(columns[j].size());
       if (size != points && size != 1) {
@@ -230,36 +230,36 @@ class Study {
   }
   // A points x inputs matrix (C order).
   py::tuple evaluate_matrix(const Column& x, int threads) const {
-    const studies::InputEvaluator& ev = need();
+    const engine::InputEvaluator& ev = need();
     if (x.ndim() != 2 || static_cast<std::size_t>(x.shape(1)) != ev.input_names().size()) {
       throw NativeError{"input", "evaluate: expected a 2-D array with " + std::to_string(ev.input_names().size()) +
                                      " columns, one per input", "", "", 0};
     }
-    return run_evaluation(ev, studies::InputColumns::row_major(x.data(), ev.input_names().size()),
+    return run_evaluation(ev, engine::InputColumns::row_major(x.data(), ev.input_names().size()),
                           static_cast<std::size_t>(x.shape(0)), threads);
   }
 
  private:
-  static py::tuple run_evaluation(const studies::InputEvaluator& ev, const studies::InputColumns& in, std::size_t n,
+  static py::tuple run_evaluation(const engine::InputEvaluator& ev, const engine::InputColumns& in, std::size_t n,
                                   int threads) {
     const std::size_t m = ev.outputs().size();
     py::array_t<double> y({static_cast<py::ssize_t>(n), static_cast<py::ssize_t>(m)});
     double* out = y.mutable_data();
-    studies::InputEvaluationFailures f;
+    engine::InputEvaluationFailures f;
     guarded([&] {
       py::gil_scoped_release release;
-      f = studies::evaluate_inputs(ev, in, n, std::span<double>(out, n * m), threads);
+      f = engine::evaluate_inputs(ev, in, n, std::span<double>(out, n * m), threads);
       return 0;
     });
     return py::make_tuple(y, f.count, f.first);
   }
-  const studies::InputEvaluator& need() const {
+  const engine::InputEvaluator& need() const {
     if (!evaluator_) throw NativeError{"error", why_not_, cfg_.file, "", 0};
     return *evaluator_;
   }
-  studies::StudyConfig cfg_;
-  std::vector<studies::OutputSpec> outputs_;
-  std::unique_ptr<studies::InputEvaluator> evaluator_;
+  engine::StudyConfig cfg_;
+  std::vector<engine::OutputSpec> outputs_;
+  std::unique_ptr<engine::InputEvaluator> evaluator_;
   std::string why_not_;
 };
 
@@ -295,7 +295,7 @@ std::string diagnose(const std::string& data, double alpha, int max_harmonic, co
     r.study_samples = study_samples;
     try {
       return cli::diagnose_json(r).dump();
-    } catch (const studies::ValidationError&) {
+    } catch (const engine::ValidationError&) {
       throw;
     } catch (const Error& e) {  // the command line refuses each of these as invalid input (exit 2)
       throw UsageError(e.what());
@@ -309,7 +309,7 @@ std::string diagnose(const std::string& data, double alpha, int max_harmonic, co
 PYBIND11_MODULE(_poise, m) {
   using namespace poise::python;
   m.doc() = "C++ side of the poise package (import poise, not this module)";
-  poise::studies::register_study_kinds();
+  poise::kinds::register_study_kinds();
   static py::exception<NativeError> native(m, "NativeError");
   py::register_exception_translator([](std::exception_ptr p) {
     try {

@@ -6,7 +6,7 @@
 #include <fstream>
 
 #include "core/error.h"
-#include "engine/output_spec.h"
+#include "engine/kind_interface/output_spec.h"
 
 namespace poise::python {
 namespace {
@@ -76,7 +76,7 @@ std::string input_unit(const std::string& column) {
   if (us == std::string::npos) return "1";
   const std::string tail = column.substr(us + 1);
   try {
-    studies::unit_quantity(tail);
+    engine::unit_quantity(tail);
     return tail;
   } catch (const Error&) {
     return "1";

@@ -11,10 +11,12 @@
 #include "kinds/balancing_machine/balancing_iso_tests.h"
 #include "kinds/balancing_machine/balancing_model.h"
 #include "kinds/balancing_machine/balancing_study.h"
-#include "engine/study_config.h"
+#include "engine/study_files/study_config.h"
 #include "test_util.h"
 
-namespace poise::studies {
+using namespace poise::kinds::balancing_machine;  // the kinds' and model files' own namespaces
+
+namespace poise::engine {
 namespace {
 
 using cd = std::complex<double>;
@@ -125,4 +127,4 @@ requirement = 0.9
 }
 
 }  // namespace
-}  // namespace poise::studies
+}  // namespace poise::engine

@@ -27,13 +27,15 @@
 #include "procedures/balancing_measurement.h"
 #include "kinds/balancing_machine/balancing_model.h"
 #include "kinds/balancing_machine/balancing_study.h"
-#include "engine/study_config.h"
-#include "engine/result_io.h"
-#include "engine/study_runner.h"
-#include "engine/toml_reader.h"
+#include "engine/study_files/study_config.h"
+#include "engine/results/result_io.h"
+#include "engine/run/study_runner.h"
+#include "engine/study_files/toml_reader.h"
 #include "test_util.h"
 
-namespace poise::studies {
+using namespace poise::kinds::balancing_machine;  // the kinds' and model files' own namespaces
+
+namespace poise::engine {
 namespace {
 
 using cd = std::complex<double>;
@@ -719,7 +721,7 @@ TEST(BalancingStudy, CommandLineRunAndReplay) {
     const json* v = j["outputs"].contains(names[k]) ? &j["outputs"][names[k]]
                     : j["inputs"].contains(names[k]) ? &j["inputs"][names[k]] : nullptr;
     if (v == nullptr) continue;
-    const std::string buf = poise::studies::csv_number(v->get<double>());
+    const std::string buf = poise::engine::csv_number(v->get<double>());
     EXPECT_EQ(cells[k], buf) << names[k];
     ++compared;
   }
@@ -769,4 +771,4 @@ claim = "6 kg*mm"
 }
 
 }  // namespace
-}  // namespace poise::studies
+}  // namespace poise::engine

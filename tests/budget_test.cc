@@ -17,6 +17,8 @@
 #include "models/seeker_los_budget.h"
 #include "model_files/seeker_model.h"
 
+using namespace poise::model_files;  // the kinds' and model files' own namespaces
+
 namespace {
 
 using namespace poise::budget;
@@ -256,7 +258,7 @@ class WangBudget : public ::testing::Test {
   static void SetUpTestSuite() {
     spec_ = new BudgetSpec(load_budget(poise::test::source_path("studies/wang2011_budget.toml")));
     result_ = new BudgetResult(check_budget(*spec_));
-    const auto model = poise::studies::load_seeker_model(poise::test::source_path("models/seeker_two_axis_wang2011.toml"));
+    const auto model = poise::model_files::load_seeker_model(poise::test::source_path("models/seeker_two_axis_wang2011.toml"));
     builtin_ = new poise::models::WangBudget(poise::models::compute_wang_budget(model.budget_inputs()));
   }
   static double term(const std::string& key) { return builtin_->term(key).value; }

@@ -9,7 +9,7 @@
 
 #include "core/error.h"
 #include "optimize/choice_decision.h"
-#include "engine/confidence_bound.h"
+#include "engine/results/confidence_bound.h"
 #include "optimize/design_search.h"
 #include "optimize/fresh_check.h"
 #include "optimize/optimizer.h"
@@ -43,8 +43,8 @@ TEST(ConfidenceBound, OrderStatisticBoundIsTheBinomialRank) {
   EXPECT_DOUBLE_EQ(*up, static_cast<double>(x + 1));  // X_(x+1) = x + 1 for values 1..n
   const auto lo = one_sided_bound({v, {}}, "p90", parse_bound("lower95"));
   ASSERT_TRUE(lo.has_value());
-  EXPECT_LT(*lo, studies::statistic(v, "p90"));
-  EXPECT_GT(*up, studies::statistic(v, "p90"));
+  EXPECT_LT(*lo, engine::statistic(v, "p90"));
+  EXPECT_GT(*up, engine::statistic(v, "p90"));
   // Too few samples for an upper bound of p99.73.
   EXPECT_FALSE(one_sided_bound({std::vector<double>(v.begin(), v.begin() + 50), {}}, "p99.73", parse_bound("upper95")));
 }
@@ -57,7 +57,7 @@ TEST(ConfidenceBound, UpperBoundOfAQuantileCoversAtItsConfidence) {
   for (int t = 0; t < trials; ++t) {
     const auto v = normals(100, 1000 + t);
     covered += *one_sided_bound({v, {}}, "p95", parse_bound("upper95")) >= q95 ? 1 : 0;
-    point_above += studies::statistic(v, "p95") >= q95 ? 1 : 0;
+    point_above += engine::statistic(v, "p95") >= q95 ? 1 : 0;
   }
   EXPECT_GE(covered, 0.93 * trials);  // binomial noise of 400 trials around >= 0.95
   EXPECT_LT(point_above, 0.65 * trials);  // the point value alone: about half
@@ -132,7 +132,7 @@ TEST(ChanceConstraint, PointValueIsFooledByTheDrawTheConfidenceBoundIsNot) {
     };
     const double xp = solve(BoundSpec{}), xb = solve(parse_bound("upper95"));
     // The point-value optimum is 1 / p95 of the draw (exact up to the search's tolerance).
-    EXPECT_NEAR(xp, 1.0 / studies::statistic(z, "p95"), 1e-3);
+    EXPECT_NEAR(xp, 1.0 / engine::statistic(z, "p95"), 1e-3);
     EXPECT_LT(xb, xp);
     fooled_point += xp > x_star ? 1 : 0;
     fooled_bound += xb > x_star ? 1 : 0;
@@ -143,8 +143,8 @@ TEST(ChanceConstraint, PointValueIsFooledByTheDrawTheConfidenceBoundIsNot) {
   EXPECT_LE(fooled_bound, draws / 10);
 }
 
-studies::McResult evaluation(std::size_t samples, std::size_t failures, double scale) {
-  studies::McResult e;
+engine::McResult evaluation(std::size_t samples, std::size_t failures, double scale) {
+  engine::McResult e;
   e.names = {"err_mm"};
   e.n = samples;
   e.failures = failures;
@@ -196,7 +196,7 @@ TEST(FailureShare, AnEvaluationOverTheShareFailsWithItsReason) {
 TEST(FreshCheck, PassesStraddlesOrFails) {
   // |z| of 4000 normals: p95 = 1.96 with a 95% interval of about +-0.08.
   const auto e = evaluation(4000, 0, 1.0);
-  const double p95 = studies::statistic(e.values[0], "p95");
+  const double p95 = engine::statistic(e.values[0], "p95");
   EXPECT_EQ(check_design(spec_with(p95 + 0.3), {0.5}, e, 1).verdict, Verdict::kPasses);
   EXPECT_EQ(check_design(spec_with(p95 + 0.01), {0.5}, e, 1).verdict, Verdict::kStraddles);
   EXPECT_EQ(check_design(spec_with(p95 - 0.01), {0.5}, e, 1).verdict, Verdict::kFails);
@@ -218,7 +218,7 @@ TEST(Equivalence, VerdictOnAKnownDifference) {
     a1.push_back(1.01 * b.back());
     units.push_back(i);
   }
-  const double pb = studies::statistic(b, "p95");
+  const double pb = engine::statistic(b, "p95");
   const Difference d10 = difference(a10, units, b, units, "p95", 1);
   EXPECT_TRUE(d10.paired);
   EXPECT_NEAR(d10.value, 0.10 * pb, 1e-12);

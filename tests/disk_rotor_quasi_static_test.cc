@@ -12,11 +12,13 @@
 
 #include "core/error.h"
 #include "core/units.h"
-#include "engine/toml_reader.h"
+#include "engine/study_files/toml_reader.h"
 #include "model_files/gimbal_model.h"
 #include "models/disk_rotor.h"
 #include "procedures/static_unbalance_procedure.h"
 #include "test_util.h"
+
+using namespace poise::model_files;  // the kinds' and model files' own namespaces
 
 namespace poise::procedures {
 namespace {
@@ -24,14 +26,14 @@ namespace {
 using units::kRadPerDeg;
 constexpr double kClump = 25.81e-3, kRadius = 0.051;
 
-const studies::GimbalModel& yang_model() {
-  static const studies::GimbalModel m =
-      studies::load_gimbal_model(test::source_path("models/gimbal_simulator_yang2015.toml"));
+const model_files::GimbalModel& yang_model() {
+  static const model_files::GimbalModel m =
+      model_files::load_gimbal_model(test::source_path("models/gimbal_simulator_yang2015.toml"));
   return m;
 }
 
 // The rig with the paper's 12.91 mN*m load at 45.5 deg (as bench/gimbal_bench.cc).
-GimbalTruth loaded_truth(const studies::GimbalModel& m) {
+GimbalTruth loaded_truth(const model_files::GimbalModel& m) {
   GimbalTruth t;
   t.disk = m.rotor;
   t.disk.mass = m.rotor.mass + kClump;
@@ -42,7 +44,7 @@ GimbalTruth loaded_truth(const studies::GimbalModel& m) {
   return t;
 }
 
-TestPlan plan_of(const studies::GimbalModel& m, std::size_t n, Supports supports, double tighten = 1.0) {
+TestPlan plan_of(const model_files::GimbalModel& m, std::size_t n, Supports supports, double tighten = 1.0) {
   TestPlan p = m.plan;
   set_positions(p, n, Placement::kSequential);
   p.supports = supports;
@@ -76,7 +78,7 @@ TEST(QuasiStaticSupports, RigidAxisEquationIsTheFullOneWithoutSupportAcceleratio
 }
 
 TEST(QuasiStaticSupports, TorqueEstimateMatchesTheFullModelAtTightTolerance) {
-  const studies::GimbalModel& m = yang_model();
+  const model_files::GimbalModel& m = yang_model();
   const GimbalTruth truth = loaded_truth(m);
   const double load = kClump * kRadius * m.plan.gravity;
   const MeasurementResult full = measure(plan_of(m, 36, Supports::kDynamic, 1e4), truth, 3);
@@ -96,7 +98,7 @@ TEST(QuasiStaticSupports, TorqueEstimateMatchesTheFullModelAtTightTolerance) {
 }
 
 TEST(WindowNoiseInDistribution, SameLawAsTheSampledInstrumentAndReplayable) {
-  const studies::GimbalModel& m = yang_model();
+  const model_files::GimbalModel& m = yang_model();
   const GimbalTruth truth = loaded_truth(m);
   TestPlan plan = plan_of(m, 4, Supports::kQuasiStatic);
   plan.acquisition.offset_drift = plan.acquisition.offset_noise = 0.0;  // the white noise alone
@@ -124,7 +126,7 @@ TEST(WindowNoiseInDistribution, SameLawAsTheSampledInstrumentAndReplayable) {
 }
 
 TEST(WindowNoiseInDistribution, SaturationFlaggedOnBothPaths) {
-  const studies::GimbalModel& m = yang_model();
+  const model_files::GimbalModel& m = yang_model();
   const GimbalTruth truth = loaded_truth(m);
   for (Supports s : {Supports::kDynamic, Supports::kQuasiStatic}) {
     TestPlan plan = plan_of(m, 4, s);
@@ -140,20 +142,20 @@ TEST(WindowNoiseInDistribution, SaturationFlaggedOnBothPaths) {
 
 TEST(SupportsKey, ReadValidatedAndDocumented) {
   const std::string path = test::source_path("models/gimbal_simulator_yang2015.toml");
-  EXPECT_EQ(studies::load_gimbal_model(path).plan.supports, Supports::kDynamic);  // default
-  EXPECT_EQ(studies::load_gimbal_model(path, {{"rotor.supports", "quasi_static"}}).plan.supports,
+  EXPECT_EQ(model_files::load_gimbal_model(path).plan.supports, Supports::kDynamic);  // default
+  EXPECT_EQ(model_files::load_gimbal_model(path, {{"rotor.supports", "quasi_static"}}).plan.supports,
             Supports::kQuasiStatic);
   try {
-    studies::load_gimbal_model(path, {{"rotor.supports", "rigid"}});
+    model_files::load_gimbal_model(path, {{"rotor.supports", "rigid"}});
     FAIL() << "no error";
-  } catch (const studies::ValidationError& e) {
+  } catch (const engine::ValidationError& e) {
     EXPECT_NE(std::string(e.what()).find("key 'rotor.supports' = \"rigid\": expected one of \"dynamic\", \"quasi_static\""),
               std::string::npos) << e.what();
   }
   try {  // 1e5 N/m on 1.5 kg: a 41 Hz support mode against the 20 Hz servo
-    studies::load_gimbal_model(path, {{"rotor.supports", "quasi_static"}, {"rotor.support_stiffness", "1e5 N/m"}});
+    model_files::load_gimbal_model(path, {{"rotor.supports", "quasi_static"}, {"rotor.support_stiffness", "1e5 N/m"}});
     FAIL() << "no error";
-  } catch (const studies::ValidationError& e) {
+  } catch (const engine::ValidationError& e) {
     EXPECT_NE(std::string(e.what()).find("key 'rotor.supports' = \"quasi_static\": expected \"dynamic\", or supports "
                                          "whose mode sqrt(support_stiffness / mass) / 2 pi = 41.09 Hz is at least 10 x "
                                          "the servo bandwidth (20 Hz)"),

@@ -13,7 +13,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "engine/convergence.h"
+#include "engine/run/convergence.h"
 #include "sampling/interrupt.h"
 #include "test_util.h"
 
@@ -185,8 +185,8 @@ TEST(ExitStatus, ASignalWhileTheResultsAreWrittenIsHonoured) {
       poise::sampling::InterruptGuard guard;
       std::raise(SIGINT);
       try {
-        poise::studies::finish_run_status("complete", "", 0, 10, 10, 0, "/tmp/run", "study.toml");
-      } catch (const poise::studies::Interrupted& e) {
+        poise::engine::finish_run_status("complete", "", 0, 10, 10, 0, "/tmp/run", "study.toml");
+      } catch (const poise::engine::Interrupted& e) {
         code = std::string(e.what()).find("the run is complete") != std::string::npos ? 128 + e.signal : 1;
       }
     }

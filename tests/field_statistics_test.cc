@@ -1,4 +1,4 @@
-// Field statistics read column by column (engine/field_statistics.h) against the whole field
+// Field statistics read column by column (engine/results/field_statistics.h) against the whole field
 // in memory: sampling::summarize of every value and sampling::quantile_value of each column.
 #include <gtest/gtest.h>
 
@@ -7,13 +7,13 @@
 #include <utility>
 #include <vector>
 
-#include "engine/field_statistics.h"
+#include "engine/results/field_statistics.h"
 #include "sampling/statistics.h"
 
 namespace poise {
 namespace {
 
-using studies::field_statistics;
+using engine::field_statistics;
 
 // A field [rows][columns] with NaN holes (failed samples), ties and negative values.
 std::vector<std::vector<float>> make_field(std::size_t rows, std::size_t columns, unsigned seed) {
@@ -56,8 +56,8 @@ TEST(FieldStatistics, EqualTheStatisticsOfTheWholeFieldInMemory) {
   const sampling::Summary want = sampling::summarize(all);
   // Columns read into the scratch (from a file) for 1 and 3 threads, viewed in place (kept in
   // memory) for 2; the pooled order statistics from collected values, or from counts (limit 0).
-  for (const auto& [threads, collect_limit] : {std::pair<int, std::size_t>{1, studies::kFieldCollectLimit},
-                                               {2, studies::kFieldCollectLimit}, {3, 0}, {2, 0}}) {
+  for (const auto& [threads, collect_limit] : {std::pair<int, std::size_t>{1, engine::kFieldCollectLimit},
+                                               {2, engine::kFieldCollectLimit}, {3, 0}, {2, 0}}) {
     const auto got = field_statistics(
         columns,
         [&](std::size_t p, std::vector<float>& out) -> std::span<const float> {
@@ -105,7 +105,7 @@ TEST(FieldStatistics, AFieldOfFewDistinctValuesByCountsAsByCollection) {
         field.size(), [&](std::size_t p, std::vector<float>&) -> std::span<const float> { return field[p]; },
         quantiles, 2, limit);
   };
-  const auto collected = run(studies::kFieldCollectLimit), counted = run(0), capped = run(100);
+  const auto collected = run(engine::kFieldCollectLimit), counted = run(0), capped = run(100);
   std::vector<double> all;
   for (const auto& c : field) all.insert(all.end(), c.begin(), c.end());
   const sampling::Summary want = sampling::summarize(all);

@@ -6,13 +6,15 @@
 #include <nlohmann/json.hpp>
 
 #include "model_files/disk_geometry_model.h"
-#include "engine/study_config.h"
-#include "engine/result_io.h"
-#include "engine/study_evaluation.h"
-#include "engine/study_runner.h"
+#include "engine/study_files/study_config.h"
+#include "engine/results/result_io.h"
+#include "engine/kind_interface/study_evaluation.h"
+#include "engine/run/study_runner.h"
 #include "test_util.h"
 
-namespace poise::studies {
+using namespace poise::model_files;  // the kinds' and model files' own namespaces
+
+namespace poise::engine {
 namespace {
 
 using nlohmann::json;
@@ -141,4 +143,4 @@ TEST(GeometryStudies, ClearanceOutputFollowsTheSpans) {
 }
 
 }  // namespace
-}  // namespace poise::studies
+}  // namespace poise::engine

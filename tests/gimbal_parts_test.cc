@@ -14,11 +14,14 @@
 #include "geometry/mesh_io.h"
 #include "model_files/gimbal_model.h"
 #include "kinds/gimbal_static_unbalance/gimbal_study.h"
-#include "engine/study_config.h"
-#include "engine/toml_reader.h"
+#include "engine/study_files/study_config.h"
+#include "engine/study_files/toml_reader.h"
 #include "test_util.h"
 
-namespace poise::studies {
+using namespace poise::kinds::gimbal_static_unbalance;  // the kinds' and model files' own namespaces
+using namespace poise::model_files;  // the kinds' and model files' own namespaces
+
+namespace poise::engine {
 namespace {
 
 using test::TempDir;
@@ -215,4 +218,4 @@ TEST(GimbalParts, RefusalsNameTheFileLineAndKey) {
 }
 
 }  // namespace
-}  // namespace poise::studies
+}  // namespace poise::engine

@@ -12,12 +12,15 @@
 #include "model_files/gimbal_model.h"
 #include "kinds/gimbal_static_unbalance/gimbal_sections.h"
 #include "kinds/gimbal_static_unbalance/gimbal_study.h"
-#include "engine/study_config.h"
-#include "engine/study_runner.h"
-#include "engine/toml_reader.h"
+#include "engine/study_files/study_config.h"
+#include "engine/run/study_runner.h"
+#include "engine/study_files/toml_reader.h"
 #include "test_util.h"
 
-namespace poise::studies {
+using namespace poise::kinds::gimbal_static_unbalance;  // the kinds' and model files' own namespaces
+using namespace poise::model_files;  // the kinds' and model files' own namespaces
+
+namespace poise::engine {
 namespace {
 
 using nlohmann::json;
@@ -240,4 +243,4 @@ TEST(GimbalHonesty, GroupCounterweightPlacementIsAStudyKey) {
 }
 
 }  // namespace
-}  // namespace poise::studies
+}  // namespace poise::engine

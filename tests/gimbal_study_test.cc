@@ -9,15 +9,18 @@
 
 #include "model_files/gimbal_model.h"
 #include "kinds/gimbal_static_unbalance/gimbal_study.h"
-#include "engine/study_config.h"
-#include "engine/study_evaluation.h"
-#include "engine/result_io.h"
-#include "engine/study_runner.h"
-#include "engine/toml_reader.h"
+#include "engine/study_files/study_config.h"
+#include "engine/kind_interface/study_evaluation.h"
+#include "engine/results/result_io.h"
+#include "engine/run/study_runner.h"
+#include "engine/study_files/toml_reader.h"
 #include "kinds/gimbal_static_unbalance/gimbal_sections.h"
 #include "test_util.h"
 
-namespace poise::studies {
+using namespace poise::kinds::gimbal_static_unbalance;  // the kinds' and model files' own namespaces
+using namespace poise::model_files;  // the kinds' and model files' own namespaces
+
+namespace poise::engine {
 namespace {
 
 using nlohmann::json;
@@ -88,7 +91,7 @@ TEST(GimbalStudy, SamplesIdenticalForOneAndTwoThreadsAndReplay) {
   std::getline(in, header);
   for (int k = 0; k <= 3; ++k) std::getline(in, line);
   const double rmse = r["outputs"]["g_rmse_torque_mNm"].get<double>();
-  const std::string buf = poise::studies::csv_number(rmse);
+  const std::string buf = poise::engine::csv_number(rmse);
   EXPECT_NE(line.find(buf), std::string::npos) << line << " vs " << buf;
 }
 
@@ -254,4 +257,4 @@ TEST(GimbalStudy, DiskFromGeometryCarriesTheWedgeUnbalance) {
 }
 
 }  // namespace
-}  // namespace poise::studies
+}  // namespace poise::engine

@@ -23,8 +23,8 @@
 #include <vector>
 
 #include "core/error.h"
-#include "engine/toml_nesting.h"
-#include "engine/toml_reader.h"
+#include "engine/study_files/toml_nesting.h"
+#include "engine/study_files/toml_reader.h"
 #include "test_util.h"
 
 namespace poise::test {
@@ -136,7 +136,7 @@ INSTANTIATE_TEST_SUITE_P(malformed, MalformedFolder, ::testing::Values(std::stri
 // levels): header, dotted key, arrays and inline tables count together; strings, comments
 // and numbers do not.
 TEST(TomlNesting, CountsTablesKeysArraysAndInlineTablesTogether) {
-  using studies::find_too_deep_nesting;
+  using engine::find_too_deep_nesting;
   auto dots = [](int levels) {
     std::string k = "a";
     for (int i = 1; i < levels; ++i) k += ".a";
@@ -170,7 +170,7 @@ TEST(TomlNesting, RealFilesAreWellWithinTheLimit) {
   for (const char* f : {"studies/los_seeker_wang2011.toml", "studies/gimbal_unbalance_mc.toml",
                         "studies/platform_balancing_sequence.toml", "models/seeker_two_axis_wang2011.toml",
                         "models/platform_three_gimbal.toml"}) {
-    EXPECT_FALSE(studies::find_too_deep_nesting(read_text(source_path(f)))) << f;
+    EXPECT_FALSE(engine::find_too_deep_nesting(read_text(source_path(f)))) << f;
   }
 }
 
@@ -180,24 +180,24 @@ TEST(TomlFile, ReadAgainAfterAChangeGivesTheNewTable) {
   TempDir d;
   const std::string f = d.file("m.toml");
   write_text(f, "x = 1\n");
-  EXPECT_EQ(studies::parse_toml_file(f)["x"].value<int>(), 1);
-  EXPECT_EQ(studies::parse_toml_file(f)["x"].value<int>(), 1);
+  EXPECT_EQ(engine::parse_toml_file(f)["x"].value<int>(), 1);
+  EXPECT_EQ(engine::parse_toml_file(f)["x"].value<int>(), 1);
   write_text(f, "x = 2\n");
-  EXPECT_EQ(studies::parse_toml_file(f)["x"].value<int>(), 2);
+  EXPECT_EQ(engine::parse_toml_file(f)["x"].value<int>(), 2);
   write_text(f, "x = [[[\n");
-  EXPECT_THROW(studies::parse_toml_file(f), studies::ValidationError);
+  EXPECT_THROW(engine::parse_toml_file(f), engine::ValidationError);
 }
 
 TEST(ErrorList, AtMostTwentyErrorsThenHowManyMore) {
   std::vector<InputError> errors;
   for (int k = 1; k <= 27; ++k) errors.emplace_back(SourceLocation{"s.toml", k, 1}, "key" + std::to_string(k), "1", "x");
-  const std::string what = studies::ValidationError(errors).what();
+  const std::string what = engine::ValidationError(errors).what();
   EXPECT_NE(what.find("27 errors in the input"), std::string::npos) << what;
   EXPECT_NE(what.find("key20"), std::string::npos);
   EXPECT_EQ(what.find("key21"), std::string::npos) << what;
   EXPECT_NE(what.find("\n  and 7 more"), std::string::npos) << what;
   errors.erase(errors.begin() + 20, errors.end());
-  EXPECT_EQ(std::string(studies::ValidationError(errors).what()).find("more"), std::string::npos);
+  EXPECT_EQ(std::string(engine::ValidationError(errors).what()).find("more"), std::string::npos);
   // A key or value of a million characters is echoed by its start and its length.
   const InputError huge(SourceLocation{"s.toml", 3, 1}, std::string(1000000, 'k'), std::string(1000000, 'v'), "x");
   const std::string h = huge.what();

@@ -9,8 +9,8 @@
 
 #include "core/error.h"
 #include "optimize/optimization_study.h"
-#include "engine/study_evaluation.h"
-#include "engine/toml_reader.h"
+#include "engine/kind_interface/study_evaluation.h"
+#include "engine/study_files/toml_reader.h"
 #include "test_util.h"
 
 namespace poise::optimize {
@@ -20,23 +20,23 @@ using test::TempDir;
 
 TEST(Statistic, QuantilesMomentsAndFractions) {
   const std::vector<double> v{5, 1, 4, 2, 3};
-  EXPECT_DOUBLE_EQ(studies::statistic(v, "mean"), 3.0);
-  EXPECT_DOUBLE_EQ(studies::statistic(v, "std"), std::sqrt(2.5));
-  EXPECT_DOUBLE_EQ(studies::statistic(v, "min"), 1.0);
-  EXPECT_DOUBLE_EQ(studies::statistic(v, "max"), 5.0);
-  EXPECT_DOUBLE_EQ(studies::statistic(v, "p50"), 3.0);
+  EXPECT_DOUBLE_EQ(engine::statistic(v, "mean"), 3.0);
+  EXPECT_DOUBLE_EQ(engine::statistic(v, "std"), std::sqrt(2.5));
+  EXPECT_DOUBLE_EQ(engine::statistic(v, "min"), 1.0);
+  EXPECT_DOUBLE_EQ(engine::statistic(v, "max"), 5.0);
+  EXPECT_DOUBLE_EQ(engine::statistic(v, "p50"), 3.0);
   // Definition 8 (sampling/statistics.h): rank (n + 1/3) p + 1/3 = 5/3 for p25, 5.13 for
   // p90 (past n: the maximum).
-  EXPECT_DOUBLE_EQ(studies::statistic(v, "p25"), 1.0 + 2.0 / 3.0);
-  EXPECT_DOUBLE_EQ(studies::statistic(v, "p90"), 5.0);
-  EXPECT_DOUBLE_EQ(studies::statistic(v, "p99.73"), studies::statistic(v, "p99_73"));
-  EXPECT_DOUBLE_EQ(studies::statistic(v, "fraction_le:2"), 0.4);
-  EXPECT_DOUBLE_EQ(studies::statistic(v, "fraction_ge:4.5"), 0.2);
-  EXPECT_THROW(studies::statistic(v, "p101"), Error);
-  EXPECT_THROW(studies::statistic(v, "median"), Error);
-  EXPECT_THROW(studies::statistic({}, "mean"), Error);
-  EXPECT_TRUE(studies::is_statistic("p95"));
-  EXPECT_FALSE(studies::is_statistic("fraction_le:x"));
+  EXPECT_DOUBLE_EQ(engine::statistic(v, "p25"), 1.0 + 2.0 / 3.0);
+  EXPECT_DOUBLE_EQ(engine::statistic(v, "p90"), 5.0);
+  EXPECT_DOUBLE_EQ(engine::statistic(v, "p99.73"), engine::statistic(v, "p99_73"));
+  EXPECT_DOUBLE_EQ(engine::statistic(v, "fraction_le:2"), 0.4);
+  EXPECT_DOUBLE_EQ(engine::statistic(v, "fraction_ge:4.5"), 0.2);
+  EXPECT_THROW(engine::statistic(v, "p101"), Error);
+  EXPECT_THROW(engine::statistic(v, "median"), Error);
+  EXPECT_THROW(engine::statistic({}, "mean"), Error);
+  EXPECT_TRUE(engine::is_statistic("p95"));
+  EXPECT_FALSE(engine::is_statistic("fraction_le:x"));
 }
 
 // A small bearing-span sizing on the LOS study: 512 samples per evaluation.
@@ -81,20 +81,20 @@ TEST(OptimizationStudy, CommonRandomNumbersMakeTheObjectiveRepeatable) {
   test::write_text(d.file("opt.toml"), sizing_text("1.5"));
   const OptimizationSpec spec = load_optimization(d.file("opt.toml"));
   const std::map<std::string, std::string> design{{"yaw.bearing_span", "100 mm"}, {"pitch.bearing_span", "70 mm"}};
-  const auto a = studies::evaluate_study(spec.base, design, spec.samples, spec.seed, 1);
-  const auto b = studies::evaluate_study(spec.base, design, spec.samples, spec.seed, 2);
+  const auto a = engine::evaluate_study(spec.base, design, spec.samples, spec.seed, 1);
+  const auto b = engine::evaluate_study(spec.base, design, spec.samples, spec.seed, 2);
   const std::size_t k = a.index("los_max_px");
   EXPECT_EQ(a.values[k], b.values[k]);  // same numbers, any thread count
   // A slightly longer span moves every sample a little and the same way (CRN): the statistic
   // changes smoothly instead of by the sampling noise.
   auto longer = design;
   longer["yaw.bearing_span"] = "100.5 mm";
-  const auto c = studies::evaluate_study(spec.base, longer, spec.samples, spec.seed, 1);
-  const double p_a = studies::statistic(a.values[k], "p95"), p_c = studies::statistic(c.values[k], "p95");
+  const auto c = engine::evaluate_study(spec.base, longer, spec.samples, spec.seed, 1);
+  const double p_a = engine::statistic(a.values[k], "p95"), p_c = engine::statistic(c.values[k], "p95");
   EXPECT_LT(p_c, p_a);
   EXPECT_LT(p_a - p_c, 0.01 * p_a);
   // A different seed gives a different sample (so the equality above is not trivial).
-  const auto e = studies::evaluate_study(spec.base, design, spec.samples, spec.seed + 1, 1);
+  const auto e = engine::evaluate_study(spec.base, design, spec.samples, spec.seed + 1, 1);
   EXPECT_NE(e.values[k], a.values[k]);
 }
 
@@ -126,8 +126,8 @@ TEST(OptimizationStudy, BearingSpansShrinkUntilTheLosRequirementBinds) {
   // At the optimum the requirement binds: p95 close to 1.5 px, not far below.
   const OptimizationSpec spec = load_optimization(d.file("opt.toml"));
   std::map<std::string, std::string> optimum = summary["optimum"].get<std::map<std::string, std::string>>();
-  const auto at = studies::evaluate_study(spec.base, optimum, spec.samples, spec.seed, 2);
-  const double p95 = studies::statistic(at.values[at.index("los_max_px")], "p95");
+  const auto at = engine::evaluate_study(spec.base, optimum, spec.samples, spec.seed, 2);
+  const double p95 = engine::statistic(at.values[at.index("los_max_px")], "p95");
   EXPECT_LE(p95, 1.5 + 1e-6);
   EXPECT_GT(p95, 1.45);
   EXPECT_TRUE(summary["constraints_on_search_samples"][0]["binding"].get<bool>());
@@ -187,7 +187,7 @@ TEST(OptimizationStudy, InfeasibleRequirementEndsWithAClearMessage) {
   try {
     run_optimization(d.file("opt.toml"), test::quiet_run_options(d.file("run"), 2));
     FAIL() << "an infeasible requirement must not end with a silent best guess";
-  } catch (const studies::ValidationError&) {
+  } catch (const engine::ValidationError&) {
     FAIL() << "not an input error";
   } catch (const Error& e) {
     const std::string m = e.what();
@@ -211,7 +211,7 @@ TEST(OptimizationStudy, StrictFile) {
     test::write_text(d.file("bad.toml"), text);
     try {
       load_optimization(d.file("bad.toml"));
-    } catch (const studies::ValidationError& e) {
+    } catch (const engine::ValidationError& e) {
       return std::string(e.what());
     }
     return std::string();

@@ -10,13 +10,15 @@
 #include "kinds/platform_balancing/platform_model.h"
 #include "kinds/platform_balancing/platform_study.h"
 #include "kinds/platform_balancing/platform_study_config.h"
-#include "engine/study_config.h"
-#include "engine/result_io.h"
-#include "engine/study_runner.h"
-#include "engine/toml_reader.h"
+#include "engine/study_files/study_config.h"
+#include "engine/results/result_io.h"
+#include "engine/run/study_runner.h"
+#include "engine/study_files/toml_reader.h"
 #include "test_util.h"
 
-namespace poise::studies {
+using namespace poise::kinds::platform_balancing;  // the kinds' and model files' own namespaces
+
+namespace poise::engine {
 namespace {
 
 using nlohmann::json;
@@ -175,7 +177,7 @@ TEST(PlatformStudy, SamplesIdenticalForOneAndTwoThreadsAndReplay) {
   std::istringstream in(a);
   std::string line;
   for (int k = 0; k <= 4; ++k) std::getline(in, line);  // header, then samples 0..3
-  const std::string buf = poise::studies::csv_number(r["outputs"]["imo_outer_residual_gmm"].get<double>());
+  const std::string buf = poise::engine::csv_number(r["outputs"]["imo_outer_residual_gmm"].get<double>());
   EXPECT_NE(line.find(buf), std::string::npos) << line << " vs " << buf;
 }
 
@@ -285,4 +287,4 @@ TEST(PlatformStudy, RateLoopHoldsTheGravityError) {
 }
 
 }  // namespace
-}  // namespace poise::studies
+}  // namespace poise::engine

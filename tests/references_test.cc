@@ -4,12 +4,12 @@
 
 #include <nlohmann/json.hpp>
 
-#include "engine/references.h"
-#include "engine/result_io.h"
-#include "engine/study_kind.h"
+#include "engine/results/references.h"
+#include "engine/results/result_io.h"
+#include "engine/kind_interface/study_kind.h"
 #include "sampling/statistics.h"
 
-namespace poise::studies {
+namespace poise::engine {
 namespace {
 using nlohmann::json;
 
@@ -92,4 +92,4 @@ TEST(References, TooFewSamplesGiveNoVerdict) {
 TEST(References, NothingDeclaredGivesNoReportSection) { EXPECT_EQ(references_html(json::array()), ""); }
 
 }  // namespace
-}  // namespace poise::studies
+}  // namespace poise::engine

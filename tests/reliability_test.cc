@@ -24,8 +24,8 @@
 #include "sampling/design.h"
 #include "sampling/random_stream.h"
 #include "sampling/statistics.h"
-#include "engine/convergence.h"
-#include "engine/result_io.h"
+#include "engine/run/convergence.h"
+#include "engine/results/result_io.h"
 #include "h5_util.h"
 #include "test_util.h"
 
@@ -194,22 +194,22 @@ TEST(Sensitivity, BalancingMachineSplitsItsRandomnessBySource) {
 
 TEST(StopRule, UntilTargetsAreParsedStrictly) {
   const std::vector<std::string> outs = {"los_max_arcsec", "g_rmse_torque_mNm"};
-  const auto t = poise::studies::parse_until("los_max_arcsec.p99_73<=0.5", outs);
+  const auto t = poise::engine::parse_until("los_max_arcsec.p99_73<=0.5", outs);
   EXPECT_EQ(t.output, "los_max_arcsec");
   EXPECT_EQ(t.statistic, "p99_73");
   EXPECT_DOUBLE_EQ(t.width, 0.5);
   EXPECT_FALSE(t.relative);
-  const auto r = poise::studies::parse_until("g_rmse_torque_mNm.mean<=2%", outs);
+  const auto r = poise::engine::parse_until("g_rmse_torque_mNm.mean<=2%", outs);
   EXPECT_TRUE(r.relative);
   EXPECT_DOUBLE_EQ(r.width, 0.02);
   for (const char* bad : {"los_max_arcsec.p99_73", "nope.p95<=1", "los_max_arcsec.p97<=1", "los_max_arcsec.p95<=x",
                           "los_max_arcsec.p95<=-1"}) {
-    EXPECT_THROW(poise::studies::parse_until(bad, outs), poise::Error) << bad;
+    EXPECT_THROW(poise::engine::parse_until(bad, outs), poise::Error) << bad;
   }
 }
 
 TEST(StopRule, StopsOnTooManyFailuresAndAtTheTargetWidth) {
-  using poise::studies::StopRule;
+  using poise::engine::StopRule;
   // 10% failing against a 5% limit: stopped once the failure share is clearly above it.
   StopRule f({"x"}, 10000, 0.05, std::nullopt, 0, false);
   std::vector<std::vector<double>> v(1);
@@ -231,7 +231,7 @@ TEST(StopRule, StopsOnTooManyFailuresAndAtTheTargetWidth) {
   for (std::size_t k = 1; k <= 1000; ++k) EXPECT_EQ(g({{}}, {}, k / 100, k), "");
 
   // Normal(0,1) mean to a 0.1-wide interval: needs about (2 * 1.96 / 0.1)^2 = 1537 samples.
-  StopRule u({"x"}, 100000, 0.05, poise::studies::parse_until("x.mean<=0.1", {"x"}), 0, false);
+  StopRule u({"x"}, 100000, 0.05, poise::engine::parse_until("x.mean<=0.1", {"x"}), 0, false);
   std::vector<std::vector<double>> w(1);
   std::vector<std::size_t> idx;
   std::size_t n = 0;
@@ -252,18 +252,18 @@ TEST(StopRule, StopsOnTooManyFailuresAndAtTheTargetWidth) {
 TEST(AtomicWrite, ReplacesWholeAndLeavesNoTemporary) {
   TempDir d;
   const std::string p = d.file("summary.json");
-  poise::studies::write_file_atomic(p, "old\n");
-  poise::studies::write_file_atomic(p, "{\"new\": 1}\n");
+  poise::engine::write_file_atomic(p, "old\n");
+  poise::engine::write_file_atomic(p, "{\"new\": 1}\n");
   EXPECT_EQ(poise::test::read_text(p), "{\"new\": 1}\n");
   EXPECT_FALSE(fs::exists(p + ".tmp"));
-  EXPECT_THROW(poise::studies::write_file_atomic(d.file("no/such/dir/x.json"), "x"), poise::Error);
+  EXPECT_THROW(poise::engine::write_file_atomic(d.file("no/such/dir/x.json"), "x"), poise::Error);
 }
 
 TEST(CsvNumbers, ReadBackExactly) {
   for (double v : {0.1, 1.0 / 3.0, 43.28028319560695, -2.5e-300, 1e300, 123456789.123456789}) {
-    EXPECT_EQ(std::stod(poise::studies::csv_number(v)), v);
+    EXPECT_EQ(std::stod(poise::engine::csv_number(v)), v);
   }
-  EXPECT_EQ(poise::studies::csv_number(NAN), "nan");
+  EXPECT_EQ(poise::engine::csv_number(NAN), "nan");
 }
 
 // ---- end to end through the binary ---------------------------------------------------

@@ -1,4 +1,4 @@
-// Requirements and their verdicts (engine/requirements.h): decisions on known samples, the
+// Requirements and their verdicts (engine/results/requirements.h): decisions on known samples, the
 // answer sentence, and how often "met" is said of a requirement that is not met (at most the
 // stated 1 - confidence).
 #include <gtest/gtest.h>
@@ -7,10 +7,10 @@
 #include <random>
 #include <vector>
 
-#include "engine/requirements.h"
-#include "engine/study_kind.h"
+#include "engine/results/requirements.h"
+#include "engine/kind_interface/study_kind.h"
 
-namespace poise::studies {
+namespace poise::engine {
 namespace {
 using nlohmann::json;
 
@@ -135,4 +135,4 @@ TEST(Requirements, CheckRefusesUnknownOutputsAndWrongUnits) {
 }
 
 }  // namespace
-}  // namespace poise::studies
+}  // namespace poise::engine

@@ -13,11 +13,14 @@
 #include <vector>
 
 #include "core/error.h"
-#include "engine/study_config.h"
+#include "engine/study_files/study_config.h"
 #include "kinds/seeker_los/seeker_los_study.h"
 #include "model_files/seeker_model.h"
 #include "models/seeker_los_chain.h"
 #include "sampling/design.h"
+
+using namespace poise::kinds::seeker_los;  // the kinds' and model files' own namespaces
+using namespace poise::model_files;  // the kinds' and model files' own namespaces
 
 namespace {
 
@@ -61,10 +64,10 @@ TEST(SeekerLosHarmonics, GroupedSumsMatchDirectFormOnShippedStudies) {
   const std::string dir = POISE_SOURCE_DIR;
   for (const char* name : {"los_seeker_wang2011", "los_seeker_wang2011_housing", "los_seeker_wang2011_replicates"}) {
     SCOPED_TRACE(name);
-    poise::studies::StudyConfig cfg = poise::studies::load_study(dir + "/studies/" + name + ".toml");
-    poise::studies::SeekerModel model = poise::studies::load_seeker_model(cfg.model_path, cfg.overrides);
+    poise::engine::StudyConfig cfg = poise::engine::load_study(dir + "/studies/" + name + ".toml");
+    poise::model_files::SeekerModel model = poise::model_files::load_seeker_model(cfg.model_path, cfg.overrides);
     const std::uint64_t seed = cfg.seed;
-    const poise::studies::SeekerLosStudy study(std::move(cfg), std::move(model), 64, seed);
+    const poise::kinds::seeker_los::SeekerLosStudy study(std::move(cfg), std::move(model), 64, seed);
     const LosGrid& grid = study.grid();
     LosGrid::Workspace ws = grid.make_workspace();
     std::vector<double> u(study.sampler().dimension()), values(u.size());

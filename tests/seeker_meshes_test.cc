@@ -14,10 +14,13 @@
 #include "kinds/seeker_los/seeker_clearance.h"
 #include "model_files/seeker_geometry.h"
 #include "model_files/seeker_model.h"
-#include "engine/toml_reader.h"
+#include "engine/study_files/toml_reader.h"
 #include "test_util.h"
 
-namespace poise::studies {
+using namespace poise::kinds::seeker_los;  // the kinds' and model files' own namespaces
+using namespace poise::model_files;  // the kinds' and model files' own namespaces
+
+namespace poise::engine {
 namespace {
 
 using test::TempDir;
@@ -101,4 +104,4 @@ TEST(SeekerMeshes, RefusalsNameTheFileLineAndKey) {
 }
 
 }  // namespace
-}  // namespace poise::studies
+}  // namespace poise::engine

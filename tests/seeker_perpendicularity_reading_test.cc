@@ -11,17 +11,19 @@
 
 #include "core/error.h"
 #include "core/units.h"
-#include "engine/toml_reader.h"
+#include "engine/study_files/toml_reader.h"
 #include "model_files/seeker_model.h"
 #include "sampling/design.h"
 #include "sampling/distribution.h"
 #include "test_util.h"
 
+using namespace poise::model_files;  // the kinds' and model files' own namespaces
+
 namespace {
 
-using poise::studies::load_seeker_model;
-using poise::studies::SeekerModel;
-using poise::studies::SeekerSampler;
+using poise::model_files::load_seeker_model;
+using poise::model_files::SeekerModel;
+using poise::model_files::SeekerSampler;
 using poise::test::TempDir;
 namespace ps = poise::sampling;
 
@@ -64,7 +66,7 @@ class PerpendicularityReading : public ::testing::Test {
   std::string error_of(const std::string& reading) {
     try {
       load(reading);
-    } catch (const poise::studies::ValidationError& e) {
+    } catch (const poise::engine::ValidationError& e) {
       return e.what();
     }
     return "";
@@ -157,7 +159,7 @@ TEST_F(PerpendicularityReading, PitchHasNoDirection) {
   try {
     load_seeker_model(made_.back());
     FAIL() << "accepted a direction on the pitch perpendicularity";
-  } catch (const poise::studies::ValidationError& e) {
+  } catch (const poise::engine::ValidationError& e) {
     EXPECT_NE(std::string(e.what()).find("pitch.perpendicularity.direction"), std::string::npos) << e.what();
     EXPECT_NE(std::string(e.what()).find("one direction by definition"), std::string::npos) << e.what();
   }

@@ -15,6 +15,8 @@
 #include "kinds/shaft_sag/shaft_sag.h"
 #include "test_util.h"
 
+using namespace poise::kinds::shaft_sag;  // the kinds' and model files' own namespaces
+
 namespace poise {
 namespace {
 using kinds::shaft_sag::shaft_sag;

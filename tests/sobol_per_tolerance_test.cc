@@ -12,7 +12,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "engine/sensitivity_output.h"
+#include "engine/results/sensitivity_output.h"
 #include "sampling/design.h"
 
 namespace {
@@ -42,9 +42,9 @@ TEST(SobolPerTolerance, ClosedGroupIndicesMatchTheirClosedForm) {
   };
   // The engine's path: tolerance keys per column -> closed groups -> the design's extra groups.
   const std::vector<std::string> columns = {"x1", "x2", "x3", "x4"};
-  const poise::studies::ToleranceGroups tol = poise::studies::tolerance_groups(columns, {"G1", "G2", "G1", ""});
+  const poise::engine::ToleranceGroups tol = poise::engine::tolerance_groups(columns, {"G1", "G2", "G1", ""});
   ASSERT_EQ(tol.names, (std::vector<std::string>{"G1", "G2", "x4"}));  // "" = a tolerance of its own
-  const poise::studies::ToleranceGroups tol2 = poise::studies::tolerance_groups(columns, {"G1", "G2", "G1", "G2"});
+  const poise::engine::ToleranceGroups tol2 = poise::engine::tolerance_groups(columns, {"G1", "G2", "G1", "G2"});
   ASSERT_EQ(tol2.closed_groups(), (std::vector<std::vector<std::size_t>>{{0, 2}, {1, 3}}));
   const std::size_t n = 8192;
   ps::DesignOptions o;
@@ -62,7 +62,7 @@ TEST(SobolPerTolerance, ClosedGroupIndicesMatchTheirClosedForm) {
   d.point(n, b);
   d.point(7 * n, ab);
   EXPECT_EQ(ab, (std::vector<double>{a[0], b[1], a[2], b[3]}));
-  const nlohmann::json s = poise::studies::sensitivity_json({"f"}, columns, n, {values}, 5, tol2);
+  const nlohmann::json s = poise::engine::sensitivity_json({"f"}, columns, n, {values}, 5, tol2);
   const nlohmann::json& out = s["outputs"]["f"];
   ASSERT_EQ(out["indices"].size(), 4u);  // the per-column detail stays
   ASSERT_EQ(out["tolerances"].size(), 2u);

@@ -5,13 +5,16 @@
 #include <filesystem>
 
 #include "model_files/seeker_model.h"
-#include "engine/study_config.h"
-#include "engine/study_runner.h"
-#include "engine/toml_reader.h"
+#include "engine/study_files/study_config.h"
+#include "engine/run/study_runner.h"
+#include "engine/study_files/toml_reader.h"
 #include "kinds/seeker_los/seeker_los_sections.h"
 #include "test_util.h"
 
-namespace poise::studies {
+using namespace poise::kinds::seeker_los;  // the kinds' and model files' own namespaces
+using namespace poise::model_files;  // the kinds' and model files' own namespaces
+
+namespace poise::engine {
 namespace {
 
 using test::TempDir;
@@ -263,4 +266,4 @@ TEST(StudyFile, EveryRepositoryStudyValidates) {
 }
 
 }  // namespace
-}  // namespace poise::studies
+}  // namespace poise::engine

@@ -9,8 +9,8 @@
 #include <set>
 #include <string>
 
-#include "engine/study_keys.h"
-#include "engine/study_kind.h"
+#include "engine/study_files/study_keys.h"
+#include "engine/kind_interface/study_kind.h"
 #include "test_util.h"
 
 namespace poise {
@@ -37,7 +37,7 @@ void flatten(const toml::table& t, const std::string& prefix, std::set<std::stri
   }
 }
 
-std::set<std::string> listed(const std::vector<studies::KeyDoc>& keys) {
+std::set<std::string> listed(const std::vector<engine::KeyDoc>& keys) {
   std::set<std::string> out;
   for (const auto& k : keys) out.insert(k.path);
   return out;
@@ -50,7 +50,7 @@ TEST(StudyKeys, EveryKeyOfTheShippedFilesIsListedForItsKind) {
     const toml::table study = toml::parse_file(e.path().string());
     if (!study.contains("study")) continue;  // an optimization or budget file
     const std::string kind = study["study"]["kind"].value_or(std::string());
-    const studies::KindKeys keys = studies::kind_keys(kind);
+    const engine::KindKeys keys = engine::kind_keys(kind);
     const std::set<std::string> study_keys = listed(keys.study), model_keys = listed(keys.model);
     std::set<std::string> used;
     flatten(study, "", used);
@@ -75,7 +75,7 @@ TEST(StudyKeys, TheCommandListsTheKindsAndTheirKeys) {
   test::TempDir d;
   auto r = test::run_poise(d, "keys");
   EXPECT_EQ(r.status, 0);
-  for (const auto& name : studies::study_kind_names()) EXPECT_NE(r.out.find(name), std::string::npos) << name;
+  for (const auto& name : engine::study_kind_names()) EXPECT_NE(r.out.find(name), std::string::npos) << name;
   r = test::run_poise(d, "keys gimbal_static_unbalance");
   EXPECT_EQ(r.status, 0) << r.err;
   EXPECT_NE(r.out.find("[[group.load]]"), std::string::npos) << r.out;
@@ -95,7 +95,7 @@ TEST(StudyKeys, TheCommandListsTheKindsAndTheirKeys) {
   EXPECT_EQ(r.status, 2);
   EXPECT_NE(r.err.find("seeker_los"), std::string::npos) << r.err;
   r = test::run_poise(d, "--help");
-  for (const auto& name : studies::study_kind_names()) EXPECT_NE(r.out.find(name), std::string::npos) << name;
+  for (const auto& name : engine::study_kind_names()) EXPECT_NE(r.out.find(name), std::string::npos) << name;
 }
 
 TEST(StudyKeys, AMisspelledKeyGetsTheNearestKnownOne) {

@@ -15,7 +15,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "engine/provenance.h"
+#include "engine/results/provenance.h"
 #include "test_util.h"
 
 namespace poise {
@@ -93,7 +93,7 @@ TEST_P(StudyReferenceRun, SamplesEqualTheRecordedOnes) {
   if (fs::exists(ref + ".sha1")) {  // a large samples.csv is recorded as its SHA-1
     std::string want = read_text(ref + ".sha1");
     want.erase(want.find_last_not_of(" \n") + 1);
-    EXPECT_EQ(studies::file_sha1(out + "/samples.csv"), want) << r.study << ": samples.csv differs from the recorded reference";
+    EXPECT_EQ(engine::file_sha1(out + "/samples.csv"), want) << r.study << ": samples.csv differs from the recorded reference";
     return;
   }
   const std::string want = read_text(ref + ".csv");

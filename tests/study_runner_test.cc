@@ -10,11 +10,11 @@
 #include <map>
 #include <nlohmann/json.hpp>
 
-#include "engine/study_runner.h"
-#include "engine/toml_reader.h"
+#include "engine/run/study_runner.h"
+#include "engine/study_files/toml_reader.h"
 #include "test_util.h"
 
-namespace poise::studies {
+namespace poise::engine {
 namespace {
 
 using nlohmann::json;
@@ -231,9 +231,9 @@ TEST(StudyRunner, InvalidStudyRunsNothing) {
 }
 
 }  // namespace
-}  // namespace poise::studies
+}  // namespace poise::engine
 
-namespace poise::studies {
+namespace poise::engine {
 namespace {
 
 // The figures quoted in the default study's notes and in the issue note come from this run;
@@ -253,4 +253,4 @@ TEST(StudyRunner, DefaultStudyFiguresQuotedInItsNotes) {
 }
 
 }  // namespace
-}  // namespace poise::studies
+}  // namespace poise::engine

@@ -5,7 +5,7 @@
 #include "kinds/registry.h"
 
 int main(int argc, char** argv) {
-  poise::studies::register_study_kinds();
+  poise::kinds::register_study_kinds();
   ::testing::InitGoogleTest(&argc, argv);
   return RUN_ALL_TESTS();
 }

@@ -11,7 +11,7 @@
 #include <cstdlib>
 #include <string>
 
-#include "engine/study_runner.h"
+#include "engine/run/study_runner.h"
 
 namespace poise::test {
 
@@ -78,8 +78,8 @@ inline RunResult run_poise(const TempDir& dir, const std::string& args) {
 }
 
 /// Run options for tests: a given folder and thread count, no progress, no plots.
-inline studies::RunOptions quiet_run_options(const std::string& out, int threads) {
-  studies::RunOptions o;
+inline engine::RunOptions quiet_run_options(const std::string& out, int threads) {
+  engine::RunOptions o;
   o.out = out;
   o.threads = threads;
   o.progress = false;

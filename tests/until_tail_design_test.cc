@@ -9,7 +9,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "engine/convergence.h"
+#include "engine/run/convergence.h"
 #include "core/error.h"
 #include "test_util.h"
 
@@ -25,9 +25,9 @@ std::string quoted(const std::string& s) { return "'" + s + "'"; }
 
 TEST(UntilTailDesign, CheckNamesTheReplicateSizeThatWouldDo) {
   const std::vector<std::string> outputs = {"los_max_arcsec"};
-  const auto p9973 = poise::studies::parse_until("los_max_arcsec.p99_73<=0.5", outputs);
+  const auto p9973 = poise::engine::parse_until("los_max_arcsec.p99_73<=0.5", outputs);
   try {
-    poise::studies::check_until_design(p9973, 1024);
+    poise::engine::check_until_design(p9973, 1024);
     FAIL() << "accepted p99_73 on replicates of 1024";
   } catch (const poise::UsageError& e) {
     const std::string m = e.what();
@@ -35,13 +35,13 @@ TEST(UntilTailDesign, CheckNamesTheReplicateSizeThatWouldDo) {
     EXPECT_NE(m.find("about 2.765 samples beyond it"), std::string::npos) << m;
     EXPECT_NE(m.find("replicate_size to at least 3704"), std::string::npos) << m;
   }
-  EXPECT_NO_THROW(poise::studies::check_until_design(p9973, 4096));  // 11.06 beyond
-  EXPECT_NO_THROW(poise::studies::check_until_design(p9973, 0));     // Monte Carlo: order statistics
-  const auto p95 = poise::studies::parse_until("los_max_arcsec.p95<=1", outputs);
-  EXPECT_THROW(poise::studies::check_until_design(p95, 128), poise::UsageError);  // 6.4 beyond
-  EXPECT_NO_THROW(poise::studies::check_until_design(p95, 256));                 // 12.8
-  const auto mean = poise::studies::parse_until("los_max_arcsec.mean<=1", outputs);
-  EXPECT_NO_THROW(poise::studies::check_until_design(mean, 2));
+  EXPECT_NO_THROW(poise::engine::check_until_design(p9973, 4096));  // 11.06 beyond
+  EXPECT_NO_THROW(poise::engine::check_until_design(p9973, 0));     // Monte Carlo: order statistics
+  const auto p95 = poise::engine::parse_until("los_max_arcsec.p95<=1", outputs);
+  EXPECT_THROW(poise::engine::check_until_design(p95, 128), poise::UsageError);  // 6.4 beyond
+  EXPECT_NO_THROW(poise::engine::check_until_design(p95, 256));                 // 12.8
+  const auto mean = poise::engine::parse_until("los_max_arcsec.mean<=1", outputs);
+  EXPECT_NO_THROW(poise::engine::check_until_design(mean, 2));
 }
 
 TEST(UntilTailDesign, RefusedBeforeTheResultFolderExists) {

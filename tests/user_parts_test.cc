@@ -1,7 +1,7 @@
 // A designer's parts in a model file ([[geometry.part]]): the worked example's meshes made by
 // its generator, read, checked and placed; the as-built assembly of one sample's draws equals
 // the exact mass properties of the meshes moved, turned and scaled by hand; refusals.
-#include "engine/user_parts.h"
+#include "engine/study_files/user_parts.h"
 
 #include <gtest/gtest.h>
 
@@ -13,7 +13,7 @@
 #include "geometry/rigid_body_inertia.h"
 #include "test_util.h"
 
-namespace poise::studies {
+namespace poise::engine {
 namespace {
 
 using test::TempDir;
@@ -160,4 +160,4 @@ TEST(UserParts, RefusedAtTheirKey) {
 }
 
 }  // namespace
-}  // namespace poise::studies
+}  // namespace poise::engine

@@ -1,4 +1,4 @@
-// samples.h5 (engine/wide_columns.h): what Poise writes with its own chunk filters is what
+// samples.h5 (engine/results/wide_columns.h): what Poise writes with its own chunk filters is what
 // the HDF5 library itself reads (h5py, pandas read through it), column by column and whole.
 #include <gtest/gtest.h>
 #include <hdf5.h>
@@ -13,17 +13,17 @@
 #include <vector>
 
 #include "core/error.h"
-#include "engine/checked_file.h"
-#include "engine/chunk_codec.h"
-#include "engine/wide_columns.h"
+#include "engine/results/checked_file.h"
+#include "engine/results/chunk_codec.h"
+#include "engine/results/wide_columns.h"
 #include "test_util.h"
 
 namespace poise {
 namespace {
 
-using studies::WideColumnsReader;
-using studies::WideColumnsSpec;
-using studies::WideColumnsWriter;
+using engine::WideColumnsReader;
+using engine::WideColumnsSpec;
+using engine::WideColumnsWriter;
 
 // Rows [rows][columns]; every 10th sample failed.
 std::vector<std::vector<float>> make_rows(std::size_t rows, std::size_t columns) {
@@ -38,7 +38,7 @@ std::vector<std::vector<float>> make_rows(std::size_t rows, std::size_t columns)
 
 WideColumnsSpec spec(std::size_t columns) {
   WideColumnsSpec s{"grid_total_arcsec", "arcsec", "test field", columns, {}};
-  studies::ColumnCoordinate c{"grid_yaw_deg", "deg", "yaw", {}};
+  engine::ColumnCoordinate c{"grid_yaw_deg", "deg", "yaw", {}};
   for (std::size_t p = 0; p < columns; ++p) c.values.push_back(-30.0 + 5.0 * static_cast<double>(p));
   s.coordinates = {c};
   return s;
@@ -73,7 +73,7 @@ std::string expected_digest(const std::vector<std::vector<float>>& rows) {
 
 TEST(WideColumns, ColumnsReadBackExactlyAcrossChunks) {
   test::TempDir d;
-  const std::size_t rows = 2 * studies::kWideChunkRows + 123, columns = 5;  // two whole chunks and a partial one
+  const std::size_t rows = 2 * engine::kWideChunkRows + 123, columns = 5;  // two whole chunks and a partial one
   const auto data = make_rows(rows, columns);
   const std::string digest = write(d.file("s.h5"), data, rows + 1000);
   EXPECT_EQ(digest, expected_digest(data));
@@ -102,7 +102,7 @@ TEST(WideColumns, ColumnsReadBackExactlyAcrossChunks) {
 
 TEST(WideColumns, KeptColumnsEqualWhatTheFileHolds) {
   test::TempDir d;
-  const std::size_t rows = 2 * studies::kWideChunkRows + 123, columns = 5, planned = rows + 1000;
+  const std::size_t rows = 2 * engine::kWideChunkRows + 123, columns = 5, planned = rows + 1000;
   const auto data = make_rows(rows, columns);
   WideColumnsSpec kept = spec(columns);
   kept.keep_up_to_bytes = planned * columns * sizeof(float);
@@ -210,14 +210,14 @@ TEST(WideColumns, UncompressedScratchChunksReadBackThroughBothReaders) {
 TEST(WideColumns, ChunkCodecRoundTripAndDamage) {
   std::vector<float> v(1000);
   for (std::size_t i = 0; i < v.size(); ++i) v[i] = 0.001f * static_cast<float>(i * i);
-  const std::string z = studies::encode_chunk(v);
+  const std::string z = engine::encode_chunk(v);
   EXPECT_LT(z.size(), v.size() * sizeof(float));
   std::vector<float> back(v.size());
-  studies::decode_chunk(z, 0, back, "x.h5");
+  engine::decode_chunk(z, 0, back, "x.h5");
   EXPECT_EQ(back, v);
   std::string bad = z.substr(0, z.size() / 2);
   try {
-    studies::decode_chunk(bad, 0, back, "x.h5");
+    engine::decode_chunk(bad, 0, back, "x.h5");
     FAIL() << "a cut chunk was accepted";
   } catch (const Error& e) {
     EXPECT_NE(std::string(e.what()).find("x.h5: a chunk does not inflate"), std::string::npos) << e.what();
@@ -231,11 +231,11 @@ TEST(WideColumns, ChunkCodecStoresNoisyPlanesAndCodesTheRest) {
   std::lognormal_distribution<double> d(1.0, 0.5);
   std::vector<float> v(16384);
   for (float& f : v) f = static_cast<float>(d(rng));
-  const std::string z = studies::encode_chunk(v);
+  const std::string z = engine::encode_chunk(v);
   EXPECT_LT(z.size(), v.size() * sizeof(float));                       // the exponent plane shrank
   EXPECT_GT(z.size(), 3 * v.size());                                    // three planes kept whole
   std::vector<float> back(v.size());
-  studies::decode_chunk(z, 0, back, "x.h5");
+  engine::decode_chunk(z, 0, back, "x.h5");
   EXPECT_EQ(0, std::memcmp(back.data(), v.data(), v.size() * sizeof(float)));
   // Any zlib reader: zlib's own uncompress, as HDF5's deflate filter uses it.
   std::vector<unsigned char> plain(v.size() * sizeof(float));
@@ -245,10 +245,10 @@ TEST(WideColumns, ChunkCodecStoresNoisyPlanesAndCodesTheRest) {
   // A constant column: every plane is coded (entropy 0; Huffman coding alone spends at least
   // one bit per byte, so at best an eighth of the raw bytes), and it still decodes.
   const std::vector<float> flat(4096, 2.5f);
-  const std::string zf = studies::encode_chunk(flat);
+  const std::string zf = engine::encode_chunk(flat);
   EXPECT_LT(zf.size(), flat.size() * sizeof(float) / 4);
   std::vector<float> flat_back(flat.size());
-  studies::decode_chunk(zf, 0, flat_back, "x.h5");
+  engine::decode_chunk(zf, 0, flat_back, "x.h5");
   EXPECT_EQ(flat_back, flat);
 }
 
@@ -262,7 +262,7 @@ TEST(WideColumns, AFullDiskGivesTheSystemsReason) {
     for (std::size_t i = 0; i < 100; ++i) w.append(i, true, row);
     w.close();
     FAIL() << "writing to /dev/full succeeded";
-  } catch (const studies::WriteError& e) {
+  } catch (const engine::WriteError& e) {
     const std::string what = e.what();
     EXPECT_NE(what.find("/dev/full"), std::string::npos) << what;
     EXPECT_NE(what.find("No space left on device"), std::string::npos) << what;
@@ -279,7 +279,7 @@ TEST(WideColumns, RowsOutOfOrderAndUnwritableFilesAreRefused) {
   try {
     WideColumnsWriter bad(d.file("no_such_folder/s.h5"), spec(2), 10, {}, {}, 1);
     FAIL() << "a file in a missing folder was created";
-  } catch (const studies::WriteError& e) {
+  } catch (const engine::WriteError& e) {
     EXPECT_NE(std::string(e.what()).find("no_such_folder/s.h5"), std::string::npos) << e.what();
   }
   EXPECT_THROW(WideColumnsReader(d.file("s.h5"), "no_dataset"), Error);

@@ -2,7 +2,7 @@
 // (a full disk) stops the run at once with the file and the system's reason, the folder says
 // "failed" (never "complete") where it can still be written, no .tmp file is left, the exit
 // status is 1, and --resume continues once there is space. The full disk is /dev/full or the
-// test hook POISE_INJECT_WRITE_FAILURE_AFTER (engine/checked_file.h).
+// test hook POISE_INJECT_WRITE_FAILURE_AFTER (engine/results/checked_file.h).
 #include <gtest/gtest.h>
 
 #include <cstdlib>
@@ -11,8 +11,8 @@
 
 #include <nlohmann/json.hpp>
 
-#include "engine/checked_file.h"
-#include "engine/result_io.h"
+#include "engine/results/checked_file.h"
+#include "engine/results/result_io.h"
 #include "test_util.h"
 
 namespace {
@@ -45,11 +45,11 @@ struct InjectedFullDisk {
 };
 
 TEST(WriteFailure, DevFullGivesTheFileAndTheSystemsReason) {
-  poise::studies::CheckedFile f("/dev/full", true);
+  poise::engine::CheckedFile f("/dev/full", true);
   try {
     f.write("sample,status\n");
     FAIL() << "a write to /dev/full succeeded";
-  } catch (const poise::studies::WriteError& e) {
+  } catch (const poise::engine::WriteError& e) {
     EXPECT_EQ(std::string(e.what()), "/dev/full: No space left on device");
     EXPECT_EQ(e.path(), "/dev/full");
   }
@@ -60,14 +60,14 @@ TEST(WriteFailure, AnAtomicWriteThatFailsLeavesNoTemporary) {
   poise::test::write_text(d.file("x.json"), "old\n");
   InjectedFullDisk full("3", "x.json");
   try {
-    poise::studies::write_file_atomic(d.file("x.json"), "a longer new text\n");
+    poise::engine::write_file_atomic(d.file("x.json"), "a longer new text\n");
     FAIL() << "the injected failure did not happen";
-  } catch (const poise::studies::WriteError& e) {
+  } catch (const poise::engine::WriteError& e) {
     EXPECT_NE(std::string(e.what()).find("x.json.tmp: No space left on device"), std::string::npos) << e.what();
   }
   EXPECT_EQ(read_text(d.file("x.json")), "old\n");  // the old file whole
   EXPECT_FALSE(fs::exists(d.file("x.json.tmp")));
-  EXPECT_THROW(poise::studies::CheckedFile(d.file("no/such/dir/f.csv"), false), poise::studies::WriteError);
+  EXPECT_THROW(poise::engine::CheckedFile(d.file("no/such/dir/f.csv"), false), poise::engine::WriteError);
 }
 
 TEST(WriteFailure, AFullDiskStopsAProcedureRunAtOnceAndResumeCompletesIt) {

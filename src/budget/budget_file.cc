@@ -10,13 +10,13 @@
 #include "budget/budget_file_parts.h"
 #include "budget/field_grid.h"
 #include "core/error.h"
-#include "engine/toml_reader.h"
+#include "engine/study_files/toml_reader.h"
 
 namespace poise::budget {
 namespace {
 
-using studies::quote_value;
-using studies::TomlReader;
+using engine::quote_value;
+using engine::TomlReader;
 
 // Names muParser keeps for its own functions and constants: not usable as a variable.
 const std::set<std::string>& reserved_names() {
@@ -43,7 +43,7 @@ void read_range(TomlReader& t, const std::string& key, FieldVariable& v) {
       "a range of two values with their unit, e.g. [\"-30 deg\", \"30 deg\"], or two plain numbers [0.4, 0.96]";
   const auto* arr = n ? n->as_array() : nullptr;
   if (!arr || arr->size() != 2) {
-    t.error(key, n ? studies::describe_node(*n) : "", expected + (n ? "" : " (missing)"));
+    t.error(key, n ? engine::describe_node(*n) : "", expected + (n ? "" : " (missing)"));
     return;
   }
   double ends[2] = {0, 0};
@@ -67,18 +67,18 @@ void read_range(TomlReader& t, const std::string& key, FieldVariable& v) {
     } else if (e.is_number()) {
       ends[i] = e.value<double>().value_or(0.0);
     } else {
-      t.error(key, studies::describe_node(e), expected);
+      t.error(key, engine::describe_node(e), expected);
       return;
     }
   }
   if (!(dims[0] == dims[1])) {
-    t.error(key, studies::describe_node(*n), "both ends in the same kind of unit (" +
+    t.error(key, engine::describe_node(*n), "both ends in the same kind of unit (" +
                                                  units::dimension_name(dims[0]) + " and " +
                                                  units::dimension_name(dims[1]) + " given)");
     return;
   }
   if (ends[1] < ends[0]) {
-    t.error(key, studies::describe_node(*n), "[least, greatest]: the first end not above the second");
+    t.error(key, engine::describe_node(*n), "[least, greatest]: the first end not above the second");
     return;
   }
   v.lo = ends[0];
@@ -150,15 +150,15 @@ int level_sigmas(const std::string& level) {
 }
 
 BudgetSpec load_budget(const std::string& path) {
-  const toml::table doc = studies::parse_toml_file(path);
-  auto ctx = std::make_shared<studies::ReadContext>();
+  const toml::table doc = engine::parse_toml_file(path);
+  auto ctx = std::make_shared<engine::ReadContext>();
   ctx->file = path;
   TomlReader root(doc, ctx);
   BudgetSpec b;
   b.file = path;
   if (!root.has("budget")) {  // not a budget file (a study or model file, say): say that alone
     root.table("budget");
-    throw studies::ValidationError(ctx->errors);
+    throw engine::ValidationError(ctx->errors);
   }
   TomlReader t = root.table("budget");
   b.name = t.string("name");
@@ -180,13 +180,13 @@ BudgetSpec load_budget(const std::string& path) {
   b.level = level_sigmas(t.choice("level", {"1sigma", "2sigma", "3sigma"}));
   b.combination = parse_combination(t, "combination", std::nullopt);
   b.field_points = static_cast<std::size_t>(t.integer("field_points", 2, 1001, 13));
-  if (t.has("pixel")) b.pixel = t.quantity("pixel", units::kAngle, studies::positive);
+  if (t.has("pixel")) b.pixel = t.quantity("pixel", units::kAngle, engine::positive);
   const double level_probability = 2.0 * sampling::standard_normal_cdf(b.level) - 1.0;
   b.confidence = t.number(
       "confidence",
       [](double p) { return p > 0.0 && p < 1.0 ? "" : "a probability between 0 and 1, e.g. 0.9973 (3 sigma)"; },
       level_probability);
-  if (!unit_ok) throw studies::ValidationError(ctx->errors);  // nothing else reads without it
+  if (!unit_ok) throw engine::ValidationError(ctx->errors);  // nothing else reads without it
   {
     const Units u{b.dimension, b.unit, b.pixel};
     if (t.has("requirement")) {
@@ -227,7 +227,7 @@ BudgetSpec load_budget(const std::string& path) {
     // Expressions parsed; now their values over the field (1/cos(pitch) at 90 deg, ...).
     for (auto& e : check_expressions(b)) ctx->errors.push_back(std::move(e));
   }
-  studies::finish(doc, *ctx);
+  engine::finish(doc, *ctx);
   return b;
 }
 

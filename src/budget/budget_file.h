@@ -122,7 +122,7 @@ struct BudgetSpec {
 };
 
 /// Reads and validates a budget file; every problem is collected and thrown at once as a
-/// studies::ValidationError naming file, line, key, value and what was expected.
+/// engine::ValidationError naming file, line, key, value and what was expected.
 BudgetSpec load_budget(const std::string& path);
 
 /// Sigmas of a level: "1sigma" -> 1.

@@ -10,8 +10,8 @@
 namespace poise::budget {
 namespace {
 
-using studies::quote_value;
-using studies::TomlReader;
+using engine::quote_value;
+using engine::TomlReader;
 
 std::string example(const Units& u) { return "\"4.3 " + u.unit + "\""; }
 
@@ -29,7 +29,7 @@ std::string read_expression(TomlReader& t, const std::string& key, const std::ve
     std::snprintf(buf, sizeof buf, "%.17g", n->value<double>().value_or(0.0));
     text = buf;
   } else {
-    t.error(key, studies::describe_node(*n), "a number or an expression of the [field] variables, e.g. \"1/cos(pitch)\"");
+    t.error(key, engine::describe_node(*n), "a number or an expression of the [field] variables, e.g. \"1/cos(pitch)\"");
     return fallback;
   }
   try {
@@ -63,7 +63,7 @@ std::optional<double> read_value(TomlReader& t, const std::string& key, const Un
   }
   const auto* s = n->as_string();
   if (!s) {
-    t.error(key, studies::describe_node(*n), what + (n->is_number() ? " (missing unit)" : ""));
+    t.error(key, engine::describe_node(*n), what + (n->is_number() ? " (missing unit)" : ""));
     return std::nullopt;
   }
   try {
@@ -85,7 +85,7 @@ Declared read_declared(TomlReader& t, const std::string& key, const Units& u) {
   const toml::node* n = t.raw().get(key);
   if (!n) return d;
   d.line = t.line_of(key);
-  d.as_written = studies::describe_node(*n);
+  d.as_written = engine::describe_node(*n);
   if (n->is_string()) {
     if (const auto v = read_value(t, key, u, false)) {
       d.present = true;
@@ -99,7 +99,7 @@ Declared read_declared(TomlReader& t, const std::string& key, const Units& u) {
   const std::string expected = "a value with its unit, e.g. " + example(u) +
                                ", or [\"least\", \"greatest\"] over the field";
   if (!arr || arr->size() != 2 || !arr->get(0)->is_string() || !arr->get(1)->is_string()) {
-    t.error(key, studies::describe_node(*n), expected);
+    t.error(key, engine::describe_node(*n), expected);
     return d;
   }
   double ends[2] = {0, 0};
@@ -178,11 +178,11 @@ LineSpec read_line(TomlReader& t, const Units& u, const std::vector<std::string>
               "no lever in a budget in " + u.unit + " (a lever turns a length into an angle; the budget's unit is "
               "not an angle)");
     } else {
-      l.lever = t.quantity("lever", units::kLength, studies::positive);
-      l.tolerance = t.quantity("tolerance", units::kLength, studies::non_negative);
+      l.lever = t.quantity("lever", units::kLength, engine::positive);
+      l.tolerance = t.quantity("tolerance", units::kLength, engine::non_negative);
     }
   } else {
-    l.tolerance = t.quantity("tolerance", u.dimension, studies::non_negative);
+    l.tolerance = t.quantity("tolerance", u.dimension, engine::non_negative);
   }
   const std::size_t errors_before = t.context().errors.size();
   const std::string dist = t.choice("distribution", {"normal", "uniform", "arcsine", "truncated_normal", "fixed"});
@@ -225,7 +225,7 @@ GroupSpec read_group(TomlReader& t, const Units& u, const std::vector<std::strin
   return g;
 }
 
-void check_structure(const BudgetSpec& b, studies::ReadContext& ctx) {
+void check_structure(const BudgetSpec& b, engine::ReadContext& ctx) {
   std::map<std::string, std::string> where;  // name -> path, first seen
   auto add = [&](const std::string& name, const std::string& path, int line) {
     if (name.empty()) return;

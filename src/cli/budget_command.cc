@@ -13,15 +13,15 @@
 #include "budget/budget_file.h"
 #include "budget/budget_json.h"
 #include "cli/budget_monte_carlo.h"
-#include "engine/output_spec.h"
-#include "engine/requirements.h"
-#include "engine/result_io.h"
+#include "engine/kind_interface/output_spec.h"
+#include "engine/results/requirements.h"
+#include "engine/results/result_io.h"
 #include "cli/budget_report.h"
 #include "cli/budget_text.h"
 #include "core/error.h"
 #include "sampling/statistics.h"
-#include "engine/result_io.h"
-#include "engine/toml_reader.h"
+#include "engine/results/result_io.h"
+#include "engine/study_files/toml_reader.h"
 
 namespace poise::cli {
 namespace {
@@ -90,9 +90,9 @@ unknown_model_keys). --out DIR: report.html (self-contained) and budget.json.
 Exit status: 0 success, 2 invalid input (file, line, key and what was expected), 1 other failure.
 )HELP";
 
-studies::ValidationError input_error(const std::string& file, int line, const std::string& key,
+engine::ValidationError input_error(const std::string& file, int line, const std::string& key,
                                      const std::string& value, const std::string& expected) {
-  return studies::ValidationError({InputError(SourceLocation{file, line, 0}, key, value, expected)});
+  return engine::ValidationError({InputError(SourceLocation{file, line, 0}, key, value, expected)});
 }
 
 // The Monte Carlo's kind and the model's tolerances, checked before anything is computed.
@@ -110,7 +110,7 @@ MonteCarloPlan plan_monte_carlo(const budget::BudgetSpec& spec) {
   if (!plan.kind) {
     std::string kinds;
     for (const auto& k : monte_carlo_kinds()) kinds += (kinds.empty() ? "" : ", ") + k.model_kind;
-    throw input_error(spec.file, spec.model_line, "budget.model", studies::quote_value(spec.model_as_written),
+    throw input_error(spec.file, spec.model_line, "budget.model", engine::quote_value(spec.model_as_written),
                       "a model file of a kind with a Monte Carlo (" + kinds + "); its [model] kind is \"" +
                           model_kind + "\"");
   }
@@ -120,7 +120,7 @@ MonteCarloPlan plan_monte_carlo(const budget::BudgetSpec& spec) {
     if (o.name == spec.output) plan.output_unit = o.unit;
   }
   if (plan.output_unit.empty()) {
-    throw input_error(spec.file, spec.output_line, "budget.output", studies::quote_value(spec.output),
+    throw input_error(spec.file, spec.output_line, "budget.output", engine::quote_value(spec.output),
                       "an output of the " + plan.kind->model_kind + " Monte Carlo: " + names);
   }
   units::Dimension dim{};
@@ -130,7 +130,7 @@ MonteCarloPlan plan_monte_carlo(const budget::BudgetSpec& spec) {
     dim = units::kDimensionless;
   }
   if (!(dim == spec.dimension)) {
-    throw input_error(spec.file, spec.output_line, "budget.output", studies::quote_value(spec.output),
+    throw input_error(spec.file, spec.output_line, "budget.output", engine::quote_value(spec.output),
                       "an output in the budget's kind of unit (" + spec.unit + "); this one is in " + plan.output_unit);
   }
   plan.tolerance_keys = plan.kind->tolerance_keys(spec.model_path);
@@ -216,29 +216,29 @@ void add_budget_answer(const budget::BudgetSpec& spec, const std::vector<double>
   const json& a = out["at_confidence"];
   const double limit = *spec.requirement / spec.unit_factor;
   const double rule = a["greatest"].get<double>();  // in the budget's unit already
-  const std::string rule_text = "the combination rule gives " + studies::format_significant(rule) + " " + spec.unit +
-                                " at the confidence " + studies::format_significant(spec.confidence) + " and says " +
+  const std::string rule_text = "the combination rule gives " + engine::format_significant(rule) + " " + spec.unit +
+                                " at the confidence " + engine::format_significant(spec.confidence) + " and says " +
                                 (rule <= limit ? "met" : "not met");
   if (mc_values.empty()) {
     out["answer"] = std::string(rule <= limit ? "Met" : "NOT met") + " by the budget's combination rule alone (no model "
                     "to sample): " + rule_text + " against " + spec.requirement_text + ".";
     return;
   }
-  studies::Requirement r;
+  engine::Requirement r;
   r.output = spec.output;
-  r.statistic = "p" + studies::format_significant(100.0 * spec.confidence, 6);
+  r.statistic = "p" + engine::format_significant(100.0 * spec.confidence, 6);
   r.at_most = true;
-  r.limit_text = studies::format_significant(limit, 10) + (spec.unit.empty() ? "" : " " + spec.unit);
+  r.limit_text = engine::format_significant(limit, 10) + (spec.unit.empty() ? "" : " " + spec.unit);
   r.confidence = 0.95;
   r.origin = spec.file;
   std::vector<std::size_t> index(mc_values.size());
   for (std::size_t i = 0; i < index.size(); ++i) index[i] = i;
-  const std::vector<studies::OutputSpec> outputs = {{spec.output, spec.unit, ""}};
-  const json verdicts = studies::judge_requirements({r}, outputs, [&](const std::string&) {
-    return studies::OutputValues{&mc_values, &index, 0, true};
+  const std::vector<engine::OutputSpec> outputs = {{spec.output, spec.unit, ""}};
+  const json verdicts = engine::judge_requirements({r}, outputs, [&](const std::string&) {
+    return engine::OutputValues{&mc_values, &index, 0, true};
   });
   out["requirement_verdict"] = verdicts[0];
-  std::string answer = studies::answer_sentence(verdicts, json::object(), outputs, "complete", mc_values.size());
+  std::string answer = engine::answer_sentence(verdicts, json::object(), outputs, "complete", mc_values.size());
   answer.pop_back();  // its period: the budget's clause follows
   const std::string verdict = verdicts[0]["verdict"].get<std::string>();
   const bool agree = (verdict == "met") == (rule <= limit) && verdict != "undecided";
@@ -274,11 +274,11 @@ int run_budget(const std::string& path, bool as_json, const std::string& out_dir
     }
     if (!out_dir.empty()) {
       std::filesystem::create_directories(out_dir);
-      studies::write_file_atomic((std::filesystem::path(out_dir) / "budget.json").string(), j.dump(2) + "\n");
+      engine::write_file_atomic((std::filesystem::path(out_dir) / "budget.json").string(), j.dump(2) + "\n");
       write_budget_report((std::filesystem::path(out_dir) / "report.html").string(), j, mc_values);
       if (!as_json) std::cout << "report: " << out_dir << "/report.html\n";
     }
-  } catch (const studies::ValidationError& e) {
+  } catch (const engine::ValidationError& e) {
     std::cerr << "poise: " << e.what() << "\nNothing was checked.\n";
     return 2;
   } catch (const UsageError& e) {

@@ -20,7 +20,7 @@ using BudgetHandler = std::function<std::optional<int>()>;
 /// The budget file checked: the `--json` object (lines, groups, combined, monte_carlo,
 /// answer, ...); the Monte Carlo's values go to `mc_values` when given; `progress` says on
 /// stderr what the Monte Carlo runs. Throws
-/// studies::ValidationError or UsageError for invalid input, poise::Error otherwise.
+/// engine::ValidationError or UsageError for invalid input, poise::Error otherwise.
 nlohmann::json check_budget_file(const std::string& path, std::vector<double>* mc_values = nullptr,
                                  bool progress = true);
 

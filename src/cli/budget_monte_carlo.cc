@@ -3,18 +3,18 @@
 #include <thread>
 
 #include "core/error.h"
-#include "engine/study_kind.h"
-#include "engine/toml_reader.h"
+#include "engine/kind_interface/study_kind.h"
+#include "engine/study_files/toml_reader.h"
 
 namespace poise::cli {
 namespace {
 
 // A kind's Monte Carlo on a model file alone, through the kind interface (StudyKind::
 // model_study and evaluate): the output's values of every sample that did not fail.
-MonteCarloValues run_kind(const studies::StudyKind& kind, const std::string& model_path, const std::string& output,
+MonteCarloValues run_kind(const engine::StudyKind& kind, const std::string& model_path, const std::string& output,
                           std::size_t samples, std::uint64_t seed) {
   const int threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
-  const studies::McResult e = kind.evaluate(kind.model_study(model_path), {}, samples, seed, threads);
+  const engine::McResult e = kind.evaluate(kind.model_study(model_path), {}, samples, seed, threads);
   MonteCarloValues v;
   v.samples = e.n;
   v.failures = e.failures;
@@ -27,7 +27,7 @@ MonteCarloValues run_kind(const studies::StudyKind& kind, const std::string& mod
 
 std::vector<MonteCarloKind> monte_carlo_kinds() {
   std::vector<MonteCarloKind> out;
-  for (const studies::StudyKind* kind : studies::study_kinds()) {
+  for (const engine::StudyKind* kind : engine::study_kinds()) {
     if (kind->model_kind().empty()) continue;
     out.push_back(
         {kind->model_kind(), kind->summary(),
@@ -52,7 +52,7 @@ std::optional<MonteCarloKind> find_monte_carlo_kind(const std::string& model_kin
 }
 
 std::string model_kind_of(const std::string& model_path) {
-  const toml::table doc = studies::parse_toml_file(model_path);
+  const toml::table doc = engine::parse_toml_file(model_path);
   if (const auto* kind = doc["model"]["kind"].as_string()) return kind->get();
   return "";
 }

@@ -1,7 +1,7 @@
 #pragma once
 /// The Monte Carlo set beside a budget (`poise budget`, [budget] model/output/samples/seed):
 /// the model file's exact chain sampled, one output's values returned. Every study kind that
-/// names a model_kind() (engine/study_kind.h) serves the model files of that [model] kind,
+/// names a model_kind() (engine/kind_interface/study_kind.h) serves the model files of that [model] kind,
 /// through the kind interface (model_study, outputs, evaluate); no list to edit:
 ///   outputs(model)            the per-sample outputs it can give, with their units
 ///   tolerance_keys(model)     the model's sampled tolerances, dotted ("yaw.perpendicularity"),
@@ -40,7 +40,7 @@ struct MonteCarloKind {
 std::vector<MonteCarloKind> monte_carlo_kinds();
 /// The one for a model kind, or nullopt.
 std::optional<MonteCarloKind> find_monte_carlo_kind(const std::string& model_kind);
-/// [model] kind of a model file ("" when it has none). Throws studies::ValidationError when the
+/// [model] kind of a model file ("" when it has none). Throws engine::ValidationError when the
 /// file does not parse.
 std::string model_kind_of(const std::string& model_path);
 

@@ -1,6 +1,6 @@
 #include "cli/budget_report.h"
 
-#include "engine/requirements.h"
+#include "engine/results/requirements.h"
 
 #include <algorithm>
 #include <cmath>
@@ -8,13 +8,13 @@
 #include <sstream>
 
 #include "cli/budget_text.h"
-#include "engine/result_io.h"
+#include "engine/results/result_io.h"
 
 namespace poise::cli {
 namespace {
 
 using nlohmann::json;
-using studies::html_escape;
+using engine::html_escape;
 
 std::string f2(double v) {
   char buf[32];
@@ -166,7 +166,7 @@ void write_budget_report(const std::string& path, const json& j, const std::vect
     << "padding:3px 6px;text-align:right;vertical-align:top}td.l,th.l{text-align:left}small{color:#555}</style></head>"
     << "<body>\n<h1>" << html_escape(b["title"].get<std::string>().empty() ? b["name"].get<std::string>()
                                                                            : b["title"].get<std::string>())
-    << "</h1>\n" << studies::answer_html(j.value("answer", std::string()),
+    << "</h1>\n" << engine::answer_html(j.value("answer", std::string()),
                                             j["requirement_verdict"].is_null() ? json::array() : json::array({j["requirement_verdict"]}))
     << "<p>Budget <code>" << html_escape(b["file"].get<std::string>()) << "</code>: contributions in "
     << html_escape(unit) << " at " << html_escape(b["level"].get<std::string>()) << ", combined by "
@@ -272,7 +272,7 @@ void write_budget_report(const std::string& path, const json& j, const std::vect
     h << "<p><small>Source: " << html_escape(b["source"].get<std::string>()) << "</small></p>\n";
   }
   h << "</body></html>\n";
-  studies::write_file_atomic(path, h.str());
+  engine::write_file_atomic(path, h.str());
 }
 
 }  // namespace poise::cli

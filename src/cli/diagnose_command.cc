@@ -19,7 +19,7 @@
 #include "core/units.h"
 #include "estimators/residual_diagnosis.h"
 #include "estimators/torque_table.h"
-#include "engine/result_io.h"
+#include "engine/results/result_io.h"
 
 namespace poise::cli {
 namespace {
@@ -186,7 +186,7 @@ int run_diagnose(const Options& o) {
   if (o.out.empty()) return 0;
   try {
     fs::create_directories(dir);
-    studies::write_file_atomic((dir / "diagnosis.json").string(), j.dump(2) + "\n");
+    engine::write_file_atomic((dir / "diagnosis.json").string(), j.dump(2) + "\n");
     const std::string note = write_plot(dir, table, result);
     write_report(dir, table, result, j, o.alpha, note);
     if (!o.json) std::cout << "\nreport: " << (dir / "report.html").string() << '\n';

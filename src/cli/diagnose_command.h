@@ -30,7 +30,7 @@ struct DiagnoseRequest {
 };
 
 /// The diagnosis as `poise diagnose --json` prints it (with "closed_loop" for a study).
-/// Throws poise::Error (studies::ValidationError for a bad file) for invalid input.
+/// Throws poise::Error (engine::ValidationError for a bad file) for invalid input.
 nlohmann::json diagnose_json(const DiagnoseRequest& request);
 
 /// Runs `poise diagnose` if it was the subcommand given: returns its exit status (0 success,

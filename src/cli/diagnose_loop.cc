@@ -7,8 +7,10 @@
 
 #include "core/error.h"
 #include "model_files/gimbal_model.h"
-#include "engine/study_config.h"
-#include "engine/study_evaluation.h"
+#include "engine/study_files/study_config.h"
+#include "engine/kind_interface/study_evaluation.h"
+
+using namespace poise::model_files;  // the kinds' and model files' own namespaces
 
 namespace poise::cli {
 namespace {
@@ -49,13 +51,13 @@ LoopResult close_the_loop(const std::string& study_path, const est::TorqueTable&
   out.samples = samples;
   out.measured_rmse = result.rmse_before;
   out.unit = table.unit;
-  studies::StudyConfig cfg = studies::load_study(study_path);
+  engine::StudyConfig cfg = engine::load_study(study_path);
   if (cfg.kind != "gimbal_static_unbalance") {
     throw Error(study_path + ": study kind '" + cfg.kind +
                 "'; expected gimbal_static_unbalance (its model has the [disturbances] an effect "
                 "maps to)");
   }
-  const studies::GimbalModel model = studies::load_gimbal_model(cfg.model_path);
+  const model_files::GimbalModel model = model_files::load_gimbal_model(cfg.model_path);
   const double to_nm = table.unit_factor;
   std::map<std::string, std::string> overrides;
   for (const est::Effect& e : result.effects) {
@@ -80,8 +82,8 @@ LoopResult close_the_loop(const std::string& study_path, const est::TorqueTable&
     out.sentence = "No effect found maps to a key of the simulation model: the study is not re-run.";
     return out;
   }
-  const studies::McResult without = studies::evaluate_study(cfg, {}, samples, cfg.seed, 0);
-  const studies::McResult with = studies::evaluate_study(cfg, overrides, samples, cfg.seed, 0);
+  const engine::McResult without = engine::evaluate_study(cfg, {}, samples, cfg.seed, 0);
+  const engine::McResult with = engine::evaluate_study(cfg, overrides, samples, cfg.seed, 0);
   for (std::size_t i = 0; i < without.names.size(); ++i) {
     if (!is_error_output(without.names[i])) continue;
     LoopOutput o;

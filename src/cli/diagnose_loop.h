@@ -1,7 +1,7 @@
 #pragma once
 /// Closes the loop at the table level for `poise diagnose --study`: each effect the diagnosis
 /// found is mapped to the [disturbances] key of the gimbal simulation model it stands for,
-/// the study is evaluated (in memory, studies::evaluate_study) without and with those
+/// the study is evaluated (in memory, engine::evaluate_study) without and with those
 /// overrides on the same random numbers, and the simulated errors are set beside the
 /// measured residual: "with this effect in the model the simulated test's error is X; the
 /// measured one is Y".

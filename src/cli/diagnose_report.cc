@@ -8,8 +8,8 @@
 #include <vector>
 
 #include "cli/diagnose_output.h"
-#include "engine/report_plot.h"
-#include "engine/result_io.h"
+#include "engine/report/report_plot.h"
+#include "engine/results/result_io.h"
 
 namespace poise::cli::diagnose_detail {
 namespace fs = std::filesystem;
@@ -50,7 +50,7 @@ std::string write_plot(const fs::path& dir, const est::TorqueTable& t,
     dat << t.theta_deg[i] << ' ' << t.torque[i] << ' ' << r.fitted_before[i] << ' '
         << r.fitted_after[i] << ' ' << r.residual_before[i] << ' ' << r.residual_after[i] << '\n';
   }
-  studies::write_file_atomic((dir / "plot.dat").string(), dat.str());
+  engine::write_file_atomic((dir / "plot.dat").string(), dat.str());
   const auto& b = r.estimate_before;
   std::ostringstream gp;
   gp.precision(12);
@@ -68,9 +68,9 @@ std::string write_plot(const fs::path& dir, const est::TorqueTable& t,
      << "plot 'plot.dat' u 1:5 w lp pt 7 ps 0.6 lc rgb '#1f77b4' t 'base fit residual', \\\n"
      << "  'plot.dat' u 1:6 w lp pt 6 ps 0.8 lc rgb '#d62728' t 'final model residual', \\\n"
      << "  0 w l lc rgb '#808080' notitle\nunset multiplot\n";
-  studies::write_file_atomic((dir / "plot.gp").string(), gp.str());
+  engine::write_file_atomic((dir / "plot.gp").string(), gp.str());
   std::string why;
-  if (studies::run_gnuplot((dir / "plot.gp").string(), &why) && fs::exists(dir / "plot.svg")) {
+  if (engine::run_gnuplot((dir / "plot.gp").string(), &why) && fs::exists(dir / "plot.svg")) {
     return "";
   }
   if (why.empty()) why = "gnuplot wrote no plot.svg";
@@ -187,7 +187,7 @@ void write_report(const fs::path& dir, const est::TorqueTable& t, const est::Dia
   for (const auto& s : r.tested) h << "<li>" << esc(s) << "</li>\n";
   h << "</ul>\n<p><small>Files: diagnosis.json, plot.dat, plot.gp, plot.svg, report.html."
        "</small></p>\n</body></html>\n";
-  studies::write_file_atomic((dir / "report.html").string(), h.str());
+  engine::write_file_atomic((dir / "report.html").string(), h.str());
 }
 
 }  // namespace poise::cli::diagnose_detail

@@ -6,15 +6,15 @@
 
 #include <nlohmann/json.hpp>
 
-#include "engine/study_keys.h"
-#include "engine/study_kind.h"
+#include "engine/study_files/study_keys.h"
+#include "engine/kind_interface/study_kind.h"
 
 namespace poise::cli {
 
 std::string study_kinds_text() {
   // Each kind's name, then its summary wrapped to 92 columns under it.
   std::string out;
-  for (const auto* k : studies::study_kinds()) {
+  for (const auto* k : engine::study_kinds()) {
     out += "  " + k->name() + "\n";
     std::string line = "     ";
     std::istringstream words(k->summary() + ".");
@@ -49,14 +49,14 @@ KeysHandler add_keys_command(CLI::App& app) {
       return 0;
     }
     try {
-      studies::study_kind(opt->kind);
+      engine::study_kind(opt->kind);
     } catch (const std::exception& e) {
       std::cerr << "poise keys: " << e.what() << '\n';
       return 2;
     }
-    const studies::KindKeys keys = studies::kind_keys(opt->kind);
+    const engine::KindKeys keys = engine::kind_keys(opt->kind);
     if (opt->json) {
-      auto to_json = [](const std::vector<studies::KeyDoc>& v) {
+      auto to_json = [](const std::vector<engine::KeyDoc>& v) {
         nlohmann::json a = nlohmann::json::array();
         for (const auto& k : v) {
           a.push_back({{"key", k.path}, {"expected", k.expected}, {"required", k.required}, {"default", k.fallback}});
@@ -66,7 +66,7 @@ KeysHandler add_keys_command(CLI::App& app) {
       std::cout << nlohmann::json{{"kind", opt->kind}, {"study", to_json(keys.study)}, {"model", to_json(keys.model)}}.dump(2)
                 << '\n';
     } else {
-      std::cout << studies::keys_text(opt->kind, keys);
+      std::cout << engine::keys_text(opt->kind, keys);
     }
     return 0;
   };

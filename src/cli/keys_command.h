@@ -1,6 +1,6 @@
 #pragma once
 /// `poise keys [KIND] [--json]`: every key of a study kind's study and model files, generated
-/// from the program's own reading (engine/study_keys.h); without KIND, the kinds.
+/// from the program's own reading (engine/study_files/study_keys.h); without KIND, the kinds.
 #include <CLI/CLI.hpp>
 
 #include <functional>

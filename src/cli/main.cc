@@ -19,8 +19,8 @@
 #include "core/error.h"
 #include "core/version.h"
 #include "sampling/distributed.h"
-#include "engine/study_runner.h"
-#include "engine/toml_reader.h"
+#include "engine/run/study_runner.h"
+#include "engine/study_files/toml_reader.h"
 #include "kinds/registry.h"
 
 namespace {
@@ -93,7 +93,7 @@ Exit status, the same for every command:
 int run_main(int argc, char** argv);
 
 int main(int argc, char** argv) {
-  poise::studies::register_study_kinds();
+  poise::kinds::register_study_kinds();
   try {
     poise::sampling::Cluster::init(&argc, &argv);
   } catch (const std::exception& e) {
@@ -125,7 +125,7 @@ int run_main(int argc, char** argv) {
   app.set_version_flag("--version", std::string("poise ") + poise::kVersion + " (" + poise::kGitCommit + ")");
   app.require_subcommand(1);
 
-  poise::studies::RunOptions opt;
+  poise::engine::RunOptions opt;
   std::string study;
   std::size_t samples = 0;
   std::uint64_t seed = 0;
@@ -248,10 +248,10 @@ int run_main(int argc, char** argv) {
   } catch (const poise::UsageError& e) {
     std::cerr << "poise: " << e.what() << "\nNothing was run.\n";
     return 2;
-  } catch (const poise::studies::ValidationError& e) {
+  } catch (const poise::engine::ValidationError& e) {
     std::cerr << "poise: " << e.what() << "\nNothing was run.\n";
     return 2;
-  } catch (const poise::studies::Interrupted& e) {
+  } catch (const poise::engine::Interrupted& e) {
     std::cerr << "\npoise: " << e.what() << '\n';
     return 128 + e.signal;
   } catch (const std::exception& e) {
@@ -264,7 +264,7 @@ int run_main(int argc, char** argv) {
       return 2;
     }
     try {
-      study = poise::studies::study_file_of_run(opt.resume);
+      study = poise::engine::study_file_of_run(opt.resume);
     } catch (const std::exception& e) {
       std::cerr << "poise: " << e.what() << "\nNothing was run.\n";
       return 2;
@@ -298,27 +298,27 @@ int run_main(int argc, char** argv) {
 
   try {
     if (*validate) {
-      std::cout << poise::studies::validate_study(study) << '\n';
+      std::cout << poise::engine::validate_study(study) << '\n';
     } else if (*run || *sens) {
-      const std::string dir = poise::studies::run_study(study, opt);
+      const std::string dir = poise::engine::run_study(study, opt);
       if (root) {
         // The answer is the last line before the report's path: the sentence summary.json
         // and the report open with.
-        const poise::studies::RunAnswer answer = poise::studies::run_answer(dir);
+        const poise::engine::RunAnswer answer = poise::engine::run_answer(dir);
         if (!answer.answer.empty()) std::cout << answer.answer << '\n';
         std::cout << "report: " << dir << "/report.html\n";
         if (opt.require && answer.met != true) return 3;
       }
     } else if (*replay) {
-      std::cout << poise::studies::replay_sample(study, index, opt).dump(2) << '\n';
+      std::cout << poise::engine::replay_sample(study, index, opt).dump(2) << '\n';
     }
-  } catch (const poise::studies::ValidationError& e) {
+  } catch (const poise::engine::ValidationError& e) {
     if (root) std::cerr << "poise: " << e.what() << "\nNothing was run.\n";
     return 2;
   } catch (const poise::UsageError& e) {
     if (root) std::cerr << "poise: " << e.what() << "\nNothing was run.\n";
     return 2;
-  } catch (const poise::studies::Interrupted& e) {
+  } catch (const poise::engine::Interrupted& e) {
     if (root) std::cerr << "\npoise: " << e.what() << '\n';
     return 128 + e.signal;
   } catch (const std::exception& e) {

@@ -7,7 +7,7 @@
 
 #include "core/error.h"
 #include "optimize/optimization_study.h"
-#include "engine/toml_reader.h"
+#include "engine/study_files/toml_reader.h"
 
 namespace poise::cli {
 namespace {
@@ -79,7 +79,7 @@ Examples:
 OptimizeHandler add_optimize_command(CLI::App& app) {
   struct Options {
     std::string file;
-    studies::RunOptions run;
+    engine::RunOptions run;
     bool quiet = false, no_plots = false;
     std::optional<std::uint64_t> seed;
   };
@@ -107,7 +107,7 @@ OptimizeHandler add_optimize_command(CLI::App& app) {
       }
       std::cout << "answer: " << r.answer << "\nreport: " << r.dir << "/report.html\n";
       return r.exit_status;
-    } catch (const studies::ValidationError& e) {
+    } catch (const engine::ValidationError& e) {
       std::cerr << "poise: " << e.what() << "\nNothing was run.\n";
       return optimize::kExitInvalidInput;
     } catch (const UsageError& e) {  // e.g. --out into a folder that holds a run

@@ -14,9 +14,11 @@
 #include "estimators/oscillation_diagnosis.h"
 #include "estimators/oscillation_record.h"
 #include "model_files/gimbal_model.h"
-#include "engine/checked_file.h"
-#include "engine/result_io.h"
-#include "engine/toml_reader.h"
+#include "engine/results/checked_file.h"
+#include "engine/results/result_io.h"
+#include "engine/study_files/toml_reader.h"
+
+using namespace poise::model_files;  // the kinds' and model files' own namespaces
 
 namespace poise::cli {
 namespace {
@@ -35,7 +37,7 @@ int simulate(const Args& a) {
     if (eq == std::string::npos) throw Error("--set " + s + ": expected key=value, e.g. rotor.cogging_order=180");
     overrides[s.substr(0, eq)] = s.substr(eq + 1);
   }
-  const studies::GimbalModel m = studies::load_gimbal_model(a.model, overrides);
+  const model_files::GimbalModel m = model_files::load_gimbal_model(a.model, overrides);
   procedures::TestPlan plan = m.plan;
   double theta = 0.0;
   try {
@@ -72,7 +74,7 @@ int simulate(const Args& a) {
     std::snprintf(buf, sizeof buf, "%.6f,%.9g,%.9g\n", s.t, s.current, s.phi / units::kRadPerDeg);
     out += buf;
   }
-  studies::write_file_atomic(a.out, out);  // WriteError: the file and the system's reason
+  engine::write_file_atomic(a.out, out);  // WriteError: the file and the system's reason
   const double true_torque = m.rotor.mass * m.plan.gravity * truth.disk.eccentricity *
                              std::sin(res.positions[0].theta_true + truth.disk.eccentricity_angle);
   const double cable = m.rotor.torsion_stiffness * (m.plan.oscillation.centre - m.rotor.torsion_zero);
@@ -183,10 +185,10 @@ std::function<std::optional<int>()> add_record_commands(CLI::App& app) {
     try {
       if (*sim) return simulate(*a);
       if (*diag) return diagnose(*a);
-    } catch (const studies::WriteError& e) {  // a full disk: a failed run, not bad input
+    } catch (const engine::WriteError& e) {  // a full disk: a failed run, not bad input
       std::cerr << "poise: error: " << e.what() << '\n';
       return 1;
-    } catch (const studies::ValidationError& e) {
+    } catch (const engine::ValidationError& e) {
       std::cerr << "poise: " << e.what() << '\n';
       return 2;
     } catch (const Error& e) {

@@ -3,10 +3,11 @@
 #include <cstdio>
 #include <sstream>
 
-#include "engine/report_plot.h"
-#include "engine/result_io.h"
+#include "engine/report/report_plot.h"
+#include "engine/results/result_io.h"
 
-namespace poise::studies {
+namespace poise::geometry_studies {
+using namespace poise::engine;
 namespace fs = std::filesystem;
 
 std::string geometry_figures_html(const fs::path& plots_dir, const std::vector<GeometryPlot>& plots) {
@@ -37,4 +38,4 @@ std::string fmt_g(double v, int prec) {
   return buf;
 }
 
-}  // namespace poise::studies
+}  // namespace poise::geometry_studies

@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-namespace poise::studies {
+namespace poise::geometry_studies {
 
 struct GeometryPlot {
   std::string name;    ///< file stem: plots/<name>.dat, .gp, .svg
@@ -26,4 +26,4 @@ std::string histogram_script(const std::string& dat, int column, const std::stri
 /// A number for the report's tables: %.*g.
 std::string fmt_g(double v, int prec = 6);
 
-}  // namespace poise::studies
+}  // namespace poise::geometry_studies

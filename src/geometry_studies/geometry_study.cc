@@ -1,9 +1,10 @@
 #include "geometry_studies/geometry_study.h"
 
 #include "core/units.h"
-#include "engine/toml_reader.h"
+#include "engine/study_files/toml_reader.h"
 
-namespace poise::studies {
+namespace poise::geometry_studies {
+using namespace poise::engine;
 
 void read_geometry_study(TomlReader& root, const std::string& kind, GeometryStudySpec& s) {
   if (kind == "geometry_mass_properties") {
@@ -54,4 +55,4 @@ void read_geometry_study(TomlReader& root, const std::string& kind, GeometryStud
   }
 }
 
-}  // namespace poise::studies
+}  // namespace poise::geometry_studies

@@ -21,11 +21,15 @@
 #include <string>
 #include <vector>
 
-#include "engine/study_config.h"
+#include "engine/study_files/study_config.h"
 
-namespace poise::studies {
+namespace poise::engine {
+class TomlReader;  // engine/study_files/toml_reader.h
+}  // namespace poise::engine
 
-class TomlReader;  // engine/toml_reader.h
+namespace poise::geometry_studies {
+using namespace poise::engine;
+
 
 struct GeometryStudySpec {
   // geometry_mass_properties
@@ -52,4 +56,4 @@ struct GeometrySections : KindSectionsOf<GeometrySections> {
 };
 inline const GeometrySections& geometry_sections(const StudyConfig& cfg) { return sections_of<GeometrySections>(cfg); }
 
-}  // namespace poise::studies
+}  // namespace poise::geometry_studies

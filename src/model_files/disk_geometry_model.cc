@@ -5,9 +5,10 @@
 
 #include "core/error.h"
 #include "core/units.h"
-#include "engine/model_overrides.h"
+#include "engine/study_files/model_overrides.h"
 
-namespace poise::studies {
+namespace poise::model_files {
+using namespace poise::engine;
 namespace {
 using units::kDensity;
 }  // namespace
@@ -120,4 +121,4 @@ geometry::DiskSpec DiskSampler::spec_of(std::span<const double> si) const {
 
 std::vector<double> DiskSampler::nominal() const { return std::vector<double>(dimension(), 0.0); }
 
-}  // namespace poise::studies
+}  // namespace poise::model_files

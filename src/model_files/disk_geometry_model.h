@@ -16,10 +16,11 @@
 
 #include "geometry/generators.h"
 #include "model_files/seeker_model.h"
-#include "engine/tolerance_spec.h"
-#include "engine/model_overrides.h"
+#include "engine/study_files/tolerance_spec.h"
+#include "engine/study_files/model_overrides.h"
 
-namespace poise::studies {
+namespace poise::model_files {
+using namespace poise::engine;
 
 struct DiskGeometryModel : ModelHeader {  ///< file, name, title, source of the model file
   geometry::DiskSpec nominal;
@@ -49,4 +50,4 @@ class DiskSampler {
   std::vector<InputColumn> columns_;
 };
 
-}  // namespace poise::studies
+}  // namespace poise::model_files

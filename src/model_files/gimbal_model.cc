@@ -8,9 +8,10 @@
 #include "core/units.h"
 #include "geometry/generators.h"
 #include "geometry/mass_properties.h"
-#include "engine/model_overrides.h"
+#include "engine/study_files/model_overrides.h"
 
-namespace poise::studies {
+namespace poise::model_files {
+using namespace poise::engine;
 namespace {
 using units::Dimension;
 
@@ -321,4 +322,4 @@ std::vector<std::string> plausibility_warnings(const GimbalModel& m) {
   return w;
 }
 
-}  // namespace poise::studies
+}  // namespace poise::model_files

@@ -11,12 +11,13 @@
 
 #include "procedures/static_unbalance_procedure.h"
 #include "model_files/disk_geometry_model.h"
-#include "engine/tolerance_spec.h"
-#include "engine/user_parts.h"
-#include "engine/toml_reader.h"
-#include "engine/model_overrides.h"
+#include "engine/study_files/tolerance_spec.h"
+#include "engine/study_files/user_parts.h"
+#include "engine/study_files/toml_reader.h"
+#include "engine/study_files/model_overrides.h"
 
-namespace poise::studies {
+namespace poise::model_files {
+using namespace poise::engine;
 
 struct GimbalModel : ModelHeader {  ///< file, name, title, source of the model file
   models::DiskRotorParams rotor;   ///< eccentricity comes from the sampled unbalance
@@ -66,7 +67,7 @@ struct GimbalModel : ModelHeader {  ///< file, name, title, source of the model 
   /// its mesh) adds to residual_unbalance (then the rest of the rotor's), and its mass and
   /// inertia deviations from the nominal disk add to rotor.mass and rotor.inertia.
   std::optional<DiskGeometryModel> disk_geometry;
-  /// [[geometry.part]] (engine/user_parts.h; instead of disk_model): the rotor's parts as
+  /// [[geometry.part]] (engine/study_files/user_parts.h; instead of disk_model): the rotor's parts as
   /// meshes from CAD, z the gimbal axis, drawn as built for every sample (unit scope). As with
   /// disk_model, [rotor] mass and inertia are the rotor as designed (parts included): the
   /// as-built parts' unbalance about the gimbal axis, m (c_x, c_y), adds to residual_unbalance,
@@ -96,4 +97,4 @@ std::vector<std::string> plausibility_warnings(const GimbalModel& m);
 GimbalModel load_gimbal_model(const std::string& path,
                               const std::map<std::string, std::string>& overrides = {});
 
-}  // namespace poise::studies
+}  // namespace poise::model_files

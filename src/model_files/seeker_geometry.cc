@@ -5,10 +5,11 @@
 #include "core/error.h"
 #include "geometry/mesh_check.h"
 #include "geometry/mesh_io.h"
-#include "engine/model_overrides.h"
-#include "engine/user_parts.h"
+#include "engine/study_files/model_overrides.h"
+#include "engine/study_files/user_parts.h"
 
-namespace poise::studies {
+namespace poise::model_files {
+using namespace poise::engine;
 namespace {
 
 // One optional mesh key: "" = generated; else loaded, checked and shared, refused at its key.
@@ -84,4 +85,4 @@ geometry::SeekerMeshes seeker_scene_meshes(const SeekerModel& model) {
   return parts;
 }
 
-}  // namespace poise::studies
+}  // namespace poise::model_files

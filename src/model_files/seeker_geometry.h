@@ -26,10 +26,11 @@
 #include <string>
 
 #include "geometry/generators.h"
-#include "engine/toml_reader.h"
+#include "engine/study_files/toml_reader.h"
 #include "model_files/seeker_model.h"
 
-namespace poise::studies {
+namespace poise::model_files {
+using namespace poise::engine;
 
 /// Reads [geometry] if present (std::nullopt if not), and its meshes into `meshes` (relative to
 /// `base_dir`); errors go to the reader's context.
@@ -41,4 +42,4 @@ std::optional<geometry::SeekerGeometry> read_seeker_geometry(TomlReader& root, d
 /// housing replaced by the designer's meshes where given. Throws poise::Error without [geometry].
 geometry::SeekerMeshes seeker_scene_meshes(const SeekerModel& model);
 
-}  // namespace poise::studies
+}  // namespace poise::model_files

@@ -4,10 +4,11 @@
 #include <filesystem>
 
 #include "core/units.h"
-#include "engine/model_overrides.h"
+#include "engine/study_files/model_overrides.h"
 #include "model_files/seeker_geometry.h"
 
-namespace poise::studies {
+namespace poise::model_files {
+using namespace poise::engine;
 namespace {
 
 using units::kAngle;
@@ -275,4 +276,4 @@ std::vector<double> SeekerSampler::nominal() const {
   return si;
 }
 
-}  // namespace poise::studies
+}  // namespace poise::model_files

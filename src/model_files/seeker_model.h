@@ -32,11 +32,12 @@
 #include "geometry/generators.h"
 #include "models/seeker_los_budget.h"
 #include "models/seeker_los_chain.h"
-#include "engine/input_column.h"
-#include "engine/tolerance_spec.h"
-#include "engine/model_overrides.h"
+#include "engine/study_files/input_column.h"
+#include "engine/study_files/tolerance_spec.h"
+#include "engine/study_files/model_overrides.h"
 
-namespace poise::studies {
+namespace poise::model_files {
+using namespace poise::engine;
 
 /// A displacement source at the bearings of one axis.
 struct BearingSource {
@@ -114,4 +115,4 @@ class SeekerSampler {
   std::vector<std::string> column_tolerances_;
 };
 
-}  // namespace poise::studies
+}  // namespace poise::model_files

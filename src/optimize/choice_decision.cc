@@ -6,7 +6,7 @@
 
 #include "sampling/random_stream.h"
 #include "sampling/statistics.h"
-#include "engine/procedure_study.h"
+#include "engine/kind_interface/procedure_study.h"
 
 namespace poise::optimize {
 namespace {
@@ -37,7 +37,7 @@ Difference difference(const std::vector<double>& a, const std::vector<std::size_
                       const std::vector<double>& b, const std::vector<std::size_t>& b_units, const std::string& stat,
                       std::uint64_t seed, int resamples) {
   Difference d;
-  d.value = studies::statistic(a, stat) - studies::statistic(b, stat);
+  d.value = engine::statistic(a, stat) - engine::statistic(b, stat);
   d.paired = a.size() == b.size() && a_units == b_units;
   if (a.size() < 2 || b.size() < 2) return d;
   sampling::RandomStream rs(seed, sampling::StreamId::kBootstrap, 1);
@@ -52,7 +52,7 @@ Difference difference(const std::vector<double>& a, const std::vector<std::size_
     if (!d.paired) {
       for (auto& v : rb) v = b[static_cast<std::size_t>(rs.uniform() * static_cast<double>(b.size()))];
     }
-    x = studies::statistic(ra, stat) - studies::statistic(rb, stat);
+    x = engine::statistic(ra, stat) - engine::statistic(rb, stat);
     ahead += x > 0 ? 1 : 0;
   }
   std::sort(diffs.begin(), diffs.end());
@@ -113,7 +113,7 @@ ChoiceDecision decide_choices(const OptimizationSpec& spec, const std::vector<Ch
     const auto design = overrides_of(spec, runs[r].result.x, runs[r].choice);
     for (int set = 0; set < 2; ++set) {
       const std::uint64_t seed = set == 0 ? spec.selection_seed() : spec.verification_seed;
-      const auto e = studies::evaluate_study(spec.base, design, spec.verification_samples, seed, threads);
+      const auto e = engine::evaluate_study(spec.base, design, spec.verification_samples, seed, threads);
       FreshCheck f = check_design(spec, runs[r].result.x, e, seed);
       progress.step(static_cast<double>(spec.verification_samples),
                     "[" + choice_label(runs[r].choice) + "] " + (set == 0 ? "selection" : "comparison") + " set, " +

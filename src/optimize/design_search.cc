@@ -4,7 +4,7 @@
 #include <cmath>
 #include <cstdio>
 
-#include "engine/confidence_bound.h"
+#include "engine/results/confidence_bound.h"
 
 namespace poise::optimize {
 
@@ -17,9 +17,9 @@ void RunProgress::step(double samples, const std::string& line) {
   std::fprintf(stderr, "  %s  (%.0f s, ETA <= %.1f min)\n", line.c_str(), elapsed, eta / 60.0);
 }
 
-double objective_value(const OptimizationSpec& spec, const std::vector<double>& x, const studies::McResult& e) {
+double objective_value(const OptimizationSpec& spec, const std::vector<double>& x, const engine::McResult& e) {
   if (!spec.objective_output.empty()) {
-    return studies::statistic(e.values[e.index(spec.objective_output)], spec.objective_statistic);
+    return engine::statistic(e.values[e.index(spec.objective_output)], spec.objective_statistic);
   }
   double f = 0.0;
   for (std::size_t i = 0; i < spec.variables.size(); ++i) {
@@ -33,7 +33,7 @@ double objective_value(const OptimizationSpec& spec, const std::vector<double>& 
 
 double constraint_figure(const Requirement& r, double c) { return r.at_least ? *r.at_least - c : c + *r.at_most; }
 
-ScoredDesign score_design(const OptimizationSpec& spec, const std::vector<double>& x, const studies::McResult& e) {
+ScoredDesign score_design(const OptimizationSpec& spec, const std::vector<double>& x, const engine::McResult& e) {
   ScoredDesign s;
   s.failure_share = e.n > 0 ? static_cast<double>(e.failures) / static_cast<double>(e.n) : 0.0;
   Evaluation& r = s.primary;
@@ -58,7 +58,7 @@ ScoredDesign score_design(const OptimizationSpec& spec, const std::vector<double
     }
     r.constraints.push_back(c.at_least ? *c.at_least - *figure : *figure - *c.at_most);
   }
-  if (spec.pareto) s.second = studies::statistic(e.values[e.index(spec.pareto->output)], spec.pareto->statistic);
+  if (spec.pareto) s.second = engine::statistic(e.values[e.index(spec.pareto->output)], spec.pareto->statistic);
   return s;
 }
 
@@ -92,8 +92,8 @@ ChoiceResult search_choice(const OptimizationSpec& spec, const std::map<std::str
     if (auto it = cr.designs.find(x); it != cr.designs.end()) return it->second;
     ScoredDesign sc;
     try {
-      const studies::McResult e =
-          studies::evaluate_study(spec.base, overrides_of(spec, x, choice), spec.samples, setup.seed, threads);
+      const engine::McResult e =
+          engine::evaluate_study(spec.base, overrides_of(spec, x, choice), spec.samples, setup.seed, threads);
       sc = score_design(spec, x, e);
     } catch (const std::exception& ex) {
       sc.primary.ok = false;

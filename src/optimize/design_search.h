@@ -16,7 +16,7 @@
 
 #include "optimize/optimization_spec.h"
 #include "optimize/optimizer.h"
-#include "engine/study_evaluation.h"
+#include "engine/kind_interface/study_evaluation.h"
 
 namespace poise::optimize {
 
@@ -45,10 +45,10 @@ struct ScoredDesign {
 
 /// One evaluated design against the spec: failure share, objective, constraints (the
 /// statistic or its stated confidence bound, minus the limit).
-ScoredDesign score_design(const OptimizationSpec& spec, const std::vector<double>& x, const studies::McResult& e);
+ScoredDesign score_design(const OptimizationSpec& spec, const std::vector<double>& x, const engine::McResult& e);
 
 /// The objective of an evaluation: the statistic of its output, or the sum of the variables.
-double objective_value(const OptimizationSpec& spec, const std::vector<double>& x, const studies::McResult& e);
+double objective_value(const OptimizationSpec& spec, const std::vector<double>& x, const engine::McResult& e);
 
 /// The figure a constraint is stated on (statistic or its bound) from its value c.
 double constraint_figure(const Requirement& r, double c);

@@ -4,7 +4,7 @@
 #include <cstdio>
 
 #include "optimize/design_search.h"
-#include "engine/procedure_study.h"
+#include "engine/kind_interface/procedure_study.h"
 
 namespace poise::optimize {
 nlohmann::json interval_json(const Interval& i) {
@@ -46,7 +46,7 @@ std::string interval_text(const Interval& i, const std::string& unit) {
   return unit.empty() ? s : s + " " + unit;
 }
 
-FreshCheck check_design(const OptimizationSpec& spec, const std::vector<double>& x, const studies::McResult& e,
+FreshCheck check_design(const OptimizationSpec& spec, const std::vector<double>& x, const engine::McResult& e,
                         std::uint64_t seed) {
   FreshCheck f;
   f.samples = e.n;

@@ -17,9 +17,9 @@
 
 #include <nlohmann/json.hpp>
 
-#include "engine/confidence_bound.h"
+#include "engine/results/confidence_bound.h"
 #include "optimize/optimization_spec.h"
-#include "engine/study_evaluation.h"
+#include "engine/kind_interface/study_evaluation.h"
 
 namespace poise::optimize {
 
@@ -57,7 +57,7 @@ struct FreshCheck {
 };
 
 /// Checks the design that gave `e` (run with `samples`, `seed`) against spec's constraints.
-FreshCheck check_design(const OptimizationSpec& spec, const std::vector<double>& x, const studies::McResult& e,
+FreshCheck check_design(const OptimizationSpec& spec, const std::vector<double>& x, const engine::McResult& e,
                         std::uint64_t seed);
 
 /// {value, lo, hi, method}; an end that does not exist is left out.

@@ -10,16 +10,16 @@
 
 #include "core/error.h"
 #include "core/version.h"
-#include "engine/procedure_study.h"
-#include "engine/provenance.h"
-#include "engine/report_plot.h"
-#include "engine/result_io.h"
+#include "engine/kind_interface/procedure_study.h"
+#include "engine/results/provenance.h"
+#include "engine/report/report_plot.h"
+#include "engine/results/result_io.h"
 
 namespace poise::optimize {
 namespace {
 namespace fs = std::filesystem;
 using nlohmann::json;
-using studies::html_escape;
+using engine::html_escape;
 
 std::string fmt_pct(double fraction) {
   char buf[32];
@@ -36,46 +36,46 @@ std::string objective_name(const OptimizationSpec& spec) {
 
 void write_history(const OptimizationSpec& spec, const OptimizationOutcome& out, const std::string& dir) {
   std::ostringstream h;
-  for (const auto& c : spec.choices) h << studies::csv_text(c.parameter) << ',';
+  for (const auto& c : spec.choices) h << engine::csv_text(c.parameter) << ',';
   h << "evaluation";
   for (const auto& v : spec.variables) h << ',' << v.parameter << (v.unit.empty() ? "" : "_" + v.unit);
   h << ',' << objective_name(spec);
-  for (const auto& c : spec.constraints) h << ',' << studies::csv_text(c.name);
+  for (const auto& c : spec.constraints) h << ',' << engine::csv_text(c.name);
   h << ",failure_share,feasible,message\n";
   for (const auto& run : out.runs) {
     for (const auto& e : run.result.history) {
-      for (const auto& c : spec.choices) h << studies::csv_text(run.choice.at(c.parameter)) << ',';
+      for (const auto& c : spec.choices) h << engine::csv_text(run.choice.at(c.parameter)) << ',';
       h << e.evaluation;
-      for (double x : e.x) h << ',' << studies::csv_number(x);
-      h << ',' << studies::csv_number(e.result.objective);
+      for (double x : e.x) h << ',' << engine::csv_number(x);
+      h << ',' << engine::csv_number(e.result.objective);
       for (std::size_t k = 0; k < spec.constraints.size(); ++k) {
         h << ',' << (k < e.result.constraints.size()
-                         ? studies::csv_number(constraint_figure(spec.constraints[k], e.result.constraints[k]))
+                         ? engine::csv_number(constraint_figure(spec.constraints[k], e.result.constraints[k]))
                          : "");
       }
       const auto it = run.designs.find(e.x);
-      h << ',' << (it != run.designs.end() ? studies::csv_number(it->second.failure_share) : "") << ','
-        << (e.feasible ? 1 : 0) << ',' << studies::csv_text(e.result.message) << '\n';
+      h << ',' << (it != run.designs.end() ? engine::csv_number(it->second.failure_share) : "") << ','
+        << (e.feasible ? 1 : 0) << ',' << engine::csv_text(e.result.message) << '\n';
     }
   }
-  studies::write_file_atomic((fs::path(dir) / "history.csv").string(), h.str());
+  engine::write_file_atomic((fs::path(dir) / "history.csv").string(), h.str());
 }
 
 void write_pareto_csv(const OptimizationSpec& spec, const OptimizationOutcome& out, const std::string& dir) {
   std::ostringstream p;
-  for (const auto& c : spec.choices) p << studies::csv_text(c.parameter) << ',';
+  for (const auto& c : spec.choices) p << engine::csv_text(c.parameter) << ',';
   p << "search";
   for (const auto& v : spec.variables) p << ',' << v.parameter << (v.unit.empty() ? "" : "_" + v.unit);
   p << ',' << objective_name(spec) << ",second." << spec.pareto->output << ",feasible,on_front\n";
   for (std::size_t i = 0; i < out.pool.size(); ++i) {
     const ParetoPoint& q = out.pool[i];
-    for (const auto& c : spec.choices) p << studies::csv_text(out.choices[q.choice].at(c.parameter)) << ',';
-    p << studies::csv_text(q.search);
-    for (double x : q.x) p << ',' << studies::csv_number(x);
-    p << ',' << studies::csv_number(q.objective) << ',' << studies::csv_number(q.second) << ',' << (q.feasible ? 1 : 0)
+    for (const auto& c : spec.choices) p << engine::csv_text(out.choices[q.choice].at(c.parameter)) << ',';
+    p << engine::csv_text(q.search);
+    for (double x : q.x) p << ',' << engine::csv_number(x);
+    p << ',' << engine::csv_number(q.objective) << ',' << engine::csv_number(q.second) << ',' << (q.feasible ? 1 : 0)
       << ',' << (std::find(out.front.begin(), out.front.end(), i) != out.front.end() ? 1 : 0) << '\n';
   }
-  studies::write_file_atomic((fs::path(dir) / "pareto.csv").string(), p.str());
+  engine::write_file_atomic((fs::path(dir) / "pareto.csv").string(), p.str());
 }
 
 std::string ci_text(const json& e) {
@@ -115,16 +115,16 @@ void check_table(std::ostringstream& h, const json& check) {
 
 }  // namespace
 
-OptimizationRun write_optimization(const OptimizationSpec& spec, const studies::RunOptions& options) {
+OptimizationRun write_optimization(const OptimizationSpec& spec, const engine::RunOptions& options) {
   const int threads =
       options.threads > 0 ? options.threads : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
-  const std::string dir = studies::make_run_folder(options.results_root, spec.name, options.out);
+  const std::string dir = engine::make_run_folder(options.results_root, spec.name, options.out);
   if (options.progress) {
     std::fprintf(stderr, "poise: optimization %s -> %s\n  %s, up to %d evaluations of %zu samples each (seed %llu)\n",
                  spec.name.c_str(), dir.c_str(), to_string(spec.algorithm).c_str(), spec.max_evaluations, spec.samples,
                  static_cast<unsigned long long>(spec.seed));
   }
-  const std::string started = studies::now_iso8601();
+  const std::string started = engine::now_iso8601();
   const OptimizationOutcome out = optimize(spec, threads, options.progress);
   OptimizationRun result;
   result.dir = dir;
@@ -179,11 +179,11 @@ OptimizationRun write_optimization(const OptimizationSpec& spec, const studies::
   } else {
     s["message"] = out.message;
   }
-  s["provenance"] = {{"poise_version", kVersion}, {"git_commit", studies::git_commit()},
-                     {"optimization_file_sha1", studies::file_sha1(spec.file)},
-                     {"study_file_sha1", studies::file_sha1(spec.base.file)}, {"threads", threads},
-                     {"started", started}, {"finished", studies::now_iso8601()}};
-  studies::write_file_atomic((fs::path(dir) / "summary.json").string(), s.dump(2) + "\n");
+  s["provenance"] = {{"poise_version", kVersion}, {"git_commit", engine::git_commit()},
+                     {"optimization_file_sha1", engine::file_sha1(spec.file)},
+                     {"study_file_sha1", engine::file_sha1(spec.base.file)}, {"threads", threads},
+                     {"started", started}, {"finished", engine::now_iso8601()}};
+  engine::write_file_atomic((fs::path(dir) / "summary.json").string(), s.dump(2) + "\n");
   // Plots.
   const fs::path pdir = fs::path(dir) / "plots";
   fs::create_directories(pdir);
@@ -199,7 +199,7 @@ OptimizationRun write_optimization(const OptimizationSpec& spec, const studies::
       }
       d << "\n\n";
     }
-    studies::write_file_atomic((pdir / "convergence.dat").string(), d.str());
+    engine::write_file_atomic((pdir / "convergence.dat").string(), d.str());
     std::ostringstream titles;
     for (std::size_t r = 0; r < out.runs.size(); ++r) {
       titles << (r ? " " : "") << '"' << choice_label(out.runs[r].choice) << '"';
@@ -211,9 +211,9 @@ OptimizationRun write_optimization(const OptimizationSpec& spec, const studies::
            "plot for [i=0:" << out.runs.size() - 1 << "] 'convergence.dat' index i u 1:($3 > 0 ? $2 : 1/0) w p pt 7 title sprintf('feasible (%s)', word(labels, i+1)), "
            "for [i=0:" << out.runs.size() - 1 << "] 'convergence.dat' index i u 1:($3 > 0 ? 1/0 : $2) w p pt 6 lc rgb 'gray' notitle, "
            "for [i=0:" << out.runs.size() - 1 << "] 'convergence.dat' index i u 1:4 w steps lw 2 notitle\n";
-    studies::write_file_atomic((pdir / "convergence.gp").string(), cgp.str());
+    engine::write_file_atomic((pdir / "convergence.gp").string(), cgp.str());
     std::string why;
-    if (studies::run_gnuplot((pdir / "convergence.gp").string(), &why)) figures.push_back("convergence.svg");
+    if (engine::run_gnuplot((pdir / "convergence.gp").string(), &why)) figures.push_back("convergence.svg");
     if (spec.pareto && out.feasible) {
       std::ostringstream d2;
       for (const auto& q : out.pool) {
@@ -226,7 +226,7 @@ OptimizationRun write_optimization(const OptimizationSpec& spec, const studies::
         d2 << f["second_optimization"].get<double>() << ' ' << v << ' ' << o.value("lo", v) << ' ' << o.value("hi", v)
            << ' ' << f["objective_optimization"].get<double>() << '\n';
       }
-      studies::write_file_atomic((pdir / "pareto.dat").string(), d2.str());
+      engine::write_file_atomic((pdir / "pareto.dat").string(), d2.str());
       const std::string xl = spec.pareto->statistic + " of " + spec.pareto->output + " [" +
                              output_unit(spec, spec.pareto->output) + "]";
       const std::string yl = spec.objective_statistic + " of " + spec.objective_output + " [" +
@@ -238,8 +238,8 @@ OptimizationRun write_optimization(const OptimizationSpec& spec, const studies::
              "plot 'pareto.dat' index 0 u 1:2:3 w p pt 7 ps 0.6 lc variable title 'feasible evaluations (colour: choice)', "
              "'pareto.dat' index 1 u 1:5 w lp pt 6 ps 1.2 lc rgb 'black' title 'front (optimization samples)', "
              "'pareto.dat' index 1 u 1:2:3:4 w yerrorbars pt 7 lc rgb 'red' title 'front on fresh samples, 95% CI'\n";
-      studies::write_file_atomic((pdir / "pareto.gp").string(), pgp.str());
-      if (studies::run_gnuplot((pdir / "pareto.gp").string(), &why)) figures.push_back("pareto.svg");
+      engine::write_file_atomic((pdir / "pareto.gp").string(), pgp.str());
+      if (engine::run_gnuplot((pdir / "pareto.gp").string(), &why)) figures.push_back("pareto.svg");
     }
   }
   // report.html: the answer first.
@@ -380,10 +380,10 @@ OptimizationRun write_optimization(const OptimizationSpec& spec, const studies::
     h << "</table>\n";
   }
   if (!out.feasible) h << "<h2>No feasible design</h2>\n<p>" << html_escape(out.message) << "</p>\n";
-  h << studies::figures_html(pdir, figures);
+  h << engine::figures_html(pdir, figures);
   if (!spec.notes.empty()) h << "<h2>Notes</h2>\n<pre>" << html_escape(spec.notes) << "</pre>\n";
   h << "</body></html>\n";
-  studies::write_file_atomic((fs::path(dir) / "report.html").string(), h.str());
+  engine::write_file_atomic((fs::path(dir) / "report.html").string(), h.str());
   if (!out.feasible) throw Error(out.message + " (history in " + dir + ")");
   return result;
 }

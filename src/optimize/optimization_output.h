@@ -8,6 +8,6 @@ namespace poise::optimize {
 
 /// Runs optimize() and writes the folder. Prints the answer on stdout unless quiet. Throws
 /// poise::Error after writing the folder if no design is feasible.
-OptimizationRun write_optimization(const OptimizationSpec& spec, const studies::RunOptions& options);
+OptimizationRun write_optimization(const OptimizationSpec& spec, const engine::RunOptions& options);
 
 }  // namespace poise::optimize

@@ -1,6 +1,6 @@
 #include "optimize/optimization_spec.h"
 
-#include "engine/study_kind.h"
+#include "engine/kind_interface/study_kind.h"
 
 #include <algorithm>
 #include <cmath>
@@ -11,13 +11,13 @@
 #include "core/error.h"
 #include "core/units.h"
 #include "sampling/design.h"
-#include "engine/study_evaluation.h"
-#include "engine/toml_reader.h"
+#include "engine/kind_interface/study_evaluation.h"
+#include "engine/study_files/toml_reader.h"
 
 namespace poise::optimize {
 namespace {
 namespace fs = std::filesystem;
-using studies::TomlReader;
+using engine::TomlReader;
 
 // "3 mm" -> (3, "mm"); "0.5" -> (0.5, "").
 std::pair<double, std::string> number_and_unit(TomlReader& t, const std::string& key, bool* ok) {
@@ -90,8 +90,8 @@ std::string choice_label(const std::map<std::string, std::string>& choice) {
 }
 
 OptimizationSpec load_optimization(const std::string& path) {
-  toml::table doc = studies::parse_toml_file(path);
-  auto ctx = std::make_shared<studies::ReadContext>();
+  toml::table doc = engine::parse_toml_file(path);
+  auto ctx = std::make_shared<engine::ReadContext>();
   ctx->file = path;
   TomlReader root(doc, ctx);
   OptimizationSpec s;
@@ -157,7 +157,7 @@ OptimizationSpec load_optimization(const std::string& path) {
     } else {
       s.objective_output = t.string("output");
       s.objective_statistic = t.string("statistic");
-      if (!studies::is_statistic(s.objective_statistic)) {
+      if (!engine::is_statistic(s.objective_statistic)) {
         t.error("statistic", "\"" + s.objective_statistic + "\"", kStatistics);
       }
     }
@@ -166,7 +166,7 @@ OptimizationSpec load_optimization(const std::string& path) {
     Requirement r;
     r.output = c.string("output");
     r.statistic = c.string("statistic");
-    const bool stat_ok = studies::is_statistic(r.statistic);
+    const bool stat_ok = engine::is_statistic(r.statistic);
     if (!stat_ok) c.error("statistic", "\"" + r.statistic + "\"", kStatistics);
     if (c.has("at_least")) r.at_least = c.number("at_least");
     if (c.has("at_most")) r.at_most = c.number("at_most");
@@ -207,7 +207,7 @@ OptimizationSpec load_optimization(const std::string& path) {
     ParetoSpec p;
     p.output = t.string("output");
     p.statistic = t.string("statistic");
-    if (!studies::is_statistic(p.statistic)) t.error("statistic", "\"" + p.statistic + "\"", kStatistics);
+    if (!engine::is_statistic(p.statistic)) t.error("statistic", "\"" + p.statistic + "\"", kStatistics);
     p.points = static_cast<int>(t.integer("points", 0, 50, 3));
     t.string("notes", "");
     s.pareto = p;
@@ -238,12 +238,12 @@ OptimizationSpec load_optimization(const std::string& path) {
     }
     s.max_nearest_rounds = static_cast<int>(t.integer("max_nearest_rounds", 0, 20, 3));
   }
-  studies::finish(doc, *ctx);
+  engine::finish(doc, *ctx);
   // The base study, its model with the start values, and the outputs named.
-  s.base = studies::load_study(study_path);
+  s.base = engine::load_study(study_path);
   try {  // the declared units of the base study's outputs (an invalid model is reported below)
-    for (const auto& o : studies::study_kind(s.base.kind).outputs(s.base)) s.output_units[o.name] = o.unit;
-  } catch (const studies::ValidationError&) {
+    for (const auto& o : engine::study_kind(s.base.kind).outputs(s.base)) s.output_units[o.name] = o.unit;
+  } catch (const engine::ValidationError&) {
   }
   std::vector<InputError> errors;
   if (replicate_size) s.base.replicate_size = *replicate_size;
@@ -262,10 +262,10 @@ OptimizationSpec load_optimization(const std::string& path) {
   std::map<std::string, std::string> start;
   for (const auto& v : s.variables) start[v.parameter] = value_text(v.start, v.unit);
   for (const auto& c : s.choices) start[c.parameter] = c.values.front();
-  studies::StudyConfig base = s.base;
+  engine::StudyConfig base = s.base;
   for (const auto& [k, v] : s.overrides) base.overrides[k] = v;
   for (const auto& [k, v] : start) base.overrides[k] = v;
-  const std::vector<std::string> names = studies::study_output_names(base);
+  const std::vector<std::string> names = engine::study_output_names(base);
   auto check_output = [&](const std::string& output, const std::string& key) {
     if (std::find(names.begin(), names.end(), output) == names.end()) {
       std::string all;
@@ -278,7 +278,7 @@ OptimizationSpec load_optimization(const std::string& path) {
   for (std::size_t i = 0; i < s.constraints.size(); ++i) {
     check_output(s.constraints[i].output, "constraint[" + std::to_string(i) + "].output");
   }
-  if (!errors.empty()) throw studies::ValidationError(errors);
+  if (!errors.empty()) throw engine::ValidationError(errors);
   return s;
 }
 

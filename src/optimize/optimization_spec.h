@@ -27,25 +27,25 @@
 #include <string>
 #include <vector>
 
-#include "engine/confidence_bound.h"
+#include "engine/results/confidence_bound.h"
 #include "optimize/optimizer.h"
-#include "engine/study_config.h"
+#include "engine/study_files/study_config.h"
 
 namespace poise::optimize {
 
-/// The bounds and intervals live in the engine (engine/confidence_bound.h): requirements'
+/// The bounds and intervals live in the engine (engine/results/confidence_bound.h): requirements'
 /// verdicts use the same ones.
-using studies::bound_supported;
-using studies::BoundSide;
-using studies::BoundSpec;
-using studies::describe;
-using studies::Interval;
-using studies::interval;
-using studies::one_sided_bound;
-using studies::parse_bound;
-using studies::sample_set;
-using studies::SampleSet;
-using studies::to_string;
+using engine::bound_supported;
+using engine::BoundSide;
+using engine::BoundSpec;
+using engine::describe;
+using engine::Interval;
+using engine::interval;
+using engine::one_sided_bound;
+using engine::parse_bound;
+using engine::sample_set;
+using engine::SampleSet;
+using engine::to_string;
 
 
 struct DesignVariable {
@@ -77,7 +77,7 @@ struct ParetoSpec {
 
 struct OptimizationSpec {
   std::string file, name, title, notes;
-  studies::StudyConfig base;  ///< the base study (replicate_size as the optimization sets it)
+  engine::StudyConfig base;  ///< the base study (replicate_size as the optimization sets it)
   std::map<std::string, std::string> output_units;  ///< each output's declared unit (its kind's)
   std::size_t samples = 64;
   std::uint64_t seed = 1;
@@ -110,7 +110,7 @@ struct OptimizationSpec {
 };
 
 /// Loads and validates the file, its base study and that the outputs exist. Throws
-/// studies::ValidationError (file, line, key, value, expected).
+/// engine::ValidationError (file, line, key, value, expected).
 OptimizationSpec load_optimization(const std::string& path);
 
 /// "positions = 18, placement = back_and_forth": each key by its shortest dotted suffix that

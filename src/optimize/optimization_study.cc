@@ -8,7 +8,7 @@
 #include "optimize/optimization_output.h"
 #include "sampling/random_stream.h"
 #include "sampling/statistics.h"
-#include "engine/procedure_study.h"
+#include "engine/kind_interface/procedure_study.h"
 
 namespace poise::optimize {
 namespace {
@@ -73,13 +73,13 @@ std::string design_text(const OptimizationSpec& spec, const std::vector<double>&
 
 nlohmann::json statistic_with_ci(const std::vector<double>& values, const std::string& stat, std::uint64_t seed,
                                  int resamples) {
-  json j{{"value", studies::statistic(values, stat)}};
+  json j{{"value", engine::statistic(values, stat)}};
   if (values.size() < 2) return j;
   sampling::RandomStream rs(seed, sampling::StreamId::kBootstrap, 0);
   std::vector<double> boot(static_cast<std::size_t>(resamples)), r(values.size());
   for (auto& b : boot) {
     for (auto& v : r) v = values[static_cast<std::size_t>(rs.uniform() * static_cast<double>(values.size()))];
-    b = studies::statistic(r, stat);
+    b = engine::statistic(r, stat);
   }
   std::sort(boot.begin(), boot.end());
   j["lo"] = sampling::quantile_sorted(boot, 0.025).value;
@@ -159,7 +159,7 @@ OptimizationOutcome optimize(const OptimizationSpec& spec, int threads, bool pro
     out.answer = d.sentence;
   } else {
     out.best = 0;
-    const auto e = studies::evaluate_study(spec.base, overrides_of(spec, out.runs[0].result.x, out.runs[0].choice),
+    const auto e = engine::evaluate_study(spec.base, overrides_of(spec, out.runs[0].result.x, out.runs[0].choice),
                                            spec.verification_samples, spec.verification_seed, threads);
     out.check = check_design(spec, out.runs[0].result.x, e, spec.verification_seed);
     progress.step(static_cast<double>(spec.verification_samples),
@@ -215,7 +215,7 @@ OptimizationOutcome optimize(const OptimizationSpec& spec, int threads, bool pro
   }
   // 3. Each constraint at the optimum on the search's own samples, with its interval.
   {
-    const auto e = studies::evaluate_study(spec.base, out.optimum, spec.samples, spec.seed, threads);
+    const auto e = engine::evaluate_study(spec.base, out.optimum, spec.samples, spec.seed, threads);
     const FreshCheck own = check_design(spec, best.result.x, e, spec.seed);
     progress.step(static_cast<double>(spec.samples), "[optimum] constraints on the search's own samples");
     json b = json::array();
@@ -273,7 +273,7 @@ OptimizationOutcome optimize(const OptimizationSpec& spec, int threads, bool pro
       }
       x = nr.result.x;
       const auto design = overrides_of(spec, x, best.choice);
-      const auto e = studies::evaluate_study(spec.base, design, spec.verification_samples, spec.verification_seed, threads);
+      const auto e = engine::evaluate_study(spec.base, design, spec.verification_samples, spec.verification_seed, threads);
       last = check_design(spec, x, e, spec.verification_seed);
       progress.step(static_cast<double>(spec.verification_samples),
                     "[nearest, round " + std::to_string(round) + "] check: " + to_string(last.verdict));
@@ -281,7 +281,7 @@ OptimizationOutcome optimize(const OptimizationSpec& spec, int threads, bool pro
       rj["objective"] = nr.result.best.objective;
       rj["check"] = last.to_json();
       if (last.verdict == Verdict::kPasses) {
-        const auto e2 = studies::evaluate_study(spec.base, design, spec.verification_samples, spec.recheck_seed(), threads);
+        const auto e2 = engine::evaluate_study(spec.base, design, spec.verification_samples, spec.recheck_seed(), threads);
         const FreshCheck again = check_design(spec, x, e2, spec.recheck_seed());
         progress.step(static_cast<double>(spec.verification_samples),
                       "[nearest, round " + std::to_string(round) + "] re-check: " + to_string(again.verdict));
@@ -327,7 +327,7 @@ OptimizationOutcome optimize(const OptimizationSpec& spec, int threads, bool pro
     json fv = json::array();
     for (std::size_t i : out.front) {
       const ParetoPoint& p = out.pool[i];
-      const auto ef = studies::evaluate_study(spec.base, overrides_of(spec, p.x, out.choices[p.choice]),
+      const auto ef = engine::evaluate_study(spec.base, overrides_of(spec, p.x, out.choices[p.choice]),
                                               spec.verification_samples, spec.verification_seed, threads);
       const FreshCheck f = check_design(spec, p.x, ef, spec.verification_seed);
       progress.step(static_cast<double>(spec.verification_samples), "[pareto front] point checked on fresh samples");
@@ -385,7 +385,7 @@ OptimizationOutcome optimize(const OptimizationSpec& spec, int threads, bool pro
   return out;
 }
 
-OptimizationRun run_optimization(const std::string& path, const studies::RunOptions& options,
+OptimizationRun run_optimization(const std::string& path, const engine::RunOptions& options,
                                  std::optional<std::uint64_t> seed) {
   OptimizationSpec spec = load_optimization(path);
   if (seed) spec.seed = *seed;

@@ -25,7 +25,7 @@
 #include "optimize/design_search.h"
 #include "optimize/fresh_check.h"
 #include "optimize/optimization_spec.h"
-#include "engine/study_runner.h"
+#include "engine/run/study_runner.h"
 
 namespace poise::optimize {
 
@@ -74,7 +74,7 @@ struct OptimizationRun {
 /// Runs it and writes results/<name>/<run id>/ (history.csv, summary.json, plots, report.html).
 /// `seed` (if set) replaces the file's [optimization] seed. Throws poise::Error after writing
 /// the folder if no design is feasible.
-OptimizationRun run_optimization(const std::string& path, const studies::RunOptions& options,
+OptimizationRun run_optimization(const std::string& path, const engine::RunOptions& options,
                                  std::optional<std::uint64_t> seed = std::nullopt);
 
 }  // namespace poise::optimize

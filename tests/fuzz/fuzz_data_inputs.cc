@@ -6,7 +6,7 @@
 //      an uncaught Boost.Math NaN error in issue 20), the rest the CSV; parsed and checked as
 //      `poise diagnose-record` does, then read_oscillation_record and diagnose_oscillation
 //   o/s  OBJ / STL: load_mesh, check_mesh, and for a valid mesh its exact moments and a ray
-//      cast (what a user part in a model goes through, engine/user_parts.cc)
+//      cast (what a user part in a model goes through, engine/study_files/user_parts.cc)
 #include <cmath>
 #include <cstdint>
 #include <cstdio>

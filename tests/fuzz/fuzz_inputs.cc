@@ -51,10 +51,14 @@
 #include "model_files/gimbal_model.h"
 #include "kinds/platform_balancing/platform_model.h"
 #include "model_files/seeker_model.h"
-#include "engine/study_runner.h"
-#include "engine/toml_reader.h"
+#include "engine/run/study_runner.h"
+#include "engine/study_files/toml_reader.h"
 #include "kinds/registry.h"
 #include "fuzz_common.h"
+
+using namespace poise::kinds::balancing_machine;  // the kinds' and model files' own namespaces
+using namespace poise::kinds::platform_balancing;  // the kinds' and model files' own namespaces
+using namespace poise::model_files;  // the kinds' and model files' own namespaces
 
 namespace poise::fuzz {
 
@@ -181,7 +185,7 @@ void run_one(std::uint8_t byte, std::string_view text) {
     default: break;
   }
   const unsigned selector = byte % 8u;
-  using namespace poise::studies;
+  using namespace poise::engine;
   const fs::path study = g_dir / "studies" / "fuzz_study.toml";
   const fs::path model = g_dir / "studies" / "fuzz_model.toml";
   switch (selector) {
@@ -225,7 +229,7 @@ void run_one(std::uint8_t byte, std::string_view text) {
 }  // namespace
 
 extern "C" int LLVMFuzzerInitialize(int*, char***) {
-  poise::studies::register_study_kinds();
+  poise::kinds::register_study_kinds();
   if (const char* seeds = std::getenv("POISE_FUZZ_WRITE_SEEDS")) {
     if (const char* only = std::getenv("POISE_FUZZ_SEED_SELECTORS")) g_seed_selectors = only;
     write_seeds(seeds);

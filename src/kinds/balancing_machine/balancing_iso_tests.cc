@@ -5,7 +5,7 @@
 
 #include "core/units.h"
 
-namespace poise::studies {
+namespace poise::kinds::balancing_machine {
 
 IsoUrr iso_urr(IsoBench& bench, const std::vector<models::PlaneMass>& rotor, double mass, double radius) {
   const Eigen::Vector2cd bare = bench.indicate(rotor);
@@ -45,4 +45,4 @@ TwoPlaneUmar two_plane_umar(IsoBench& bench, const std::vector<models::PlaneMass
   return out;
 }
 
-}  // namespace poise::studies
+}  // namespace poise::kinds::balancing_machine

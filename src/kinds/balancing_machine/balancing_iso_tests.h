@@ -29,7 +29,7 @@
 
 #include "models/spring_plate_machine.h"
 
-namespace poise::studies {
+namespace poise::kinds::balancing_machine {
 
 /// What the machine indicates for a rotor (plane unbalances, kg m), and a test mass placed in
 /// a hole with the run's placement tolerances (mass kg, radius m, angle rad, height m).
@@ -56,4 +56,4 @@ struct TwoPlaneUmar {
 TwoPlaneUmar two_plane_umar(IsoBench& bench, const std::vector<models::PlaneMass>& rotor, double mass, double radius,
                             int positions, double plane_2_offset, double claim);
 
-}  // namespace poise::studies
+}  // namespace poise::kinds::balancing_machine

@@ -6,12 +6,13 @@
 #include <string>
 #include <vector>
 
-#include "engine/procedure_kind.h"
+#include "engine/kind_interface/procedure_kind.h"
 #include "kinds/balancing_machine/balancing_model.h"
 #include "kinds/balancing_machine/balancing_study.h"
 #include "kinds/balancing_machine/balancing_sections.h"
 
-namespace poise::studies {
+namespace poise::kinds::balancing_machine {
+using namespace poise::engine;
 namespace {
 using nlohmann::json;
 
@@ -66,4 +67,4 @@ class BalancingMachineKind final : public ProcedureKind {
 
 std::unique_ptr<StudyKind> make_balancing_machine_kind() { return std::make_unique<BalancingMachineKind>(); }
 
-}  // namespace poise::studies
+}  // namespace poise::kinds::balancing_machine

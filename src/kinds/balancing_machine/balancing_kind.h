@@ -1,12 +1,13 @@
 #pragma once
-/// The balancing_machine study kind (engine/study_kind.h), run through the engine's procedure runner
-/// (engine/procedure_kind.h).
+/// The balancing_machine study kind (engine/kind_interface/study_kind.h), run through the engine's procedure runner
+/// (engine/kind_interface/procedure_kind.h).
 #include <memory>
 
-#include "engine/study_kind.h"
+#include "engine/kind_interface/study_kind.h"
 
-namespace poise::studies {
+namespace poise::kinds::balancing_machine {
+using namespace poise::engine;
 
 std::unique_ptr<StudyKind> make_balancing_machine_kind();
 
-}  // namespace poise::studies
+}  // namespace poise::kinds::balancing_machine

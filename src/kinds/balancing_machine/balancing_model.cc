@@ -3,9 +3,10 @@
 #include <cmath>
 
 #include "core/units.h"
-#include "engine/model_overrides.h"
+#include "engine/study_files/model_overrides.h"
 
-namespace poise::studies {
+namespace poise::kinds::balancing_machine {
+using namespace poise::engine;
 namespace {
 using units::Dimension;
 
@@ -215,4 +216,4 @@ BalancingStatics machine_statics(const BalancingModel& m, const BalancingAsBuilt
   return s;
 }
 
-}  // namespace poise::studies
+}  // namespace poise::kinds::balancing_machine

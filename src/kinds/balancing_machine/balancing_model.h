@@ -17,10 +17,11 @@
 
 #include "models/spring_plate_machine.h"
 #include "procedures/balancing_measurement.h"
-#include "engine/tolerance_spec.h"
-#include "engine/model_overrides.h"
+#include "engine/study_files/tolerance_spec.h"
+#include "engine/study_files/model_overrides.h"
 
-namespace poise::studies {
+namespace poise::kinds::balancing_machine {
+using namespace poise::engine;
 
 /// A rotor on the spindle: a solid cylinder with numbered testing surfaces (planes).
 struct BalancingRotor {
@@ -114,4 +115,4 @@ BalancingStatics machine_statics(const BalancingModel& m, const BalancingAsBuilt
 models::SpringPlateMachineParams machine_params(const BalancingModel& m, const BalancingAsBuilt& b,
                                                 const BalancingRotor& rotor);
 
-}  // namespace poise::studies
+}  // namespace poise::kinds::balancing_machine

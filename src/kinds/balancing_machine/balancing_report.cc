@@ -7,12 +7,13 @@
 #include <fstream>
 
 #include "core/units.h"
-#include "engine/procedure_runner.h"
-#include "engine/report_plot.h"
-#include "engine/result_io.h"
+#include "engine/run/procedure_runner.h"
+#include "engine/report/report_plot.h"
+#include "engine/results/result_io.h"
 #include "kinds/balancing_machine/balancing_sections.h"
 
-namespace poise::studies {
+namespace poise::kinds::balancing_machine {
+using namespace poise::engine;
 namespace {
 namespace fs = std::filesystem;
 using nlohmann::json;
@@ -258,4 +259,4 @@ void BalancingStudy::report_sections(const McResult& mc, const std::string& plot
 }
 
 
-}  // namespace poise::studies
+}  // namespace poise::kinds::balancing_machine

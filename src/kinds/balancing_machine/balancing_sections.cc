@@ -1,9 +1,10 @@
 #include "kinds/balancing_machine/balancing_sections.h"
 
 #include "core/units.h"
-#include "engine/toml_reader.h"
+#include "engine/study_files/toml_reader.h"
 
-namespace poise::studies {
+namespace poise::kinds::balancing_machine {
+using namespace poise::engine;
 
 std::unique_ptr<KindSections> read_balancing_sections(TomlReader& root, const StudyConfig&) {
   auto c = std::make_unique<BalancingSections>();
@@ -54,4 +55,4 @@ std::unique_ptr<KindSections> read_balancing_sections(TomlReader& root, const St
   return c;
 }
 
-}  // namespace poise::studies
+}  // namespace poise::kinds::balancing_machine

@@ -1,6 +1,6 @@
 #pragma once
 /// The sections of a balancing_machine study file (the shared ones are in
-/// engine/study_config.h):
+/// engine/study_files/study_config.h):
 ///   [procedure]     plane_1_surface, plane_2_surface (correction planes: testing surfaces),
 ///                   estimator = "influence" | "closed_form" (what the machine displays),
 ///                   calibration_mass, calibration_radius (influence-coefficient test masses)
@@ -12,9 +12,10 @@
 #include <string>
 #include <vector>
 
-#include "engine/study_config.h"
+#include "engine/study_files/study_config.h"
 
-namespace poise::studies {
+namespace poise::kinds::balancing_machine {
+using namespace poise::engine;
 
 /// One experiment of a balancing-machine study (Wang 2014 Sec. 5, ISO 21940-21 tests).
 struct BalancingExperiment {
@@ -46,4 +47,4 @@ std::unique_ptr<KindSections> read_balancing_sections(TomlReader& root, const St
 
 inline const BalancingSections& balancing_sections(const StudyConfig& cfg) { return sections_of<BalancingSections>(cfg); }
 
-}  // namespace poise::studies
+}  // namespace poise::kinds::balancing_machine

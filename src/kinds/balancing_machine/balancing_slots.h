@@ -8,7 +8,7 @@
 
 #include "kinds/balancing_machine/balancing_model.h"
 
-namespace poise::studies::balancing_detail {
+namespace poise::kinds::balancing_machine::detail {
 
 enum Slot : std::size_t {
   kThicknessH1, kThicknessH2, kThicknessT, kWidthH1, kWidthH2, kWidthT, kLengthH1, kLengthH2, kLengthT,
@@ -59,4 +59,4 @@ inline std::string display_suffix(const ToleranceSpec& s) {
   return "_" + u;
 }
 
-}  // namespace poise::studies::balancing_detail
+}  // namespace poise::kinds::balancing_machine::detail

@@ -7,14 +7,15 @@
 
 #include "core/units.h"
 #include "sampling/random_stream.h"
-#include "engine/report_plot.h"
-#include "engine/result_io.h"
+#include "engine/report/report_plot.h"
+#include "engine/results/result_io.h"
 #include "kinds/balancing_machine/balancing_iso_tests.h"
 #include "kinds/balancing_machine/balancing_sections.h"
 #include "kinds/balancing_machine/balancing_slots.h"
 
-namespace poise::studies {
-namespace balancing_detail {
+namespace poise::kinds::balancing_machine {
+using namespace poise::engine;
+namespace detail {
 
 // Draws of one sample: unit-scope values from the design point, test-scope ones from the
 // sample's stream each time they are asked for (in a fixed order: deterministic).
@@ -38,7 +39,7 @@ class Draws {
   sampling::RandomStream& rs_;
 };
 
-}  // namespace balancing_detail
+}  // namespace detail
 
 namespace {
 
@@ -48,7 +49,7 @@ using units::kPi;
 
 // ---- the tolerances and their draws --------------------------------------------------------
 
-using namespace balancing_detail;
+using namespace detail;
 
 double plane_height(const BalancingModel& m, int surface) { return m.rotor.surface_height(surface); }
 
@@ -422,4 +423,4 @@ void BalancingStudy::run_tests(Draws& d, sampling::RandomStream& noise, Workspac
 }
 
 
-}  // namespace poise::studies
+}  // namespace poise::kinds::balancing_machine

@@ -52,14 +52,15 @@
 
 #include "sampling/design.h"
 #include "kinds/balancing_machine/balancing_model.h"
-#include "engine/procedure_study.h"
+#include "engine/kind_interface/procedure_study.h"
 
 namespace poise::sampling {
 class RandomStream;
 }
 
-namespace poise::studies {
-namespace balancing_detail {
+namespace poise::kinds::balancing_machine {
+using namespace poise::engine;
+namespace detail {
 class Draws;  // one sample's draws (balancing_study.cc)
 }
 
@@ -117,7 +118,7 @@ class BalancingStudy : public ProcedureStudyBase<BalancingStudy> {
   /// Every test of the study on the machine as built from `d` (its unit draws set, its
   /// per-test ones drawn as used), the sensors' noise from `noise`: the outputs, solver
   /// counters and any failure into `out`.
-  void run_tests(balancing_detail::Draws& d, sampling::RandomStream& noise, Workspace& ws, SampleResult& out) const;
+  void run_tests(detail::Draws& d, sampling::RandomStream& noise, Workspace& ws, SampleResult& out) const;
 };
 
-}  // namespace poise::studies
+}  // namespace poise::kinds::balancing_machine

@@ -8,9 +8,9 @@
 #include "kinds/balancing_machine/balancing_slots.h"
 #include "kinds/balancing_machine/balancing_study.h"
 
-namespace poise::studies {
+namespace poise::kinds::balancing_machine {
 
-using namespace balancing_detail;
+using namespace detail;
 using units::kPi;
 
 namespace {
@@ -202,4 +202,4 @@ nlohmann::json BalancingStudy::solver_json(const McResult& mc) const {
           {"max_order", model_.run.solver.max_order}, {"runs_per_sample", runs_per_sample()}};
 }
 
-}  // namespace poise::studies
+}  // namespace poise::kinds::balancing_machine

@@ -1,10 +1,12 @@
 #include "kinds/geometry_mass_properties/geometry_mass_kind.h"
 
-#include "engine/procedure_kind.h"
+#include "engine/kind_interface/procedure_kind.h"
 #include "geometry_studies/geometry_study.h"
 #include "kinds/geometry_mass_properties/geometry_mass_study.h"
 
-namespace poise::studies {
+namespace poise::kinds::geometry_mass_properties {
+using namespace poise::engine;
+using namespace poise::geometry_studies;
 namespace {
 
 class GeometryMassPropertiesKind final : public ProcedureKind {
@@ -31,4 +33,4 @@ class GeometryMassPropertiesKind final : public ProcedureKind {
 
 std::unique_ptr<StudyKind> make_geometry_mass_properties_kind() { return std::make_unique<GeometryMassPropertiesKind>(); }
 
-}  // namespace poise::studies
+}  // namespace poise::kinds::geometry_mass_properties

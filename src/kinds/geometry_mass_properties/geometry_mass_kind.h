@@ -1,12 +1,13 @@
 #pragma once
-/// The geometry_mass_properties study kind (engine/study_kind.h): a part as built, its mass properties by ray casting
-/// and the divergence theorem, sampled over its making tolerances (engine/procedure_kind.h).
+/// The geometry_mass_properties study kind (engine/kind_interface/study_kind.h): a part as built, its mass properties by ray casting
+/// and the divergence theorem, sampled over its making tolerances (engine/kind_interface/procedure_kind.h).
 #include <memory>
 
-#include "engine/study_kind.h"
+#include "engine/kind_interface/study_kind.h"
 
-namespace poise::studies {
+namespace poise::kinds::geometry_mass_properties {
+using namespace poise::engine;
 
 std::unique_ptr<StudyKind> make_geometry_mass_properties_kind();
 
-}  // namespace poise::studies
+}  // namespace poise::kinds::geometry_mass_properties

@@ -18,12 +18,15 @@
 #include "sampling/design.h"
 #include "model_files/disk_geometry_model.h"
 #include "geometry_studies/geometry_plots.h"
-#include "engine/result_io.h"
-#include "engine/output_spec.h"
-#include "engine/procedure_study.h"
+#include "engine/results/result_io.h"
+#include "engine/kind_interface/output_spec.h"
+#include "engine/kind_interface/procedure_study.h"
 #include "geometry_studies/geometry_study.h"
 
-namespace poise::studies {
+namespace poise::kinds::geometry_mass_properties {
+using namespace poise::engine;
+using namespace poise::model_files;
+using namespace poise::geometry_studies;
 namespace {
 namespace fs = std::filesystem;
 using nlohmann::json;
@@ -304,4 +307,4 @@ std::string validate_geometry_mass_study(const StudyConfig& cfg) {
          (g.per_part ? "one grid per part" : "one scene") + ").";
 }
 
-}  // namespace poise::studies
+}  // namespace poise::kinds::geometry_mass_properties

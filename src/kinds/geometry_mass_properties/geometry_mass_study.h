@@ -3,7 +3,7 @@
 /// sampled from its tolerances; per sample the mesh is generated and its mass properties
 /// computed by Embree ray casting and by the divergence theorem (geometry/mass_properties.h),
 /// giving the rotor's eccentricity e, its angle and the inertia from geometry rather than from
-/// a declared e. The engine runs it as every kind (engine/procedure_runner.h); its own
+/// a declared e. The engine runs it as every kind (engine/run/procedure_runner.h); its own
 /// summary.json "details" and report sections: the nominal disk against its closed form, and
 /// the ray integration's convergence with ray density (with timings).
 ///
@@ -16,10 +16,11 @@
 #include <memory>
 #include <string>
 
-#include "engine/procedure_study.h"
-#include "engine/study_config.h"
+#include "engine/kind_interface/procedure_study.h"
+#include "engine/study_files/study_config.h"
 
-namespace poise::studies {
+namespace poise::kinds::geometry_mass_properties {
+using namespace poise::engine;
 
 /// The study of `cfg` on its model with `model_overrides`, `samples` samples from `seed`.
 std::unique_ptr<ProcedureStudy> make_geometry_mass_study(const StudyConfig& cfg,
@@ -28,4 +29,4 @@ std::unique_ptr<ProcedureStudy> make_geometry_mass_study(const StudyConfig& cfg,
 /// Validates the study with its model; a short human summary.
 std::string validate_geometry_mass_study(const StudyConfig& cfg);
 
-}  // namespace poise::studies
+}  // namespace poise::kinds::geometry_mass_properties

@@ -23,7 +23,7 @@
 #include <cmath>
 #include <string>
 
-namespace poise::studies {
+namespace poise::kinds::gimbal_static_unbalance {
 
 /// Disk-frame angle of the counterweight (rad): `placement` "disk_frame" or "turntable",
 /// `fitted_phase` b, `zero_errors` z + tz (rad), `placement_error` the angle error of setting
@@ -45,4 +45,4 @@ inline std::array<double, 2> residual_about_bearing_axis(const std::array<double
           s_bearing[1] + m_c * (r_c * std::sin(a_c) + runout[1])};
 }
 
-}  // namespace poise::studies
+}  // namespace poise::kinds::gimbal_static_unbalance

@@ -3,11 +3,12 @@
 // placement, and the plausibility warnings of the model's calibrated tolerances.
 #include <cstdio>
 
-#include "engine/result_io.h"
+#include "engine/results/result_io.h"
 #include "kinds/gimbal_static_unbalance/gimbal_sections.h"
 #include "kinds/gimbal_static_unbalance/gimbal_study.h"
 
-namespace poise::studies {
+namespace poise::kinds::gimbal_static_unbalance {
+using namespace poise::engine;
 namespace {
 
 nlohmann::json share_json(std::size_t count, std::size_t ran) {
@@ -66,4 +67,4 @@ void GimbalStudy::report_sections(const McResult& mc, const std::string&, bool, 
   }
 }
 
-}  // namespace poise::studies
+}  // namespace poise::kinds::gimbal_static_unbalance

@@ -2,12 +2,14 @@
 
 #include <cstdio>
 
-#include "engine/procedure_kind.h"
+#include "engine/kind_interface/procedure_kind.h"
 #include "model_files/gimbal_model.h"
 #include "kinds/gimbal_static_unbalance/gimbal_sections.h"
 #include "kinds/gimbal_static_unbalance/gimbal_study.h"
 
-namespace poise::studies {
+namespace poise::kinds::gimbal_static_unbalance {
+using namespace poise::engine;
+using namespace poise::model_files;
 namespace {
 
 class GimbalStaticUnbalanceKind final : public ProcedureKind {
@@ -60,4 +62,4 @@ std::unique_ptr<StudyKind> make_gimbal_static_unbalance_kind() {
   return std::make_unique<GimbalStaticUnbalanceKind>();
 }
 
-}  // namespace poise::studies
+}  // namespace poise::kinds::gimbal_static_unbalance

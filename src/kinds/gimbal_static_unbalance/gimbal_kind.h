@@ -3,13 +3,14 @@
 /// (Yang 2015) simulated end to end per sample (procedures/static_unbalance_procedure.h:
 /// the disk rotor's Lagrange equations integrated with CVODE at each turntable position,
 /// servo-driven oscillation, current integration, sine fit, counterweight) over the rig's
-/// tolerances. Runs through the engine's procedure runner (engine/procedure_kind.h).
+/// tolerances. Runs through the engine's procedure runner (engine/kind_interface/procedure_kind.h).
 #include <memory>
 
-#include "engine/study_kind.h"
+#include "engine/kind_interface/study_kind.h"
 
-namespace poise::studies {
+namespace poise::kinds::gimbal_static_unbalance {
+using namespace poise::engine;
 
 std::unique_ptr<StudyKind> make_gimbal_static_unbalance_kind();
 
-}  // namespace poise::studies
+}  // namespace poise::kinds::gimbal_static_unbalance

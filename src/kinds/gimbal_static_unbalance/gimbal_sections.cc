@@ -1,9 +1,10 @@
 #include "kinds/gimbal_static_unbalance/gimbal_sections.h"
 
 #include "core/units.h"
-#include "engine/toml_reader.h"
+#include "engine/study_files/toml_reader.h"
 
-namespace poise::studies {
+namespace poise::kinds::gimbal_static_unbalance {
+using namespace poise::engine;
 
 std::unique_ptr<KindSections> read_gimbal_sections(TomlReader& root, const StudyConfig&) {
   auto c = std::make_unique<GimbalSections>();
@@ -96,4 +97,4 @@ std::map<std::string, std::string> apply_gimbal_study_overrides(StudyConfig& cfg
   return model_keys;
 }
 
-}  // namespace poise::studies
+}  // namespace poise::kinds::gimbal_static_unbalance

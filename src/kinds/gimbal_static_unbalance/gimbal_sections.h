@@ -1,6 +1,6 @@
 #pragma once
 /// The sections of a gimbal_static_unbalance study file (the shared ones are in
-/// engine/study_config.h): the test campaign, as groups of tests.
+/// engine/study_files/study_config.h): the test campaign, as groups of tests.
 ///   [[group]]       name, positions (turntable positions, evenly spaced from 0),
 ///                   placement = "sequential" | "interleaved" | "back_and_forth", repeats,
 ///                   counterweight_placement = "model" | "disk_frame" | "turntable", notes
@@ -12,9 +12,10 @@
 #include <string>
 #include <vector>
 
-#include "engine/study_config.h"
+#include "engine/study_files/study_config.h"
 
-namespace poise::studies {
+namespace poise::kinds::gimbal_static_unbalance {
+using namespace poise::engine;
 
 /// A test mass of a gimbal loading test (Yang 2015, Tables 2-3).
 struct GimbalLoad {
@@ -53,4 +54,4 @@ std::map<std::string, std::string> apply_gimbal_study_overrides(StudyConfig& cfg
 
 inline const GimbalSections& gimbal_sections(const StudyConfig& cfg) { return sections_of<GimbalSections>(cfg); }
 
-}  // namespace poise::studies
+}  // namespace poise::kinds::gimbal_static_unbalance

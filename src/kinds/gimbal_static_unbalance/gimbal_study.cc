@@ -14,7 +14,7 @@
 #include <array>
 #include <cstdio>
 
-namespace poise::studies {
+namespace poise::kinds::gimbal_static_unbalance {
 
 // The unit-scope draws, in design-dimension order: scalars take one dimension, vectors a
 // magnitude and a uniform direction; and the disk's (or the parts') effects as built.
@@ -356,4 +356,4 @@ nlohmann::json GimbalStudy::solver_json(const McResult& mc) const {
           {"max_order", model_.plan.solver.max_order}};
 }
 
-}  // namespace poise::studies
+}  // namespace poise::kinds::gimbal_static_unbalance

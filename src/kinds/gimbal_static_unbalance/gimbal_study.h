@@ -28,10 +28,12 @@
 #include "sampling/design.h"
 #include "sampling/statistics.h"
 #include "model_files/gimbal_model.h"
-#include "engine/procedure_study.h"
-#include "engine/study_config.h"
+#include "engine/kind_interface/procedure_study.h"
+#include "engine/study_files/study_config.h"
 
-namespace poise::studies {
+namespace poise::kinds::gimbal_static_unbalance {
+using namespace poise::engine;
+using namespace poise::model_files;
 
 class GimbalStudy : public ProcedureStudyBase<GimbalStudy> {
  public:
@@ -91,4 +93,4 @@ class GimbalStudy : public ProcedureStudyBase<GimbalStudy> {
   sampling::Design design_;
 };
 
-}  // namespace poise::studies
+}  // namespace poise::kinds::gimbal_static_unbalance

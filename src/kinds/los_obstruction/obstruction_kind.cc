@@ -1,10 +1,12 @@
 #include "kinds/los_obstruction/obstruction_kind.h"
 
-#include "engine/procedure_kind.h"
+#include "engine/kind_interface/procedure_kind.h"
 #include "kinds/los_obstruction/obstruction_study.h"
 #include "geometry_studies/geometry_study.h"
 
-namespace poise::studies {
+namespace poise::kinds::los_obstruction {
+using namespace poise::engine;
+using namespace poise::geometry_studies;
 namespace {
 
 class LosObstructionKind final : public ProcedureKind {
@@ -31,4 +33,4 @@ class LosObstructionKind final : public ProcedureKind {
 
 std::unique_ptr<StudyKind> make_los_obstruction_kind() { return std::make_unique<LosObstructionKind>(); }
 
-}  // namespace poise::studies
+}  // namespace poise::kinds::los_obstruction

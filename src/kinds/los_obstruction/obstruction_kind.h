@@ -1,12 +1,13 @@
 #pragma once
-/// The los_obstruction study kind (engine/study_kind.h): the seeker's beam traced through its frames and
+/// The los_obstruction study kind (engine/kind_interface/study_kind.h): the seeker's beam traced through its frames and
 /// housing, and the frames' clearance, over the shafting tolerances (runs in one process).
 #include <memory>
 
-#include "engine/study_kind.h"
+#include "engine/kind_interface/study_kind.h"
 
-namespace poise::studies {
+namespace poise::kinds::los_obstruction {
+using namespace poise::engine;
 
 std::unique_ptr<StudyKind> make_los_obstruction_kind();
 
-}  // namespace poise::studies
+}  // namespace poise::kinds::los_obstruction

@@ -12,14 +12,17 @@
 #include "geometry/obstruction.h"
 #include "sampling/design.h"
 #include "geometry_studies/geometry_plots.h"
-#include "engine/output_spec.h"
-#include "engine/procedure_study.h"
-#include "engine/report_plot.h"
+#include "engine/kind_interface/output_spec.h"
+#include "engine/kind_interface/procedure_study.h"
+#include "engine/report/report_plot.h"
 #include "model_files/seeker_geometry.h"
 #include "model_files/seeker_model.h"
 #include "geometry_studies/geometry_study.h"
 
-namespace poise::studies {
+namespace poise::kinds::los_obstruction {
+using namespace poise::engine;
+using namespace poise::model_files;
+using namespace poise::geometry_studies;
 namespace {
 using nlohmann::json;
 using geometry::SeekerScenes;
@@ -285,4 +288,4 @@ std::string validate_obstruction_study(const StudyConfig& cfg) {
   return buf;
 }
 
-}  // namespace poise::studies
+}  // namespace poise::kinds::los_obstruction

@@ -4,7 +4,7 @@
 /// between the moving frames and the housing, for the nominal design and for every sample
 /// of the shafting tolerances of the LOS study (the same SeekerSampler and exact chain, so
 /// the frames turn with each sample's axis tilts, run-out and collimation). The engine runs
-/// it as every kind (engine/procedure_runner.h); summary.json "details" holds the nominal
+/// it as every kind (engine/run/procedure_runner.h); summary.json "details" holds the nominal
 /// design's maps, the report its figures.
 ///
 /// Model: a seeker model with a [geometry] section (model_files/seeker_geometry.h).
@@ -20,10 +20,11 @@
 #include <memory>
 #include <string>
 
-#include "engine/procedure_study.h"
-#include "engine/study_config.h"
+#include "engine/kind_interface/procedure_study.h"
+#include "engine/study_files/study_config.h"
 
-namespace poise::studies {
+namespace poise::kinds::los_obstruction {
+using namespace poise::engine;
 
 /// The study of `cfg` on its model with `model_overrides`, `samples` samples from `seed`.
 std::unique_ptr<ProcedureStudy> make_obstruction_study(const StudyConfig& cfg,
@@ -32,4 +33,4 @@ std::unique_ptr<ProcedureStudy> make_obstruction_study(const StudyConfig& cfg,
 /// Validates the study with its model; a short human summary.
 std::string validate_obstruction_study(const StudyConfig& cfg);
 
-}  // namespace poise::studies
+}  // namespace poise::kinds::los_obstruction

@@ -2,17 +2,19 @@
 
 #include <cstdio>
 
-#include "engine/procedure_kind.h"
+#include "engine/kind_interface/procedure_kind.h"
 #include "kinds/platform_balancing/platform_model.h"
 #include "kinds/platform_balancing/platform_study.h"
 #include "kinds/platform_balancing/platform_report.h"
 #include "kinds/platform_balancing/platform_study_config.h"
-#include "engine/procedure_runner.h"
+#include "engine/run/procedure_runner.h"
 #include "model_files/seeker_model.h"
 #include <algorithm>
 #include <thread>
 
-namespace poise::studies {
+namespace poise::kinds::platform_balancing {
+using namespace poise::engine;
+using namespace poise::model_files;
 namespace {
 using nlohmann::json;
 
@@ -78,4 +80,4 @@ class PlatformBalancingKind final : public ProcedureKind {
 
 std::unique_ptr<StudyKind> make_platform_balancing_kind() { return std::make_unique<PlatformBalancingKind>(); }
 
-}  // namespace poise::studies
+}  // namespace poise::kinds::platform_balancing

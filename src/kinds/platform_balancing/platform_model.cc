@@ -4,9 +4,11 @@
 
 #include "core/units.h"
 #include "model_files/gimbal_model.h"
-#include "engine/model_overrides.h"
+#include "engine/study_files/model_overrides.h"
 
-namespace poise::studies {
+namespace poise::kinds::platform_balancing {
+using namespace poise::engine;
+using namespace poise::model_files;
 namespace {
 using units::Dimension;
 
@@ -128,4 +130,4 @@ PlatformModel load_platform_model(const std::string& path, const std::map<std::s
   return m;
 }
 
-}  // namespace poise::studies
+}  // namespace poise::kinds::platform_balancing

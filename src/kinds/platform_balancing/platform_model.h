@@ -36,10 +36,11 @@
 #include "models/platform_statics.h"
 #include "models/stabilization_loop.h"
 #include "procedures/static_unbalance_procedure.h"
-#include "engine/tolerance_spec.h"
-#include "engine/model_overrides.h"
+#include "engine/study_files/tolerance_spec.h"
+#include "engine/study_files/model_overrides.h"
 
-namespace poise::studies {
+namespace poise::kinds::platform_balancing {
+using namespace poise::engine;
 
 /// One gimbal: mass properties, its motor and bearings (the disk-rotor parameters of its
 /// test), its correction plane and where it is locked while the others are tested.
@@ -82,4 +83,4 @@ struct PlatformModel : ModelHeader {  ///< file, name, title, source of the mode
 /// Loads and validates; `overrides` replace values by dotted key. Throws ValidationError.
 PlatformModel load_platform_model(const std::string& path, const std::map<std::string, std::string>& overrides = {});
 
-}  // namespace poise::studies
+}  // namespace poise::kinds::platform_balancing

@@ -11,14 +11,16 @@
 #include "sampling/random_stream.h"
 #include "sampling/statistics.h"
 #include "kinds/platform_balancing/platform_study.h"
-#include "engine/procedure_runner.h"
-#include "engine/report_plot.h"
-#include "engine/result_io.h"
-#include "engine/study_evaluation.h"
+#include "engine/run/procedure_runner.h"
+#include "engine/report/report_plot.h"
+#include "engine/results/result_io.h"
+#include "engine/kind_interface/study_evaluation.h"
 #include "model_files/seeker_model.h"
 #include "kinds/platform_balancing/platform_study_config.h"
 
-namespace poise::studies {
+namespace poise::kinds::platform_balancing {
+using namespace poise::engine;
+using namespace poise::model_files;
 namespace {
 namespace fs = std::filesystem;
 using nlohmann::json;
@@ -297,4 +299,4 @@ void PlatformStudy::report_sections(const McResult& mc, const std::string& plots
 }
 
 
-}  // namespace poise::studies
+}  // namespace poise::kinds::platform_balancing

@@ -3,9 +3,10 @@
 /// the shafting LOS line it combines with the balancing residual.
 #include <vector>
 
-#include "engine/study_config.h"
+#include "engine/study_files/study_config.h"
 
-namespace poise::studies {
+namespace poise::kinds::platform_balancing {
+using namespace poise::engine;
 
 /// The shafting LOS error of the seeker study named in [platform.shafting]: the greatest
 /// error over the field of regard of each unit (arcsec), and the pixel IFOV (arcsec).
@@ -15,4 +16,4 @@ struct ShaftingLos {
 };
 ShaftingLos compute_shafting_los(const StudyConfig& cfg, int threads);
 
-}  // namespace poise::studies
+}  // namespace poise::kinds::platform_balancing

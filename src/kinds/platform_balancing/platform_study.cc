@@ -8,7 +8,7 @@
 #include "models/seeker_los_chain.h"
 #include "kinds/platform_balancing/platform_study_config.h"
 
-namespace poise::studies {
+namespace poise::kinds::platform_balancing {
 namespace {
 
 using models::Axis;
@@ -401,4 +401,4 @@ nlohmann::json PlatformStudy::solver_json(const McResult& mc) const {
           {"max_order", model_.plan.solver.max_order}};
 }
 
-}  // namespace poise::studies
+}  // namespace poise::kinds::platform_balancing

@@ -40,10 +40,11 @@
 #include "sampling/design.h"
 #include "sampling/random_stream.h"
 #include "kinds/platform_balancing/platform_model.h"
-#include "engine/procedure_study.h"
-#include "engine/study_config.h"
+#include "engine/kind_interface/procedure_study.h"
+#include "engine/study_files/study_config.h"
 
-namespace poise::studies {
+namespace poise::kinds::platform_balancing {
+using namespace poise::engine;
 
 /// Draws of one sample: per tolerance, up to 6 instances (centroid x, y, z; per axis test or
 /// motor by models::Axis; lock errors 2 per test: the two locked gimbals in axis order).
@@ -136,4 +137,4 @@ class PlatformStudy : public ProcedureStudyBase<PlatformStudy> {
   std::vector<double> profile_time_;
 };
 
-}  // namespace poise::studies
+}  // namespace poise::kinds::platform_balancing

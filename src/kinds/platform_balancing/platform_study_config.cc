@@ -3,9 +3,10 @@
 #include <filesystem>
 #include <sstream>
 
-#include "engine/toml_reader.h"
+#include "engine/study_files/toml_reader.h"
 
-namespace poise::studies {
+namespace poise::kinds::platform_balancing {
+using namespace poise::engine;
 
 namespace {
 
@@ -106,4 +107,4 @@ std::unique_ptr<KindSections> read_platform_sections(TomlReader& root, const Stu
   return c;
 }
 
-}  // namespace poise::studies
+}  // namespace poise::kinds::platform_balancing

@@ -19,11 +19,15 @@
 #include <string>
 #include <vector>
 
-#include "engine/study_config.h"
+#include "engine/study_files/study_config.h"
 
-namespace poise::studies {
+namespace poise::engine {
+class TomlReader;  // engine/study_files/toml_reader.h
+}  // namespace poise::engine
 
-class TomlReader;
+namespace poise::kinds::platform_balancing {
+using namespace poise::engine;
+
 
 struct PlatformVibration {
   std::array<double, 3> amplitude{};  ///< m/s^2, base frame
@@ -54,4 +58,4 @@ struct PlatformSections : KindSectionsOf<PlatformSections> {
 std::unique_ptr<KindSections> read_platform_sections(TomlReader& root, const StudyConfig& cfg);
 inline const PlatformSections& platform_sections(const StudyConfig& cfg) { return sections_of<PlatformSections>(cfg); }
 
-}  // namespace poise::studies
+}  // namespace poise::kinds::platform_balancing

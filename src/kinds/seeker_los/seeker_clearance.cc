@@ -7,7 +7,8 @@
 #include "geometry/obstruction.h"
 #include "model_files/seeker_geometry.h"
 
-namespace poise::studies {
+namespace poise::kinds::seeker_los {
+using namespace poise::model_files;
 
 double nominal_min_clearance(const SeekerModel& model, std::size_t yaw_points, std::size_t pitch_points) {
   if (!model.geometry) throw Error(model.file + ": a [clearance] output needs a [geometry] section in the seeker model");
@@ -21,4 +22,4 @@ double nominal_min_clearance(const SeekerModel& model, std::size_t yaw_points, s
   return best;
 }
 
-}  // namespace poise::studies
+}  // namespace poise::kinds::seeker_los

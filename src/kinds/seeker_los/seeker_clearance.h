@@ -7,11 +7,12 @@
 
 #include "model_files/seeker_model.h"
 
-namespace poise::studies {
+namespace poise::kinds::seeker_los {
+using namespace poise::model_files;
 
 /// Least clearance (m; negative = interference) of the yaw ring and the barrel to the housing
 /// and of the barrel to the ring, nominal poses on a yaw_points x pitch_points grid over the
 /// model's field of regard. Throws poise::Error if the model has no [geometry].
 double nominal_min_clearance(const SeekerModel& model, std::size_t yaw_points, std::size_t pitch_points);
 
-}  // namespace poise::studies
+}  // namespace poise::kinds::seeker_los

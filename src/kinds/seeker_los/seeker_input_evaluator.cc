@@ -8,7 +8,7 @@
 #include "kinds/seeker_los/seeker_los_sections.h"
 #include "kinds/seeker_los/seeker_los_study.h"
 
-namespace poise::studies {
+namespace poise::kinds::seeker_los {
 namespace {
 
 class SeekerInputEvaluator final : public InputEvaluator {
@@ -52,4 +52,4 @@ std::unique_ptr<InputEvaluator> make_seeker_input_evaluator(const StudyConfig& c
   return std::make_unique<SeekerInputEvaluator>(cfg, std::move(model));
 }
 
-}  // namespace poise::studies
+}  // namespace poise::kinds::seeker_los

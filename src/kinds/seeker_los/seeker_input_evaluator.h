@@ -1,16 +1,18 @@
 #pragma once
-/// The LOS study's outputs at input values a caller gives (engine/input_evaluation.h): each
+/// The LOS study's outputs at input values a caller gives (engine/kind_interface/input_evaluation.h): each
 /// point's inputs (samples.csv's columns and units: k_load, the perpendicularity tilts, the
 /// run-out amplitudes and phases, ...) are the error realization itself, so the exact chain
 /// is evaluated over the field of regard as for a drawn sample. No randomness of its own.
 #include <memory>
 
-#include "engine/input_evaluation.h"
-#include "engine/study_config.h"
+#include "engine/kind_interface/input_evaluation.h"
+#include "engine/study_files/study_config.h"
 #include "model_files/seeker_model.h"
 
-namespace poise::studies {
+namespace poise::kinds::seeker_los {
+using namespace poise::engine;
+using namespace poise::model_files;
 
 std::unique_ptr<InputEvaluator> make_seeker_input_evaluator(const StudyConfig& cfg, SeekerModel model);
 
-}  // namespace poise::studies
+}  // namespace poise::kinds::seeker_los

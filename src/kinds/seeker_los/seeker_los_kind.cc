@@ -2,7 +2,7 @@
 
 #include <span>
 
-#include "engine/procedure_kind.h"
+#include "engine/kind_interface/procedure_kind.h"
 #include "kinds/seeker_los/seeker_clearance.h"
 #include "kinds/seeker_los/seeker_input_evaluator.h"
 #include "kinds/seeker_los/seeker_los_sections.h"
@@ -10,7 +10,9 @@
 #include "model_files/seeker_model.h"
 #include "kinds/seeker_los/seeker_runner.h"
 
-namespace poise::studies {
+namespace poise::kinds::seeker_los {
+using namespace poise::engine;
+using namespace poise::model_files;
 namespace {
 
 class SeekerLosKind final : public ProcedureKind {
@@ -121,4 +123,4 @@ class SeekerLosKind final : public ProcedureKind {
 
 std::unique_ptr<StudyKind> make_seeker_los_kind() { return std::make_unique<SeekerLosKind>(); }
 
-}  // namespace poise::studies
+}  // namespace poise::kinds::seeker_los

@@ -4,10 +4,11 @@
 /// (models/seeker_los_chain.h), with contributions, sweeps and an optional declared budget.
 #include <memory>
 
-#include "engine/study_kind.h"
+#include "engine/kind_interface/study_kind.h"
 
-namespace poise::studies {
+namespace poise::kinds::seeker_los {
+using namespace poise::engine;
 
 std::unique_ptr<StudyKind> make_seeker_los_kind();
 
-}  // namespace poise::studies
+}  // namespace poise::kinds::seeker_los

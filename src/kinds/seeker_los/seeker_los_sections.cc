@@ -1,9 +1,10 @@
 #include "kinds/seeker_los/seeker_los_sections.h"
 
 #include "core/units.h"
-#include "engine/toml_reader.h"
+#include "engine/study_files/toml_reader.h"
 
-namespace poise::studies {
+namespace poise::kinds::seeker_los {
+using namespace poise::engine;
 
 std::unique_ptr<KindSections> read_seeker_los_sections(TomlReader& root, const StudyConfig& cfg) {
   auto c = std::make_unique<SeekerLosSections>();
@@ -62,4 +63,4 @@ std::unique_ptr<KindSections> read_seeker_los_sections(TomlReader& root, const S
   return c;
 }
 
-}  // namespace poise::studies
+}  // namespace poise::kinds::seeker_los

@@ -1,10 +1,10 @@
 #pragma once
-/// The sections of a seeker_los study file (the shared ones are in engine/study_config.h):
+/// The sections of a seeker_los study file (the shared ones are in engine/study_files/study_config.h):
 ///   [grid]         yaw_points, pitch_points (over the model's field of regard)
 ///   [requirement]  los_error = "1 px" (or any angle): the limit of the field figures, and a
 ///                  shorthand for the requirement "p99.73 of los_max_px (or los_max_arcsec)
 ///                  at most 1 px, at 95% confidence"; or, instead, [[requirement]] tables
-///                  (engine/requirements.h), the first on los_max_arcsec or los_max_px
+///                  (engine/results/requirements.h), the first on los_max_arcsec or los_max_px
 ///                  giving the field figures their limit
 ///   [clearance]    output = true, yaw_points, pitch_points (optional; the nominal frames'
 ///                  least clearance to the housing as an output: geometry_study.h)
@@ -15,11 +15,13 @@
 #include <string>
 #include <vector>
 
-#include "engine/study_config.h"
-#include "engine/wide_columns.h"
+#include "engine/study_files/study_config.h"
+#include "engine/results/wide_columns.h"
 #include "geometry_studies/geometry_study.h"
 
-namespace poise::studies {
+namespace poise::kinds::seeker_los {
+using namespace poise::engine;
+using namespace poise::geometry_studies;
 
 struct SeekerLosSections : KindSectionsOf<SeekerLosSections> {
   std::size_t yaw_points = 13, pitch_points = 13;
@@ -40,4 +42,4 @@ std::unique_ptr<KindSections> read_seeker_los_sections(TomlReader& root, const S
 
 inline const SeekerLosSections& seeker_sections(const StudyConfig& cfg) { return sections_of<SeekerLosSections>(cfg); }
 
-}  // namespace poise::studies
+}  // namespace poise::kinds::seeker_los

@@ -14,14 +14,15 @@
 #include <tbb/parallel_invoke.h>
 #include <tbb/task_arena.h>
 
-#include "engine/convergence.h"
-#include "engine/field_statistics.h"
-#include "engine/sample_driver.h"
+#include "engine/run/convergence.h"
+#include "engine/results/field_statistics.h"
+#include "engine/run/sample_driver.h"
 #include "sampling/distributed.h"
 #include "sampling/progress.h"
 #include "kinds/seeker_los/seeker_los_sections.h"
 
-namespace poise::studies {
+namespace poise::kinds::seeker_los {
+using namespace poise::engine;
 namespace {
 constexpr double kArcsec = units::kArcsecPerRad;
 }  // namespace
@@ -239,4 +240,4 @@ McResult SeekerLosStudy::run(int threads, bool progress, const SampleSink& sink,
   return r;
 }
 
-}  // namespace poise::studies
+}  // namespace poise::kinds::seeker_los

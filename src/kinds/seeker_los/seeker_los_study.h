@@ -27,12 +27,14 @@
 #include "sampling/design.h"
 #include "sampling/statistics.h"
 #include "model_files/seeker_model.h"
-#include "engine/output_spec.h"
-#include "engine/procedure_study.h"
-#include "engine/study_config.h"
-#include "engine/wide_columns.h"
+#include "engine/kind_interface/output_spec.h"
+#include "engine/kind_interface/procedure_study.h"
+#include "engine/study_files/study_config.h"
+#include "engine/results/wide_columns.h"
 
-namespace poise::studies {
+namespace poise::kinds::seeker_los {
+using namespace poise::engine;
+using namespace poise::model_files;
 
 /// Names and units of the per-sample outputs, in order.
 inline constexpr OutputDeclaration kSeekerOutputs[] = {
@@ -48,7 +50,7 @@ inline constexpr OutputDeclaration kSeekerOutputs[] = {
 inline constexpr std::size_t kNumSeekerOutputs = std::size(kSeekerOutputs);
 
 /// A study ready to run: model, sampler, design and grid built and validated. The engine runs
-/// it as every kind (engine/procedure_runner.h); its own run() streams each sample's grid
+/// it as every kind (engine/run/procedure_runner.h); its own run() streams each sample's grid
 /// values (SampleResult::field) into samples.h5 and makes the field figures from them.
 class SeekerLosStudy final : public ProcedureStudy {
  public:
@@ -119,4 +121,4 @@ class SeekerLosStudy final : public ProcedureStudy {
   std::vector<OutputSpec> outputs_;
 };
 
-}  // namespace poise::studies
+}  // namespace poise::kinds::seeker_los

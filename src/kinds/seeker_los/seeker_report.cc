@@ -9,12 +9,13 @@
 #include <sstream>
 
 #include "core/units.h"
-#include "engine/report_plot.h"
-#include "engine/result_io.h"
+#include "engine/report/report_plot.h"
+#include "engine/results/result_io.h"
 #include "kinds/seeker_los/seeker_los_sections.h"
 #include "kinds/seeker_los/seeker_los_study.h"
 
-namespace poise::studies {
+namespace poise::kinds::seeker_los {
+using namespace poise::engine;
 namespace {
 namespace fs = std::filesystem;
 using nlohmann::json;
@@ -143,4 +144,4 @@ void SeekerLosStudy::report_sections(const McResult& mc, const std::string& plot
   h << "</table>\n";
 }
 
-}  // namespace poise::studies
+}  // namespace poise::kinds::seeker_los

@@ -12,13 +12,14 @@
 
 #include "core/units.h"
 #include "sampling/distributed.h"
-#include "engine/study_kind.h"
-#include "engine/result_io.h"
-#include "engine/toml_reader.h"
+#include "engine/kind_interface/study_kind.h"
+#include "engine/results/result_io.h"
+#include "engine/study_files/toml_reader.h"
 #include "kinds/seeker_los/seeker_los_sections.h"
 #include "kinds/seeker_los/seeker_los_study.h"
 
-namespace poise::studies {
+namespace poise::kinds::seeker_los {
+using namespace poise::engine;
 namespace {
 namespace fs = std::filesystem;
 using nlohmann::json;
@@ -76,4 +77,4 @@ json replay_seeker_sample(const StudyConfig& cfg, std::size_t index, const RunOp
   return j;
 }
 
-}  // namespace poise::studies
+}  // namespace poise::kinds::seeker_los

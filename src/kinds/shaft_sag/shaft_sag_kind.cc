@@ -1,13 +1,14 @@
 // The shaft_sag study kind: the LOS tilt of a gimbal's optics from the gravity sag of its
 // shaft (shaft_sag.h), over the shaft's and the load's tolerances. A closed-form kind: the
-// engine does everything but the formula (engine/closed_form_kind.h).
+// engine does everything but the formula (engine/kind_interface/closed_form_kind.h).
 #include <memory>
 
 #include "core/error.h"
-#include "engine/closed_form_kind.h"
+#include "engine/kind_interface/closed_form_kind.h"
 #include "kinds/shaft_sag/shaft_sag.h"
 
-namespace poise::studies {
+namespace poise::kinds::shaft_sag {
+using namespace poise::engine;
 namespace {
 
 using units::kDimensionless;
@@ -46,4 +47,4 @@ class ShaftSagKind final : public ClosedFormKind {
 
 std::unique_ptr<StudyKind> make_shaft_sag_kind() { return std::make_unique<ShaftSagKind>(); }
 
-}  // namespace poise::studies
+}  // namespace poise::kinds::shaft_sag

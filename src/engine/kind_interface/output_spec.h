@@ -1,0 +1,48 @@
+#pragma once
+/// A per-sample output a study kind declares once: its samples.csv column, its unit and
+/// what it is. Every table, axis, summary.json entry, HDF5 column and Python array takes its
+/// unit and meaning from here, never from a suffix of the name.
+#include <span>
+#include <string>
+#include <vector>
+
+#include "core/units.h"
+
+namespace poise::engine {
+
+struct OutputSpec {
+  std::string name;         ///< samples.csv column ("g_rmse_torque_mNm")
+  std::string unit;         ///< display unit of its values ("mN*m"; "1" or "" for a pure number)
+  std::string description;  ///< one line: what it is
+};
+
+/// An output in a kind's constant table: {name (or a suffix of it), unit, description}.
+struct OutputDeclaration {
+  const char* name;
+  const char* unit;
+  const char* description;
+};
+
+/// Appends each declared output as prefix + name, its description after `what` (e.g.
+/// "group g: "), to `out`.
+inline void append_outputs(std::vector<OutputSpec>& out, const std::string& prefix,
+                           std::span<const OutputDeclaration> declared, const std::string& what = "") {
+  for (const auto& d : declared) out.push_back({prefix + d.name, d.unit, what + d.description});
+}
+
+/// One of a display unit in SI with its dimension ("" and "1": dimensionless); throws
+/// poise::Error for a unit the parser does not know.
+inline units::Quantity unit_quantity(const std::string& unit) {
+  if (unit.empty() || unit == "1") return {1.0, units::kDimensionless};
+  return units::parse_quantity("1 " + unit);
+}
+
+/// The names of a list of outputs, in order.
+inline std::vector<std::string> output_names_of(const std::vector<OutputSpec>& outputs) {
+  std::vector<std::string> names;
+  names.reserve(outputs.size());
+  for (const auto& o : outputs) names.push_back(o.name);
+  return names;
+}
+
+}  // namespace poise::engine

@@ -1,0 +1,216 @@
+#pragma once
+/// What the result-folder writer (procedure_runner.h) needs from a Monte Carlo study of a
+/// simulated procedure (the gimbal static-unbalance test, the balancing machine): named
+/// inputs and outputs per sample, a parallel run that streams finished samples in order,
+/// a single-sample replay and the study's own report sections.
+#include <functional>
+#include <map>
+#include <memory>
+#include <span>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "sampling/progress.h"
+#include "sampling/statistics.h"
+#include "engine/results/mc_result.h"
+#include "engine/kind_interface/output_spec.h"
+#include "engine/run/sample_driver.h"
+#include "engine/study_files/study_config.h"
+
+namespace poise::engine {
+
+using SampleSink = std::function<void(std::span<const SampleResult>)>;
+
+/// How a run is driven beyond its sample range: over MPI ranks (the run's main loop only)
+/// and with a stop rule checked on rank 0 after each chunk on the results so far.
+struct RunControl {
+  bool distributed = false;
+  std::size_t replicate_size = 0;  ///< set from the study's config by ProcedureStudyBase::run
+  std::function<std::string(const McResult&)> stop;  ///< "" = go on
+  /// A study with a per-sample field: make its figures (McResult::field) and write its values
+  /// to `field_file` (samples.h5 of a run; "" = kept in memory, or a scratch file when too
+  /// big), with these root attributes. Off: the field is not kept (sweeps, the optimizer).
+  bool field_figures = false;
+  std::string field_file;
+  std::map<std::string, std::string> field_attributes;
+  std::map<std::string, std::uint64_t> field_number_attributes;
+};
+
+/// A SampleResult's trip between MPI ranks.
+void encode_result(const SampleResult& r, ByteWriter& w);
+void decode_result(ByteReader& rd, SampleResult& r);
+
+/// Accumulates finished samples into an McResult (counts failures, keeps ok outputs).
+void collect_samples(McResult& r, std::span<const SampleResult> block);
+/// Statistics of every output once all samples are collected.
+void summarize_outputs(McResult& r);
+
+/// summary.json's statistics of each declared output of a run, with its unit (and, when asked,
+/// its description), by name.
+nlohmann::json outputs_json(const McResult& r, const std::vector<OutputSpec>& outputs, bool with_descriptions);
+/// The values of a run's outputs by name, for requirements' verdicts (none for a name it lacks).
+std::function<OutputValues(const std::string&)> requirement_values(const McResult& r,
+                                                                   const std::vector<OutputSpec>& outputs,
+                                                                   const StudyConfig& cfg);
+
+/// The parallel run every procedure study shares: samples [done.size(), samples) in small
+/// in-order blocks (whole procedures are slow: progress and the CSV move often), one
+/// workspace per thread; `done` (a resumed run's samples) counted but not recomputed.
+template <class MakeWorkspace, class Compute>
+McResult run_procedure_samples(std::size_t samples, std::size_t block, int threads, bool progress,
+                               const SampleSink& sink, std::span<const SampleResult> done,
+                               MakeWorkspace make_workspace, Compute compute, const RunControl& control = {}) {
+  McResult r;
+  r.n = samples;
+  r.replicate_size = control.replicate_size;
+  const std::size_t chunk = std::min<std::size_t>(block, 8);
+  // A resumed run's samples pass the stop rule chunk by chunk as they did the first time, so
+  // a run that had already met its stop point is not continued past it.
+  for (std::size_t start = 0; start < done.size(); start += chunk) {
+    collect_samples(r, done.subspan(start, std::min(chunk, done.size() - start)));
+    if (control.stop && r.stop_reason.empty()) r.stop_reason = control.stop(r);
+  }
+  const std::size_t first = std::min(done.size(), samples);
+  if (!r.stop_reason.empty()) {
+    r.completed = first;
+    summarize_outputs(r);
+    return r;
+  }
+  sampling::Progress bar("samples", samples - first, progress && sampling::Cluster::root());
+  DriveSpec spec{first, samples, chunk, 1, threads, control.distributed};
+  const DriveOutcome o = drive_samples<SampleResult>(
+      spec, make_workspace, [&](std::size_t i, auto& ws, SampleResult& res) { compute(i, *ws, res); },
+      [&](std::size_t, std::span<const SampleResult> finished) {
+        if (sink) sink(finished);
+        collect_samples(r, finished);
+      },
+      [&](std::size_t) { return control.stop ? control.stop(r) : std::string(); }, encode_result, decode_result,
+      &bar);
+  bar.finish();
+  r.wall_seconds = bar.elapsed_seconds();
+  r.completed = o.completed;
+  r.interrupted = o.interrupted;
+  r.signal = o.signal;
+  r.stop_reason = o.stop_reason;
+  summarize_outputs(r);
+  return r;
+}
+
+class ProcedureStudy {
+ public:
+  virtual ~ProcedureStudy() = default;
+  virtual const StudyConfig& config() const = 0;
+  virtual const std::vector<std::string>& input_names() const = 0;
+  /// The per-sample outputs as declared (name, unit, description), in samples.csv order.
+  virtual const std::vector<OutputSpec>& outputs() const = 0;
+  /// Their names, in the same order.
+  virtual const std::vector<std::string>& output_names() const = 0;
+  virtual std::string model_name() const = 0;
+  virtual std::string model_source() const = 0;
+  /// Runs samples [done.size(), n); `done` (a resumed run's samples) are counted, not rerun.
+  virtual McResult run(int threads, bool progress, const SampleSink& sink,
+                       std::span<const SampleResult> done, const RunControl& control = {}) const = 0;
+  /// Dimensions of the design point (for sensitivity indices: the first of input_names()
+  /// unless a study says otherwise) and whether a sample has randomness of its own beyond
+  /// its design point (per-test draws, noise).
+  virtual std::vector<std::string> design_dimension_names() const = 0;
+  /// The model's tolerance key of each design dimension ("" = a tolerance of its own, named
+  /// by design_dimension_names()): a tolerance drawn in several columns (a magnitude and its
+  /// angle, one per plate or axis) gets one closed Sobol group. Empty = every column its own.
+  virtual std::vector<std::string> design_dimension_tolerances() const { return {}; }
+  /// Every model tolerance the study samples, by key ("tolerances.kt_drift"), those drawn per
+  /// test included (for contributions). Default: those of the design's dimensions.
+  virtual std::vector<std::string> tolerance_keys() const { return design_dimension_tolerances(); }
+  /// Default: none. A study whose samples draw beyond their design point (per-test draws,
+  /// sensor noise) says so, and Sobol indices then give that randomness a group of its own.
+  virtual bool has_own_randomness() const { return false; }
+  /// The sources of that randomness, each drawn from its own stream keyed by
+  /// Design::stream_index(i, source) (one Sobol group each); one entry = one stream for all.
+  virtual std::vector<std::string> randomness_sources() const { return {"per-test draws, noise"}; }
+  /// Sample i alone (depends only on seed, sample count, method and i).
+  virtual SampleResult replay(std::size_t i) const = 0;
+  /// Solver settings and counters for summary.json "solver" and the report's Solver section;
+  /// null (the default, a closed-form study): neither, and samples.csv has no solver_steps.
+  virtual nlohmann::json solver_json(const McResult&) const { return nullptr; }
+  /// Whether samples are integrated by a solver (samples.csv then has solver_steps).
+  virtual bool has_solver() const { return false; }
+  /// Study-specific summary.json content (null if none), e.g. the nominal machine.
+  virtual nlohmann::json details(const McResult&) const { return nullptr; }
+  /// Whether outputs can be computed at input values a caller gives (evaluate_point); false
+  /// (the default): this study's inputs do not determine a sample.
+  virtual bool evaluates_inputs() const { return false; }
+  /// The nominal unit's inputs (engine/kind_interface/input_evaluation.h), input_names() order.
+  virtual std::vector<double> nominal_inputs() const { return {}; }
+  /// Point k: inputs (input_names() order and units) -> outputs (outputs() order and units);
+  /// k picks the draws of a study with randomness of its own. Throws poise::Error for a point
+  /// without a physical answer. Called only when evaluates_inputs().
+  virtual void evaluate_point(std::size_t /*k*/, std::span<const double> /*inputs*/,
+                              std::span<double> /*outputs*/) const {}
+  /// Study-specific figures (written into plots_dir; names of the SVGs made are appended to
+  /// `figures`) and HTML sections for report.html.
+  virtual void report_sections(const McResult&, const std::string& /*plots_dir*/, bool /*plots*/,
+                               std::vector<std::string>& /*figures*/, std::ostringstream& /*html*/) const {}
+};
+
+/// run() and replay() of a study that has samples(), config(), make_workspace() and
+/// compute(i, workspace, result) (CRTP): one implementation for every procedure study. It
+/// holds the study's input columns (input_names_, the model's tolerance key of each in
+/// input_tolerances_) and declared outputs (declare_outputs), which the derived study fills
+/// in its constructor.
+template <class Derived>
+class ProcedureStudyBase : public ProcedureStudy {
+ public:
+  const std::vector<std::string>& input_names() const override { return input_names_; }
+  /// The model's tolerance key of each input column ("" for a derived column).
+  const std::vector<std::string>& input_tolerances() const { return input_tolerances_; }
+  const std::vector<OutputSpec>& outputs() const override { return outputs_; }
+  const std::vector<std::string>& output_names() const override { return output_names_; }
+
+  McResult run(int threads, bool progress, const SampleSink& sink, std::span<const SampleResult> done = {},
+               const RunControl& control = {}) const override {
+    const Derived& d = static_cast<const Derived&>(*this);
+    RunControl c = control;
+    c.replicate_size = d.config().replicate_size;
+    return run_procedure_samples(d.samples(), d.config().block, threads, progress, sink, done,
+                                 [&d] { return d.make_workspace(); },
+                                 [&d](std::size_t i, auto& ws, SampleResult& res) { d.compute(i, ws, res); }, c);
+  }
+  std::vector<std::string> design_dimension_names() const override {
+    const Derived& d = static_cast<const Derived&>(*this);
+    std::vector<std::string> names(d.design_dimension());
+    for (std::size_t k = 0; k < names.size(); ++k) {
+      names[k] = k < d.input_names().size() ? d.input_names()[k] : "(unused dimension " + std::to_string(k) + ")";
+    }
+    return names;
+  }
+  std::vector<std::string> design_dimension_tolerances() const override {
+    const Derived& d = static_cast<const Derived&>(*this);
+    std::vector<std::string> keys(d.design_dimension());
+    for (std::size_t k = 0; k < keys.size() && k < d.input_tolerances().size(); ++k) keys[k] = d.input_tolerances()[k];
+    return keys;
+  }
+  SampleResult replay(std::size_t i) const override {
+    const Derived& d = static_cast<const Derived&>(*this);
+    auto ws = d.make_workspace();
+    SampleResult r;
+    d.compute(i, *ws, r);
+    return r;
+  }
+
+ protected:
+  /// The outputs, declared once (their names follow).
+  void declare_outputs(std::vector<OutputSpec> outputs) {
+    outputs_ = std::move(outputs);
+    output_names_ = output_names_of(outputs_);
+  }
+  std::vector<std::string> input_names_, input_tolerances_;
+
+ private:
+  std::vector<OutputSpec> outputs_;
+  std::vector<std::string> output_names_;
+};
+
+}  // namespace poise::engine

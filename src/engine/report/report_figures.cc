@@ -1,0 +1,256 @@
+#include "engine/report/report_figures.h"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+#include "engine/report/report_plot.h"
+#include "engine/results/result_io.h"
+#include "sampling/statistics.h"
+
+namespace poise::engine {
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+namespace {
+
+constexpr const char* kTerminal = "set terminal svg size 720,420 dynamic noenhanced font 'Helvetica,12'\n";
+
+std::string quoted(const std::string& s) {
+  std::string out = "'";
+  for (char c : s) out += c == '\'' ? std::string("''") : std::string(1, c);
+  return out + "'";
+}
+
+// A label in a gnuplot data file: in double quotes (single ones would be shown).
+std::string data_label(const std::string& s) {
+  std::string out = "\"";
+  for (char c : s) out += c == '"' ? '\'' : c;
+  return out + "\"";
+}
+
+bool run(const fs::path& dir, const std::string& name, const std::string& script, std::vector<std::string>& figures,
+         std::string& why) {
+  write_file_atomic((dir / (name + ".gp")).string(), kTerminal + ("set output '" + name + ".svg'\nset grid\n") + script);
+  if (!run_gnuplot((dir / (name + ".gp")).string(), &why)) return false;
+  figures.push_back(name + ".svg");
+  return true;
+}
+
+// Labelled vertical lines; a label beside a line in the right half of the values [lo, hi]
+// stands to its left, so that it stays inside the figure.
+std::string vertical_lines(const std::vector<FigureLine>& lines, double lo, double hi) {
+  std::ostringstream g;
+  int i = 0;
+  for (const auto& l : lines) {
+    const bool left = l.x > 0.5 * (lo + hi);
+    g << "set arrow from " << l.x << ", graph 0 to " << l.x << ", graph 1 nohead lw 2 lc rgb '" << l.colour << "'\n"
+      << "set label " << quoted(l.label) << " at " << l.x << ", graph " << (0.95 - 0.08 * (i++ % 6))
+      << (left ? " right offset -0.5,0" : " offset 0.5,0") << " tc rgb '" << l.colour << "'\n";
+  }
+  return g.str();
+}
+
+// Histogram bins of sorted values: Freedman-Diaconis width 2 IQR n^(-1/3) (Sturges' count
+// when the IQR is zero), 5 to 60 bins, each sample in exactly one bin.
+struct HistogramBins {
+  double first = 0.0, width = 1.0;
+  std::vector<std::size_t> counts;
+};
+
+HistogramBins histogram_bins(const std::vector<double>& sorted) {
+  HistogramBins h;
+  const std::size_t n = sorted.size();
+  const double lo = sorted.front(), hi = sorted.back(), range = hi - lo;
+  const double iqr = sorted[(3 * n) / 4] - sorted[n / 4];
+  std::size_t bins = static_cast<std::size_t>(std::ceil(std::log2(static_cast<double>(n)))) + 1;  // Sturges
+  if (iqr > 0.0 && range > 0.0) {
+    bins = static_cast<std::size_t>(std::ceil(range / (2.0 * iqr * std::cbrt(1.0 / static_cast<double>(n)))));
+  }
+  bins = std::clamp<std::size_t>(bins, 5, 60);
+  h.width = range > 0.0 ? range / static_cast<double>(bins) : (std::abs(hi) > 0.0 ? std::abs(hi) * 1e-3 : 1e-9);
+  h.first = range > 0.0 ? lo : lo - 0.5 * h.width * static_cast<double>(bins);
+  h.counts.assign(bins, 0);
+  for (double x : sorted) {
+    const auto b = static_cast<std::size_t>(std::floor((x - h.first) / h.width));
+    ++h.counts[std::min(b, bins - 1)];  // the largest value closes the last bin
+  }
+  return h;
+}
+
+}  // namespace
+
+std::vector<std::string> main_outputs(const std::vector<std::string>& outputs, const json& references, std::size_t limit) {
+  std::vector<std::string> out;
+  if (references.is_array()) {
+    for (const auto& r : references) {
+      const std::string o = r.value("output", "");
+      if (!o.empty() && std::find(out.begin(), out.end(), o) == out.end()) out.push_back(o);
+    }
+  }
+  for (const auto& o : outputs) {  // every referenced output, then the first ones up to `limit`
+    if (out.size() >= limit) break;
+    if (std::find(out.begin(), out.end(), o) == out.end()) out.push_back(o);
+  }
+  return out;
+}
+
+bool distribution_figures(const fs::path& dir, const std::string& output, const std::string& unit,
+                          const std::vector<double>& values, const std::vector<std::size_t>& order,
+                          const std::vector<FigureLine>& lines, std::vector<std::string>& figures, std::string& why) {
+  std::vector<double> v;
+  for (double x : values) {
+    if (std::isfinite(x)) v.push_back(x);
+  }
+  if (v.size() < 2) return true;
+  std::vector<double> sorted = v;
+  std::sort(sorted.begin(), sorted.end());
+  const double n = static_cast<double>(sorted.size());
+  // DKW: P(sup |F_n - F| > eps) <= 2 exp(-2 n eps^2) = 0.05.
+  const double eps = std::sqrt(std::log(2.0 / 0.05) / (2.0 * n));
+  {
+    std::ostringstream d;
+    d << "# " << output << " [" << unit << "]  empirical_cdf  band_lo  band_hi (DKW 95%)\n";
+    for (std::size_t i = 0; i < sorted.size(); ++i) {
+      const double f = (static_cast<double>(i) + 1.0) / n;
+      d << sorted[i] << ' ' << f << ' ' << std::max(0.0, f - eps) << ' ' << std::min(1.0, f + eps) << '\n';
+    }
+    write_file_atomic((dir / (output + "_cdf.dat")).string(), d.str());
+  }
+  const std::string xl = output + (unit.empty() ? "" : " [" + unit + "]");
+  const HistogramBins bins = histogram_bins(sorted);
+  {
+    std::ostringstream d;
+    d.precision(10);
+    d << "# bin_centre  samples  (bin width " << bins.width << ")\n";
+    for (std::size_t b = 0; b < bins.counts.size(); ++b) {
+      d << bins.first + (static_cast<double>(b) + 0.5) * bins.width << ' ' << bins.counts[b] << '\n';
+    }
+    write_file_atomic((dir / (output + "_hist.dat")).string(), d.str());
+  }
+  const std::size_t most = *std::max_element(bins.counts.begin(), bins.counts.end());
+  std::ostringstream hist;
+  hist.precision(10);
+  hist << "set title " << quoted("Distribution of " + output + " over " + std::to_string(sorted.size()) + " samples")
+       << "\nset xlabel " << quoted(xl) << "\nset ylabel 'samples'\nset key outside bottom center horizontal\n"
+       << "set boxwidth " << bins.width << " absolute\nset yrange [0:*]\n" << (most <= 10 ? "set ytics 1\n" : "")
+       << "set style fill solid 0.6\n" << vertical_lines(lines, sorted.front(), sorted.back()) << "plot '" << output
+       << "_hist.dat' u 1:2 with boxes lc rgb '#4477aa' title 'simulated'\n";
+  if (!run(dir, output + "_hist", hist.str(), figures, why)) return false;
+  std::ostringstream cdf;
+  cdf << "set title " << quoted("CDF of " + output + " with its 95% band (DKW)") << "\nset xlabel " << quoted(xl)
+      << "\nset ylabel 'share of samples at or below'\nset yrange [0:1]\nset key outside bottom center horizontal\n"
+      << vertical_lines(lines, sorted.front(), sorted.back()) << "plot '" << output
+      << "_cdf.dat' u 1:3:4 with filledcurves lc rgb '#bbccee' title '95% band', '' u 1:2 with steps lw 2 lc rgb "
+         "'#4477aa' title 'empirical CDF'\n";
+  if (!run(dir, output + "_cdf", cdf.str(), figures, why)) return false;
+  // Statistics against sample count (in sample order): mean with its t interval and p95
+  // with its binomial order-statistic interval, at geometrically spaced counts.
+  std::vector<std::size_t> counts;
+  for (double c = static_cast<double>(v.size()); c >= 8; c /= 1.5) counts.push_back(static_cast<std::size_t>(c));
+  if (counts.size() >= 3) {  // a curve needs a few sample counts
+    std::ostringstream d;
+    d << "# samples  mean  mean_lo  mean_hi  p95  p95_lo  p95_hi  [" << unit << "]\n";
+    std::vector<std::pair<std::size_t, double>> by_order;
+    for (std::size_t i = 0; i < values.size(); ++i) {
+      if (std::isfinite(values[i])) by_order.emplace_back(i < order.size() ? order[i] : i, values[i]);
+    }
+    std::sort(by_order.begin(), by_order.end());
+    std::reverse(counts.begin(), counts.end());
+    for (std::size_t c : counts) {
+      std::vector<double> head;
+      for (std::size_t i = 0; i < c; ++i) head.push_back(by_order[i].second);
+      const sampling::Summary s = sampling::summarize(head);
+      auto end = [](const std::optional<double>& e, double fallback) { return e ? *e : fallback; };
+      d << c << ' ' << s.mean.value << ' ' << end(s.mean.lo, s.mean.value) << ' ' << end(s.mean.hi, s.mean.value) << ' '
+        << s.p95.value << ' ' << end(s.p95.lo, s.p95.value) << ' ' << end(s.p95.hi, s.p95.value) << '\n';
+    }
+    write_file_atomic((dir / (output + "_convergence.dat")).string(), d.str());  // gnuplot reads it next
+    std::ostringstream conv;
+    conv << "set title " << quoted(output + ": mean and p95 against sample count (95% intervals)")
+         << "\nset xlabel 'samples'\nset logscale x\nset ylabel " << quoted(unit.empty() ? output : unit)
+         << "\nset key outside bottom center horizontal\nplot '" << output
+         << "_convergence.dat' u 1:2:3:4 with yerrorlines lw 2 lc rgb '#4477aa' title 'mean', '' u 1:5:6:7 with "
+            "yerrorlines lw 2 lc rgb '#ee7733' title 'p95'\n";
+    if (!run(dir, output + "_convergence", conv.str(), figures, why)) return false;
+  }
+  return true;
+}
+
+bool tornado_figure(const fs::path& dir, const std::string& name, const std::string& title, const std::string& xlabel,
+                    const std::vector<std::pair<std::string, double>>& bars, std::vector<std::string>& figures,
+                    std::string& why) {
+  if (bars.empty()) return true;
+  {
+    std::ostringstream d;
+    d << "# rank  value  label\n";
+    for (std::size_t i = 0; i < bars.size(); ++i) d << i << ' ' << bars[i].second << ' ' << data_label(bars[i].first) << '\n';
+    write_file_atomic((dir / (name + ".dat")).string(), d.str());
+  }
+  std::ostringstream g;
+  g << "set title " << quoted(title) << "\nset xlabel " << quoted(xlabel) << "\nset yrange [" << bars.size()
+    << "-0.5:-0.5]\nset ytics scale 0\nset style fill solid 0.7\nunset key\nset lmargin 34\n"
+    << "plot '" << name << ".dat' u ($2/2):1:(abs($2)/2):(0.35):ytic(3) with boxxyerror lc rgb '#4477aa'\n";
+  return run(dir, name, g.str(), figures, why);
+}
+
+bool sensitivity_tornado(const fs::path& dir, const json& sensitivity, const std::string& output,
+                         std::vector<std::string>& figures, std::string& why) {
+  if (!sensitivity.contains("outputs") || !sensitivity["outputs"].contains(output)) return true;
+  // Per tolerance where the kind names them (a tolerance's columns as one bar), else per column.
+  const json& o = sensitivity["outputs"][output];
+  const json& idx = o.contains("tolerances") ? o["tolerances"] : o["indices"];
+  const std::string name = output + "_sobol";
+  {
+    std::ostringstream d;
+    d << "# rank  total total_lo total_hi  first first_lo first_hi  group\n";
+    std::size_t i = 0;
+    for (const auto& g : idx) {
+      if (i >= 12) break;
+      auto val = [](const json& e, int k) {
+        if (k < 0) return e["value"].is_number() ? e["value"].get<double>() : 0.0;
+        return e["ci95"][k].is_number() ? e["ci95"][k].get<double>() : (e["value"].is_number() ? e["value"].get<double>() : 0.0);
+      };
+      d << i++ << ' ' << val(g["total"], -1) << ' ' << val(g["total"], 0) << ' ' << val(g["total"], 1) << ' '
+        << val(g["first"], -1) << ' ' << val(g["first"], 0) << ' ' << val(g["first"], 1) << ' '
+        << data_label(g["group"].get<std::string>()) << '\n';
+    }
+    if (i == 0) return true;
+    write_file_atomic((dir / (name + ".dat")).string(), d.str());
+  }
+  std::ostringstream g;
+  g << "set title " << quoted("Which inputs drive " + output + ": Sobol indices (95% intervals)")
+    << "\nset xlabel 'index (share of the variance)'\nset yrange [*:*] reverse\nset ytics scale 0\nset lmargin 34\n"
+    << "set style fill solid 0.7\nset key outside bottom center horizontal\nset xrange [0:*]\n"
+    << "plot '" << name << ".dat' u ($2/2):($1-0.18):($2/2):(0.16):ytic(8) with boxxyerror lc rgb '#4477aa' title 'total', "
+    << "'' u 2:($1-0.18):3:4 with xerrorbars lc rgb '#222222' pt 0 notitle, "
+    << "'' u ($5/2):($1+0.18):($5/2):(0.16) with boxxyerror lc rgb '#ee7733' title 'first order', "
+    << "'' u 5:($1+0.18):6:7 with xerrorbars lc rgb '#222222' pt 0 notitle\n";
+  return run(dir, name, g.str(), figures, why);
+}
+
+bool sweep_figure(const fs::path& dir, const std::string& name, const std::string& title, const std::string& xlabel,
+                  const std::string& ylabel, const std::vector<SweepFigurePoint>& points,
+                  const std::vector<FigureLine>& limits, std::vector<std::string>& figures, std::string& why) {
+  if (points.empty()) return true;
+  {
+    std::ostringstream d;
+    d << "# x  statistic  ci95_lo  ci95_hi\n";
+    d.precision(10);
+    for (const auto& p : points) {
+      d << p.x << ' ' << p.y << ' ' << (std::isfinite(p.lo) ? p.lo : p.y) << ' ' << (std::isfinite(p.hi) ? p.hi : p.y)
+        << '\n';
+    }
+    write_file_atomic((dir / (name + ".dat")).string(), d.str());
+  }
+  std::ostringstream g;
+  g << "set title " << quoted(title) << "\nset xlabel " << quoted(xlabel) << "\nset ylabel " << quoted(ylabel)
+    << "\nset key outside bottom center horizontal\nset offsets graph 0.05, graph 0.05, graph 0.1, graph 0.1\n";
+  // The limits as constant functions: the y range then takes them in.
+  g << "plot '" << name << ".dat' u 1:2:3:4 with yerrorlines lw 2 pt 7 lc rgb '#4477aa' t " << quoted(ylabel + ", 95% interval");
+  for (const auto& l : limits) g << ", " << l.x << " w l lw 2 lc rgb '" << l.colour << "' t " << quoted(l.label);
+  g << "\n";
+  return run(dir, name, g.str(), figures, why);
+}
+
+}  // namespace poise::engine

@@ -1,0 +1,127 @@
+#include "engine/report/report_plot.h"
+
+#include <fcntl.h>
+#include <spawn.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+
+#include "engine/results/result_io.h"
+
+extern char** environ;
+
+namespace poise::engine {
+namespace fs = std::filesystem;
+
+bool svg_plot(const std::filesystem::path& dir, const std::string& name, const std::string& script,
+              std::vector<std::string>& figures, std::ostringstream& html) {
+  write_file_atomic((dir / (name + ".gp")).string(), "set terminal svg size 720,420 dynamic noenhanced font 'Helvetica,12'\n"
+                                                     "set output '" + name + ".svg'\nset grid\n" + script);
+  std::string why;
+  if (run_gnuplot((dir / (name + ".gp")).string(), &why)) {
+    figures.push_back(name + ".svg");
+    return true;
+  }
+  html << "<p><small>" << html_escape(name) << ": " << html_escape(why) << "</small></p>\n";
+  return false;
+}
+
+bool run_gnuplot(const std::string& script_path, std::string* why) {
+  // gnuplot is started without a shell (an argv vector), in the script's folder, its
+  // messages into gnuplot.log there: any path works, quotes and spaces included.
+  const fs::path script(script_path);
+  const fs::path dir = script.parent_path().empty() ? fs::path(".") : script.parent_path();
+  const std::string log = (dir / "gnuplot.log").string();
+  const std::string dir_s = dir.string(), file_s = script.filename().string();
+  posix_spawn_file_actions_t actions;
+  posix_spawn_file_actions_init(&actions);
+  posix_spawn_file_actions_addchdir_np(&actions, dir_s.c_str());
+  posix_spawn_file_actions_addopen(&actions, STDERR_FILENO, "gnuplot.log", O_WRONLY | O_CREAT | O_TRUNC, 0644);
+  posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, "/dev/null", O_WRONLY, 0);
+  std::string prog = "gnuplot";
+  std::vector<char*> argv{prog.data(), const_cast<char*>(file_s.c_str()), nullptr};
+  pid_t pid = 0;
+  const int rc = posix_spawnp(&pid, "gnuplot", &actions, nullptr, argv.data(), environ);
+  posix_spawn_file_actions_destroy(&actions);
+  if (rc != 0) {
+    if (why) *why = std::string("gnuplot could not be started (") + std::strerror(rc) +
+                    "; scripts/install_deps.sh installs it); the scripts and data are kept in plots/";
+    return false;
+  }
+  int status = 0;
+  while (waitpid(pid, &status, 0) < 0 && errno == EINTR) {
+  }
+  if (!(WIFEXITED(status) && WEXITSTATUS(status) == 0)) {
+    std::string first;
+    if (std::ifstream in(log); in) std::getline(in, first);
+    if (why) {
+      *why = "gnuplot failed on " + file_s + (first.empty() ? std::string() : ": " + first) +
+             " (plots/gnuplot.log has its messages); the scripts and data are kept";
+    }
+    return false;
+  }
+  return true;
+}
+
+std::string inline_svg(const std::filesystem::path& svg_file, const std::string& caption) {
+  std::ifstream in(svg_file, std::ios::binary);
+  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const auto start = text.find("<svg");
+  if (!in.good() && text.empty()) {
+    return "<p class='bad'><small>" + html_escape(svg_file.filename().string()) + " could not be read</small></p>\n";
+  }
+  if (start != std::string::npos) text = text.substr(start);
+  // gnuplot's fixed width and height make the figure as wide as drawn: let it scale.
+  return "<figure class='fig'>" + text + (caption.empty() ? "" : "<figcaption>" + html_escape(caption) + "</figcaption>") +
+         "</figure>\n";
+}
+
+std::string figures_html(const std::filesystem::path& plots_dir, const std::vector<std::string>& figures) {
+  std::string h;
+  for (const auto& f : figures) h += inline_svg(plots_dir / f, "");
+  return h;
+}
+
+std::string report_page_head(const std::string& title) {
+  return "<!DOCTYPE html><html lang='en'><head><meta charset='utf-8'><meta name='viewport' "
+         "content='width=device-width, initial-scale=1'><title>Poise: " +
+         html_escape(title) +
+         "</title><style>"
+         "body{font-family:Helvetica,Arial,sans-serif;max-width:1100px;margin:2em auto;padding:0 1em;color:#222;"
+         "line-height:1.4}"
+         "table{border-collapse:collapse;margin:0.6em 0;display:block;max-width:100%;overflow-x:auto}"
+         "td,th{border:1px solid #bbb;padding:3px 8px;text-align:right;vertical-align:top}"
+         "th{background:#eef}td.l,th.l{text-align:left}"
+         ".bad{background:#fdd}.close{background:#ffe9b3}.ok{background:#dfd}.target{background:#eee}"
+         ".answer{font-size:1.1em;border-left:4px solid #4477aa;padding:0.4em 0.8em;background:#f4f7fb}"
+         "small{color:#666}pre{background:#f6f6f6;padding:0.8em;white-space:pre-wrap}"
+         "figure.fig{margin:1em 0}figure.fig svg{max-width:100%;height:auto}"
+         "figcaption{color:#555;font-size:0.9em}"
+         "</style></head><body>\n";
+}
+
+std::string provenance_html(const nlohmann::json& p) {
+  std::string h = "<h2>Provenance</h2>\n<table>";
+  for (const auto& [key, value] : p.items()) {
+    std::string v;
+    if (value.is_string()) {
+      v = html_escape(value.get<std::string>());
+    } else if (value.is_object()) {
+      for (const auto& [k2, v2] : value.items()) {
+        v += "<code>" + html_escape(k2) + "</code> " + html_escape(v2.is_string() ? v2.get<std::string>() : v2.dump()) +
+             "<br>";
+      }
+    } else {
+      v = html_escape(value.dump());
+    }
+    h += "<tr><th class='l'>" + html_escape(key) + "</th><td class='l'>" + v + "</td></tr>\n";
+  }
+  return h + "</table>\n";
+}
+
+}  // namespace poise::engine

@@ -1,0 +1,65 @@
+#pragma once
+/// The one result type of a run of any study kind: each sample's result as computed
+/// (SampleResult: drawn inputs, declared outputs, a field where the study has one, the
+/// solver's counters) and a run's results gathered (McResult: the ok samples' values by
+/// output, failures with their reasons, statistics, the field figures, how the run ended).
+/// The result folder, the optimizer's objective and the budget's Monte Carlo all read it.
+#include <cstddef>
+#include <map>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "sampling/statistics.h"
+
+namespace poise::engine {
+
+struct SampleResult {
+  std::size_t index = 0;
+  bool ok = true;
+  std::string message;
+  std::vector<double> inputs;   ///< unit-scope draws, display units
+  std::vector<double> outputs;  ///< output_names() order
+  long solver_steps = 0, rhs_evals = 0;
+  /// A study's values at every point of a field (the LOS error at each grid point), for one
+  /// whose samples have one (empty otherwise): samples.h5 keeps them, the field figures
+  /// (McResult::field) are made from them.
+  std::vector<float> field;
+};
+
+/// The figures of a per-sample field over a run's ok samples (a study that has one).
+struct FieldFigures {
+  bool present = false;
+  sampling::Summary pooled;                  ///< over every (ok sample, field point)
+  std::vector<double> p50, p95, p99_73;      ///< per field point, over the ok samples
+  nlohmann::json file;                       ///< samples.h5's field (WideColumnsWriter::close), rank 0
+};
+
+struct McResult {
+  std::size_t n = 0, failures = 0;
+  std::vector<std::pair<std::size_t, std::string>> failed;
+  /// Every failure counted by its reason's head (the message up to its first ": ").
+  std::map<std::string, std::size_t> failure_reasons;
+  std::vector<sampling::Summary> outputs;
+  std::vector<std::vector<double>> values;  ///< per output, ok samples in order
+  std::vector<std::size_t> ok_index;        ///< sample index of each ok sample (values' order)
+  double wall_seconds = 0.0;
+  long solver_steps = 0, rhs_evals = 0;
+  std::size_t completed = 0;                ///< samples [0, completed) ran (n unless stopped)
+  bool interrupted = false;                 ///< stopped by SIGINT / SIGTERM
+  int signal = 0;
+  std::string stop_reason;                  ///< why the run stopped before n ("" = it did not)
+  std::size_t replicate_size = 0;           ///< summaries by replicate (design.h) when > 0
+  FieldFigures field;                       ///< a study with a per-sample field, when asked for
+  /// The output names (an in-memory evaluation sets them: StudyKind::evaluate, the optimizer).
+  std::vector<std::string> names;
+
+  /// Index of an output by name; throws poise::Error listing the names if absent.
+  std::size_t index(const std::string& output) const;
+  /// The reason of the first failed sample ("" if none failed).
+  std::string first_failure() const { return failed.empty() ? std::string() : failed.front().second; }
+};
+
+}  // namespace poise::engine

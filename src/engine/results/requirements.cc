@@ -1,0 +1,363 @@
+#include "engine/results/requirements.h"
+
+#include <algorithm>
+#include <cmath>
+#include <functional>
+
+#include "core/units.h"
+#include "engine/results/confidence_bound.h"
+#include "engine/results/result_io.h"
+#include "engine/kind_interface/study_kind.h"
+#include "engine/study_files/toml_reader.h"
+
+namespace poise::engine {
+namespace {
+using nlohmann::json;
+
+const OutputSpec* find_output(const std::vector<OutputSpec>& outputs, const std::string& name) {
+  const auto it = std::find_if(outputs.begin(), outputs.end(), [&](const OutputSpec& o) { return o.name == name; });
+  return it == outputs.end() ? nullptr : &*it;
+}
+
+// A figure in the output's unit, 4 significant digits ("1.25 mN*m", "0.42" when unitless).
+std::string with_unit(double v, const std::string& unit) {
+  const std::string number = format_significant(v, 4);
+  return unit.empty() || unit == "1" ? number : number + " " + unit;
+}
+
+std::string statistic_label(const std::string& statistic) {
+  if (statistic == "p99_73") return "p99.73";
+  return statistic;
+}
+
+// What a requirement says, in words: "p95 of g_rmse_torque_mNm at most 1.5 mN*m".
+std::string requirement_text(const json& v) {
+  return statistic_label(v["statistic"].get<std::string>()) + " of " + v["output"].get<std::string>() +
+         (v["at_most"].get<bool>() ? " at most " : " at least ") + v["limit"]["as_written"].get<std::string>();
+}
+
+struct Judged {
+  std::string verdict;          // met | not met | undecided | no samples
+  std::optional<double> bound;  // on the requirement's side
+  std::optional<double> other;  // on the other side
+  std::string note;
+  std::string design_note;  ///< the bounds' assumption the design does not meet
+  std::optional<std::size_t> samples_to_decide;
+};
+
+// The verdict of one requirement on the values, the limit in the output's unit.
+Judged judge(const Requirement& r, const OutputValues& ov, double limit, double value) {
+  Judged j;
+  const SampleSet set = sample_set(*ov.values, *ov.ok_index, ov.replicate_size);
+  const auto beyond = [&](double x) { return r.at_most ? x > limit : x < limit; };
+  if (r.statistic == "max") {
+    // The population's maximum is at least the sample's: a sample beyond an upper limit
+    // decides "not met"; below it, no bound exists and the samples run are all there is.
+    if (r.at_most) {
+      j.verdict = value > limit ? "not met" : "met";
+      if (j.verdict == "met") j.note = "met by every sample run; a maximum has no distribution-free upper bound";
+    } else {
+      j.verdict = value >= limit ? "met" : "not met";
+      if (j.verdict == "not met") j.note = "no sample reached the limit; a maximum has no distribution-free bound";
+    }
+    return j;
+  }
+  if (!ov.independent && ov.replicate_size == 0) {
+    j.design_note = "the bounds assume independent samples; this lhs or sobol design without [sampling] "
+                    "replicate_size does not guarantee them (set replicate_size, or method = \"monte_carlo\")";
+  }
+  const BoundSpec up{BoundSide::kUpper, r.confidence}, down{BoundSide::kLower, r.confidence};
+  j.bound = one_sided_bound(set, r.statistic, r.at_most ? up : down);
+  j.other = one_sided_bound(set, r.statistic, r.at_most ? down : up);
+  if (j.bound && !beyond(*j.bound)) {
+    j.verdict = "met";
+  } else if (j.other && beyond(*j.other)) {
+    j.verdict = "not met";
+  } else {
+    j.verdict = "undecided";
+    // The half-width on the side facing the limit shrinks as 1/sqrt(n); the samples at which
+    // it would end at the limit, were the statistic to stay where it is.
+    const std::optional<double> facing = beyond(value) ? j.other : j.bound;
+    const double gap = std::abs(value - limit);
+    const double n = static_cast<double>(ov.values->size());
+    if (!facing) {
+      j.note = "too few samples for an " + std::string(r.at_most ? "upper" : "lower") + " bound of " +
+               statistic_label(r.statistic);
+      // A distribution-free bound of the q-quantile exists from n >= ln(1 - c) / ln(q) (upper)
+      // or ln(1 - c) / ln(1 - q) (lower) samples on.
+      if (r.statistic.size() > 1 && r.statistic[0] == 'p' && ov.replicate_size == 0) {
+        std::string q_text = r.statistic.substr(1);
+        std::replace(q_text.begin(), q_text.end(), '_', '.');
+        const double q = std::stod(q_text) / 100.0;
+        const double n_min = std::log(1.0 - r.confidence) / std::log(r.at_most == beyond(value) ? 1.0 - q : q);
+        if (std::isfinite(n_min) && n_min > n) {
+          j.samples_to_decide = static_cast<std::size_t>(std::ceil(n_min));
+          j.note += " (one exists from " + std::to_string(*j.samples_to_decide) + " samples on)";
+        }
+      }
+    } else if (gap > 0.0) {
+      const double half = std::abs(*facing - value);
+      j.samples_to_decide = static_cast<std::size_t>(std::ceil(n * (half / gap) * (half / gap) * 1.1));
+    } else {
+      j.note = "the statistic sits on the limit: no sample count decides it";
+    }
+  }
+  return j;
+}
+
+}  // namespace
+
+const std::vector<std::string>& requirement_statistics() {
+  static const std::vector<std::string> kStatistics = {"mean", "p50", "p95", "p99_73", "max"};
+  return kStatistics;
+}
+
+std::vector<Requirement> read_requirements(TomlReader& root) {
+  std::vector<Requirement> out;
+  // [requirement] as one table is a kind's shorthand (read by the kind); an array is ours.
+  if (root.has("requirement") && root.raw()["requirement"].is_table()) return out;
+  for (auto& t : root.table_array("requirement")) {
+    Requirement r;
+    r.file = t.context().file;
+    r.line = t.line_of("output");
+    r.origin = r.file + ":" + std::to_string(r.line);
+    r.output = t.string("output");
+    r.statistic = t.choice("statistic", requirement_statistics(), "p95");
+    const bool most = t.has("at_most"), least = t.has("at_least");
+    if (most == least && !t.schema_only()) {
+      t.error(most ? "at_least" : "at_most", most ? quote_value(t.string("at_least")) : "",
+              "exactly one of at_most or at_least, a value with the output's unit, e.g. at_most = \"1.5 mN*m\"");
+    }
+    r.at_most = most || !least;
+    if (t.schema_only()) {  // both, as alternatives
+      t.ask("at_most", "a value with the output's unit, e.g. \"1.5 mN*m\" (or at_least)", "", false);
+      t.ask("at_least", "a value with the output's unit (or at_most)", "", false);
+    }
+    r.limit_text = t.string(r.at_most ? "at_most" : "at_least", t.schema_only() ? std::optional<std::string>("") : std::nullopt);
+    if (!r.limit_text.empty()) {
+      try {
+        units::parse_quantity(r.limit_text);
+      } catch (const Error& e) {
+        t.error(r.at_most ? "at_most" : "at_least", quote_value(r.limit_text),
+                std::string("a number with the output's unit, e.g. \"1.5 mN*m\" (") + e.what() + ")");
+      }
+    }
+    r.confidence = t.number(
+        "confidence",
+        [](double c) { return c >= 0.5 && c < 1.0 ? std::string() : std::string("a one-sided confidence, 0.5 <= c < 1, e.g. 0.95"); },
+        0.95);
+    t.string("notes", "");
+    out.push_back(r);
+  }
+  return out;
+}
+
+void check_requirements(const std::vector<Requirement>& requirements, const std::vector<OutputSpec>& outputs) {
+  std::vector<InputError> errors;
+  for (const auto& r : requirements) {
+    const OutputSpec* o = find_output(outputs, r.output);
+    const SourceLocation at{r.file, r.line, 0};
+    if (!o) {
+      std::string names;
+      for (const auto& x : outputs) names += (names.empty() ? "" : ", ") + x.name;
+      errors.emplace_back(at, "requirement.output", quote_value(r.output), "an output of this study: " + names);
+      continue;
+    }
+    try {
+      const units::Quantity u = unit_quantity(o->unit), v = units::parse_quantity(r.limit_text);
+      if (!(u.dim == v.dim)) {
+        errors.emplace_back(at, r.at_most ? "requirement.at_most" : "requirement.at_least", quote_value(r.limit_text),
+                            "a value in a unit of " + units::dimension_name(u.dim) + " (the output " + r.output +
+                                " is in " + (o->unit.empty() || o->unit == "1" ? std::string("no unit") : o->unit) + ")");
+      }
+    } catch (const Error&) {
+      // An unparsable limit was reported when the file was read.
+    }
+  }
+  if (!errors.empty()) throw ValidationError(errors);
+}
+
+nlohmann::json judge_requirements(const std::vector<Requirement>& requirements, const std::vector<OutputSpec>& outputs,
+                                  const std::function<OutputValues(const std::string&)>& values_of) {
+  json out = json::array();
+  for (const auto& r : requirements) {
+    const OutputSpec* o = find_output(outputs, r.output);
+    if (!o) continue;  // check_requirements refused it before the run
+    const double limit = units::parse_quantity(r.limit_text).value / unit_quantity(o->unit).value;
+    json v{{"output", r.output}, {"statistic", r.statistic}, {"at_most", r.at_most},
+           {"limit", {{"value", limit}, {"unit", o->unit}, {"as_written", r.limit_text}}},
+           {"confidence", r.confidence}, {"declared_in", r.origin}};
+    const OutputValues ov = values_of(r.output);
+    if (!ov.values || ov.values->empty()) {
+      v["value"] = nullptr;
+      v["bound"] = nullptr;
+      v["verdict"] = "undecided";
+      v["note"] = "no sample of this output ran";
+      out.push_back(v);
+      continue;
+    }
+    const double value = statistic(*ov.values, r.statistic);
+    const Judged j = judge(r, ov, limit, value);
+    v["value"] = value;
+    v["bound"] = j.bound ? json(*j.bound) : json(nullptr);
+    v["bound_side"] = r.at_most ? "upper" : "lower";
+    v["other_bound"] = j.other ? json(*j.other) : json(nullptr);
+    v["samples"] = ov.values->size();
+    v["verdict"] = j.verdict;
+    v["margin"] = r.at_most ? limit - value : value - limit;  // > 0: on the right side of the limit
+    if (j.samples_to_decide) v["samples_to_decide"] = *j.samples_to_decide;
+    if (!j.note.empty()) v["note"] = j.note;
+    if (!j.design_note.empty()) v["design_note"] = j.design_note;
+    out.push_back(v);
+  }
+  return out;
+}
+
+std::string answer_sentence(const json& verdicts, const json& outputs_summary, const std::vector<OutputSpec>& outputs,
+                            const std::string& status, std::size_t samples) {
+  const std::string partial =
+      status == "complete" ? "" : " (on the " + std::to_string(samples) + " samples of a run that is " + status + ")";
+  if (verdicts.empty()) {
+    std::string s = "No requirement is declared";
+    for (const auto& o : outputs) {
+      if (!outputs_summary.contains(o.name)) continue;
+      const json& p95 = outputs_summary[o.name]["p95"];
+      s += ": p95 of " + o.name + " is " + with_unit(p95["value"].get<double>(), o.unit);
+      if (p95["ci95"][0].is_number() && p95["ci95"][1].is_number()) {
+        s += " [" + format_significant(p95["ci95"][0].get<double>(), 4) + ", " +
+             format_significant(p95["ci95"][1].get<double>(), 4) + "]";
+      }
+      s += " over " + std::to_string(samples) + " samples";
+      break;
+    }
+    return s + partial + " (state one with [[requirement]] to get a verdict).";
+  }
+  std::vector<std::string> met, not_met, undecided;
+  for (const auto& v : verdicts) {
+    const std::string unit = v["limit"]["unit"].get<std::string>();
+    const double limit = v["limit"]["value"].get<double>();
+    std::string clause = requirement_text(v);
+    if (v["value"].is_null()) {
+      undecided.push_back(clause + ": no sample ran");
+      continue;
+    }
+    const double value = v["value"].get<double>();
+    const std::string pct = std::to_string(static_cast<int>(std::round(v["confidence"].get<double>() * 100.0))) + "%";
+    const std::string side = v["bound_side"].get<std::string>();
+    const std::string verdict = v["verdict"].get<std::string>();
+    // The bound that decides: on the requirement's side for "met", on the other for "not met".
+    const bool other = verdict == "not met";
+    const json& bound = v[other ? "other_bound" : "bound"];
+    const std::string bound_side = other ? (side == "upper" ? "lower" : "upper") : side;
+    std::string figures = "is " + with_unit(value, unit);
+    if (bound.is_number()) figures += " (" + bound_side + " " + pct + " bound " + format_significant(bound.get<double>(), 4) + ")";
+    if (verdict == "met") {
+      met.push_back(statistic_label(v["statistic"].get<std::string>()) + " of " + v["output"].get<std::string>() + " " +
+                    figures + (v["at_most"].get<bool>() ? " <= " : " >= ") + v["limit"]["as_written"].get<std::string>());
+    } else if (verdict == "not met") {
+      const double over = std::abs(value - limit);
+      std::string by = with_unit(over, unit);
+      if (limit != 0.0) by += " (" + format_significant(100.0 * over / std::abs(limit), 3) + "%)";
+      not_met.push_back(clause + ": it " + figures + ", " + by + (v["at_most"].get<bool>() ? " over" : " short"));
+    } else {
+      std::string u = clause + ": it " + figures + " and the interval straddles the limit";
+      if (v.contains("note")) {
+        u += "; " + v["note"].get<std::string>();
+      } else if (v.contains("samples_to_decide")) {
+        u += "; about " + std::to_string(v["samples_to_decide"].get<std::size_t>()) + " samples would likely decide it";
+      }
+      undecided.push_back(u);
+    }
+  }
+  auto join = [](const std::vector<std::string>& parts) {
+    std::string s;
+    for (const auto& p : parts) s += (s.empty() ? "" : "; ") + p;
+    return s;
+  };
+  const std::string count = std::to_string(verdicts.size());
+  std::string s;
+  if (!not_met.empty()) {
+    s = verdicts.size() == 1 ? "NOT met" + partial + ": " + join(not_met)
+                             : "NOT met: " + std::to_string(not_met.size()) + " of " + count + " requirements fail" +
+                                   partial + ": " + join(not_met);
+    if (!undecided.empty()) s += "; undecided: " + join(undecided);
+  } else if (!undecided.empty()) {
+    s = "Undecided" + partial + ": " + join(undecided);
+    if (!met.empty()) s += "; met: " + join(met);
+  } else {
+    s = (verdicts.size() == 1 ? std::string("The requirement is met") : "Every requirement is met (" + count + " of " + count + ")") +
+        partial + ": " + join(met);
+  }
+  for (const auto& v : verdicts) {
+    if (v.contains("design_note")) {
+      s += " (the bounds assume independent samples, which this lhs or sobol design without replicate_size does not "
+           "guarantee)";
+      break;
+    }
+  }
+  return s + ".";
+}
+
+void add_answer(json& summary, const std::vector<Requirement>& requirements, const std::vector<OutputSpec>& outputs,
+                const std::function<OutputValues(const std::string&)>& values_of, const std::string& status,
+                std::size_t samples, bool saltelli_layout) {
+  if (saltelli_layout) {
+    summary["requirements"] = json::array();
+    summary["answer"] = requirements.empty()
+                            ? std::string("A sensitivity run: Sobol indices of every output (no requirement is declared).")
+                            : "A sensitivity run: its samples follow the Saltelli layout, not independent draws, so it "
+                              "states no verdict; `poise run` decides the " + std::to_string(requirements.size()) +
+                                  " requirement(s).";
+    return;
+  }
+  summary["requirements"] = judge_requirements(requirements, outputs, values_of);
+  summary["answer"] = answer_sentence(summary["requirements"], summary.value("outputs", json::object()), outputs, status,
+                                      samples);
+}
+
+std::vector<std::pair<std::string, std::string>> shown_statistics(const json& verdicts, const std::vector<OutputSpec>& outputs,
+                                                                  std::size_t fallback) {
+  std::vector<std::pair<std::string, std::string>> shown;
+  for (const auto& v : verdicts) {
+    std::pair<std::string, std::string> p{v["output"].get<std::string>(), v["statistic"].get<std::string>()};
+    if (std::find(shown.begin(), shown.end(), p) == shown.end()) shown.push_back(p);
+  }
+  if (shown.empty()) {
+    for (std::size_t k = 0; k < outputs.size() && k < fallback; ++k) shown.emplace_back(outputs[k].name, "p95");
+  }
+  return shown;
+}
+
+std::string answer_html(const std::string& answer, const json& verdicts) {
+  std::string h = "<p class='answer'><b>" + html_escape(answer) + "</b></p>\n";
+  if (verdicts.empty()) return h;
+  h += "<table><tr><th class='l'>requirement</th><th>value</th><th>lower bound</th><th>upper bound</th>"
+       "<th>one-sided confidence</th><th class='l'>verdict</th></tr>\n";
+  auto number = [](const json& x) { return x.is_number() ? format_significant(x.get<double>(), 4) : std::string("&ndash;"); };
+  for (const auto& v : verdicts) {
+    const std::string unit = v["limit"]["unit"].get<std::string>();
+    const bool upper_is_bound = v.value("bound_side", "upper") == "upper";
+    const json none;
+    const json& upper = upper_is_bound ? v.value("bound", none) : v.value("other_bound", none);
+    const json& lower = upper_is_bound ? v.value("other_bound", none) : v.value("bound", none);
+    h += "<tr><td class='l'>" + html_escape(requirement_text(v)) + "</td><td>" +
+         (v["value"].is_number() ? html_escape(with_unit(v["value"].get<double>(), unit)) : "&ndash;") + "</td><td>" +
+         number(lower) + "</td><td>" + number(upper) + "</td><td>" + format_significant(v["confidence"].get<double>(), 4) +
+         "</td><td class='l'><b>" + html_escape(v["verdict"].get<std::string>()) + "</b>" +
+         (v.contains("note") ? " <small>" + html_escape(v["note"].get<std::string>()) + "</small>" : "") +
+         (v.contains("design_note") ? " <small>(" + html_escape(v["design_note"].get<std::string>()) + ")</small>" : "") +
+         "</td></tr>\n";
+  }
+  return h + "</table>\n";
+}
+
+std::optional<bool> requirements_met(const json& summary) {
+  const auto it = summary.find("requirements");
+  if (it == summary.end() || !it->is_array() || it->empty()) return std::nullopt;
+  for (const auto& v : *it) {
+    if (v.value("verdict", "") != "met") return false;
+  }
+  return true;
+}
+
+}  // namespace poise::engine

@@ -1,0 +1,308 @@
+#include "engine/run/procedure_runner.h"
+
+#include "engine/results/references.h"
+#include "engine/run/procedure_contributions.h"
+#include "engine/run/procedure_resume.h"
+#include "engine/run/procedure_sweeps.h"
+#include "engine/report/report_figures.h"
+#include "engine/results/requirements.h"
+#include "engine/results/sample_columns_h5.h"
+#include "engine/run/sample_rows.h"
+#include "engine/kind_interface/study_kind.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <sstream>
+#include <thread>
+
+#include "core/units.h"
+#include "core/version.h"
+#include "sampling/interrupt.h"
+#include "engine/run/convergence.h"
+#include "engine/results/provenance.h"
+#include "engine/run/run_plan.h"
+#include "engine/results/sensitivity_output.h"
+#include "engine/report/report_plot.h"
+#include "engine/results/result_io.h"
+
+namespace poise::engine {
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+json replay_procedure_sample(const ProcedureStudy& study, std::size_t index) {
+  const SampleResult r = study.replay(index);
+  json j{{"sample", index}, {"status", r.ok ? "ok" : "failed"}};
+  if (!r.ok) j["message"] = r.message;
+  for (std::size_t k = 0; k < r.inputs.size(); ++k) j["inputs"][study.input_names()[k]] = r.inputs[k];
+  for (std::size_t k = 0; k < r.outputs.size(); ++k) j["outputs"][study.output_names()[k]] = r.outputs[k];
+  return j;
+}
+
+namespace {
+
+// samples.csv's header: sample, status, the inputs, the outputs, solver_steps (a study with
+// a solver) and message.
+std::string csv_header(const ProcedureStudy& study) {
+  std::string header = "sample,status";
+  for (const auto& c : study.input_names()) header += "," + c;
+  for (const auto& c : study.output_names()) header += "," + c;
+  return header + (study.has_solver() ? ",solver_steps,message" : ",message");
+}
+
+// Everything a finished run's summary and report are made from.
+struct FinishedRun {
+  const StudyConfig& cfg;
+  const ProcedureStudy& study;
+  const RunPlan& plan;
+  const McResult& mc;
+  std::size_t ran = 0, resumed = 0, rhs_uncounted = 0;
+  std::string status;
+  const std::vector<std::string>& sources;  ///< of the within-sample randomness
+  const ToleranceGroups& tolerances;
+  const std::vector<Requirement>& requirements;
+};
+
+// summary.json's statistics: outputs with their declared units, references, failures,
+// convergence and (poise sensitivity) Sobol indices.
+void add_statistics(json& s, const FinishedRun& f, const StopRule& rule) {
+  const auto& names = f.study.output_names();
+  const auto& specs = f.study.outputs();
+  s["outputs"] = outputs_json(f.mc, specs, true);
+  s["references"] = compare_references(declared_references(f.cfg, specs), specs, s["outputs"], [&](const std::string& name) {
+    return requirement_values(f.mc, specs, f.cfg)(name).values;
+  });
+  s["failures"] = failures_json(f.mc.failures, f.ran, f.mc.failed, f.plan.seed, f.cfg.file);
+  s["failures"]["by_reason"] = f.mc.failure_reasons;
+  s["sample_convergence"] = convergence_json(names, f.mc.outputs, f.ran, f.cfg.replicate_size, rule.until_json());
+  if (f.plan.sensitivity_base > 0 && f.status == "complete") {
+    std::vector<std::string> groups = f.study.design_dimension_names();
+    if (f.cfg.saltelli_noise_group) {
+      for (const auto& src : f.sources) groups.push_back("(within-sample randomness: " + src + ")");
+    }
+    // Every sample's value of output k (NaN where it failed), by sample index.
+    std::vector<std::vector<double>> by_index(names.size(), std::vector<double>(f.ran, NAN));
+    for (std::size_t k = 0; k < f.mc.values.size(); ++k) {
+      for (std::size_t m = 0; m < f.mc.ok_index.size(); ++m) by_index[k][f.mc.ok_index[m]] = f.mc.values[k][m];
+    }
+    s["sensitivity"] = sensitivity_json(names, groups, f.plan.sensitivity_base, by_index, f.plan.seed, f.tolerances);
+  }
+}
+
+json summary_of(const FinishedRun& f, const StopRule& rule, const RunOptions& options) {
+  const StudyConfig& cfg = f.cfg;
+  json s;
+  s["status"] = f.status;
+  if (!f.mc.stop_reason.empty()) s["stop_reason"] = f.mc.stop_reason;
+  s["study"] = {{"name", cfg.name}, {"title", cfg.title}, {"kind", cfg.kind}, {"file", cfg.file},
+                {"model_file", cfg.model_path}, {"model_name", f.study.model_name()},
+                {"model_source", f.study.model_source()}, {"notes", cfg.notes}, {"overrides", cfg.overrides}};
+  s["sampling"] = {{"method", sampling::to_string(cfg.method)}, {"samples", f.ran}, {"planned_samples", f.plan.samples},
+                   {"seed", f.plan.seed}, {"threads", f.plan.threads}, {"mpi_ranks", sampling::Cluster::size()},
+                   {"replicate_size", cfg.replicate_size}, {"max_failure_share", cfg.max_failure_share},
+                   {"inputs", f.study.input_names()},
+                   {"ci_note", cfg.replicate_size > 0
+                                   ? "95% intervals from the spread of the independent randomized replicates"
+                                   : "95% intervals assume independent samples; for lhs and sobol designs they are "
+                                     "conservative for the mean, not necessarily for tail quantiles (measured on the "
+                                     "LOS study: replicate p99.73 interval wider than this one); [sampling] "
+                                     "replicate_size gives honest intervals"}};
+  add_statistics(s, f, rule);
+  add_answer(s, f.requirements, f.study.outputs(), requirement_values(f.mc, f.study.outputs(), cfg), f.status,
+             f.ran, f.plan.sensitivity_base > 0);
+  if (const json solver = f.study.solver_json(f.mc); !solver.is_null()) {
+    s["solver"] = solver;
+    if (f.rhs_uncounted > 0) {
+      s["solver"]["rhs_evals_note"] = "rhs_evals leaves out " + std::to_string(f.rhs_uncounted) +
+                                      " samples of the first part of the run (it was stopped before it could record "
+                                      "its counters in run.json)";
+    }
+  }
+  if (const json d = f.study.details(f.mc); !d.is_null()) s["details"] = d;
+  s["provenance"] = {{"poise_version", kVersion}, {"git_commit", git_commit()},
+                     {"study_file_sha1", file_sha1(cfg.file)}, {"model_file_sha1", file_sha1(cfg.model_path)},
+                     {"seed", f.plan.seed}, {"samples", f.ran}, {"threads", f.plan.threads},
+                     {"mpi_ranks", sampling::Cluster::size()}, {"wall_time_s", f.mc.wall_seconds},
+                     {"started", f.plan.started}, {"finished", now_iso8601()},
+                     {"libraries", library_versions(options.plots && cfg.plots)},
+                     {"resumed_after_sample", options.resume.empty() ? json(nullptr) : json(f.resumed)}};
+  return s;
+}
+
+// The distribution figures of the main outputs (those a reference or requirement names
+// first), with the references and requirement limits as lines; returns a note when gnuplot
+// could not make one.
+std::string distribution_plots(const json& s, const FinishedRun& f, const std::filesystem::path& pdir,
+                               std::vector<std::string>& figures) {
+  const auto& names = f.study.output_names();
+  json named = s["requirements"];
+  for (const auto& r : s["references"]) named.push_back(r);
+  std::string note;
+  for (const auto& name : main_outputs(names, named)) {
+    const auto k = static_cast<std::size_t>(std::find(names.begin(), names.end(), name) - names.begin());
+    if (k >= f.mc.values.size()) continue;
+    std::vector<FigureLine> lines;
+    for (const auto& r : s["requirements"]) {
+      if (r["output"] == name) {
+        lines.push_back({r["limit"]["value"].get<double>(),
+                         "requirement: " + r["statistic"].get<std::string>() + (r["at_most"].get<bool>() ? " <= " : " >= ") +
+                             r["limit"]["as_written"].get<std::string>(),
+                         "#cc3311"});
+      }
+    }
+    for (const auto& c : s["references"]) {
+      if (c["output"] == name) lines.push_back({c["reference"].get<double>(), c["name"].get<std::string>(),
+                                                c["role"] == "validation" ? "#228833" : "#999999"});
+    }
+    std::string why;
+    if (!distribution_figures(pdir, name, f.study.outputs()[k].unit, f.mc.values[k], f.mc.ok_index, lines, figures, why)) {
+      note = why;
+    }
+    if (s.contains("sensitivity") && !sensitivity_tornado(pdir, s["sensitivity"], name, figures, why)) note = why;
+  }
+  return note;
+}
+
+std::string statistic_cell(const json& e) {
+  std::string out = format_significant(e["value"].get<double>(), 4) + " <small>[";
+  out += e["ci95"][0].is_number() ? format_significant(e["ci95"][0].get<double>(), 4) : std::string("&ndash;");
+  out += ", ";
+  out += e["ci95"][1].is_number() ? format_significant(e["ci95"][1].get<double>(), 4) : std::string("&ndash;");
+  return out + "]</small>";
+}
+
+// report.html: the answer first, then what was run, the study's own sections, the outputs,
+// sweeps, convergence, figures, notes and provenance.
+std::string report_of(const json& s, const FinishedRun& f, const std::filesystem::path& pdir, bool plots) {
+  const StudyConfig& cfg = f.cfg;
+  std::vector<std::string> figures;
+  const std::string plot_note = plots && !f.mc.outputs.empty() ? distribution_plots(s, f, pdir, figures) : "";
+  std::ostringstream h;
+  h << report_page_head(cfg.name) << "<h1>" << html_escape(cfg.title.empty() ? cfg.name : cfg.title) << "</h1>\n"
+    << answer_html(s["answer"].get<std::string>(), s["requirements"]) << "<p>Study <code>" << html_escape(cfg.file)
+    << "</code>, model <code>" << html_escape(cfg.model_path) << "</code> (" << html_escape(f.study.model_source())
+    << "). " << f.ran << " simulated samples (" << sampling::to_string(cfg.method) << ", seed " << f.plan.seed << "), "
+    << f.mc.failures << " failed.</p>\n";
+  if (f.status != "complete") {
+    h << "<p><b>This run is " << f.status << "</b>: "
+      << html_escape(f.mc.stop_reason.empty() ? "stopped by a signal" : f.mc.stop_reason) << ". The figures below cover the "
+      << f.ran << " samples that ran.</p>\n";
+  }
+  if (s.contains("sensitivity")) h << sensitivity_html(s["sensitivity"]);
+  h << references_html(s["references"]);
+  f.study.report_sections(f.mc, pdir.string(), plots, figures, h);
+  h << "<h2>Outputs per sample</h2>\n<table><tr><th class='l'>output</th><th>mean</th><th>std</th><th>p50</th>"
+       "<th>p95</th><th>p99.73</th><th>max</th></tr>\n";
+  for (const auto& [name, o] : s["outputs"].items()) {
+    h << "<tr><td class='l'><code>" << html_escape(name) << "</code> " << html_escape(o["unit"].get<std::string>());
+    if (o.contains("description")) h << "<br><small>" << html_escape(o["description"].get<std::string>()) << "</small>";
+    h << "</td><td>" << statistic_cell(o["mean"]) << "</td><td>" << statistic_cell(o["std"]) << "</td><td>"
+      << statistic_cell(o["p50"]) << "</td><td>" << statistic_cell(o["p95"]) << "</td><td>" << statistic_cell(o["p99_73"])
+      << "</td><td>" << statistic_cell(o["max"]) << "</td></tr>\n";
+  }
+  h << "</table>\n";
+  if (s.contains("sweeps")) h << sweeps_html(s["sweeps"], f.study.outputs(), pdir, plots);
+  if (s.contains("contributions")) {
+    h << contributions_html(s["contributions"], s["requirements"], f.study.outputs(), pdir, plots);
+  }
+  h << convergence_html(s["sample_convergence"]) << "<h2>Figures</h2>\n";
+  if (!plot_note.empty()) h << "<p>" << html_escape(plot_note) << "</p>\n";
+  h << figures_html(pdir, figures);
+  if (!cfg.notes.empty()) h << "<h2>Notes of the study</h2>\n<pre>" << html_escape(cfg.notes) << "</pre>\n";
+  h << provenance_html(s["provenance"]);
+  if (s.contains("solver")) h << "<h3>Solver</h3>\n<pre>" << html_escape(s["solver"].dump(2)) << "</pre>\n";
+  h << "</body></html>\n";
+  return h.str();
+}
+
+}  // namespace
+
+std::string run_procedure_study(const StudyConfig& cfg_in, const StudyFactory& make_study, const RunOptions& options,
+                                const std::vector<Requirement>& requirements) {
+  StudyConfig cfg = cfg_in;
+  const bool root = sampling::Cluster::root();
+  // One probe study (one sample) answers what the plan needs: the design's dimensions, their
+  // tolerance keys and randomness sources (Sobol groups), and the output names.
+  const std::unique_ptr<ProcedureStudy> probe = make_study(cfg, 1, cfg.seed);
+  const std::vector<std::string> dimension_names = probe->design_dimension_names();
+  std::vector<std::string> keys = probe->design_dimension_tolerances();
+  keys.resize(dimension_names.size());
+  // Sensitivity: one closed Sobol group per model tolerance drawn in several columns.
+  const ToleranceGroups tolerances = tolerance_groups(dimension_names, keys);
+  cfg.saltelli_groups = tolerances.closed_groups();
+  std::vector<std::string> sources = probe->randomness_sources();  // of the within-sample randomness
+  if (sources.empty()) sources = {"per-test draws, noise"};
+  cfg.saltelli_noise_sources = sources.size();
+  RunPlan plan = plan_run(cfg, options, [&] {
+    return std::make_pair(dimension_names.size(), probe->has_own_randomness());
+  }, [&] { return probe->output_names(); });
+  const std::size_t n = plan.samples;
+  const std::unique_ptr<ProcedureStudy> owned = make_study(cfg, n, plan.seed);
+  const ProcedureStudy& study = *owned;
+  const std::optional<UntilTarget> until = plan_until(plan, study.output_names());
+  announce_run(cfg, plan, until, options.progress);
+  const std::string header = csv_header(study);
+  const std::string csv_path = (fs::path(plan.dir) / "samples.csv").string();
+  std::vector<SampleResult> done;
+  if (!options.resume.empty()) {
+    done = read_done_samples(csv_path, header, study.input_names().size(), study.output_names().size(),
+                             study.has_solver());
+    if (options.progress && root) std::fprintf(stderr, "  resuming: %zu of %zu samples already done\n", done.size(), n);
+  }
+  CheckedFile csv = open_samples_csv(plan, header, !options.resume.empty());
+  sampling::InterruptGuard interrupts;
+  auto rule = std::make_shared<StopRule>(study.output_names(), n, cfg.max_failure_share, until, cfg.replicate_size,
+                                         options.progress && root);
+  RunControl control;
+  control.distributed = true;
+  control.stop = [rule](const McResult& r) { return (*rule)(r.values, r.ok_index, r.failures, r.ok_index.size() + r.failures); };
+  // A study with a per-sample field writes it to samples.h5 as the samples stream in (a
+  // resumed run recomputes it whole) and makes its figures.
+  const std::string h5_path = (fs::path(plan.dir) / "samples.h5").string();
+  const std::map<std::string, std::string> h5_text{{"study", cfg.name}, {"kind", cfg.kind}, {"study_file", cfg.file},
+                                                   {"method", sampling::to_string(cfg.method)}, {"poise_version", kVersion}};
+  const std::map<std::string, std::uint64_t> h5_numbers{{"seed", plan.seed}, {"planned_samples", n}};
+  control.field_figures = true;
+  control.field_file = h5_path;
+  control.field_attributes = h5_text;
+  control.field_number_attributes = h5_numbers;
+  // Rows on disk are not written again (a study may recompute them: a resumed LOS run).
+  SampleRowWriter rows(csv, plan.threads, done.size(), study.has_solver());
+  McResult mc = study.run(plan.threads, options.progress, [&](std::span<const SampleResult> block) { rows(block); },
+                          done, control);
+  if (!root) return "";  // rank 0 writes the folder
+  csv.close();
+  const std::size_t ran = mc.completed;
+  const std::size_t rhs_uncounted = add_resumed_counters(plan.manifest, done.size(), mc);
+  const std::string status = mc.interrupted ? "interrupted" : rule->failed() ? "failed" : "complete";
+  // The counters samples.csv does not hold, for a later --resume (steps are in its rows).
+  plan.manifest["solver_counters"] = {{"samples", ran}, {"rhs_evals", mc.rhs_evals}};
+  finish_manifest(plan, status, ran);
+
+  const FinishedRun f{cfg, study, plan, mc, ran, done.size(), rhs_uncounted, status, sources, tolerances, requirements};
+  json s = summary_of(f, *rule, options);
+  // samples.h5: the field of a study that has one (written during the run); else the inputs
+  // and outputs as named columns, from the finished samples.csv.
+  s["samples_h5"] = mc.field.present && !mc.field.file.is_null()
+                        ? mc.field.file
+                        : write_sample_columns_h5(csv_path, h5_path, study.input_names(), study.outputs(), h5_text, h5_numbers);
+  if (status == "complete" && plan.sensitivity_base == 0 && !cfg.sweeps.empty()) {
+    s["sweeps"] = run_procedure_sweeps(cfg, make_study, n, plan.seed, plan.threads, options.progress && root, requirements,
+                                       study.outputs());
+  }
+  if (status == "complete" && plan.sensitivity_base == 0 && cfg.contribution_samples > 0) {
+    s["contributions"] = run_procedure_contributions(cfg, make_study, study.tolerance_keys(), std::min(cfg.contribution_samples, n),
+                                                     plan.seed, plan.threads, options.progress && root, study.outputs());
+  }
+  write_file_atomic((fs::path(plan.dir) / "summary.json").string(), s.dump(2) + "\n");
+  const fs::path pdir = fs::path(plan.dir) / "plots";
+  fs::create_directories(pdir);
+  write_file_atomic((fs::path(plan.dir) / "report.html").string(), report_of(s, f, pdir, options.plots && cfg.plots));
+  finish_run_status(status, mc.stop_reason, mc.signal, ran, n, mc.failures, plan.dir, cfg.file);
+  return plan.dir;
+}
+
+}  // namespace poise::engine

@@ -1,0 +1,125 @@
+// A procedure run's samples: collected into its result, sent between MPI ranks, read back on
+// resume (procedure_study.h, procedure_resume.h).
+#include <algorithm>
+#include <sstream>
+
+#include "core/error.h"
+#include "engine/run/convergence.h"
+#include "engine/run/procedure_resume.h"
+#include "engine/run/run_plan.h"
+#include "engine/kind_interface/study_evaluation.h"
+#include "engine/results/result_io.h"
+
+namespace poise::engine {
+using nlohmann::json;
+
+std::size_t McResult::index(const std::string& output) const {
+  const auto it = std::find(names.begin(), names.end(), output);
+  if (it != names.end()) return static_cast<std::size_t>(it - names.begin());
+  std::string all;
+  for (const auto& name : names) all += (all.empty() ? "" : ", ") + name;
+  throw Error("no output '" + output + "' in this study; its outputs are: " + all);
+}
+
+void collect_samples(McResult& r, std::span<const SampleResult> block) {
+  for (const auto& s : block) {
+    r.solver_steps += s.solver_steps;
+    r.rhs_evals += s.rhs_evals;
+    if (!s.ok) {
+      ++r.failures;
+      if (r.failed.size() < 100) r.failed.emplace_back(s.index, s.message);
+      ++r.failure_reasons[s.message.substr(0, s.message.find(": "))];
+      continue;
+    }
+    if (r.values.size() < s.outputs.size()) r.values.resize(s.outputs.size());
+    for (std::size_t k = 0; k < s.outputs.size(); ++k) r.values[k].push_back(s.outputs[k]);
+    r.ok_index.push_back(s.index);
+  }
+}
+
+void summarize_outputs(McResult& r) {
+  r.outputs.clear();
+  if (r.values.empty() || r.values[0].empty()) return;
+  for (const auto& v : r.values) r.outputs.push_back(summarize_output(v, r.ok_index, r.replicate_size));
+}
+
+json outputs_json(const McResult& r, const std::vector<OutputSpec>& outputs, bool with_descriptions) {
+  json out = json::object();
+  for (std::size_t k = 0; k < r.outputs.size() && k < outputs.size(); ++k) {
+    json o = summary_json(r.outputs[k]);
+    o["unit"] = outputs[k].unit;
+    if (with_descriptions && !outputs[k].description.empty()) o["description"] = outputs[k].description;
+    out[outputs[k].name] = o;
+  }
+  return out;
+}
+
+std::function<OutputValues(const std::string&)> requirement_values(const McResult& r,
+                                                                   const std::vector<OutputSpec>& outputs,
+                                                                   const StudyConfig& cfg) {
+  return [&r, &outputs, &cfg](const std::string& name) {
+    const auto it = std::find_if(outputs.begin(), outputs.end(), [&](const OutputSpec& o) { return o.name == name; });
+    const auto k = static_cast<std::size_t>(it - outputs.begin());
+    OutputValues ov;
+    if (it != outputs.end() && k < r.values.size()) {
+      ov = {&r.values[k], &r.ok_index, cfg.replicate_size, independent_samples(cfg)};
+    }
+    return ov;
+  };
+}
+
+void encode_result(const SampleResult& r, ByteWriter& w) {
+  encode_sample_fields(r, w);
+  w.put(r.solver_steps);
+  w.put(r.rhs_evals);
+  w.put_vector(r.field);
+}
+
+void decode_result(ByteReader& rd, SampleResult& r) {
+  decode_sample_fields(rd, r);
+  r.solver_steps = rd.get<long>();
+  r.rhs_evals = rd.get<long>();
+  rd.get_vector(r.field);
+}
+
+std::vector<SampleResult> read_done_samples(const std::string& csv_path, const std::string& header,
+                                           std::size_t n_inputs, std::size_t n_outputs, bool solver_steps) {
+  const std::size_t n_cells = 2 + n_inputs + n_outputs + (solver_steps ? 2 : 1);
+  std::vector<SampleResult> done;
+  std::istringstream lines(read_complete_rows(csv_path, header));
+  std::string line;
+  while (std::getline(lines, line)) {
+    std::vector<std::string> cells;
+    std::stringstream ss(line);
+    std::string cell;
+    while (std::getline(ss, cell, ',')) cells.push_back(cell);
+    if (!line.empty() && line.back() == ',') cells.emplace_back();
+    if (cells.size() != n_cells) {
+      throw Error("--resume: " + csv_path + " row " + std::to_string(done.size() + 2) + " has " +
+                  std::to_string(cells.size()) + " cells, expected " + std::to_string(n_cells));
+    }
+    SampleResult r;
+    r.index = std::stoul(cells[0]);
+    if (r.index != done.size()) throw Error("--resume: samples.csv rows are not in order at sample " + cells[0]);
+    r.ok = cells[1] == "ok";
+    // Only what the statistics and the stop rule read: the inputs stay on disk, and an ok
+    // row's message is empty (memory per resumed row: its outputs).
+    r.outputs.reserve(n_outputs);
+    for (std::size_t k = 0; k < n_outputs; ++k) r.outputs.push_back(std::stod(cells[2 + n_inputs + k]));
+    if (solver_steps) r.solver_steps = std::stol(cells[2 + n_inputs + n_outputs]);
+    if (!r.ok) r.message = cells.back();
+    done.push_back(std::move(r));
+  }
+  return done;
+}
+
+std::size_t add_resumed_counters(const json& manifest, std::size_t resumed, McResult& mc) {
+  if (resumed == 0) return 0;
+  const auto it = manifest.find("solver_counters");
+  if (it == manifest.end() || !it->is_object()) return resumed;
+  const std::size_t counted = std::min(it->value("samples", std::size_t{0}), resumed);
+  mc.rhs_evals += it->value("rhs_evals", 0L);
+  return resumed - counted;
+}
+
+}  // namespace poise::engine

@@ -1,0 +1,67 @@
+#include "engine/study_files/tolerance_spec.h"
+
+namespace poise::engine {
+
+ToleranceSpec read_tolerance(TomlReader& parent, const std::string& key, const units::Dimension& dim,
+                             const std::string& display_unit) {
+  ToleranceSpec spec;
+  spec.display_unit = display_unit;
+  spec.display_factor = display_unit.empty() ? 1.0 : units::unit_factor(display_unit);
+  TomlReader t = parent.table(key);
+  const std::size_t errors_before = t.context().errors.size();
+  spec.source = t.string("source", "");
+  const std::string kind_name = t.choice(
+      "distribution", {"normal", "uniform", "arcsine", "truncated_normal", "fixed"});
+  const auto kind = sampling::parse_distribution_kind(kind_name);
+  const bool dimensionless = dim == units::kDimensionless;
+  double nominal = 0.0, tol = 0.0;
+  auto convention = sampling::ToleranceConvention::kBounds;
+  if (t.schema_only()) {  // `poise keys`: both forms of a tolerance
+    if (dimensionless) {
+      t.number("min");
+      t.number("max");
+    } else {
+      t.quantity("min", dim);
+      t.quantity("max", dim);
+    }
+  }
+  if (t.has("min") || t.has("max")) {
+    const double lo = dimensionless ? t.number("min") : t.quantity("min", dim);
+    const double hi = dimensionless ? t.number("max") : t.quantity("max", dim);
+    if (hi < lo) t.error("max", "", "max >= min");
+    if (t.has("tolerance")) t.error("tolerance", "", "either tolerance or min/max, not both");
+    if (t.has("tolerance_is")) {
+      t.error("tolerance_is", "", "no tolerance_is with min/max (min/max are bounds)");
+    }
+    nominal = 0.5 * (lo + hi);
+    tol = 0.5 * (hi - lo);
+  } else {
+    tol = dimensionless ? t.number("tolerance", non_negative)
+                        : t.quantity("tolerance", dim, non_negative);
+    const std::string conv = t.choice("tolerance_is", {"bounds", "1sigma", "2sigma", "3sigma"});
+    convention = sampling::parse_convention(conv);
+  }
+  spec.tolerance = tol;
+  // A refused distribution, tolerance or bound is reported once, not again as a distribution
+  // built from the stand-in values.
+  if (t.context().errors.size() != errors_before) return spec;
+  try {
+    spec.dist = sampling::Distribution(kind, nominal, tol, convention);
+  } catch (const Error& e) {
+    t.error("distribution", "\"" + kind_name + "\" with tolerance_is \"" +
+                                sampling::to_string(convention) + "\"",
+            e.what());
+  }
+  return spec;
+}
+
+ScopedTolerance read_scoped_tolerance(TomlReader& parent, const std::string& key, const units::Dimension& dim,
+                                      const std::string& display_unit) {
+  ScopedTolerance t;
+  t.spec = read_tolerance(parent, key, dim, display_unit);
+  TomlReader sub = parent.table(key);
+  t.per_test = sub.choice("scope", {"unit", "test"}) == "test";
+  return t;
+}
+
+}  // namespace poise::engine
