@@ -91,6 +91,21 @@ TEST(StudyKeys, TheCommandListsTheKindsAndTheirKeys) {
     EXPECT_NE(line.find("required with loop = "), std::string::npos) << line;
     EXPECT_EQ(line.find("(required)"), std::string::npos) << line;
   }
+  // A tolerance's two forms (tolerance with tolerance_is, or min and max) are alternatives:
+  // none of the four keys is required alone.
+  r = test::run_poise(d, "keys shaft_sag");
+  EXPECT_EQ(r.status, 0) << r.err;
+  const auto tol = r.out.find("[tolerances.span]");
+  ASSERT_NE(tol, std::string::npos) << r.out;
+  const std::string block = r.out.substr(tol, r.out.find("\n\n", tol) - tol);
+  for (const char* k : {"tolerance ", "tolerance_is ", "min ", "max "}) {
+    const auto at = block.find(std::string("    ") + k);
+    ASSERT_NE(at, std::string::npos) << k << "\n" << block;
+    const std::string line = block.substr(at, block.find('\n', at) - at);
+    EXPECT_EQ(line.find("(required)"), std::string::npos) << line;
+    EXPECT_NE(line.find("(optional)"), std::string::npos) << line;
+  }
+  EXPECT_NE(block.find("distribution"), std::string::npos);
   r = test::run_poise(d, "keys no_such_kind");
   EXPECT_EQ(r.status, 2);
   EXPECT_NE(r.err.find("seeker_los"), std::string::npos) << r.err;

@@ -16,7 +16,16 @@ ToleranceSpec read_tolerance(TomlReader& parent, const std::string& key, const u
   const bool dimensionless = dim == units::kDimensionless;
   double nominal = 0.0, tol = 0.0;
   auto convention = sampling::ToleranceConvention::kBounds;
-  if (t.schema_only()) {  // `poise keys`: both forms of a tolerance
+  if (t.schema_only()) {  // `poise keys`: both forms of a tolerance, neither required alone
+    const std::string value = dimensionless ? std::string("a plain number (no unit)")
+                                            : units::dimension_name(dim) + " with its unit, e.g. \"1 " +
+                                                  units::example_unit(dim) + "\"";
+    t.ask("tolerance", value + "; a deviation from the value, with tolerance_is (or give min and max instead)",
+          "(optional)", false);
+    t.ask("tolerance_is", "one of \"bounds\" | \"1sigma\" | \"2sigma\" | \"3sigma\" (with tolerance)", "(optional)",
+          false);
+    t.ask("min", value + "; with max, the range itself (instead of tolerance)", "(optional)", false);
+    t.ask("max", value + "; with min", "(optional)", false);
     if (dimensionless) {
       t.number("min");
       t.number("max");
