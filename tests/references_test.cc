@@ -4,6 +4,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "engine/report/result_sections.h"
 #include "engine/results/references.h"
 #include "engine/results/result_io.h"
 #include "engine/kind_interface/study_kind.h"

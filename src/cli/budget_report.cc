@@ -1,5 +1,6 @@
 #include "cli/budget_report.h"
 
+#include "engine/report/result_sections.h"
 #include "engine/results/requirements.h"
 
 #include <algorithm>

@@ -53,7 +53,5 @@ nlohmann::json compare_references(const std::vector<ReferenceFigure>& refs, cons
                                   const nlohmann::json& outputs_json,
                                   const std::function<const std::vector<double>*(const std::string&)>& values);
 
-/// The report section for that comparison ("" when nothing is declared).
-std::string references_html(const nlohmann::json& compared);
 
 }  // namespace poise::engine

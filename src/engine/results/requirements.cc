@@ -19,22 +19,8 @@ const OutputSpec* find_output(const std::vector<OutputSpec>& outputs, const std:
   return it == outputs.end() ? nullptr : &*it;
 }
 
-// A figure in the output's unit, 4 significant digits ("1.25 mN*m", "0.42" when unitless).
-std::string with_unit(double v, const std::string& unit) {
-  const std::string number = format_significant(v, 4);
-  return unit.empty() || unit == "1" ? number : number + " " + unit;
-}
 
-std::string statistic_label(const std::string& statistic) {
-  if (statistic == "p99_73") return "p99.73";
-  return statistic;
-}
 
-// What a requirement says, in words: "p95 of g_rmse_torque_mNm at most 1.5 mN*m".
-std::string requirement_text(const json& v) {
-  return statistic_label(v["statistic"].get<std::string>()) + " of " + v["output"].get<std::string>() +
-         (v["at_most"].get<bool>() ? " at most " : " at least ") + v["limit"]["as_written"].get<std::string>();
-}
 
 struct Judged {
   std::string verdict;          // met | not met | undecided | no samples
@@ -328,28 +314,6 @@ std::vector<std::pair<std::string, std::string>> shown_statistics(const json& ve
   return shown;
 }
 
-std::string answer_html(const std::string& answer, const json& verdicts) {
-  std::string h = "<p class='answer'><b>" + html_escape(answer) + "</b></p>\n";
-  if (verdicts.empty()) return h;
-  h += "<table><tr><th class='l'>requirement</th><th>value</th><th>lower bound</th><th>upper bound</th>"
-       "<th>one-sided confidence</th><th class='l'>verdict</th></tr>\n";
-  auto number = [](const json& x) { return x.is_number() ? format_significant(x.get<double>(), 4) : std::string("&ndash;"); };
-  for (const auto& v : verdicts) {
-    const std::string unit = v["limit"]["unit"].get<std::string>();
-    const bool upper_is_bound = v.value("bound_side", "upper") == "upper";
-    const json none;
-    const json& upper = upper_is_bound ? v.value("bound", none) : v.value("other_bound", none);
-    const json& lower = upper_is_bound ? v.value("other_bound", none) : v.value("bound", none);
-    h += "<tr><td class='l'>" + html_escape(requirement_text(v)) + "</td><td>" +
-         (v["value"].is_number() ? html_escape(with_unit(v["value"].get<double>(), unit)) : "&ndash;") + "</td><td>" +
-         number(lower) + "</td><td>" + number(upper) + "</td><td>" + format_significant(v["confidence"].get<double>(), 4) +
-         "</td><td class='l'><b>" + html_escape(v["verdict"].get<std::string>()) + "</b>" +
-         (v.contains("note") ? " <small>" + html_escape(v["note"].get<std::string>()) + "</small>" : "") +
-         (v.contains("design_note") ? " <small>(" + html_escape(v["design_note"].get<std::string>()) + ")</small>" : "") +
-         "</td></tr>\n";
-  }
-  return h + "</table>\n";
-}
 
 std::optional<bool> requirements_met(const json& summary) {
   const auto it = summary.find("requirements");
@@ -358,6 +322,23 @@ std::optional<bool> requirements_met(const json& summary) {
     if (v.value("verdict", "") != "met") return false;
   }
   return true;
+}
+
+// A figure in the output's unit, 4 significant digits ("1.25 mN*m", "0.42" when unitless).
+std::string with_unit(double v, const std::string& unit) {
+  const std::string number = format_significant(v, 4);
+  return unit.empty() || unit == "1" ? number : number + " " + unit;
+}
+
+std::string statistic_label(const std::string& statistic) {
+  if (statistic == "p99_73") return "p99.73";
+  return statistic;
+}
+
+// What a requirement says, in words: "p95 of g_rmse_torque_mNm at most 1.5 mN*m".
+std::string requirement_text(const json& v) {
+  return statistic_label(v["statistic"].get<std::string>()) + " of " + v["output"].get<std::string>() +
+         (v["at_most"].get<bool>() ? " at most " : " at least ") + v["limit"]["as_written"].get<std::string>();
 }
 
 }  // namespace poise::engine

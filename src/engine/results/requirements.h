@@ -98,11 +98,16 @@ std::vector<std::pair<std::string, std::string>> shown_statistics(const nlohmann
                                                                   const std::vector<OutputSpec>& outputs,
                                                                   std::size_t fallback);
 
-/// The report's opening: the answer in bold and a table of the verdicts.
-std::string answer_html(const std::string& answer, const nlohmann::json& verdicts);
 
 /// Whether every requirement of a summary.json is met (false if one is not met or
 /// undecided); nullopt when it declares none.
 std::optional<bool> requirements_met(const nlohmann::json& summary);
+
+/// A figure in the output's unit, 4 significant digits ("1.25 mN*m", "0.42" when unitless).
+std::string with_unit(double v, const std::string& unit);
+/// A statistic's name for people ("p99_73" -> "p99.73").
+std::string statistic_label(const std::string& statistic);
+/// What a requirement's verdict says, in words: "p95 of g_rmse_torque_mNm at most 1.5 mN*m".
+std::string requirement_text(const nlohmann::json& verdict);
 
 }  // namespace poise::engine

@@ -110,46 +110,5 @@ json sensitivity_json(const std::vector<std::string>& outputs, const std::vector
   return out;
 }
 
-std::string sensitivity_html(const json& s) {
-  auto f = [](const json& e) {
-    if (!e["value"].is_number()) return std::string("&ndash;");
-    char buf[120];
-    const auto end = [](const json& x) { return x.is_number() ? x.get<double>() : NAN; };
-    std::snprintf(buf, sizeof buf, "%.3f <small>[%.3f, %.3f]</small>", e["value"].get<double>(), end(e["ci95"][0]),
-                  end(e["ci95"][1]));
-    return std::string(buf);
-  };
-  std::string h = "<h2>Which input drives each output (Sobol indices)</h2>\n<p>" +
-                  html_escape(s["method"].get<std::string>()) + "; " + std::to_string(s["base_rows"].get<std::size_t>()) +
-                  " base rows, " + std::to_string(s["evaluations"].get<std::size_t>()) + " evaluations. " +
-                  html_escape(s["reading"].get<std::string>()) + ". Groups whose total index is below 0.01 at both ends are left out.</p>\n";
-  auto table = [&](const json& rows, const json& first_sum, const char* what) {
-    std::string t = "<table><tr><th class='l'>" + std::string(what) + "</th><th>first order S</th><th>total ST</th></tr>\n";
-    for (const auto& g : rows) {
-      const json& hi = g["total"]["ci95"][1];
-      if (hi.is_number() && hi.get<double>() < 0.01) continue;
-      std::string name = html_escape(g["group"].get<std::string>());
-      if (g.contains("columns") && g["columns"].get<std::size_t>() > 1) {
-        name += " <small>(" + std::to_string(g["columns"].get<std::size_t>()) + " columns together)</small>";
-      }
-      t += "<tr><td class='l'>" + name + "</td><td>" + f(g["first"]) + "</td><td>" + f(g["total"]) + "</td></tr>\n";
-    }
-    return t + "<tr><td class='l'><i>sum of first order</i></td><td>" + f(first_sum) + "</td><td></td></tr>\n</table>\n";
-  };
-  for (const auto& [name, o] : s["outputs"].items()) {
-    h += "<h3><code>" + html_escape(name) + "</code></h3>\n";
-    if (!o["note"].get<std::string>().empty()) h += "<p>" + html_escape(o["note"].get<std::string>()) + "</p>\n";
-    if (o.contains("tolerances")) {
-      h += "<p>Per tolerance of the model file: the closed index of all its sampled columns together "
-           "(amplitude and phase, each bearing), so that the indices of different tolerances do not overlap.</p>\n";
-      h += table(o["tolerances"], o["tolerance_first_sum"], "tolerance");
-      h += "<details><summary>Per sampled column</summary>\n" + table(o["indices"], o["first_sum"], "column") +
-           "</details>\n";
-    } else {
-      h += table(o["indices"], o["first_sum"], "input");
-    }
-  }
-  return h;
-}
 
 }  // namespace poise::engine

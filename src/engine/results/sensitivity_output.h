@@ -33,7 +33,5 @@ nlohmann::json sensitivity_json(const std::vector<std::string>& outputs, const s
                                 std::size_t base, const std::vector<std::vector<double>>& values, std::uint64_t seed,
                                 const ToleranceGroups& tolerances = {});
 
-/// report.html section: per output, the tolerances that drive it, then the per-column detail.
-std::string sensitivity_html(const nlohmann::json& sensitivity);
 
 }  // namespace poise::engine

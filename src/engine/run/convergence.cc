@@ -227,43 +227,5 @@ void finish_run_status(const std::string& status, const std::string& reason, int
   }
 }
 
-std::string convergence_html(const json& c) {
-  std::string h = "<h2>How many samples each figure needed</h2>\n<p>" + std::to_string(c["samples"].get<std::size_t>()) +
-                  " samples; intervals from " + c["intervals"].get<std::string>() +
-                  ". For each figure: its 95% interval's half-width relative to it, and the samples a &plusmn;1% and "
-                  "a &plusmn;5% interval would need (half-width ~ 1/&radic;n).</p>\n";
-  if (!c["until"].is_null()) {
-    const json& u = c["until"];
-    h += "<p><b>--until " + html_escape(u["target"].get<std::string>()) + "</b>: " +
-         (u["met"].get<bool>() ? "met at " + std::to_string(u["met_at_samples"].get<std::size_t>()) + " samples"
-                               : std::string("not met within the cap of ") + std::to_string(u["cap_samples"].get<std::size_t>()) +
-                                     " samples") +
-         " (" + std::to_string(u["checks"].size()) + " checks).</p>\n";
-  }
-  h += "<table><tr><th class='l'>output</th><th class='l'>figure</th><th>value</th><th>rel. half-width</th>"
-       "<th>samples for &plusmn;5%</th><th>samples for &plusmn;1%</th></tr>\n";
-  auto cell = [](const json& v) { return v.is_null() ? std::string("&ndash;") : fmt(v.get<double>()); };
-  for (const auto& [name, o] : c["figures"].items()) {
-    for (const auto& [stat, f] : o.items()) {
-      h += "<tr><td class='l'><code>" + html_escape(name) + "</code></td><td class='l'>" + stat + "</td><td>" +
-           fmt(f["value"].get<double>()) + "</td><td>" +
-           (f["relative_half_width"].is_null() ? std::string("&ndash;") : fmt(100 * f["relative_half_width"].get<double>()) + "%") +
-           "</td><td>" + cell(f["samples_for_5pct"]) + "</td><td>" + cell(f["samples_for_1pct"]) + "</td></tr>\n";
-    }
-  }
-  h += "</table>\n";
-  // One-sided and approximate intervals, said in words (summary.json: "ci95_note").
-  std::string notes;
-  for (const auto& [name, o] : c["figures"].items()) {
-    for (const auto& [stat, f] : o.items()) {
-      if (f.contains("ci95_note")) {
-        notes += "<li><code>" + html_escape(name) + "</code> " + stat + ": " +
-                 html_escape(f["ci95_note"].get<std::string>()) + "</li>\n";
-      }
-    }
-  }
-  if (!notes.empty()) h += "<p>Intervals to read with care (an end shown as &ndash; does not exist):</p>\n<ul>\n" + notes + "</ul>\n";
-  return h;
-}
 
 }  // namespace poise::engine

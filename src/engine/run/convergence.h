@@ -96,7 +96,5 @@ nlohmann::json failures_json(std::size_t count, std::size_t ran,
 void finish_run_status(const std::string& status, const std::string& reason, int signal, std::size_t ran,
                        std::size_t planned, std::size_t failures, const std::string& dir, const std::string& study_file);
 
-/// An HTML table of convergence_json for report.html.
-std::string convergence_html(const nlohmann::json& convergence);
 
 }  // namespace poise::engine

@@ -76,44 +76,5 @@ json run_procedure_contributions(const StudyConfig& cfg, const StudyFactory& mak
   return out;
 }
 
-std::string contributions_html(const json& contributions, const json& requirements, const std::vector<OutputSpec>& outputs,
-                               const std::filesystem::path& plots_dir, bool plots) {
-  if (!contributions.is_array() || contributions.empty() || !contributions[0].contains("outputs")) return "";
-  // The statistics shown: those the requirements name, else p95 of the first output.
-  const auto shown = shown_statistics(requirements, outputs, 1);
-  const json& all = contributions[0];
-  std::string h = "<h2>Which tolerance drives the error</h2>\n<p>The study re-run with one tolerance set to zero "
-                  "at a time (" + std::to_string(all["samples"].get<std::size_t>()) + " samples each, the same random "
-                  "numbers): the drop of a statistic is that tolerance's share of it.</p>\n";
-  std::vector<std::string> figures;
-  for (const auto& [name, stat] : shown) {
-    if (!all["outputs"].contains(name) || !all["outputs"][name].contains(stat)) continue;
-    const double base = all["outputs"][name][stat]["value"].get<double>();
-    const std::string unit = all["outputs"][name]["unit"].get<std::string>();
-    h += "<table><tr><th class='l'>tolerance set to zero</th><th>" + html_escape(stat + " of " + name) + " [" +
-         html_escape(unit) + "]</th><th>drop</th></tr>\n";
-    std::vector<std::pair<std::string, double>> bars;
-    for (const auto& c : contributions) {
-      const std::string without = c["without"].get<std::string>();
-      if (c.contains("skipped")) {
-        h += "<tr><td class='l'>" + html_escape(without) + "</td><td colspan='2'>" +
-             html_escape(c["skipped"].get<std::string>()) + "</td></tr>\n";
-        continue;
-      }
-      const double v = c["outputs"][name][stat]["value"].get<double>();
-      h += "<tr><td class='l'>" + html_escape(without) + "</td><td>" + format_significant(v) + "</td><td>" +
-           format_significant(base - v) + "</td></tr>\n";
-      if (&c != &all) bars.emplace_back(without, base - v);
-    }
-    h += "</table>\n";
-    std::sort(bars.begin(), bars.end(), [](const auto& a, const auto& b) { return std::abs(a.second) > std::abs(b.second); });
-    std::string why;
-    if (plots) {
-      tornado_figure(plots_dir, "contributions_" + name + "_" + stat, "Drop of " + stat + " of " + name + " without each tolerance",
-                     "drop [" + unit + "]", bars, figures, why);
-    }
-  }
-  return h + figures_html(plots_dir, figures);
-}
 
 }  // namespace poise::engine

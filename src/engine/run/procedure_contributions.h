@@ -28,9 +28,5 @@ nlohmann::json run_procedure_contributions(const StudyConfig& cfg, const StudyFa
                                            std::uint64_t seed, int threads, bool progress,
                                            const std::vector<OutputSpec>& outputs);
 
-/// The report's section on them (a tornado per shown statistic written into plots_dir).
-std::string contributions_html(const nlohmann::json& contributions, const nlohmann::json& requirements,
-                               const std::vector<OutputSpec>& outputs, const std::filesystem::path& plots_dir,
-                               bool plots);
 
 }  // namespace poise::engine

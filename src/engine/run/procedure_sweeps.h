@@ -31,8 +31,9 @@ nlohmann::json run_procedure_sweeps(const StudyConfig& cfg, const StudyFactory& 
                                     std::uint64_t seed, int threads, bool progress, const std::vector<Requirement>& requirements,
                                     const std::vector<OutputSpec>& outputs);
 
-/// The report's "Sweeps" section (figures written into plots_dir when `plots`).
-std::string sweeps_html(const nlohmann::json& sweeps, const std::vector<OutputSpec>& outputs,
-                        const std::filesystem::path& plots_dir, bool plots);
+
+/// The number and unit of a value as written ("70 mm" -> 70, "mm"; NaN when it is not a
+/// number): sweep axes in the user's own unit, not SI.
+std::pair<double, std::string> as_written(const std::string& text);
 
 }  // namespace poise::engine
