@@ -18,6 +18,7 @@
 #include "sampling/design.h"
 #include "model_files/disk_geometry_model.h"
 #include "geometry_studies/geometry_plots.h"
+#include "geometry_studies/sampled_model_study.h"
 #include "engine/results/result_io.h"
 #include "engine/kind_interface/output_spec.h"
 #include "engine/kind_interface/procedure_study.h"
@@ -56,7 +57,7 @@ double axis_tilt(const Eigen::Matrix3d& inertia) {
 
 // Sample i: the design point -> the disk as built (DiskSampler) -> its mesh -> mass properties by
 // ray casting and by the divergence theorem. No randomness of its own; no solver.
-class MassStudy final : public ProcedureStudyBase<MassStudy> {
+class MassStudy final : public SampledModelStudy<MassStudy> {
  public:
   MassStudy(StudyConfig cfg, DiskGeometryModel model, std::size_t n, std::uint64_t seed)
       : cfg_(std::move(cfg)), model_(std::move(model)), sampler_(model_), samples_(n),
@@ -71,35 +72,12 @@ class MassStudy final : public ProcedureStudyBase<MassStudy> {
   std::string model_name() const override { return model_.name; }
   std::string model_source() const override { return model_.source; }
   std::size_t samples() const { return samples_; }
-  std::size_t design_dimension() const { return sampler_.dimension(); }
   const DiskGeometryModel& model() const { return model_; }
   const DiskSampler& sampler() const { return sampler_; }
 
-  struct Workspace {};
-  std::unique_ptr<Workspace> make_workspace() const { return std::make_unique<Workspace>(); }
-  void compute(std::size_t i, Workspace&, SampleResult& out) const {
-    out = SampleResult{};  // the driver reuses its result slots
-    out.index = i;
-    out.inputs.assign(sampler_.dimension(), 0.0);
-    std::vector<double> u(sampler_.dimension());
-    design_.point(i, u);
-    try {
-      out.outputs = outputs_of(sampler_.draw(u, out.inputs));
-    } catch (const std::exception& e) {
-      out.ok = false;
-      out.message = e.what();
-      out.outputs.assign(kNumOutputs, NAN);
-    }
-  }
-
-  bool evaluates_inputs() const override { return true; }
-  std::vector<double> nominal_inputs() const override { return sampler_.nominal(); }
-  void evaluate_point(std::size_t, std::span<const double> inputs, std::span<double> outputs) const override {
-    std::vector<double> si(inputs.begin(), inputs.end());
-    for (std::size_t k = 0; k < si.size(); ++k) si[k] *= sampler_.columns()[k].display_factor;
-    const std::vector<double> o = outputs_of(sampler_.spec_of(si));
-    std::copy(o.begin(), o.end(), outputs.begin());
-  }
+  const sampling::Design& design() const { return design_; }
+  /// What the sampler draws for these inputs (SI).
+  auto realization_of(std::span<const double> si) const { return sampler_.spec_of(si); }
 
   geometry::Moments ray(const geometry::Assembly& parts, int n) const {
     if (geometry_sections(cfg_).geometry.per_part) return geometry::raycast_moments(parts, {2, n});

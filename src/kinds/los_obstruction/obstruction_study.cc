@@ -12,6 +12,7 @@
 #include "geometry/obstruction.h"
 #include "sampling/design.h"
 #include "geometry_studies/geometry_plots.h"
+#include "geometry_studies/sampled_model_study.h"
 #include "engine/kind_interface/output_spec.h"
 #include "engine/kind_interface/procedure_study.h"
 #include "engine/report/report_plot.h"
@@ -48,7 +49,7 @@ struct FieldResult {
 // Sample i: the design point -> the seeker's error realization (SeekerSampler) -> the beam
 // traced and the clearances measured at every grid point -> outputs, with the shifts from the
 // nominal design's. No randomness of its own; no solver.
-class ObstructionStudy final : public ProcedureStudyBase<ObstructionStudy> {
+class ObstructionStudy final : public SampledModelStudy<ObstructionStudy> {
  public:
   ObstructionStudy(StudyConfig cfg, SeekerModel model, std::size_t n, std::uint64_t seed)
       : cfg_(std::move(cfg)), model_(std::move(model)), sampler_(model_), samples_(n),
@@ -74,33 +75,10 @@ class ObstructionStudy final : public ProcedureStudyBase<ObstructionStudy> {
   std::string model_name() const override { return model_.name; }
   std::string model_source() const override { return model_.source; }
   std::size_t samples() const { return samples_; }
-  std::size_t design_dimension() const { return sampler_.dimension(); }
 
-  struct Workspace {};
-  std::unique_ptr<Workspace> make_workspace() const { return std::make_unique<Workspace>(); }
-  void compute(std::size_t i, Workspace&, SampleResult& out) const {
-    out = SampleResult{};  // the driver reuses its result slots
-    out.index = i;
-    out.inputs.assign(sampler_.dimension(), 0.0);
-    std::vector<double> u(sampler_.dimension());
-    design_.point(i, u);
-    try {
-      out.outputs = outputs_of(sampler_.draw(u, out.inputs));
-    } catch (const std::exception& e) {
-      out.ok = false;
-      out.message = e.what();
-      out.outputs.assign(kNumOutputs, NAN);
-    }
-  }
-
-  bool evaluates_inputs() const override { return true; }
-  std::vector<double> nominal_inputs() const override { return sampler_.nominal(); }
-  void evaluate_point(std::size_t, std::span<const double> inputs, std::span<double> outputs) const override {
-    std::vector<double> si(inputs.begin(), inputs.end());
-    for (std::size_t k = 0; k < si.size(); ++k) si[k] *= sampler_.columns()[k].display_factor;
-    const std::vector<double> o = outputs_of(sampler_.state_of(si));
-    std::copy(o.begin(), o.end(), outputs.begin());
-  }
+  const sampling::Design& design() const { return design_; }
+  /// What the sampler draws for these inputs (SI).
+  auto realization_of(std::span<const double> si) const { return sampler_.state_of(si); }
 
   nlohmann::json details(const McResult&) const override;
   void report_sections(const McResult& mc, const std::string& plots_dir, bool plots, std::vector<std::string>& figures,
