@@ -3,6 +3,7 @@
 /// simulated procedure (the gimbal static-unbalance test, the balancing machine): named
 /// inputs and outputs per sample, a parallel run that streams finished samples in order,
 /// a single-sample replay and the study's own report sections.
+#include <cmath>
 #include <functional>
 #include <map>
 #include <memory>
@@ -201,6 +202,17 @@ class ProcedureStudyBase : public ProcedureStudy {
   }
 
  protected:
+  /// A result slot made ready for sample i (the driver reuses its slots): ok, no message, every
+  /// input and output NaN until computed, no solver counters, no field.
+  void start_sample(std::size_t i, SampleResult& out) const {
+    out.index = i;
+    out.ok = true;
+    out.message.clear();
+    out.inputs.assign(input_names_.size(), NAN);
+    out.outputs.assign(output_names_.size(), NAN);
+    out.solver_steps = out.rhs_evals = 0;
+    out.field.clear();
+  }
   /// The outputs, declared once (their names follow).
   void declare_outputs(std::vector<OutputSpec> outputs) {
     outputs_ = std::move(outputs);

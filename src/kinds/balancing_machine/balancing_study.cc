@@ -130,12 +130,7 @@ double rel_error(cd estimate, cd truth) { return std::abs(estimate - truth) / st
 // ---- one sample ------------------------------------------------------------------------------
 
 void BalancingStudy::compute(std::size_t i, Workspace& ws, SampleResult& out) const {
-  out.index = i;
-  out.ok = true;
-  out.message.clear();
-  out.inputs.assign(input_names_.size(), NAN);
-  out.outputs.assign(output_names().size(), NAN);
-  out.solver_steps = out.rhs_evals = 0;
+  start_sample(i, out);
   sampling::RandomStream rs(seed_, sampling::StreamId::kProcedure, design_.stream_index(i));
   sampling::RandomStream noise(seed_, sampling::StreamId::kNoise, design_.stream_index(i, 1));
   Draws d(model_, rs);

@@ -161,12 +161,7 @@ std::unique_ptr<GimbalStudy::Workspace> GimbalStudy::make_workspace() const {
 }
 
 void GimbalStudy::compute(std::size_t i, Workspace& ws, SampleResult& out) const {
-  out.index = i;
-  out.ok = true;
-  out.message.clear();
-  out.inputs.assign(input_names_.size(), NAN);
-  out.outputs.assign(output_names().size(), NAN);
-  out.solver_steps = out.rhs_evals = 0;
+  start_sample(i, out);
   try {
     // Unit-scope draws from the design point; test-scope ones from the sample's stream.
     std::vector<double> u(std::max<std::size_t>(dimension_ + geometry_dimension(), 1));

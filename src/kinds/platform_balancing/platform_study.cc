@@ -348,12 +348,7 @@ PlatformStudy::Residual PlatformStudy::residual(const models::Platform& p) const
 }
 
 void PlatformStudy::compute(std::size_t i, Workspace& ws, SampleResult& out) const {
-  out.index = i;
-  out.ok = true;
-  out.message.clear();
-  out.inputs.assign(input_names_.size(), NAN);
-  out.outputs.assign(output_names().size(), NAN);
-  out.solver_steps = out.rhs_evals = 0;
+  start_sample(i, out);
   try {
     const PlatformDraws d = draws(i);
     std::size_t col = 0;
