@@ -1,5 +1,7 @@
 #include "engine/results/references.h"
 
+#include "core/nearest_name.h"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -92,7 +94,7 @@ std::vector<ReferenceFigure> declared_references(const StudyConfig& cfg, const s
       std::string names;
       for (const auto& o : outputs) names += (names.empty() ? "" : ", ") + o.name;
       errors.emplace_back(SourceLocation{r.file, r.line, 0}, "reference.output", quote_value(r.output),
-                          "an output of this study: " + names);
+                          "an output of this study: " + names + did_you_mean(r.output, output_names_of(outputs)));
       continue;
     }
     try {

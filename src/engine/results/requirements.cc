@@ -1,5 +1,7 @@
 #include "engine/results/requirements.h"
 
+#include "core/nearest_name.h"
+
 #include <algorithm>
 #include <cmath>
 #include <functional>
@@ -146,7 +148,8 @@ void check_requirements(const std::vector<Requirement>& requirements, const std:
     if (!o) {
       std::string names;
       for (const auto& x : outputs) names += (names.empty() ? "" : ", ") + x.name;
-      errors.emplace_back(at, "requirement.output", quote_value(r.output), "an output of this study: " + names);
+      errors.emplace_back(at, "requirement.output", quote_value(r.output),
+                          "an output of this study: " + names + did_you_mean(r.output, output_names_of(outputs)));
       continue;
     }
     try {

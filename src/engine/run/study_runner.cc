@@ -26,10 +26,22 @@ void check_sweeps(const StudyConfig& cfg, const StudyKind& kind) {
         c.overrides = apply_study_overrides(c, overrides);
         kind.validate(c);
       } catch (const ValidationError& e) {
+        bool unknown_key = false;
         for (const auto& err : e.errors()) {
+          const std::string what = err.what();
+          if (what.find("an override of a key that exists in the model file") != std::string::npos) {
+            // Not the value: the key. Said once for the sweep, not once per value.
+            const auto near = what.find("; did you mean");
+            errors.emplace_back(SourceLocation{cfg.file, sw.line, 0}, "sweep.parameter", "\"" + sw.parameter + "\"",
+                                "a key of the model file " + cfg.model_path +
+                                    (near == std::string::npos ? std::string() : what.substr(near)));
+            unknown_key = true;
+            break;
+          }
           errors.emplace_back(SourceLocation{cfg.file, sw.line, 0}, "sweep " + sw.parameter, "\"" + v + "\"",
-                              std::string("a value the model accepts: ") + err.what());
+                              std::string("a value the model accepts: ") + what);
         }
+        if (unknown_key) break;
       }
     }
   }

@@ -1,5 +1,7 @@
 #include "engine/study_files/model_overrides.h"
 
+#include "core/nearest_name.h"
+
 #include "engine/results/references.h"
 
 namespace poise::engine {
@@ -15,8 +17,13 @@ void apply_one(toml::table& root, const std::string& dotted, const std::string& 
     const std::string part = dotted.substr(pos, dot == std::string::npos ? std::string::npos : dot - pos);
     toml::node* n = t->get(part);
     if (!n) {
+      std::vector<std::string> here;  // the keys at this level, for "did you mean"
+      for (const auto& [k, v] : *t) here.emplace_back(k.str());
+      const std::string near = nearest_name(part, here);
       ctx.errors.emplace_back(SourceLocation{ctx.file, 0, 0}, dotted, quote_value(text),
-                              "an override of a key that exists in the model file");
+                              "an override of a key that exists in the model file" +
+                                  (near.empty() ? std::string()
+                                                : "; did you mean '" + dotted.substr(0, pos) + near + "'?"));
       return;
     }
     if (dot == std::string::npos) {

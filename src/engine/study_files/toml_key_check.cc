@@ -3,6 +3,8 @@
 // the keys asked for (`poise keys`).
 #include "engine/study_files/toml_reader.h"
 
+#include "core/nearest_name.h"
+
 #include "engine/study_files/toml_reader_detail.h"
 
 #include <algorithm>
@@ -29,21 +31,6 @@ using detail::location_of;
 using detail::schema_path;
 
 thread_local KeySchemaRecorder* g_recorder = nullptr;
-
-std::size_t edit_distance(const std::string& a, const std::string& b) {
-  std::vector<std::size_t> row(b.size() + 1);
-  for (std::size_t j = 0; j <= b.size(); ++j) row[j] = j;
-  for (std::size_t i = 1; i <= a.size(); ++i) {
-    std::size_t diag = row[0];
-    row[0] = i;
-    for (std::size_t j = 1; j <= b.size(); ++j) {
-      const std::size_t up = row[j];
-      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diag + (a[i - 1] == b[j - 1] ? 0 : 1)});
-      diag = up;
-    }
-  }
-  return row[b.size()];
-}
 
 // The key asked for at the same place as the unknown `path` whose name is nearest to it.
 std::string nearest_key(const std::string& path, const ReadContext& ctx) {

@@ -4,6 +4,8 @@
 // non_negative.
 #include "engine/study_files/toml_reader.h"
 
+#include "core/nearest_name.h"
+
 #include "engine/study_files/toml_reader_detail.h"
 
 #include <algorithm>
@@ -144,7 +146,7 @@ std::string TomlReader::choice(const std::string& key, const std::vector<std::st
   }
   std::string list;
   for (const auto& c : choices) list += (list.empty() ? "\"" : ", \"") + c + "\"";
-  error(key, quote_value(v), "one of " + list);
+  error(key, quote_value(v), "one of " + list + did_you_mean(v, choices));
   return choices.front();
 }
 
