@@ -119,9 +119,13 @@ int main(int argc, char** argv) {
 }
 
 int run_main(int argc, char** argv) {
-  std::string description = kDescription;
-  description.replace(description.find("%KINDS%"), 7, poise::cli::study_kinds_text());
-  CLI::App app{description, "poise"};
+  // What Poise is, then the usage, the options and the commands; the study kinds, examples,
+  // result folder, long runs and exit statuses after them (the footer): usage comes first.
+  std::string text = kDescription;
+  text.replace(text.find("%KINDS%"), 7, poise::cli::study_kinds_text());
+  const std::size_t kinds_at = text.find("Study kinds (");
+  CLI::App app{text.substr(0, kinds_at), "poise"};
+  app.footer("\n" + text.substr(kinds_at));
   app.set_version_flag("--version", std::string("poise ") + poise::kVersion + " (" + poise::kGitCommit + ")");
   app.require_subcommand(1);
 
