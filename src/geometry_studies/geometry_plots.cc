@@ -28,6 +28,7 @@ std::string histogram_script(const std::string& dat, int column, const std::stri
     << "nb = ceil(sqrt(STATS_records)); nb = (nb < 5 ? 5 : (nb > 40 ? 40 : nb))\n"
     << "bw = (STATS_max - STATS_min) / nb\nif (bw <= 0) bw = (abs(STATS_max) > 0 ? abs(STATS_max) * 1e-3 : 1e-9)\n"
     << "bin(x) = bw * floor(x / bw) + bw / 2\nset boxwidth bw absolute\nset yrange [0:*]\nset style fill solid 0.6\n"
+    << "if (STATS_records <= 10) set ytics 1\n"  // whole samples, not 0.5
     << "plot '" << dat << "' u (bin($" << column << ")):(1.0) smooth freq with boxes lc rgb '#4477aa' notitle\n";
   return g.str();
 }

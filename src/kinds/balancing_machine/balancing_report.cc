@@ -249,6 +249,7 @@ void BalancingStudy::report_sections(const McResult& mc, const std::string& plot
                    ".dat' u 1 nooutput\nnb = ceil(sqrt(STATS_records)); nb = (nb < 5 ? 5 : (nb > 25 ? 25 : nb))\n"
                    "bw = (STATS_max - STATS_min) / nb\nif (bw <= 0) bw = 1e-9\n"
                    "bin(x) = bw * floor(x / bw) + bw / 2\nset boxwidth bw absolute\nset yrange [0:*]\n"
+                   "if (STATS_records <= 10) set ytics 1\n"  // whole machines, not 0.5
                    "set style fill solid 0.6\nplot '" + n +
                    ".dat' u (bin($1)):(1.0) smooth freq with boxes lc rgb '#4477aa' notitle\n",
                figures, h);
