@@ -1,3 +1,4 @@
+#include "engine/study_files/model_overrides.h"
 #include "engine/run/study_runner.h"
 
 #include <filesystem>
@@ -29,7 +30,7 @@ void check_sweeps(const StudyConfig& cfg, const StudyKind& kind) {
         bool unknown_key = false;
         for (const auto& err : e.errors()) {
           const std::string what = err.what();
-          if (what.find("an override of a key that exists in the model file") != std::string::npos) {
+          if (what.find(kUnknownModelKey) != std::string::npos) {
             // Not the value: the key. Said once for the sweep, not once per value.
             const auto near = what.find("; did you mean");
             errors.emplace_back(SourceLocation{cfg.file, sw.line, 0}, "sweep.parameter", "\"" + sw.parameter + "\"",

@@ -21,7 +21,7 @@ void apply_one(toml::table& root, const std::string& dotted, const std::string& 
       for (const auto& [k, v] : *t) here.emplace_back(k.str());
       const std::string near = nearest_name(part, here);
       ctx.errors.emplace_back(SourceLocation{ctx.file, 0, 0}, dotted, quote_value(text),
-                              "an override of a key that exists in the model file" +
+                              std::string(kUnknownModelKey) +
                                   (near.empty() ? std::string()
                                                 : "; did you mean '" + dotted.substr(0, pos) + near + "'?"));
       return;

@@ -10,6 +10,11 @@
 
 namespace poise::engine {
 
+/// What an override of a key the model file lacks is refused with (the start of its
+/// "expected" text; "; did you mean '<key>'?" may follow): callers that validate many values
+/// of one key (a sweep) recognise it by this, to say it once for the key.
+inline constexpr const char* kUnknownModelKey = "an override of a key that exists in the model file";
+
 void apply_overrides(toml::table& root, const std::map<std::string, std::string>& overrides,
                      ReadContext& ctx);
 
