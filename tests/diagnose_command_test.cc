@@ -14,6 +14,7 @@
 #include <sstream>
 #include <string>
 
+#include "engine/results/result_io.h"
 #include "test_util.h"
 
 namespace {
@@ -36,7 +37,8 @@ TEST(DiagnoseCommand, JsonForTable1HasExactlyTheDocumentedKeys) {
   ASSERT_EQ(r.status, 0) << r.err;
   nlohmann::json j = nlohmann::json::parse(r.out);
   EXPECT_EQ(keys(j),
-            (std::set<std::string>{"effects", "rmse_before", "rmse_after", "estimate_before",
+            (std::set<std::string>{"answer", "file", "time_column", "sweep_column", "max_harmonic", "alpha", "tested",
+                                   "effects", "rmse_before", "rmse_after", "estimate_before",
                                    "estimate_after", "unit", "n_points",
                                    "estimate_selected_model", "plan", "omnibus", "ambiguous",
                                    "collinearity", "not_identifiable", "notes"}));
@@ -64,7 +66,8 @@ TEST(DiagnoseCommand, JsonForTable1HasExactlyTheDocumentedKeys) {
   r = run_poise(dir, "diagnose '" + kTable1 + "' --json" + kLoad);
   ASSERT_EQ(r.status, 0) << r.err;
   j = nlohmann::json::parse(r.out);
-  EXPECT_EQ(keys(j), (std::set<std::string>{"effects", "rmse_before", "rmse_after",
+  EXPECT_EQ(keys(j), (std::set<std::string>{"answer", "file", "time_column", "sweep_column", "max_harmonic", "alpha",
+                                            "tested", "effects", "rmse_before", "rmse_after",
                                             "estimate_before", "estimate_after", "unit", "n_points",
                                             "estimate_selected_model", "plan", "omnibus",
                                             "ambiguous", "collinearity", "not_identifiable",
@@ -96,7 +99,7 @@ TEST(DiagnoseCommand, InjectedSecondHarmonicIsDiagnosedInTextAndJson) {
   const nlohmann::json j = nlohmann::json::parse(r.out);
   ASSERT_FALSE(j.at("effects").empty()) << r.out;
   const auto& e = j.at("effects")[0];
-  EXPECT_EQ(keys(e), (std::set<std::string>{"name", "order", "params", "p_value", "p_adjusted",
+  EXPECT_EQ(keys(e), (std::set<std::string>{"name", "title", "order", "params", "p_value", "p_adjusted",
                                             "delta_bic", "causes", "shift_se", "r_first_harmonic",
                                             "moves_estimate", "estimate_note"}));
   // Table 1 is one sweep in row order: time follows angle, so the 2nd harmonic is reported
@@ -184,15 +187,21 @@ TEST(DiagnoseCommand, OutWritesJsonReportAndPlotAndRefusesToOverwrite) {
   const nlohmann::json j = nlohmann::json::parse(poise::test::read_text(out + "/diagnosis.json"));
   EXPECT_TRUE(j.contains("error_after"));
   const std::string html = poise::test::read_text(out + "/report.html");
-  EXPECT_NE(html.find("<h2>Findings</h2>"), std::string::npos);
+  EXPECT_NE(html.find("<h2 id='findings'>Findings</h2>"), std::string::npos);
   EXPECT_NE(html.find("No effect beyond Eq. 22 was found"), std::string::npos);
+  // The answer first, the same sentence as diagnosis.json's and the terminal's last line.
+  const std::string answer = j.at("answer").get<std::string>();
+  EXPECT_EQ(answer.rfind("No effect beyond Eq. 22 was found in the", 0), 0u) << answer;
+  EXPECT_LT(html.find("class='answer'"), html.find("id='findings'"));
+  EXPECT_NE(html.find(poise::engine::html_escape(answer)), std::string::npos);
+  EXPECT_NE(r.out.find(answer + "\n\nreport: "), std::string::npos) << r.out;
   EXPECT_NE(html.find("against the known load 12.91 mN*m at 45.5 deg"), std::string::npos);
   EXPECT_TRUE(fs::exists(out + "/plot.gp"));
   EXPECT_TRUE(fs::exists(out + "/plot.dat"));
   if (std::system("command -v gnuplot >/dev/null 2>&1") == 0) {
     ASSERT_TRUE(fs::exists(out + "/plot.svg"));
     EXPECT_NE(poise::test::read_text(out + "/plot.svg").find("<svg"), std::string::npos);
-    EXPECT_NE(html.find("<img src=\"plot.svg\""), std::string::npos);
+    EXPECT_NE(html.find("<svg"), std::string::npos);  // inline: the page is one file
   } else {
     EXPECT_NE(html.find("gnuplot could not be started"), std::string::npos);  // the real reason
   }

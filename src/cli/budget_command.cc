@@ -16,11 +16,10 @@
 #include "engine/kind_interface/output_spec.h"
 #include "engine/results/requirements.h"
 #include "engine/results/result_io.h"
-#include "cli/budget_report.h"
+#include "engine/report/budget_page.h"
 #include "cli/budget_text.h"
 #include "core/error.h"
 #include "sampling/statistics.h"
-#include "engine/results/result_io.h"
 #include "engine/study_files/toml_reader.h"
 
 namespace poise::cli {
@@ -275,7 +274,7 @@ int run_budget(const std::string& path, bool as_json, const std::string& out_dir
     if (!out_dir.empty()) {
       std::filesystem::create_directories(out_dir);
       engine::write_file_atomic((std::filesystem::path(out_dir) / "budget.json").string(), j.dump(2) + "\n");
-      write_budget_report((std::filesystem::path(out_dir) / "report.html").string(), j, mc_values);
+      engine::write_file_atomic((std::filesystem::path(out_dir) / "report.html").string(), engine::budget_report_html(j, mc_values));
       if (!as_json) std::cout << "report: " << out_dir << "/report.html\n";
     }
   } catch (const engine::ValidationError& e) {

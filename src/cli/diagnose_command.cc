@@ -1,7 +1,7 @@
 // `poise diagnose`: the command line (options and --help text), reading and checking the
 // input (data table, --load-*, --noise, --study) and the run that prints the result and
 // writes --out DIR. The result's text and JSON: diagnose_text.cc; its files:
-// diagnose_report.cc.
+// diagnose_plot.cc and engine/report/diagnosis_page.cc.
 #include "cli/diagnose_command.h"
 
 #include "cli/diagnose_loop.h"
@@ -19,6 +19,7 @@
 #include "core/units.h"
 #include "estimators/residual_diagnosis.h"
 #include "estimators/torque_table.h"
+#include "engine/report/diagnosis_page.h"
 #include "engine/results/result_io.h"
 
 namespace poise::cli {
@@ -31,7 +32,6 @@ using diagnose_detail::Load;
 using diagnose_detail::print_text;
 using diagnose_detail::to_json;
 using diagnose_detail::write_plot;
-using diagnose_detail::write_report;
 
 const char* kDiagnoseHelp = R"(What it does:
   Looks in a measured static unbalance table for effects that the Eq. 22 model
@@ -67,14 +67,15 @@ Example (Table 1 of the paper, 25.81 g at 45.50 deg on r = 5.10 cm: 12.91 mN*m):
 Output: the base fit, each effect found with its parameters +- SE, p, Holm-adjusted p,
 delta_BIC and physical causes, rmse and the unbalance estimate before and after, the errors
 against the known load, and the candidates tested but not added. --json prints one object
-(effects, rmse_before, rmse_after, estimate_before, estimate_after, unit, n_points,
-estimate_selected_model, plan, omnibus, ambiguous, collinearity, not_identifiable, notes
-and, with a load, load, error_before, error_after; with --study, closed_loop).
+(answer: the result in one sentence, also the text's last line; file, time_column,
+sweep_column, max_harmonic, alpha, effects, rmse_before, rmse_after, estimate_before,
+estimate_after, unit, n_points, estimate_selected_model, plan, omnibus, ambiguous,
+collinearity, not_identifiable, notes, tested and, with a load, load, error_before, error_after; with --study, closed_loop).
 --study STUDY.toml closes the loop: each effect found is mapped to its [disturbances] key of
 the study's gimbal model (harmonic 2, time drift, direction offset, outlier), the study is
 evaluated in memory without and with them (same random numbers, --study-samples each), and
 the simulated errors are set beside the measured residual. --out DIR also writes diagnosis.json, plot.svg
-(gnuplot; .gp and .dat kept) and report.html.
+(gnuplot; .gp and .dat kept) and report.html (self-contained; it opens with the answer).
 Exit status: 0 success, 2 invalid input (the message names the file, line and column),
 1 the output folder cannot be written.
 )";
@@ -140,7 +141,7 @@ Diagnosed diagnose(const DiagnoseRequest& o) {
     }
   }
   d.result = est::diagnose_residuals(d.table, opt);
-  d.j = to_json(d.table, d.result, d.load);
+  d.j = to_json(d.table, d.result, d.load, o.alpha);
   return d;
 }
 
@@ -182,13 +183,14 @@ int run_diagnose(const Options& o) {
   } else {
     print_text(table, result, o.alpha, load, std::cout);
     if (loop) std::cout << loop_text(*loop);
+    std::cout << '\n' << j["answer"].get<std::string>() << '\n';
   }
   if (o.out.empty()) return 0;
   try {
     fs::create_directories(dir);
     engine::write_file_atomic((dir / "diagnosis.json").string(), j.dump(2) + "\n");
     const std::string note = write_plot(dir, table, result);
-    write_report(dir, table, result, j, o.alpha, note);
+    engine::write_file_atomic((dir / "report.html").string(), engine::diagnosis_report_html(j, dir / "plot.svg", note));
     if (!o.json) std::cout << "\nreport: " << (dir / "report.html").string() << '\n';
     if (!note.empty()) std::cerr << "poise: " << note << '\n';
   } catch (const std::exception& e) {

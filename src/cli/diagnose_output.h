@@ -1,6 +1,6 @@
 #pragma once
 /// Internal to `poise diagnose` (not a public API): what diagnose_command.cc,
-/// diagnose_text.cc and diagnose_report.cc share: the known load, the number and effect
+/// diagnose_text.cc and diagnose_plot.cc share: the known load, the number and effect
 /// formatting, and the result told as JSON, as text and as the files of --out DIR.
 #include <filesystem>
 #include <nlohmann/json.hpp>
@@ -29,16 +29,16 @@ std::string estimate_text(const estimators::UnbalanceEstimate& e, const std::str
 
 // diagnose_text.cc: the --json object and the text report on the terminal.
 nlohmann::json to_json(const estimators::TorqueTable& t, const estimators::DiagnosisResult& r,
-                       const std::optional<Load>& load);
+                       const std::optional<Load>& load, double alpha);
+/// The diagnosis in one sentence: the effects found, the unbalance estimate reported, what is
+/// ambiguous and whether structure is left. The report opens with it; the terminal ends with it.
+std::string answer_sentence(const estimators::TorqueTable& t, const estimators::DiagnosisResult& r);
 void print_text(const estimators::TorqueTable& t, const estimators::DiagnosisResult& r,
                 double alpha, const std::optional<Load>& load, std::ostream& out);
 
-// diagnose_report.cc: the files of --out DIR besides diagnosis.json.
+// diagnose_plot.cc: the figure of --out DIR (report.html: engine/report/diagnosis_page.h).
 // plot.dat, plot.gp and (if gnuplot runs) plot.svg; returns the note for the report.
 std::string write_plot(const std::filesystem::path& dir, const estimators::TorqueTable& t,
                        const estimators::DiagnosisResult& r);
-void write_report(const std::filesystem::path& dir, const estimators::TorqueTable& t,
-                  const estimators::DiagnosisResult& r, const nlohmann::json& j, double alpha,
-                  const std::string& plot_note);
 
 }  // namespace poise::cli::diagnose_detail

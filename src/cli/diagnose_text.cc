@@ -30,14 +30,35 @@ json estimate_json(const est::UnbalanceEstimate& e) {
 
 }  // namespace
 
+std::string answer_sentence(const est::TorqueTable& t, const est::DiagnosisResult& r) {
+  std::string found;
+  for (const est::Effect& e : r.effects) found += (found.empty() ? "" : ", ") + effect_title(e);
+  const est::UnbalanceEstimate& a = r.estimate_after;
+  std::string s = (found.empty() ? "No effect beyond Eq. 22 was found in the " + std::to_string(t.size()) + " points"
+                                 : "Beyond Eq. 22 the " + std::to_string(t.size()) + " points show " + found) +
+                  "; the unbalance estimate is " + num(a.amplitude, 4) + " +- " + num(a.se_amplitude, 2) + " " + t.unit +
+                  " at " + num(a.phase * kDegPerRad, 4) + " +- " + num(a.se_phase * kDegPerRad, 2) + " deg";
+  if (!found.empty()) {
+    s += " (the base fit alone: " + num(r.estimate_before.amplitude, 4) + " " + t.unit + " at " +
+         num(r.estimate_before.phase * kDegPerRad, 4) + " deg)";
+  }
+  if (!r.ambiguous.empty()) {
+    s += "; " + std::to_string(r.ambiguous.size()) + (r.ambiguous.size() == 1 ? " finding is" : " findings are") +
+         " ambiguous on this plan (to separate: " + r.ambiguous.front().plan + ")";
+  }
+  s += r.omnibus.unexplained ? "; structure the candidates do not explain remains in the residual"
+                             : "; no structure is left in the residual";
+  return s + ".";
+}
+
 json to_json(const est::TorqueTable& t, const est::DiagnosisResult& r,
-             const std::optional<Load>& load) {
+             const std::optional<Load>& load, double alpha) {
   json effects = json::array();
   for (const est::Effect& e : r.effects) {
     json params = json::object();
     for (const auto& p : e.params)
       params[p.name] = {{"value", p.value}, {"se", p.se}, {"unit", p.unit}};
-    json j = {{"name", e.name},           {"params", params},
+    json j = {{"name", e.name},           {"title", effect_title(e)}, {"params", params},
               {"p_value", e.p_value},     {"p_adjusted", e.p_adjusted},
               {"delta_bic", e.delta_bic}, {"causes", e.causes}};
     if (e.name == "harmonic") j["order"] = e.order;
@@ -80,7 +101,13 @@ json to_json(const est::TorqueTable& t, const est::DiagnosisResult& r,
   for (const auto& [name, why] : r.not_identifiable) {
     not_identifiable.push_back({{"name", name}, {"why", why}});
   }
-  json out = {{"effects", effects},
+  json out = {{"answer", answer_sentence(t, r)},
+              {"file", t.file},
+              {"time_column", !t.time_s.empty()},
+              {"sweep_column", !t.sweep.empty()},
+              {"max_harmonic", r.max_harmonic},
+              {"alpha", alpha},
+              {"effects", effects},
               {"rmse_before", r.rmse_before},
               {"rmse_after", r.rmse_after},
               {"estimate_before", estimate_json(r.estimate_before)},
@@ -93,7 +120,8 @@ json to_json(const est::TorqueTable& t, const est::DiagnosisResult& r,
               {"ambiguous", ambiguous},
               {"collinearity", collinearity},
               {"not_identifiable", not_identifiable},
-              {"notes", r.notes}};
+              {"notes", r.notes},
+              {"tested", r.tested}};
   if (load) {
     const est::KnownLoadErrors k = est::known_load_errors(r, load->torque, load->angle_rad);
     out["load"] = {{"torque", load->torque}, {"angle_deg", load->angle_rad * kDegPerRad}};

@@ -28,18 +28,6 @@ std::string to_string(Verdict v) {
   return "?";
 }
 
-std::string short_number(double v) {
-  char buf[32];
-  if (!std::isfinite(v)) return "nan";
-  const double a = std::fabs(v);
-  if (a >= 100.0 || a == 0.0) {
-    std::snprintf(buf, sizeof buf, "%.0f", v);
-  } else {
-    std::snprintf(buf, sizeof buf, "%#.3g", v);  // keeps trailing zeros: 1.00, not 1
-  }
-  return buf;
-}
-
 std::string interval_text(const Interval& i, const std::string& unit) {
   std::string s = short_number(i.value);
   if (i.lo || i.hi) s += " [" + (i.lo ? short_number(*i.lo) : "?") + ", " + (i.hi ? short_number(*i.hi) : "?") + "]";

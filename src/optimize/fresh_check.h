@@ -11,6 +11,7 @@
 /// min and max have no distribution-free interval on their far side: they are judged on the
 /// sample extreme of the fresh samples (which, with more samples than the search, is the
 /// stricter figure).
+#include "core/number_text.h"
 #include <optional>
 #include <string>
 #include <vector>
@@ -67,7 +68,6 @@ std::string interval_text(const Interval& i, const std::string& unit);
 /// The declared unit of an output of the optimization's study ("mN*m"); "" for a
 /// dimensionless one.
 std::string output_unit(const OptimizationSpec& spec, const std::string& output);
-/// A number with 3 significant digits ("1.09", "0.0124", "275").
-std::string short_number(double v);
+using poise::short_number;  // core/number_text.h
 
 }  // namespace poise::optimize

@@ -1,21 +1,19 @@
-#include "cli/budget_report.h"
-
-#include "engine/report/result_sections.h"
-#include "engine/results/requirements.h"
+#include "engine/report/budget_page.h"
 
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <sstream>
 
-#include "cli/budget_text.h"
+#include "engine/report/budget_numbers.h"
+#include "engine/report/report_plot.h"
+#include "engine/report/result_sections.h"
 #include "engine/results/result_io.h"
 
-namespace poise::cli {
+namespace poise::engine {
 namespace {
 
 using nlohmann::json;
-using engine::html_escape;
 
 std::string f2(double v) {
   char buf[32];
@@ -157,24 +155,11 @@ std::string budget_plot_svg(const json& j, const std::vector<double>& mc) {
   return s.str();
 }
 
-void write_budget_report(const std::string& path, const json& j, const std::vector<double>& mc) {
-  const json& b = j["budget"];
-  const std::string unit = b["unit"].get<std::string>();
+namespace {
+
+std::string lines_html(const json& j, const std::string& unit) {
   std::ostringstream h;
-  h << "<!DOCTYPE html><html lang='en'><head><meta charset='utf-8'><title>Poise budget: "
-    << html_escape(b["name"].get<std::string>()) << "</title><style>body{font-family:sans-serif;max-width:1200px;"
-    << "margin:1em auto;padding:0 1em}table{border-collapse:collapse;margin:.5em 0}td,th{border:1px solid #ccc;"
-    << "padding:3px 6px;text-align:right;vertical-align:top}td.l,th.l{text-align:left}small{color:#555}</style></head>"
-    << "<body>\n<h1>" << html_escape(b["title"].get<std::string>().empty() ? b["name"].get<std::string>()
-                                                                           : b["title"].get<std::string>())
-    << "</h1>\n" << engine::answer_html(j.value("answer", std::string()),
-                                            j["requirement_verdict"].is_null() ? json::array() : json::array({j["requirement_verdict"]}))
-    << "<p>Budget <code>" << html_escape(b["file"].get<std::string>()) << "</code>: contributions in "
-    << html_escape(unit) << " at " << html_escape(b["level"].get<std::string>()) << ", combined by "
-    << html_escape(b["combination"].get<std::string>()) << ". Every line is recomputed from its inputs (sigma of the "
-    << "tolerance by its distribution and tolerance_is, over the lever, times the gain, at the level); a declared "
-    << "figure agrees when it is within 1% of the recomputed one.</p>\n";
-  h << "<h2>Lines</h2>\n<table><tr><th class='l'>line</th><th class='l'>kind</th><th class='l'>inputs</th>"
+  h << "<h2 id='lines'>Lines</h2>\n<table><tr><th class='l'>line</th><th class='l'>kind</th><th class='l'>inputs</th>"
     << "<th>recomputed</th><th>declared</th><th>difference</th><th>verdict</th><th class='l'>likely slip</th></tr>\n";
   for (const auto& l : j["lines"]) {
     const bool given = l["verdict"] == "given";
@@ -188,35 +173,45 @@ void write_budget_report(const std::string& path, const json& j, const std::vect
       << html_escape(l.value("slip", std::string())) << "</td></tr>\n";
   }
   h << "</table>\n";
-  if (!j["groups"].empty()) {
-    h << "<h2>Groups (sub-totals)</h2>\n<table><tr><th class='l'>group</th><th class='l'>members, rule</th>"
-      << "<th>recomputed</th><th>declared</th><th>difference</th><th>from the members' declared</th><th>verdict</th>"
-      << "<th class='l'>likely slip</th></tr>\n";
-    for (const auto& g : j["groups"]) {
-      std::string members;
-      for (const auto& m : g["members"]) members += (members.empty() ? "" : ", ") + m.get<std::string>();
-      members += "; " + g["combination"].get<std::string>();
-      if (g.contains("propagation")) members += "; propagation " + g["propagation"].get<std::string>();
-      std::string from;
-      if (g.contains("from_members_declared")) {
-        from = budget_number(g["from_members_declared"]["least"]) + " to " +
-               budget_number(g["from_members_declared"]["greatest"]);
-      }
-      h << "<tr><td class='l'>" << html_escape(g["name"].get<std::string>()) << "</td><td class='l'>"
-        << html_escape(members) << "</td><td>" << html_escape(recomputed_text(g, unit)) << "</td><td>"
-        << html_escape(declared_text(g["declared"], unit)) << "</td>" << rel_cell(g) << "<td>" << html_escape(from)
-        << "</td>" << verdict_cell(g["verdict"].get<std::string>()) << "<td class='l'>"
-        << html_escape(g.value("slip", std::string())) << "</td></tr>\n";
+  return h.str();
+}
+
+std::string groups_html(const json& j, const std::string& unit) {
+  if (j["groups"].empty()) return "";
+  std::ostringstream h;
+  h << "<h2 id='groups'>Groups (sub-totals)</h2>\n<table><tr><th class='l'>group</th><th class='l'>members, rule</th>"
+    << "<th>recomputed</th><th>declared</th><th>difference</th><th>from the members' declared</th><th>verdict</th>"
+    << "<th class='l'>likely slip</th></tr>\n";
+  for (const auto& g : j["groups"]) {
+    std::string members;
+    for (const auto& m : g["members"]) members += (members.empty() ? "" : ", ") + m.get<std::string>();
+    members += "; " + g["combination"].get<std::string>();
+    if (g.contains("propagation")) members += "; propagation " + g["propagation"].get<std::string>();
+    std::string from;
+    if (g.contains("from_members_declared")) {
+      from = budget_number(g["from_members_declared"]["least"]) + " to " +
+             budget_number(g["from_members_declared"]["greatest"]);
     }
-    h << "</table>\n";
+    h << "<tr><td class='l'>" << html_escape(g["name"].get<std::string>()) << "</td><td class='l'>"
+      << html_escape(members) << "</td><td>" << html_escape(recomputed_text(g, unit)) << "</td><td>"
+      << html_escape(declared_text(g["declared"], unit)) << "</td>" << rel_cell(g) << "<td>" << html_escape(from)
+      << "</td>" << verdict_cell(g["verdict"].get<std::string>()) << "<td class='l'>"
+      << html_escape(g.value("slip", std::string())) << "</td></tr>\n";
   }
+  h << "</table>\n";
+  return h.str();
+}
+
+std::string combination_html(const json& j, const std::string& unit) {
+  const json& b = j["budget"];
   const json& c = j["combined"];
   const json& a = j["at_confidence"];
-  h << "<h2>Combination</h2>\n<table><tr><th class='l'>figure</th><th>least</th><th>greatest</th><th class='l'>"
-    << "note</th></tr>\n<tr><td class='l'>combined at " << html_escape(c["level"].get<std::string>()) << " by "
-    << html_escape(c["combination"].get<std::string>()) << "</td><td>" << budget_number(c["least"]) << "</td><td>"
-    << budget_number(c["greatest"]) << "</td><td class='l'>least at " << html_escape(c["least_at"].dump())
-    << ", greatest at " << html_escape(c["greatest_at"].dump()) << "</td></tr>\n";
+  std::ostringstream h;
+  h << "<h2 id='combination'>Combination</h2>\n<table><tr><th class='l'>figure</th><th>least</th><th>greatest</th>"
+    << "<th class='l'>note</th></tr>\n<tr><td class='l'>combined at " << html_escape(c["level"].get<std::string>())
+    << " by " << html_escape(c["combination"].get<std::string>()) << "</td><td>" << budget_number(c["least"])
+    << "</td><td>" << budget_number(c["greatest"]) << "</td><td class='l'>least at "
+    << html_escape(c["least_at"].dump()) << ", greatest at " << html_escape(c["greatest_at"].dump()) << "</td></tr>\n";
   if (!c["declared"].is_null()) {
     h << "<tr><td class='l'>declared</td><td colspan='2'>" << html_escape(declared_text(c["declared"], unit))
       << "</td><td class='l'><b>" << html_escape(c["verdict"].get<std::string>()) << "</b> "
@@ -241,7 +236,13 @@ void write_budget_report(const std::string& path, const json& j, const std::vect
       << "decides on the Monte Carlo)";
   }
   h << "</td></tr>\n</table>\n<p><small>Figures in " << html_escape(unit) << ".</small></p>\n";
-  h << "<h2>The budget against the Monte Carlo</h2>\n";
+  return h.str();
+}
+
+std::string monte_carlo_html(const json& j, const std::string& unit, const std::vector<double>& mc) {
+  const json& a = j["at_confidence"];
+  std::ostringstream h;
+  h << "<h2 id='monte-carlo'>The budget against the Monte Carlo</h2>\n";
   if (!j["monte_carlo"].is_null()) {
     const json& m = j["monte_carlo"];
     h << "<p>Monte Carlo of <code>" << html_escape(m["model"].get<std::string>()) << "</code> (" << m["samples"]
@@ -266,14 +267,35 @@ void write_budget_report(const std::string& path, const json& j, const std::vect
     h << "<p><b>Warning</b>: " << html_escape(k["in"].get<std::string>()) << " names <code>"
       << html_escape(k["key"].get<std::string>()) << "</code>, which the model does not have.</p>\n";
   }
+  return h.str();
+}
+
+}  // namespace
+
+std::string budget_report_html(const json& j, const std::vector<double>& mc) {
+  const json& b = j["budget"];
+  const std::string unit = b["unit"].get<std::string>();
+  const std::string title = b["title"].get<std::string>().empty() ? b["name"].get<std::string>()
+                                                                  : b["title"].get<std::string>();
+  std::ostringstream h;
+  h << report_page_head("budget " + b["name"].get<std::string>()) << "<h1>" << html_escape(title) << "</h1>\n"
+    << answer_html(j.value("answer", std::string()),
+                   j["requirement_verdict"].is_null() ? json::array() : json::array({j["requirement_verdict"]}))
+    << "<p>Budget <code>" << html_escape(b["file"].get<std::string>()) << "</code>: contributions in "
+    << html_escape(unit) << " at " << html_escape(b["level"].get<std::string>()) << ", combined by "
+    << html_escape(b["combination"].get<std::string>()) << ". Every line is recomputed from its inputs (sigma of the "
+    << "tolerance by its distribution and tolerance_is, over the lever, times the gain, at the level); a declared "
+    << "figure agrees when it is within 1% of the recomputed one.</p>\n"
+    << lines_html(j, unit) << groups_html(j, unit) << combination_html(j, unit) << monte_carlo_html(j, unit, mc);
   if (!b["notes"].get<std::string>().empty()) {
-    h << "<h2>Notes of the budget</h2>\n<pre>" << html_escape(b["notes"].get<std::string>()) << "</pre>\n";
+    h << "<h2 id='notes'>Notes of the budget (its author's text)</h2>\n<pre>"
+      << html_escape(b["notes"].get<std::string>()) << "</pre>\n";
   }
   if (!b["source"].get<std::string>().empty()) {
     h << "<p><small>Source: " << html_escape(b["source"].get<std::string>()) << "</small></p>\n";
   }
   h << "</body></html>\n";
-  engine::write_file_atomic(path, h.str());
+  return h.str();
 }
 
-}  // namespace poise::cli
+}  // namespace poise::engine

@@ -9,13 +9,13 @@
 #include <string>
 #include <vector>
 
-namespace poise::cli {
+namespace poise::engine {
 
-/// Writes the report (atomically). mc_sorted: the Monte Carlo values in the budget's unit,
-/// sorted (empty without a model).
-void write_budget_report(const std::string& path, const nlohmann::json& j, const std::vector<double>& mc_sorted);
+/// The page, from the budget's JSON object (what `poise budget --json` prints). mc_sorted: the
+/// Monte Carlo values in the budget's unit, sorted (empty without a model).
+std::string budget_report_html(const nlohmann::json& j, const std::vector<double>& mc_sorted);
 
 /// The plot alone (an <svg> element), for tests and for the report.
 std::string budget_plot_svg(const nlohmann::json& j, const std::vector<double>& mc_sorted);
 
-}  // namespace poise::cli
+}  // namespace poise::engine
