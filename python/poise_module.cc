@@ -272,10 +272,10 @@ std::string budget(const std::string& path) {
 
 std::string mass_properties(const std::vector<std::string>& meshes, const std::vector<std::string>& units,
                             const std::vector<std::string>& densities, int rays, bool drop_duplicates,
-                            const std::string& weld) {
+                            const std::string& weld, const std::string& max_overlap) {
   return guarded([&] {
     py::gil_scoped_release release;
-    return cli::mass_properties_json({meshes, units, densities, rays, drop_duplicates, weld}).dump();
+    return cli::mass_properties_json({meshes, units, densities, rays, drop_duplicates, weld, max_overlap}).dump();
   });
 }
 
@@ -324,7 +324,7 @@ PYBIND11_MODULE(_poise, m) {
         py::arg("plots"), py::arg("out"), py::arg("progress"), py::arg("sensitivity_base"));
   m.def("budget", &budget, py::arg("path"));
   m.def("mass_properties", &mass_properties, py::arg("meshes"), py::arg("units"), py::arg("densities"), py::arg("rays"),
-        py::arg("drop_duplicates"), py::arg("weld"));
+        py::arg("drop_duplicates"), py::arg("weld"), py::arg("max_overlap"));
   m.def("diagnose", &diagnose, py::arg("data"), py::arg("alpha"), py::arg("max_harmonic"), py::arg("noise"),
         py::arg("load_torque"), py::arg("load_angle"), py::arg("study"), py::arg("study_samples"));
   py::class_<Study>(m, "Study")

@@ -246,12 +246,13 @@ def budget(path):
     return json.loads(_call(_poise.budget, os.fspath(path)))
 
 
-def mass_properties(meshes, unit, density, rays=256, drop_duplicates=False, weld=None):
+def mass_properties(meshes, unit, density, rays=256, drop_duplicates=False, weld=None, max_overlap=None):
     """Mass properties of CAD meshes as ``poise mass-properties --json`` gives them (with a
     "warnings" list). meshes: a path or a list; unit: "mm", "cm", "m" or "in", or one per mesh;
     density: one string with its unit ("2700 kg/m^3") or one per mesh; drop_duplicates: remove triangles
     exported twice (and say so in "warnings") instead of refusing the mesh; weld: the weld
-    tolerance with its unit ("0.0001 mm"; "0" none; None the default, 1e-6 of the part's size)."""
+    tolerance with its unit ("0.0001 mm"; "0" none; None the default, 1e-6 of the part's size);
+    max_overlap: the overlap of shells accepted, a share of the part's volume (None the default, 1e-6)."""
     if isinstance(meshes, (str, os.PathLike)):
         meshes = [meshes]
     densities = [density] if isinstance(density, str) else list(density) if isinstance(density, (list, tuple)) else None
@@ -263,7 +264,8 @@ def mass_properties(meshes, unit, density, rays=256, drop_duplicates=False, weld
         raise InputError(f"unit={unit!r}: expected \"mm\", \"cm\", \"m\" or \"in\", or a list of them, one per "
                          "mesh", key="unit")
     return json.loads(_call(_poise.mass_properties, [os.fspath(m) for m in meshes], units, densities,
-                            _count("rays", rays, 1), bool(drop_duplicates), "" if weld is None else str(weld)))
+                            _count("rays", rays, 1), bool(drop_duplicates), "" if weld is None else str(weld),
+                            "" if max_overlap is None else str(max_overlap)))
 
 
 def diagnose(data, alpha=0.05, max_harmonic=6, noise=None, load_torque=None, load_angle=None, study=None,

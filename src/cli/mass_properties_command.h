@@ -27,11 +27,12 @@ struct MassPropertiesRequest {
   int rays = 256;
   bool drop_duplicates = false;  ///< remove repeated triangles (and say so) instead of refusing
   std::string weld;              ///< weld tolerance, a length ("0.0001 mm"); "0" none; "" the default
+  std::string max_overlap;       ///< overlap accepted, a share of the part's volume ("1e-6"); "" the default
 };
 
-/// The `--json` object of those meshes, with "warnings" (a unit that looks wrong, a ray-cast
-/// check that differs). Throws geometry::MeshCheckError (a poise::Error) for a bad mesh or
-/// argument, naming the file and what is wrong.
+/// The `--json` object of those meshes, with "warnings" (a unit that looks wrong, what was
+/// welded or dropped, an overlap accepted). Throws geometry::MeshCheckError (a poise::Error)
+/// for a bad argument, or for bad meshes with every defect of each, one per line.
 nlohmann::json mass_properties_json(const MassPropertiesRequest& request);
 
 /// Registers the `mass-properties` subcommand on app; call the handler after parsing.

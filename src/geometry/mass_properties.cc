@@ -50,6 +50,65 @@ Moments exact_moments(const Assembly& parts) {
   return m;
 }
 
+RayCastStats& RayCastStats::operator+=(const RayCastStats& o) {
+  rays += o.rays;
+  crossings += o.crossings;
+  open_rays += o.open_rays;
+  overlap_rays += o.overlap_rays;
+  overlap_volume_m3 += o.overlap_volume_m3;
+  overlap_box.extend(o.overlap_box);
+  return *this;
+}
+
+namespace {
+
+// One ray of the grid: origin o, direction d (a unit axis), its cell of area h^2 across the
+// axes u and v.
+struct GridRay {
+  Eigen::Vector3d o, d;
+  double h = 0.0, merge_tol = 0.0;
+  int u = 0, v = 1;
+};
+
+// The moments along one ray from its sorted crossings; its overlap (winding >= 2) noted.
+void integrate_ray(const std::vector<EmbreeScene::Crossing>& xs, const std::vector<double>& densities,
+                   const GridRay& ray, Moments& acc, RayCastStats& st) {
+  const Eigen::Vector3d& o = ray.o;
+  const Eigen::Vector3d& d = ray.d;
+  const double dA = ray.h * ray.h;
+  ++st.rays;
+  st.crossings += xs.size();
+  // Winding per geometry: each mesh's own shells define its inside.
+  double w_rho = 0.0;  // sum over meshes of density * winding
+  int w_total = 0;
+  bool overlap = false;
+  for (std::size_t k = 0; k + 1 < xs.size(); ++k) {
+    w_rho += xs[k].sign * densities[xs[k].geom];
+    w_total += xs[k].sign;
+    const double t0 = xs[k].t, t1 = xs[k + 1].t;
+    if (w_total >= 2 && t1 - t0 > ray.merge_tol) {
+      overlap = true;
+      st.overlap_volume_m3 += (w_total - 1) * (t1 - t0) * dA;
+      Eigen::Vector3d half = Eigen::Vector3d::Zero();
+      half[ray.u] = half[ray.v] = ray.h / 2.0;
+      st.overlap_box.extend(o + t0 * d - half);
+      st.overlap_box.extend(o + t1 * d + half);
+    }
+    if (w_rho == 0.0 || t1 <= t0) continue;
+    const double len = t1 - t0, q2 = (t1 * t1 - t0 * t0) / 2.0, q3 = (t1 * t1 * t1 - t0 * t0 * t0) / 3.0;
+    const double wgt = w_rho * dA;
+    acc.mass += wgt * len;
+    acc.first += wgt * (o * len + d * q2);
+    acc.second +=
+        wgt * (o * o.transpose() * len + (o * d.transpose() + d * o.transpose()) * q2 + d * d.transpose() * q3);
+  }
+  if (!xs.empty()) w_total += xs.back().sign;
+  if (w_total != 0) ++st.open_rays;
+  if (overlap) ++st.overlap_rays;
+}
+
+}  // namespace
+
 Moments raycast_moments(const EmbreeScene& scene, const std::vector<double>& densities, const RayGridOptions& opt,
                         RayCastStats* stats) {
   require(opt.axis >= 0 && opt.axis <= 2, "raycast_moments: axis must be 0, 1 or 2");
@@ -68,62 +127,34 @@ Moments raycast_moments(const EmbreeScene& scene, const std::vector<double>& den
   // Centre the grid on the box so a symmetric body meets a symmetric grid.
   const double u0 = box.center()[u] - 0.5 * nu * h, v0 = box.center()[v] - 0.5 * nv * h;
   const double start = box.min()[a] - 0.01 * ext[a] - 1e-6;
-  const double merge_tol = 1e-9 * (ext.norm() + 1e-3);
-  Eigen::Vector3d d = Eigen::Vector3d::Zero();
-  d[a] = 1.0;
-  const double dA = h * h;
+  GridRay proto;
+  proto.d = Eigen::Vector3d::Zero();
+  proto.d[a] = 1.0;
+  proto.h = h;
+  proto.merge_tol = 1e-9 * (ext.norm() + 1e-3);
+  proto.u = u;
+  proto.v = v;
 
   std::vector<Moments> rows(nu);
   std::vector<RayCastStats> row_stats(nu);
   tbb::parallel_for(0, nu, [&](int i) {
     const EmbreeThreadFlags flags;
     std::vector<EmbreeScene::Crossing> xs;
-    Moments& acc = rows[i];
-    RayCastStats& st = row_stats[i];
+    GridRay ray = proto;
     for (int j = 0; j < nv; ++j) {
-      Eigen::Vector3d o;
-      o[a] = start;
-      o[u] = u0 + (i + 0.5) * h;
-      o[v] = v0 + (j + 0.5) * h;
-      scene.trace_all(o, d, merge_tol, xs);
-      ++st.rays;
-      st.crossings += xs.size();
-      // Winding per geometry: each mesh's own shells define its inside.
-      double w_rho = 0.0;  // sum over meshes of density * winding
-      int w_total = 0;
-      bool overlap = false;
-      for (std::size_t k = 0; k + 1 < xs.size(); ++k) {
-        w_rho += xs[k].sign * densities[xs[k].geom];
-        w_total += xs[k].sign;
-        const double t0 = xs[k].t, t1 = xs[k + 1].t;
-        if (w_total >= 2 && t1 - t0 > merge_tol) overlap = true;
-        if (w_rho == 0.0 || t1 <= t0) continue;
-        const double len = t1 - t0, q2 = (t1 * t1 - t0 * t0) / 2.0, q3 = (t1 * t1 * t1 - t0 * t0 * t0) / 3.0;
-        const double wgt = w_rho * dA;
-        acc.mass += wgt * len;
-        acc.first += wgt * (o * len + d * q2);
-        acc.second += wgt * (o * o.transpose() * len + (o * d.transpose() + d * o.transpose()) * q2 +
-                             d * d.transpose() * q3);
-      }
-      if (!xs.empty()) w_total += xs.back().sign;
-      if (w_total != 0) ++st.open_rays;
-      if (overlap) ++st.overlap_rays;
+      ray.o[a] = start;
+      ray.o[u] = u0 + (i + 0.5) * h;
+      ray.o[v] = v0 + (j + 0.5) * h;
+      scene.trace_all(ray.o, ray.d, ray.merge_tol, xs);
+      integrate_ray(xs, densities, ray, rows[i], row_stats[i]);
     }
   });
   RayCastStats s;
   for (int i = 0; i < nu; ++i) {
     total += rows[i];
-    s.rays += row_stats[i].rays;
-    s.crossings += row_stats[i].crossings;
-    s.open_rays += row_stats[i].open_rays;
-    s.overlap_rays += row_stats[i].overlap_rays;
+    s += row_stats[i];
   }
-  if (stats) {
-    stats->rays += s.rays;
-    stats->crossings += s.crossings;
-    stats->open_rays += s.open_rays;
-    stats->overlap_rays += s.overlap_rays;
-  }
+  if (stats) *stats += s;
   return total;
 }
 

@@ -79,4 +79,25 @@ void remove_degenerate(Mesh& mesh) {
   std::erase_if(mesh.triangles, bad);
 }
 
+void remove_triangles(Mesh& mesh, const std::vector<std::size_t>& ascending) {
+  if (ascending.empty()) return;
+  const bool lines = mesh.triangle_lines.size() == mesh.triangles.size();
+  std::size_t out = 0, next = 0;
+  for (std::size_t k = 0; k < mesh.triangles.size(); ++k) {
+    if (next < ascending.size() && ascending[next] == k) {
+      ++next;
+      continue;
+    }
+    mesh.triangles[out] = mesh.triangles[k];
+    if (lines) mesh.triangle_lines[out] = mesh.triangle_lines[k];
+    ++out;
+  }
+  mesh.triangles.resize(out);
+  if (lines) {
+    mesh.triangle_lines.resize(out);
+  } else {
+    mesh.triangle_lines.clear();
+  }
+}
+
 }  // namespace poise::geometry

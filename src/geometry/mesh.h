@@ -25,6 +25,9 @@ struct Mesh {
   /// Line of the file each triangle came from (OBJ face, ASCII STL facet); empty when the
   /// mesh was generated or read from binary STL. Messages about a triangle name its line.
   std::vector<std::size_t> triangle_lines;
+  /// Metres per length unit of the file the mesh was read from (set by the loaders): messages
+  /// give coordinates and sizes in that unit (geometry/mesh_text.h). 1 for a generated mesh.
+  double unit_m = 1.0;
 
   /// Appends another mesh's vertices and triangles (indices shifted).
   void append(const Mesh& other);
@@ -44,5 +47,8 @@ std::string check_closed(const Mesh& mesh);
 
 /// Removes triangles with repeated vertex indices (zero area by construction).
 void remove_degenerate(Mesh& mesh);
+
+/// Removes the triangles whose indices are listed (ascending), with their file lines.
+void remove_triangles(Mesh& mesh, const std::vector<std::size_t>& ascending);
 
 }  // namespace poise::geometry

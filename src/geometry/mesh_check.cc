@@ -8,6 +8,9 @@
 #include <numbers>
 #include <numeric>
 
+#include "geometry/mesh_gaps.h"
+#include "geometry/mesh_needles.h"
+
 namespace poise::geometry {
 namespace {
 
@@ -61,14 +64,6 @@ double solid_angle(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eig
 
 }  // namespace
 
-std::string describe_triangle(const Mesh& mesh, std::size_t k) {
-  std::string s = "triangle " + std::to_string(k);
-  if (mesh.triangle_lines.size() == mesh.triangles.size() && k < mesh.triangle_lines.size()) {
-    s += " (line " + std::to_string(mesh.triangle_lines[k]) + ")";
-  }
-  return s;
-}
-
 namespace {
 
 // A triangle's vertices from its smallest index on, keeping its winding: equal for the same
@@ -95,18 +90,7 @@ std::vector<std::size_t> repeated_triangles(const Mesh& mesh) {
 
 std::size_t drop_duplicate_triangles(Mesh& mesh) {
   const std::vector<std::size_t> repeats = repeated_triangles(mesh);
-  if (repeats.empty()) return 0;
-  std::vector<char> drop(mesh.triangles.size(), 0);
-  for (std::size_t k : repeats) drop[k] = 1;
-  std::size_t out = 0;
-  for (std::size_t k = 0; k < mesh.triangles.size(); ++k) {
-    if (drop[k]) continue;
-    mesh.triangles[out] = mesh.triangles[k];
-    if (k < mesh.triangle_lines.size()) mesh.triangle_lines[out] = mesh.triangle_lines[k];
-    ++out;
-  }
-  mesh.triangles.resize(out);
-  if (!mesh.triangle_lines.empty()) mesh.triangle_lines.resize(out);
+  remove_triangles(mesh, repeats);
   return repeats.size();
 }
 
@@ -126,24 +110,37 @@ void note_repeats(const Mesh& mesh, MeshCheck& r) {
 
 }  // namespace
 
-MeshCheck check_mesh(const Mesh& mesh) {
-  MeshCheck r;
-  note_repeats(mesh, r);
-  const std::size_t n = mesh.triangles.size();
-  std::vector<char> usable(n, 1);
+namespace {
+
+// What the edge pass finds besides the counts in MeshCheck: which triangles take part, the
+// two-triangle links for the orientation walk, the shells, the open edges.
+struct Surface {
+  explicit Surface(std::size_t n) : usable(n, 1), links(n), link_count(n, 0), shells(n) {}
+  struct Link {
+    std::uint32_t other;
+    bool same_way;  // both triangles run the shared edge the same way: one of them is flipped
+  };
+  std::vector<char> usable;  // not a repeated vertex
+  // At most three two-triangle edges per triangle: fixed slots, no allocation per triangle.
+  std::vector<std::array<Link, 3>> links;
+  std::vector<std::uint8_t> link_count;
+  UnionFind shells;
+  std::vector<Edge> open;
+  std::vector<std::size_t> shell_of;
+};
+
+// Every triangle's three edges, sorted (see HalfEdge); degenerate and zero-area ones noted.
+std::vector<HalfEdge> half_edges(const Mesh& mesh, MeshCheck& r, Surface& s) {
   std::vector<HalfEdge> edges;
-  edges.reserve(3 * n);
-  for (std::size_t k = 0; k < n; ++k) {
+  edges.reserve(3 * mesh.triangles.size());
+  for (std::size_t k = 0; k < mesh.triangles.size(); ++k) {
     const Triangle& t = mesh.triangles[k];
     if (t[0] == t[1] || t[1] == t[2] || t[0] == t[2]) {
       note(r.degenerate_triangles, k);
-      usable[k] = 0;
+      s.usable[k] = 0;
       continue;
     }
-    const Eigen::Vector3d& a = mesh.vertices[t[0]];
-    const double lmax2 = std::max({(mesh.vertices[t[1]] - a).squaredNorm(), (mesh.vertices[t[2]] - a).squaredNorm(),
-                                   (mesh.vertices[t[2]] - mesh.vertices[t[1]]).squaredNorm()});
-    if (mesh.face_normal(k).norm() <= 1e-12 * lmax2) note(r.degenerate_triangles, k);
+    if (zero_area(mesh, k)) note(r.zero_area_triangles, k);
     for (int e = 0; e < 3; ++e) {
       const std::uint32_t p = t[e], q = t[(e + 1) % 3];
       const std::uint64_t key = static_cast<std::uint64_t>(std::min(p, q)) << 32 | std::max(p, q);
@@ -152,15 +149,11 @@ MeshCheck check_mesh(const Mesh& mesh) {
   }
   std::sort(edges.begin(), edges.end(),
             [](const HalfEdge& x, const HalfEdge& y) { return x.key != y.key ? x.key < y.key : x.tri < y.tri; });
+  return edges;
+}
 
-  UnionFind shells(n);
-  struct Link {
-    std::uint32_t other;
-    bool same_way;  // both triangles run the shared edge the same way: one of them is flipped
-  };
-  // At most three two-triangle edges per triangle: fixed slots, no allocation per triangle.
-  std::vector<std::array<Link, 3>> links(n);
-  std::vector<std::uint8_t> link_count(n, 0);
+// Open, shared and non-manifold edges; links across two-triangle edges; shells joined.
+void pair_edges(const std::vector<HalfEdge>& edges, MeshCheck& r, Surface& s) {
   for (std::size_t i = 0; i < edges.size();) {
     std::size_t j = i + 1;
     while (j < edges.size() && edges[j].key == edges[i].key) ++j;
@@ -168,6 +161,7 @@ MeshCheck check_mesh(const Mesh& mesh) {
     const std::size_t first = edges[i].tri;  // sorted by triangle within the edge
     if (uses == 1) {
       note(r.open_edges, first);
+      s.open.push_back({static_cast<std::uint32_t>(edges[i].key >> 32), static_cast<std::uint32_t>(edges[i].key)});
     } else if (uses > 2) {
       // Closed solids meeting along an edge (touching bodies in one export) use it as often
       // in each direction: the surface still bounds a region. Otherwise it is not manifold.
@@ -176,37 +170,42 @@ MeshCheck check_mesh(const Mesh& mesh) {
       note(2 * forward == uses ? r.shared_edges : r.non_manifold_edges, first);
     } else {
       const bool same = edges[i].forward == edges[i + 1].forward;
-      links[edges[i].tri][link_count[edges[i].tri]++] = {edges[i + 1].tri, same};
-      links[edges[i + 1].tri][link_count[edges[i + 1].tri]++] = {edges[i].tri, same};
+      s.links[edges[i].tri][s.link_count[edges[i].tri]++] = {edges[i + 1].tri, same};
+      s.links[edges[i + 1].tri][s.link_count[edges[i + 1].tri]++] = {edges[i].tri, same};
     }
-    for (std::size_t k = i + 1; k < j; ++k) shells.unite(edges[i].tri, edges[k].tri);
+    for (std::size_t k = i + 1; k < j; ++k) s.shells.unite(edges[i].tri, edges[k].tri);
     i = j;
   }
+}
 
-  // Shells in order of their lowest triangle (the union-find root).
-  std::vector<std::size_t> shell_of(n, 0);
+// Shells in order of their lowest triangle (the union-find root), with their signed volumes.
+void collect_shells(const Mesh& mesh, MeshCheck& r, Surface& s) {
+  const std::size_t n = mesh.triangles.size();
+  s.shell_of.assign(n, 0);
   std::vector<std::size_t> index_of_root(n, std::numeric_limits<std::size_t>::max());
   for (std::size_t k = 0; k < n; ++k) {
-    if (!usable[k]) continue;
-    const std::size_t root = shells.find(k);
+    if (!s.usable[k]) continue;
+    const std::size_t root = s.shells.find(k);
     if (index_of_root[root] == std::numeric_limits<std::size_t>::max()) {
       index_of_root[root] = r.shells.size();
       r.shells.push_back({root, 0, 0.0, false});
     }
-    Shell& s = r.shells[index_of_root[root]];
-    shell_of[k] = index_of_root[root];
+    Shell& shell = r.shells[index_of_root[root]];
+    s.shell_of[k] = index_of_root[root];
     const Triangle& t = mesh.triangles[k];
-    s.volume_m3 += mesh.vertices[t[0]].dot(mesh.vertices[t[1]].cross(mesh.vertices[t[2]])) / 6.0;
-    ++s.triangles;
+    shell.volume_m3 += mesh.vertices[t[0]].dot(mesh.vertices[t[1]].cross(mesh.vertices[t[2]])) / 6.0;
+    ++shell.triangles;
   }
-  for (const Shell& s : r.shells) r.volume_m3 += s.volume_m3;
+  for (const Shell& shell : r.shells) r.volume_m3 += shell.volume_m3;
+}
 
-  // Orientation: walk each patch (triangles joined by two-triangle edges) from its first
-  // triangle, flipping the parity across every edge run the same way; the triangles of the
-  // smaller parity class are the flipped ones.
+// Orientation: walk each patch (triangles joined by two-triangle edges) from its first
+// triangle, flipping the parity across every edge run the same way; the triangles of the
+// smaller parity class are the flipped ones.
+void walk_orientation(std::size_t n, MeshCheck& r, const Surface& s) {
   std::vector<signed char> parity(n, -1);
   for (std::size_t start = 0; start < n; ++start) {
-    if (!usable[start] || parity[start] >= 0) continue;
+    if (!s.usable[start] || parity[start] >= 0) continue;
     std::vector<std::uint32_t> stack{static_cast<std::uint32_t>(start)}, members;
     parity[start] = 0;
     bool orientable = true;
@@ -214,8 +213,8 @@ MeshCheck check_mesh(const Mesh& mesh) {
       const std::uint32_t k = stack.back();
       stack.pop_back();
       members.push_back(k);
-      for (std::uint8_t j = 0; j < link_count[k]; ++j) {
-        const Link& l = links[k][j];
+      for (std::uint8_t j = 0; j < s.link_count[k]; ++j) {
+        const Surface::Link& l = s.links[k][j];
         const signed char want = static_cast<signed char>(parity[k] ^ (l.same_way ? 1 : 0));
         if (parity[l.other] < 0) {
           parity[l.other] = want;
@@ -229,16 +228,34 @@ MeshCheck check_mesh(const Mesh& mesh) {
     for (const auto k : members) ones += parity[k];
     const int minority = 2 * ones <= members.size() ? 1 : 0;
     for (const auto k : members) {
-      if (!orientable ? false : parity[k] == minority) note(r.flipped_triangles, k);
+      if (orientable && parity[k] == minority) note(r.flipped_triangles, k);
     }
     if (!orientable) note(r.non_orientable_shells, start);
   }
+}
 
-  const std::string& name = mesh.name;
-  if (r.open_edges.count) {
-    r.errors.push_back(name + ": not closed: " + plural(r.open_edges.count, "open edge", "open edges") +
-                       ", the first at " + describe_triangle(mesh, r.open_edges.first_triangle));
+// "not closed: ..." with where the first open edge is and how wide the widest gap.
+std::string open_edges_error(const Mesh& mesh, const MeshCheck& r, const std::vector<Edge>& open) {
+  std::string msg = mesh.name + ": not closed: " + plural(r.open_edges.count, "open edge", "open edges") +
+                    ", the first at " + describe_triangle(mesh, r.open_edges.first_triangle);
+  const Gap gap = widest_gap(mesh, open);
+  if (gap.width_m < 0.0) return msg;
+  msg += "; the widest gap is " + describe_length(mesh, gap.width_m) + " across, near " +
+         describe_point(mesh, gap.where);
+  // A crack far narrower than the part: welding its sides would close it.
+  if (gap.width_m == 0.0) {
+    msg += " (vertices that coincide but are not shared: a weld joins them, --weld 0 keeps them apart)";
+  } else if (gap.width_m <= 1e-3 * mesh.bounds().diagonal().norm()) {
+    msg += " (a crack: --weld \"" + describe_length(mesh, 2.0 * gap.width_m) + "\" would join its sides)";
   }
+  return msg;
+}
+
+// One sentence per topological defect; zero-area triangles count as degenerate only where
+// the surface is not closed (in a closed one they fill T-junctions and add no volume).
+void topology_errors(const Mesh& mesh, MeshCheck& r, const Surface& s) {
+  const std::string& name = mesh.name;
+  if (r.open_edges.count) r.errors.push_back(open_edges_error(mesh, r, s.open));
   if (r.non_manifold_edges.count) {
     r.errors.push_back(name + ": not manifold: " + plural(r.non_manifold_edges.count, "edge shared", "edges shared") +
                        " by three or more triangles that do not pair up (as many running each way), the first at " +
@@ -255,24 +272,33 @@ MeshCheck check_mesh(const Mesh& mesh) {
                        " no consistent inside (a one-sided surface), the first from " +
                        describe_triangle(mesh, r.non_orientable_shells.first_triangle));
   }
-  if (r.degenerate_triangles.count) {
-    r.errors.push_back(name + ": " +
-                       plural(r.degenerate_triangles.count, "degenerate triangle", "degenerate triangles") +
-                       " (a repeated vertex or zero area), the first is " +
-                       describe_triangle(mesh, r.degenerate_triangles.first_triangle));
+  const bool closed = !r.open_edges.count && !r.non_manifold_edges.count && !r.flipped_triangles.count &&
+                      !r.non_orientable_shells.count;
+  Defect degenerate = r.degenerate_triangles;
+  if (!closed && r.zero_area_triangles.count) {
+    degenerate.first_triangle = degenerate.count ? std::min(degenerate.first_triangle, r.zero_area_triangles.first_triangle)
+                                                 : r.zero_area_triangles.first_triangle;
+    degenerate.count += r.zero_area_triangles.count;
   }
-  // Signs mean something only on a closed, consistently oriented surface.
-  if (!r.errors.empty()) return r;
+  if (degenerate.count) {
+    r.errors.push_back(name + ": " + plural(degenerate.count, "degenerate triangle", "degenerate triangles") +
+                       " (a repeated vertex or zero area), the first is " +
+                       describe_triangle(mesh, degenerate.first_triangle));
+  }
+  r.degenerate_triangles = degenerate;
+}
 
-  // A shell of negative volume is a cavity if a point just inside it lies inside the other
-  // shells (winding number >= 1 from their solid angles), else it is inside out.
+// A shell of negative volume is a cavity if a point just inside it lies inside the other
+// shells (winding number >= 1 from their solid angles), else it is inside out.
+void judge_shell_signs(const Mesh& mesh, MeshCheck& r, const Surface& s) {
+  const std::size_t n = mesh.triangles.size();
   for (std::size_t i = 0; i < r.shells.size(); ++i) {
-    Shell& s = r.shells[i];
-    if (s.volume_m3 >= 0.0) continue;
-    std::size_t best = s.first_triangle;
+    Shell& shell = r.shells[i];
+    if (shell.volume_m3 >= 0.0) continue;
+    std::size_t best = shell.first_triangle;
     Eigen::AlignedBox3d box;
     for (std::size_t k = 0; k < n; ++k) {
-      if (!usable[k] || shell_of[k] != i) continue;
+      if (!s.usable[k] || s.shell_of[k] != i) continue;
       if (mesh.face_normal(k).squaredNorm() > mesh.face_normal(best).squaredNorm()) best = k;
       for (int e = 0; e < 3; ++e) box.extend(mesh.vertices[mesh.triangles[k][e]]);
     }
@@ -282,23 +308,37 @@ MeshCheck check_mesh(const Mesh& mesh) {
     const Eigen::Vector3d p = centroid + 1e-6 * box.diagonal().norm() * mesh.face_normal(best).normalized();
     double omega = 0.0;
     for (std::size_t k = 0; k < n; ++k) {
-      if (!usable[k] || shell_of[k] == i) continue;
+      if (!s.usable[k] || s.shell_of[k] == i) continue;
       const Triangle& q = mesh.triangles[k];
       omega += solid_angle(mesh.vertices[q[0]] - p, mesh.vertices[q[1]] - p, mesh.vertices[q[2]] - p);
     }
-    const double winding = omega / (4.0 * std::numbers::pi);
-    if (winding > 0.5) {
-      s.cavity = true;
+    if (omega / (4.0 * std::numbers::pi) > 0.5) {
+      shell.cavity = true;
       continue;
     }
-    r.errors.push_back(name + ": shell " + std::to_string(i + 1) + " of " + std::to_string(r.shells.size()) + " (" +
-                       plural(s.triangles, "triangle", "triangles") + " from " +
-                       describe_triangle(mesh, s.first_triangle) + ") has negative volume (" + number(s.volume_m3) +
-                       " m^3) and lies inside no other shell: it is inside out "
-                       "(its normals point inwards)");
+    r.errors.push_back(mesh.name + ": shell " + std::to_string(i + 1) + " of " + std::to_string(r.shells.size()) +
+                       " (" + plural(shell.triangles, "triangle", "triangles") + " from " +
+                       describe_triangle(mesh, shell.first_triangle) + ") has negative volume (" +
+                       describe_volume(mesh, shell.volume_m3) +
+                       ") and lies inside no other shell: it is inside out (its normals point inwards)");
   }
+}
+
+}  // namespace
+
+MeshCheck check_mesh(const Mesh& mesh) {
+  MeshCheck r;
+  note_repeats(mesh, r);
+  Surface s(mesh.triangles.size());
+  pair_edges(half_edges(mesh, r, s), r, s);
+  collect_shells(mesh, r, s);
+  walk_orientation(mesh.triangles.size(), r, s);
+  topology_errors(mesh, r, s);
+  // Signs mean something only on a closed, consistently oriented surface.
+  if (!r.errors.empty()) return r;
+  judge_shell_signs(mesh, r, s);
   if (r.errors.empty() && !(r.volume_m3 > 0.0)) {
-    r.errors.push_back(name + ": total volume " + number(r.volume_m3) + " m^3 is not positive");
+    r.errors.push_back(mesh.name + ": total volume " + describe_volume(mesh, r.volume_m3) + " is not positive");
   }
   return r;
 }

@@ -10,20 +10,27 @@
 ///                       edges are counted as shared_edges and accepted)
 ///   inconsistent        triangles wound against their neighbours (an edge both its
 ///     orientation       triangles run the same way): the minority of the shell is flipped
-///   degenerate          a triangle with a repeated vertex or of zero area (collinear
-///     triangle          vertices, area below 1e-12 of its longest edge squared)
+///   degenerate          a triangle with a repeated vertex, or of zero area (collinear
+///     triangle          vertices, area below 1e-12 of its longest edge squared) in a surface
+///                       that is not closed. In a closed surface a zero-area triangle fills a
+///                       T-junction (a vertex on another triangle's edge) and adds no volume:
+///                       it is counted (zero_area_triangles), not refused; load_mesh() has
+///                       already dropped those the surface does not need (mesh_needles.h)
 ///   shells              connected components (triangles sharing an edge) and their signed
 ///                       volumes: one of negative volume is inside out, unless it lies inside
 ///                       another shell (the wall of an internal cavity, which removes material)
 /// Several closed shells in one file are one part (a screw and its washer, a frame in pieces).
 /// Shells that overlap (two solids exported into one another) are not found here: the ray
 /// cast finds them (RayCastStats::overlap_rays, mass_properties.h).
+/// Messages give places in the file's unit (geometry/mesh_text.h) and the width of the widest
+/// gap of an open surface (geometry/mesh_gaps.h).
 #include <cstddef>
 #include <string>
 #include <vector>
 
 #include "core/error.h"
 #include "geometry/mesh.h"
+#include "geometry/mesh_text.h"
 
 namespace poise::geometry {
 
@@ -49,6 +56,9 @@ struct Defect {
 
 struct MeshCheck {
   Defect open_edges, non_manifold_edges, degenerate_triangles;
+  /// Zero-area triangles with three distinct vertices. Degenerate (and counted there too)
+  /// when the surface is not closed; accepted when it is (they fill T-junctions).
+  Defect zero_area_triangles;
   /// Triangles that repeat another with the same three vertices in the same winding: a face
   /// (or a whole shell) exported twice, whose volume the divergence theorem would count twice.
   /// (The same face wound the other way is two bodies touching, not a duplicate.)
@@ -62,7 +72,8 @@ struct MeshCheck {
   std::vector<Shell> shells;                        ///< in order of their first triangle
   double volume_m3 = 0.0;                           ///< sum of the shells' signed volumes
   /// One sentence per defect, each starting "<mesh name>: ", e.g.
-  /// "disk.stl: not closed: 3 open edges, the first at triangle 1799 (line 12596)".
+  /// "disk.stl: not closed: 3 open edges, the first at triangle 1799 (line 12596) at
+  /// (12.5, -3, 40) mm; the widest gap is 0.5 mm across, near (12, -3, 40) mm".
   std::vector<std::string> errors;
   bool ok() const { return errors.empty(); }
 };
@@ -83,7 +94,5 @@ MeshCheck require_valid_mesh(const Mesh& mesh);
 /// `unit` is the name the lengths were read in ("mm", "m", "in", "cm"), `unit_m` its size.
 std::string unit_warning(const Mesh& mesh, const std::string& unit, double unit_m);
 
-/// "triangle 1799" or, when the mesh knows its file lines, "triangle 1799 (line 12596)".
-std::string describe_triangle(const Mesh& mesh, std::size_t k);
 
 }  // namespace poise::geometry

@@ -14,6 +14,9 @@
 #include <unordered_map>
 #include <vector>
 
+#include "geometry/mesh_needles.h"
+#include "geometry/polygon_triangulation.h"
+
 namespace poise::geometry {
 namespace {
 
@@ -90,6 +93,7 @@ class VertexWelder {
 Mesh read_stl_ascii(const std::string& bytes, const std::string& name, double unit_m) {
   Mesh mesh;
   mesh.name = name;
+  mesh.unit_m = unit_m;
   VertexWelder weld(mesh);
   std::istringstream in(bytes);
   std::string line;
@@ -174,6 +178,7 @@ Mesh read_stl_ascii(const std::string& bytes, const std::string& name, double un
 Mesh read_stl_binary(const std::string& bytes, const std::string& name, double unit_m) {
   Mesh mesh;
   mesh.name = name;
+  mesh.unit_m = unit_m;
   VertexWelder weld(mesh);
   std::uint32_t n = 0;
   std::memcpy(&n, bytes.data() + 80, 4);
@@ -204,6 +209,7 @@ Mesh read_stl_binary(const std::string& bytes, const std::string& name, double u
 Mesh read_obj(std::istream& in, const std::string& name, double unit_m) {
   Mesh mesh;
   mesh.name = name;
+  mesh.unit_m = unit_m;
   std::string line;
   std::size_t ln = 0;
   while (std::getline(in, line)) {
@@ -244,8 +250,8 @@ Mesh read_obj(std::istream& in, const std::string& name, double unit_m) {
         }
         poly.push_back(static_cast<std::uint32_t>(resolved));
       }
-      for (std::size_t k = 1; k + 1 < poly.size(); ++k) {
-        mesh.triangles.push_back({poly[0], poly[k], poly[k + 1]});
+      for (const Triangle& t : triangulate_polygon(mesh.vertices, poly)) {
+        mesh.triangles.push_back(t);
         mesh.triangle_lines.push_back(ln);
       }
     } else if (kw == "vt" || kw == "vn" || kw == "vp" || kw == "o" || kw == "g" || kw == "s" || kw == "usemtl" ||
@@ -286,7 +292,7 @@ Mesh read_stl(const std::string& bytes, const std::string& name, double unit_m) 
                         " bytes" + (bytes.size() < expected ? " (truncated in triangle " + std::to_string(whole) + ")" : ""));
 }
 
-Mesh load_mesh(const std::string& path, double unit_m, WeldReport* weld, double weld_m) {
+Mesh load_mesh(const std::string& path, double unit_m, LoadReport* report, double weld_m) {
   std::ifstream in(path, std::ios::binary);
   if (!in) throw Error("cannot read mesh file " + path);
   const std::string ext = lower(path.size() >= 4 ? path.substr(path.size() - 4) : "");
@@ -300,8 +306,10 @@ Mesh load_mesh(const std::string& path, double unit_m, WeldReport* weld, double 
   } else {
     throw Error(path + ": unknown mesh format (expected a .obj or .stl file)");
   }
-  const WeldReport w = weld_vertices(mesh, weld_m < 0.0 ? default_weld_tolerance(mesh) : weld_m);
-  if (weld) *weld = w;
+  LoadReport r;
+  r.weld = weld_vertices(mesh, weld_m < 0.0 ? default_weld_tolerance(mesh) : weld_m);
+  r.needles = drop_needles(mesh);
+  if (report) *report = r;
   return mesh;
 }
 

@@ -2,7 +2,7 @@
 /// Reading and writing meshes: Wavefront OBJ and STL (binary and ASCII).
 ///
 /// OBJ: `v x y z [w]` (or `v x y z r g b`) vertices, `f i j k ...` faces (polygons are
-/// fanned into triangles; `i`, `i/t`, `i//n`, `i/t/n` and negative, relative indices
+/// triangulated by ear clipping, geometry/polygon_triangulation.h; `i`, `i/t`, `i//n`, `i/t/n` and negative, relative indices
 /// accepted); `vt`, `vn`, `vp`, `o`, `g`, `s`, `usemtl`, `mtllib`, `l`, `p` and comments
 /// are skipped; any other statement is an error.
 /// STL: binary when the size is exactly 84 + 50 n bytes for the n the header declares,
@@ -19,6 +19,7 @@
 
 #include "core/error.h"
 #include "geometry/mesh.h"
+#include "geometry/mesh_needles.h"
 #include "geometry/mesh_weld.h"
 
 namespace poise::geometry {
@@ -28,10 +29,18 @@ class MeshFormatError : public Error {
   using Error::Error;
 };
 
+/// What load_mesh() repaired: vertices welded, zero-area triangles the surface does not need.
+struct LoadReport {
+  WeldReport weld;
+  NeedleReport needles;
+};
+
 /// By extension (.obj, .stl, case-insensitive); the same for both: vertices closer than the
 /// weld tolerance are welded (geometry/mesh_weld.h), `weld_m` in metres (< 0: the default,
-/// relative to the part's size; 0: none), and what was welded goes to `weld` if given.
-Mesh load_mesh(const std::string& path, double unit_m = 1.0, WeldReport* weld = nullptr, double weld_m = -1.0);
+/// relative to the part's size; 0: none), then the zero-area triangles the surface does not
+/// need are dropped (geometry/mesh_needles.h); what was done goes to `report` if given. The
+/// mesh remembers `unit_m` (Mesh::unit_m), so messages give coordinates in the file's unit.
+Mesh load_mesh(const std::string& path, double unit_m = 1.0, LoadReport* report = nullptr, double weld_m = -1.0);
 Mesh read_obj(std::istream& in, const std::string& name, double unit_m = 1.0);
 /// `bytes`: the whole file.
 Mesh read_stl(const std::string& bytes, const std::string& name, double unit_m = 1.0);

@@ -1,6 +1,7 @@
 #include "engine/study_files/user_parts.h"
 
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <set>
 
@@ -12,6 +13,13 @@
 
 namespace poise::engine {
 namespace {
+
+// The share of a part's volume that overlapping shells may take: "1e-06".
+std::string overlap_share_text() {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%g", geometry::kMaxOverlapShare);
+  return buf;
+}
 
 using units::kDensity;
 
@@ -95,9 +103,13 @@ UserParts read_user_parts(TomlReader& table, const std::string& base_dir) {
       m.bounds().sizes().minCoeff(&grid.axis);
       geometry::RayCastStats stats;
       geometry::raycast_moments({{m, 1.0}}, grid, &stats);
-      if (stats.overlap_rays > 0) {
+      // Touching curved faces whose facets cross by their chord error overlap by a trace.
+      if (stats.overlap_rays > 0 && stats.overlap_volume_m3 > geometry::kMaxOverlapShare * check.volume_m3) {
         throw Error(p.mesh_file + ": shells overlap: " + std::to_string(stats.overlap_rays) + " of " +
-                    std::to_string(stats.rays) + " rays pass through material enclosed by two shells");
+                    std::to_string(stats.rays) + " rays pass through material enclosed by two shells, about " +
+                    geometry::describe_volume(m, stats.overlap_volume_m3) + " counted twice, " +
+                    geometry::describe_box(m, stats.overlap_box) + " (more than " + overlap_share_text() +
+                    " of the part's volume)");
       }
       p.triangles = m.triangles.size();
       p.shells = check.shells.size();

@@ -1,0 +1,232 @@
+#include "cli/mass_properties_parts.h"
+
+#include <charconv>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+
+#include "core/error.h"
+#include "core/units.h"
+#include "geometry/mesh_text.h"
+#include "geometry/rigid_body_inertia.h"
+
+namespace poise::cli::mass_properties {
+namespace {
+
+[[noreturn]] void refuse(const std::string& what) { throw geometry::MeshCheckError(what); }
+
+std::string g(double v, int digits = 3) {
+  char buf[48];
+  std::snprintf(buf, sizeof buf, "%.*g", digits, v);
+  return buf;
+}
+
+std::string count(std::size_t n, const std::string& one, const std::string& many) {
+  return std::to_string(n) + " " + (n == 1 ? one : many);
+}
+
+double unit_size(const std::string& unit) {
+  if (unit == "mm") return 1e-3;
+  if (unit == "cm") return 1e-2;
+  if (unit == "m") return 1.0;
+  if (unit == "in") return 0.0254;
+  if (unit.empty()) {
+    refuse(
+        "--unit is required: the length unit the mesh was exported in (mm, cm, m or in); STL and OBJ files do "
+        "not say");
+  }
+  refuse("--unit '" + unit + "': expected mm, cm, m or in (the length unit the mesh was exported in)");
+}
+
+// --rays as a number from 8 to 4096, or -1.
+int rays_per_side(const Options& opt) {
+  int n = 0;
+  const char* end = opt.rays.data() + opt.rays.size();
+  const auto [p, ec] = std::from_chars(opt.rays.data(), end, n);
+  return ec == std::errc() && p == end && n >= 8 && n <= 4096 ? n : -1;
+}
+
+// --weld in metres: -1 for the default, relative to the part.
+double weld_length(const Options& opt) {
+  if (opt.weld.empty()) return -1.0;
+  double weld_m = 0.0;
+  try {
+    weld_m = opt.weld == "0" ? 0.0 : units::parse_as(opt.weld, units::kLength);
+  } catch (const Error& e) {
+    refuse("--weld \"" + opt.weld + "\": " + e.what());
+  }
+  if (!(weld_m >= 0.0) || !std::isfinite(weld_m)) {
+    refuse("--weld \"" + opt.weld + "\": expected a length >= 0, e.g. \"0.0001 mm\"");
+  }
+  return weld_m;
+}
+
+// --max-overlap: a share of the part's volume from 0 (none accepted) to below 1.
+double overlap_share(const Options& opt) {
+  if (opt.max_overlap.empty()) return geometry::kMaxOverlapShare;
+  double share = -1.0;
+  const char* begin = opt.max_overlap.data();
+  const char* end = begin + opt.max_overlap.size();
+  const auto [p, ec] = std::from_chars(begin, end, share);
+  if (ec != std::errc() || p != end || !(share >= 0.0 && share < 1.0)) {
+    refuse("--max-overlap " + opt.max_overlap +
+           ": expected a share of the part's volume from 0 to below 1, e.g. 1e-6 (overlapping shells are "
+           "accepted up to it)");
+  }
+  return share;
+}
+
+// The arguments, checked before any mesh is read; each part's file, unit and density.
+std::vector<Part> parts_of(const Options& opt) {
+  if (opt.meshes.empty()) refuse("no mesh given: poise mass-properties MESH... --unit mm --density \"2700 kg/m^3\"");
+  if (opt.units.size() > 1 && opt.units.size() != opt.meshes.size()) {
+    refuse("--unit given " + std::to_string(opt.units.size()) + " times for " + std::to_string(opt.meshes.size()) +
+           " meshes: give one for all, or one per mesh in their order");
+  }
+  if (opt.densities.empty()) refuse("--density is required, e.g. --density \"2700 kg/m^3\" (aluminium)");
+  if (opt.densities.size() != 1 && opt.densities.size() != opt.meshes.size()) {
+    refuse("--density given " + std::to_string(opt.densities.size()) + " times for " +
+           std::to_string(opt.meshes.size()) + " meshes: give one for all, or one per mesh in their order");
+  }
+  if (!opt.extras.empty()) refuse("unknown argument '" + opt.extras.front() + "' (see poise mass-properties --help)");
+  if (rays_per_side(opt) < 0) {
+    refuse("--rays " + opt.rays + ": expected a whole number from 8 to 4096 (rays across the part)");
+  }
+  std::vector<Part> parts(opt.meshes.size());
+  for (std::size_t i = 0; i < parts.size(); ++i) {
+    Part& p = parts[i];
+    p.file = opt.meshes[i];
+    p.unit = opt.units.empty() ? std::string() : opt.units.size() == 1 ? opt.units[0] : opt.units[i];
+    p.unit_m = unit_size(p.unit);
+    const std::string& dtext = opt.densities.size() == 1 ? opt.densities[0] : opt.densities[i];
+    try {
+      p.density = units::parse_as(dtext, units::kDensity);
+    } catch (const Error& e) {
+      refuse("--density \"" + dtext + "\": " + e.what());
+    }
+    if (!(p.density > 0.0) || !std::isfinite(p.density)) {
+      refuse("--density \"" + dtext + "\": expected a positive density, e.g. \"2700 kg/m^3\"");
+    }
+  }
+  return parts;
+}
+
+// What reading the part repaired or found doubtful, one note each.
+void repair_notes(const Part& p, std::vector<std::string>& notes) {
+  if (const std::string w = geometry::unit_warning(p.mesh, p.unit, p.unit_m); !w.empty()) notes.push_back(w);
+  const geometry::WeldReport& weld = p.repairs.weld;
+  if (weld.merged_vertices > 0 || weld.dropped_triangles > 0) {
+    notes.push_back(p.file + ": welded " + std::to_string(weld.merged_vertices) + " vertices onto others within " +
+                    geometry::describe_length(p.mesh, weld.tolerance_m) +
+                    (weld.dropped_triangles > 0
+                         ? " and dropped the " + std::to_string(weld.dropped_triangles) +
+                               " triangles this left without area"
+                         : std::string()) +
+                    " (--weld sets the tolerance, \"0\" none)");
+  }
+  if (p.repairs.needles.dropped > 0) {
+    notes.push_back(p.file + ": dropped " +
+                    count(p.repairs.needles.dropped, "zero-area triangle", "zero-area triangles") +
+                    " the closed surface does not need (needles whose edges pair up among themselves; they enclose "
+                    "nothing), the first was " + p.repairs.needles.first);
+  }
+  if (p.dropped > 0) {
+    notes.push_back(p.file + ": dropped " + std::to_string(p.dropped) +
+                    " duplicate triangles (--drop-duplicates); the figures are those of the mesh without them");
+  }
+}
+
+// Overlapping shells: an error above the accepted share of the part's volume, else a note.
+void judge_overlap(const Part& p, const geometry::RayCastStats& stats, double max_share, Computed& c) {
+  if (stats.overlap_rays == 0) return;
+  const double share = stats.overlap_volume_m3 / std::abs(p.check.volume_m3);
+  const std::string what = "about " + geometry::describe_volume(p.mesh, stats.overlap_volume_m3) +
+                           " counted twice (" + g(share) + " of the part's volume; accepted up to " + g(max_share) +
+                           ", --max-overlap), " + geometry::describe_box(p.mesh, stats.overlap_box);
+  if (share > max_share) {
+    c.errors.push_back(p.file + ": shells overlap: " + std::to_string(stats.overlap_rays) + " of " +
+                       std::to_string(stats.rays) +
+                       " check rays pass through material enclosed by two shells (solids exported into one "
+                       "another), " + what + "; unite them in CAD, or export them as separate files");
+  } else {
+    c.notes.push_back(p.file + ": shells overlap by " + what +
+                      " (touching faces whose facets cross by their chord error); the figures include it");
+  }
+}
+
+// One part read, checked and integrated; its defects go to c.errors.
+void examine(Part& p, const Options& opt, double weld_m, double max_share, Computed& c) {
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(p.file, ec)) {
+    c.errors.push_back(p.file + ": no such mesh file (or not a regular file)");
+    return;
+  }
+  try {
+    p.mesh = geometry::load_mesh(p.file, p.unit_m, &p.repairs, weld_m);
+  } catch (const Error& e) {
+    c.errors.push_back(e.what());  // MeshFormatError (names file and line), unreadable file, unknown extension
+    return;
+  }
+  if (opt.drop_duplicates) p.dropped = geometry::drop_duplicate_triangles(p.mesh);
+  repair_notes(p, c.notes);
+  p.check = geometry::check_mesh(p.mesh);
+  if (!p.check.ok()) {
+    c.errors.insert(c.errors.end(), p.check.errors.begin(), p.check.errors.end());
+    return;
+  }
+  if (const geometry::Defect& z = p.check.zero_area_triangles; z.count > 0) {
+    c.notes.push_back(p.file + ": kept " + count(z.count, "zero-area triangle", "zero-area triangles") +
+                      " that close the surface (a vertex on another triangle's edge), the first is " +
+                      geometry::describe_triangle(p.mesh, z.first_triangle) + "; they add no volume");
+  }
+  p.exact = geometry::to_mass_properties(geometry::exact_moments(p.mesh, p.density));
+  // Rays along the part's thinnest side: a plate is crossed through its thickness, where
+  // each segment is integrated exactly, and sampled across its face.
+  geometry::RayGridOptions grid;
+  grid.rays_per_side = c.rays;
+  p.mesh.bounds().sizes().minCoeff(&grid.axis);
+  geometry::RayCastStats stats;
+  p.raycast = geometry::to_mass_properties(geometry::raycast_moments({{p.mesh, p.density}}, grid, &stats));
+  judge_overlap(p, stats, max_share, c);
+  // The ray cast is an independent integration: past its tolerance the mesh, not the rays,
+  // is the likely cause (a region counted twice, a surface that does not enclose what it
+  // seems to), unless the walls are thinner than the rays' spacing.
+  if (const double dm = difference(p.exact, p.raycast).mass; dm > kRaycastTolerance) {
+    c.errors.push_back(p.file + ": the ray-cast check differs from the exact mass by " + g(100.0 * dm) +
+                       " % (tolerance " + g(100.0 * kRaycastTolerance, 2) +
+                       " %): the mesh may count a region twice (faces or shells exported twice) or not enclose what "
+                       "it seems to; if its walls are thin, raise --rays (now " + std::to_string(c.rays) + ") to tell");
+  }
+}
+
+}  // namespace
+
+RaycastDifference difference(const geometry::MassProperties& exact, const geometry::MassProperties& ray) {
+  RaycastDifference d;
+  d.mass = std::abs(ray.mass - exact.mass) / exact.mass;
+  d.com_m = (ray.com - exact.com).norm();
+  d.inertia = (ray.inertia - exact.inertia).norm() / exact.inertia.norm();
+  return d;
+}
+
+Computed compute(const Options& opt) {
+  Computed c;
+  c.parts = parts_of(opt);
+  c.rays = rays_per_side(opt);
+  const double weld_m = weld_length(opt), max_share = overlap_share(opt);
+  c.unit = c.parts.front().unit;
+  c.unit_m = c.parts.front().unit_m;
+  for (Part& p : c.parts) examine(p, opt, weld_m, max_share, c);
+  if (!c.errors.empty()) return c;
+  std::vector<geometry::MassProperties> exact, ray;
+  for (const Part& p : c.parts) {
+    exact.push_back(p.exact);
+    ray.push_back(p.raycast);
+    c.volume += p.check.volume_m3;
+  }
+  c.total = geometry::assemble(exact);
+  c.total_diff = difference(c.total, geometry::assemble(ray));
+  return c;
+}
+
+}  // namespace poise::cli::mass_properties
