@@ -176,5 +176,32 @@ TEST(MassProperties, WedgeShiftsTheCentreOfMass) {
   EXPECT_NEAR(p.com.y(), 0.0, 1e-12);
 }
 
+// Two slabs overlapping by a layer of thickness e across the rays: every ray counts e twice,
+// so the overlap's volume is e times the slabs' face, and its box is that layer.
+TEST(MassProperties, OverlapVolumeAndPlaceFromTheRays) {
+  const double e = 1e-6;  // 1 um into a 20 x 20 x 5 mm slab
+  Mesh m = box({0, 0, 0}, {0.02, 0.02, 0.005}, 1, "slabs");
+  m.append(box({0, 0, 0.005 - e}, {0.02, 0.02, 0.010}, 1, ""));
+  RayGridOptions grid;
+  grid.rays_per_side = 64;
+  grid.axis = 2;
+  RayCastStats stats;
+  raycast_moments({{m, 1.0}}, grid, &stats);
+  EXPECT_EQ(stats.overlap_rays, stats.rays);
+  EXPECT_NEAR(stats.overlap_volume_m3, e * 0.02 * 0.02, 1e-9 * e * 0.02 * 0.02);
+  EXPECT_NEAR(stats.overlap_box.min().z(), 0.005 - e, 1e-12);
+  EXPECT_NEAR(stats.overlap_box.max().z(), 0.005, 1e-12);
+  EXPECT_NEAR(stats.overlap_box.min().x(), 0.0, 1e-12);
+  EXPECT_NEAR(stats.overlap_box.max().y(), 0.02, 1e-12);
+  // Apart, nothing overlaps.
+  Mesh apart = box({0, 0, 0}, {0.02, 0.02, 0.005}, 1, "apart");
+  apart.append(box({0, 0, 0.006}, {0.02, 0.02, 0.010}, 1, ""));
+  RayCastStats none;
+  raycast_moments({{apart, 1.0}}, grid, &none);
+  EXPECT_EQ(none.overlap_rays, 0u);
+  EXPECT_EQ(none.overlap_volume_m3, 0.0);
+  EXPECT_TRUE(none.overlap_box.isEmpty());
+}
+
 }  // namespace
 }  // namespace poise::geometry

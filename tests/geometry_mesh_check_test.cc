@@ -41,11 +41,16 @@ TEST(MeshCheck, OpenEdgesNamedWithTriangleAndLine) {
   m.triangle_lines.pop_back();
   const MeshCheck c = check_mesh(m);
   ASSERT_EQ(c.errors.size(), 1u);
-  EXPECT_EQ(c.errors[0], "tet.obj: not closed: 3 open edges, the first at triangle 0 (line 6)");
+  // Where (the triangle's centroid, in the file's unit) and how wide: the missing face's
+  // height, from an open edge to the farther end of the next.
+  const std::string where = " at (0.333333, 0.333333, 0) m; the widest gap is 1.22474 m across, near (";
+  EXPECT_TRUE(c.errors[0].starts_with("tet.obj: not closed: 3 open edges, the first at triangle 0 (line 6)" + where))
+      << c.errors[0];
   EXPECT_EQ(c.open_edges.count, 3u);
   // Binary STL has no lines: the triangle alone.
   m.triangle_lines.clear();
-  EXPECT_EQ(check_mesh(m).errors[0], "tet.obj: not closed: 3 open edges, the first at triangle 0");
+  const std::string binary = check_mesh(m).errors[0];
+  EXPECT_TRUE(binary.starts_with("tet.obj: not closed: 3 open edges, the first at triangle 0" + where)) << binary;
   EXPECT_THROW(require_valid_mesh(m), MeshCheckError);
 }
 
@@ -54,9 +59,10 @@ TEST(MeshCheck, FlippedTriangleIsTheMinority) {
   std::swap(m.triangles[5][1], m.triangles[5][2]);
   const MeshCheck c = check_mesh(m);
   ASSERT_EQ(c.errors.size(), 1u);
-  EXPECT_EQ(c.errors[0],
-            "box.stl: inconsistent orientation: 1 triangle is flipped against their neighbours (their normals point "
-            "the other way), the first is triangle 5");
+  EXPECT_TRUE(c.errors[0].starts_with(
+      "box.stl: inconsistent orientation: 1 triangle is flipped against their neighbours (their normals point the "
+      "other way), the first is triangle 5 at ("))
+      << c.errors[0];
   // Flipping triangle 0 names triangle 0, not its neighbours.
   Mesh f = unit_box("box.stl");
   std::swap(f.triangles[0][1], f.triangles[0][2]);
@@ -71,10 +77,10 @@ TEST(MeshCheck, NonManifoldEdge) {
   const MeshCheck c = check_mesh(m);
   EXPECT_EQ(c.non_manifold_edges.count, 1u);
   ASSERT_GE(c.errors.size(), 2u);
-  EXPECT_EQ(c.errors[0], "tet.obj: not closed: 2 open edges, the first at triangle 4");
+  EXPECT_TRUE(c.errors[0].starts_with("tet.obj: not closed: 2 open edges, the first at triangle 4 at (")) << c.errors[0];
   EXPECT_EQ(c.errors[1],
             "tet.obj: not manifold: 1 edge shared by three or more triangles that do not pair up (as many running each "
-            "way), the first at triangle 0");
+            "way), the first at triangle 0 at (0.333333, 0.333333, 0) m");
 }
 
 TEST(MeshCheck, DegenerateTriangles) {
@@ -87,7 +93,8 @@ TEST(MeshCheck, DegenerateTriangles) {
   EXPECT_EQ(c.degenerate_triangles.count, 2u);
   ASSERT_FALSE(c.errors.empty());
   EXPECT_NE(std::find(c.errors.begin(), c.errors.end(),
-                      "tet.obj: 2 degenerate triangles (a repeated vertex or zero area), the first is triangle 4"),
+                      "tet.obj: 2 degenerate triangles (a repeated vertex or zero area), the first is triangle 4 at "
+                      "(0.666667, 0.333333, 0) m"),
             c.errors.end());
 }
 
@@ -96,9 +103,11 @@ TEST(MeshCheck, InsideOutShellRefused) {
   m.flip();
   const MeshCheck c = check_mesh(m);
   ASSERT_EQ(c.errors.size(), 1u);
-  EXPECT_EQ(c.errors[0],
-            "box.stl: shell 1 of 1 (12 triangles from triangle 0) has negative volume (-1 m^3) and lies inside no "
-            "other shell: it is inside out (its normals point inwards)");
+  EXPECT_TRUE(c.errors[0].starts_with("box.stl: shell 1 of 1 (12 triangles from triangle 0 at (")) << c.errors[0];
+  EXPECT_NE(c.errors[0].find(") m) has negative volume (-1 m^3) and lies inside no other shell: it is inside out (its "
+                             "normals point inwards)"),
+            std::string::npos)
+      << c.errors[0];
   // An inverted box beside (not inside) a good one: the second shell is named.
   Mesh two = unit_box("two.stl");
   Mesh away = unit_box("", Eigen::Vector3d(3, 0, 0));
@@ -106,7 +115,7 @@ TEST(MeshCheck, InsideOutShellRefused) {
   two.append(away);
   const MeshCheck c2 = check_mesh(two);
   ASSERT_EQ(c2.errors.size(), 1u);
-  EXPECT_NE(c2.errors[0].find("two.stl: shell 2 of 2 (12 triangles from triangle 12) has negative volume"),
+  EXPECT_NE(c2.errors[0].find("two.stl: shell 2 of 2 (12 triangles from triangle 12 at ("),
             std::string::npos);
 }
 
