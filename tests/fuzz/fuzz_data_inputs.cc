@@ -5,8 +5,10 @@
 //   r  raw record: the first line is the --kt value as typed (e.g. "1e308 N*m/A", which gave
 //      an uncaught Boost.Math NaN error in issue 20), the rest the CSV; parsed and checked as
 //      `poise diagnose-record` does, then read_oscillation_record and diagnose_oscillation
-//   o/s  OBJ / STL: load_mesh, check_mesh, and for a valid mesh its exact moments and a ray
-//      cast (what a user part in a model goes through, engine/study_files/user_parts.cc)
+//   o/s  OBJ / STL: load_mesh (weld, needles, polygons), check_mesh (with the gaps' widths),
+//      drop_duplicate_triangles, and for a valid mesh its exact moments and a ray cast with its
+//      overlap (what a user part in a model goes through, engine/study_files/user_parts.cc)
+#include <cctype>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
@@ -24,6 +26,7 @@
 #include "geometry/mass_properties.h"
 #include "geometry/mesh_check.h"
 #include "geometry/mesh_io.h"
+#include "geometry/mesh_needles.h"
 
 namespace poise::fuzz {
 namespace {
@@ -78,6 +81,64 @@ void add_folder(AddSeed add, char selector, const fs::path& dir, const std::stri
   }
 }
 
+// Faulty exports of a closed part (issue 30), from a 10 mm box `m`: what real CAD files were
+// found to hold. Each variant is a seed of the STL ('s') or OBJ ('o') reader.
+void add_faulty_exports(AddSeed add, const geometry::Mesh& m) {
+  const std::string ascii = geometry::ascii_stl_text(m, 1e-3);
+  // Cracked: each facet's copies of a vertex a few float32 ulps apart.
+  std::string cracked = "solid cracked\n";
+  char buf[160];
+  for (std::size_t k = 0; k < m.triangles.size(); ++k) {
+    cracked += " facet normal 0 0 0\n  outer loop\n";
+    for (int e = 0; e < 3; ++e) {
+      const Eigen::Vector3d p = m.vertices[m.triangles[k][e]] * (1e3 * (1.0 + 3e-8 * static_cast<double>(k % 5)));
+      std::snprintf(buf, sizeof buf, "   vertex %.9g %.9g %.9g\n", p.x(), p.y(), p.z());
+      cracked += buf;
+    }
+    cracked += "  endloop\n endfacet\n";
+  }
+  add('s', cracked + "endsolid cracked\n");
+  // Duplicated: every face listed twice.
+  geometry::Mesh twice = m;
+  for (std::size_t k = 0; k < m.triangles.size(); ++k) twice.triangles.push_back(m.triangles[k]);
+  add('o', geometry::obj_text(twice, 1e-3));
+  // Needles: two collinear triangles back to back on an edge, and one closing a T-junction.
+  geometry::Mesh needles = m;
+  const geometry::Triangle t = m.triangles[0];
+  needles.vertices.push_back((m.vertices[t[0]] + m.vertices[t[1]]) / 2.0);
+  const auto mid = static_cast<std::uint32_t>(needles.vertices.size() - 1);
+  geometry::Mesh tjunction = needles;
+  needles.triangles.push_back({t[0], t[1], mid});
+  needles.triangles.push_back({t[0], mid, t[1]});
+  add('s', geometry::ascii_stl_text(needles, 1e-3));
+  tjunction.triangles[0] = {t[0], mid, t[2]};
+  tjunction.triangles.push_back({mid, t[1], t[2]});
+  tjunction.triangles.push_back({t[0], t[1], mid});
+  add('s', geometry::stl_bytes(tjunction, 1e-3));
+  // A byte-order mark before ASCII STL and OBJ; capital keywords and '+' signs.
+  add('s', "\xEF\xBB\xBF" + ascii);
+  add('o', "\xEF\xBB\xBF" + geometry::obj_text(m, 1e-3));
+  std::string upper = ascii;
+  for (char& c : upper) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+  add('s', upper);
+  std::string plus = ascii;  // "vertex +10 +0 ..." where the first number is not negative
+  for (std::size_t at = plus.find("vertex "); at != std::string::npos; at = plus.find("vertex ", at + 1)) {
+    if (plus[at + 7] != '-') plus.insert(at + 7, "+");
+  }
+  add('s', plus);
+  // Polygons: a cube whose bottom edge carries a vertex shared by two pentagons (a fan from
+  // their first vertex would be a sliver), and an L-shaped prism (concave faces).
+  add('o', "v 0 0 0\nv 10 0 0\nv 10 10 0\nv 0 10 0\nv 0 0 10\nv 10 0 10\nv 10 10 10\nv 0 10 10\nv 5 0 0\n"
+           "f 1 4 3 2 9\nf 1 9 2 6 5\nf 5 6 7 8\nf 2 3 7 6\nf 3 4 8 7\nf 1 5 8 4\n");
+  add('o', "v 2 1 0\nv 1 1 0\nv 1 2 0\nv 0 2 0\nv 0 0 0\nv 2 0 0\nv 2 1 3\nv 1 1 3\nv 1 2 3\nv 0 2 3\n"
+           "v 0 0 3\nv 2 0 3\nf 6 5 4 3 2 1\nf 7 8 9 10 11 12\nf 1 2 8 7\nf 2 3 9 8\nf 3 4 10 9\n"
+           "f 4 5 11 10\nf 5 6 12 11\nf 6 1 7 12\n");
+  // Shells overlapping by a trace, as touching curved faces do.
+  geometry::Mesh slabs = geometry::box({0, 0, 0}, {0.02, 0.02, 0.005}, 1, "slabs");
+  slabs.append(geometry::box({0, 0, 0.005 - 2e-9}, {0.02, 0.02, 0.01}, 1, ""));
+  add('o', geometry::obj_text(slabs, 1e-3));
+}
+
 }  // namespace
 
 void seed_data_inputs(AddSeed add) {
@@ -110,6 +171,7 @@ void seed_data_inputs(AddSeed add) {
     add('s', geometry::stl_bytes(*m, 1e-3));
     add('s', geometry::ascii_stl_text(*m, 1e-3));
   }
+  add_faulty_exports(add, box);
 }
 
 void fuzz_torque_csv(std::string_view text) {
@@ -135,7 +197,10 @@ void fuzz_record(std::string_view text) {
 void fuzz_mesh(std::string_view text, const char* extension) {
   const fs::path file = work_dir() / (std::string("fuzz_part") + extension);
   write_file(file, text);
-  const geometry::Mesh m = geometry::load_mesh(file.string(), 1e-3);
+  geometry::Mesh m = geometry::load_mesh(file.string(), 1e-3);
+  (void)geometry::unneeded_needles(m);
+  (void)geometry::check_mesh(m);
+  (void)geometry::drop_duplicate_triangles(m);
   (void)geometry::check_mesh(m);
   (void)geometry::require_valid_mesh(m);
   (void)geometry::unit_warning(m, "mm", 1e-3);
