@@ -57,30 +57,39 @@ TEST(MassPropertiesFaults, NeedlesOfAnExportAreDroppedWithANote) {
 
 TEST(MassPropertiesFaults, TouchingShellsOverlappingByATraceAreAccepted) {
   TempDir dir;
-  const double trace_mm = 2e-6;  // 400 mm^2 x 2e-6 mm = 8e-4 mm^3, 4e-7 of the part
-  geometry::write_obj(stacked_slabs(trace_mm), dir.file("trace.obj"), 1e-3);
+  // A 2.5 x 2.5 mm block standing 1e-4 mm into a 20 x 20 x 5 mm slab (more than the default
+  // weld, 3e-5 mm here, so its corners stay apart): 6.25e-4 mm^3 counted twice, some 3e-7 of
+  // the part. The block's sides lie on the rays' cell lines (20 mm / 256 rays), so exactly
+  // 32 x 32 rays cross the layer.
+  const double trace_mm = 1e-4;
+  geometry::Mesh m = box_mm({0, 0, 0}, {20, 20, 5}, "touching");
+  m.append(box_mm({5, 5, 5 - trace_mm}, {7.5, 7.5, 10}));
+  geometry::write_obj(m, dir.file("trace.obj"), 1e-3);
   const std::string args = "mass-properties " + dir.file("trace.obj") + " --unit mm" + kDensity;
   const auto r = run_poise(dir, args + " --json");
   ASSERT_EQ(r.status, 0) << r.err;
-  EXPECT_NE(r.err.find("shells overlap by about 0.0008 mm^3 counted twice (4e-07 of the part's volume; accepted up "
-                       "to 1e-06, --max-overlap), from (0, 0, 4.999998) to (20, 20, 5) mm"),
+  EXPECT_NE(r.err.find("shells overlap by about 0.000625 mm^3 counted twice (3.08e-07 of the part's volume; "
+                       "accepted up to 1e-06, --max-overlap), from (5, 5, 4.9999) to (7.5, 7.5, 5) mm"),
             std::string::npos)
       << r.err;
+  // The figures are those of the mesh, the layer counted twice.
+  const double expected = mass_of(m);
+  EXPECT_NEAR(nlohmann::json::parse(r.out)["mass_kg"].get<double>(), expected, 1e-9 * expected);
   // Not accepted when no overlap is: --max-overlap 0.
   const auto none = run_poise(dir, args + " --max-overlap 0");
   EXPECT_EQ(none.status, 2) << none.err;
-  EXPECT_NE(none.err.find("shells overlap: 65536 of 65536 check rays"), std::string::npos) << none.err;
+  EXPECT_NE(none.err.find("shells overlap: 1024 of 65536 check rays"), std::string::npos) << none.err;
 }
 
 TEST(MassPropertiesFaults, OverlapAboveItsShareIsRefusedWithItsVolumeAndPlace) {
   TempDir dir;
-  geometry::write_obj(stacked_slabs(1e-3), dir.file("overlap.obj"), 1e-3);  // 0.4 mm^3, 2e-4 of the part
+  geometry::write_obj(stacked_slabs(1e-3), dir.file("overlap.obj"), 1e-3);  // 0.4 mm^3, 1e-4 of the part
   const std::string args = "mass-properties " + dir.file("overlap.obj") + " --unit mm" + kDensity;
   const auto r = run_poise(dir, args);
   EXPECT_EQ(r.status, 2);
   EXPECT_EQ(r.out, "");
   EXPECT_NE(r.err.find(dir.file("overlap.obj") + ": shells overlap: 65536 of 65536 check rays pass through material "
-                       "enclosed by two shells (solids exported into one another), about 0.4 mm^3 counted twice (0.0002 "
+                       "enclosed by two shells (solids exported into one another), about 0.4 mm^3 counted twice (0.0001 "
                        "of the part's volume; accepted up to 1e-06, --max-overlap), from (0, 0, 4.999) to (20, 20, 5) mm"),
             std::string::npos)
       << r.err;

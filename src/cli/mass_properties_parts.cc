@@ -150,7 +150,7 @@ void judge_overlap(const Part& p, const geometry::RayCastStats& stats, double ma
                        "another), " + what + "; unite them in CAD, or export them as separate files");
   } else {
     c.notes.push_back(p.file + ": shells overlap by " + what +
-                      " (touching faces whose facets cross by their chord error); the figures include it");
+                      " (a trace, as touching curved faces leave where their facets cross); the figures include it");
   }
 }
 
