@@ -95,18 +95,17 @@ std::string equivalence_clause(const Difference& d, const Equivalence& e, const 
   return s + "exceeds the " + m + " on the " + e.exceeds + " side, so equivalence is NOT shown";
 }
 
-ChoiceDecision decide_choices(const OptimizationSpec& spec, const std::vector<ChoiceResult>& runs,
-                              std::size_t optimization_pick, int threads, RunProgress& progress) {
-  ChoiceDecision out;
-  const std::string stat = spec.objective_statistic;
-  const std::string unit = spec.objective_output.empty() ? (spec.variables.empty() ? "" : spec.variables[0].unit)
-                                                         : output_unit(spec, spec.objective_output);
+namespace {
+
+/// Every feasible combination's design on the selection and the comparison set.
+std::vector<ChoiceOnFresh> run_fresh_sets(const OptimizationSpec& spec, const std::vector<ChoiceResult>& runs, int threads,
+                                          RunProgress& progress) {
   std::vector<std::size_t> feasible;
   for (std::size_t r = 0; r < runs.size(); ++r) {
     if (runs[r].result.feasible) feasible.push_back(r);
   }
   progress.plan(2.0 * static_cast<double>(feasible.size() * spec.verification_samples));
-  std::vector<const ChoiceOnFresh*> of(runs.size(), nullptr);
+  std::vector<ChoiceOnFresh> fresh;
   for (std::size_t r : feasible) {
     ChoiceOnFresh c;
     c.run = r;
@@ -116,137 +115,243 @@ ChoiceDecision decide_choices(const OptimizationSpec& spec, const std::vector<Ch
       const auto e = engine::evaluate_study(spec.base, design, spec.verification_samples, seed, threads);
       FreshCheck f = check_design(spec, runs[r].result.x, e, seed);
       progress.step(static_cast<double>(spec.verification_samples),
-                    "[" + choice_label(runs[r].choice) + "] " + (set == 0 ? "selection" : "comparison") + " set, " +
+                    std::string("[") + choice_label(runs[r].choice) + "] " + (set == 0 ? "selection" : "comparison") + " set, " +
                         std::to_string(spec.verification_samples) + " fresh samples: objective " +
                         short_number(f.objective_value) + ", constraints " + to_string(f.verdict));
       (set == 0 ? c.selection : c.comparison) = std::move(f);
     }
-    out.fresh.push_back(std::move(c));
+    fresh.push_back(std::move(c));
   }
-  for (const auto& c : out.fresh) of[c.run] = &c;
-  // The headline: best on the selection set among the combinations meeting their
-  // constraints there (as stated); if none does, best on the selection set overall.
-  auto pick = [&](auto&& admit) {
+  return fresh;
+}
+
+/// What the decision reads: the runs, each feasible combination on the fresh sets (by run),
+/// and the bootstrap of paired differences on the comparison set.
+struct Fresh {
+  const OptimizationSpec& spec;
+  const std::vector<ChoiceResult>& runs;
+  std::vector<const ChoiceOnFresh*> of;  ///< by run; null: not feasible
+
+  /// The best on the selection set among the admitted combinations.
+  template <class Admit>
+  std::optional<std::size_t> pick(Admit&& admit) const {
     std::optional<std::size_t> best;
-    for (const auto& c : out.fresh) {
-      if (!admit(c)) continue;
-      if (!best || c.selection.objective_value < of[*best]->selection.objective_value) best = c.run;
+    for (std::size_t r = 0; r < of.size(); ++r) {
+      if (!of[r] || !admit(*of[r])) continue;
+      if (!best || of[r]->selection.objective_value < of[*best]->selection.objective_value) best = r;
     }
     return best;
-  };
-  auto met = [](const ChoiceOnFresh& c) { return c.selection.stated_met; };
-  auto any = [](const ChoiceOnFresh&) { return true; };
-  std::optional<std::size_t> h = pick(met);
-  out.headline_met_on_selection = h.has_value();
-  if (!h) h = pick(any);
-  out.headline = h ? *h : optimization_pick;
-  const ChoiceOnFresh* H = of[out.headline];
-  auto diff_to_headline = [&](std::size_t r) {
-    const ChoiceOnFresh* c = of[r];
-    return difference(c->comparison.objective_values, c->comparison.ok_index, H->comparison.objective_values,
-                      H->comparison.ok_index, stat, spec.verification_seed);
-  };
-  const bool statistic_objective = !spec.objective_output.empty();
-  auto margin_of = [&]() {
-    return spec.equivalence_relative ? spec.equivalence_margin * std::fabs(H->comparison.objective_value)
-                                     : spec.equivalence_margin;
-  };
-  json rows = json::array();
-  for (std::size_t r = 0; r < runs.size(); ++r) {
-    json row{{"choice", runs[r].choice}, {"label", choice_label(runs[r].choice)}, {"feasible", runs[r].result.feasible},
-             {"optimization_pick", r == optimization_pick}, {"best", H && r == out.headline}};
-    if (const ChoiceOnFresh* c = of[r]) {
-      row["selection"] = {{"objective", c->selection.objective_value}, {"constraints_met", c->selection.stated_met}};
-      row["comparison"] = c->comparison.to_json();
-      row["objective"] = c->comparison.objective ? interval_json(*c->comparison.objective)
-                                                 : json{{"value", c->comparison.objective_value}};
-      if (c->comparison.second) row["second"] = interval_json(*c->comparison.second);
-      if (statistic_objective && r != out.headline) row["minus_best"] = difference_json(diff_to_headline(r));
-      if (!statistic_objective && r != out.headline) {
-        row["minus_best"] = {{"difference", c->comparison.objective_value - H->comparison.objective_value}};
-      }
-    }
-    rows.push_back(row);
   }
-  out.json = {{"output", spec.objective_output}, {"statistic", stat}, {"samples", spec.verification_samples},
-              {"selection_seed", spec.selection_seed()}, {"comparison_seed", spec.verification_seed},
-              {"headline", out.headline}, {"headline_met_constraints_on_selection_set", out.headline_met_on_selection},
-              {"equivalence_margin", spec.equivalence_margin_text}, {"choices", rows}};
-  if (!H) return out;
-  // Per value of each choice parameter: its best combination picked on the selection set,
-  // compared with the headline on the comparison set.
+  /// The best combination with `parameter` = `value`: among those meeting their constraints on
+  /// the selection set when any does.
+  std::optional<std::size_t> best_with(const std::string& parameter, const std::string& value) const {
+    auto p = pick([&](const ChoiceOnFresh& c) { return c.selection.stated_met && runs[c.run].choice.at(parameter) == value; });
+    return p ? p : pick([&](const ChoiceOnFresh& c) { return runs[c.run].choice.at(parameter) == value; });
+  }
+  /// stat(a) - stat(b) on the comparison set, paired.
+  Difference minus(std::size_t a, std::size_t b) const {
+    return difference(of[a]->comparison.objective_values, of[a]->comparison.ok_index, of[b]->comparison.objective_values,
+                      of[b]->comparison.ok_index, spec.objective_statistic, spec.verification_seed);
+  }
+  double margin_against(std::size_t reference) const {
+    return spec.equivalence_relative ? spec.equivalence_margin * std::fabs(of[reference]->comparison.objective_value)
+                                     : spec.equivalence_margin;
+  }
+  /// The second objective on the comparison set ([pareto]); NaN without one.
+  double second(std::size_t r) const {
+    return spec.pareto && of[r]->comparison.second ? of[r]->comparison.second->value : NAN;
+  }
+};
+
+/// The first choice parameter with more than one value: the one the answer is about.
+const Choice* deciding_parameter(const OptimizationSpec& spec) {
+  for (const auto& ch : spec.choices) {
+    if (ch.values.size() >= 2) return &ch;
+  }
+  return nullptr;
+}
+
+/// The headline after the intervals have spoken: the selection set's pick stays unless another
+/// value of the deciding parameter is cheaper in the second objective and the pick is not
+/// shown better than it on the comparison set (its paired difference interval does not lie
+/// wholly below zero) or is shown equivalent to it; then the cheapest such value's combination.
+std::size_t decided_headline(const Fresh& f, std::size_t pick) {
+  const Choice* ch = deciding_parameter(f.spec);
+  if (!ch || !f.spec.pareto || f.spec.objective_output.empty() || !std::isfinite(f.second(pick))) return pick;
+  std::size_t chosen = pick;
+  for (const auto& value : ch->values) {
+    const auto p = f.best_with(ch->parameter, value);
+    if (!p || *p == pick || !f.of[*p]->comparison.stated_met || !(f.second(*p) < f.second(chosen))) continue;
+    const Difference d = f.minus(pick, *p);  // the pick minus the cheaper one
+    const bool pick_shown_better = d.hi && *d.hi < 0.0;
+    if (!pick_shown_better || equivalence(d, f.margin_against(*p)).shown) chosen = *p;
+  }
+  return chosen;
+}
+
+std::string ratio_text(double a, double b) {
+  char ratio[32];
+  std::snprintf(ratio, sizeof ratio, "%.2g", a / b);
+  return ratio;
+}
+
+/// The decision in words: `chosen` against `other` (the best combination of another value of
+/// the deciding parameter), from the paired difference's interval and, where it shows
+/// nothing, the second objective.
+std::string decision_sentence(const Fresh& f, const Choice& ch, std::size_t chosen, std::size_t other,
+                              std::size_t selection_pick, const std::string& unit) {
+  const OptimizationSpec& spec = f.spec;
+  const std::string a = parameter_value(spec, ch.parameter, f.runs[chosen].choice.at(ch.parameter));
+  const std::string b = parameter_value(spec, ch.parameter, f.runs[other].choice.at(ch.parameter));
+  const std::string what = spec.objective_statistic + " of " + spec.objective_output;
+  const FreshCheck& A = f.of[chosen]->comparison;
+  const FreshCheck& B = f.of[other]->comparison;
+  const Difference d = f.minus(chosen, other);
+  const Equivalence e = equivalence(d, f.margin_against(other));
+  const std::string u = unit.empty() ? "" : " " + unit;
+  const std::string figures = interval_text(*A.objective, unit) + " with " + a + " against " +
+                              interval_text(*B.objective, unit) + " with " + b + ", paired difference " +
+                              signed_number(d.value) +
+                              (d.lo && d.hi ? " [" + signed_number(*d.lo) + ", " + signed_number(*d.hi) + "]" : "") + u;
+  std::string s;
+  if (e.shown) {
+    s = a + " and " + b + " are equivalent within " + spec.equivalence_margin_text + " on fresh samples: " + what +
+        " " + figures + " (the interval lies within +-" + short_number(e.margin) + u + ")";
+  } else if (d.hi && *d.hi < 0.0) {
+    s = a + " is better than " + b + " on fresh samples: " + what + " " + figures + " (the interval excludes zero)";
+  } else if (d.lo && *d.lo > 0.0) {
+    s = a + " is kept although " + b + " did better on the comparison set: " + what + " " + figures +
+        "; the selection set's pick is not confirmed";
+  } else {
+    const double hide = d.lo && d.hi ? std::max(std::fabs(*d.lo), std::fabs(*d.hi)) : NAN;
+    s = "No difference in " + what + " between " + a + " and " + b + " was shown on fresh samples: " + figures +
+        (std::isfinite(hide) ? ", so a difference of up to " + short_number(hide) + u + " (" +
+                                   short_number(100.0 * hide / std::fabs(B.objective_value)) + "% of " + b +
+                                   "'s) can still hide in the data"
+                             : ", with no interval");
+  }
+  if (!e.shown) {
+    s += "; equivalence within " + spec.equivalence_margin_text + " is " + (e.worse || e.better ? "ruled out" : "NOT shown");
+  }
+  const double sa = f.second(chosen), sb = f.second(other);
+  if (std::isfinite(sa) && std::isfinite(sb) && sa > 0.0 && sb > 0.0) {
+    const std::string second = spec.pareto->statistic + " of " + spec.pareto->output;
+    const std::string su = output_unit(spec, spec.pareto->output);
+    const std::string cheaper = sa <= sb ? a : b;
+    s += "; " + cheaper + " takes " + ratio_text(std::max(sa, sb), std::min(sa, sb)) + " times less " + second + " (" +
+         short_number(std::min(sa, sb)) + " against " + short_number(std::max(sa, sb)) + (su.empty() ? "" : " " + su) +
+         ")";
+    if (chosen != selection_pick) s += ", which decides, since the data show " + b + " no better in " + what;
+  }
+  return s;
+}
+
+/// A row of the comparison table: a combination on both fresh sets, against the headline.
+json choice_row(const Fresh& f, std::size_t r, std::size_t headline, std::size_t selection_pick,
+                std::size_t optimization_pick) {
+  json row{{"choice", f.runs[r].choice}, {"label", choice_label(f.runs[r].choice)}, {"feasible", f.runs[r].result.feasible},
+           {"optimization_pick", r == optimization_pick}, {"selection_pick", r == selection_pick}, {"best", r == headline}};
+  const ChoiceOnFresh* c = f.of[r];
+  if (!c) return row;
+  row["selection"] = {{"objective", c->selection.objective_value}, {"constraints_met", c->selection.stated_met}};
+  row["comparison"] = c->comparison.to_json();
+  row["objective"] = c->comparison.objective ? interval_json(*c->comparison.objective)
+                                             : json{{"value", c->comparison.objective_value}};
+  if (c->comparison.second) row["second"] = interval_json(*c->comparison.second);
+  if (r == headline) return row;
+  if (!f.spec.objective_output.empty()) {
+    row["minus_best"] = difference_json(f.minus(r, headline));
+  } else {
+    row["minus_best"] = {{"difference", c->comparison.objective_value - f.of[headline]->comparison.objective_value}};
+  }
+  return row;
+}
+
+/// Per value of each choice parameter: its best combination (picked on the selection set)
+/// against the headline's value on the comparison set.
+json by_parameter_json(const Fresh& f, std::size_t headline, const json& rows, const std::string& unit) {
+  const OptimizationSpec& spec = f.spec;
   json by = json::array();
-  std::vector<std::string> sentences;
   for (const auto& ch : spec.choices) {
     if (ch.values.size() < 2) continue;
-    const std::string hv = runs[out.headline].choice.at(ch.parameter);
+    const std::string hv = f.runs[headline].choice.at(ch.parameter);
     json values = json::array();
     for (const auto& val : ch.values) {
-      auto p = pick([&](const ChoiceOnFresh& c) { return c.selection.stated_met && runs[c.run].choice.at(ch.parameter) == val; });
-      if (!p) p = pick([&](const ChoiceOnFresh& c) { return runs[c.run].choice.at(ch.parameter) == val; });
       json j{{"value", val}, {"headline_value", val == hv}};
-      if (!p) {
-        values.push_back(j);
-        continue;
-      }
-      const ChoiceOnFresh* c = of[*p];
-      j["run"] = *p;
-      j["choice"] = runs[*p].choice;
-      j["label"] = choice_label(runs[*p].choice);
-      j["objective"] = rows[*p]["objective"];
-      j["constraints"] = to_string(c->comparison.verdict);
-      if (c->comparison.second) j["second"] = interval_json(*c->comparison.second);
-      if (val != hv && statistic_objective) {
-        const Difference d = diff_to_headline(*p);
-        const Equivalence e = equivalence(d, margin_of());
-        j["minus_best"] = difference_json(d);
-        j["equivalence"] = {{"margin", e.margin}, {"shown", e.shown}, {"worse_beyond_margin", e.worse},
-                            {"better_beyond_margin", e.better}, {"exceeds", e.exceeds},
-                            {"text", equivalence_clause(d, e, unit, spec.equivalence_margin_text,
-                                                        parameter_value(spec, ch.parameter, val))}};
-        // The decision in words, for the first parameter with more than one value.
-        if (sentences.empty()) {
-          const std::string a = parameter_value(spec, ch.parameter, val), b = parameter_value(spec, ch.parameter, hv);
-          const std::string what = stat + " of " + spec.objective_output;
-          const bool cheaper = c->comparison.second && H->comparison.second &&
-                               c->comparison.second->value < H->comparison.second->value;
-          std::string s;
-          if (cheaper && e.shown) {
-            s = a + " suffices: " + what + " " + interval_text(*c->comparison.objective, unit) + " against " +
-                interval_text(*H->comparison.objective, unit) + " with " + b + " (best on fresh samples), " +
-                equivalence_clause(d, e, unit, spec.equivalence_margin_text);
-          } else {
-            s = b + " is best on fresh samples: " + what + " " + interval_text(*H->comparison.objective, unit) +
-                " against " + interval_text(*c->comparison.objective, unit) + " with " + a + "; equivalence of " + a +
-                " to " + b + " within " + spec.equivalence_margin_text + " of " + what + ": " +
-                equivalence_clause(d, e, unit, spec.equivalence_margin_text, a);
-          }
-          if (c->comparison.second && H->comparison.second && spec.pareto) {
-            const double sa = c->comparison.second->value, sb = H->comparison.second->value;
-            const std::string su = output_unit(spec, spec.pareto->output);
-            const bool b_costlier = sb > sa;
-            char ratio[32];
-            std::snprintf(ratio, sizeof ratio, "%.2g", b_costlier ? sb / sa : sa / sb);
-            s += "; " + (b_costlier ? b : a) + " takes " + ratio + " times the " + spec.pareto->statistic + " " +
-                 spec.pareto->output + " (" + short_number(b_costlier ? sb : sa) + " against " +
-                 short_number(b_costlier ? sa : sb) + (su.empty() ? "" : " " + su) + ")";
-          }
-          sentences.push_back(s);
+      const auto p = val == hv ? std::optional<std::size_t>(headline) : f.best_with(ch.parameter, val);
+      if (p) {
+        const ChoiceOnFresh* c = f.of[*p];
+        j["run"] = *p;
+        j["choice"] = f.runs[*p].choice;
+        j["label"] = choice_label(f.runs[*p].choice);
+        j["objective"] = rows[*p]["objective"];
+        j["constraints"] = to_string(c->comparison.verdict);
+        if (c->comparison.second) j["second"] = interval_json(*c->comparison.second);
+        if (val != hv && !spec.objective_output.empty()) {
+          const Difference d = f.minus(*p, headline);
+          const Equivalence e = equivalence(d, f.margin_against(headline));
+          j["minus_best"] = difference_json(d);
+          j["equivalence"] = {{"margin", e.margin}, {"shown", e.shown}, {"worse_beyond_margin", e.worse},
+                              {"better_beyond_margin", e.better}, {"exceeds", e.exceeds},
+                              {"text", equivalence_clause(d, e, unit, spec.equivalence_margin_text,
+                                                          parameter_value(spec, ch.parameter, val))}};
         }
       }
       values.push_back(j);
     }
     by.push_back({{"parameter", ch.parameter}, {"headline_value", hv}, {"values", values}});
   }
-  out.json["by_parameter"] = by;
-  if (!sentences.empty()) out.sentence = sentences.front();
-  if (!statistic_objective) {
+  return by;
+}
+
+}  // namespace
+
+ChoiceDecision decide_choices(const OptimizationSpec& spec, const std::vector<ChoiceResult>& runs,
+                              std::size_t optimization_pick, int threads, RunProgress& progress) {
+  ChoiceDecision out;
+  const std::string unit = spec.objective_output.empty() ? (spec.variables.empty() ? "" : spec.variables[0].unit)
+                                                         : output_unit(spec, spec.objective_output);
+  out.fresh = run_fresh_sets(spec, runs, threads, progress);
+  Fresh f{spec, runs, std::vector<const ChoiceOnFresh*>(runs.size(), nullptr)};
+  for (const auto& c : out.fresh) f.of[c.run] = &c;
+  // The selection set's pick: the best there among the combinations meeting their constraints
+  // there (as stated); if none does, the best there overall. Then the intervals decide.
+  std::optional<std::size_t> h = f.pick([](const ChoiceOnFresh& c) { return c.selection.stated_met; });
+  out.headline_met_on_selection = h.has_value();
+  if (!h) h = f.pick([](const ChoiceOnFresh&) { return true; });
+  const std::size_t selection_pick = h ? *h : optimization_pick;
+  out.headline = h ? decided_headline(f, selection_pick) : optimization_pick;
+  json rows = json::array();
+  for (std::size_t r = 0; r < runs.size(); ++r) rows.push_back(choice_row(f, r, out.headline, selection_pick, optimization_pick));
+  out.json = {{"output", spec.objective_output}, {"statistic", spec.objective_statistic},
+              {"samples", spec.verification_samples}, {"selection_seed", spec.selection_seed()},
+              {"comparison_seed", spec.verification_seed}, {"headline", out.headline},
+              {"selection_pick", selection_pick}, {"headline_met_constraints_on_selection_set", out.headline_met_on_selection},
+              {"equivalence_margin", spec.equivalence_margin_text}, {"choices", rows}};
+  if (!h) return out;
+  out.json["by_parameter"] = by_parameter_json(f, out.headline, rows, unit);
+  if (spec.objective_output.empty()) {
     std::size_t met_count = 0;
     for (const auto& c : out.fresh) met_count += c.comparison.stated_met ? 1 : 0;
     out.sentence = choice_label(runs[out.headline].choice) + " gives the smallest objective (" +
-                   short_number(H->comparison.objective_value) + (unit.empty() ? "" : " " + unit) +
+                   short_number(f.of[out.headline]->comparison.objective_value) + (unit.empty() ? "" : " " + unit) +
                    ") of the combinations meeting their constraints on fresh samples (" + std::to_string(met_count) +
                    " of " + std::to_string(runs.size()) + " did on the comparison set)";
+    return out;
+  }
+  // The answer compares the headline with the strongest other value of the deciding parameter
+  // (the best of the others on the selection set).
+  if (const Choice* ch = deciding_parameter(spec)) {
+    std::optional<std::size_t> other;
+    for (const auto& val : ch->values) {
+      if (val == runs[out.headline].choice.at(ch->parameter)) continue;
+      const auto p = f.best_with(ch->parameter, val);
+      if (p && f.of[*p]->comparison.objective && f.of[out.headline]->comparison.objective &&
+          (!other || f.of[*p]->selection.objective_value < f.of[*other]->selection.objective_value)) {
+        other = p;
+      }
+    }
+    if (other) out.sentence = decision_sentence(f, *ch, out.headline, *other, selection_pick, unit);
   }
   return out;
 }

@@ -134,6 +134,7 @@ std::string choice_rows_html(const json& comparison, bool pareto) {
   std::ostringstream h;
   for (const auto& r : comparison["choices"]) {
     h << "<tr><td class='l'>" << str(r, "label") << (r["best"].get<bool>() ? " (headline)" : "")
+      << (r.value("selection_pick", false) && !r["best"].get<bool>() ? " (selection set's pick)" : "")
       << (r["optimization_pick"].get<bool>() ? " (search's pick)" : "") << "</td>";
     if (!r.contains("comparison")) {
       h << "<td colspan='" << (pareto ? 6 : 5) << "'>no feasible design</td></tr>\n";
@@ -186,10 +187,12 @@ std::string choices_html(const json& s) {
   h << "<h2 id='choices'>Choices decided on fresh samples</h2>\n<p>Each combination's best design (from its search) "
        "run on two independent fresh sets of "
     << o["verification_samples"] << " samples: the <i>selection set</i> (seed " << o["selection_seed"]
-    << ") picks the headline and, per value of a choice parameter, its best combination; the <i>comparison set</i> "
-       "(seed "
+    << ") picks the best combination and, per value of a choice parameter, its best combination; the <i>comparison "
+       "set</i> (seed "
     << o["verification_seed"]
-    << ") compares them, so no figure below was used to pick what it describes. Differences are paired (same units), "
+    << ") compares them, so no figure below was used to pick what it describes. A choice is called better only "
+       "when its paired difference interval excludes zero; where no difference is shown and the study has a second "
+       "objective, the cheaper choice is the headline. Differences are paired (same units), "
        "bootstrap 95% intervals; 'bootstrap share' is the share of bootstrap resamples in which the headline stays "
        "ahead: a resampling share, not a probability that it is better. Constraints are re-checked on the comparison "
        "set.</p>\n<table><tr><th class='l'>choice</th><th>selection set</th><th>comparison set [95% CI]</th>"
