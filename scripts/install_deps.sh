@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
 # Installs the Debian 12 packages Poise needs. Idempotent: installs only what is missing.
+# --tests: also what only the tests need (headless Chromium for the report tests).
 set -euo pipefail
 PKGS=(
   build-essential cmake git pkg-config
@@ -15,6 +16,9 @@ PKGS=(
   python3-dev pybind11-dev python3-pybind11  # python/: the module build/python/poise (pybind11)
   python3-pytest python3-openturns  # python/tests (pytest) and the OpenTURNS example
 )
+if [ "${1:-}" = "--tests" ]; then
+  PKGS+=(chromium)  # tests/reports: every report rendered as a person sees it
+fi
 missing=()
 for p in "${PKGS[@]}"; do
   if ! dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed"; then

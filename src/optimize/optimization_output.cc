@@ -70,7 +70,9 @@ void write_pareto_csv(const OptimizationSpec& spec, const OptimizationOutcome& o
 std::string design_cells(const OptimizationSpec& spec, const std::vector<double>& x) {
   std::string s;
   for (std::size_t i = 0; i < spec.variables.size() && i < x.size(); ++i) {
-    s += (s.empty() ? "" : ", ") + spec.variables[i].parameter + " = " + value_text(x[i], spec.variables[i].unit);
+    const std::string& unit = spec.variables[i].unit;
+    s += (s.empty() ? "" : ", ") + spec.variables[i].parameter + " = " + engine::format_significant(x[i], 4) +
+         (unit.empty() ? "" : " " + unit);
   }
   return s;
 }

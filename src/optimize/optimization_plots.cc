@@ -13,6 +13,16 @@ namespace {
 namespace fs = std::filesystem;
 using nlohmann::json;
 
+/// The objective in words with its unit ("p95 of g_rmse_torque_mNm [mN*m]", "sum of the
+/// variables [mm]").
+std::string objective_label(const OptimizationSpec& spec) {
+  const std::string unit = spec.objective_output.empty() ? (spec.variables.empty() ? "" : spec.variables[0].unit)
+                                                         : output_unit(spec, spec.objective_output);
+  const std::string what = spec.objective_output.empty() ? std::string("sum of the variables")
+                                                         : spec.objective_statistic + " of " + spec.objective_output;
+  return what + (unit.empty() ? "" : " [" + unit + "]");
+}
+
 /// plots/convergence.{dat,gp,svg}: every evaluation of every search and its best so far.
 bool convergence_plot(const OptimizationSpec& spec, const OptimizationOutcome& out, const fs::path& pdir) {
   std::ostringstream d;
@@ -32,7 +42,7 @@ bool convergence_plot(const OptimizationSpec& spec, const OptimizationOutcome& o
   }
   std::ostringstream cgp;
   cgp << "set terminal svg size 720,420 dynamic noenhanced font 'Helvetica,12'\nset output 'convergence.svg'\n"
-         "set grid\nset title 'Convergence'\nset xlabel 'evaluation'\nset ylabel '" << objective_name(spec)
+         "set grid\nset title 'Convergence'\nset xlabel 'evaluation'\nset ylabel '" << objective_label(spec)
       << "'\nset key outside bottom center horizontal\nlabels = '" << titles.str() << "'\n"
          "plot for [i=0:" << out.runs.size() - 1 << "] 'convergence.dat' index i u 1:($3 > 0 ? $2 : 1/0) w p pt 7 title sprintf('feasible (%s)', word(labels, i+1)), "
          "for [i=0:" << out.runs.size() - 1 << "] 'convergence.dat' index i u 1:($3 > 0 ? 1/0 : $2) w p pt 6 lc rgb 'gray' notitle, "

@@ -1,5 +1,7 @@
 #include "optimize/optimizer.h"
 
+#include "core/number_text.h"
+
 #include <nlopt.hpp>
 
 #include <algorithm>
@@ -381,8 +383,8 @@ Result minimize(const Problem& f, const std::vector<Variable>& vars, const Optio
     } else {
       double violation = 0.0;
       for (double c : result.best.constraints) violation = std::max(violation, c);
-      why += " (x is the least violating point, largest constraint " + number(violation) +
-             " > tolerance " + number(opt.constraint_tolerance) + ")";
+      why += " (x is the least violating point, largest constraint " + short_number(violation) +
+             " > tolerance " + short_number(opt.constraint_tolerance) + ")";
     }
     status = why + "; " + status;
   }

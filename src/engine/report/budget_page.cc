@@ -58,6 +58,16 @@ std::string inputs_of(const json& l) {
   return s;
 }
 
+/// A point of the field ({"k": 0.4, "yaw": -29.999999999999996}) as "k 0.4, yaw -30".
+std::string point_text(const json& at) {
+  if (!at.is_object()) return at.dump();
+  std::string s;
+  for (const auto& [k, v] : at.items()) {
+    s += (s.empty() ? "" : ", ") + k + " " + (v.is_number() ? format_significant(v.get<double>(), 6) : v.dump());
+  }
+  return s;
+}
+
 }  // namespace
 
 std::string budget_plot_svg(const json& j, const std::vector<double>& mc) {
@@ -211,7 +221,8 @@ std::string combination_html(const json& j, const std::string& unit) {
     << "<th class='l'>note</th></tr>\n<tr><td class='l'>combined at " << html_escape(c["level"].get<std::string>())
     << " by " << html_escape(c["combination"].get<std::string>()) << "</td><td>" << budget_number(c["least"])
     << "</td><td>" << budget_number(c["greatest"]) << "</td><td class='l'>least at "
-    << html_escape(c["least_at"].dump()) << ", greatest at " << html_escape(c["greatest_at"].dump()) << "</td></tr>\n";
+    << html_escape(point_text(c["least_at"])) << ", greatest at " << html_escape(point_text(c["greatest_at"]))
+    << "</td></tr>\n";
   if (!c["declared"].is_null()) {
     h << "<tr><td class='l'>declared</td><td colspan='2'>" << html_escape(declared_text(c["declared"], unit))
       << "</td><td class='l'><b>" << html_escape(c["verdict"].get<std::string>()) << "</b> "

@@ -117,7 +117,7 @@ bool distribution_figures(const fs::path& dir, const std::string& output, const 
     }
     write_file_atomic((dir / (output + "_cdf.dat")).string(), d.str());
   }
-  const std::string xl = output + (unit.empty() ? "" : " [" + unit + "]");
+  const std::string xl = output + (unit.empty() || unit == "1" ? "" : " [" + unit + "]");
   const HistogramBins bins = histogram_bins(sorted);
   {
     std::ostringstream d;

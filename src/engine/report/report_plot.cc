@@ -9,6 +9,8 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <regex>
+#include <set>
 #include <iterator>
 
 #include "engine/results/result_io.h"
@@ -68,6 +70,35 @@ bool run_gnuplot(const std::string& script_path, std::string* why) {
   return true;
 }
 
+namespace {
+
+/// The SVG with every id it defines prefixed, and the references to them (url(#id), href="#id"),
+/// so that several figures from gnuplot (each with its gnuplot_canvas, gpDot, gpPt0...) can stand
+/// in one page with unique ids.
+std::string prefixed_ids(const std::string& svg, const std::string& prefix) {
+  static const std::regex id_attribute(R"~(\bid\s*=\s*(['"])([^'"]+)\1)~");
+  std::set<std::string> ids;
+  for (auto it = std::sregex_iterator(svg.begin(), svg.end(), id_attribute); it != std::sregex_iterator(); ++it) {
+    ids.insert((*it)[2].str());
+  }
+  if (ids.empty()) return svg;
+  static const std::regex reference(R"~((\bid\s*=\s*['"]|#)([A-Za-z_][\w.:-]*))~");
+  std::string out;
+  out.reserve(svg.size() + 64 * ids.size());
+  auto last = svg.cbegin();
+  for (auto it = std::sregex_iterator(svg.begin(), svg.end(), reference); it != std::sregex_iterator(); ++it) {
+    const std::smatch& m = *it;
+    out.append(last, m[0].first);
+    out += m[1].str();
+    out += ids.count(m[2].str()) ? prefix + m[2].str() : m[2].str();
+    last = m[0].second;
+  }
+  out.append(last, svg.cend());
+  return out;
+}
+
+}  // namespace
+
 std::string inline_svg(const std::filesystem::path& svg_file, const std::string& caption) {
   std::ifstream in(svg_file, std::ios::binary);
   std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
@@ -76,6 +107,7 @@ std::string inline_svg(const std::filesystem::path& svg_file, const std::string&
     return "<p class='bad'><small>" + html_escape(svg_file.filename().string()) + " could not be read</small></p>\n";
   }
   if (start != std::string::npos) text = text.substr(start);
+  text = prefixed_ids(text, svg_file.stem().string() + "-");
   // gnuplot's fixed width and height make the figure as wide as drawn: let it scale.
   return "<figure class='fig'>" + text + (caption.empty() ? "" : "<figcaption>" + html_escape(caption) + "</figcaption>") +
          "</figure>\n";

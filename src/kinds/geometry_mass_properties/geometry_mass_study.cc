@@ -207,9 +207,9 @@ void MassStudy::report_sections(const McResult& mc, const std::string& plots_dir
     << "<th>divergence theorem (mesh)</th><th>rel. error</th><th>ray cast (" << g.rays_per_side
     << " per side)</th><th>rel. error</th></tr>\n";
   for (const auto& [name, q] : check["nominal"]["closed_form_check"].items()) {
-    h << "<tr><td class='l'>" << name << "</td><td>" << fmt_g(q["exact_mesh"]["closed_form"].get<double>(), 9) << "</td><td>"
-      << fmt_g(q["exact_mesh"]["value"].get<double>(), 9) << "</td><td>" << fmt_g(q["exact_mesh"]["relative_error"].get<double>(), 3)
-      << "</td><td>" << fmt_g(q["ray_cast"]["value"].get<double>(), 9) << "</td><td>"
+    h << "<tr><td class='l'>" << name << "</td><td>" << fmt_g(q["exact_mesh"]["closed_form"].get<double>(), 7) << "</td><td>"
+      << fmt_g(q["exact_mesh"]["value"].get<double>(), 7) << "</td><td>" << fmt_g(q["exact_mesh"]["relative_error"].get<double>(), 3)
+      << "</td><td>" << fmt_g(q["ray_cast"]["value"].get<double>(), 7) << "</td><td>"
       << fmt_g(q["ray_cast"]["relative_error"].get<double>(), 3) << "</td></tr>\n";
   }
   h << "</table>\n<p><small>The mesh's circles are polygons of equal area, so the mesh's mass equals the drawing's; "
