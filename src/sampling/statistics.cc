@@ -4,6 +4,7 @@
 #include <boost/math/distributions/binomial.hpp>
 #include <boost/math/distributions/students_t.hpp>
 #include <cmath>
+#include <limits>
 #include <cstdio>
 
 #include "core/error.h"
@@ -165,7 +166,9 @@ Summary summarize_from(const SummaryMoments& m, const std::function<double(std::
   const double mean = m.mean;
   const double var = n > 1 ? m.m2 / (nn - 1.0) : 0.0;
   const double m4 = m.m4 / nn;
-  const double sd = std::sqrt(var);
+  // A spread at the level of the values' round-off (identical values summed in another order)
+  // is no spread: 0, not 1e-15 printed as a result.
+  const double sd = std::sqrt(var) <= 64.0 * std::numeric_limits<double>::epsilon() * std::fabs(mean) ? 0.0 : std::sqrt(var);
   s.mean.value = mean;
   if (n > 1) {
     boost::math::students_t t(nn - 1.0);

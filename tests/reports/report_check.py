@@ -1,7 +1,7 @@
 """Checks of a report.html as a person reads it (issue 33), shared by report_pages_test.py.
 
 Structure (html.parser): element ids unique; the answer (an element of class "answer") before
-the first section heading; every figure an inline SVG with a title or axis label in words, and
+the first section heading; every in-page link lands on an element; every figure an inline SVG with a title or axis label in words, and
 no "[1]" for a unit; no number with more than 7 significant digits in the prose and tables
 (integers, figures, code, preformatted notes and provenance left out).
 Rendering (headless Chromium, Debian's chromium): the page loads without a script or resource
@@ -31,7 +31,7 @@ class _Page(html.parser.HTMLParser):
 
     def __init__(self):
         super().__init__(convert_charrefs=True)
-        self.ids, self.stack, self.skip_depth = [], [], 0
+        self.ids, self.anchors, self.stack, self.skip_depth = [], [], [], 0
         self.first_h2_at = None
         self.answer_at = None
         self.position = 0
@@ -44,6 +44,8 @@ class _Page(html.parser.HTMLParser):
         self.position += 1
         if "id" in a:
             self.ids.append(a["id"])
+        if tag == "a" and (a.get("href") or "").startswith("#"):
+            self.anchors.append(a["href"][1:])
         if "answer" in (a.get("class") or "").split() and self.answer_at is None:
             self.answer_at = self.position
         if tag == "h2":
@@ -83,6 +85,9 @@ def structure_problems(html_text):
         if i in seen:
             problems.append(f"element id '{i}' used more than once")
         seen.add(i)
+    for a in p.anchors:
+        if a not in seen:
+            problems.append(f"link to #{a}, which no element is")
     if p.answer_at is None:
         problems.append("no answer (an element of class 'answer')")
     elif p.first_h2_at is not None and p.answer_at > p.first_h2_at:

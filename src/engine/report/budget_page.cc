@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "engine/report/budget_numbers.h"
+#include "engine/report/report_contents.h"
 #include "engine/report/report_plot.h"
 #include "engine/report/result_sections.h"
 #include "engine/results/result_io.h"
@@ -306,7 +307,7 @@ std::string budget_report_html(const json& j, const std::vector<double>& mc) {
     h << "<p><small>Source: " << html_escape(b["source"].get<std::string>()) << "</small></p>\n";
   }
   h << "</body></html>\n";
-  return h.str();
+  return with_contents(h.str());
 }
 
 }  // namespace poise::engine

@@ -3,6 +3,7 @@
 #include <sstream>
 #include <string>
 
+#include "engine/report/report_contents.h"
 #include "engine/report/report_plot.h"
 #include "engine/report/result_sections.h"
 #include "engine/results/result_io.h"
@@ -24,8 +25,9 @@ std::string params_text(const json& params) {
   std::string s;
   for (const auto& [name, p] : params.items()) {
     const std::string unit = p.value("unit", std::string());
-    s += (s.empty() ? "" : "<br>") + html_escape(name) + " = " + num(p["value"], 4) + " &plusmn; " + num(p["se"], 2) +
-         (unit.empty() ? "" : " " + html_escape(unit));
+    if (!s.empty()) s += "<br>";
+    s += html_escape(name) + " = " + num(p["value"], 4) + " &plusmn; " + num(p["se"], 2);
+    if (!unit.empty()) s += ' ' + html_escape(unit);
   }
   return s;
 }
@@ -171,7 +173,7 @@ std::string diagnosis_report_html(const json& d, const std::filesystem::path& pl
   h << "</ul>\n<p><small>Files beside this page: <a href='diagnosis.json'>diagnosis.json</a>, "
        "<a href='plot.dat'>plot.dat</a>, <a href='plot.gp'>plot.gp</a>, <a href='plot.svg'>plot.svg</a>.</small></p>\n"
        "</body></html>\n";
-  return h.str();
+  return with_contents(h.str());
 }
 
 }  // namespace poise::engine

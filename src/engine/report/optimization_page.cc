@@ -3,6 +3,7 @@
 #include <sstream>
 #include <string>
 
+#include "engine/report/report_contents.h"
 #include "engine/report/report_plot.h"
 #include "core/number_text.h"
 #include "engine/results/result_io.h"
@@ -248,7 +249,7 @@ std::string optimization_report_html(const json& s, const std::filesystem::path&
   h << "<p><small>Files beside this page: <a href='summary.json'>summary.json</a>, <a href='history.csv'>history.csv"
        "</a>"
     << (s.contains("pareto") ? ", <a href='pareto.csv'>pareto.csv</a>" : "") << ", plots/.</small></p>\n</body></html>\n";
-  return h.str();
+  return with_contents(h.str());
 }
 
 }  // namespace poise::engine

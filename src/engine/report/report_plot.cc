@@ -134,6 +134,8 @@ std::string report_page_head(const std::string& title) {
          "small{color:#666}pre{background:#f6f6f6;padding:0.8em;white-space:pre-wrap}"
          "figure.fig{margin:1em 0}figure.fig svg{max-width:100%;height:auto}"
          "figcaption{color:#555;font-size:0.9em}"
+         "nav.toc{border:1px solid #ddd;background:#fafafa;padding:0.3em 1em;margin:1em 0;font-size:0.92em}"
+         "nav.toc ol{margin:0.3em 0;padding-left:1.4em;columns:2}"
          "</style></head><body>\n";
 }
 

@@ -177,15 +177,23 @@ std::string convergence_html(const json& c) {
     }
   }
   h += "</table>\n";
-  // One-sided and approximate intervals, said in words (summary.json: "ci95_note").
-  std::string notes;
+  // One-sided and approximate intervals, said in words (summary.json: "ci95_note"), each note
+  // once with the outputs it holds for.
+  std::vector<std::pair<std::string, std::vector<std::string>>> grouped;  // stat: note -> outputs
   for (const auto& [name, o] : c["figures"].items()) {
     for (const auto& [stat, f] : o.items()) {
-      if (f.contains("ci95_note")) {
-        notes += "<li><code>" + html_escape(name) + "</code> " + stat + ": " +
-                 html_escape(f["ci95_note"].get<std::string>()) + "</li>\n";
-      }
+      if (!f.contains("ci95_note")) continue;
+      const std::string key = stat + ": " + f["ci95_note"].get<std::string>();
+      auto it = std::find_if(grouped.begin(), grouped.end(), [&](const auto& g) { return g.first == key; });
+      if (it == grouped.end()) it = grouped.insert(grouped.end(), {key, {}});
+      it->second.push_back(name);
     }
+  }
+  std::string notes;
+  for (const auto& [key, names] : grouped) {
+    std::string list;
+    for (const auto& n : names) list += (list.empty() ? "" : ", ") + std::string("<code>") + html_escape(n) + "</code>";
+    notes += "<li>" + html_escape(key) + " <small>(" + list + ")</small></li>\n";
   }
   if (!notes.empty()) h += "<p>Intervals to read with care (an end shown as &ndash; does not exist):</p>\n<ul>\n" + notes + "</ul>\n";
   return h;

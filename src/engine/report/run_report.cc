@@ -4,6 +4,7 @@
 #include <sstream>
 
 #include "engine/report/report_figures.h"
+#include "engine/report/report_contents.h"
 #include "engine/report/report_plot.h"
 #include "engine/report/result_sections.h"
 #include "engine/results/references.h"
@@ -99,8 +100,10 @@ std::string run_report_html(const json& s, const FinishedRun& f, const std::file
   if (!cfg.notes.empty()) h << "<h2>Notes of the study</h2>\n<pre>" << html_escape(cfg.notes) << "</pre>\n";
   h << provenance_html(s["provenance"]);
   if (s.contains("solver")) h << "<h3>Solver</h3>\n<pre>" << html_escape(s["solver"].dump(2)) << "</pre>\n";
-  h << "</body></html>\n";
-  return h.str();
+  h << "<p><small>Files beside this page: <a href='summary.json'>summary.json</a>, <a href='samples.csv'>samples.csv"
+       "</a>, <a href='samples.h5'>samples.h5</a>, <a href='run.json'>run.json</a>, <a href='plots/'>plots/</a> (each "
+       "figure's data and gnuplot script).</small></p>\n</body></html>\n";
+  return with_contents(h.str());
 }
 
 
