@@ -124,6 +124,31 @@ TEST(Statistics, MeanAndStdIntervalsCoverTheTruth) {
   EXPECT_LE(std_hits, 390);
 }
 
+TEST(Statistics, ShareGetsTheExactBinomialInterval) {
+  // 64 passes in 64: the t interval would be [1, 1]; Clopper-Pearson's lower end solves
+  // p^64 = 0.025 (closed form).
+  const Summary all = ps::summarize(std::vector<double>(64, 1.0));
+  ASSERT_TRUE(all.mean.lo && all.mean.hi);
+  EXPECT_NEAR(*all.mean.lo, std::pow(0.025, 1.0 / 64.0), 1e-12);
+  EXPECT_EQ(*all.mean.hi, 1.0);
+  EXPECT_NE(all.mean.note.find("Clopper-Pearson"), std::string::npos);
+  const Summary none = ps::summarize(std::vector<double>(64, 0.0));
+  EXPECT_EQ(*none.mean.lo, 0.0);
+  EXPECT_NEAR(*none.mean.hi, 1.0 - std::pow(0.025, 1.0 / 64.0), 1e-12);
+  // Coverage: 1000 draws of 64 units at a pass probability of 0.9; the exact interval covers
+  // at least 95% (it is conservative), a t interval covers about 93%.
+  RandomStream rs(2026, StreamId::kBootstrap, 3);
+  int hits = 0;
+  for (int r = 0; r < 1000; ++r) {
+    std::vector<double> v(64);
+    for (double& x : v) x = rs.uniform() < 0.9 ? 1.0 : 0.0;
+    const Summary s = ps::summarize(v);
+    hits += *s.mean.lo <= 0.9 && 0.9 <= *s.mean.hi;
+  }
+  EXPECT_GE(hits, 950);
+  EXPECT_LE(hits, 995);
+}
+
 TEST(Statistics, QuantileIntervalCoversTheTrueNormalQuantile) {
   const double q95 = 1.6448536269514722;
   int hits = 0, missing = 0;

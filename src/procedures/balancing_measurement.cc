@@ -39,12 +39,10 @@ int scaled_rhs(double t, const double* ys, double* ydot, void* user) {
 }  // namespace
 
 BalancingWorkspace::BalancingWorkspace(const solvers::CvodeOptions& opt)
-    : ctx_(new Context), integrator_(new solvers::CvodeIntegrator(kStates, scaled_rhs, ctx_, opt)) {}
+    : ctx_(std::make_unique<Context>()),
+      integrator_(std::make_unique<solvers::CvodeIntegrator>(kStates, scaled_rhs, ctx_.get(), opt)) {}
 
-BalancingWorkspace::~BalancingWorkspace() {
-  delete integrator_;
-  delete ctx_;
-}
+BalancingWorkspace::~BalancingWorkspace() = default;  // the integrator first, then its context
 
 cd demodulate(std::span<const double> samples, std::span<const double> shaft_angles) {
   require(samples.size() == shaft_angles.size(), "demodulate: samples and shaft angles differ in length");

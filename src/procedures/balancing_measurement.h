@@ -32,6 +32,7 @@
 ///       matrix C is (A_j - A0) / T_j; a rotor's plane unbalances are C^{-1} A. Exact for a
 ///       linear machine at any speed and independent of the sensors' gains (they scale the
 ///       rows of C and of A alike).
+#include <memory>
 #include <complex>
 #include <span>
 #include <vector>
@@ -100,8 +101,8 @@ class BalancingWorkspace {
   solvers::CvodeIntegrator& integrator() { return *integrator_; }
 
  private:
-  Context* ctx_;
-  solvers::CvodeIntegrator* integrator_;
+  std::unique_ptr<Context> ctx_;  // complete in the .cc, where the constructor and destructor are
+  std::unique_ptr<solvers::CvodeIntegrator> integrator_;
 };
 
 /// One measurement run (steps 1-4 above). `noise` is advanced only if noise_rms > 0.

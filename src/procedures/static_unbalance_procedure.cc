@@ -113,26 +113,24 @@ solvers::CvodeOptions extended_options(solvers::CvodeOptions opt, Supports suppo
 
 }  // namespace
 
-StaticUnbalanceWorkspace::StaticUnbalanceWorkspace(const solvers::CvodeOptions& opt) : opt_(opt), ctx_(new Context) {}
+StaticUnbalanceWorkspace::StaticUnbalanceWorkspace(const solvers::CvodeOptions& opt)
+    : opt_(opt), ctx_(std::make_unique<Context>()) {}
 
-StaticUnbalanceWorkspace::~StaticUnbalanceWorkspace() {
-  delete dynamic_;
-  delete quasi_static_;
-  delete ctx_;
-}
+StaticUnbalanceWorkspace::~StaticUnbalanceWorkspace() = default;
 
 solvers::CvodeIntegrator& StaticUnbalanceWorkspace::integrator(Supports supports) {
   // The current's tolerance scale: 1 A (the window integrals are in A s); CvodeOptions are
   // the model's, fixed for the workspace's life.
   if (supports == Supports::kDynamic) {
     if (dynamic_ == nullptr) {
-      dynamic_ = new solvers::CvodeIntegrator(kDynamicStates, rhs_dynamic, ctx_, extended_options(opt_, supports, 1.0));
+      dynamic_ = std::make_unique<solvers::CvodeIntegrator>(kDynamicStates, rhs_dynamic, ctx_.get(),
+                                                            extended_options(opt_, supports, 1.0));
     }
     return *dynamic_;
   }
   if (quasi_static_ == nullptr) {
-    quasi_static_ =
-        new solvers::CvodeIntegrator(kQuasiStates, rhs_quasi_static, ctx_, extended_options(opt_, supports, 1.0));
+    quasi_static_ = std::make_unique<solvers::CvodeIntegrator>(kQuasiStates, rhs_quasi_static, ctx_.get(),
+                                                               extended_options(opt_, supports, 1.0));
   }
   return *quasi_static_;
 }

@@ -12,6 +12,7 @@
 /// and cable torque (in the disk model), current acquisition (rate, white noise, offset
 /// with a per-position random-walk drift, ADC resolution and range), turntable positioning
 /// error, gimbal axis tilted against the turntable axis, bearing run-out.
+#include <memory>
 #include <cstdint>
 #include <span>
 #include <string>
@@ -137,9 +138,9 @@ class StaticUnbalanceWorkspace {
 
  private:
   solvers::CvodeOptions opt_;
-  Context* ctx_;
-  solvers::CvodeIntegrator* dynamic_ = nullptr;
-  solvers::CvodeIntegrator* quasi_static_ = nullptr;
+  std::unique_ptr<Context> ctx_;  // complete in the .cc, where the constructor and destructor are
+  // Made on first use; destroyed before the context they point into (declared after it).
+  std::unique_ptr<solvers::CvodeIntegrator> dynamic_, quasi_static_;
 };
 
 /// Runs the whole test on `truth`; noise comes from `noise` (advanced). Throws

@@ -7,6 +7,8 @@
 #include <sunmatrix/sunmatrix_dense.h>
 
 #include <algorithm>
+#include <memory>
+#include <type_traits>
 
 #include "core/error.h"
 
@@ -33,6 +35,31 @@ void check(int flag, const char* what, const std::string& detail = "") {
 
 }  // namespace
 
+struct CvodeIntegrator::Handles {
+  struct FreeContext {
+    void operator()(SUNContext c) const { SUNContext_Free(&c); }
+  };
+  struct FreeVector {
+    void operator()(N_Vector v) const { N_VDestroy(v); }
+  };
+  struct FreeMatrix {
+    void operator()(SUNMatrix m) const { SUNMatDestroy(m); }
+  };
+  struct FreeSolver {
+    void operator()(SUNLinearSolver s) const { SUNLinSolFree(s); }
+  };
+  struct FreeMemory {
+    void operator()(void* m) const { CVodeFree(&m); }
+  };
+  // Destroyed in reverse order: the binding and CVODE's memory first, the context last.
+  std::unique_ptr<std::remove_pointer_t<SUNContext>, FreeContext> context;
+  std::unique_ptr<std::remove_pointer_t<N_Vector>, FreeVector> y, tmp;
+  std::unique_ptr<std::remove_pointer_t<SUNMatrix>, FreeMatrix> matrix;
+  std::unique_ptr<std::remove_pointer_t<SUNLinearSolver>, FreeSolver> solver;
+  std::unique_ptr<void, FreeMemory> memory;
+  std::unique_ptr<RhsBinding> binding;
+};
+
 // Keeps CVODE's message for the exception instead of printing it to stderr.
 void cvode_error_handler(int, const char* module, const char* function, char* msg, void* data) {
   auto* self = static_cast<CvodeIntegrator*>(data);
@@ -41,7 +68,7 @@ void cvode_error_handler(int, const char* module, const char* function, char* ms
 
 CvodeIntegrator::CvodeIntegrator(std::size_t n, RhsFunction rhs, void* user_data,
                                  const CvodeOptions& opt)
-    : n_(n), opt_(opt) {
+    : n_(n), owned_(std::make_unique<Handles>()), opt_(opt) {
   require(n > 0, "CVODE needs at least one state");
   SUNContext ctx = nullptr;
 #if SUNDIALS_VERSION_MAJOR >= 7
@@ -49,9 +76,12 @@ CvodeIntegrator::CvodeIntegrator(std::size_t n, RhsFunction rhs, void* user_data
 #else
   check(SUNContext_Create(nullptr, &ctx), "SUNContext_Create");
 #endif
+  owned_->context.reset(ctx);
   ctx_ = ctx;
   N_Vector y = N_VNew_Serial(static_cast<sunindextype>(n), ctx);
+  owned_->y.reset(y);
   N_Vector tmp = N_VNew_Serial(static_cast<sunindextype>(n), ctx);
+  owned_->tmp.reset(tmp);
   require(y && tmp, "CVODE: cannot allocate vectors");
   N_VConst(0.0, y);
   N_VEnableFusedOps_Serial(y, SUNTRUE);  // one loop per linear combination (clones inherit)
@@ -60,6 +90,7 @@ CvodeIntegrator::CvodeIntegrator(std::size_t n, RhsFunction rhs, void* user_data
   tmp_ = tmp;
   void* mem = CVodeCreate(CV_BDF, ctx);
   require(mem != nullptr, "CVodeCreate failed");
+  owned_->memory.reset(mem);
   mem_ = mem;
   CVodeSetErrHandlerFn(mem, cvode_error_handler, this);
   check(CVodeInit(mem, cvode_rhs, 0.0, y), "CVodeInit");
@@ -70,10 +101,12 @@ CvodeIntegrator::CvodeIntegrator(std::size_t n, RhsFunction rhs, void* user_data
     std::copy(opt.atol_per_state.begin(), opt.atol_per_state.end(), N_VGetArrayPointer(tmp));
     check(CVodeSVtolerances(mem, opt.rtol, tmp), "CVodeSVtolerances");  // CVODE copies it
   }
-  auto* binding = new RhsBinding{rhs, user_data};
-  check(CVodeSetUserData(mem, binding), "CVodeSetUserData");
+  owned_->binding = std::make_unique<RhsBinding>(RhsBinding{rhs, user_data});
+  check(CVodeSetUserData(mem, owned_->binding.get()), "CVodeSetUserData");
   SUNMatrix a = SUNDenseMatrix(static_cast<sunindextype>(n), static_cast<sunindextype>(n), ctx);
+  owned_->matrix.reset(a);
   SUNLinearSolver ls = SUNLinSol_Dense(y, a, ctx);
+  owned_->solver.reset(ls);
   require(a && ls, "CVODE: cannot create the dense linear solver");
   a_ = a;
   ls_ = ls;
@@ -83,22 +116,7 @@ CvodeIntegrator::CvodeIntegrator(std::size_t n, RhsFunction rhs, void* user_data
   if (opt.max_order > 0) check(CVodeSetMaxOrd(mem, opt.max_order), "CVodeSetMaxOrd");
 }
 
-CvodeIntegrator::~CvodeIntegrator() {
-  if (mem_) {
-    void* ud = nullptr;
-    CVodeGetUserData(mem_, &ud);
-    delete static_cast<RhsBinding*>(ud);
-    CVodeFree(&mem_);
-  }
-  if (ls_) SUNLinSolFree(static_cast<SUNLinearSolver>(ls_));
-  if (a_) SUNMatDestroy(static_cast<SUNMatrix>(a_));
-  if (y_) N_VDestroy(static_cast<N_Vector>(y_));
-  if (tmp_) N_VDestroy(static_cast<N_Vector>(tmp_));
-  if (ctx_) {
-    SUNContext ctx = static_cast<SUNContext>(ctx_);
-    SUNContext_Free(&ctx);
-  }
-}
+CvodeIntegrator::~CvodeIntegrator() = default;  // owned_ frees the handles
 
 void CvodeIntegrator::reset(double t0, std::span<const double> y0) {
   require(y0.size() == n_, "CVODE reset: state of the wrong size");

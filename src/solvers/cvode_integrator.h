@@ -11,6 +11,7 @@
 /// The right-hand side is a plain function that must not throw: it returns 0 on success,
 /// > 0 for a recoverable failure (CVODE retries with a smaller step), < 0 to stop.
 #include <cstddef>
+#include <memory>
 #include <span>
 #include <string>
 #include <vector>
@@ -75,7 +76,11 @@ class CvodeIntegrator {
   std::size_t size() const { return n_; }
 
  private:
+  /// Owns every SUNDIALS handle (freed in the right order, also when the constructor throws
+  /// half-way); the void* members below are views of them.
+  struct Handles;  // complete in the .cc, where the constructor and destructor are
   std::size_t n_;
+  std::unique_ptr<Handles> owned_;
   void* ctx_ = nullptr;   // SUNContext
   void* mem_ = nullptr;   // CVODE memory
   void* y_ = nullptr;     // N_Vector
