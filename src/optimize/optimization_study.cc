@@ -69,35 +69,8 @@ std::string design_text(const OptimizationSpec& spec, const std::vector<double>&
   return s;
 }
 
-}  // namespace
-
-nlohmann::json statistic_with_ci(const std::vector<double>& values, const std::string& stat, std::uint64_t seed,
-                                 int resamples) {
-  json j{{"value", engine::statistic(values, stat)}};
-  if (values.size() < 2) return j;
-  sampling::RandomStream rs(seed, sampling::StreamId::kBootstrap, 0);
-  std::vector<double> boot(static_cast<std::size_t>(resamples)), r(values.size());
-  for (auto& b : boot) {
-    for (auto& v : r) v = values[static_cast<std::size_t>(rs.uniform() * static_cast<double>(values.size()))];
-    b = engine::statistic(r, stat);
-  }
-  std::sort(boot.begin(), boot.end());
-  j["lo"] = sampling::quantile_sorted(boot, 0.025).value;
-  j["hi"] = sampling::quantile_sorted(boot, 0.975).value;
-  return j;
-}
-
-OptimizationOutcome optimize(const OptimizationSpec& spec, int threads, bool progress_on) {
-  OptimizationOutcome out;
-  RunProgress progress(progress_on);
-  out.choices = combinations(spec.choices);
-  const bool several = out.choices.size() > 1;
-  // The plan: the searches, the fresh sets (selection, comparison or check), the replicates
-  // and one evaluation on the search's samples; the nearest-design rounds are added if needed.
-  progress.plan(static_cast<double>(out.choices.size()) * planned_search_samples(spec, true));
-  progress.plan(static_cast<double>((spec.replicates - 1)) * planned_search_samples(spec, false));
-  progress.plan(static_cast<double>(spec.samples));
-  if (!several) progress.plan(static_cast<double>(spec.verification_samples));
+/// The searches, one per combination of the choices, on the search's own samples.
+void run_searches(const OptimizationSpec& spec, OptimizationOutcome& out, int threads, RunProgress& progress) {
   double best_f = INFINITY;
   for (std::size_t ci = 0; ci < out.choices.size(); ++ci) {
     SearchSetup setup;
@@ -114,42 +87,46 @@ OptimizationOutcome optimize(const OptimizationSpec& spec, int threads, bool pro
     }
     out.runs.push_back(std::move(cr));
   }
-  if (!out.feasible) {
-    // The least violating evaluation, to say how far the requirements are.
-    std::string closest;
-    double least = INFINITY;
-    for (const auto& run : out.runs) {
-      for (const auto& h : run.result.history) {
-        if (!h.result.ok) continue;
-        double worst = 0.0;
-        std::size_t which = 0;
-        for (std::size_t k = 0; k < h.result.constraints.size(); ++k) {
-          if (h.result.constraints[k] > worst) {
-            worst = h.result.constraints[k];
-            which = k;
-          }
-        }
-        if (worst < least && !spec.constraints.empty()) {
-          least = worst;
-          closest = spec.constraints[which].describe() + " missed by " + value_text(worst, "");
+}
+
+/// No design met the constraints: how far the closest came, in the message and the answer.
+void explain_no_design(const OptimizationSpec& spec, OptimizationOutcome& out) {
+  // The least violating evaluation, to say how far the requirements are.
+  std::string closest;
+  double least = INFINITY;
+  for (const auto& run : out.runs) {
+    for (const auto& h : run.result.history) {
+      if (!h.result.ok) continue;
+      double worst = 0.0;
+      std::size_t which = 0;
+      for (std::size_t k = 0; k < h.result.constraints.size(); ++k) {
+        if (h.result.constraints[k] > worst) {
+          worst = h.result.constraints[k];
+          which = k;
         }
       }
-    }
-    std::string failed;
-    for (const auto& run : out.runs) {
-      for (const auto& h : run.result.history) {
-        if (!h.result.ok && failed.empty()) failed = h.result.message;
+      if (worst < least && !spec.constraints.empty()) {
+        least = worst;
+        closest = spec.constraints[which].describe() + " missed by " + value_text(worst, "");
       }
     }
-    out.message = "no design met the constraints in " + std::to_string(spec.max_evaluations) +
-                  " evaluations per choice" + (closest.empty() ? "" : "; closest: " + closest) +
-                  (failed.empty() ? "" : "; a failed evaluation: " + failed) +
-                  ". Relax a constraint, widen the bounds or change the algorithm (a global one: direct_l, isres).";
-    out.answer = "No design found: " + out.message;
-    return out;
   }
-  // 1. The choices decided on fresh samples, or the single optimum checked.
-  if (several) {
+  std::string failed;
+  for (const auto& run : out.runs) {
+    for (const auto& h : run.result.history) {
+      if (!h.result.ok && failed.empty()) failed = h.result.message;
+    }
+  }
+  out.message = "no design met the constraints in " + std::to_string(spec.max_evaluations) +
+                " evaluations per choice" + (closest.empty() ? "" : "; closest: " + closest) +
+                (failed.empty() ? "" : "; a failed evaluation: " + failed) +
+                ". Relax a constraint, widen the bounds or change the algorithm (a global one: direct_l, isres).";
+  out.answer = "No design found: " + out.message;
+}
+
+/// The choices decided on fresh samples, or the single optimum checked.
+void decide_or_check(const OptimizationSpec& spec, OptimizationOutcome& out, int threads, RunProgress& progress) {
+  if (out.choices.size() > 1) {
     const ChoiceDecision d = decide_choices(spec, out.runs, out.optimization_pick, threads, progress);
     out.best = d.headline;
     out.comparison = d.json;
@@ -166,11 +143,11 @@ OptimizationOutcome optimize(const OptimizationSpec& spec, int threads, bool pro
                   "[check] " + std::to_string(spec.verification_samples) + " fresh samples: constraints " +
                       to_string(out.check.verdict));
   }
-  const ChoiceResult& best = out.runs[out.best];
-  out.optimum = overrides_of(spec, best.result.x, best.choice);
-  out.verified = out.check.verdict == Verdict::kPasses;
-  out.verification = out.check.to_json();
-  // 2. The optimum's own uncertainty: the search repeated with independent seeds.
+}
+
+/// The optimum's own uncertainty: the search repeated with independent seeds.
+void measure_spread(const OptimizationSpec& spec, OptimizationOutcome& out, const ChoiceResult& best, int threads,
+                    RunProgress& progress) {
   {
     json vars = json::array();
     std::vector<std::vector<double>> xs{best.result.x};
@@ -213,7 +190,11 @@ OptimizationOutcome optimize(const OptimizationSpec& spec, int threads, bool pro
                   {"objective", spread_of(fs)}, {"runs", searches}};
     if (spec.replicates < 2) out.spread = json{{"searches", 1}, {"requested", 1}};
   }
-  // 3. Each constraint at the optimum on the search's own samples, with its interval.
+}
+
+/// Each constraint at the optimum on the search's own samples, with its interval.
+void constraints_at_optimum(const OptimizationSpec& spec, OptimizationOutcome& out, const ChoiceResult& best,
+                            int threads, RunProgress& progress) {
   {
     const auto e = engine::evaluate_study(spec.base, out.optimum, spec.samples, spec.seed, threads);
     const FreshCheck own = check_design(spec, best.result.x, e, spec.seed);
@@ -230,7 +211,11 @@ OptimizationOutcome optimize(const OptimizationSpec& spec, int threads, bool pro
     }
     out.binding = b;
   }
-  // 4. Not verified: the nearest design that passes, by tightening what failed by its excess.
+}
+
+/// Not verified: the nearest design that passes, by tightening what failed by its excess.
+void find_nearest_design(const OptimizationSpec& spec, OptimizationOutcome& out, const ChoiceResult& best,
+                         int threads, RunProgress& progress) {
   if (!out.verified) {
     json rounds = json::array();
     OptimizationSpec tight = spec;
@@ -306,7 +291,11 @@ OptimizationOutcome optimize(const OptimizationSpec& spec, int threads, bool pro
       out.nearest = {{"found", false}, {"why", why_none}, {"rounds", rounds}};
     }
   }
-  // The Pareto front: feasible evaluations no other beats on both objectives.
+}
+
+/// The Pareto front: feasible evaluations no other beats on both objectives, each checked on
+/// the comparison set.
+void pareto_front(const OptimizationSpec& spec, OptimizationOutcome& out, int threads, RunProgress& progress) {
   if (spec.pareto) {
     std::vector<std::size_t> idx;
     for (std::size_t i = 0; i < out.pool.size(); ++i) {
@@ -343,7 +332,10 @@ OptimizationOutcome optimize(const OptimizationSpec& spec, int threads, bool pro
     }
     out.front_verification = fv;
   }
-  // The answer in one sentence.
+}
+
+/// The answer in one sentence: the decision, the design and its fresh-sample verdict.
+void answer_sentence(const OptimizationSpec& spec, OptimizationOutcome& out, const ChoiceResult& best) {
   {
     std::string s = out.answer;
     const std::string design = design_text(spec, best.result.x, out.spread);
@@ -382,6 +374,54 @@ OptimizationOutcome optimize(const OptimizationSpec& spec, int threads, bool pro
     const std::string design_part = "design: " + head + ", " + objective + "; " + check;
     out.answer = s.empty() ? "Optimum " + design_part : s + "; " + design_part;
   }
+}
+
+}  // namespace
+
+nlohmann::json statistic_with_ci(const std::vector<double>& values, const std::string& stat, std::uint64_t seed,
+                                 int resamples) {
+  json j{{"value", engine::statistic(values, stat)}};
+  if (values.size() < 2) return j;
+  sampling::RandomStream rs(seed, sampling::StreamId::kBootstrap, 0);
+  std::vector<double> boot(static_cast<std::size_t>(resamples)), r(values.size());
+  for (auto& b : boot) {
+    for (auto& v : r) v = values[static_cast<std::size_t>(rs.uniform() * static_cast<double>(values.size()))];
+    b = engine::statistic(r, stat);
+  }
+  std::sort(boot.begin(), boot.end());
+  j["lo"] = sampling::quantile_sorted(boot, 0.025).value;
+  j["hi"] = sampling::quantile_sorted(boot, 0.975).value;
+  return j;
+}
+
+OptimizationOutcome optimize(const OptimizationSpec& spec, int threads, bool progress_on) {
+  OptimizationOutcome out;
+  RunProgress progress(progress_on);
+  out.choices = combinations(spec.choices);
+  const bool several = out.choices.size() > 1;
+  // The plan: the searches, the fresh sets (selection, comparison or check), the replicates
+  // and one evaluation on the search's samples; the nearest-design rounds are added if needed.
+  progress.plan(static_cast<double>(out.choices.size()) * planned_search_samples(spec, true));
+  progress.plan(static_cast<double>((spec.replicates - 1)) * planned_search_samples(spec, false));
+  progress.plan(static_cast<double>(spec.samples));
+  if (!several) progress.plan(static_cast<double>(spec.verification_samples));
+  run_searches(spec, out, threads, progress);
+  if (!out.feasible) {
+    explain_no_design(spec, out);
+    return out;
+  }
+  // Then: the decision or the check, the spread, the constraints at the optimum, the nearest
+  // passing design when needed, the front and the answer.
+  decide_or_check(spec, out, threads, progress);
+  const ChoiceResult& best = out.runs[out.best];
+  out.optimum = overrides_of(spec, best.result.x, best.choice);
+  out.verified = out.check.verdict == Verdict::kPasses;
+  out.verification = out.check.to_json();
+  measure_spread(spec, out, best, threads, progress);
+  constraints_at_optimum(spec, out, best, threads, progress);
+  find_nearest_design(spec, out, best, threads, progress);
+  pareto_front(spec, out, threads, progress);
+  answer_sentence(spec, out, best);
   return out;
 }
 
