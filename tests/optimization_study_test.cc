@@ -393,6 +393,20 @@ seed = 9
   const bool better = out.answer.find(" is better than ") != std::string::npos;
   const bool kept = out.answer.find(" is kept although ") != std::string::npos;
   EXPECT_TRUE(no_difference || equivalent || better || kept) << out.answer;
+  // Another draw (search and fresh seeds) does not flip a headline the intervals do not
+  // support: where neither answer shows one value better, both name the cheaper value.
+  OptimizationSpec other = spec;
+  other.seed = 77;
+  other.verification_seed = 78;
+  const OptimizationOutcome again = optimize(other, 2, false);
+  ASSERT_TRUE(again.feasible);
+  const auto undecided = [](const std::string& a) {
+    return a.find(" is better than ") == std::string::npos && a.find(" is kept although ") == std::string::npos;
+  };
+  if (undecided(out.answer) && undecided(again.answer)) {
+    EXPECT_EQ(out.choices[out.best].at("group.positions"), again.choices[again.best].at("group.positions"))
+        << out.answer << "\n" << again.answer;
+  }
 }
 
 TEST(OptimizationStudy, BootstrapIntervalCoversTheStatistic) {

@@ -117,12 +117,16 @@ std::string sensitivity_html(const json& s) {
     const auto end = [](const json& x) { return x.is_number() ? x.get<double>() : NAN; };
     std::snprintf(buf, sizeof buf, "%.3f <small>[%.3f, %.3f]</small>", e["value"].get<double>(), end(e["ci95"][0]),
                   end(e["ci95"][1]));
-    return std::string(buf);
+    // An index whose interval reaches zero is not told apart from no influence at all.
+    const bool resolved = !(end(e["ci95"][0]) <= 0.0);
+    return std::string(buf) + (resolved ? "" : " <small>(not resolved)</small>");
   };
   std::string h = "<h2>Which input drives each output (Sobol indices)</h2>\n<p>" +
                   html_escape(s["method"].get<std::string>()) + "; " + std::to_string(s["base_rows"].get<std::size_t>()) +
                   " base rows, " + std::to_string(s["evaluations"].get<std::size_t>()) + " evaluations. " +
-                  html_escape(s["reading"].get<std::string>()) + ". Groups whose total index is below 0.01 at both ends are left out.</p>\n";
+                  html_escape(s["reading"].get<std::string>()) + ". Groups whose total index is below 0.01 at both ends are left out; "
+                  "an index whose 95% interval reaches zero is marked not resolved (these samples do not tell it "
+                  "apart from no influence).</p>\n";
   auto table = [&](const json& rows, const json& first_sum, const char* what) {
     std::string t = "<table><tr><th class='l'>" + std::string(what) + "</th><th>first order S</th><th>total ST</th></tr>\n";
     for (const auto& g : rows) {
