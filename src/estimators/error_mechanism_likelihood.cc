@@ -6,12 +6,13 @@
 #include <numeric>
 #include <random>
 
+#include "core/angles.h"
 #include "core/error.h"
 
 namespace poise::estimators {
 namespace {
 
-constexpr double kTwoPi = 6.283185307179586;
+using angles::kTwoPi;
 
 // Which sigmas a mechanism frees, and ties: `additive` has one s_d for both components.
 struct Freedom {

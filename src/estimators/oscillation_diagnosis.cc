@@ -8,6 +8,7 @@
 #include <numeric>
 #include <string>
 
+#include "core/angles.h"
 #include "core/error.h"
 
 namespace poise::estimators {
@@ -189,7 +190,7 @@ OscillationDiagnosis diagnose_oscillation(const OscillationRecord& rec, const Os
                    "direction-dependent bearing friction (preload, lubricant, seal)"});
   // Cogging orders that complete one cycle over the swing; lower ones are not identifiable.
   const double swing = phi.maxCoeff() - phi.minCoeff();
-  constexpr double kTwoPi = 6.283185307179586;
+  using angles::kTwoPi;
   const int min_order = std::max(opt.cogging_min_order,
                                  swing > 0 ? static_cast<int>(std::ceil(kTwoPi / swing - 1e-9)) : opt.cogging_max_order + 1);
   {

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstdio>
 #include <numbers>
+#include "core/angles.h"
 
 namespace poise::estimators::detail {
 namespace {
@@ -16,7 +17,7 @@ using Eigen::Index;
 using Eigen::MatrixXd;
 using Eigen::VectorXd;
 
-constexpr double kPi = std::numbers::pi;
+using angles::kPi;
 
 // Orthonormal basis of the columns of a (numerical rank); empty when a is (near) zero.
 MatrixXd basis(const MatrixXd& a) {
@@ -35,11 +36,7 @@ bool is_time_like(const std::string& n) {
          n == "step" || n == "kt_drift" || n == "autocorrelation";
 }
 
-double wrap_two_pi(double x) {
-  double w = std::fmod(x, 2.0 * kPi);
-  if (w < 0.0) w += 2.0 * kPi;
-  return w >= 2.0 * kPi ? 0.0 : w;
-}
+using angles::wrap_two_pi;
 
 std::string fmt(const char* f, double a, double b = 0.0) {
   char buf[240];

@@ -10,6 +10,7 @@
 #include <string>
 #include <utility>
 
+#include "core/angles.h"
 #include "core/error.h"
 #include "estimators/residual_assessment.h"
 #include "estimators/residual_candidates.h"
@@ -37,7 +38,7 @@ using Eigen::Index;
 using Eigen::MatrixXd;
 using Eigen::VectorXd;
 
-constexpr double kPi = std::numbers::pi;
+using angles::kPi;
 constexpr double kDegPerRad = 180.0 / kPi;
 constexpr int kMaxRounds = 200;  // the search ends long before: each round adds a column set
 constexpr const char* kCauseHarmonic2 =
@@ -65,11 +66,7 @@ constexpr const char* kCauseKt =
     "The torque constant changing during the test (magnet and winding temperature: NdFeB about "
     "-0.1 %/K), scaling the whole measured torque.";
 
-double wrap_two_pi(double x) {
-  double w = std::fmod(x, 2.0 * kPi);
-  if (w < 0.0) w += 2.0 * kPi;
-  return w >= 2.0 * kPi ? 0.0 : w;
-}
+using angles::wrap_two_pi;
 
 std::vector<Term> round_candidates(const Model& m, const Data& d, const TorqueTable& table,
                                    const std::vector<double>& t_c, int max_harmonic,

@@ -7,24 +7,20 @@
 #include <numbers>
 #include <string>
 
+#include "core/angles.h"
 #include "core/error.h"
 
 namespace poise::estimators {
 namespace {
 
-constexpr double kTwoPi = 2.0 * std::numbers::pi;
+using angles::kTwoPi;
 // Angles closer than this (rad, about 0.2 milli-arcsec) count as the same position.
 constexpr double kSameAngle = 1e-9;
 // |R_ii| below this fraction of the largest pivot: rank-deficient (the design cannot tell
 // sin, cos and the offset apart to any useful accuracy).
 constexpr double kRankThreshold = 1e-10;
 
-double wrap_two_pi(double x) {
-  double w = std::fmod(x, kTwoPi);
-  if (w < 0.0) w += kTwoPi;
-  // fmod of a tiny negative number plus 2 pi can round to 2 pi itself.
-  return w >= kTwoPi ? 0.0 : w;
-}
+using angles::wrap_two_pi;
 
 void check_input(std::span<const double> theta_rad, std::span<const double> value) {
   if (theta_rad.size() != value.size()) {

@@ -4,12 +4,13 @@
 #include <map>
 #include <numbers>
 
+#include "core/angles.h"
 #include "core/error.h"
 
 namespace poise::geometry {
 namespace {
 
-constexpr double kPi = std::numbers::pi;
+using angles::kPi;
 
 double signed_volume(const Mesh& m) {
   double v = 0.0;

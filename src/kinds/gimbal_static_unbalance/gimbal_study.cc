@@ -2,6 +2,7 @@
 
 #include <cmath>
 
+#include "core/angles.h"
 #include "core/units.h"
 #include "geometry/generators.h"
 #include "geometry/mass_properties.h"
@@ -55,7 +56,7 @@ const Slot kSlots[] = {
     {"counterweight_angle", &GimbalModel::counterweight_angle, &UnitDraws::cw_angle, nullptr, false},
 };
 
-double wrap_pi(double a) { return std::remainder(a, 2.0 * kPi); }
+using angles::wrap_pi;
 
 std::size_t count_dims(const GimbalModel& m) {
   std::size_t d = 0;
