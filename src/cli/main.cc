@@ -16,6 +16,7 @@
 #include "cli/mass_properties_command.h"
 #include "cli/optimize_command.h"
 #include "cli/record_command.h"
+#include "cli/study_commands.h"
 #include "core/error.h"
 #include "core/version.h"
 #include "sampling/distributed.h"
@@ -129,87 +130,7 @@ int run_main(int argc, char** argv) {
   app.set_version_flag("--version", std::string("poise ") + poise::kVersion + " (" + poise::kGitCommit + ")");
   app.require_subcommand(1);
 
-  poise::engine::RunOptions opt;
-  std::string study;
-  std::size_t samples = 0;
-  std::uint64_t seed = 0;
-  bool quiet = false, no_plots = false;
-
-  auto add_common = [&](CLI::App* sub, bool resumable) {
-    CLI::Option* file = sub->add_option(
-        "STUDY", study,
-        resumable ? "study file (TOML), e.g. studies/los_seeker_wang2011.toml; with --resume, run.json names it"
-                  : "study file (TOML), e.g. studies/los_seeker_wang2011.toml");
-    file->check(CLI::ExistingFile);
-    if (!resumable) file->required();
-    sub->add_option("--samples,-n", samples, "number of samples (overrides [sampling] samples)")
-        ->check(poise::cli::at_least_one());
-    sub->add_option("--seed,-s", seed, "random seed (overrides [sampling] seed); same seed, same samples");
-  };
-
-  CLI::App* run = app.add_subcommand("run", "validate a study, run it and write its result folder");
-  add_common(run, true);
-  run->add_option("--threads,-j", opt.threads,
-                  "worker threads (default: all cores); results do not depend on it")
-      ->check(CLI::NonNegativeNumber);
-  run->add_option("--out,-o", opt.out, "result folder (default results/<study>/<run id>); must not hold a run");
-  run->add_option("--results-root", opt.results_root, "where default result folders go (default: results)");
-  run->add_option("--resume", opt.resume,
-                  "continue an interrupted run in this folder: keeps its samples.csv rows, "
-                  "computes the rest (same seed and sample count; the study files must be unchanged)")
-      ->excludes("--out")
-      ->excludes("--samples")
-      ->excludes("--seed");
-  run->add_option("--until", opt.until,
-                  "run until a 95% interval is this narrow: OUTPUT.STAT<=WIDTH (STAT: mean, std, p50, p95, p99_73; "
-                  "WIDTH in the output's unit, or N% of the figure), e.g. \"los_max_arcsec.p95<=0.2\". Checked at "
-                  "~10% steps of the sample count; needs monte_carlo, or lhs/sobol with [sampling] replicate_size")
-      ->excludes("--resume")
-      ->excludes("--samples");
-  std::size_t max_samples = 0;
-  run->add_option("--max-samples", max_samples, "cap of an --until run (default 100 x the study's samples)")
-      ->needs("--until")
-      ->check(poise::cli::at_least_one());
-  std::vector<std::string> settings;
-  run->add_option("--set", settings,
-                  "KEY=VALUE: set a model key (or a study key the kind allows) for this run on top of the study "
-                  "file's [overrides], e.g. --set \"yaw.bearing_span=70 mm\"; repeat for more keys")
-      ->excludes("--resume");
-  run->add_flag("--quiet,-q", quiet, "no progress on stderr");
-  run->add_flag("--no-plots", no_plots, "skip gnuplot figures");
-  run->add_flag("--require", opt.require,
-                "for nightly and CI use: exit 3 unless every [[requirement]] of the study is met (not met or "
-                "undecided: 3); a study without requirements is refused (exit 2). Without it a completed run exits 0 "
-                "whatever its verdicts");
-
-  CLI::App* sens = app.add_subcommand(
-      "sensitivity",
-      "Sobol indices: which tolerance drives each output. Runs the study on the Saltelli layout: base rows of two "
-      "independent designs A and B and, per input, A with that input from B (base x (inputs + 2) samples, plus one "
-      "group for a procedure's own randomness such as noise); first-order (Saltelli 2010) and total (Jansen 1999) "
-      "indices with 95% bootstrap intervals in summary.json \"sensitivity\" and report.html. Resumable like a run "
-      "(--resume), and distributed under mpirun.");
-  std::size_t base = 0;
-  sens->add_option("STUDY", study, "study file (TOML); with --resume, run.json names it")->check(CLI::ExistingFile);
-  sens->add_option("--base,-b", base, "base rows N (each index's interval narrows as 1/sqrt(N); 64-256 for a "
-                                      "simulated procedure, 1000+ for a LOS study)")
-      ->check(poise::cli::at_least_one());
-  sens->add_option("--seed,-s", seed, "random seed (overrides [sampling] seed)");
-  sens->add_option("--threads,-j", opt.threads, "worker threads (default: all cores)")->check(CLI::NonNegativeNumber);
-  sens->add_option("--out,-o", opt.out, "result folder (default results/<study>/<run id>)");
-  sens->add_option("--results-root", opt.results_root, "where default result folders go (default: results)");
-  sens->add_option("--resume", opt.resume, "continue an interrupted sensitivity run in this folder")->excludes("--out");
-  sens->add_flag("--quiet,-q", quiet, "no progress on stderr");
-  sens->add_flag("--no-plots", no_plots, "skip gnuplot figures");
-
-  CLI::App* validate = app.add_subcommand("validate", "check a study file and its model file; run nothing");
-  validate->add_option("STUDY", study, "study file (TOML)")->required()->check(CLI::ExistingFile);
-
-  std::size_t index = 0;
-  CLI::App* replay = app.add_subcommand("replay", "recompute one sample alone and print it as JSON");
-  add_common(replay, false);
-  replay->add_option("--sample,-i", index, "sample index (0-based, as in samples.csv)")->required();
-
+  poise::cli::StudyCommands study_commands(app);  // run, sensitivity, validate, replay
   const poise::cli::FitHandler fit = poise::cli::add_fit_command(app);
   const poise::cli::ErrorMechanismsHandler mechanisms = poise::cli::add_error_mechanisms_command(app);
   const poise::cli::DiagnoseHandler diagnose = poise::cli::add_diagnose_command(app);
@@ -231,7 +152,7 @@ int run_main(int argc, char** argv) {
     app.exit(e);  // prints CLI11's message and "Run with --help for more information."
     return 2;     // a command-line mistake is invalid input, whatever CLI11's own code
   }
-  if (poise::sampling::Cluster::size() > 1 && !*run && !*sens) {
+  if (poise::sampling::Cluster::size() > 1 && !study_commands.distributes()) {
     if (poise::sampling::Cluster::root()) {
       std::cerr << "poise: under mpirun only `poise run` and `poise sensitivity` distribute their samples; run "
                    "this command in one process\n";
@@ -262,72 +183,5 @@ int run_main(int argc, char** argv) {
     std::cerr << "poise: error: " << e.what() << '\n';
     return 1;
   }
-  if ((*run || *sens) && study.empty()) {
-    if (opt.resume.empty()) {
-      std::cerr << "poise: STUDY is required (the study file), or --resume DIR to continue a run\n";
-      return 2;
-    }
-    try {
-      study = poise::engine::study_file_of_run(opt.resume);
-    } catch (const std::exception& e) {
-      std::cerr << "poise: " << e.what() << "\nNothing was run.\n";
-      return 2;
-    }
-  }
-  for (const auto& setting : settings) {
-    const auto eq = setting.find('=');
-    if (eq == std::string::npos || eq == 0) {
-      std::cerr << "poise run: --set '" << setting << "': expected KEY=VALUE, e.g. --set \"yaw.bearing_span=70 mm\"\n";
-      return 2;
-    }
-    opt.overrides[setting.substr(0, eq)] = setting.substr(eq + 1);
-  }
-  if (samples > 0) opt.samples = samples;
-  if (max_samples > 0) opt.max_samples = max_samples;
-  if (*sens) {
-    if (base == 0 && opt.resume.empty()) {
-      std::cerr << "poise sensitivity: --base N is required (base rows of the Saltelli layout)\n";
-      return 2;
-    }
-    opt.sensitivity_base = base;
-    if (sens->count("--seed")) opt.seed = seed;
-  }
-  if (!run->count("--seed") && !replay->count("--seed")) {
-  } else {
-    opt.seed = seed;
-  }
-  opt.progress = !quiet;
-  opt.plots = !no_plots;
-  const bool root = poise::sampling::Cluster::root();
-
-  try {
-    if (*validate) {
-      std::cout << poise::engine::validate_study(study) << '\n';
-    } else if (*run || *sens) {
-      const std::string dir = poise::engine::run_study(study, opt);
-      if (root) {
-        // The answer is the last line before the report's path: the sentence summary.json
-        // and the report open with.
-        const poise::engine::RunAnswer answer = poise::engine::run_answer(dir);
-        if (!answer.answer.empty()) std::cout << answer.answer << '\n';
-        std::cout << "report: " << dir << "/report.html\n";
-        if (opt.require && answer.met != true) return 3;
-      }
-    } else if (*replay) {
-      std::cout << poise::engine::replay_sample(study, index, opt).dump(2) << '\n';
-    }
-  } catch (const poise::engine::ValidationError& e) {
-    if (root) std::cerr << "poise: " << e.what() << "\nNothing was run.\n";
-    return 2;
-  } catch (const poise::UsageError& e) {
-    if (root) std::cerr << "poise: " << e.what() << "\nNothing was run.\n";
-    return 2;
-  } catch (const poise::engine::Interrupted& e) {
-    if (root) std::cerr << "\npoise: " << e.what() << '\n';
-    return 128 + e.signal;
-  } catch (const std::exception& e) {
-    std::cerr << "poise: error: " << e.what() << '\n';
-    return 1;
-  }
-  return 0;
+  return study_commands().value_or(0);
 }
