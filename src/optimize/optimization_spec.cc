@@ -89,35 +89,33 @@ std::string choice_label(const std::map<std::string, std::string>& choice) {
   return s.empty() ? "-" : s;
 }
 
-OptimizationSpec load_optimization(const std::string& path) {
-  toml::table doc = engine::parse_toml_file(path);
-  auto ctx = std::make_shared<engine::ReadContext>();
-  ctx->file = path;
-  TomlReader root(doc, ctx);
-  OptimizationSpec s;
-  s.file = path;
-  std::string study_path;
-  std::optional<std::size_t> replicate_size;
-  {
-    TomlReader t = root.table("optimization");
-    s.name = t.string("name");
-    s.title = t.string("title", "");
-    s.notes = t.string("notes", "");
-    const std::string study = t.string("study");
-    study_path = (fs::path(path).parent_path() / study).lexically_normal().string();
-    if (!study.empty() && !fs::exists(study_path)) {
-      t.error("study", "\"" + study + "\"", "an existing study file (looked for " + study_path + ")");
-      study_path.clear();
-    }
-    s.samples = static_cast<std::size_t>(t.integer("samples", 2, 100'000'000));
-    s.seed = static_cast<std::uint64_t>(t.integer("seed", 0, INT64_MAX));
-    const std::string algo = t.choice("algorithm", {"cobyla", "bobyqa", "sbplx", "neldermead", "direct_l", "isres"});
-    s.algorithm = parse_algorithm(algo);
-    s.max_evaluations = static_cast<int>(t.integer("max_evaluations", 1, 1'000'000));
-    s.xtol_rel = t.number("xtol_rel", [](double v) { return v > 0 && v < 1 ? "" : "0 < xtol_rel < 1"; }, 1e-3);
-    s.replicates = static_cast<int>(t.integer("replicates", 1, 50, 1));
-    if (t.has("replicate_size")) replicate_size = static_cast<std::size_t>(t.integer("replicate_size", 2, 100'000'000));
+namespace {
+
+/// [optimization]: the name, the base study (its path into study_path), the search settings.
+void read_optimization_table(TomlReader& root, const std::string& path, OptimizationSpec& s, std::string& study_path,
+                             std::optional<std::size_t>& replicate_size) {
+  TomlReader t = root.table("optimization");
+  s.name = t.string("name");
+  s.title = t.string("title", "");
+  s.notes = t.string("notes", "");
+  const std::string study = t.string("study");
+  study_path = (fs::path(path).parent_path() / study).lexically_normal().string();
+  if (!study.empty() && !fs::exists(study_path)) {
+    t.error("study", "\"" + study + "\"", "an existing study file (looked for " + study_path + ")");
+    study_path.clear();
   }
+  s.samples = static_cast<std::size_t>(t.integer("samples", 2, 100'000'000));
+  s.seed = static_cast<std::uint64_t>(t.integer("seed", 0, INT64_MAX));
+  const std::string algo = t.choice("algorithm", {"cobyla", "bobyqa", "sbplx", "neldermead", "direct_l", "isres"});
+  s.algorithm = parse_algorithm(algo);
+  s.max_evaluations = static_cast<int>(t.integer("max_evaluations", 1, 1'000'000));
+  s.xtol_rel = t.number("xtol_rel", [](double v) { return v > 0 && v < 1 ? "" : "0 < xtol_rel < 1"; }, 1e-3);
+  s.replicates = static_cast<int>(t.integer("replicates", 1, 50, 1));
+  if (t.has("replicate_size")) replicate_size = static_cast<std::size_t>(t.integer("replicate_size", 2, 100'000'000));
+}
+
+/// [[variable]] and [[choice]] tables.
+void read_design_space(TomlReader& root, OptimizationSpec& s) {
   for (auto& v : root.table_array("variable")) {
     DesignVariable d;
     d.parameter = v.string("parameter");
@@ -144,64 +142,72 @@ OptimizationSpec load_optimization(const std::string& path) {
     s.choices.push_back(ch);
   }
   if (s.variables.empty()) root.error("variable", "", "at least one [[variable]] (a design variable with bounds)");
-  {
-    TomlReader t = root.table("objective");
-    if (t.has("variable_sum")) {
-      s.variable_sum = t.string_array("variable_sum");
-      for (const auto& key : s.variable_sum) {
-        if (std::none_of(s.variables.begin(), s.variables.end(), [&](const auto& v) { return v.parameter == key; })) {
-          t.error("variable_sum", "\"" + key + "\"", "the parameter of a [[variable]]");
-        }
+}
+
+/// [objective]: a statistic of an output, or the sum of variables.
+void read_objective(TomlReader& root, OptimizationSpec& s) {
+  TomlReader t = root.table("objective");
+  if (t.has("variable_sum")) {
+    s.variable_sum = t.string_array("variable_sum");
+    for (const auto& key : s.variable_sum) {
+      if (std::none_of(s.variables.begin(), s.variables.end(), [&](const auto& v) { return v.parameter == key; })) {
+        t.error("variable_sum", "\"" + key + "\"", "the parameter of a [[variable]]");
       }
-      if (t.has("output")) t.error("output", "", "either output (with statistic) or variable_sum, not both");
-    } else {
-      s.objective_output = t.string("output");
-      s.objective_statistic = t.string("statistic");
-      if (!engine::is_statistic(s.objective_statistic)) {
-        t.error("statistic", "\"" + s.objective_statistic + "\"", kStatistics);
-      }
+    }
+    if (t.has("output")) t.error("output", "", "either output (with statistic) or variable_sum, not both");
+  } else {
+    s.objective_output = t.string("output");
+    s.objective_statistic = t.string("statistic");
+    if (!engine::is_statistic(s.objective_statistic)) {
+      t.error("statistic", "\"" + s.objective_statistic + "\"", kStatistics);
     }
   }
-  for (auto& c : root.table_array("constraint")) {
-    Requirement r;
-    r.output = c.string("output");
-    r.statistic = c.string("statistic");
-    const bool stat_ok = engine::is_statistic(r.statistic);
-    if (!stat_ok) c.error("statistic", "\"" + r.statistic + "\"", kStatistics);
-    if (c.has("at_least")) r.at_least = c.number("at_least");
-    if (c.has("at_most")) r.at_most = c.number("at_most");
-    if (r.at_least.has_value() == r.at_most.has_value()) c.error("at_least", "", "exactly one of at_least and at_most");
-    if (c.has("bound")) {
-      const std::string text = c.string("bound");
-      try {
-        r.bound = parse_bound(text);
-      } catch (const Error& e) {
-        c.error("bound", "\"" + text + "\"", e.what());
-      }
-      if (r.bound.side != BoundSide::kNone) {
-        if (stat_ok && !bound_supported(r.statistic)) {
-          c.error("bound", "\"" + text + "\"",
-                  "a statistic with a one-sided confidence bound (mean, p<q>, fraction_le:<x>, fraction_ge:<x>); " +
-                      r.statistic + " has none on its far side, use a quantile such as p99.73");
-        }
-        if (r.at_most && r.bound.side != BoundSide::kUpper) {
-          c.error("bound", "\"" + text + "\"", "an upper bound (\"upper95\") with at_most: the limit must hold at the pessimistic end");
-        }
-        if (r.at_least && r.bound.side != BoundSide::kLower) {
-          c.error("bound", "\"" + text + "\"", "a lower bound (\"lower95\") with at_least: the limit must hold at the pessimistic end");
-        }
-      }
+}
+
+/// One [[constraint]]: output, statistic, limit and the confidence bound it holds at.
+Requirement read_constraint(TomlReader& c) {
+  Requirement r;
+  r.output = c.string("output");
+  r.statistic = c.string("statistic");
+  const bool stat_ok = engine::is_statistic(r.statistic);
+  if (!stat_ok) c.error("statistic", "\"" + r.statistic + "\"", kStatistics);
+  if (c.has("at_least")) r.at_least = c.number("at_least");
+  if (c.has("at_most")) r.at_most = c.number("at_most");
+  if (r.at_least.has_value() == r.at_most.has_value()) c.error("at_least", "", "exactly one of at_least and at_most");
+  if (c.has("bound")) {
+    const std::string text = c.string("bound");
+    try {
+      r.bound = parse_bound(text);
+    } catch (const Error& e) {
+      c.error("bound", "\"" + text + "\"", e.what());
     }
-    std::string stat = r.statistic;
-    std::replace(stat.begin(), stat.end(), '.', '_');
-    std::string default_name = r.output + "." + stat;
     if (r.bound.side != BoundSide::kNone) {
-      default_name += '.';
-      default_name += to_string(r.bound);
+      if (stat_ok && !bound_supported(r.statistic)) {
+        c.error("bound", "\"" + text + "\"",
+                "a statistic with a one-sided confidence bound (mean, p<q>, fraction_le:<x>, fraction_ge:<x>); " +
+                    r.statistic + " has none on its far side, use a quantile such as p99.73");
+      }
+      if (r.at_most && r.bound.side != BoundSide::kUpper) {
+        c.error("bound", "\"" + text + "\"", "an upper bound (\"upper95\") with at_most: the limit must hold at the pessimistic end");
+      }
+      if (r.at_least && r.bound.side != BoundSide::kLower) {
+        c.error("bound", "\"" + text + "\"", "a lower bound (\"lower95\") with at_least: the limit must hold at the pessimistic end");
+      }
     }
-    r.name = c.string("name", default_name);
-    s.constraints.push_back(r);
   }
+  std::string stat = r.statistic;
+  std::replace(stat.begin(), stat.end(), '.', '_');
+  std::string default_name = r.output + "." + stat;
+  if (r.bound.side != BoundSide::kNone) {
+    default_name += '.';
+    default_name += to_string(r.bound);
+  }
+  r.name = c.string("name", default_name);
+  return r;
+}
+
+/// [pareto], [overrides] and [verification].
+void read_pareto_and_verification(TomlReader& root, OptimizationSpec& s) {
   if (root.has("pareto")) {
     TomlReader t = root.table("pareto");
     ParetoSpec p;
@@ -238,8 +244,12 @@ OptimizationSpec load_optimization(const std::string& path) {
     }
     s.max_nearest_rounds = static_cast<int>(t.integer("max_nearest_rounds", 0, 20, 3));
   }
-  engine::finish(doc, *ctx);
-  // The base study, its model with the start values, and the outputs named.
+}
+
+/// The base study loaded, the replicate layout and every output the file names checked
+/// against it (all errors at once).
+void check_against_study(OptimizationSpec& s, const std::string& path, const std::string& study_path,
+                         const std::optional<std::size_t>& replicate_size) {
   s.base = engine::load_study(study_path);
   try {  // the declared units of the base study's outputs (an invalid model is reported below)
     for (const auto& o : engine::study_kind(s.base.kind).outputs(s.base)) s.output_units[o.name] = o.unit;
@@ -279,6 +289,26 @@ OptimizationSpec load_optimization(const std::string& path) {
     check_output(s.constraints[i].output, "constraint[" + std::to_string(i) + "].output");
   }
   if (!errors.empty()) throw engine::ValidationError(errors);
+}
+
+}  // namespace
+
+OptimizationSpec load_optimization(const std::string& path) {
+  toml::table doc = engine::parse_toml_file(path);
+  auto ctx = std::make_shared<engine::ReadContext>();
+  ctx->file = path;
+  TomlReader root(doc, ctx);
+  OptimizationSpec s;
+  s.file = path;
+  std::string study_path;
+  std::optional<std::size_t> replicate_size;
+  read_optimization_table(root, path, s, study_path, replicate_size);
+  read_design_space(root, s);
+  read_objective(root, s);
+  for (auto& c : root.table_array("constraint")) s.constraints.push_back(read_constraint(c));
+  read_pareto_and_verification(root, s);
+  engine::finish(doc, *ctx);
+  check_against_study(s, path, study_path, replicate_size);
   return s;
 }
 
