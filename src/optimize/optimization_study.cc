@@ -353,7 +353,11 @@ void answer_sentence(const OptimizationSpec& spec, OptimizationOutcome& out, con
     const bool named = s.rfind(label, 0) == 0;
     const std::string head = (out.runs.size() > 1 && !named ? label + ", " : std::string()) + design;
     std::string check = "on " + std::to_string(out.check.samples) + " fresh samples ";
-    if (out.verified) {
+    if (out.verified && out.check.constraints.size() > 1) {
+      // Said in short: each constraint's figure is in the report's and summary.json's table.
+      check = "verified on " + std::to_string(out.check.samples) + " fresh samples (all " +
+              std::to_string(out.check.constraints.size()) + " constraints pass)";
+    } else if (out.verified) {
       std::string cons;
       for (std::size_t k = 0; k < out.check.constraints.size(); ++k) cons += (k ? "; " : "") + out.check.describe_constraint(k);
       check += cons.empty() ? "it is verified" : cons + ": verified";
@@ -371,7 +375,9 @@ void answer_sentence(const OptimizationSpec& spec, OptimizationOutcome& out, con
         check += "; no nearby design that passes was found (" + out.nearest.value("why", std::string()) + ")";
       }
     }
-    const std::string design_part = "design: " + head + ", " + objective + "; " + check;
+    // A decision among choices has stated the objective's figures already.
+    const bool decided = out.runs.size() > 1 && !spec.objective_output.empty() && !s.empty();
+    const std::string design_part = "design: " + head + (decided ? "" : ", " + objective) + "; " + check;
     out.answer = s.empty() ? "Optimum " + design_part : s + "; " + design_part;
   }
 }
