@@ -207,10 +207,10 @@ std::string decision_sentence(const Fresh& f, const Choice& ch, std::size_t chos
   const FreshCheck& A = f.of[chosen]->comparison;
   const FreshCheck& B = f.of[other]->comparison;
   const Difference d = f.minus(chosen, other);
-  const Equivalence e = equivalence(d, f.margin_against(other));
+  const Equivalence e = equivalence(d, f.margin_against(chosen));  // as the by-value table states it
   const std::string u = unit.empty() ? "" : " " + unit;
   const std::string figures = interval_text(*A.objective, unit) + " with " + a + " against " +
-                              interval_text(*B.objective, unit) + " with " + b + ", paired difference " +
+                              interval_text(*B.objective, unit) + " with " + b + ", paired difference (" + a + " minus " + b + ") " +
                               signed_number(d.value) +
                               (d.lo && d.hi ? " [" + signed_number(*d.lo) + ", " + signed_number(*d.hi) + "]" : "") + u;
   std::string s;

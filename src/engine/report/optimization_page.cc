@@ -30,8 +30,23 @@ std::string ci_text(const json& e) {
   return s;
 }
 
+/// A design as "parameter = value, ..." (its JSON object of texts).
+std::string design_text(const json& x) {
+  if (!x.is_object()) return html_escape(x.dump());
+  std::string s;
+  for (const auto& [k, v] : x.items()) {
+    s += (s.empty() ? "" : ", ") + html_escape(k) + " = " + html_escape(v.is_string() ? v.get<std::string>() : v.dump());
+  }
+  return s;
+}
+
 std::string check_table(const json& check) {
   std::ostringstream h;
+  if (check["constraints"].empty()) {
+    h << "<p>The study states no constraint: " << check["samples"] << " fresh samples (seed " << check["seed"] << "), "
+      << check["failures"] << " failed (" << percent(check["failure_share"]) << ").</p>\n";
+    return h.str();
+  }
   h << "<table><tr><th class='l'>constraint</th><th>on fresh samples [95% CI]</th><th>stated bound</th><th>limit</th>"
        "<th class='l'>interval from</th><th class='l'>verdict</th></tr>\n";
   for (const auto& c : check["constraints"]) {
@@ -219,7 +234,7 @@ std::string pareto_html(const json& s) {
     << html_escape(second) << "</th><th>" << html_escape(objective)
     << " (search samples)</th><th>fresh samples [95% CI]</th><th class='l'>constraints</th></tr>\n";
   for (const auto& f : p["front"]) {
-    h << "<tr><td class='l'>" << str(f, "label") << "</td><td class='l'>" << html_escape(f["x"].dump()) << "</td><td>"
+    h << "<tr><td class='l'>" << str(f, "label") << "</td><td class='l'>" << design_text(f["x"]) << "</td><td>"
       << (f.contains("second") ? ci_text(f["second"]) : "") << "</td><td>" << number(f["objective_optimization"])
       << "</td><td>" << ci_text(f["objective"]) << "</td><td class='l'>" << str(f, "constraints_verdict")
       << "</td></tr>\n";
