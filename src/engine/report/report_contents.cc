@@ -1,7 +1,6 @@
 #include "engine/report/report_contents.h"
 
 #include <cctype>
-#include <regex>
 #include <set>
 #include <vector>
 
@@ -39,19 +38,51 @@ std::string slug(const std::string& text) {
   return s.empty() ? "section" : s;
 }
 
+bool space_char(char c) { return c == ' ' || c == '\t' || c == '\n' || c == '\r'; }
+
+/// The section heading whose "<h2" is at `at`: <h2> or <h2 id='x'> (spaces allowed), up to
+/// its </h2>; false for anything else. A scan by hand: the page holds MBs of inline figures.
+bool heading_at(const std::string& page, std::size_t at, Section& s) {
+  std::size_t i = at + 3;
+  auto skip_spaces = [&] {
+    while (i < page.size() && space_char(page[i])) ++i;
+  };
+  const bool spaced = i < page.size() && space_char(page[i]);
+  skip_spaces();
+  s.has_id = false;
+  if (spaced && page.compare(i, 2, "id") == 0) {
+    i += 2;
+    skip_spaces();
+    if (i >= page.size() || page[i] != '=') return false;
+    ++i;
+    skip_spaces();
+    if (i >= page.size() || (page[i] != '\'' && page[i] != '"')) return false;
+    const std::size_t end = page.find_first_of("'\"", i + 1);
+    if (end == std::string::npos) return false;
+    s.id = page.substr(i + 1, end - i - 1);
+    s.has_id = true;
+    i = end + 1;
+    skip_spaces();
+  }
+  if (i >= page.size() || page[i] != '>') return false;
+  const std::size_t close = page.find("</h2>", i + 1);
+  if (close == std::string::npos) return false;
+  s.begin = at;
+  s.end = at + 3;  // after "<h2"
+  s.text = plain_text(page.substr(i + 1, close - i - 1));
+  return true;
+}
+
 std::vector<Section> sections_of(const std::string& page) {
-  static const std::regex heading(R"~(<h2(\s+id\s*=\s*['"]([^'"]*)['"])?\s*>([\s\S]*?)</h2>)~");
   std::vector<Section> out;
   std::set<std::string> used;
-  for (auto it = std::sregex_iterator(page.begin(), page.end(), heading); it != std::sregex_iterator(); ++it) {
-    const std::smatch& m = *it;
+  for (std::size_t at = page.find("<h2"); at != std::string::npos; at = page.find("<h2", at + 3)) {
     Section s;
-    s.begin = static_cast<std::size_t>(m.position(0));
-    s.end = s.begin + 3;  // after "<h2"
-    s.has_id = m[1].matched;
-    s.text = plain_text(m[3].str());
-    s.id = s.has_id ? m[2].str() : slug(s.text);
-    for (int k = 2; !s.has_id && used.count(s.id); ++k) s.id = slug(s.text) + "-" + std::to_string(k);
+    if (!heading_at(page, at, s)) continue;
+    if (!s.has_id) {
+      s.id = slug(s.text);
+      for (int k = 2; used.count(s.id); ++k) s.id = slug(s.text) + "-" + std::to_string(k);
+    }
     used.insert(s.id);
     out.push_back(s);
   }

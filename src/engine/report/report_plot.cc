@@ -5,11 +5,11 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <cctype>
 #include <cerrno>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
-#include <regex>
 #include <set>
 #include <iterator>
 
@@ -75,25 +75,58 @@ namespace {
 /// The SVG with every id it defines prefixed, and the references to them (url(#id), href="#id"),
 /// so that several figures from gnuplot (each with its gnuplot_canvas, gpDot, gpPt0...) can stand
 /// in one page with unique ids.
+bool word_char(char c) { return std::isalnum(static_cast<unsigned char>(c)) || c == '_'; }
+bool name_char(char c) { return word_char(c) || c == '.' || c == ':' || c == '-'; }
+bool space_char(char c) { return c == ' ' || c == '\t' || c == '\n' || c == '\r'; }
+
+/// Where the quoted value of an attribute `id = '...'` starting at `at` begins (after its
+/// quote), or npos when `at` does not start one ("id" as a whole word, spaces allowed).
+std::size_t id_value_at(const std::string& svg, std::size_t at) {
+  if (svg.compare(at, 2, "id") != 0 || (at > 0 && word_char(svg[at - 1]))) return std::string::npos;
+  std::size_t i = at + 2;
+  while (i < svg.size() && space_char(svg[i])) ++i;
+  if (i >= svg.size() || svg[i] != '=') return std::string::npos;
+  ++i;
+  while (i < svg.size() && space_char(svg[i])) ++i;
+  return i < svg.size() && (svg[i] == '\'' || svg[i] == '"') ? i + 1 : std::string::npos;
+}
+
+/// The SVG with every id it defines prefixed, and the references to them (url(#id), href="#id"),
+/// so that several figures from gnuplot (each with its gnuplot_canvas, gpDot, gpPt0...) can stand
+/// in one page with unique ids. A scan by hand: figures of a few MB pass through it on every run.
 std::string prefixed_ids(const std::string& svg, const std::string& prefix) {
-  static const std::regex id_attribute(R"~(\bid\s*=\s*(['"])([^'"]+)\1)~");
   std::set<std::string> ids;
-  for (auto it = std::sregex_iterator(svg.begin(), svg.end(), id_attribute); it != std::sregex_iterator(); ++it) {
-    ids.insert((*it)[2].str());
+  for (std::size_t at = svg.find("id"); at != std::string::npos; at = svg.find("id", at + 2)) {
+    const std::size_t v = id_value_at(svg, at);
+    if (v == std::string::npos) continue;
+    const std::size_t end = svg.find(svg[v - 1], v);
+    if (end == std::string::npos) break;
+    if (end > v && svg.find_first_of("'\"", v) == end) ids.insert(svg.substr(v, end - v));
   }
   if (ids.empty()) return svg;
-  static const std::regex reference(R"~((\bid\s*=\s*['"]|#)([A-Za-z_][\w.:-]*))~");
   std::string out;
   out.reserve(svg.size() + 64 * ids.size());
-  auto last = svg.cbegin();
-  for (auto it = std::sregex_iterator(svg.begin(), svg.end(), reference); it != std::sregex_iterator(); ++it) {
-    const std::smatch& m = *it;
-    out.append(last, m[0].first);
-    out += m[1].str();
-    out += ids.count(m[2].str()) ? prefix + m[2].str() : m[2].str();
-    last = m[0].second;
+  std::size_t last = 0;
+  for (std::size_t i = 0; i < svg.size(); ++i) {
+    std::size_t name = std::string::npos;
+    if (svg[i] == '#') {
+      name = i + 1;
+    } else if (svg[i] == 'i') {
+      name = id_value_at(svg, i);
+    }
+    if (name == std::string::npos || name >= svg.size() || !(std::isalpha(static_cast<unsigned char>(svg[name])) || svg[name] == '_')) {
+      continue;
+    }
+    std::size_t end = name;
+    while (end < svg.size() && name_char(svg[end])) ++end;
+    if (ids.count(svg.substr(name, end - name))) {
+      out.append(svg, last, name - last);
+      out += prefix;
+      last = name;
+    }
+    i = end - 1;
   }
-  out.append(last, svg.cend());
+  out.append(svg, last, std::string::npos);
   return out;
 }
 
