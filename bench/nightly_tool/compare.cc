@@ -39,6 +39,47 @@ std::string describe(const json& run, const std::string& path) {
   return os.str();
 }
 
+std::string machine_key(const json& run) {
+  const json m = run.contains("machine")                                        ? run["machine"]
+                 : run.contains("source_run") && run["source_run"].contains("machine") ? run["source_run"]["machine"]
+                                                                                : json();
+  if (!m.is_object()) return "";
+  const std::string host = m.value("hostname", std::string()), cpu = m.value("cpu_model", std::string());
+  if (host.empty() && cpu.empty()) return "";
+  return host + " | " + cpu + " | " + std::to_string(m.value("nproc", 0)) + " cores";
+}
+
+int run_machine_key(const std::vector<std::string>& args) {
+  if (args.size() != 1) throw InputError("machine-key: one RUN.json expected");
+  std::printf("%s\n", machine_key(read_json(args[0])).c_str());
+  return kExitOk;
+}
+
+namespace {
+
+// Which absolute times are judged (TimingRules::times_vs_*), said once above the tables.
+void decide_machines(const json& cur, const json& prev, const json& ref, TimingRules& rules) {
+  const std::string here = machine_key(cur);
+  std::printf("  machine:   %s\n", here.empty() ? "(not recorded)" : here.c_str());
+  if (!prev.is_null()) rules.times_vs_previous = !here.empty() && machine_key(prev) == here;
+  if (!ref.is_null()) rules.times_vs_reference = !here.empty() && machine_key(ref) == here;
+  if (!prev.is_null() && !rules.times_vs_previous)
+    std::printf("note: the previous run was recorded on another machine (%s): its times are not judged here.\n",
+                machine_key(prev).empty() ? "not recorded" : machine_key(prev).c_str());
+  if (!ref.is_null() && !rules.times_vs_reference)
+    std::printf(
+        "note: the reference was recorded on another machine (%s): its benchmark times are not judged here; its "
+        "statistics and ratios are.\n",
+        machine_key(ref).empty() ? "not recorded" : machine_key(ref).c_str());
+  const bool has_own_times = (!prev.is_null() && rules.times_vs_previous) || (!ref.is_null() && rules.times_vs_reference);
+  if (!has_own_times)
+    std::printf(
+        "note: first run on this machine: its times are this machine's baseline (judged from its next run on); "
+        "ratios, memory and study statistics are judged now.\n");
+}
+
+}  // namespace
+
 int run_compare(const std::vector<std::string>& args) {
   std::string cur_path, prev_path, ref_path;
   Options opt;
@@ -99,7 +140,7 @@ int run_compare(const std::vector<std::string>& args) {
 
   Tally t;
   const int cores = cur.contains("machine") ? cur["machine"].value("nproc", 0) : 0;
-  const TimingRules rules{opt, t, cores};
+  TimingRules rules{opt, t, cores};
   std::printf("poise nightly compare\n  current:   %s\n", describe(cur, cur_path).c_str());
   std::printf("  previous:  %s\n", prev.is_null() ? "(none)" : describe(prev, prev_path).c_str());
   std::printf("  reference: %s\n", ref.is_null() ? "(none)" : ref_path.c_str());
@@ -112,19 +153,13 @@ int run_compare(const std::vector<std::string>& args) {
       pct(opt.floor).c_str(), opt.k, opt.stat_rtol,
       opt.warn_timing ? "\n  --warn-timing (quick run): timing regressions only warn too." : "");
 
-  if (!prev.is_null() && cur.contains("machine") && prev.contains("machine") &&
-      (cur["machine"].value("cpu_model", std::string()) != prev["machine"].value("cpu_model", std::string()) ||
-       cur["machine"].value("nproc", 0) != prev["machine"].value("nproc", 0))) {
-    std::printf(
-        "note: the machine differs from the previous run's; absolute times are not comparable, the "
-        "calibrated figures are.\n");
-  }
+  decide_machines(cur, prev, ref, rules);
 
   // Calibration itself (informative: the machine's speed).
   const json cal = cur.value("calibration", json::object());
   std::printf("\ncalibration: median %s ns/step, cv %s, spread %s (n %d)", fmt(cal.value("median", 0.0)).c_str(),
               pct(cal.value("cv", 0.0)).c_str(), pct(cal.value("spread", 0.0)).c_str(), cal.value("n", 0));
-  if (!prev.is_null() && num(prev.value("calibration", json::object()), "median"))
+  if (!prev.is_null() && rules.times_vs_previous && num(prev.value("calibration", json::object()), "median"))
     std::printf("; previous %s ns/step (machine speed ratio %s)",
                 fmt(prev["calibration"]["median"].get<double>()).c_str(),
                 ratio_str(cal.value("median", 0.0) / prev["calibration"]["median"].get<double>()).c_str());
@@ -144,7 +179,7 @@ int run_compare(const std::vector<std::string>& args) {
   compare_derived(cur, prev, ref, targets, rules);
   compare_baselines(cur, prev, ref, opt, t);
   compare_scale(cur, prev, rules);
-  compare_studies(cur, prev, ref, opt, t);
+  compare_studies(cur, prev, ref, rules);
 
   std::printf("\n%d figures compared, %d not judged (load), %d warnings, %zu regressions\n", t.compared, t.not_judged,
               t.warnings, t.regressions.size());

@@ -44,11 +44,23 @@ Verdict judge(double cur, double other, bool lower_better, double band);
 // A run file as the report names it: path (date, commit, machine, repetitions[, quick]).
 std::string describe(const json& run, const std::string& path);
 
+// The machine a run (or a reference's source run) was recorded on, as "hostname | cpu model |
+// N cores"; empty when the file does not say. Absolute times are judged only between runs of the
+// same machine: the calibration workload does not absorb every benchmark family's difference
+// between machines (measured: an unchanged binary's balancing benchmarks read 1.12-1.14x against
+// a reference from another machine of the same kind).
+std::string machine_key(const json& run);
+
 // The rules of timing figures (benchmarks, derived figures; compare_figures.cc) on this machine.
 struct TimingRules {
   const Options& opt;
   Tally& t;
   int cores;  // the current run's machine's (0: not recorded)
+  // Absolute times (the benchmarks' calibrated figures, the studies' wall times) are judged
+  // against the previous run and the reference only when those were recorded on this machine
+  // (machine_key); ratios, memory and statistics are judged whatever the machine.
+  bool times_vs_previous = true;
+  bool times_vs_reference = true;
   // A timing figure beyond its band: a regression, or with --warn-timing (a quick run's 2
   // repetitions cannot measure the noise) a warning, unless it is worse by more than twice its
   // band and by at least 50 %: a slowdown that large shows even in 2 repetitions.
@@ -81,6 +93,6 @@ void compare_baselines(const json& cur, const json& prev, const json& ref, const
 // (compare_scale.cc)
 void compare_scale(const json& cur, const json& prev, const TimingRules& rules);
 // Reference studies: statistics against the reference, wall times against the previous run (compare_studies.cc).
-void compare_studies(const json& cur, const json& prev, const json& ref, const Options& opt, Tally& t);
+void compare_studies(const json& cur, const json& prev, const json& ref, const TimingRules& rules);
 
 }  // namespace poise::nightly

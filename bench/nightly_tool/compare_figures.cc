@@ -65,7 +65,10 @@ void compare_benchmarks(const json& cur, const json& prev, const json& ref, cons
                   (fmt(med * scale) + unit).c_str(), pct(noise).c_str(), "-", "-", "-", "-", loaded.c_str());
       continue;
     }
-    if (pb.contains(key) && num(pb[key], "per_calibration") && pc > 0) {
+    if (!rules.times_vs_previous && pb.contains(key)) {
+      prev_s = fmt(pb[key].value("median", 0.0) * scale) + unit;
+      verdicts.push_back("not judged: other machine");
+    } else if (pb.contains(key) && num(pb[key], "per_calibration") && pc > 0) {
       const double ppc = pb[key]["per_calibration"].get<double>();
       prev_s = fmt(pb[key].value("median", 0.0) * scale) + unit;
       const double band = rules.band_of(noise, pb[key].value("noise_per_calibration", 0.0));
@@ -78,7 +81,9 @@ void compare_benchmarks(const json& cur, const json& prev, const json& ref, cons
     } else if (!pb.empty()) {
       verdicts.push_back("new");
     }
-    if (rb.contains(key) && num(rb[key], "per_calibration") && pc > 0) {
+    if (!rules.times_vs_reference && rb.contains(key)) {
+      verdicts.push_back("not judged: other machine");
+    } else if (rb.contains(key) && num(rb[key], "per_calibration") && pc > 0) {
       const double rpc = rb[key]["per_calibration"].get<double>();
       const double band = rules.band_of(noise, rb[key].value("noise", 0.0));
       const Verdict v = judge(pc, rpc, true, band);
@@ -90,7 +95,7 @@ void compare_benchmarks(const json& cur, const json& prev, const json& ref, cons
     }
     std::string verdict;
     for (const auto& v : verdicts) {
-      if (v != "ok") verdict += (verdict.empty() ? "" : ", ") + v;
+      if (v != "ok" && verdict.find(v) == std::string::npos) verdict += (verdict.empty() ? "" : ", ") + v;
     }
     if (verdict.empty()) verdict = verdicts.empty() ? "-" : "ok";
     std::printf("%-52s %10s %10s %6s %7s %7s %7s %7s  %s\n", key.c_str(), prev_s.c_str(),

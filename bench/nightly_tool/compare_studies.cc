@@ -9,7 +9,9 @@
 
 namespace poise::nightly {
 
-void compare_studies(const json& cur, const json& prev, const json& ref, const Options& opt, Tally& t) {
+void compare_studies(const json& cur, const json& prev, const json& ref, const TimingRules& rules) {
+  const Options& opt = rules.opt;
+  Tally& t = rules.t;
   const json cs = cur.value("studies", json::object());
   const json ps = prev.is_object() ? prev.value("studies", json::object()) : json::object();
   const json rs = ref.is_object() ? ref.value("studies", json::object()) : json::object();
@@ -20,7 +22,7 @@ void compare_studies(const json& cur, const json& prev, const json& ref, const O
   for (const auto& [name, e] : cs.items()) {
     std::printf("%s: %s samples, seed %s, wall %s s", name.c_str(), e.value("samples", json()).dump().c_str(),
                 e.value("seed", json()).dump().c_str(), fmt(e.value("wall_s", 0.0)).c_str());
-    if (ps.contains(name) && num(ps[name], "wall_s") &&
+    if (rules.times_vs_previous && ps.contains(name) && num(ps[name], "wall_s") &&
         ps[name].value("samples", json()) == e.value("samples", json())) {
       const double pw = ps[name]["wall_s"].get<double>(), w = e.value("wall_s", 0.0);
       std::printf(" (previous %s s, x%s)", fmt(pw).c_str(), ratio_str(w / pw).c_str());

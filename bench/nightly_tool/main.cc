@@ -1,4 +1,4 @@
-/// poise_nightly_compare: the JSON side of bench/nightly (issue 9 item 7). Four modes:
+/// poise_nightly_compare: the JSON side of bench/nightly (issue 9 item 7). Five modes:
 ///
 ///   poise_nightly_compare CURRENT.json [--previous PREV.json] [--reference REF.json]
 ///                         [--k K] [--floor F] [--stat-rtol R] [--all]
@@ -13,6 +13,8 @@
 ///       bench/baselines/compare.py --json).
 ///   poise_nightly_compare make-reference CURRENT.json --out REF.json [--old OLD_REF.json]
 ///       write the reference figures from a run (targets kept from OLD_REF.json if given).
+///   poise_nightly_compare machine-key RUN.json
+///       print the machine a run or reference was recorded on (bench/nightly's previous run).
 ///
 /// The rule (also in bench/NIGHTLY.md): a timing figure is a benchmark's median time per iteration
 /// (CPU time; real time for the multi-threaded /real_time runs) divided by the calibration
@@ -32,6 +34,9 @@
 /// Reference-study statistics (fixed seed and sample count, deterministic), their values and their
 /// 95 % interval ends, must equal the reference to a relative 1e-9. Absolute targets (README) are checked and only warned about.
 /// Study wall times (one run each, no noise estimate) are warned about beyond 25 %.
+/// Absolute times (benchmarks, study wall times) are judged only against runs of the same machine
+/// (host, CPU model, cores: machine_key); against another machine's previous run or reference they
+/// are shown, not judged, and a machine's first run is its baseline.
 /// Baseline ratios (NumPy/SciPy CPU time over Poise's, same run): a warning below their target, a
 /// regression below the previous run's or the reference's ratio / (1 + ratio_band), ratio_band 0.2.
 ///
@@ -85,6 +90,7 @@ void print_help() {
       "        [--scale SCALE.json]            (bench/los_scale --json, or {\"status\": \"not run\"})\n"
       "        [--load NAME BEFORE AFTER]...   (1-minute load average around a binary; NAME study:S for a study)\n"
       "  poise_nightly_compare make-reference CURRENT.json --out REF.json [--old OLD_REF.json]\n"
+      "  poise_nightly_compare machine-key RUN.json    (the machine a run was recorded on: host | CPU | cores)\n"
       "\n"
       "See bench/NIGHTLY.md.\n");
 }
@@ -109,6 +115,7 @@ int main(int argc, char** argv) {
     if (mode == "calibrate") return run_calibrate(rest);
     if (mode == "collect") return run_collect(rest);
     if (mode == "make-reference") return run_make_reference(rest);
+    if (mode == "machine-key") return run_machine_key(rest);
     return run_compare(args);
   } catch (const InputError& e) {
     std::fprintf(stderr, "poise_nightly_compare: %s\n", e.what());

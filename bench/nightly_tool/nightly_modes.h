@@ -14,5 +14,8 @@ int run_calibrate(const std::vector<std::string>& args);
 int run_collect(const std::vector<std::string>& args);
 // Write the reference figures from a run (make_reference.cc).
 int run_make_reference(const std::vector<std::string>& args);
+// machine-key RUN.json: prints the machine the run was recorded on (compare.h machine_key), so
+// that bench/nightly picks the previous run of the same machine.
+int run_machine_key(const std::vector<std::string>& args);
 
 }  // namespace poise::nightly
