@@ -15,7 +15,12 @@ harmonic, angle) arrays, as a NumPy user writes it; --grouped uses the same grou
 as Poise (one phase factor per harmonic, tables of e^{i n phi} per order), for a like-for-like
 algorithm.
 
-Usage: los_numpy.py [--samples N] [--batch B] [--grouped] [--out DIR] [--compute-only]
+--lean computes the same samples but keeps only the per-sample outputs and their summary
+(quantiles, mean, std, the share meeting the requirement): no grid values, no maps, no
+samples.csv; the counterpart of a Poise run with [output] samples_csv = false,
+grid_values = false, maps = false (bench/baselines/compare.py times the two).
+
+Usage: los_numpy.py [--samples N] [--batch B] [--grouped] [--out DIR] [--compute-only | --lean]
                     [--check SAMPLES_CSV]
 Prints CPU seconds (time.process_time) of the compute and of the whole run.
 """
@@ -176,6 +181,8 @@ def main():
     ap.add_argument("--seed", type=int, default=20111101)
     ap.add_argument("--grouped", action="store_true")
     ap.add_argument("--compute-only", action="store_true", help="no results, no statistics")
+    ap.add_argument("--lean", action="store_true",
+                    help="per-sample outputs and their summary only (no grid values, maps or samples.csv)")
     ap.add_argument("--out", default=None, help="folder for samples.csv and summary.npz")
     ap.add_argument("--check", default=None, help="a Poise samples.csv of the same study: recompute, compare")
     a = ap.parse_args()
@@ -202,9 +209,18 @@ def main():
         v = draw(M, rng.random((b, D)))
         out, grid = kernel(M, v, a.grouped)
         compute += time.process_time() - c0
-        if not a.compute_only:
+        if a.lean:
+            outs.append(out)
+        elif not a.compute_only:
             outs.append(out), grids.append(grid.astype(np.float32)), ins.append(display(M, v))
-    if not a.compute_only:
+    if a.lean:
+        out = np.concatenate(outs)
+        probs = [0.5, 0.95, 0.9973]
+        summary = dict(outputs=np.quantile(out, probs, axis=0), mean=out.mean(0), std=out.std(0, ddof=1),
+                       ok=(out[:, 0] <= M["requirement"] / ARCSEC).mean())
+        print(f"los_max_arcsec p50 {summary['outputs'][0, 0]:.3f} p95 {summary['outputs'][1, 0]:.3f}"
+              f" p99.73 {summary['outputs'][2, 0]:.3f}; units meeting the requirement {summary['ok']:.3f} (lean)")
+    elif not a.compute_only:
         out, grid, vin = np.concatenate(outs), np.concatenate(grids), np.concatenate(ins)
         probs = [0.5, 0.95, 0.9973]
         summary = dict(outputs=np.quantile(out, probs, axis=0), mean=out.mean(0), std=out.std(0, ddof=1),
@@ -220,7 +236,7 @@ def main():
               f" p99.73 {summary['outputs'][2, 0]:.3f}; units meeting the requirement {summary['ok']:.3f}")
     total = time.process_time() - t0
     print(f"numpy: {a.samples} samples, compute {compute:.3f} CPU-s ({compute / a.samples * 1e6:.2f} us/sample),"
-          f" whole run {total:.3f} CPU-s ({'grouped' if a.grouped else 'direct'} harmonic sums)")
+          f" whole run {total:.3f} CPU-s ({'grouped' if a.grouped else 'direct'} harmonic sums{', lean' if a.lean else ''})")
     return 0
 
 

@@ -36,6 +36,9 @@ struct RunControl {
   /// big), with these root attributes. Off: the field is not kept (sweeps, the optimizer).
   bool field_figures = false;
   std::string field_file;
+  /// With field_figures: the per-point statistics and maps too ([output] maps); off, the
+  /// values are only written to field_file.
+  bool field_maps = true;
   std::map<std::string, std::string> field_attributes;
   std::map<std::string, std::uint64_t> field_number_attributes;
 };

@@ -150,12 +150,16 @@ std::string run_procedure_study(const StudyConfig& cfg_in, const StudyFactory& m
   const std::string header = csv_header(study);
   const std::string csv_path = (fs::path(plan.dir) / "samples.csv").string();
   std::vector<SampleResult> done;
+  if (!options.resume.empty() && !cfg.samples_csv) {
+    throw UsageError("--resume: " + plan.dir + " was run with [output] samples_csv = false (" + cfg.file +
+                     "): without samples.csv there is nothing to resume from; run it again, or keep samples.csv");
+  }
   if (!options.resume.empty()) {
     done = read_done_samples(csv_path, header, study.input_names().size(), study.output_names().size(),
                              study.has_solver());
     if (options.progress && root) std::fprintf(stderr, "  resuming: %zu of %zu samples already done\n", done.size(), n);
   }
-  CheckedFile csv = open_samples_csv(plan, header, !options.resume.empty());
+  CheckedFile csv = cfg.samples_csv ? open_samples_csv(plan, header, !options.resume.empty()) : CheckedFile{};
   sampling::InterruptGuard interrupts;
   auto rule = std::make_shared<StopRule>(study.output_names(), n, cfg.max_failure_share, until, cfg.replicate_size,
                                          options.progress && root);
@@ -168,14 +172,16 @@ std::string run_procedure_study(const StudyConfig& cfg_in, const StudyFactory& m
   const std::map<std::string, std::string> h5_text{{"study", cfg.name}, {"kind", cfg.kind}, {"study_file", cfg.file},
                                                    {"method", sampling::to_string(cfg.method)}, {"poise_version", kVersion}};
   const std::map<std::string, std::uint64_t> h5_numbers{{"seed", plan.seed}, {"planned_samples", n}};
-  control.field_figures = true;
-  control.field_file = h5_path;
+  control.field_figures = cfg.maps || cfg.grid_values;
+  control.field_file = cfg.grid_values ? h5_path : std::string();
+  control.field_maps = cfg.maps;
   control.field_attributes = h5_text;
   control.field_number_attributes = h5_numbers;
   // Rows on disk are not written again (a study may recompute them: a resumed LOS run).
   SampleRowWriter rows(csv, plan.threads, done.size(), study.has_solver());
-  McResult mc = study.run(plan.threads, options.progress, [&](std::span<const SampleResult> block) { rows(block); },
-                          done, control);
+  McResult mc = study.run(plan.threads, options.progress, [&](std::span<const SampleResult> block) {
+    if (cfg.samples_csv) rows(block);
+  }, done, control);
   if (!root) return "";  // rank 0 writes the folder
   csv.close();
   const std::size_t ran = mc.completed;
@@ -189,9 +195,10 @@ std::string run_procedure_study(const StudyConfig& cfg_in, const StudyFactory& m
   json s = summary_of(f, *rule, options);
   // samples.h5: the field of a study that has one (written during the run); else the inputs
   // and outputs as named columns, from the finished samples.csv.
-  s["samples_h5"] = mc.field.present && !mc.field.file.is_null()
-                        ? mc.field.file
-                        : write_sample_columns_h5(csv_path, h5_path, study.input_names(), study.outputs(), h5_text, h5_numbers);
+  s["samples_h5"] = !mc.field.file.is_null() ? mc.field.file
+                    : cfg.samples_csv && !mc.field.present
+                        ? write_sample_columns_h5(csv_path, h5_path, study.input_names(), study.outputs(), h5_text, h5_numbers)
+                        : json(nullptr);
   if (status == "complete" && plan.sensitivity_base == 0 && !cfg.sweeps.empty()) {
     s["sweeps"] = run_procedure_sweeps(cfg, make_study, n, plan.seed, plan.threads, options.progress && root, requirements,
                                        study.outputs());

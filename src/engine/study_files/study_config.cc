@@ -105,6 +105,9 @@ StudyConfig load_study(const std::string& path) {
     t.ask("contribution_samples", "an integer from 0 to 1000000000 (0: no contributions)",
           "0 (the seeker: 4096)", false);
     c.contribution_samples = static_cast<std::size_t>(t.integer("contribution_samples", 0, 1'000'000'000, 0));
+    c.samples_csv = t.boolean("samples_csv", true);
+    c.grid_values = t.boolean("grid_values", true);
+    c.maps = t.boolean("maps", true);
   }
   c.references = read_references(root);
   for (auto& t : root.table_array("sweep")) {

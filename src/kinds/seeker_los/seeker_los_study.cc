@@ -159,7 +159,7 @@ McResult SeekerLosStudy::run(int threads, bool progress, const SampleSink& sink,
   // The grid values go to the run's samples.h5; without one they are only kept in memory
   // when they fit, else in an uncompressed scratch file read back once.
   WideColumnsSpec layout = field_spec();
-  layout.keep_up_to_bytes = seeker_sections(config_).grid_values_in_memory_mb << 20;
+  layout.keep_up_to_bytes = control.field_maps ? seeker_sections(config_).grid_values_in_memory_mb << 20 : 0;
   const bool temporary = writes && control.field_file.empty() && !fits_in_memory(layout, samples_);
   const std::string field_path = !writes ? "" : temporary ? temporary_field_file() : control.field_file;
   const TemporaryFile scratch{temporary ? field_path : std::string()};
@@ -203,9 +203,9 @@ McResult SeekerLosStudy::run(int threads, bool progress, const SampleSink& sink,
     tbb::parallel_invoke(
         [&] {
           if (!field) return;
-          r.field.present = true;
+          r.field.present = control.field_maps;
           r.field.file = field->close();
-          if (n_ok > 0) {
+          if (n_ok > 0 && control.field_maps) {
             std::optional<WideColumnsReader> reader;
             if (!field->keeps()) reader.emplace(field_path, layout.dataset);
             const double quantiles[] = {0.5, 0.95, 0.9973};
