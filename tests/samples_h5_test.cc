@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <cstdlib>
+#include <filesystem>
 #include <sstream>
 #include <nlohmann/json.hpp>
 
@@ -137,6 +138,47 @@ with h5py.File(sys.argv[1], "r") as f:
   EXPECT_EQ(corner, 168u);  // the last column: yaw +30, pitch +30
   EXPECT_EQ(last, 699u);
   EXPECT_EQ(ok, 700u);
+}
+
+
+// [output] keys leave out what a run does not need (issue 34): samples.csv, the grid values in
+// samples.h5, the maps; what stays is the same as in the full run (same seed).
+TEST(SamplesH5, OutputKeysLeaveOutFilesAndKeepTheAnswer) {
+  TempDir d;
+  const std::string study = los_study(d);
+  std::string lean = read_text(study);
+  lean = test::replace_once(lean, "contribution_samples = 0\n",
+                            "contribution_samples = 0\nsamples_csv = false\ngrid_values = false\nmaps = false\n");
+  test::write_text(d.file("lean.toml"), lean);
+  std::string values_only = test::replace_once(lean, "maps = false", "maps = true");
+  test::write_text(d.file("maps.toml"), values_only);
+  const std::string args = " --samples 2000 --seed 9 -q --no-plots --threads 2 --out ";
+  auto full = test::run_poise(d, "run '" + study + "'" + args + "'" + d.file("full") + "'");
+  auto bare = test::run_poise(d, "run '" + d.file("lean.toml") + "'" + args + "'" + d.file("lean") + "'");
+  auto maps = test::run_poise(d, "run '" + d.file("maps.toml") + "'" + args + "'" + d.file("maps") + "'");
+  ASSERT_EQ(full.status, bare.status) << bare.err;
+  ASSERT_EQ(full.status, maps.status) << maps.err;
+  namespace fs = std::filesystem;
+  EXPECT_TRUE(fs::exists(d.file("full/samples.csv")));
+  EXPECT_TRUE(fs::exists(d.file("full/samples.h5")));
+  for (const char* dir : {"lean", "maps"}) {
+    EXPECT_FALSE(fs::exists(d.file(std::string(dir) + "/samples.csv"))) << dir;
+    EXPECT_FALSE(fs::exists(d.file(std::string(dir) + "/samples.h5"))) << dir;
+    EXPECT_TRUE(fs::exists(d.file(std::string(dir) + "/report.html"))) << dir;
+  }
+  const json a = json::parse(read_text(d.file("full/summary.json")));
+  const json b = json::parse(read_text(d.file("lean/summary.json")));
+  const json c = json::parse(read_text(d.file("maps/summary.json")));
+  EXPECT_EQ(a["answer"], b["answer"]);
+  EXPECT_EQ(a["outputs"], b["outputs"]);
+  EXPECT_TRUE(b["samples_h5"].is_null());
+  EXPECT_FALSE(b["details"].contains("pooled_field_arcsec"));
+  // Maps without the grid values on disk: the same pooled figures, from memory.
+  EXPECT_EQ(a["details"]["pooled_field_arcsec"], c["details"]["pooled_field_arcsec"]);
+  // Without samples.csv there is nothing to resume from: a clear refusal, nothing changed.
+  auto resume = test::run_poise(d, "run --resume '" + d.file("lean") + "' -q");
+  EXPECT_EQ(resume.status, 2) << resume.err;
+  EXPECT_NE(resume.err.find("samples_csv = false"), std::string::npos) << resume.err;
 }
 
 }  // namespace

@@ -9,7 +9,13 @@
                    --threads 1 (results, summary and report written, no plots; user + sys CPU
                    of the process) against los_numpy.py with its samples.csv and summary
                    written; 5 pairs (1 with --quick) run in turn, the median pair's ratio
-                   quoted with the range.                               Target >= 5x.
+                   quoted with the range; then one pair at each of --scales (200000 and
+                   10^6 samples).                                       Target >= 5x.
+  LOS lean run     the same with [output] samples_csv, grid_values, maps and plots false
+                   (per-sample outputs and their quantiles only) against los_numpy.py --lean,
+                   at the same scales.                                  Target >= 5x.
+  Cost per sample  Poise's CPU per sample at 16384 over that at each larger scale, whole
+                   and lean (1 = flat).                                 Target >= 0.83.
   Gimbal           poise_gimbal_bench BM_Measurement36By (36-point measurement, CPU time) by
                    formulation and tolerance, each with its torque error against the tight
                    value, against gimbal_scipy.py (LSODA) at the loosest rtol whose error is
@@ -22,7 +28,7 @@ with its two CPU figures and their units, its target, the load average before an
 sample count, the quick flag), atomically (FILE.tmp, then renamed). bench/nightly embeds it in
 its run file and compares the ratios (bench/NIGHTLY.md).
 
-Usage: compare.py [--build build] [--samples 16384] [--quick] [--json FILE]
+Usage: compare.py [--build build] [--samples 16384] [--scales 200000,1000000] [--quick] [--json FILE]
 """
 import argparse, shutil, datetime, json, math, os, re, subprocess, sys, tempfile
 
@@ -82,10 +88,43 @@ def write_json_atomic(path, doc):
     os.replace(tmp, path)
 
 
+def study_text(lean):
+    """The study's Monte Carlo alone, as the NumPy script: its [[sweep]] runs and per-tolerance
+    contribution reruns left out, the model by absolute path; lean: nothing per point and no
+    samples.csv either ([output] keys), as los_numpy.py --lean."""
+    text = open(os.path.join(ROOT, "studies", "los_seeker_wang2011.toml")).read().split("[[sweep]]")[0]
+    text = text.replace('"../models/', '"' + os.path.join(ROOT, "models") + "/")
+    text += "\n[output]\ncontribution_samples = 0  # no per-tolerance reruns: the Monte Carlo alone\n"
+    if lean:
+        text += "samples_csv = false\ngrid_values = false\nmaps = false\nplots = false\n"
+    return text
+
+
+def whole_run_pairs(build, n, lean, count):
+    """Pairs, Poise then NumPy, each pair's ratio taken by itself: a neighbour's load that
+    drifts during the minute acts on both sides of a pair alike. Sorted by ratio."""
+    pairs = []
+    with tempfile.TemporaryDirectory() as tmp:
+        study = os.path.join(tmp, "los_seeker_wang2011.toml")
+        open(study, "w").write(study_text(lean))
+        for k in range(count):
+            p_cpu = child_cpu([os.path.join(build, "poise"), "run", study, "--samples", str(n), "--threads",
+                               "1", "--out", os.path.join(tmp, f"poise{k}"), "--quiet", "--no-plots"])
+            n_cpu = child_cpu([sys.executable, os.path.join(HERE, "los_numpy.py"), "--samples", str(n)]
+                              + (["--lean"] if lean else ["--out", os.path.join(tmp, f"numpy{k}")]))
+            pairs.append((n_cpu / p_cpu, p_cpu, n_cpu))
+            shutil.rmtree(os.path.join(tmp, f"poise{k}"), ignore_errors=True)
+            shutil.rmtree(os.path.join(tmp, f"numpy{k}"), ignore_errors=True)
+    return sorted(pairs)
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--build", default=os.path.join(ROOT, "build"))
-    ap.add_argument("--samples", type=int, default=16384)
+    ap.add_argument("--samples", type=int, default=16384, help="the first scale: 5 pairs of runs")
+    ap.add_argument("--scales", type=lambda t: [int(x) for x in t.split(",") if x], default=[200000, 1000000],
+                    help="larger sample counts of the whole and lean runs, one pair each (default 200000,1000000; "
+                         "--quick: none)")
     ap.add_argument("--quick", action="store_true", help="shorter timings, LSODA at one tolerance")
     ap.add_argument("--json", metavar="FILE", help="also write every figure to FILE (JSON, written atomically)")
     a = ap.parse_args()
@@ -115,39 +154,51 @@ def main():
             baseline=figure(numpy_us[mode], "us/sample", f"los_numpy.py --compute-only{' --grouped' if mode == 'grouped' else ''}, "
                             f"{a.samples} samples, CPU time"), target_min=10.0)
 
-    # LOS whole run, results written.
-    with tempfile.TemporaryDirectory() as tmp:
-        # The study's Monte Carlo alone, as the NumPy script: its [[sweep]] runs (61440 more
-        # samples) and per-tolerance contribution reruns left out, the model by absolute path.
-        text = open(os.path.join(ROOT, "studies", "los_seeker_wang2011.toml")).read().split("[[sweep]]")[0]
-        text = text.replace('"../models/', '"' + os.path.join(ROOT, "models") + "/")
-        text += "\n[output]\ncontribution_samples = 0  # no per-tolerance reruns: the Monte Carlo alone\n"
-        study = os.path.join(tmp, "los_seeker_wang2011.toml")
-        open(study, "w").write(text)
-        # Pairs, Poise then NumPy, each pair's ratio taken by itself: a neighbour's load that
-        # drifts during the minute acts on both sides of a pair alike. The median pair is quoted.
-        pairs = []
-        for k in range(1 if a.quick else 5):
-            p_cpu = child_cpu([os.path.join(a.build, "poise"), "run", study, "--samples", str(a.samples), "--threads",
-                               "1", "--out", os.path.join(tmp, f"poise{k}"), "--quiet", "--no-plots"])
-            n_cpu = child_cpu([sys.executable, os.path.join(HERE, "los_numpy.py"), "--samples", str(a.samples),
-                               "--out", os.path.join(tmp, f"numpy{k}")])
-            pairs.append((n_cpu / p_cpu, p_cpu, n_cpu))
-            shutil.rmtree(os.path.join(tmp, f"poise{k}"), ignore_errors=True)
-            shutil.rmtree(os.path.join(tmp, f"numpy{k}"), ignore_errors=True)
-        pairs.sort()
-        whole_ratio, poise_cpu, numpy_cpu = pairs[len(pairs) // 2]
-    print(f"LOS whole run ({a.samples} samples, 1 thread, results written): poise {poise_cpu:.2f} CPU-s, "
-          f"numpy {numpy_cpu:.2f} CPU-s -> {whole_ratio:.1f}x (target >= 5x); median of {len(pairs)} pairs, "
-          f"{pairs[0][0]:.2f}x to {pairs[-1][0]:.2f}x")
-    doc["ratios"]["los_whole_run"] = ratio_entry(
-        f"LOS whole run, {a.samples} samples, 1 thread, results written: NumPy over Poise",
-        poise=figure(poise_cpu, "CPU-s", "poise run --threads 1 --no-plots of studies/los_seeker_wang2011.toml "
-                     "without sweeps and contribution reruns, user + system CPU"),
-        baseline=figure(numpy_cpu, "CPU-s", "los_numpy.py with samples.csv and summary written, user + system CPU"),
-        target_min=5.0)
-    doc["ratios"]["los_whole_run"]["pairs"] = [{"ratio": r, "poise_cpu_s": pc, "numpy_cpu_s": nc} for r, pc, nc in pairs]
-    doc["ratios"]["los_whole_run"]["value"] = finite(whole_ratio)  # the median pair's own ratio
+    # LOS whole run, full and lean, at each scale (issue 34: the cost per sample flat from
+    # 16384 to 10^6 samples; >= 5x the script, also when only the per-sample outputs and their
+    # quantiles are wanted).
+    scales = [a.samples] if a.quick else sorted({a.samples, *a.scales})
+    per_sample = {}  # (mode, n) -> Poise CPU-s per sample
+    for n in scales:
+        for lean in (False, True):
+            pairs = whole_run_pairs(a.build, n, lean, 1 if a.quick or n != a.samples else 5)
+            ratio, poise_cpu, numpy_cpu = pairs[len(pairs) // 2]
+            mode = "lean" if lean else "whole"
+            per_sample[(mode, n)] = poise_cpu / n
+            print(f"LOS {'lean' if lean else 'whole'} run ({n} samples, 1 thread{', outputs and quantiles only' if lean else ', results written'}): "
+                  f"poise {poise_cpu:.2f} CPU-s ({poise_cpu / n * 1e6:.1f} us/sample), numpy {numpy_cpu:.2f} CPU-s "
+                  f"-> {ratio:.1f}x (target >= 5x); median of {len(pairs)} pairs, {pairs[0][0]:.2f}x to {pairs[-1][0]:.2f}x")
+            key = f"los_{mode}_run" + ("" if n == a.samples else f"_{n}")
+            if lean:
+                e = ratio_entry(
+                    f"LOS lean run, {n} samples, 1 thread, per-sample outputs and their quantiles only: NumPy over Poise",
+                    poise=figure(poise_cpu, "CPU-s", "poise run --threads 1 with [output] samples_csv, grid_values, "
+                                 "maps and plots false, no sweeps or contribution reruns, user + system CPU"),
+                    baseline=figure(numpy_cpu, "CPU-s", "los_numpy.py --lean, user + system CPU"), target_min=5.0)
+            else:
+                e = ratio_entry(
+                    f"LOS whole run, {n} samples, 1 thread, results written: NumPy over Poise",
+                    poise=figure(poise_cpu, "CPU-s", "poise run --threads 1 --no-plots of studies/los_seeker_wang2011.toml "
+                                 "without sweeps and contribution reruns, user + system CPU"),
+                    baseline=figure(numpy_cpu, "CPU-s", "los_numpy.py with samples.csv and summary written, user + system CPU"),
+                    target_min=5.0)
+            e["samples"] = n
+            e["pairs"] = [{"ratio": r, "poise_cpu_s": pc, "numpy_cpu_s": nc} for r, pc, nc in pairs]
+            e["value"] = finite(ratio)  # the median pair's own ratio
+            doc["ratios"][key] = e
+    # Flat cost per sample: Poise's CPU per sample at the smallest scale over that at each larger
+    # one (1 = flat, below 1 = dearer at scale); target within 20 %.
+    for mode in ("whole", "lean"):
+        for n in scales[1:]:
+            small, big = per_sample[(mode, scales[0])], per_sample[(mode, n)]
+            e = ratio_entry(
+                f"Poise's {mode}-run CPU per sample at {scales[0]} samples over at {n} (1 = flat)",
+                poise=figure(big * 1e6, "us/sample", f"poise run, {n} samples, 1 thread ({mode})"),
+                baseline=figure(small * 1e6, "us/sample", f"poise run, {scales[0]} samples, 1 thread ({mode})"),
+                target_min=round(1 / 1.2, 3))
+            doc["ratios"][f"los_{mode}_cost_flatness_{n}"] = e
+            print(f"LOS {mode} run cost per sample: {small * 1e6:.1f} us at {scales[0]}, {big * 1e6:.1f} us at {n} "
+                  f"-> flatness {small / big:.2f} (target >= 0.83: within 20 %)")
 
     # Gimbal measurement.
     g = gbench(os.path.join(a.build, "bench", "poise_gimbal_bench"), "BM_Measurement36By", "0.5" if not a.quick else "0.1")
