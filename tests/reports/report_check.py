@@ -88,6 +88,9 @@ def structure_problems(html_text):
     for a in p.anchors:
         if a not in seen:
             problems.append(f"link to #{a}, which no element is")
+    if "gnuplot_svg." in html_text:
+        problems.append("a figure calls gnuplot's JavaScript (gnuplot_svg.*), which the page does not hold: "
+                        "hover texts must be the SVG's own <title> tooltips")
     if p.answer_at is None:
         problems.append("no answer (an element of class 'answer')")
     elif p.first_h2_at is not None and p.answer_at > p.first_h2_at:

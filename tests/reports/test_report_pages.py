@@ -78,7 +78,7 @@ seed = 9
 
 
 RUNS = {
-    "seeker_los": lambda tmp: ["run", seeker_study(tmp), "--samples", "16"],
+    "seeker_los": lambda tmp: ["run", seeker_study(tmp), "--samples", "256"],
     "gimbal": lambda tmp: ["run", study("gimbal_unbalance_mc.toml"), "--samples", "8"],
     "balancing": lambda tmp: ["run", study("wang2014_balancing_mc.toml"), "--samples", "8"],
     "platform": lambda tmp: ["run", study("platform_balancing_sequence.toml"), "--samples", "8"],
@@ -115,6 +115,11 @@ def test_report_reads_right(kind, tmp_path):
     if kind not in ("shaft_sag", "sensitivity"):  # pages of three sections or more have contents
         with open(report, encoding="utf-8") as f:
             assert "<nav class='toc'>" in f.read(), f"{kind}: no table of contents"
+    if kind == "seeker_los":  # values on hover, and the main output against its drivers
+        with open(report, encoding="utf-8") as f:
+            page = f.read()
+        assert "strongest drivers" in page, f"{kind}: no scatter of the main output against its drivers"
+        assert re.search(r"<title>\d+ samples: mean ", page), f"{kind}: the convergence figure has no values on hover"
     exe = report_check.chromium()
     assert exe, "chromium is not installed: scripts/install_deps.sh --tests installs it"
     problems = report_check.render_problems(report, exe)
@@ -126,10 +131,12 @@ def test_checker_finds_what_it_checks():
     bad = ("<html><body><h1>t</h1><h2 id='a'>x</h2><p class='answer'>late</p><p id='a'>0.123456789 m</p>"
            "<a href='#nowhere'>x</a>"
            "<figure><svg><text>0</text><text>1</text></svg></figure>"
-           "<figure><svg><text>ratio [1]</text></svg></figure></body></html>")
+           "<figure><svg><text>ratio [1]</text></svg></figure>"
+           "<figure><svg><g onmousemove=\"gnuplot_svg.showHypertext(evt,'1, 2')\"><text>x [mm]</text></g></svg></figure>"
+           "</body></html>")
     problems = "\n".join(report_check.structure_problems(bad))
     for expected in ("used more than once", "after the first section heading", "significant digits",
-                     "no title or axis label", "gives 1 as a unit", "which no element is"):
+                     "no title or axis label", "gives 1 as a unit", "which no element is", "gnuplot's JavaScript"):
         assert expected in problems, expected
     good = ("<html><body><h1>t</h1><p class='answer'>yes</p><h2 id='a'>x</h2><p>0.1235 m, seed 20111101</p>"
             "<figure><svg><text>length [mm]</text></svg></figure></body></html>")

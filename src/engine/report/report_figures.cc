@@ -33,8 +33,18 @@ bool run(const fs::path& dir, const std::string& name, const std::string& script
          std::string& why) {
   write_file_atomic((dir / (name + ".gp")).string(), kTerminal + ("set output '" + name + ".svg'\nset grid\n") + script);
   if (!run_gnuplot((dir / (name + ".gp")).string(), &why)) return false;
+  native_tooltips(dir / (name + ".svg"));
   figures.push_back(name + ".svg");
   return true;
+}
+
+// A series' values on hover: the points of `data` (columns x and y) as hypertext points of
+// the series' colour, each with its text (a gnuplot sprintf of the columns); the SVG's own
+// tooltip then shows them (native_tooltips). `every` thins a long series (a CDF of 10^6).
+std::string hover_points(const std::string& data, const std::string& x, const std::string& y,
+                         const std::string& text, const std::string& colour, std::size_t every = 1) {
+  return ", '" + data + "'" + (every > 1 ? " every " + std::to_string(every) : std::string()) + " u " + x + ":" + y +
+         ":(" + text + ") with labels hypertext point pt 7 ps 0.5 lc rgb '" + colour + "' notitle";
 }
 
 // Labelled vertical lines; a label beside a line in the right half of the values [lo, hi]
@@ -44,7 +54,7 @@ std::string vertical_lines(const std::vector<FigureLine>& lines, double lo, doub
   int i = 0;
   for (const auto& l : lines) {
     const bool left = l.x > 0.5 * (lo + hi);
-    g << "set arrow from " << l.x << ", graph 0 to " << l.x << ", graph 1 nohead lw 2 lc rgb '" << l.colour << "'\n"
+    g << "set arrow from " << l.x << ", graph 0 to " << l.x << ", graph 1 nohead lw 2 dt 2 lc rgb '" << l.colour << "'\n"
       << "set label " << quoted(l.label) << " at " << l.x << ", graph " << (0.95 - 0.08 * (i++ % 6))
       << (left ? " right offset -0.5,0" : " offset 0.5,0") << " tc rgb '" << l.colour << "'\n";
   }
@@ -96,7 +106,8 @@ std::vector<std::string> main_outputs(const std::vector<std::string>& outputs, c
 }
 
 bool distribution_figures(const fs::path& dir, const std::string& output, const std::string& unit,
-                          const std::vector<double>& values, const std::vector<std::size_t>& order,
+                          const std::string& description, const std::vector<double>& values,
+                          const std::vector<std::size_t>& order,
                           const std::vector<FigureLine>& lines, std::vector<std::string>& figures, std::string& why) {
   std::vector<double> v;
   for (double x : values) {
@@ -117,7 +128,10 @@ bool distribution_figures(const fs::path& dir, const std::string& output, const 
     }
     write_file_atomic((dir / (output + "_cdf.dat")).string(), d.str());
   }
-  const std::string xl = output + (unit.empty() || unit == "1" ? "" : " [" + unit + "]");
+  const std::string what = description.empty() ? output : description;
+  const std::string unit_text = unit == "1" ? std::string() : unit;  // in hover texts
+  const std::string xl = what + (unit.empty() || unit == "1" ? "" : " [" + unit + "]");
+  const std::size_t cdf_every = std::max<std::size_t>(1, sorted.size() / 200);
   const HistogramBins bins = histogram_bins(sorted);
   {
     std::ostringstream d;
@@ -131,18 +145,24 @@ bool distribution_figures(const fs::path& dir, const std::string& output, const 
   const std::size_t most = *std::max_element(bins.counts.begin(), bins.counts.end());
   std::ostringstream hist;
   hist.precision(10);
-  hist << "set title " << quoted("Distribution of " + output + " over " + std::to_string(sorted.size()) + " samples")
+  hist << "set title " << quoted("Distribution of " + what + " (" + output + ") over " + std::to_string(sorted.size()) +
+                                 " samples")
        << "\nset xlabel " << quoted(xl) << "\nset ylabel 'samples'\nset key outside bottom center horizontal\n"
        << "set boxwidth " << bins.width << " absolute\nset yrange [0:*]\n" << (most <= 10 ? "set ytics 1\n" : "")
        << "set style fill solid 0.6\n" << vertical_lines(lines, sorted.front(), sorted.back()) << "plot '" << output
-       << "_hist.dat' u 1:2 with boxes lc rgb '#4477aa' title 'simulated'\n";
+       << "_hist.dat' u 1:2 with boxes lc rgb '#4477aa' title 'simulated'"
+       << hover_points(output + "_hist.dat", "1", "2", "sprintf('%.4g " + unit_text + ": %d samples', $1, $2)", "#4477aa")
+       << "\n";
   if (!run(dir, output + "_hist", hist.str(), figures, why)) return false;
   std::ostringstream cdf;
-  cdf << "set title " << quoted("CDF of " + output + " with its 95% band (DKW)") << "\nset xlabel " << quoted(xl)
+  cdf << "set title " << quoted("CDF of " + what + " with its 95% band (DKW)") << "\nset xlabel " << quoted(xl)
       << "\nset ylabel 'share of samples at or below'\nset yrange [0:1]\nset key outside bottom center horizontal\n"
       << vertical_lines(lines, sorted.front(), sorted.back()) << "plot '" << output
       << "_cdf.dat' u 1:3:4 with filledcurves lc rgb '#bbccee' title '95% band', '' u 1:2 with steps lw 2 lc rgb "
-         "'#4477aa' title 'empirical CDF'\n";
+         "'#4477aa' title 'empirical CDF'"
+      << hover_points(output + "_cdf.dat", "1", "2", "sprintf('%.4g " + unit_text + ": share %.3f [%.3f, %.3f]', $1, $2, $3, $4)",
+                      "#4477aa", cdf_every)
+      << "\n";
   if (!run(dir, output + "_cdf", cdf.str(), figures, why)) return false;
   // Statistics against sample count (in sample order): mean with its t interval and p95
   // with its binomial order-statistic interval, at geometrically spaced counts.
@@ -167,11 +187,18 @@ bool distribution_figures(const fs::path& dir, const std::string& output, const 
     }
     write_file_atomic((dir / (output + "_convergence.dat")).string(), d.str());  // gnuplot reads it next
     std::ostringstream conv;
-    conv << "set title " << quoted(output + ": mean and p95 against sample count (95% intervals)")
-         << "\nset xlabel 'samples'\nset logscale x\nset ylabel " << quoted(unit.empty() ? output : unit)
+    // The x axis ends at the run's sample count (not gnuplot's next power of ten).
+    conv << "set title " << quoted(what + ": mean and p95 against sample count (95% intervals)")
+         << "\nset xlabel 'samples'\nset logscale x\nset xrange [" << static_cast<double>(counts.front()) * 0.8 << ':'
+         << static_cast<double>(v.size()) * 1.1 << "]\nset ylabel " << quoted(xl)
          << "\nset key outside bottom center horizontal\nplot '" << output
-         << "_convergence.dat' u 1:2:3:4 with yerrorlines lw 2 lc rgb '#4477aa' title 'mean', '' u 1:5:6:7 with "
-            "yerrorlines lw 2 lc rgb '#ee7733' title 'p95'\n";
+         << "_convergence.dat' u 1:2:3:4 with yerrorlines lw 2 pt 1 lc rgb '#4477aa' title 'mean', '' u 1:5:6:7 with "
+            "yerrorlines lw 2 dt 2 pt 6 lc rgb '#ee7733' title 'p95'"
+         << hover_points(output + "_convergence.dat", "1", "2",
+                         "sprintf('%d samples: mean %.4g [%.4g, %.4g] " + unit_text + "', $1, $2, $3, $4)", "#4477aa")
+         << hover_points(output + "_convergence.dat", "1", "5",
+                         "sprintf('%d samples: p95 %.4g [%.4g, %.4g] " + unit_text + "', $1, $5, $6, $7)", "#ee7733")
+         << "\n";
     if (!run(dir, output + "_convergence", conv.str(), figures, why)) return false;
   }
   return true;
@@ -190,7 +217,8 @@ bool tornado_figure(const fs::path& dir, const std::string& name, const std::str
   std::ostringstream g;
   g << "set title " << quoted(title) << "\nset xlabel " << quoted(xlabel) << "\nset yrange [" << bars.size()
     << "-0.5:-0.5]\nset ytics scale 0\nset style fill solid 0.7\nunset key\nset lmargin 34\n"
-    << "plot '" << name << ".dat' u ($2/2):1:(abs($2)/2):(0.35):ytic(3) with boxxyerror lc rgb '#4477aa'\n";
+    << "plot '" << name << ".dat' u ($2/2):1:(abs($2)/2):(0.35):ytic(3) with boxxyerror lc rgb '#4477aa'"
+    << hover_points(name + ".dat", "2", "1", "sprintf('%s: %.4g', strcol(3), $2)", "#4477aa") << "\n";
   return run(dir, name, g.str(), figures, why);
 }
 
@@ -225,7 +253,11 @@ bool sensitivity_tornado(const fs::path& dir, const json& sensitivity, const std
     << "plot '" << name << ".dat' u ($2/2):($1-0.18):($2/2):(0.16):ytic(8) with boxxyerror lc rgb '#4477aa' title 'total', "
     << "'' u 2:($1-0.18):3:4 with xerrorbars lc rgb '#222222' pt 0 notitle, "
     << "'' u ($5/2):($1+0.18):($5/2):(0.16) with boxxyerror lc rgb '#ee7733' title 'first order', "
-    << "'' u 5:($1+0.18):6:7 with xerrorbars lc rgb '#222222' pt 0 notitle\n";
+    << "'' u 5:($1+0.18):6:7 with xerrorbars lc rgb '#222222' pt 0 notitle"
+    << hover_points(name + ".dat", "2", "($1-0.18)", "sprintf('%s: total %.3f [%.3f, %.3f]', strcol(8), $2, $3, $4)", "#4477aa")
+    << hover_points(name + ".dat", "5", "($1+0.18)", "sprintf('%s: first order %.3f [%.3f, %.3f]', strcol(8), $5, $6, $7)",
+                    "#ee7733")
+    << "\n";
   return run(dir, name, g.str(), figures, why);
 }
 
@@ -247,8 +279,9 @@ bool sweep_figure(const fs::path& dir, const std::string& name, const std::strin
   g << "set title " << quoted(title) << "\nset xlabel " << quoted(xlabel) << "\nset ylabel " << quoted(ylabel)
     << "\nset key outside bottom center horizontal\nset offsets graph 0.05, graph 0.05, graph 0.1, graph 0.1\n";
   // The limits as constant functions: the y range then takes them in.
-  g << "plot '" << name << ".dat' u 1:2:3:4 with yerrorlines lw 2 pt 7 lc rgb '#4477aa' t " << quoted(ylabel + ", 95% interval");
-  for (const auto& l : limits) g << ", " << l.x << " w l lw 2 lc rgb '" << l.colour << "' t " << quoted(l.label);
+  g << "plot '" << name << ".dat' u 1:2:3:4 with yerrorlines lw 2 pt 7 lc rgb '#4477aa' t " << quoted(ylabel + ", 95% interval")
+    << hover_points(name + ".dat", "1", "2", "sprintf('%.4g: %.4g [%.4g, %.4g]', $1, $2, $3, $4)", "#4477aa");
+  for (const auto& l : limits) g << ", " << l.x << " w l lw 2 dt 2 lc rgb '" << l.colour << "' t " << quoted(l.label);
   g << "\n";
   return run(dir, name, g.str(), figures, why);
 }

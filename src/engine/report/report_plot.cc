@@ -26,6 +26,7 @@ bool svg_plot(const std::filesystem::path& dir, const std::string& name, const s
                                                      "set output '" + name + ".svg'\nset grid\n" + script);
   std::string why;
   if (run_gnuplot((dir / (name + ".gp")).string(), &why)) {
+    native_tooltips(dir / (name + ".svg"));
     figures.push_back(name + ".svg");
     return true;
   }
@@ -131,6 +132,43 @@ std::string prefixed_ids(const std::string& svg, const std::string& prefix) {
 }
 
 }  // namespace
+
+void native_tooltips(const std::filesystem::path& svg_file) {
+  std::ifstream in(svg_file, std::ios::binary);
+  const std::string svg((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  in.close();
+  static const std::string open = "<g onmousemove=\"gnuplot_svg.showHypertext(evt,'";
+  static const std::string close = "')\" onmouseout=\"gnuplot_svg.hideHypertext()\"><title> </title>";
+  static const std::string series = "<title>gnuplot_plot_";
+  if (svg.find(open) == std::string::npos && svg.find(series) == std::string::npos) return;
+  std::string out;
+  out.reserve(svg.size());
+  std::size_t at = 0;
+  while (at < svg.size()) {
+    const std::size_t a = svg.find(open, at), b = svg.find(series, at);
+    const std::size_t next = std::min(a, b);
+    if (next == std::string::npos) break;
+    out.append(svg, at, next - at);
+    if (next == a) {
+      const std::size_t text_end = svg.find(close, a + open.size());
+      if (text_end == std::string::npos) {  // not gnuplot's form: leave the rest as it is
+        at = a;
+        break;
+      }
+      out += "<g><title>" + svg.substr(a + open.size(), text_end - a - open.size()) + "</title>";
+      at = text_end + close.size();
+    } else {
+      const std::size_t end = svg.find("</title>", b);
+      if (end == std::string::npos) {
+        at = b;
+        break;
+      }
+      at = end + 8;
+    }
+  }
+  out.append(svg, at, std::string::npos);
+  write_file_atomic(svg_file.string(), out);
+}
 
 std::string inline_svg(const std::filesystem::path& svg_file, const std::string& caption) {
   std::ifstream in(svg_file, std::ios::binary);

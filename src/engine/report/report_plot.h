@@ -25,6 +25,11 @@ bool run_gnuplot(const std::string& script_path, std::string* why);
 bool svg_plot(const std::filesystem::path& dir, const std::string& name, const std::string& script,
               std::vector<std::string>& figures, std::ostringstream& html);
 
+/// Rewrites a gnuplot SVG so that its hover texts (`with labels hypertext`) are the SVG's own
+/// <title> tooltips, which every browser shows without gnuplot's JavaScript, and drops the
+/// "gnuplot_plot_N" titles of unnamed series (they would show as tooltips too).
+void native_tooltips(const std::filesystem::path& svg_file);
+
 /// The SVG file's drawing, inline in report.html (the report is one self-contained file),
 /// in a <figure> with an optional caption.
 std::string inline_svg(const std::filesystem::path& svg_file, const std::string& caption);

@@ -305,8 +305,15 @@ std::string sweeps_html(const json& sweeps, const std::vector<OutputSpec>& outpu
           }
         }
       }
-      const std::string label = stat + " of " + name + (unit.empty() || unit == "1" ? "" : " [" + unit + "]");
-      sweep_figure(plots_dir, "sweep" + std::to_string(s) + "_" + name + "_" + stat, label + " against " + param,
+      // Axis and title in the field's words: the output's description, its statistic, its unit.
+      std::string description = name;
+      for (const auto& o : outputs) {
+        if (o.name == name && !o.description.empty()) description = o.description;
+      }
+      const std::string label =
+          statistic_label(stat) + " of " + description + (unit.empty() || unit == "1" ? "" : " [" + unit + "]");
+      sweep_figure(plots_dir, "sweep" + std::to_string(s) + "_" + name + "_" + stat,
+                   statistic_label(stat) + " of " + name + " against " + param,
                    param + (x_unit.empty() ? "" : " [" + x_unit + "]"), label, pts, limits, figures, why);
     }
     h += figures_html(plots_dir, figures);

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <sstream>
 
+#include "engine/report/driver_scatter.h"
 #include "engine/report/report_figures.h"
 #include "engine/report/report_contents.h"
 #include "engine/report/report_plot.h"
@@ -42,10 +43,21 @@ std::string distribution_plots(const json& s, const FinishedRun& f, const std::f
                                                 c["role"] == "validation" ? "#228833" : "#999999"});
     }
     std::string why;
-    if (!distribution_figures(pdir, name, f.study.outputs()[k].unit, f.mc.values[k], f.mc.ok_index, lines, figures, why)) {
+    if (!distribution_figures(pdir, name, f.study.outputs()[k].unit, f.study.outputs()[k].description, f.mc.values[k],
+                              f.mc.ok_index, lines, figures, why)) {
       note = why;
     }
     if (s.contains("sensitivity") && !sensitivity_tornado(pdir, s["sensitivity"], name, figures, why)) note = why;
+  }
+  // The first main output against the inputs that drive it most (from samples.csv's first rows).
+  const auto shown = main_outputs(names, named);
+  if (!shown.empty()) {
+    const auto k = static_cast<std::size_t>(std::find(names.begin(), names.end(), shown.front()) - names.begin());
+    std::string why;
+    if (k < f.study.outputs().size() &&
+        !driver_scatter(pdir, pdir.parent_path() / "samples.csv", f.study.input_names(), f.study.outputs()[k], figures, why)) {
+      note = why;
+    }
   }
   return note;
 }
@@ -100,9 +112,13 @@ std::string run_report_html(const json& s, const FinishedRun& f, const std::file
   if (!cfg.notes.empty()) h << "<h2>Notes of the study</h2>\n<pre>" << html_escape(cfg.notes) << "</pre>\n";
   h << provenance_html(s["provenance"]);
   if (s.contains("solver")) h << "<h3>Solver</h3>\n<pre>" << html_escape(s["solver"].dump(2)) << "</pre>\n";
-  h << "<p><small>Files beside this page: <a href='summary.json'>summary.json</a>, <a href='samples.csv'>samples.csv"
-       "</a>, <a href='samples.h5'>samples.h5</a>, <a href='run.json'>run.json</a>, <a href='plots/'>plots/</a> (each "
-       "figure's data and gnuplot script).</small></p>\n</body></html>\n";
+  // Links to the files the run wrote ([output] keys may leave samples.csv and samples.h5 out).
+  h << "<p><small>Files beside this page: <a href='summary.json'>summary.json</a>, ";
+  for (const char* file : {"samples.csv", "samples.h5"}) {
+    if (std::filesystem::exists(pdir.parent_path() / file)) h << "<a href='" << file << "'>" << file << "</a>, ";
+  }
+  h << "<a href='run.json'>run.json</a>, <a href='plots/'>plots/</a> (each figure's data and gnuplot script).</small></p>\n"
+       "</body></html>\n";
   return with_contents(h.str());
 }
 
