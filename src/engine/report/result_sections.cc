@@ -3,8 +3,10 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <optional>
 #include <sstream>
 
+#include "core/number_text.h"
 #include "engine/report/report_figures.h"
 #include "engine/report/report_plot.h"
 #include "engine/results/result_io.h"
@@ -265,11 +267,12 @@ std::string sweeps_html(const json& sweeps, const std::vector<OutputSpec>& outpu
         std::string cell = "&ndash;";
         if (p["outputs"].contains(name) && p["outputs"][name].contains(stat)) {
           const json& e = p["outputs"][name][stat];
-          cell = format_significant(e["value"].get<double>()) + " " + html_escape(p["outputs"][name]["unit"].get<std::string>());
-          if (e["ci95"][0].is_number() && e["ci95"][1].is_number()) {
-            cell += " <small>[" + format_significant(e["ci95"][0].get<double>()) + ", " +
-                    format_significant(e["ci95"][1].get<double>()) + "]</small>";
-          }
+          auto end = [&](int k) {
+            return e["ci95"][k].is_number() ? std::optional<double>(e["ci95"][k].get<double>()) : std::nullopt;
+          };
+          const IntervalText t = interval_text(e["value"].get<double>(), end(0), end(1));
+          cell = t.value + " " + html_escape(p["outputs"][name]["unit"].get<std::string>());
+          if (!t.lo.empty() && !t.hi.empty()) cell += " <small>[" + t.lo + ", " + t.hi + "]</small>";
         }
         for (const auto& r : p["requirements"]) {
           if (r["output"] == name && r["statistic"] == stat) cell += " <b>" + html_escape(r["verdict"].get<std::string>()) + "</b>";

@@ -1,8 +1,11 @@
 #include "engine/report/run_report.h"
 
+#include <optional>
+
 #include <algorithm>
 #include <sstream>
 
+#include "core/number_text.h"
 #include "engine/report/driver_scatter.h"
 #include "engine/report/report_figures.h"
 #include "engine/report/report_contents.h"
@@ -62,12 +65,12 @@ std::string distribution_plots(const json& s, const FinishedRun& f, const std::f
   return note;
 }
 
+// A statistic with its interval, at the decimal place the interval supports (core/number_text.h).
 std::string statistic_cell(const json& e) {
-  std::string out = format_significant(e["value"].get<double>(), 4) + " <small>[";
-  out += e["ci95"][0].is_number() ? format_significant(e["ci95"][0].get<double>(), 4) : std::string("&ndash;");
-  out += ", ";
-  out += e["ci95"][1].is_number() ? format_significant(e["ci95"][1].get<double>(), 4) : std::string("&ndash;");
-  return out + "]</small>";
+  auto end = [&](int k) { return e["ci95"][k].is_number() ? std::optional<double>(e["ci95"][k].get<double>()) : std::nullopt; };
+  const IntervalText t = interval_text(e["value"].get<double>(), end(0), end(1));
+  return t.value + " <small>[" + (t.lo.empty() ? std::string("&ndash;") : t.lo) + ", " +
+         (t.hi.empty() ? std::string("&ndash;") : t.hi) + "]</small>";
 }
 
 // report.html: the answer first, then what was run, the study's own sections, the outputs,
