@@ -164,6 +164,16 @@ TEST(OptimizationStudy, ChanceConstraintOptimumPassesItsFreshCheck) {
   EXPECT_TRUE(summary["verified"].get<bool>()) << summary["verification"].dump(2);
   EXPECT_EQ(summary["answer"].get<std::string>(), r.answer);
   EXPECT_NE(r.answer.find("verified"), std::string::npos) << r.answer;
+  // What the answer cost is said with it: evaluations and full-model samples, the fresh
+  // checks included (at least the search's evaluations and one fresh set).
+  const std::size_t evaluations = summary["cost"]["design_evaluations"].get<std::size_t>();
+  const std::size_t model_samples = summary["cost"]["model_samples"].get<std::size_t>();
+  EXPECT_GE(model_samples, evaluations);
+  EXPECT_GT(evaluations, 2u);
+  EXPECT_NE(r.answer.find("it took " + std::to_string(evaluations) + " design evaluations (" +
+                          std::to_string(model_samples) + " samples of the full model)"),
+            std::string::npos)
+      << r.answer;
   EXPECT_EQ(summary["verification"]["constraints"][0]["bound"], "upper95");
   EXPECT_LE(summary["verification"]["constraints"][0]["bound_value"].get<double>(), 1.5);
   // On the search's samples the bound binds, so the point value is below the limit.

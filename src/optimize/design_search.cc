@@ -10,6 +10,7 @@ namespace poise::optimize {
 
 void RunProgress::step(double samples, const std::string& line) {
   done_ += samples;
+  ++evaluations_;
   if (!on_) return;
   const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
   // Searches usually converge before their budget, so the plan (and the ETA) is an upper bound.

@@ -29,11 +29,15 @@ class RunProgress {
   /// `samples` done; prints "  <line>  (elapsed, ETA <= ...)" when on.
   void step(double samples, const std::string& line);
   bool on() const { return on_; }
+  /// What the run spent: samples of the full model simulated, and design evaluations.
+  double done() const { return done_; }
+  std::size_t evaluations() const { return evaluations_; }
 
  private:
   bool on_;
   std::chrono::steady_clock::time_point start_;
   double planned_ = 0.0, done_ = 0.0;
+  std::size_t evaluations_ = 0;
 };
 
 /// What the searches keep of each design evaluated.

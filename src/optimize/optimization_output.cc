@@ -114,6 +114,10 @@ json optimization_summary(const OptimizationSpec& spec, const OptimizationOutcom
                           const std::string& started) {
   json s;
   s["answer"] = out.answer;
+  s["cost"] = {{"design_evaluations", out.design_evaluations},
+               {"model_samples", out.model_samples},
+               {"what", "base-study runs of the full model (searches, replicates, fresh sets and checks) and the "
+                        "samples they simulated"}};
   s["verified"] = out.feasible && out.verified;
   s["exit_status"] = exit_status;
   s["optimization"] = optimization_json(spec);

@@ -414,6 +414,8 @@ OptimizationOutcome optimize(const OptimizationSpec& spec, int threads, bool pro
   run_searches(spec, out, threads, progress);
   if (!out.feasible) {
     explain_no_design(spec, out);
+    out.design_evaluations = progress.evaluations();
+    out.model_samples = static_cast<std::size_t>(progress.done());
     return out;
   }
   // Then: the decision or the check, the spread, the constraints at the optimum, the nearest
@@ -428,6 +430,13 @@ OptimizationOutcome optimize(const OptimizationSpec& spec, int threads, bool pro
   find_nearest_design(spec, out, best, threads, progress);
   pareto_front(spec, out, threads, progress);
   answer_sentence(spec, out, best);
+  out.design_evaluations = progress.evaluations();
+  out.model_samples = static_cast<std::size_t>(progress.done());
+  // What it cost, in the answer: the planner sees what another question would take.
+  const bool closed = !out.answer.empty() && out.answer.back() == '.';
+  if (closed) out.answer.pop_back();
+  out.answer += "; it took " + std::to_string(out.design_evaluations) + " design evaluations (" +
+                std::to_string(out.model_samples) + " samples of the full model).";
   return out;
 }
 

@@ -54,6 +54,10 @@ struct OptimizationOutcome {
   nlohmann::json front_verification;  ///< per front point: both objectives with 95% CIs
   nlohmann::json comparison;       ///< choices decided on fresh samples (choice_decision.h)
   std::string answer;              ///< the answer in one sentence
+  /// What the answer cost: design evaluations (each a base-study run of the full model) and the
+  /// samples they simulated, searches, fresh sets and checks together.
+  std::size_t design_evaluations = 0;
+  std::size_t model_samples = 0;
 };
 
 /// A statistic of `values` with a bootstrap 95% percentile interval (`resamples` resamples,

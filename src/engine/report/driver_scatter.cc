@@ -122,6 +122,7 @@ bool driver_scatter(const fs::path& plots_dir, const fs::path& samples_csv, cons
     write_file_atomic((plots_dir / (name + ".dat")).string(), d.str());
   }
   const std::string unit = output.unit == "1" ? std::string() : output.unit;
+  const auto literal = gnuplot_format_literal;
   const std::string what = output.description.empty() ? output.name : output.description;
   const std::size_t ycol = shares.size() + 1;
   std::ostringstream g;
@@ -133,7 +134,8 @@ bool driver_scatter(const fs::path& plots_dir, const fs::path& samples_csv, cons
     char share[32];
     std::snprintf(share, sizeof share, " (%.2f)", shares[k].share);
     g << "set xlabel " << quoted(shares[k].input + share) << "\nplot '" << name << ".dat' u " << k + 1 << ':' << ycol
-      << ":(sprintf('" << shares[k].input << " %.4g, " << output.name << " %.4g " << unit << "', $" << k + 1 << ", $"
+      << ":(sprintf('" << literal(shares[k].input) << " %.4g, " << literal(output.name) << " %.4g " << literal(unit)
+      << "', $" << k + 1 << ", $"
       << ycol << ")) with labels hypertext point pt 7 ps 0.3 lc rgb '#4477aa'\n";
     if (k == 0) g << "unset ylabel\n";
   }

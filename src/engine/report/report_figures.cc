@@ -129,7 +129,7 @@ bool distribution_figures(const fs::path& dir, const std::string& output, const 
     write_file_atomic((dir / (output + "_cdf.dat")).string(), d.str());
   }
   const std::string what = description.empty() ? output : description;
-  const std::string unit_text = unit == "1" ? std::string() : unit;  // in hover texts
+  const std::string unit_text = gnuplot_format_literal(unit == "1" ? std::string() : unit);  // in hover texts
   const std::string xl = what + (unit.empty() || unit == "1" ? "" : " [" + unit + "]");
   const std::size_t cdf_every = std::max<std::size_t>(1, sorted.size() / 200);
   const HistogramBins bins = histogram_bins(sorted);

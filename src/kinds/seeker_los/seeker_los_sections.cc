@@ -32,6 +32,8 @@ std::unique_ptr<KindSections> read_seeker_los_sections(TomlReader& root, const S
     }
   } else if (!root.has("requirement") || root.raw()["requirement"].is_table() || root.schema_only()) {
     TomlReader t = root.table("requirement");
+    t.ask("los_error", "a positive angle or pixel count, e.g. \"1 px\" or \"18 arcsec\"",
+          "none: then [[requirement]] tables on los_max_arcsec or los_max_px", true);
     c->requirement_text = t.string("los_error");
     if (t.has("los_error") && t.raw()["los_error"].is_string()) {  // else: t.string reported it
       try {
