@@ -52,7 +52,7 @@ GainExpression::GainExpression(GainExpression&&) noexcept = default;
 GainExpression& GainExpression::operator=(GainExpression&&) noexcept = default;
 
 double GainExpression::evaluate(const std::vector<double>& point) const {
-  require(point.size() == values_->size(), "gain expression: wrong number of field values");
+  POISE_INVARIANT(point.size() == values_->size(), "gain expression: wrong number of field values");
   std::copy(point.begin(), point.end(), values_->begin());
   try {
     return parser_->Eval();

@@ -37,4 +37,15 @@ InputError::InputError(SourceLocation where, std::string key, std::string value,
       value_(std::move(value)),
       expected_(std::move(expected)) {}
 
+InvariantError::InvariantError(const std::string& invariant, const std::string& detail, const char* file, int line)
+    : Error("internal error (a bug in Poise, not in your files; please report it with the command and its files): "
+            "invariant '" + invariant + "' does not hold at " + file + ":" + std::to_string(line) +
+            (detail.empty() ? std::string() : ": " + detail)) {}
+
+namespace detail {
+void invariant_failed(const char* condition, const std::string& detail, const char* file, int line) {
+  throw InvariantError(condition, detail, file, line);
+}
+}  // namespace detail
+
 }  // namespace poise

@@ -46,9 +46,35 @@ class InputError : public Error {
   std::string expected_;
 };
 
-/// Throws poise::Error with the message if cond is false (for checks of API use).
+/// Throws poise::Error with the message if cond is false: a check of what a caller or a user
+/// gave (a value out of range, a file that cannot be made), said in the caller's terms.
 inline void require(bool cond, const std::string& message) {
   if (!cond) throw Error(message);
 }
+
+/// A broken internal invariant: a programming error in Poise, not a user's input. Its message
+/// says so, names the invariant and where it is checked, and asks for a report, so that it is
+/// never read as a mistake in the user's files.
+class InvariantError : public Error {
+ public:
+  InvariantError(const std::string& invariant, const std::string& detail, const char* file, int line);
+};
+
+namespace detail {
+[[noreturn]] void invariant_failed(const char* condition, const std::string& detail, const char* file, int line);
+}  // namespace detail
+
+}  // namespace poise
+
+/// POISE_INVARIANT(cond, detail): checks an internal invariant (sizes that must agree, an order
+/// the code itself keeps), as against require(), which checks what a caller or user gave. On
+/// failure throws poise::InvariantError: "internal error (a bug in Poise ...): invariant 'cond'
+/// does not hold at file:line: detail".
+#define POISE_INVARIANT(cond, what)                                                    \
+  do {                                                                                 \
+    if (!(cond)) ::poise::detail::invariant_failed(#cond, (what), __FILE__, __LINE__); \
+  } while (false)
+
+namespace poise {
 
 }  // namespace poise

@@ -96,7 +96,7 @@ EmbreeScene::~EmbreeScene() {
 
 void EmbreeScene::trace_all(const Eigen::Vector3d& o, const Eigen::Vector3d& d, double merge_tol,
                             std::vector<Crossing>& out) const {
-  require(collect_, "EmbreeScene::trace_all needs a scene built with collect_all_hits");
+  POISE_INVARIANT(collect_, "EmbreeScene::trace_all needs a scene built with collect_all_hits");
   thread_local std::vector<std::pair<unsigned, unsigned>> hits;
   hits.clear();
   CollectContext ctx;

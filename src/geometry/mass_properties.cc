@@ -111,9 +111,9 @@ void integrate_ray(const std::vector<EmbreeScene::Crossing>& xs, const std::vect
 
 Moments raycast_moments(const EmbreeScene& scene, const std::vector<double>& densities, const RayGridOptions& opt,
                         RayCastStats* stats) {
-  require(opt.axis >= 0 && opt.axis <= 2, "raycast_moments: axis must be 0, 1 or 2");
+  POISE_INVARIANT(opt.axis >= 0 && opt.axis <= 2, "raycast_moments: axis must be 0, 1 or 2");
   require(opt.rays_per_side >= 1, "raycast_moments: at least one ray per side");
-  require(densities.size() == scene.meshes().size(), "raycast_moments: one density per mesh");
+  POISE_INVARIANT(densities.size() == scene.meshes().size(), "raycast_moments: one density per mesh");
   Eigen::AlignedBox3d box;
   for (const auto& m : scene.meshes()) box.extend(m.bounds());
   Moments total;

@@ -110,7 +110,7 @@ Eigen::Vector3d closest_point_on_triangle(const Eigen::Vector3d& p, const Eigen:
 }
 
 double min_signed_distance(const Mesh& a, const Eigen::Isometry3d& a_to_b, const EmbreeScene& b) {
-  require(b.meshes().size() == 1, "min_signed_distance: the target scene holds one mesh");
+  POISE_INVARIANT(b.meshes().size() == 1, "min_signed_distance: the target scene holds one mesh");
   const Mesh& target = b.mesh(0);
   double best = std::numeric_limits<double>::infinity();
   for (const auto& v : a.vertices) {

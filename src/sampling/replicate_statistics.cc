@@ -60,7 +60,7 @@ Ends woodruff_ends(double p, double q, double t_quantile, const std::vector<doub
 
 // The replicates of 2 or more values.
 std::vector<std::vector<double>> replicate_groups(std::span<const double> values, std::span<const std::size_t> replicate_of) {
-  require(values.size() == replicate_of.size(), "one replicate number per value");
+  POISE_INVARIANT(values.size() == replicate_of.size(), "one replicate number per value");
   std::vector<std::vector<double>> all;
   for (std::size_t k = 0; k < values.size(); ++k) {
     if (all.size() <= replicate_of[k]) all.resize(replicate_of[k] + 1);

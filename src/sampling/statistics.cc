@@ -82,14 +82,14 @@ std::size_t samples_for_upper_end(double p) {
 }
 
 Estimate quantile_sorted(std::span<const double> sorted, double p) {
-  require(!sorted.empty(), "quantile of an empty sample");
+  POISE_INVARIANT(!sorted.empty(), "quantile of an empty sample");
   Estimate e = quantile_at(quantile_ranks(sorted.size(), p, true), [&](std::size_t k) { return sorted[k]; });
   note_missing_ends(e, sorted.size(), p);
   return e;
 }
 
 double quantile_value(std::span<double> data, double p) {
-  require(!data.empty(), "quantile of an empty sample");
+  POISE_INVARIANT(!data.empty(), "quantile of an empty sample");
   const QuantileRanks r = quantile_ranks(data.size(), p, false);
   std::nth_element(data.begin(), data.begin() + static_cast<long>(r.lo_i), data.end());
   const double lo = data[r.lo_i];
@@ -98,7 +98,7 @@ double quantile_value(std::span<double> data, double p) {
 }
 
 double quantile_value_sorted(std::size_t n, double p, const std::function<double(std::size_t)>& sorted_at) {
-  require(n > 0, "quantile of an empty sample");
+  POISE_INVARIANT(n > 0, "quantile of an empty sample");
   const QuantileRanks r = quantile_ranks(n, p, false);
   const double lo = sorted_at(r.lo_i);
   const double hi = sorted_at(r.hi_i);
@@ -106,7 +106,7 @@ double quantile_value_sorted(std::size_t n, double p, const std::function<double
 }
 
 Estimate fraction_wilson(std::size_t successes, std::size_t n) {
-  require(n > 0, "fraction of an empty sample");
+  POISE_INVARIANT(n > 0, "fraction of an empty sample");
   const double z = 1.959963984540054;
   const double nn = static_cast<double>(n);
   const double ph = static_cast<double>(successes) / nn;
@@ -121,7 +121,7 @@ Estimate fraction_wilson(std::size_t successes, std::size_t n) {
 
 Summary summarize(std::span<const double> values) {
   const std::size_t n = values.size();
-  require(n > 0, "summary of an empty sample");
+  POISE_INVARIANT(n > 0, "summary of an empty sample");
   std::vector<double> data(values.begin(), values.end());
   SummaryMoments m;
   m.n = n;
@@ -169,7 +169,7 @@ std::vector<std::size_t> summary_ranks(std::size_t n) {
 
 Summary summarize_from(const SummaryMoments& m, const std::function<double(std::size_t)>& at) {
   const std::size_t n = m.n;
-  require(n > 0, "summary of an empty sample");
+  POISE_INVARIANT(n > 0, "summary of an empty sample");
   Summary s;
   s.n = n;
   const double nn = static_cast<double>(n);

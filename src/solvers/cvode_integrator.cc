@@ -69,7 +69,7 @@ void cvode_error_handler(int, const char* module, const char* function, char* ms
 CvodeIntegrator::CvodeIntegrator(std::size_t n, RhsFunction rhs, void* user_data,
                                  const CvodeOptions& opt)
     : n_(n), owned_(std::make_unique<Handles>()), opt_(opt) {
-  require(n > 0, "CVODE needs at least one state");
+  POISE_INVARIANT(n > 0, "CVODE needs at least one state");
   SUNContext ctx = nullptr;
 #if SUNDIALS_VERSION_MAJOR >= 7
   check(SUNContext_Create(SUN_COMM_NULL, &ctx), "SUNContext_Create");
@@ -97,7 +97,7 @@ CvodeIntegrator::CvodeIntegrator(std::size_t n, RhsFunction rhs, void* user_data
   if (opt.atol_per_state.empty()) {
     check(CVodeSStolerances(mem, opt.rtol, opt.atol), "CVodeSStolerances");
   } else {
-    require(opt.atol_per_state.size() == n, "CVODE: atol_per_state must have one entry per state");
+    POISE_INVARIANT(opt.atol_per_state.size() == n, "CVODE: atol_per_state must have one entry per state");
     std::copy(opt.atol_per_state.begin(), opt.atol_per_state.end(), N_VGetArrayPointer(tmp));
     check(CVodeSVtolerances(mem, opt.rtol, tmp), "CVodeSVtolerances");  // CVODE copies it
   }
@@ -119,7 +119,7 @@ CvodeIntegrator::CvodeIntegrator(std::size_t n, RhsFunction rhs, void* user_data
 CvodeIntegrator::~CvodeIntegrator() = default;  // owned_ frees the handles
 
 void CvodeIntegrator::reset(double t0, std::span<const double> y0) {
-  require(y0.size() == n_, "CVODE reset: state of the wrong size");
+  POISE_INVARIANT(y0.size() == n_, "CVODE reset: state of the wrong size");
   N_Vector y = static_cast<N_Vector>(y_);
   std::copy(y0.begin(), y0.end(), N_VGetArrayPointer(y));
   check(CVodeReInit(mem_, t0, y), "CVodeReInit", last_error_);
@@ -136,7 +136,7 @@ double CvodeIntegrator::advance(double t_out, double t_stop, bool one_step) {
 }
 
 void CvodeIntegrator::interpolate(double t, std::span<double> y) const {
-  require(y.size() == n_, "CVODE interpolate: buffer of the wrong size");
+  POISE_INVARIANT(y.size() == n_, "CVODE interpolate: buffer of the wrong size");
   N_Vector tmp = static_cast<N_Vector>(tmp_);
   check(CVodeGetDky(mem_, t, 0, tmp), "CVodeGetDky", last_error_);
   const double* p = N_VGetArrayPointer(tmp);
@@ -147,7 +147,7 @@ int CvodeIntegrator::step_polynomial(std::span<double> c, double* tn) const {
   int q = 0;
   CVodeGetLastOrder(mem_, &q);
   CVodeGetCurrentTime(mem_, tn);
-  require(c.size() >= (static_cast<std::size_t>(q) + 1) * n_, "CVODE step_polynomial: buffer too small");
+  POISE_INVARIANT(c.size() >= (static_cast<std::size_t>(q) + 1) * n_, "CVODE step_polynomial: buffer too small");
   N_Vector tmp = static_cast<N_Vector>(tmp_);
   const double* p = N_VGetArrayPointer(tmp);
   double fact = 1.0;

@@ -39,13 +39,16 @@ std::string tick_text(double v) {
 
 std::string verdict_cell(const std::string& v) {
   const char* color = v == "agrees" ? "#1b7837" : v == "disagrees" ? "#b2182b" : "#555";
-  return "<td style='color:" + std::string(color) + ";font-weight:bold'>" + html_escape(v) + "</td>";
+  // budget.json's verdict tokens in words (the JSON keeps the tokens).
+  const std::string words = v == "no_declared" ? "none declared" : v == "given" ? "given, not recomputed" : v;
+  return "<td style='color:" + std::string(color) + ";font-weight:bold'>" + html_escape(words) + "</td>";
 }
 
 std::string rel_cell(const json& it) {
   if (!it.contains("relative_difference") || it["relative_difference"].is_null()) return "<td></td>";
   char buf[32];
-  std::snprintf(buf, sizeof buf, "%+.1f%%", 100.0 * it["relative_difference"].get<double>());
+  const double pct = 100.0 * it["relative_difference"].get<double>();
+  std::snprintf(buf, sizeof buf, "%+.1f%%", std::abs(pct) < 0.05 ? 0.0 : pct);  // no "-0.0%"
   return std::string("<td>") + buf + "</td>";
 }
 

@@ -22,7 +22,7 @@ std::vector<std::vector<std::size_t>> ToleranceGroups::closed_groups() const {
 
 ToleranceGroups tolerance_groups(const std::vector<std::string>& dimension_names,
                                  const std::vector<std::string>& tolerance_of) {
-  require(dimension_names.size() == tolerance_of.size(), "one tolerance key per design dimension");
+  POISE_INVARIANT(dimension_names.size() == tolerance_of.size(), "one tolerance key per design dimension");
   ToleranceGroups t;
   for (std::size_t d = 0; d < dimension_names.size(); ++d) {
     const std::string& key = tolerance_of[d].empty() ? dimension_names[d] : tolerance_of[d];
@@ -60,7 +60,7 @@ json sensitivity_json(const std::vector<std::string>& outputs, const std::vector
            {"outputs", json::object()}};
   for (std::size_t o = 0; o < outputs.size() && o < values.size(); ++o) {
     const std::vector<double>& v = values[o];
-    require(v.size() >= base * (k_all + 2), "sensitivity: fewer samples than the layout needs");
+    POISE_INVARIANT(v.size() >= base * (k_all + 2), "sensitivity: fewer samples than the layout needs");
     const std::span<const double> all(v);
     std::vector<std::span<const double>> ab;
     for (std::size_t g = 0; g < k; ++g) ab.push_back(all.subspan((2 + g) * base, base));

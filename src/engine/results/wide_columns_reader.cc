@@ -44,7 +44,7 @@ WideColumnsReader::WideColumnsReader(std::string path, const std::string& datase
 WideColumnsReader::~WideColumnsReader() = default;
 
 void WideColumnsReader::read_column(std::size_t p, std::vector<float>& out) const {
-  require(p < columns_, path_ + ": column " + std::to_string(p) + " is past the last");
+  POISE_INVARIANT(p < columns_, path_ + ": column " + std::to_string(p) + " is past the last");
   out.resize(rows_);
   std::vector<float> chunk(chunk_rows_);
   std::string stored;
