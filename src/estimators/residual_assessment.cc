@@ -31,10 +31,6 @@ MatrixXd basis(const MatrixXd& a) {
   return q;
 }
 
-bool is_time_like(const std::string& n) {
-  return n == "time_drift" || n == "time_drift_quadratic" || n == "exponential_drift" ||
-         n == "step" || n == "kt_drift" || n == "autocorrelation";
-}
 
 using angles::wrap_two_pi;
 
@@ -51,38 +47,12 @@ std::string label_of(const Term& t) {
   return t.label;
 }
 
-// Drop-one F test p of term i in model m (OLS or GLS at m's rho).
-double drop_one_p(const Model& m, const ModelData& d, std::size_t i) {
-  const Term& t = m.terms[i];
-  if (t.cols.cols() == 0) return t.p;
-  const Model r = without_term(m, i);
-  const LinearFit f1 = fit_linear(m.x, d, m.ar, m.rho.rho), f0 = fit_linear(r.x, d, m.ar, m.rho.rho);
-  if (!f1.ok || !f0.ok || f1.dof < 1 || !(f1.rss > 0.0)) return 0.0;
-  const double q = static_cast<double>(t.cols.cols());
-  const double fs = std::max(0.0, (f0.rss - f1.rss) / q) / (f1.rss / static_cast<double>(f1.dof));
-  return boost::math::cdf(boost::math::complement(
-      boost::math::fisher_f(q, static_cast<double>(f1.dof)), fs));
-}
-
 // (a, c, K) of the model.
 UnbalanceEstimate estimate_of_model(const Model& m, const ModelData& d);
 
 Eigen::Vector3d coefficients(const Model& m, const ModelData& d) {
   const UnbalanceEstimate e = estimate_of_model(m, d);
   return {e.amplitude * std::cos(e.phase), e.amplitude * std::sin(e.phase), e.offset};
-}
-
-Model with_term(const Model& m, const ModelData& d, Term t) {
-  Model out = m;
-  if (t.name == "autocorrelation") {
-    out.ar = true;
-  } else {
-    t.first = out.x.cols();
-    out.x = with_columns(out.x, t.cols);
-  }
-  out.terms.push_back(std::move(t));
-  if (out.ar) out.rho = fit_rho(out.x, d);
-  return out;
 }
 
 UnbalanceEstimate estimate_of_model(const Model& m, const ModelData& d) { return estimate_of(m, d); }
@@ -111,6 +81,24 @@ void average_readings(const AmbiguousFinding& a, const Eigen::Vector3d& coef_sel
 }
 
 }  // namespace
+
+// Drop-one F test p of term i in model m (OLS or GLS at m's rho).
+double drop_one_p(const Model& m, const ModelData& d, std::size_t i) {
+  const Term& t = m.terms[i];
+  if (t.cols.cols() == 0) return t.p;
+  const Model r = without_term(m, i);
+  const LinearFit f1 = fit_linear(m.x, d, m.ar, m.rho.rho), f0 = fit_linear(r.x, d, m.ar, m.rho.rho);
+  if (!f1.ok || !f0.ok || f1.dof < 1 || !(f1.rss > 0.0)) return 0.0;
+  const double q = static_cast<double>(t.cols.cols());
+  const double fs = std::max(0.0, (f0.rss - f1.rss) / q) / (f1.rss / static_cast<double>(f1.dof));
+  return boost::math::cdf(boost::math::complement(
+      boost::math::fisher_f(q, static_cast<double>(f1.dof)), fs));
+}
+
+bool is_time_like(const std::string& n) {
+  return n == "time_drift" || n == "time_drift_quadratic" || n == "exponential_drift" ||
+         n == "step" || n == "kt_drift" || n == "autocorrelation";
+}
 
 double canonical_correlation(const MatrixXd& a, const MatrixXd& b) {
   const MatrixXd qa = basis(a), qb = basis(b);
@@ -222,30 +210,19 @@ std::vector<CandidateCollinearity> plan_collinearity(const Model& base, const Mo
   return out;
 }
 
-std::string separating_plan(const std::string& a, const std::string& b) {
-  const bool ha = a.rfind("harmonic", 0) == 0, hb = b.rfind("harmonic", 0) == 0;
-  const bool ta = is_time_like(a), tb = is_time_like(b);
-  const bool da = a == "direction_offset", db = b == "direction_offset";
-  if ((ha && tb) || (hb && ta)) {
-    return "randomise or interleave the position order (e.g. 0, 180, 90, 270, 45, 225, ... deg) so "
-           "that time no longer follows angle, or repeat the sweep in the opposite direction; "
-           "repeat a few positions at the end of the run";
+Model with_term(const Model& m, const ModelData& d, Term t) {
+  Model out = m;
+  if (t.name == "autocorrelation") {
+    out.ar = true;
+  } else {
+    t.first = out.x.cols();
+    out.x = with_columns(out.x, t.cols);
   }
-  if ((da && tb) || (db && ta)) {
-    return "a back-and-forth sweep with the directions interleaved (+ - + - ... or both "
-           "directions at every position), so that the direction does not follow time";
-  }
-  if (a == "first harmonic" || b == "first harmonic") {
-    return "cover the whole turn evenly, in a randomised order, and repeat some positions at the "
-           "start and end of the run";
-  }
-  if (ha && hb) return "cover the whole turn evenly: harmonics are then orthogonal";
-  if (ta && tb) {
-    return "a longer run, or repeated positions spread over the run (a step, a settling and a "
-           "drift differ in shape only over enough time)";
-  }
-  return "repeat positions at the start and end of the run and randomise the position order";
+  out.terms.push_back(std::move(t));
+  if (out.ar) out.rho = fit_rho(out.x, d);
+  return out;
 }
+
 
 void assess(const Model& m, const AssessmentInputs& in, DiagnosisResult& res) {
   const ModelData& d = in.d;
@@ -256,6 +233,7 @@ void assess(const Model& m, const AssessmentInputs& in, DiagnosisResult& res) {
   Eigen::Vector3d delta = Eigen::Vector3d::Zero();
   double allowance2 = 0.0;  // squared half-spread of the readings, table unit^2
   const MatrixXd one = MatrixXd::Ones(d.n, 1);
+  bool guarded_any = false;
   for (std::size_t i = 0; i < m.terms.size(); ++i) {
     const Term& t = m.terms[i];
     Effect& e = res.effects[i];
@@ -274,6 +252,12 @@ void assess(const Model& m, const AssessmentInputs& in, DiagnosisResult& res) {
     others << rest.x.col(2), rest.x.rightCols(rest.x.cols() - 3);
     e.r_first_harmonic = canonical_correlation(residualize(t.cols, others),
                                                residualize(m.x.leftCols(2), others));
+    if (in.guarded != nullptr && std::isfinite((*in.guarded)[i])) {
+      e.moves_estimate = false;  // the guard keeps the plain estimate (residual_guard.h)
+      guarded_any = true;
+      allowance2 += (*in.guarded)[i];
+      continue;
+    }
     // Readings: every candidate of the pool on the rest of the model that the design or the
     // data cannot tell from this effect.
     AmbiguousFinding a;
@@ -361,6 +345,16 @@ void assess(const Model& m, const AssessmentInputs& in, DiagnosisResult& res) {
       e.estimate_note = "in correlated noise a single excursion is not told from the noise's own: "
                         "tentative, the estimate does not take it";
     }
+  }
+  // The guarded effects dropped together: a term collinear with another moves the estimate
+  // far when dropped alone, and such moves do not add.
+  if (guarded_any) {
+    Model plain = m;
+    for (std::size_t i = m.terms.size(); i-- > 0;) {
+      if (std::isfinite((*in.guarded)[i])) plain = without_term(plain, i);
+    }
+    if (plain.ar) plain.rho = fit_rho(plain.x, d);
+    delta += coefficients(plain, d) - coef_sel;
   }
   // On a plan where time follows angle, the harmonics found (together) against AR(1) errors
   // in their place: a smooth function of angle is then a smooth function of time, and only a

@@ -45,6 +45,12 @@ Eigen::MatrixXd residualize(const Eigen::MatrixXd& c, const Eigen::MatrixXd& x);
 /// BIC = -2 ln L + k ln n (ML form), k = columns + AR + scanned parameters.
 double model_bic(const Model& m, const ModelData& d);
 
+/// m with term t added (AR(1) refitted when the model has it).
+Model with_term(const Model& m, const ModelData& d, Term t);
+
+/// Drop-one F test p of term i in m (OLS, or GLS at m's rho).
+double drop_one_p(const Model& m, const ModelData& d, std::size_t i);
+
 /// The model without its term i (columns removed, later terms' first shifted; AR(1) kept).
 Model without_term(const Model& m, std::size_t i);
 
@@ -66,13 +72,19 @@ struct AssessmentInputs {
   /// The final model of the other search (AR(1) first or deferred) when it ended elsewhere.
   const Model* other_search = nullptr;
   std::string selected_summary, other_summary;  ///< their effects, e.g. "step", "autocorrelation"
+  /// Per term: NaN, or the variance to add when the guard keeps the plain estimate for it
+  /// (residual_guard.h); nullptr = no guard.
+  const std::vector<double>* guarded = nullptr;
 };
 
 /// Fills shift_se, r_first_harmonic, moves_estimate, estimate_note of res.effects (in the
 /// order of m.terms), res.ambiguous and res.estimate_after.
 void assess(const Model& m, const AssessmentInputs& in, DiagnosisResult& res);
 
-/// A plan that would separate candidates named a and b.
+/// A plan that would separate candidates named a and b (residual_guard.cc).
 std::string separating_plan(const std::string& a, const std::string& b);
+
+/// Time-shaped candidates: drift, quadratic drift, settling, step, K_T drift, AR(1) errors.
+bool is_time_like(const std::string& name);
 
 }  // namespace poise::estimators::detail

@@ -15,6 +15,7 @@
 #include "estimators/residual_assessment.h"
 #include "estimators/residual_candidates.h"
 #include "estimators/residual_diagnosis_model.h"
+#include "estimators/residual_guard.h"
 #include "estimators/residual_plan.h"
 #include "estimators/sine_fit.h"
 
@@ -432,7 +433,13 @@ DiagnosisResult diagnose_residuals(const TorqueTable& table, const DiagnosisOpti
     ai.selected_summary = selected_summary;
     ai.other_summary = other_summary;
   }
+  detail::GuardInputs gi(d, pool);
+  gi.alpha = options.alpha;
+  gi.monotone_plan = monotone;
+  const detail::GuardResult guard = detail::guard_estimate(m, gi, res);
+  ai.guarded = &guard.allowance;
   detail::assess(m, ai, res);
+  detail::name_families(m, d, pool, guard, res);
   res.not_identifiable.emplace_back(
       "turntable_angle_scale",
       "a scale error of the turntable angle (or an error of its zero) changes the first harmonic "
