@@ -19,17 +19,6 @@ using Eigen::VectorXd;
 
 using angles::kPi;
 
-// Orthonormal basis of the columns of a (numerical rank); empty when a is (near) zero.
-MatrixXd basis(const MatrixXd& a) {
-  if (a.cols() == 0) return a;
-  const double scale = a.norm();
-  if (!(scale > 0.0)) return MatrixXd(a.rows(), 0);
-  Eigen::ColPivHouseholderQR<MatrixXd> qr(a / scale);
-  qr.setThreshold(1e-8);
-  const Index r = qr.rank();
-  const MatrixXd q = qr.householderQ() * MatrixXd::Identity(a.rows(), r);
-  return q;
-}
 
 
 using angles::wrap_two_pi;
@@ -40,12 +29,6 @@ std::string fmt(const char* f, double a, double b = 0.0) {
   return buf;
 }
 
-std::string label_of(const Term& t) {
-  if (t.name == "outlier") return "outlier at row " + std::to_string(t.index);
-  if (t.name == "step") return "step before row " + std::to_string(t.index);
-  if (t.name == "exponential_drift") return fmt("exponential_drift (tau %.3g)", t.param);
-  return t.label;
-}
 
 // (a, c, K) of the model.
 UnbalanceEstimate estimate_of_model(const Model& m, const ModelData& d);
@@ -95,24 +78,16 @@ double drop_one_p(const Model& m, const ModelData& d, std::size_t i) {
       boost::math::fisher_f(q, static_cast<double>(f1.dof)), fs));
 }
 
+std::string term_label(const Term& t) {
+  if (t.name == "outlier") return "outlier at row " + std::to_string(t.index);
+  if (t.name == "step") return "step before row " + std::to_string(t.index);
+  if (t.name == "exponential_drift") return fmt("exponential_drift (tau %.3g)", t.param);
+  return t.label;
+}
+
 bool is_time_like(const std::string& n) {
   return n == "time_drift" || n == "time_drift_quadratic" || n == "exponential_drift" ||
          n == "step" || n == "kt_drift" || n == "autocorrelation";
-}
-
-double canonical_correlation(const MatrixXd& a, const MatrixXd& b) {
-  const MatrixXd qa = basis(a), qb = basis(b);
-  if (qa.cols() == 0 || qb.cols() == 0) return 0.0;
-  const MatrixXd c = qa.transpose() * qb;
-  Eigen::JacobiSVD<MatrixXd> svd(c);
-  const double r = std::min(1.0, svd.singularValues()(0));
-  return r < 1e-12 ? 0.0 : r;  // orthogonal to rounding
-}
-
-MatrixXd residualize(const MatrixXd& c, const MatrixXd& x) {
-  if (x.cols() == 0) return c;
-  const MatrixXd q = basis(x);
-  return c - q * (q.transpose() * c);
 }
 
 double model_bic(const Model& m, const ModelData& d) {
@@ -186,30 +161,6 @@ UnbalanceEstimate estimate_of(const Model& m, const ModelData& d) {
   return e;
 }
 
-std::vector<CandidateCollinearity> plan_collinearity(const Model& base, const ModelData& d,
-                                                     const CandidatePool& pool) {
-  const std::vector<Term> c = pool(base);
-  const MatrixXd one = MatrixXd::Ones(d.n, 1);
-  const MatrixXd h1 = residualize(base.x.leftCols(2), one);
-  std::vector<MatrixXd> resid;
-  for (const Term& t : c) resid.push_back(residualize(t.cols, base.x));
-  std::vector<CandidateCollinearity> out;
-  for (std::size_t i = 0; i < c.size(); ++i) {
-    CandidateCollinearity k;
-    k.candidate = c[i].name == "step" ? "step (best change point)" : label_of(c[i]);
-    k.r_first_harmonic = canonical_correlation(residualize(c[i].cols, one), h1);
-    const double r = canonical_correlation(c[i].cols, base.x);
-    k.vif_base = r < 1.0 - 1e-12 ? 1.0 / (1.0 - r * r) : std::numeric_limits<double>::infinity();
-    for (std::size_t j = 0; j < c.size(); ++j) {
-      if (j == i) continue;
-      const double rij = canonical_correlation(resid[i], resid[j]);
-      if (rij > k.r_other) k.r_other = rij, k.most_collinear_with = label_of(c[j]);
-    }
-    out.push_back(std::move(k));
-  }
-  return out;
-}
-
 Model with_term(const Model& m, const ModelData& d, Term t) {
   Model out = m;
   if (t.name == "autocorrelation") {
@@ -261,7 +212,7 @@ void assess(const Model& m, const AssessmentInputs& in, DiagnosisResult& res) {
     // Readings: every candidate of the pool on the rest of the model that the design or the
     // data cannot tell from this effect.
     AmbiguousFinding a;
-    a.readings.push_back({label_of(t), 0.0, estimate_of(m, d)});
+    a.readings.push_back({term_label(t), 0.0, estimate_of(m, d)});
     const MatrixXd te = residualize(t.cols, rest.x);
     std::string other_name;
     bool shape_readings = false;  // a time shape the data do not reject very strongly
@@ -281,7 +232,7 @@ void assess(const Model& m, const AssessmentInputs& in, DiagnosisResult& res) {
                                 e.r_first_harmonic >= kWeakCorrelation && db < kBicVeryStrong;
       shape_readings = shape_readings || (shape_window && db >= kBicIndistinct);
       if ((r >= kConfounded && db < kBicStrong) || db < kBicIndistinct || shape_window) {
-        a.readings.push_back({label_of(c), db, estimate_of(alt, d)});
+        a.readings.push_back({term_label(c), db, estimate_of(alt, d)});
         if (r > a.correlation) a.correlation = r, other_name = c.name;
       }
     }
@@ -291,7 +242,7 @@ void assess(const Model& m, const AssessmentInputs& in, DiagnosisResult& res) {
       const Model alt = with_term(rest, d, Term("autocorrelation", "autocorrelation"));
       const double db = model_bic(alt, d) - bic_sel;
       if (db < kBicStrong) {
-        a.readings.push_back({"autocorrelation (AR(1) errors) instead of " + label_of(t), db,
+        a.readings.push_back({"autocorrelation (AR(1) errors) instead of " + term_label(t), db,
                               estimate_of(alt, d)});
         if (other_name.empty()) other_name = "autocorrelation";
       }
@@ -307,7 +258,7 @@ void assess(const Model& m, const AssessmentInputs& in, DiagnosisResult& res) {
     const bool correlated_outlier = t.name == "outlier" && (in.residual_correlated || m.ar);
     if (a.readings.size() > 1) {
       e.moves_estimate = false;
-      a.why = label_of(t) + " and " + a.readings[1].effects +
+      a.why = term_label(t) + " and " + a.readings[1].effects +
               (a.correlation > 0.0
                    ? fmt(" are collinear under this plan (canonical correlation %.3f)", a.correlation)
                    : std::string(" are not told apart by these data (BIC within 6)")) +

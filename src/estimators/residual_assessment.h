@@ -36,7 +36,11 @@ inline constexpr double kIdentifiedP = 1e-4;
 /// Column candidates (families: their best member) that could be added to a model.
 using CandidatePool = std::function<std::vector<Term>(const Model&)>;
 
-/// Largest canonical correlation of the column sets a and b (0 when either is empty or zero).
+/// "step before row 7", "exponential_drift (tau 240)", "outlier at row 3", or the term's label.
+std::string term_label(const Term& t);
+
+/// Largest canonical correlation of the column sets a and b (0 when either is empty or zero;
+/// residual_collinearity.cc with residualize and plan_collinearity).
 double canonical_correlation(const Eigen::MatrixXd& a, const Eigen::MatrixXd& b);
 
 /// c minus its least-squares projection on the columns of x.

@@ -20,16 +20,6 @@ Vector3d coefficients(const UnbalanceEstimate& e) {
   return {e.amplitude * std::cos(e.phase), e.amplitude * std::sin(e.phase), e.offset};
 }
 
-std::string label(const Term& t) {
-  if (t.name == "outlier") return "outlier at row " + std::to_string(t.index);
-  if (t.name == "step") return "step before row " + std::to_string(t.index);
-  if (t.name == "exponential_drift") {
-    char buf[64];
-    std::snprintf(buf, sizeof buf, "exponential_drift (tau %.3g)", t.param);
-    return buf;
-  }
-  return t.label;
-}
 
 // The effect's own test once AR(1) errors are allowed: its drop-one F test (GLS, Bonferroni
 // over a scanned family's members) in the model with AR(1) errors, at the REML rho of that
@@ -86,7 +76,7 @@ std::vector<Competitor> competitors(const Model& m, const GuardInputs& in, std::
     const Model alt = with_term(rest, d, c);
     const double db = model_bic(alt, d) - bic_sel;
     if (db < kBicVeryStrong && !separated(m, d, i, c, in.alpha)) {
-      out.push_back({{label(c), db, estimate_of(alt, d)}, c.name});
+      out.push_back({{term_label(c), db, estimate_of(alt, d)}, c.name});
     }
   }
   if (!m.ar) {
@@ -102,7 +92,7 @@ std::vector<Competitor> competitors(const Model& m, const GuardInputs& in, std::
                              (r_first >= kWeakCorrelation || moves) &&
                              p_under_ar1(m, d, i) >= level;
     if (db < kBicVeryStrong || inseparable) {
-      out.push_back({{"autocorrelation (AR(1) errors) instead of " + label(t) +
+      out.push_back({{"autocorrelation (AR(1) errors) instead of " + term_label(t) +
                           (inseparable ? " (with AR(1) errors allowed its own test fails)" : ""),
                       db, estimate_of(alt, d)},
                      "autocorrelation", inseparable});
@@ -214,7 +204,7 @@ bool guard_one(const Model& cur, const GuardInputs& in, std::size_t j, Diagnosis
     worst_se = n_se(plain), against = &none;
   }
   if (against == nullptr) return false;
-  const std::string name = label(cur.terms[j]);
+  const std::string name = term_label(cur.terms[j]);
   AmbiguousFinding a;
   a.readings.push_back({name, 0.0, sel_est});
   for (const Competitor& c : comp) {
@@ -318,7 +308,7 @@ void name_families(const Model& m, const ModelData& d, const CandidatePool& pool
       const double db = model_bic(with_term(rest, d, c), d) - bic_sel;
       if (db - identified_by(t.name, c.name) < best) {
         best = db - identified_by(t.name, c.name);
-        e.shape_delta_bic = db, e.alternative = label(c), alternative_name = c.name;
+        e.shape_delta_bic = db, e.alternative = term_label(c), alternative_name = c.name;
       }
     }
     if (t.name == "direction_offset") continue;
