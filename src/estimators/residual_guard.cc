@@ -46,14 +46,16 @@ double p_under_ar1(const Model& m, const ModelData& d, std::size_t i) {
 
 // Whether the data tell term i of m from candidate c (each tested given the other in the
 // model with both, Bonferroni over a scanned family: Cox/Davidson-MacKinnon encompassing):
-// true when term i is significant at alpha given c and c is not given term i.
+// true when term i holds beyond doubt given c (p < kIdentifiedP: the guard only asks when
+// their estimates differ beyond kGuardSe, a move that needs an identified effect) and c does
+// not hold at alpha given term i.
 bool separated(const Model& m, const ModelData& d, std::size_t i, const Term& c, double alpha) {
   const Model joint = with_term(m, d, c);
   const LinearFit f = fit_linear(joint.x, d, joint.ar, joint.rho.rho);
   if (!f.ok) return false;  // the same columns: nothing tells them apart
   const double p_t = drop_one_p(joint, d, i) * std::max(1, m.terms[i].scanned);
   const double p_c = drop_one_p(joint, d, joint.terms.size() - 1) * std::max(1, c.scanned);
-  return p_t < alpha && !(p_c < alpha);
+  return p_t < kIdentifiedP && !(p_c < alpha);
 }
 
 struct Competitor {

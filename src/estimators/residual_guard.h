@@ -9,7 +9,8 @@
 ///     reject very strongly, BIC(reading) - BIC(selected) < 10 (Kass and Raftery 1995), and
 ///     that an encompassing test does not separate from the effect (both fitted together, each
 ///     given the other by its drop-one F test, Bonferroni over a scanned family: separated when
-///     the effect holds at alpha and the candidate does not; Davidson and MacKinnon 1981);
+///     the effect holds beyond doubt, p < 1e-4, and the candidate does not hold at alpha;
+///     Davidson and MacKinnon 1981);
 ///   - AR(1) errors in its place, within 10 BIC, or on a one-direction sweep when the effect
 ///     is time-shaped, trades off with the first harmonic (r >= 0.5) or moves the estimate
 ///     beyond 2 SE, and fails its own test with AR(1) errors allowed: its drop-one F test in
