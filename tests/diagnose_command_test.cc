@@ -101,7 +101,8 @@ TEST(DiagnoseCommand, InjectedSecondHarmonicIsDiagnosedInTextAndJson) {
   const auto& e = j.at("effects")[0];
   EXPECT_EQ(keys(e), (std::set<std::string>{"name", "title", "order", "params", "p_value", "p_adjusted",
                                             "delta_bic", "causes", "shift_se", "r_first_harmonic",
-                                            "moves_estimate", "estimate_note"}));
+                                            "moves_estimate", "estimate_note", "family"}));
+  EXPECT_EQ(e.at("family"), "harmonic");
   // Table 1 is one sweep in row order: time follows angle, so the 2nd harmonic is reported
   // with correlated noise as the other reading.
   EXPECT_FALSE(e.at("moves_estimate").get<bool>());
@@ -295,6 +296,43 @@ TEST(DiagnoseCommand, NumericOptionsAtTheEdgesOfDoubleAreRefusedOrAnswered) {
   ASSERT_EQ(r.status, 0) << r.err;
   EXPECT_EQ(r.err.find("boost"), std::string::npos) << r.err;
   EXPECT_NE(r.out.find("against declared 1e-300"), std::string::npos) << r.out.substr(0, 2000);
+}
+
+}  // namespace
+
+namespace {
+
+// Round 3 (issue: time effects by family): a linear drift in time on a shuffled plan is
+// reported as family time_drift, shape linear; the older "name" key stays; the help says so.
+TEST(DiagnoseCommand, TimeEffectsAreReportedByFamilyWithTheirShape) {
+  poise::test::TempDir dir;
+  std::string csv = "theta_deg,torque_mNm,time_s\n";
+  unsigned state = 12345;  // a fixed shuffle and noise (LCG): the same table every run
+  const auto uniform = [&state] { return (state = state * 1103515245u + 12345u) / 4294967296.0; };
+  std::vector<int> order(36);
+  for (int k = 0; k < 36; ++k) order[k] = k;
+  for (int k = 35; k > 0; --k) std::swap(order[k], order[static_cast<int>(uniform() * (k + 1))]);
+  for (int k = 0; k < 36; ++k) {
+    const double theta = 10.0 * order[k], t = 60.0 * k;
+    const double noise = 0.2 * (uniform() + uniform() + uniform() - 1.5) * 2.0;
+    const double m = 12.9 * std::sin(theta * std::numbers::pi / 180.0 + 0.8) + 3.4 + 1.5e-3 * t + noise;
+    csv += std::to_string(theta) + "," + std::to_string(m) + "," + std::to_string(t) + "\n";
+  }
+  const std::string data = dir.file("drift.csv");
+  poise::test::write_text(data, csv);
+  RunResult r = run_poise(dir, "diagnose '" + data + "' --json");
+  ASSERT_EQ(r.status, 0) << r.err;
+  const nlohmann::json j = nlohmann::json::parse(r.out);
+  ASSERT_EQ(j.at("effects").size(), 1u) << j.at("effects").dump();
+  const auto& e = j.at("effects")[0];
+  EXPECT_EQ(e.at("name"), "time_drift");
+  EXPECT_EQ(e.at("family"), "time_drift");
+  EXPECT_EQ(e.at("shape"), "linear");
+  EXPECT_NE(j.at("answer").get<std::string>().find("time_drift (linear)"), std::string::npos)
+      << j.at("answer");
+  r = run_poise(dir, "diagnose --help");
+  EXPECT_NE(r.out.find("effects[].shape"), std::string::npos);
+  EXPECT_NE(r.out.find("shape not identifiable"), std::string::npos);
 }
 
 }  // namespace

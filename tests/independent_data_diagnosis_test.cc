@@ -328,13 +328,16 @@ TEST(IndependentData, NeverWorseOverAHundredRealisations) {
   ex.settle = 1.5e-3, ex.settle_tau = 240.0;
   const Tally x = run(td::forward_sweep(), {}, ex, white, 100, 5400, "exponential_drift");
   EXPECT_EQ(x.worse, 0);
-  EXPECT_LT(x.err_after, 0.6 * x.err_before);
-  // Known limit: AR(1) noise with rho 0.8-0.85 on this plan. A wander is fitted as a step
-  // 15-35 BIC ahead of every other reading, white-noise standard errors; measured 3 and 5 of
-  // 100 worse beyond 2 SE. Only a reordered or repeated sweep tells them apart (the
-  // ambiguous findings say so where the BIC leaves room).
-  EXPECT_LE(run(td::forward_sweep(), {}, {}, {0.2e-3, 0.8}, 100, 5600, "").worse, 4);
-  EXPECT_LE(run(td::forward_sweep(), {}, {}, {0.15e-3, 0.85}, 100, 5800, "").worse, 6);
+  // Round 3: a settling that moves the estimate beyond 2 SE must also hold with AR(1) errors
+  // allowed (residual_guard.h); in about a third of these tables it does not, and the estimate
+  // keeps the plain value for it (mean error 0.13 -> 0.21 of 0.32 mN*m before the diagnosis).
+  EXPECT_LT(x.err_after, 0.7 * x.err_before);
+  // AR(1) noise with rho 0.8-0.85 on this plan: a wander fitted as a step 15-35 BIC ahead of
+  // every other reading (before round 3: 3 and 5 of 100 worse beyond 2 SE). An effect moving
+  // the estimate must now pass its test with AR(1) errors allowed, else the estimate keeps the
+  // plain value and the finding names a repeated or reversed sweep (residual_guard.h).
+  EXPECT_EQ(run(td::forward_sweep(), {}, {}, {0.2e-3, 0.8}, 100, 5600, "").worse, 0);
+  EXPECT_EQ(run(td::forward_sweep(), {}, {}, {0.15e-3, 0.85}, 100, 5800, "").worse, 0);
 }
 
 TEST(IndependentData, EffectOutsideTheCandidateListIsFlaggedAsUnexplained) {

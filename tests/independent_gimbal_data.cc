@@ -162,7 +162,7 @@ Record make_record(const Plant& p, const Servo& s, const Acquisition& a, double 
   integrate_position(p, s, TimeEffects{}, theta_deg * kPi / 180.0, 1, 0.0, a.sample_rate,
                      [&](double t, double i, double phi) {
                        r.t.push_back(t);
-                       r.current.push_back(quantise(i + g(rng), lsb_i));
+                       r.current.push_back(quantise(i + g(rng) + a.offset_drift * t, lsb_i));
                        r.phi.push_back(quantise(phi, lsb_phi));
                      });
   return r;

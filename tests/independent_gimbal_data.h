@@ -69,6 +69,7 @@ struct Acquisition {
   int adc_bits = 16;
   int encoder_bits = 21;
   double sample_rate = 1000.0;  // Hz
+  double offset_drift = 0.0;    // current-sensor offset drift, A/s (records only)
 };
 
 // One turntable position of a plan.

@@ -54,6 +54,20 @@ const char* kDiagnoseHelp = R"(What it does:
   structure" and where it sits. The estimate reported ("after") takes an ambiguous effect as
   the mean of its readings with their spread in its uncertainty, and ignores an outlier found
   in correlated noise; "selected model" is the estimate with every effect found.
+  An effect that moves the estimate beyond 2 SE must earn it: when a competing explanation
+  the data do not separate (another candidate within 10 BIC that an encompassing F test does
+  not reject, AR(1) errors that its own test with AR(1) errors allowed cannot rule out on a
+  one-direction sweep, or no effect) leaves the estimate where the plain fit has it, the
+  estimate keeps the plain value, its uncertainty widened to span the readings, and the
+  finding names the measurement that would separate them (reverse, repeat or shuffle the
+  sweep; a second known load).
+  Effects are reported by family (effects[].family): time_drift (a smooth drift in time, with
+  effects[].shape "linear" or "exponential", or "not identifiable" where another time shape
+  fits within 2 BIC, a direction offset or K_T drift within 6, or the estimate could not take
+  it: "time effect; shape not identifiable", the competitor in effects[].alternative), step,
+  kt_drift (K_T drifting: a multiplicative error), harmonic, direction_offset, outlier,
+  autocorrelation. effects[].name stays the candidate fitted (time_drift,
+  time_drift_quadratic, exponential_drift, step, kt_drift, ...).
 
 Data file: as for `poise fit` (theta_deg and torque_mNm or torque_Nm). Optional columns:
   time_s (time of each point, s; without it, time = row order) and sweep (+1/-1, turntable

@@ -62,6 +62,15 @@ json to_json(const est::TorqueTable& t, const est::DiagnosisResult& r,
               {"p_value", e.p_value},     {"p_adjusted", e.p_adjusted},
               {"delta_bic", e.delta_bic}, {"causes", e.causes}};
     if (e.name == "harmonic") j["order"] = e.order;
+    // The family the issue fixes (time_drift with its shape, step, kt_drift, ...); the name
+    // above stays the candidate fitted (e.g. exponential_drift: family time_drift, shape
+    // exponential).
+    j["family"] = e.family.empty() ? e.name : e.family;
+    if (e.family == "time_drift") j["shape"] = e.shape;
+    if (!e.alternative.empty()) {
+      j["alternative"] = e.alternative;
+      if (std::isfinite(e.shape_delta_bic)) j["alternative_delta_bic"] = e.shape_delta_bic;
+    }
     if (e.name == "outlier" || e.name == "step") j["index"] = e.index, j["line"] = e.line;
     j["shift_se"] = e.shift_se;
     j["r_first_harmonic"] = e.r_first_harmonic;
@@ -142,6 +151,11 @@ std::string params_text(const est::Effect& e, const std::string& sep) {
 
 std::string effect_title(const est::Effect& e) {
   if (e.name == "harmonic") return "harmonic " + std::to_string(e.order);
+  if (e.family == "time_drift" && e.shape == "not identifiable") {
+    return "time effect; shape not identifiable (fitted as " + e.name +
+           (e.alternative.empty() ? "" : "; or " + e.alternative) + ")";
+  }
+  if (e.family == "time_drift") return "time_drift (" + e.shape + ")";
   if (e.name == "outlier") {
     return "outlier at row " + std::to_string(e.index) + " (file line " + std::to_string(e.line) +
            ")";

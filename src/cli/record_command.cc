@@ -175,7 +175,9 @@ std::function<std::optional<int>()> add_record_commands(CLI::App& app) {
   CLI::App* diag = app.add_subcommand(
       "diagnose-record",
       "residual diagnosis of a raw record of one turntable position: fits K_T i = J phi'' + B phi' + "
-      "C sign(phi') + K phi + M_0, then looks for cogging (orders 20-600 per turn), offset drift and "
+      "C sign(phi') + K phi (+ gravity's curvature G (cos(phi - mean) - 1) at swings where it can show) + "
+      "M_0, then looks for cogging (orders from 360/swing, at least 20, to the record's Nyquist limit "
+      "pi / (max |phi'| dt), per turn, confirmed away from the reversals), offset drift and "
       "friction asymmetry, adds what is significant (F test, Holm, BIC) and reports the position's "
       "torque before and after");
   diag->add_option("RECORD", a->file, "CSV with columns time_s, current_A, phi_deg")->required()->check(CLI::ExistingFile);

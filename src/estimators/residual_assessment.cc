@@ -19,22 +19,7 @@ using Eigen::VectorXd;
 
 using angles::kPi;
 
-// Orthonormal basis of the columns of a (numerical rank); empty when a is (near) zero.
-MatrixXd basis(const MatrixXd& a) {
-  if (a.cols() == 0) return a;
-  const double scale = a.norm();
-  if (!(scale > 0.0)) return MatrixXd(a.rows(), 0);
-  Eigen::ColPivHouseholderQR<MatrixXd> qr(a / scale);
-  qr.setThreshold(1e-8);
-  const Index r = qr.rank();
-  const MatrixXd q = qr.householderQ() * MatrixXd::Identity(a.rows(), r);
-  return q;
-}
 
-bool is_time_like(const std::string& n) {
-  return n == "time_drift" || n == "time_drift_quadratic" || n == "exponential_drift" ||
-         n == "step" || n == "kt_drift" || n == "autocorrelation";
-}
 
 using angles::wrap_two_pi;
 
@@ -44,25 +29,6 @@ std::string fmt(const char* f, double a, double b = 0.0) {
   return buf;
 }
 
-std::string label_of(const Term& t) {
-  if (t.name == "outlier") return "outlier at row " + std::to_string(t.index);
-  if (t.name == "step") return "step before row " + std::to_string(t.index);
-  if (t.name == "exponential_drift") return fmt("exponential_drift (tau %.3g)", t.param);
-  return t.label;
-}
-
-// Drop-one F test p of term i in model m (OLS or GLS at m's rho).
-double drop_one_p(const Model& m, const ModelData& d, std::size_t i) {
-  const Term& t = m.terms[i];
-  if (t.cols.cols() == 0) return t.p;
-  const Model r = without_term(m, i);
-  const LinearFit f1 = fit_linear(m.x, d, m.ar, m.rho.rho), f0 = fit_linear(r.x, d, m.ar, m.rho.rho);
-  if (!f1.ok || !f0.ok || f1.dof < 1 || !(f1.rss > 0.0)) return 0.0;
-  const double q = static_cast<double>(t.cols.cols());
-  const double fs = std::max(0.0, (f0.rss - f1.rss) / q) / (f1.rss / static_cast<double>(f1.dof));
-  return boost::math::cdf(boost::math::complement(
-      boost::math::fisher_f(q, static_cast<double>(f1.dof)), fs));
-}
 
 // (a, c, K) of the model.
 UnbalanceEstimate estimate_of_model(const Model& m, const ModelData& d);
@@ -70,19 +36,6 @@ UnbalanceEstimate estimate_of_model(const Model& m, const ModelData& d);
 Eigen::Vector3d coefficients(const Model& m, const ModelData& d) {
   const UnbalanceEstimate e = estimate_of_model(m, d);
   return {e.amplitude * std::cos(e.phase), e.amplitude * std::sin(e.phase), e.offset};
-}
-
-Model with_term(const Model& m, const ModelData& d, Term t) {
-  Model out = m;
-  if (t.name == "autocorrelation") {
-    out.ar = true;
-  } else {
-    t.first = out.x.cols();
-    out.x = with_columns(out.x, t.cols);
-  }
-  out.terms.push_back(std::move(t));
-  if (out.ar) out.rho = fit_rho(out.x, d);
-  return out;
 }
 
 UnbalanceEstimate estimate_of_model(const Model& m, const ModelData& d) { return estimate_of(m, d); }
@@ -112,19 +65,29 @@ void average_readings(const AmbiguousFinding& a, const Eigen::Vector3d& coef_sel
 
 }  // namespace
 
-double canonical_correlation(const MatrixXd& a, const MatrixXd& b) {
-  const MatrixXd qa = basis(a), qb = basis(b);
-  if (qa.cols() == 0 || qb.cols() == 0) return 0.0;
-  const MatrixXd c = qa.transpose() * qb;
-  Eigen::JacobiSVD<MatrixXd> svd(c);
-  const double r = std::min(1.0, svd.singularValues()(0));
-  return r < 1e-12 ? 0.0 : r;  // orthogonal to rounding
+// Drop-one F test p of term i in model m (OLS or GLS at m's rho).
+double drop_one_p(const Model& m, const ModelData& d, std::size_t i) {
+  const Term& t = m.terms[i];
+  if (t.cols.cols() == 0) return t.p;
+  const Model r = without_term(m, i);
+  const LinearFit f1 = fit_linear(m.x, d, m.ar, m.rho.rho), f0 = fit_linear(r.x, d, m.ar, m.rho.rho);
+  if (!f1.ok || !f0.ok || f1.dof < 1 || !(f1.rss > 0.0)) return 0.0;
+  const double q = static_cast<double>(t.cols.cols());
+  const double fs = std::max(0.0, (f0.rss - f1.rss) / q) / (f1.rss / static_cast<double>(f1.dof));
+  return boost::math::cdf(boost::math::complement(
+      boost::math::fisher_f(q, static_cast<double>(f1.dof)), fs));
 }
 
-MatrixXd residualize(const MatrixXd& c, const MatrixXd& x) {
-  if (x.cols() == 0) return c;
-  const MatrixXd q = basis(x);
-  return c - q * (q.transpose() * c);
+std::string term_label(const Term& t) {
+  if (t.name == "outlier") return "outlier at row " + std::to_string(t.index);
+  if (t.name == "step") return "step before row " + std::to_string(t.index);
+  if (t.name == "exponential_drift") return fmt("exponential_drift (tau %.3g)", t.param);
+  return t.label;
+}
+
+bool is_time_like(const std::string& n) {
+  return n == "time_drift" || n == "time_drift_quadratic" || n == "exponential_drift" ||
+         n == "step" || n == "kt_drift" || n == "autocorrelation";
 }
 
 double model_bic(const Model& m, const ModelData& d) {
@@ -198,54 +161,19 @@ UnbalanceEstimate estimate_of(const Model& m, const ModelData& d) {
   return e;
 }
 
-std::vector<CandidateCollinearity> plan_collinearity(const Model& base, const ModelData& d,
-                                                     const CandidatePool& pool) {
-  const std::vector<Term> c = pool(base);
-  const MatrixXd one = MatrixXd::Ones(d.n, 1);
-  const MatrixXd h1 = residualize(base.x.leftCols(2), one);
-  std::vector<MatrixXd> resid;
-  for (const Term& t : c) resid.push_back(residualize(t.cols, base.x));
-  std::vector<CandidateCollinearity> out;
-  for (std::size_t i = 0; i < c.size(); ++i) {
-    CandidateCollinearity k;
-    k.candidate = c[i].name == "step" ? "step (best change point)" : label_of(c[i]);
-    k.r_first_harmonic = canonical_correlation(residualize(c[i].cols, one), h1);
-    const double r = canonical_correlation(c[i].cols, base.x);
-    k.vif_base = r < 1.0 - 1e-12 ? 1.0 / (1.0 - r * r) : std::numeric_limits<double>::infinity();
-    for (std::size_t j = 0; j < c.size(); ++j) {
-      if (j == i) continue;
-      const double rij = canonical_correlation(resid[i], resid[j]);
-      if (rij > k.r_other) k.r_other = rij, k.most_collinear_with = label_of(c[j]);
-    }
-    out.push_back(std::move(k));
+Model with_term(const Model& m, const ModelData& d, Term t) {
+  Model out = m;
+  if (t.name == "autocorrelation") {
+    out.ar = true;
+  } else {
+    t.first = out.x.cols();
+    out.x = with_columns(out.x, t.cols);
   }
+  out.terms.push_back(std::move(t));
+  if (out.ar) out.rho = fit_rho(out.x, d);
   return out;
 }
 
-std::string separating_plan(const std::string& a, const std::string& b) {
-  const bool ha = a.rfind("harmonic", 0) == 0, hb = b.rfind("harmonic", 0) == 0;
-  const bool ta = is_time_like(a), tb = is_time_like(b);
-  const bool da = a == "direction_offset", db = b == "direction_offset";
-  if ((ha && tb) || (hb && ta)) {
-    return "randomise or interleave the position order (e.g. 0, 180, 90, 270, 45, 225, ... deg) so "
-           "that time no longer follows angle, or repeat the sweep in the opposite direction; "
-           "repeat a few positions at the end of the run";
-  }
-  if ((da && tb) || (db && ta)) {
-    return "a back-and-forth sweep with the directions interleaved (+ - + - ... or both "
-           "directions at every position), so that the direction does not follow time";
-  }
-  if (a == "first harmonic" || b == "first harmonic") {
-    return "cover the whole turn evenly, in a randomised order, and repeat some positions at the "
-           "start and end of the run";
-  }
-  if (ha && hb) return "cover the whole turn evenly: harmonics are then orthogonal";
-  if (ta && tb) {
-    return "a longer run, or repeated positions spread over the run (a step, a settling and a "
-           "drift differ in shape only over enough time)";
-  }
-  return "repeat positions at the start and end of the run and randomise the position order";
-}
 
 void assess(const Model& m, const AssessmentInputs& in, DiagnosisResult& res) {
   const ModelData& d = in.d;
@@ -256,6 +184,7 @@ void assess(const Model& m, const AssessmentInputs& in, DiagnosisResult& res) {
   Eigen::Vector3d delta = Eigen::Vector3d::Zero();
   double allowance2 = 0.0;  // squared half-spread of the readings, table unit^2
   const MatrixXd one = MatrixXd::Ones(d.n, 1);
+  bool guarded_any = false;
   for (std::size_t i = 0; i < m.terms.size(); ++i) {
     const Term& t = m.terms[i];
     Effect& e = res.effects[i];
@@ -274,10 +203,16 @@ void assess(const Model& m, const AssessmentInputs& in, DiagnosisResult& res) {
     others << rest.x.col(2), rest.x.rightCols(rest.x.cols() - 3);
     e.r_first_harmonic = canonical_correlation(residualize(t.cols, others),
                                                residualize(m.x.leftCols(2), others));
+    if (in.guarded != nullptr && std::isfinite((*in.guarded)[i])) {
+      e.moves_estimate = false;  // the guard keeps the plain estimate (residual_guard.h)
+      guarded_any = true;
+      allowance2 += (*in.guarded)[i];
+      continue;
+    }
     // Readings: every candidate of the pool on the rest of the model that the design or the
     // data cannot tell from this effect.
     AmbiguousFinding a;
-    a.readings.push_back({label_of(t), 0.0, estimate_of(m, d)});
+    a.readings.push_back({term_label(t), 0.0, estimate_of(m, d)});
     const MatrixXd te = residualize(t.cols, rest.x);
     std::string other_name;
     bool shape_readings = false;  // a time shape the data do not reject very strongly
@@ -297,7 +232,7 @@ void assess(const Model& m, const AssessmentInputs& in, DiagnosisResult& res) {
                                 e.r_first_harmonic >= kWeakCorrelation && db < kBicVeryStrong;
       shape_readings = shape_readings || (shape_window && db >= kBicIndistinct);
       if ((r >= kConfounded && db < kBicStrong) || db < kBicIndistinct || shape_window) {
-        a.readings.push_back({label_of(c), db, estimate_of(alt, d)});
+        a.readings.push_back({term_label(c), db, estimate_of(alt, d)});
         if (r > a.correlation) a.correlation = r, other_name = c.name;
       }
     }
@@ -307,7 +242,7 @@ void assess(const Model& m, const AssessmentInputs& in, DiagnosisResult& res) {
       const Model alt = with_term(rest, d, Term("autocorrelation", "autocorrelation"));
       const double db = model_bic(alt, d) - bic_sel;
       if (db < kBicStrong) {
-        a.readings.push_back({"autocorrelation (AR(1) errors) instead of " + label_of(t), db,
+        a.readings.push_back({"autocorrelation (AR(1) errors) instead of " + term_label(t), db,
                               estimate_of(alt, d)});
         if (other_name.empty()) other_name = "autocorrelation";
       }
@@ -323,7 +258,7 @@ void assess(const Model& m, const AssessmentInputs& in, DiagnosisResult& res) {
     const bool correlated_outlier = t.name == "outlier" && (in.residual_correlated || m.ar);
     if (a.readings.size() > 1) {
       e.moves_estimate = false;
-      a.why = label_of(t) + " and " + a.readings[1].effects +
+      a.why = term_label(t) + " and " + a.readings[1].effects +
               (a.correlation > 0.0
                    ? fmt(" are collinear under this plan (canonical correlation %.3f)", a.correlation)
                    : std::string(" are not told apart by these data (BIC within 6)")) +
@@ -361,6 +296,16 @@ void assess(const Model& m, const AssessmentInputs& in, DiagnosisResult& res) {
       e.estimate_note = "in correlated noise a single excursion is not told from the noise's own: "
                         "tentative, the estimate does not take it";
     }
+  }
+  // The guarded effects dropped together: a term collinear with another moves the estimate
+  // far when dropped alone, and such moves do not add.
+  if (guarded_any) {
+    Model plain = m;
+    for (std::size_t i = m.terms.size(); i-- > 0;) {
+      if (std::isfinite((*in.guarded)[i])) plain = without_term(plain, i);
+    }
+    if (plain.ar) plain.rho = fit_rho(plain.x, d);
+    delta += coefficients(plain, d) - coef_sel;
   }
   // On a plan where time follows angle, the harmonics found (together) against AR(1) errors
   // in their place: a smooth function of angle is then a smooth function of time, and only a

@@ -36,7 +36,11 @@ inline constexpr double kIdentifiedP = 1e-4;
 /// Column candidates (families: their best member) that could be added to a model.
 using CandidatePool = std::function<std::vector<Term>(const Model&)>;
 
-/// Largest canonical correlation of the column sets a and b (0 when either is empty or zero).
+/// "step before row 7", "exponential_drift (tau 240)", "outlier at row 3", or the term's label.
+std::string term_label(const Term& t);
+
+/// Largest canonical correlation of the column sets a and b (0 when either is empty or zero;
+/// residual_collinearity.cc with residualize and plan_collinearity).
 double canonical_correlation(const Eigen::MatrixXd& a, const Eigen::MatrixXd& b);
 
 /// c minus its least-squares projection on the columns of x.
@@ -44,6 +48,12 @@ Eigen::MatrixXd residualize(const Eigen::MatrixXd& c, const Eigen::MatrixXd& x);
 
 /// BIC = -2 ln L + k ln n (ML form), k = columns + AR + scanned parameters.
 double model_bic(const Model& m, const ModelData& d);
+
+/// m with term t added (AR(1) refitted when the model has it).
+Model with_term(const Model& m, const ModelData& d, Term t);
+
+/// Drop-one F test p of term i in m (OLS, or GLS at m's rho).
+double drop_one_p(const Model& m, const ModelData& d, std::size_t i);
 
 /// The model without its term i (columns removed, later terms' first shifted; AR(1) kept).
 Model without_term(const Model& m, std::size_t i);
@@ -66,13 +76,19 @@ struct AssessmentInputs {
   /// The final model of the other search (AR(1) first or deferred) when it ended elsewhere.
   const Model* other_search = nullptr;
   std::string selected_summary, other_summary;  ///< their effects, e.g. "step", "autocorrelation"
+  /// Per term: NaN, or the variance to add when the guard keeps the plain estimate for it
+  /// (residual_guard.h); nullptr = no guard.
+  const std::vector<double>* guarded = nullptr;
 };
 
 /// Fills shift_se, r_first_harmonic, moves_estimate, estimate_note of res.effects (in the
 /// order of m.terms), res.ambiguous and res.estimate_after.
 void assess(const Model& m, const AssessmentInputs& in, DiagnosisResult& res);
 
-/// A plan that would separate candidates named a and b.
+/// A plan that would separate candidates named a and b (residual_guard.cc).
 std::string separating_plan(const std::string& a, const std::string& b);
+
+/// Time-shaped candidates: drift, quadratic drift, settling, step, K_T drift, AR(1) errors.
+bool is_time_like(const std::string& name);
 
 }  // namespace poise::estimators::detail

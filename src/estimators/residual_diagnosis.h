@@ -108,6 +108,27 @@
 /// approximation.) With a K_T drift the estimate is referred to the first measurement, where
 /// K_T is the calibrated (cold) one.
 ///
+/// Guard (residual_guard.h), applied before the above: an effect that moves the estimate must
+/// earn it. Its competing explanations fitted in its place (any other candidate within 10 BIC
+/// that an encompassing F test does not separate from it; AR(1) errors within 10 BIC or, on a
+/// one-direction sweep, when the effect's own test fails with AR(1) errors allowed; "no
+/// effect" when it moves the estimate beyond 2 SE with drop-one p >= 1e-4) are compared; when
+/// one leaves the estimate within 2 SE of the plain fit (without the effect) while the effect
+/// moves it beyond 2 SE, the estimate keeps the plain value for the effect (guarded effects
+/// dropped together), its SE widened by half the readings' largest distance from it, and an
+/// ambiguous finding names the readings and the measurement that would separate them (reverse,
+/// repeat or shuffle the sweep; a second load). Measured: a 2nd harmonic from anisotropic sag
+/// taken as a step, 0.028 -> 0.346 mN*m (7 SE worse), now kept at 0.028; AR(1) noise of rho
+/// 0.8-0.85 on a one-direction sweep, 3 and 5 of 100 worse beyond 2 SE before, 0 and 0 now
+/// (tests/diagnosis_round3_test.cc).
+///
+/// Families (Effect::family, Effect::shape): a smooth drift in time is reported as family
+/// time_drift with shape "linear" (name time_drift) or "exponential" (name
+/// exponential_drift), a step as step, a multiplicative K_T drift as kt_drift; where another
+/// time shape fits within 2 BIC (6 across families: a direction offset, the K_T drift), or
+/// the guard kept the effect out of the estimate, as time_drift with shape "not identifiable"
+/// ("time effect; shape not identifiable") and the competitor in Effect::alternative.
+///
 /// Omnibus (residual_omnibus.h): the final residual is tested for structure no effect
 /// explains (lack of fit against repeated positions or a declared noise, Ljung-Box and runs in
 /// measurement order, CUSUM level-shift scan); a failure is reported as unexplained structure,
@@ -120,6 +141,7 @@
 /// Reported parameters are those of the final model (all effects estimated together), with
 /// standard errors from sigma^2 (X^T X)^-1 of the (transformed) final fit and the delta method.
 #include <cstddef>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -159,8 +181,9 @@ struct EffectParam {
 
 /// An effect added to the model.
 struct Effect {
-  std::string name;   ///< harmonic, time_drift, time_drift_quadratic, direction_offset,
-                      ///< outlier, autocorrelation
+  std::string name;   ///< harmonic, time_drift, time_drift_quadratic, exponential_drift,
+                      ///< step, kt_drift, direction_offset, outlier, autocorrelation: the
+                      ///< candidate fitted (its family and shape below)
   int order = 0;      ///< harmonic order k (harmonic only; 0 else)
   int index = -1;     ///< outlier: 0-based data row; -1 else
   std::size_t line = 0;  ///< outlier: 1-based file line (from TorqueTable::rows); 0 else
@@ -177,6 +200,17 @@ struct Effect {
   double r_first_harmonic = 0.0;
   bool moves_estimate = true;  ///< false: estimate_after does not take it (note says why)
   std::string estimate_note;
+  /// The family it is reported under (residual_guard.h): time_drift (name time_drift,
+  /// time_drift_quadratic or exponential_drift, or any time shape not identified), step,
+  /// kt_drift, harmonic, direction_offset, outlier, autocorrelation.
+  std::string family;
+  /// time_drift only: "linear", "exponential" or "not identifiable"; "" for other families.
+  std::string shape;
+  /// Time shapes and direction offset: the closest other shape or direction offset on the
+  /// rest of the model ("" none examined) and its BIC minus this effect's (< 2: shape not
+  /// identified; NaN when none was examined).
+  std::string alternative;
+  double shape_delta_bic = std::numeric_limits<double>::quiet_NaN();
 };
 
 /// Collinearity of one candidate with the base model and the other candidates under this
