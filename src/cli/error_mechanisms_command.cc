@@ -15,9 +15,6 @@
 namespace poise::cli {
 namespace {
 
-using estimators::ErrorMechanism;
-using estimators::MechanismSigmas;
-using estimators::UnbalanceTestRecord;
 using nlohmann::json;
 
 const char* kHelp = R"(What it does:
