@@ -11,7 +11,6 @@
 #include <map>
 #include <sstream>
 #include <string_view>
-#include <unordered_map>
 #include <vector>
 
 #include "geometry/mesh_needles.h"

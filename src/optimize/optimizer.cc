@@ -5,7 +5,6 @@
 #include <nlopt.hpp>
 
 #include <algorithm>
-#include <cctype>
 #include <exception>
 #include <limits>
 #include <map>
