@@ -132,6 +132,83 @@ void read_model_part(TomlReader& t, BudgetSpec& b) {
   b.seed = static_cast<std::uint64_t>(t.integer("seed", 0, std::numeric_limits<std::int64_t>::max(), 1));
 }
 
+// [budget]: its name, unit, level, combination, field points, pixel and confidence. Whether
+// the unit was understood (nothing else reads without it).
+bool read_budget_table(TomlReader& t, BudgetSpec& b) {
+  b.name = t.string("name");
+  b.title = t.string("title", "");
+  t.accept_notes();
+  b.notes = t.string("notes", "");
+  b.source = t.string("source", "");
+  b.unit = t.string("unit");
+  bool unit_ok = false;
+  if (t.has("unit")) {
+    try {
+      b.unit_factor = units::unit_factor(b.unit);
+      b.dimension = units::parse_quantity("1 " + b.unit).dim;
+      unit_ok = true;
+    } catch (const Error& e) {
+      t.error("unit", quote_value(b.unit), std::string("a unit such as \"arcsec\", \"urad\" or \"mm\" (") + e.what() + ")");
+    }
+  }
+  b.level = level_sigmas(t.choice("level", {"1sigma", "2sigma", "3sigma"}));
+  b.combination = parse_combination(t, "combination", std::nullopt);
+  b.field_points = static_cast<std::size_t>(t.integer("field_points", 2, 1001, 13));
+  if (t.has("pixel")) b.pixel = t.quantity("pixel", units::kAngle, engine::positive);
+  const double level_probability = 2.0 * sampling::standard_normal_cdf(b.level) - 1.0;
+  b.confidence = t.number(
+      "confidence",
+      [](double p) { return p > 0.0 && p < 1.0 ? "" : "a probability between 0 and 1, e.g. 0.9973 (3 sigma)"; },
+      level_probability);
+  return unit_ok;
+}
+
+// [budget] requirement, declared and declared_in_pixels, in the budget's unit.
+void read_requirement_and_declared(TomlReader& t, BudgetSpec& b) {
+  const Units u{b.dimension, b.unit, b.pixel};
+  if (t.has("requirement")) {
+    b.requirement_text = t.string("requirement");
+    b.requirement = read_value(t, "requirement", u, true);
+    if (b.requirement && !(*b.requirement > 0)) {
+      t.error("requirement", quote_value(b.requirement_text), "a positive value");
+      b.requirement.reset();
+    }
+  }
+  b.declared = read_declared(t, "declared", u);
+  if (t.has("declared_in_pixels")) {
+    if (!b.pixel) {
+      t.error("declared_in_pixels", "", "[budget] pixel = \"<IFOV>\" to convert pixels (missing pixel)");
+    } else {
+      b.declared_in_pixels = read_declared(t, "declared_in_pixels", Units{units::kPixel, "px", std::nullopt});
+    }
+  }
+}
+
+// The [[line]]s and [[group]]s, then the structure they form.
+void read_lines_and_groups(TomlReader& root, BudgetSpec& b, engine::ReadContext& ctx) {
+  std::vector<std::string> field_names;
+  for (const auto& v : b.field) field_names.push_back(v.name);
+  const Units u{b.dimension, b.unit, b.pixel};
+  for (auto& l : root.table_array("line")) b.lines.push_back(read_line(l, u, field_names));
+  for (auto& g : root.table_array("group")) b.groups.push_back(read_group(g, u, field_names, b.combination));
+  if (b.lines.empty()) root.error("line", "", "at least one [[line]] (none given)");
+  check_structure(b, ctx);
+}
+
+// The field grid's size, then the expressions' values over it.
+void check_field_grid(TomlReader& t, const BudgetSpec& b, engine::ReadContext& ctx) {
+  // Each variable has its points, plus zero where it is inside the range.
+  const double grid_size = std::pow(static_cast<double>(b.field_points + 1), static_cast<double>(b.field.size()));
+  if (grid_size > static_cast<double>(kMaxFieldGridPoints)) {
+    t.error("field_points", std::to_string(b.field_points),
+            "at most " + std::to_string(kMaxFieldGridPoints) + " grid points over the " +
+                std::to_string(b.field.size()) + " [field] variables (fewer points per variable)");
+  } else if (ctx.errors.empty()) {
+    // Expressions parsed; now their values over the field (1/cos(pitch) at 90 deg, ...).
+    for (auto& e : check_expressions(b)) ctx.errors.push_back(std::move(e));
+  }
+}
+
 }  // namespace
 
 std::string to_string(Combination c) {
@@ -161,72 +238,12 @@ BudgetSpec load_budget(const std::string& path) {
     throw engine::ValidationError(ctx->errors);
   }
   TomlReader t = root.table("budget");
-  b.name = t.string("name");
-  b.title = t.string("title", "");
-  t.accept_notes();
-  b.notes = t.string("notes", "");
-  b.source = t.string("source", "");
-  b.unit = t.string("unit");
-  bool unit_ok = false;
-  if (t.has("unit")) {
-    try {
-      b.unit_factor = units::unit_factor(b.unit);
-      b.dimension = units::parse_quantity("1 " + b.unit).dim;
-      unit_ok = true;
-    } catch (const Error& e) {
-      t.error("unit", quote_value(b.unit), std::string("a unit such as \"arcsec\", \"urad\" or \"mm\" (") + e.what() + ")");
-    }
-  }
-  b.level = level_sigmas(t.choice("level", {"1sigma", "2sigma", "3sigma"}));
-  b.combination = parse_combination(t, "combination", std::nullopt);
-  b.field_points = static_cast<std::size_t>(t.integer("field_points", 2, 1001, 13));
-  if (t.has("pixel")) b.pixel = t.quantity("pixel", units::kAngle, engine::positive);
-  const double level_probability = 2.0 * sampling::standard_normal_cdf(b.level) - 1.0;
-  b.confidence = t.number(
-      "confidence",
-      [](double p) { return p > 0.0 && p < 1.0 ? "" : "a probability between 0 and 1, e.g. 0.9973 (3 sigma)"; },
-      level_probability);
-  if (!unit_ok) throw engine::ValidationError(ctx->errors);  // nothing else reads without it
-  {
-    const Units u{b.dimension, b.unit, b.pixel};
-    if (t.has("requirement")) {
-      b.requirement_text = t.string("requirement");
-      b.requirement = read_value(t, "requirement", u, true);
-      if (b.requirement && !(*b.requirement > 0)) {
-        t.error("requirement", quote_value(b.requirement_text), "a positive value");
-        b.requirement.reset();
-      }
-    }
-    b.declared = read_declared(t, "declared", u);
-    if (t.has("declared_in_pixels")) {
-      if (!b.pixel) {
-        t.error("declared_in_pixels", "", "[budget] pixel = \"<IFOV>\" to convert pixels (missing pixel)");
-      } else {
-        b.declared_in_pixels = read_declared(t, "declared_in_pixels", Units{units::kPixel, "px", std::nullopt});
-      }
-    }
-  }
+  if (!read_budget_table(t, b)) throw engine::ValidationError(ctx->errors);  // nothing else reads without it
+  read_requirement_and_declared(t, b);
   read_model_part(t, b);
   read_field(root, b);
-  std::vector<std::string> field_names;
-  for (const auto& v : b.field) field_names.push_back(v.name);
-  {
-    const Units u{b.dimension, b.unit, b.pixel};
-    for (auto& l : root.table_array("line")) b.lines.push_back(read_line(l, u, field_names));
-    for (auto& g : root.table_array("group")) b.groups.push_back(read_group(g, u, field_names, b.combination));
-    if (b.lines.empty()) root.error("line", "", "at least one [[line]] (none given)");
-    check_structure(b, *ctx);
-  }
-  // Each variable has its points, plus zero where it is inside the range.
-  const double grid_size = std::pow(static_cast<double>(b.field_points + 1), static_cast<double>(b.field.size()));
-  if (grid_size > static_cast<double>(kMaxFieldGridPoints)) {
-    t.error("field_points", std::to_string(b.field_points),
-            "at most " + std::to_string(kMaxFieldGridPoints) + " grid points over the " +
-                std::to_string(b.field.size()) + " [field] variables (fewer points per variable)");
-  } else if (ctx->errors.empty()) {
-    // Expressions parsed; now their values over the field (1/cos(pitch) at 90 deg, ...).
-    for (auto& e : check_expressions(b)) ctx->errors.push_back(std::move(e));
-  }
+  read_lines_and_groups(root, b, *ctx);
+  check_field_grid(t, b, *ctx);
   engine::finish(doc, *ctx);
   return b;
 }

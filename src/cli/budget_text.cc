@@ -43,11 +43,10 @@ void print_item(const json& it, const std::string& unit, std::ostream& out) {
   }
 }
 
-}  // namespace
-
-void print_budget_text(const json& j, std::ostream& out) {
+// The budget's name and file, how many declared figures follow from their inputs, and the
+// field it holds over.
+void print_heading(const json& j, const std::string& unit, std::ostream& out) {
   const json& b = j["budget"];
-  const std::string unit = b["unit"].get<std::string>();
   int agree = 0, disagree = 0;
   for (const auto* list : {&j["lines"], &j["groups"]}) {
     for (const auto& it : *list) {
@@ -69,13 +68,10 @@ void print_budget_text(const json& j, std::ostream& out) {
     }
     out << " " << b["field_grid_points"] << " grid points (ends and zero included).\n";
   }
-  out << "\nLines, recomputed from their inputs:\n";
-  for (const auto& it : j["lines"]) print_item(it, unit, out);
-  if (!j["groups"].empty()) {
-    out << "\nGroups (sub-totals), recomputed from their members:\n";
-    for (const auto& it : j["groups"]) print_item(it, unit, out);
-  }
-  const json& c = j["combined"];
+}
+
+// The combination of the lines, against its declared value (and in pixels).
+void print_combined(const json& c, const std::string& unit, std::ostream& out) {
   out << "\nCombined by " << c["combination"].get<std::string>() << " at " << c["level"].get<std::string>() << ": "
       << recomputed_text(c, unit);
   if (!c["declared"].is_null()) {
@@ -104,6 +100,11 @@ void print_budget_text(const json& j, std::ostream& out) {
     }
     out << '\n';
   }
+}
+
+// The combination at the stated confidence, and the requirement by the combination rule.
+void print_at_confidence(const json& j, const std::string& unit, std::ostream& out) {
+  const json& b = j["budget"];
   const json& a = j["at_confidence"];
   char mult[32];
   std::snprintf(mult, sizeof mult, "%.3f", a["multiple"].get<double>());
@@ -115,18 +116,36 @@ void print_budget_text(const json& j, std::ostream& out) {
         << (j["requirement_met"].get<bool>() ? "met" : "NOT met") << " by the combination rule alone (the budget's greatest "
         << budget_number(a["greatest"]) << " " << unit << "); the answer below decides on the Monte Carlo where there is one.\n";
   }
-  if (!j["monte_carlo"].is_null()) {
-    const json& m = j["monte_carlo"];
-    out << "\nMonte Carlo of the model's exact chain (" << m["model"].get<std::string>() << ", " << m["samples"]
-        << " samples, " << m["failures"] << " failed, seed " << m["seed"] << "):\n  "
-        << m["output"].get<std::string>() << " at " << m["quantile"].get<double>() << ": "
-        << budget_number(m["value"]) << " " << unit << " (95% interval " << budget_number(m["ci95"][0]) << " to "
-        << budget_number(m["ci95"][1]) << ")\n  The budget (" << budget_number(a["greatest"]) << " " << unit
-        << ") is " << j["budget_vs_monte_carlo"].get<std::string>() << " against it"
-        << (j["budget_vs_monte_carlo_decided"].get<bool>() ? "" : " (within the Monte Carlo's 95% interval: not decided)")
-        << ".\n";
+}
 
+// The Monte Carlo of the model's exact chain, against the budget.
+void print_monte_carlo(const json& j, const std::string& unit, std::ostream& out) {
+  const json& a = j["at_confidence"];
+  const json& m = j["monte_carlo"];
+  out << "\nMonte Carlo of the model's exact chain (" << m["model"].get<std::string>() << ", " << m["samples"]
+      << " samples, " << m["failures"] << " failed, seed " << m["seed"] << "):\n  "
+      << m["output"].get<std::string>() << " at " << m["quantile"].get<double>() << ": "
+      << budget_number(m["value"]) << " " << unit << " (95% interval " << budget_number(m["ci95"][0]) << " to "
+      << budget_number(m["ci95"][1]) << ")\n  The budget (" << budget_number(a["greatest"]) << " " << unit
+      << ") is " << j["budget_vs_monte_carlo"].get<std::string>() << " against it"
+      << (j["budget_vs_monte_carlo_decided"].get<bool>() ? "" : " (within the Monte Carlo's 95% interval: not decided)")
+      << ".\n";
+}
+
+}  // namespace
+
+void print_budget_text(const json& j, std::ostream& out) {
+  const std::string unit = j["budget"]["unit"].get<std::string>();
+  print_heading(j, unit, out);
+  out << "\nLines, recomputed from their inputs:\n";
+  for (const auto& it : j["lines"]) print_item(it, unit, out);
+  if (!j["groups"].empty()) {
+    out << "\nGroups (sub-totals), recomputed from their members:\n";
+    for (const auto& it : j["groups"]) print_item(it, unit, out);
   }
+  print_combined(j["combined"], unit, out);
+  print_at_confidence(j, unit, out);
+  if (!j["monte_carlo"].is_null()) print_monte_carlo(j, unit, out);
   if (!j["unmapped_model_tolerances"].empty()) {
     out << "Model tolerances no line covers (the budget leaves them out):";
     for (const auto& k : j["unmapped_model_tolerances"]) out << " " << k.get<std::string>();

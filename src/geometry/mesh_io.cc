@@ -11,10 +11,10 @@
 #include <map>
 #include <sstream>
 #include <string_view>
-#include <unordered_map>
 #include <vector>
 
 #include "geometry/mesh_needles.h"
+#include "geometry/vertex_welder.h"
 #include "geometry/polygon_triangulation.h"
 
 namespace poise::geometry {
@@ -56,122 +56,119 @@ std::vector<std::string> split(const std::string& line) {
   return out;
 }
 
-// Merges equal coordinates (STL stores every triangle's three vertices).
-class VertexWelder {
+// ASCII STL, read line by line: where the reader is in the grammar, and the facet being read.
+class StlAsciiReader {
  public:
-  explicit VertexWelder(Mesh& mesh) : mesh_(mesh) {}
-  /// A closed mesh of n triangles has about n/2 vertices.
-  void reserve(std::size_t triangles) {
-    index_.reserve(triangles / 2 + 16);
-    mesh_.vertices.reserve(triangles / 2 + 16);
-  }
-  std::uint32_t add(const Eigen::Vector3d& v) {
-    // + 0.0 turns -0.0 into 0.0, so equal coordinates have equal bits for the hash.
-    const auto [it, inserted] =
-        index_.try_emplace({v.x() + 0.0, v.y() + 0.0, v.z() + 0.0}, static_cast<std::uint32_t>(mesh_.vertices.size()));
-    if (inserted) mesh_.vertices.push_back(v);
-    return it->second;
-  }
+  StlAsciiReader(Mesh& mesh, const std::string& name, double unit_m)
+      : mesh_(mesh), name_(name), unit_m_(unit_m), weld_(mesh) {}
 
- private:
-  Mesh& mesh_;
-  struct Hash {
-    std::size_t operator()(const std::array<double, 3>& p) const {
-      std::uint64_t h = 0x9e3779b97f4a7c15ull;
-      for (double c : p) {
-        std::uint64_t b;
-        std::memcpy(&b, &c, 8);
-        h = (h ^ b) * 0xff51afd7ed558ccdull;
-        h ^= h >> 32;
-      }
-      return static_cast<std::size_t>(h);
-    }
-  };
-  std::unordered_map<std::array<double, 3>, std::uint32_t, Hash> index_;
-};
-
-Mesh read_stl_ascii(const std::string& bytes, const std::string& name, double unit_m) {
-  Mesh mesh;
-  mesh.name = name;
-  mesh.unit_m = unit_m;
-  VertexWelder weld(mesh);
-  std::istringstream in(bytes);
-  std::string line;
-  std::size_t ln = 0;
-  enum class State { kStart, kSolid, kFacet, kLoop, kEndLoop, kEnd } state = State::kStart;
-  std::vector<std::uint32_t> loop;
-  std::size_t facet_line = 0;
-  while (std::getline(in, line)) {
-    ++ln;
+  void read_line(const std::string& line, std::size_t ln) {
     const auto tok = split(line);
-    if (tok.empty()) continue;
+    if (tok.empty()) return;
     const std::string kw = lower(tok[0]);
     auto expect = [&](const std::string& what) {
-      fail_line(name, ln, "expected " + what + ", got '" + line.substr(0, 60) + "'");
+      fail_line(name_, ln, "expected " + what + ", got '" + line.substr(0, 60) + "'");
     };
-    switch (state) {
+    switch (state_) {
       case State::kStart:
         if (kw != "solid") expect("'solid <name>' (ASCII STL)");
-        state = State::kSolid;
+        state_ = State::kSolid;
         break;
       case State::kSolid:
         if (kw == "endsolid") {
-          state = State::kEnd;
+          state_ = State::kEnd;
         } else if (kw == "facet") {
           if (tok.size() != 5 || lower(tok[1]) != "normal") expect("'facet normal nx ny nz'");
           for (int k = 2; k < 5; ++k) {
             double v;
-            if (!parse_double(tok[k], v)) fail_line(name, ln, "facet normal component '" + tok[k] + "' is not a number");
+            if (!parse_double(tok[k], v)) fail_line(name_, ln, "facet normal component '" + tok[k] + "' is not a number");
           }
-          facet_line = ln;
-          state = State::kFacet;
+          facet_line_ = ln;
+          state_ = State::kFacet;
         } else {
           expect("'facet normal nx ny nz' or 'endsolid'");
         }
         break;
       case State::kFacet:
         if (kw != "outer" || tok.size() != 2 || lower(tok[1]) != "loop") expect("'outer loop'");
-        loop.clear();
-        state = State::kLoop;
+        loop_.clear();
+        state_ = State::kLoop;
         break;
       case State::kLoop:
         if (kw == "endloop") {
-          if (loop.size() != 3) {
-            fail_line(name, ln, "facet has " + std::to_string(loop.size()) + " vertices; STL facets are triangles (3)");
-          }
-          mesh.triangles.push_back({loop[0], loop[1], loop[2]});
-          mesh.triangle_lines.push_back(facet_line);
-          state = State::kEndLoop;
+          end_loop(ln);
         } else if (kw == "vertex") {
-          if (tok.size() != 4) fail_line(name, ln, "vertex needs 3 coordinates, got " + std::to_string(tok.size() - 1));
-          Eigen::Vector3d v;
-          for (int k = 0; k < 3; ++k) {
-            if (!parse_double(tok[k + 1], v[k]) || !std::isfinite(v[k])) {
-              fail_line(name, ln, "vertex coordinate '" + tok[k + 1] + "' is not a finite number");
-            }
-          }
-          if (loop.size() == 3) fail_line(name, ln, "facet has more than 3 vertices; STL facets are triangles");
-          loop.push_back(weld.add(v * unit_m));
+          vertex(tok, ln);
         } else {
           expect("'vertex x y z' or 'endloop'");
         }
         break;
       case State::kEndLoop:
         if (kw != "endfacet") expect("'endfacet'");
-        state = State::kSolid;
+        state_ = State::kSolid;
         break;
       case State::kEnd:
         // CAD systems write an assembly as several solids in one file: one part, one mesh.
         if (kw != "solid") expect("'solid <name>' or the end of the file after 'endsolid'");
-        state = State::kSolid;
+        state_ = State::kSolid;
         break;
     }
   }
-  if (state != State::kEnd) {
-    throw MeshFormatError(name + ":" + std::to_string(ln) + ": file ends inside a " +
-                          (state == State::kSolid || state == State::kStart ? "solid (no 'endsolid')" : "facet"));
+
+  // The file ended at line ln: after an 'endsolid', and with triangles.
+  void finish(std::size_t ln) const {
+    if (state_ != State::kEnd) {
+      throw MeshFormatError(name_ + ":" + std::to_string(ln) + ": file ends inside a " +
+                            (state_ == State::kSolid || state_ == State::kStart ? "solid (no 'endsolid')" : "facet"));
+    }
+    if (mesh_.triangles.empty()) throw MeshFormatError(name_ + ": no triangles");
   }
-  if (mesh.triangles.empty()) throw MeshFormatError(name + ": no triangles");
+
+ private:
+  enum class State { kStart, kSolid, kFacet, kLoop, kEndLoop, kEnd };
+
+  // 'vertex x y z' in a loop: welded, in the mesh's unit.
+  void vertex(const std::vector<std::string>& tok, std::size_t ln) {
+    if (tok.size() != 4) fail_line(name_, ln, "vertex needs 3 coordinates, got " + std::to_string(tok.size() - 1));
+    Eigen::Vector3d v;
+    for (int k = 0; k < 3; ++k) {
+      if (!parse_double(tok[k + 1], v[k]) || !std::isfinite(v[k])) {
+        fail_line(name_, ln, "vertex coordinate '" + tok[k + 1] + "' is not a finite number");
+      }
+    }
+    if (loop_.size() == 3) fail_line(name_, ln, "facet has more than 3 vertices; STL facets are triangles");
+    loop_.push_back(weld_.add(v * unit_m_));
+  }
+
+  // 'endloop': the facet's triangle, with the line of its 'facet'.
+  void end_loop(std::size_t ln) {
+    if (loop_.size() != 3) {
+      fail_line(name_, ln, "facet has " + std::to_string(loop_.size()) + " vertices; STL facets are triangles (3)");
+    }
+    mesh_.triangles.push_back({loop_[0], loop_[1], loop_[2]});
+    mesh_.triangle_lines.push_back(facet_line_);
+    state_ = State::kEndLoop;
+  }
+
+  Mesh& mesh_;
+  const std::string& name_;
+  double unit_m_;
+  VertexWelder weld_;
+  State state_ = State::kStart;
+  std::vector<std::uint32_t> loop_;
+  std::size_t facet_line_ = 0;
+};
+
+Mesh read_stl_ascii(const std::string& bytes, const std::string& name, double unit_m) {
+  Mesh mesh;
+  mesh.name = name;
+  mesh.unit_m = unit_m;
+  StlAsciiReader reader(mesh, name, unit_m);
+  std::istringstream in(bytes);
+  std::string line;
+  std::size_t ln = 0;
+  while (std::getline(in, line)) reader.read_line(line, ++ln);
+  reader.finish(ln);
   return mesh;
 }
 

@@ -107,44 +107,42 @@ void read_test_plan_tables(TomlReader& root, procedures::TestPlan& plan) {
   }
 }
 
-GimbalModel load_gimbal_model(const std::string& path,
-                              const std::map<std::string, std::string>& overrides) {
-  auto [doc, ctx] = open_model_file(path, overrides);
-  TomlReader root(doc, ctx);
-  GimbalModel m;
-  static_cast<ModelHeader&>(m) = read_model_header(root, "gimbal_static_unbalance");
-  {
-    TomlReader t = root.table("rotor");
-    auto& r = m.rotor;
-    r.mass = t.quantity("mass", units::kMass, positive);
-    r.inertia = t.quantity("inertia", kInertia, positive);
-    r.support_stiffness = t.quantity("support_stiffness", kStiffness, positive);
-    r.support_damping = t.quantity("support_damping", kDamping, non_negative);
-    r.viscous_friction = t.quantity("viscous_friction", kRotDamping, non_negative);
-    r.coulomb_friction = t.quantity("coulomb_friction", units::kTorque, non_negative);
-    r.coulomb_smoothing = t.quantity("coulomb_smoothing", kAngularRate, positive);
-    r.torsion_stiffness = t.quantity("torsion_stiffness", kRotStiffness, non_negative);
-    r.torsion_zero = t.quantity("torsion_zero", units::kAngle);
-    r.cogging_torque = t.quantity("cogging_torque", units::kTorque, non_negative, 0.0);
-    r.cogging_order = static_cast<int>(t.integer("cogging_order", 0, 100000, 0));
-    r.cogging_phase = t.quantity("cogging_phase", units::kAngle, {}, 0.0);
-    // "dynamic": the 7-state disk on elastic supports; "quasi_static": the supports follow
-    // their static load (models/disk_rotor.h), valid with the support mode far above the servo.
-    m.plan.supports = t.choice("supports", {"dynamic", "quasi_static"}, "dynamic") == "quasi_static"
-                          ? procedures::Supports::kQuasiStatic
-                          : procedures::Supports::kDynamic;
-    t.accept_notes();
-  }
-  {
-    TomlReader t = root.table("motor");
-    m.plan.servo.kt_nominal = t.quantity("kt_nominal", kTorquePerCurrent, positive);
-    m.plan.servo.current_limit = t.quantity("current_limit", units::kCurrent, positive);
-    t.accept_notes();
-  }
-  read_test_plan_tables(root, m.plan);
-  if (root.has_or_schema("servo")) {
-    m.plan.servo.inertia_estimate = root.table("servo").quantity("inertia_estimate", kInertia, positive);
-  }
+namespace {
+
+// [rotor]: the disk, its supports and its friction; the support model into the plan.
+void read_rotor_table(TomlReader& root, GimbalModel& m) {
+  TomlReader t = root.table("rotor");
+  auto& r = m.rotor;
+  r.mass = t.quantity("mass", units::kMass, positive);
+  r.inertia = t.quantity("inertia", kInertia, positive);
+  r.support_stiffness = t.quantity("support_stiffness", kStiffness, positive);
+  r.support_damping = t.quantity("support_damping", kDamping, non_negative);
+  r.viscous_friction = t.quantity("viscous_friction", kRotDamping, non_negative);
+  r.coulomb_friction = t.quantity("coulomb_friction", units::kTorque, non_negative);
+  r.coulomb_smoothing = t.quantity("coulomb_smoothing", kAngularRate, positive);
+  r.torsion_stiffness = t.quantity("torsion_stiffness", kRotStiffness, non_negative);
+  r.torsion_zero = t.quantity("torsion_zero", units::kAngle);
+  r.cogging_torque = t.quantity("cogging_torque", units::kTorque, non_negative, 0.0);
+  r.cogging_order = static_cast<int>(t.integer("cogging_order", 0, 100000, 0));
+  r.cogging_phase = t.quantity("cogging_phase", units::kAngle, {}, 0.0);
+  // "dynamic": the 7-state disk on elastic supports; "quasi_static": the supports follow
+  // their static load (models/disk_rotor.h), valid with the support mode far above the servo.
+  m.plan.supports = t.choice("supports", {"dynamic", "quasi_static"}, "dynamic") == "quasi_static"
+                        ? procedures::Supports::kQuasiStatic
+                        : procedures::Supports::kDynamic;
+  t.accept_notes();
+}
+
+// [motor]: the torque constant and current limit into the servo.
+void read_motor_table(TomlReader& root, GimbalModel& m) {
+  TomlReader t = root.table("motor");
+  m.plan.servo.kt_nominal = t.quantity("kt_nominal", kTorquePerCurrent, positive);
+  m.plan.servo.current_limit = t.quantity("current_limit", units::kCurrent, positive);
+  t.accept_notes();
+}
+
+// Quasi-static supports only with the support mode well above the servo bandwidth.
+void check_quasi_static_supports(TomlReader& root, const GimbalModel& m) {
   if (m.plan.supports == procedures::Supports::kQuasiStatic && m.rotor.mass > 0 && m.rotor.support_stiffness > 0) {
     // The reduction drops terms of order (servo / support frequency)^2: 1% at a factor 10.
     const double f_support = std::sqrt(m.rotor.support_stiffness / m.rotor.mass) / (2.0 * units::kPi);
@@ -156,6 +154,10 @@ GimbalModel load_gimbal_model(const std::string& path,
               units::format(m.plan.servo.bandwidth_hz, "Hz", 4) + ")");
     }
   }
+}
+
+// [counterweight] and [test_error].
+void read_counterweight_and_test_error(TomlReader& root, GimbalModel& m) {
   {
     TomlReader t = root.table("counterweight");
     m.counterweight_radius = t.quantity("radius", units::kLength, positive);
@@ -167,6 +169,10 @@ GimbalModel load_gimbal_model(const std::string& path,
     m.error_mechanism = t.choice("mechanism", {"scale_and_zero", "additive", "both"}, "scale_and_zero");
     t.accept_notes();
   }
+}
+
+// [plausibility] and [disturbances] (optional).
+void read_plausibility_and_disturbances(TomlReader& root, GimbalModel& m) {
   if (root.has_or_schema("plausibility")) {
     TomlReader t = root.table("plausibility");
     auto& p = m.plausibility;
@@ -192,6 +198,10 @@ GimbalModel load_gimbal_model(const std::string& path,
     d.bump_torque = t.quantity("bump_torque", units::kTorque, {}, 0.0);
     t.accept_notes();
   }
+}
+
+// [tolerances]; the error mechanism not in use keeps its tolerances at zero.
+void read_tolerances_table(TomlReader& root, GimbalModel& m) {
   {
     TomlReader t = root.table("tolerances");
     m.residual_unbalance = read_scoped_tolerance(t, "residual_unbalance", kUnbalance, "g*mm");
@@ -229,59 +239,101 @@ GimbalModel load_gimbal_model(const std::string& path,
     m.unbalance_error_along = ScopedTolerance{};
     m.unbalance_error_across = ScopedTolerance{};
   }
-  std::string disk_model;
+}
+
+// What [geometry] names: a disk model file and the rotor's parts, loaded after the file is
+// finished.
+struct GeometryInputs {
+  std::string disk_model;  ///< resolved path, "" = off
   std::optional<UserParts> parts;
+};
+
+// The parts' nominal mass and inertia about the gimbal axis, within the rotor's own.
+void check_parts_within_rotor(TomlReader& t, const UserParts& parts, GimbalModel& m) {
+  std::vector<geometry::AssemblyPart> nominal;
+  for (const UserPart& p : parts.parts) nominal.push_back(p.part);
+  const geometry::MassProperties nom = geometry::as_built_assembly(nominal, {});
+  const double j = nom.inertia(2, 2) + nom.mass * (nom.com.x() * nom.com.x() + nom.com.y() * nom.com.y());
+  if (nom.mass > m.rotor.mass) {
+    t.error("part", units::format(nom.mass, "g", 4) + " of parts",
+            "parts within the rotor: [rotor] mass (" + units::format(m.rotor.mass, "g", 4) +
+                ") is the whole rotor as designed, its parts included");
+  } else if (j > m.rotor.inertia) {
+    t.error("part", units::format(j, "kg*m^2", 4) + " about the gimbal axis",
+            "parts within the rotor: [rotor] inertia (" + units::format(m.rotor.inertia, "kg*m^2", 4) +
+                ") is the whole rotor as designed, its parts included");
+  }
+  m.disk_nominal_mass = nom.mass;
+  m.disk_nominal_inertia = j;
+}
+
+// [geometry]: disk_model or [[geometry.part]] (one or the other).
+GeometryInputs read_geometry_table(TomlReader& root, const std::string& path, GimbalModel& m) {
+  GeometryInputs g;
   if (root.has_or_schema("geometry")) {
     TomlReader t = root.table("geometry");
-    disk_model = t.string("disk_model", "");  // "" = off
-    if (!disk_model.empty()) {
-      const std::string resolved = (std::filesystem::path(path).parent_path() / disk_model).lexically_normal().string();
+    g.disk_model = t.string("disk_model", "");  // "" = off
+    if (!g.disk_model.empty()) {
+      const std::string resolved = (std::filesystem::path(path).parent_path() / g.disk_model).lexically_normal().string();
       std::error_code ec;  // a name too long for the file system is a missing file, not an exception
       if (!std::filesystem::is_regular_file(resolved, ec)) {
-        t.error("disk_model", quote_value(disk_model), "\"\" (off) or an existing disk model file (looked for " + resolved + ")");
+        t.error("disk_model", quote_value(g.disk_model), "\"\" (off) or an existing disk model file (looked for " + resolved + ")");
       }
-      disk_model = resolved;
+      g.disk_model = resolved;
     }
     if (t.has_or_schema("part")) {
       const std::size_t errors_before = t.context().errors.size();
-      parts = read_user_parts(t, std::filesystem::path(path).parent_path().string());
-      if (!disk_model.empty() && !parts->parts.empty()) {
+      g.parts = read_user_parts(t, std::filesystem::path(path).parent_path().string());
+      if (!g.disk_model.empty() && !g.parts->parts.empty()) {
         t.error("disk_model", quote_value(t.string("disk_model", "")),
                 "\"\" when the rotor is given as [[geometry.part]] (one or the other)");
       }
-      if (parts->parts.empty()) parts.reset();
-      if (parts && t.context().errors.size() == errors_before && !t.schema_only()) {
-        std::vector<geometry::AssemblyPart> nominal;
-        for (const UserPart& p : parts->parts) nominal.push_back(p.part);
-        const geometry::MassProperties nom = geometry::as_built_assembly(nominal, {});
-        const double j = nom.inertia(2, 2) + nom.mass * (nom.com.x() * nom.com.x() + nom.com.y() * nom.com.y());
-        if (nom.mass > m.rotor.mass) {
-          t.error("part", units::format(nom.mass, "g", 4) + " of parts",
-                  "parts within the rotor: [rotor] mass (" + units::format(m.rotor.mass, "g", 4) +
-                      ") is the whole rotor as designed, its parts included");
-        } else if (j > m.rotor.inertia) {
-          t.error("part", units::format(j, "kg*m^2", 4) + " about the gimbal axis",
-                  "parts within the rotor: [rotor] inertia (" + units::format(m.rotor.inertia, "kg*m^2", 4) +
-                      ") is the whole rotor as designed, its parts included");
-        }
-        m.disk_nominal_mass = nom.mass;
-        m.disk_nominal_inertia = j;
+      if (g.parts->parts.empty()) g.parts.reset();
+      if (g.parts && t.context().errors.size() == errors_before && !t.schema_only()) {
+        check_parts_within_rotor(t, *g.parts, m);
       }
     }
     t.accept_notes();
   }
-  finish(doc, *ctx);
-  if (parts) {
-    for (const std::string& w : parts->warnings) std::cerr << "poise: warning: " << path << ": " << w << '\n';
-    m.rotor_parts = std::move(parts);
+  return g;
+}
+
+// The parts' warnings, and the disk model's nominal mass and inertia.
+void attach_geometry(GeometryInputs&& g, const std::string& path, GimbalModel& m) {
+  if (g.parts) {
+    for (const std::string& w : g.parts->warnings) std::cerr << "poise: warning: " << path << ": " << w << '\n';
+    m.rotor_parts = std::move(g.parts);
   }
-  if (!disk_model.empty()) {
-    m.disk_geometry = load_disk_geometry_model(disk_model);
+  if (!g.disk_model.empty()) {
+    m.disk_geometry = load_disk_geometry_model(g.disk_model);
     m.disk_geometry->nominal.clumps.clear();
     const geometry::Moments mo = geometry::exact_moments(geometry::simulator_disk(m.disk_geometry->nominal));
     m.disk_nominal_mass = mo.mass;
     m.disk_nominal_inertia = mo.second(0, 0) + mo.second(1, 1);
   }
+}
+
+}  // namespace
+
+GimbalModel load_gimbal_model(const std::string& path,
+                              const std::map<std::string, std::string>& overrides) {
+  auto [doc, ctx] = open_model_file(path, overrides);
+  TomlReader root(doc, ctx);
+  GimbalModel m;
+  static_cast<ModelHeader&>(m) = read_model_header(root, "gimbal_static_unbalance");
+  read_rotor_table(root, m);
+  read_motor_table(root, m);
+  read_test_plan_tables(root, m.plan);
+  if (root.has_or_schema("servo")) {
+    m.plan.servo.inertia_estimate = root.table("servo").quantity("inertia_estimate", kInertia, positive);
+  }
+  check_quasi_static_supports(root, m);
+  read_counterweight_and_test_error(root, m);
+  read_plausibility_and_disturbances(root, m);
+  read_tolerances_table(root, m);
+  GeometryInputs g = read_geometry_table(root, path, m);
+  finish(doc, *ctx);
+  attach_geometry(std::move(g), path, m);
   return m;
 }
 

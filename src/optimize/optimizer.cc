@@ -5,7 +5,6 @@
 #include <nlopt.hpp>
 
 #include <algorithm>
-#include <cctype>
 #include <exception>
 #include <limits>
 #include <map>
@@ -14,6 +13,7 @@
 #include <stdexcept>
 
 #include "core/error.h"
+#include "optimize/nlopt_algorithms.h"
 
 namespace poise::optimize {
 namespace {
@@ -21,68 +21,6 @@ namespace {
 /// What the algorithms see for a failed evaluation (objective and every constraint), and after
 /// the evaluation cap was reached (the search is being stopped then).
 constexpr double kBad = 1e30;
-
-struct AlgorithmInfo {
-  Algorithm algorithm;
-  const char* name;
-  const char* advice;
-};
-
-constexpr AlgorithmInfo kAlgorithms[] = {
-    {Algorithm::kCobyla, "cobyla",
-     "COBYLA: local, derivative-free (linear models); native nonlinear inequality constraints; "
-     "robust on non-smooth but noise-free objectives; slow final convergence"},
-    {Algorithm::kBobyqa, "bobyqa",
-     "BOBYQA: local, derivative-free (quadratic models); fastest on smooth objectives; bounds only, "
-     "constraints via the augmented Lagrangian (AUGLAG); poor with noise or failed points"},
-    {Algorithm::kSbplx, "sbplx",
-     "Sbplx: local, derivative-free (Nelder-Mead on subspaces); tolerant of noise and "
-     "non-smoothness, more evaluations than BOBYQA; constraints via AUGLAG"},
-    {Algorithm::kNelderMead, "neldermead",
-     "Nelder-Mead: local, derivative-free simplex; simple and robust for a few non-smooth variables, "
-     "may stall in higher dimensions (prefer Sbplx); constraints via AUGLAG"},
-    {Algorithm::kDirectL, "direct_l",
-     "DIRECT-L: global, deterministic box division; bounded boxes with few variables (<= ~5) and "
-     "cheap evaluations; ignores the start point; constraints via AUGLAG (slow)"},
-    {Algorithm::kIsres, "isres",
-     "ISRES: global, stochastic evolution strategy (seeded); native nonlinear constraints; "
-     "needs many evaluations (thousands)"},
-};
-
-const AlgorithmInfo& info(Algorithm a) {
-  for (const auto& i : kAlgorithms) {
-    if (i.algorithm == a) return i;
-  }
-  throw Error("unknown optimization algorithm value " + std::to_string(static_cast<int>(a)));
-}
-
-nlopt::algorithm nlopt_algorithm(Algorithm a) {
-  switch (a) {
-    case Algorithm::kCobyla: return nlopt::LN_COBYLA;
-    case Algorithm::kBobyqa: return nlopt::LN_BOBYQA;
-    case Algorithm::kSbplx: return nlopt::LN_SBPLX;
-    case Algorithm::kNelderMead: return nlopt::LN_NELDERMEAD;
-    case Algorithm::kDirectL: return nlopt::GN_DIRECT_L;
-    case Algorithm::kIsres: return nlopt::GN_ISRES;
-  }
-  throw Error("unknown optimization algorithm value " + std::to_string(static_cast<int>(a)));
-}
-
-bool is_global(Algorithm a) { return a == Algorithm::kDirectL || a == Algorithm::kIsres; }
-bool has_native_constraints(Algorithm a) { return a == Algorithm::kCobyla || a == Algorithm::kIsres; }
-
-std::string result_words(nlopt::result r) {
-  switch (r) {
-    case nlopt::SUCCESS: return "converged (NLOPT_SUCCESS)";
-    case nlopt::STOPVAL_REACHED: return "converged: stopval reached (NLOPT_STOPVAL_REACHED)";
-    case nlopt::FTOL_REACHED: return "converged: ftol_rel reached (NLOPT_FTOL_REACHED)";
-    case nlopt::XTOL_REACHED: return "converged: xtol_rel reached (NLOPT_XTOL_REACHED)";
-    case nlopt::MAXEVAL_REACHED: return "stopped: max_evaluations reached (NLOPT_MAXEVAL_REACHED)";
-    case nlopt::MAXTIME_REACHED: return "stopped: time limit reached (NLOPT_MAXTIME_REACHED)";
-    default: break;
-  }
-  return "NLopt result code " + std::to_string(static_cast<int>(r));
-}
 
 std::string number(double v) {
   std::ostringstream s;
@@ -118,7 +56,7 @@ void validate(const std::vector<Variable>& vars, const Options& opt) {
   require(std::isfinite(opt.constraint_tolerance) && opt.constraint_tolerance >= 0.0,
           "optimizer: constraint_tolerance must be finite and >= 0 (got " +
               number(opt.constraint_tolerance) + ")");
-  (void)info(opt.algorithm);
+  check_algorithm(opt.algorithm);
 }
 
 /// State of one minimize call, shared by the NLopt callbacks (all in scaled coordinates u).
@@ -286,63 +224,32 @@ std::size_t pick_best(const std::vector<HistoryEntry>& history, bool& feasible) 
   return best;
 }
 
-}  // namespace
-
-Algorithm parse_algorithm(std::string_view name) {
-  std::string lower(name);
-  for (char& c : lower) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  std::string names;
-  for (const auto& i : kAlgorithms) {
-    if (lower == i.name) return i.algorithm;
-    names += names.empty() ? "" : ", ";
-    names += i.name;
-  }
-  throw Error("unknown optimization algorithm '" + std::string(name) + "': expected one of " +
-              names);
+// AUGLAG's outer iterations, with the chosen algorithm as its subsidiary.
+void set_auglag_subsidiary(nlopt::opt& o, unsigned n, const Options& opt, bool local) {
+  o.set_ftol_rel(opt.ftol_rel);  // AUGLAG's outer iterations, also around DIRECT-L
+  // The subsidiary's limits apply per subproblem; Run counts the total and force-stops.
+  // DIRECT-L does not converge by itself: with the whole budget per subproblem the first one
+  // (weakest penalty) spends every evaluation. A tenth of the total per subproblem: on
+  // min x + y s.t. x y >= 1/2, max_evaluations = 1000 ends at f* + 2e-4 after 326 calls
+  // (3000: f* + 2e-6), against f* + 7e-2 after 3000 calls with the whole budget.
+  nlopt::opt sub(nlopt_algorithm(opt.algorithm), n);
+  configure(sub, n, opt, local);
+  if (!local) sub.set_maxeval(std::max(1, opt.max_evaluations / 10));
+  o.set_local_optimizer(sub);
 }
 
-std::string to_string(Algorithm algorithm) { return info(algorithm).name; }
-
-std::string algorithm_advice(Algorithm algorithm) { return info(algorithm).advice; }
-
-Result minimize(const Problem& f, const std::vector<Variable>& vars, const Options& opt) {
-  validate(vars, opt);
-  require(static_cast<bool>(f), "optimizer: the problem function is empty");
-  const auto n = static_cast<unsigned>(vars.size());
-  const bool local = !is_global(opt.algorithm);
-  const bool auglag = opt.constraints > 0 && !has_native_constraints(opt.algorithm);
-
-  Run run(f, vars, opt);
-  nlopt::opt o(auglag ? (local ? nlopt::LN_AUGLAG : nlopt::AUGLAG) : nlopt_algorithm(opt.algorithm),
-               n);
-  configure(o, n, opt, local);
-  if (auglag) {
-    o.set_ftol_rel(opt.ftol_rel);  // AUGLAG's outer iterations, also around DIRECT-L
-    // The subsidiary's limits apply per subproblem; Run counts the total and force-stops.
-    // DIRECT-L does not converge by itself: with the whole budget per subproblem the first one
-    // (weakest penalty) spends every evaluation. A tenth of the total per subproblem: on
-    // min x + y s.t. x y >= 1/2, max_evaluations = 1000 ends at f* + 2e-4 after 326 calls
-    // (3000: f* + 2e-6), against f* + 7e-2 after 3000 calls with the whole budget.
-    nlopt::opt sub(nlopt_algorithm(opt.algorithm), n);
-    configure(sub, n, opt, local);
-    if (!local) sub.set_maxeval(std::max(1, opt.max_evaluations / 10));
-    o.set_local_optimizer(sub);
-  }
-  run.set_stopper(&o);
-  o.set_min_objective(objective_callback, &run);
-  std::vector<ConstraintData> constraint_data(opt.constraints);
-  for (std::size_t i = 0; i < opt.constraints; ++i) {
-    constraint_data[i] = ConstraintData{&run, i};
-    o.add_inequality_constraint(constraint_callback, &constraint_data[i], opt.constraint_tolerance);
-  }
-  if (opt.algorithm == Algorithm::kIsres) nlopt::srand(static_cast<unsigned long>(opt.seed));
-
-  std::vector<double> u(n);
-  for (unsigned i = 0; i < n; ++i) {
+// The start point in [0, 1]^n (each variable's fraction of its range).
+std::vector<double> start_point(const std::vector<Variable>& vars) {
+  std::vector<double> u(vars.size());
+  for (std::size_t i = 0; i < vars.size(); ++i) {
     const Variable& v = vars[i];
     u[i] = std::clamp((v.start - v.lower) / (v.upper - v.lower), 0.0, 1.0);
   }
+  return u;
+}
 
+// Runs NLopt from u: how it stopped, in words. An error of the problem is rethrown.
+std::string optimize_status(nlopt::opt& o, Run& run, std::vector<double>& u, const Options& opt) {
   std::string status;
   try {
     double fu = 0.0;
@@ -366,7 +273,11 @@ Result minimize(const Problem& f, const std::vector<Variable>& vars, const Optio
     status = std::string("stopped: NLopt failure: ") + e.what() + " (NLOPT_FAILURE)";
   }
   if (run.error()) std::rethrow_exception(run.error());
+  return status;
+}
 
+// The history, the best (or least violating) point and the status.
+Result collect_result(Run& run, std::string status, const Options& opt) {
   Result result;
   result.history = std::move(run.history());
   result.evaluations = static_cast<int>(result.history.size());
@@ -390,6 +301,34 @@ Result minimize(const Problem& f, const std::vector<Variable>& vars, const Optio
   }
   result.status = std::move(status);
   return result;
+}
+
+}  // namespace
+
+Result minimize(const Problem& f, const std::vector<Variable>& vars, const Options& opt) {
+  validate(vars, opt);
+  require(static_cast<bool>(f), "optimizer: the problem function is empty");
+  const auto n = static_cast<unsigned>(vars.size());
+  const bool local = !is_global(opt.algorithm);
+  const bool auglag = opt.constraints > 0 && !has_native_constraints(opt.algorithm);
+
+  Run run(f, vars, opt);
+  nlopt::opt o(auglag ? (local ? nlopt::LN_AUGLAG : nlopt::AUGLAG) : nlopt_algorithm(opt.algorithm),
+               n);
+  configure(o, n, opt, local);
+  if (auglag) set_auglag_subsidiary(o, n, opt, local);
+  run.set_stopper(&o);
+  o.set_min_objective(objective_callback, &run);
+  std::vector<ConstraintData> constraint_data(opt.constraints);
+  for (std::size_t i = 0; i < opt.constraints; ++i) {
+    constraint_data[i] = ConstraintData{&run, i};
+    o.add_inequality_constraint(constraint_callback, &constraint_data[i], opt.constraint_tolerance);
+  }
+  if (opt.algorithm == Algorithm::kIsres) nlopt::srand(static_cast<unsigned long>(opt.seed));
+
+  std::vector<double> u = start_point(vars);
+  std::string status = optimize_status(o, run, u, opt);
+  return collect_result(run, std::move(status), opt);
 }
 
 }  // namespace poise::optimize

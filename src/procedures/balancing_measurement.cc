@@ -73,17 +73,21 @@ double slowest_decay_rate(const models::SpringPlateMachineParams& p) {
   return sigma;
 }
 
-BalancingMeasurement run_balancing_measurement(const models::SpringPlateMachineParams& machine,
-                                               const models::SpringPlateUnbalance& unbalance,
-                                               const BalancingRunConfig& run, const SensorConfig& sensors,
-                                               sampling::RandomStream& noise, BalancingWorkspace& ws) {
+namespace {
+
+void check_run(const BalancingRunConfig& run, const SensorConfig& sensors) {
   require(run.speed_rpm > 0.0, "balancing measurement: speed_rpm must be > 0");
   require(run.revolutions >= 2, "balancing measurement: at least 2 whole revolutions (settling check)");
   require(run.settle_time_constants >= 0.0 && run.min_settle_revolutions >= 0,
           "balancing measurement: settling must not be negative");
   require(sensors.sample_rate_hz > 0.0 && sensors.noise_rms >= 0.0,
           "balancing measurement: sample rate must be > 0 and noise rms >= 0");
-  BalancingMeasurement out;
+}
+
+// The run's timing into `out`: speed, settling (whole revolutions, from the slowest decay)
+// and samples per revolution.
+void set_timing(const models::SpringPlateMachineParams& machine, const BalancingRunConfig& run,
+                const SensorConfig& sensors, BalancingMeasurement& out) {
   const double omega = models::rpm_to_rad_per_s(run.speed_rpm);
   const double period = 2.0 * units::kPi / omega;
   out.omega = omega;
@@ -94,11 +98,12 @@ BalancingMeasurement run_balancing_measurement(const models::SpringPlateMachineP
   out.settle_time = out.settle_revolutions * period;
   const double spr_real = std::round(sensors.sample_rate_hz * period);
   require(spr_real >= 3.0 && spr_real < 1e8, "balancing measurement: need 3 or more samples per revolution");
-  const int spr = static_cast<int>(spr_real);
-  out.samples_per_revolution = spr;
+  out.samples_per_revolution = static_cast<int>(spr_real);
+}
 
-  // Scale the states by the size of the exact steady state (a floor for a zero unbalance).
-  Context& c = ws.context();
+// Scale the states by the size of the exact steady state (a floor for a zero unbalance).
+void scale_states(Context& c, const models::SpringPlateMachineParams& machine,
+                  const models::SpringPlateUnbalance& unbalance, double omega) {
   c.data = {machine, unbalance, omega};
   const Eigen::Vector2cd xs = models::steady_state_response(machine, unbalance, omega);
   models::SpringPlateUnbalance unit;
@@ -110,28 +115,44 @@ BalancingMeasurement run_balancing_measurement(const models::SpringPlateMachineP
   c.scale[2] = std::max(std::abs(xs(1)), std::abs(floor(1)));
   c.scale[1] = w2 * c.scale[0];
   c.scale[3] = w2 * c.scale[2];
+}
 
-  solvers::CvodeIntegrator& integ = ws.integrator();
-  const std::array<double, kStates> y0{};
-  integ.reset(0.0, y0);  // zeroes the solver's counters
-  const double t1 = out.settle_time;
-  const double t2 = t1 + run.revolutions * period;
-  if (t1 > 0.0) {
-    integ.advance(t1, t1, false);  // settle: start transient
-  } else {
-    integ.advance(t2, t2, true);   // one step, so that the interpolant exists at t = 0
-  }
+// The sampled window: `revolutions` whole revolutions from t1 to t2, spr samples dt apart in each.
+struct SampleWindow {
+  double t1 = 0.0, t2 = 0.0, period = 0.0, dt = 0.0;
+  int spr = 0, revolutions = 0;
+  long n_samples = 0;
+};
 
-  sampling::NormalStream normal(&noise);
-  // Each sensor reads its own plate as built: sensor 1 the horizontal plate that carries it
-  // (k5,1), sensor 2 the torsional plate's force (its end condition's share of k6 l theta).
-  const double k5 = machine.sensor_1_plate_stiffness > 0.0 ? machine.sensor_1_plate_stiffness
-                                                           : machine.horizontal_plate_stiffness;
-  const double k6l = machine.torsion_split.force_factor * machine.torsional_plate_stiffness * machine.lever;
-  const double g1 = 1.0 + sensors.gain_error_1, g2 = 1.0 + sensors.gain_error_2;
-  const long n_samples = static_cast<long>(run.revolutions) * spr;
-  const double dt = period / spr;
-  // Sums e^{-i phi} s over the window and over each of the last two revolutions.
+// Each sensor reads its own plate as built: sensor 1 the horizontal plate that carries it
+// (k5,1), sensor 2 the torsional plate's force (its end condition's share of k6 l theta).
+struct SensorReadout {
+  double k5 = 0.0, k6l = 0.0, g1 = 1.0, g2 = 1.0;
+};
+
+SensorReadout sensor_readout(const models::SpringPlateMachineParams& machine, const SensorConfig& sensors) {
+  SensorReadout r;
+  r.k5 = machine.sensor_1_plate_stiffness > 0.0 ? machine.sensor_1_plate_stiffness : machine.horizontal_plate_stiffness;
+  r.k6l = machine.torsion_split.force_factor * machine.torsional_plate_stiffness * machine.lever;
+  r.g1 = 1.0 + sensors.gain_error_1;
+  r.g2 = 1.0 + sensors.gain_error_2;
+  return r;
+}
+
+// Sums e^{-i phi} s over the window and over each of the last two revolutions.
+struct DemodulationSums {
+  cd sum1 = 0.0, sum2 = 0.0;
+  std::array<cd, 2> rev1{}, rev2{};  // [0] = previous revolution, [1] = last
+};
+
+DemodulationSums sample_and_demodulate(solvers::CvodeIntegrator& integ, const Context& c, const SampleWindow& w,
+                                       const SensorReadout& r, const SensorConfig& sensors,
+                                       sampling::NormalStream& normal) {
+  const double t1 = w.t1, t2 = w.t2, period = w.period, dt = w.dt;
+  const int spr = w.spr;
+  const long n_samples = w.n_samples;
+  const double k5 = r.k5, k6l = r.k6l, g1 = r.g1, g2 = r.g2;
+  const int revolutions = w.revolutions;
   cd sum1 = 0.0, sum2 = 0.0;
   std::array<cd, 2> rev1{}, rev2{};  // [0] = previous revolution, [1] = last
   std::array<double, kStates> y{};
@@ -155,17 +176,54 @@ BalancingMeasurement run_balancing_measurement(const models::SpringPlateMachineP
     const cd e = std::polar(1.0, -2.0 * units::kPi * static_cast<double>(j) / spr);
     sum1 += f1 * e;
     sum2 += f2 * e;
-    if (rev >= run.revolutions - 2) {
-      const auto r = static_cast<std::size_t>(rev - (run.revolutions - 2));
-      rev1[r] += f1 * e;
-      rev2[r] += f2 * e;
+    if (rev >= revolutions - 2) {
+      const auto ri = static_cast<std::size_t>(rev - (revolutions - 2));
+      rev1[ri] += f1 * e;
+      rev2[ri] += f2 * e;
     }
     ++k;
   }
-  out.amplitudes = Eigen::Vector2cd(sum1, sum2) * (2.0 / static_cast<double>(n_samples));
+  return {sum1, sum2, rev1, rev2};
+}
+
+}  // namespace
+
+BalancingMeasurement run_balancing_measurement(const models::SpringPlateMachineParams& machine,
+                                               const models::SpringPlateUnbalance& unbalance,
+                                               const BalancingRunConfig& run, const SensorConfig& sensors,
+                                               sampling::RandomStream& noise, BalancingWorkspace& ws) {
+  check_run(run, sensors);
+  BalancingMeasurement out;
+  set_timing(machine, run, sensors, out);
+  const double period = 2.0 * units::kPi / out.omega;
+  const int spr = out.samples_per_revolution;
+
+  Context& c = ws.context();
+  scale_states(c, machine, unbalance, out.omega);
+
+  solvers::CvodeIntegrator& integ = ws.integrator();
+  const std::array<double, kStates> y0{};
+  integ.reset(0.0, y0);  // zeroes the solver's counters
+  SampleWindow w;
+  w.t1 = out.settle_time;
+  w.t2 = w.t1 + run.revolutions * period;
+  if (w.t1 > 0.0) {
+    integ.advance(w.t1, w.t1, false);  // settle: start transient
+  } else {
+    integ.advance(w.t2, w.t2, true);   // one step, so that the interpolant exists at t = 0
+  }
+  w.period = period;
+  w.spr = spr;
+  w.revolutions = run.revolutions;
+  w.n_samples = static_cast<long>(run.revolutions) * spr;
+  w.dt = period / spr;
+
+  sampling::NormalStream normal(&noise);
+  const DemodulationSums s = sample_and_demodulate(integ, c, w, sensor_readout(machine, sensors), sensors, normal);
+  out.amplitudes = Eigen::Vector2cd(s.sum1, s.sum2) * (2.0 / static_cast<double>(w.n_samples));
   const double per_rev = 2.0 / spr;
-  out.last_revolution_change(0) = std::abs(rev1[1] - rev1[0]) * per_rev / std::abs(out.amplitudes(0));
-  out.last_revolution_change(1) = std::abs(rev2[1] - rev2[0]) * per_rev / std::abs(out.amplitudes(1));
+  out.last_revolution_change(0) = std::abs(s.rev1[1] - s.rev1[0]) * per_rev / std::abs(out.amplitudes(0));
+  out.last_revolution_change(1) = std::abs(s.rev2[1] - s.rev2[0]) * per_rev / std::abs(out.amplitudes(1));
   out.solver = integ.stats();
   return out;
 }

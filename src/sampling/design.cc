@@ -11,6 +11,36 @@
 
 namespace poise::sampling {
 
+namespace {
+
+// Point i of the Sobol sequence in u.size() dimensions: linearly scrambled with the rows of
+// `scramble` (none when empty), then digitally shifted by `shift`.
+void sobol_point(std::size_t i, std::span<const std::uint64_t> shift, std::span<const std::uint64_t> scramble,
+                 std::span<double> u) {
+  const std::size_t dimension = u.size();
+  if (dimension == 0) return;
+  // One engine per thread, re-positioned to point i (Gray-code jump, O(dim*64)).
+  // Boost's seed(k) positions the engine so that its next vector is point k+1; point 0
+  // is the origin, which the digital shift moves off zero.
+  thread_local boost::random::sobol engine(1);
+  if (engine.dimension() != dimension) engine = boost::random::sobol(dimension);
+  if (i > 0) engine.seed(static_cast<boost::uint_least64_t>(i) - 1);
+  for (std::size_t d = 0; d < dimension; ++d) {
+    std::uint64_t raw = i > 0 ? static_cast<std::uint64_t>(engine()) : 0;
+    if (!scramble.empty()) {
+      std::uint64_t y = 0;
+      for (int k = 0; k < 64; ++k) {
+        const auto bit = static_cast<std::uint64_t>(std::popcount(raw & scramble[d * 64 + static_cast<std::size_t>(k)]) & 1);
+        y |= bit << (63 - k);
+      }
+      raw = y;
+    }
+    u[d] = to_open_unit(raw ^ shift[d]);
+  }
+}
+
+}  // namespace
+
 SamplingMethod parse_sampling_method(std::string_view name) {
   if (name == "monte_carlo") return SamplingMethod::kMonteCarlo;
   if (name == "lhs") return SamplingMethod::kLatinHypercube;
@@ -157,28 +187,9 @@ void Design::point(std::size_t i, std::span<double> u) const {
       }
       break;
     }
-    case SamplingMethod::kSobol: {
-      if (dimension_ == 0) return;
-      // One engine per thread, re-positioned to point i (Gray-code jump, O(dim*64)).
-      // Boost's seed(k) positions the engine so that its next vector is point k+1; point 0
-      // is the origin, which the digital shift moves off zero.
-      thread_local boost::random::sobol engine(1);
-      if (engine.dimension() != dimension_) engine = boost::random::sobol(dimension_);
-      if (i > 0) engine.seed(static_cast<boost::uint_least64_t>(i) - 1);
-      for (std::size_t d = 0; d < dimension_; ++d) {
-        std::uint64_t raw = i > 0 ? static_cast<std::uint64_t>(engine()) : 0;
-        if (!sobol_scramble_.empty()) {
-          std::uint64_t y = 0;
-          for (int k = 0; k < 64; ++k) {
-            const auto bit = static_cast<std::uint64_t>(std::popcount(raw & sobol_scramble_[d * 64 + static_cast<std::size_t>(k)]) & 1);
-            y |= bit << (63 - k);
-          }
-          raw = y;
-        }
-        u[d] = to_open_unit(raw ^ sobol_shift_[d]);
-      }
+    case SamplingMethod::kSobol:
+      sobol_point(i, sobol_shift_, sobol_scramble_, u);
       break;
-    }
   }
 }
 

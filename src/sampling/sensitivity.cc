@@ -86,11 +86,8 @@ Spread spread(std::vector<double>& reps) {
 
 Estimate with_spread(double value, const Spread& s) { return {value, s.lo, s.hi, {}}; }
 
-}  // namespace
-
-SobolResult sobol_indices(std::span<const double> fA, std::span<const double> fB,
-                          const std::vector<std::span<const double>>& fAB, std::uint64_t seed,
-                          std::size_t bootstrap_resamples) {
+void check_sobol_inputs(std::span<const double> fA, std::span<const double> fB,
+                        const std::vector<std::span<const double>>& fAB) {
   const std::size_t N = fA.size(), k = fAB.size();
   require(fB.size() == N, "Sobol indices: f(A) has " + std::to_string(N) + " values but f(B) has " +
                               std::to_string(fB.size()));
@@ -100,22 +97,26 @@ SobolResult sobol_indices(std::span<const double> fA, std::span<const double> fB
                                     std::to_string(fAB[g].size()) + " values, expected " +
                                     std::to_string(N));
   }
+}
 
-  SobolResult res;
-  res.groups.resize(k);
-  res.first_sum.value = kNaN;
-  for (auto& gi : res.groups) gi.first.value = gi.total.value = kNaN;
-  res.variance = kNaN;
+// The base rows R (f(A) and f(B) finite), each group's rows R_g counted into res, and the
+// column layout they give.
+struct BaseRows {
+  std::vector<std::size_t> rows;
+  Layout layout;
+};
 
-  // Base rows R and the per-group rows R_g.
-  std::vector<std::size_t> base;
+BaseRows base_rows(std::span<const double> fA, std::span<const double> fB,
+                   const std::vector<std::span<const double>>& fAB, SobolResult& res) {
+  const std::size_t N = fA.size(), k = fAB.size();
+  BaseRows out;
+  std::vector<std::size_t>& base = out.rows;
   base.reserve(N);
   for (std::size_t j = 0; j < N; ++j) {
     if (std::isfinite(fA[j]) && std::isfinite(fB[j])) base.push_back(j);
   }
   const std::size_t n = base.size();
-  res.n = n;
-  Layout layout;
+  Layout& layout = out.layout;
   layout.group_col.resize(k);
   layout.count_col.assign(k, npos);
   for (std::size_t g = 0; g < k; ++g) {
@@ -128,21 +129,16 @@ SobolResult sobol_indices(std::span<const double> fA, std::span<const double> fB
   for (std::size_t g = 0; g < k; ++g) {
     if (res.groups[g].rows_used < n) layout.count_col[g] = layout.cols++;
   }
-  if (n < 2) {
-    res.note = "fewer than 2 rows with f(A) and f(B) both finite (" + std::to_string(n) + " of " +
-               std::to_string(N) + "): indices undefined";
-    return res;
-  }
+  return out;
+}
 
-  // Shift and constant-output check.
-  double shift = 0.0, max_abs = 0.0;
-  for (std::size_t j : base) {
-    shift += fA[j] + fB[j];
-    max_abs = std::max({max_abs, std::abs(fA[j]), std::abs(fB[j])});
-  }
-  shift /= 2.0 * static_cast<double>(n);
-
-  // Row-major table of the columns (n x cols).
+// Row-major table of the columns (n x cols) of the base rows, shifted by `shift`.
+std::vector<double> column_table(std::span<const double> fA, std::span<const double> fB,
+                                 const std::vector<std::span<const double>>& fAB, const BaseRows& rows,
+                                 double shift) {
+  const std::vector<std::size_t>& base = rows.rows;
+  const Layout& layout = rows.layout;
+  const std::size_t n = base.size(), k = fAB.size();
   const std::size_t C = layout.cols;
   std::vector<double> X(n * C, 0.0);
   for (std::size_t r = 0; r < n; ++r) {
@@ -162,42 +158,27 @@ SobolResult sobol_indices(std::span<const double> fA, std::span<const double> fB
       if (layout.count_col[g] != npos) x[layout.count_col[g]] = 1.0;
     }
   }
+  return X;
+}
 
-  // Estimates on the data.
-  std::vector<double> sums(C, 0.0);
-  for (std::size_t r = 0; r < n; ++r) {
-    const double* x = X.data() + r * C;
-    for (std::size_t c = 0; c < C; ++c) sums[c] += x[c];
-  }
-  Replicate est;
-  indices_from_sums(layout, sums.data(), static_cast<double>(n), est);
-  res.variance = est.variance;
-  if (!(std::sqrt(est.variance) > kConstantOutputTolerance * max_abs)) {
-    char buf[160];
-    std::snprintf(buf, sizeof buf, "constant output (standard deviation %.3g <= %.0e x max |f| = %.6g)",
-                  std::sqrt(est.variance), kConstantOutputTolerance, max_abs);
-    res.note = std::string(buf) + ": indices undefined";
-    return res;
-  }
-  for (std::size_t g = 0; g < k; ++g) {
-    res.groups[g].first.value = est.first[g];
-    res.groups[g].total.value = est.total[g];
-    if (res.groups[g].rows_used == 0) {
-      res.note += std::string(res.note.empty() ? "" : "; ") + "group " + std::to_string(g) +
-                  ": no row with f(A), f(B) and f(AB) all finite, indices undefined";
-    }
-  }
-  res.first_sum.value = est.first_sum;
-  if (bootstrap_resamples == 0) return res;
-  require(n < (std::uint64_t{1} << 32), "Sobol indices: bootstrap limited to 2^32 rows");
+// The bootstrap replicates of every index (per group: first, total; and the first-order sum).
+struct BootstrapReplicates {
+  std::vector<std::vector<double>> first, total;
+  std::vector<double> first_sum;
+};
 
-  // Bootstrap: resamples in batches of kBatch. A resample is the count w_r of each base
-  // row (how often it was drawn); one pass over the table per batch accumulates w_r x_r into
-  // each resample's sums, so the table is read once per batch, not once per resample.
+// Bootstrap: resamples in batches of kBatch. A resample is the count w_r of each base
+// row (how often it was drawn); one pass over the table per batch accumulates w_r x_r into
+// each resample's sums, so the table is read once per batch, not once per resample.
+BootstrapReplicates bootstrap(const std::vector<double>& X, const Layout& layout, std::size_t n, std::uint64_t seed,
+                              std::size_t bootstrap_resamples) {
+  const std::size_t k = layout.group_col.size(), C = layout.cols;
   const std::size_t B = bootstrap_resamples;
-  std::vector<std::vector<double>> first_reps(k, std::vector<double>(B));
-  std::vector<std::vector<double>> total_reps(k, std::vector<double>(B));
-  std::vector<double> sum_reps(B);
+  BootstrapReplicates out{std::vector<std::vector<double>>(k, std::vector<double>(B)),
+                          std::vector<std::vector<double>>(k, std::vector<double>(B)), std::vector<double>(B)};
+  std::vector<std::vector<double>>& first_reps = out.first;
+  std::vector<std::vector<double>>& total_reps = out.total;
+  std::vector<double>& sum_reps = out.first_sum;
   constexpr std::size_t kBatch = 8;
   std::vector<std::uint32_t> w(kBatch * n);  // [resample in batch][row], one resample's in cache
   std::vector<double> acc(kBatch * C);
@@ -238,16 +219,85 @@ SobolResult sobol_indices(std::span<const double> fA, std::span<const double> fB
       sum_reps[r0 + b] = rep.first_sum;
     }
   }
-  for (std::size_t g = 0; g < k; ++g) {
-    const Spread sf = spread(first_reps[g]), st = spread(total_reps[g]);
+  return out;
+}
+
+// Each index's percentile interval and standard error from its replicates.
+void set_spreads(BootstrapReplicates& reps, SobolResult& res) {
+  for (std::size_t g = 0; g < res.groups.size(); ++g) {
+    const Spread sf = spread(reps.first[g]), st = spread(reps.total[g]);
     res.groups[g].first = with_spread(res.groups[g].first.value, sf);
     res.groups[g].total = with_spread(res.groups[g].total.value, st);
     res.groups[g].first_se = sf.se;
     res.groups[g].total_se = st.se;
   }
-  const Spread ss = spread(sum_reps);
+  const Spread ss = spread(reps.first_sum);
   res.first_sum = with_spread(res.first_sum.value, ss);
   res.first_sum_se = ss.se;
+}
+
+}  // namespace
+
+SobolResult sobol_indices(std::span<const double> fA, std::span<const double> fB,
+                          const std::vector<std::span<const double>>& fAB, std::uint64_t seed,
+                          std::size_t bootstrap_resamples) {
+  check_sobol_inputs(fA, fB, fAB);
+  const std::size_t N = fA.size(), k = fAB.size();
+  SobolResult res;
+  res.groups.resize(k);
+  res.first_sum.value = kNaN;
+  for (auto& gi : res.groups) gi.first.value = gi.total.value = kNaN;
+  res.variance = kNaN;
+
+  // Base rows R and the per-group rows R_g.
+  const BaseRows rows = base_rows(fA, fB, fAB, res);
+  const std::size_t n = rows.rows.size();
+  res.n = n;
+  if (n < 2) {
+    res.note = "fewer than 2 rows with f(A) and f(B) both finite (" + std::to_string(n) + " of " +
+               std::to_string(N) + "): indices undefined";
+    return res;
+  }
+
+  // Shift and constant-output check.
+  double shift = 0.0, max_abs = 0.0;
+  for (std::size_t j : rows.rows) {
+    shift += fA[j] + fB[j];
+    max_abs = std::max({max_abs, std::abs(fA[j]), std::abs(fB[j])});
+  }
+  shift /= 2.0 * static_cast<double>(n);
+  const std::vector<double> X = column_table(fA, fB, fAB, rows, shift);
+
+  // Estimates on the data.
+  const std::size_t C = rows.layout.cols;
+  std::vector<double> sums(C, 0.0);
+  for (std::size_t r = 0; r < n; ++r) {
+    const double* x = X.data() + r * C;
+    for (std::size_t c = 0; c < C; ++c) sums[c] += x[c];
+  }
+  Replicate est;
+  indices_from_sums(rows.layout, sums.data(), static_cast<double>(n), est);
+  res.variance = est.variance;
+  if (!(std::sqrt(est.variance) > kConstantOutputTolerance * max_abs)) {
+    char buf[160];
+    std::snprintf(buf, sizeof buf, "constant output (standard deviation %.3g <= %.0e x max |f| = %.6g)",
+                  std::sqrt(est.variance), kConstantOutputTolerance, max_abs);
+    res.note = std::string(buf) + ": indices undefined";
+    return res;
+  }
+  for (std::size_t g = 0; g < k; ++g) {
+    res.groups[g].first.value = est.first[g];
+    res.groups[g].total.value = est.total[g];
+    if (res.groups[g].rows_used == 0) {
+      res.note += std::string(res.note.empty() ? "" : "; ") + "group " + std::to_string(g) +
+                  ": no row with f(A), f(B) and f(AB) all finite, indices undefined";
+    }
+  }
+  res.first_sum.value = est.first_sum;
+  if (bootstrap_resamples == 0) return res;
+  require(n < (std::uint64_t{1} << 32), "Sobol indices: bootstrap limited to 2^32 rows");
+  BootstrapReplicates reps = bootstrap(X, rows.layout, n, seed, bootstrap_resamples);
+  set_spreads(reps, res);
   return res;
 }
 

@@ -88,12 +88,17 @@ struct PointPass1 {
   double sum = 0.0;
 };
 
-}  // namespace
+// Pass 1's pooled figures: the count and mean of every value, and the count of every
+// upper-16-bit bin.
+struct Pass1Totals {
+  sampling::SummaryMoments m;
+  std::vector<std::uint64_t> bins;
+};
 
-FieldStatistics field_statistics(std::size_t columns, const FieldColumnSource& column,
-                                 std::span<const double> quantiles, int threads, std::size_t collect_limit) {
-  FieldStatistics out;
-  out.per_point.assign(quantiles.size(), std::vector<double>(columns, NAN));
+// Pass 1: per-point quantiles (into out.per_point), sums and counts, the upper-16-bit counts
+// of every value.
+Pass1Totals pass_1(std::size_t columns, const FieldColumnSource& column, std::span<const double> quantiles,
+                   int threads, FieldStatistics& out) {
   std::vector<PointPass1> pass1(columns);
   struct Local {
     std::vector<float> column;
@@ -105,8 +110,6 @@ FieldStatistics field_statistics(std::size_t columns, const FieldColumnSource& c
     l.bins.assign(kBins, 0);
     return l;
   });
-
-  // Pass 1: per-point quantiles, sums and counts, the upper-16-bit counts of every value.
   run_on_threads(threads, [&] {
     tbb::parallel_for(std::size_t{0}, columns, [&](std::size_t p) {
       Local& l = locals.local();
@@ -136,51 +139,71 @@ FieldStatistics field_statistics(std::size_t columns, const FieldColumnSource& c
       }
     }, tbb::simple_partitioner());  // one point per task: no thread left with a long last share
   });
-  sampling::SummaryMoments m;
+  Pass1Totals t;
+  sampling::SummaryMoments& m = t.m;
   for (const auto& c : pass1) {  // in point order: the same sum for any thread count
     m.n += c.n;
     m.mean += c.sum;
   }
-  if (m.n == 0) return out;
+  if (m.n == 0) return t;
   m.mean /= static_cast<double>(m.n);
-  std::vector<std::uint64_t> bins(kBins, 0);
+  t.bins.assign(kBins, 0);
   for (const auto& l : locals) {
-    for (std::size_t b = 0; b < kBins; ++b) bins[b] += l.bins[b];
+    for (std::size_t b = 0; b < kBins; ++b) t.bins[b] += l.bins[b];
   }
-  locals.clear();  // each thread's column copies, before pass 2 makes its own
+  return t;  // each thread's column copies go with `locals`, before pass 2 makes its own
+}
 
-  // The bin of each wanted rank and the rank within it.
-  const std::vector<std::size_t> ranks = sampling::summary_ranks(m.n);
+// The bin of each wanted rank (the pooled summary's order statistics) and the rank within it;
+// each wanted bin's slot, and where its values start among all the wanted bins' values.
+struct WantedBins {
   struct Wanted {
     std::size_t bin, rank_in_bin, slot;
   };
+  std::vector<std::size_t> ranks;
   std::vector<Wanted> wanted;
-  std::vector<int> slot_of_bin(kBins, -1);
+  std::vector<int> slot_of_bin;
   std::size_t slots = 0;
+  std::vector<std::size_t> first_of_slot;  // collected: where each wanted bin starts
+  std::size_t in_wanted = 0;               // values in the wanted bins
+};
+
+WantedBins wanted_bins(const std::vector<std::uint64_t>& bins, std::size_t n) {
+  WantedBins w;
+  w.ranks = sampling::summary_ranks(n);
+  w.slot_of_bin.assign(kBins, -1);
   {
     std::size_t below = 0, b = 0;
-    for (std::size_t k : ranks) {  // ascending
+    for (std::size_t k : w.ranks) {  // ascending
       while (below + bins[b] <= k) below += bins[b++];
-      if (slot_of_bin[b] < 0) slot_of_bin[b] = static_cast<int>(slots++);
-      wanted.push_back({b, k - below, static_cast<std::size_t>(slot_of_bin[b])});
+      if (w.slot_of_bin[b] < 0) w.slot_of_bin[b] = static_cast<int>(w.slots++);
+      w.wanted.push_back({b, k - below, static_cast<std::size_t>(w.slot_of_bin[b])});
     }
   }
-
-  // Pass 2: central moments about the pooled mean, and the values within the wanted bins:
-  // collected and sorted when they are few (pass 1 counted them), else their lower 16 bits
-  // counted (a dense count per wanted bin and thread, half a megabyte each).
-  std::size_t in_wanted = 0;
-  std::vector<std::size_t> first_of_slot(slots, 0);  // collected: where each wanted bin starts
+  w.first_of_slot.assign(w.slots, 0);
   for (std::size_t b = 0; b < kBins; ++b) {
-    if (slot_of_bin[b] < 0) continue;
-    first_of_slot[static_cast<std::size_t>(slot_of_bin[b])] = in_wanted;
-    in_wanted += bins[b];
+    if (w.slot_of_bin[b] < 0) continue;
+    w.first_of_slot[static_cast<std::size_t>(w.slot_of_bin[b])] = w.in_wanted;
+    w.in_wanted += bins[b];
   }
-  const bool collect = in_wanted <= collect_limit;
+  return w;
+}
+
+// The wanted bins' values, per thread: their keys (collected) or the counts of their lower
+// 16 bits (a dense count per wanted bin, half a megabyte each).
+struct Pass2Values {
+  tbb::enumerable_thread_specific<std::vector<std::uint32_t>> picked;
+  tbb::enumerable_thread_specific<std::vector<std::uint64_t>> fine;
+};
+
+// Pass 2: central moments about the pooled mean (into m), and the values within the wanted
+// bins into wanted_values.
+void pass_2(std::size_t columns, const FieldColumnSource& column, int threads, const WantedBins& w, bool collect,
+            sampling::SummaryMoments& m, Pass2Values& wanted_values) {
+  const std::vector<int>& slot_of_bin = w.slot_of_bin;
   std::vector<double> m2(columns, 0.0), m4(columns, 0.0);
-  tbb::enumerable_thread_specific<std::vector<std::uint32_t>> picked;  // collect: keys in wanted bins
-  tbb::enumerable_thread_specific<std::vector<std::uint64_t>> fine(
-      [&] { return std::vector<std::uint64_t>(collect ? 0 : slots * kBins, 0); });
+  tbb::enumerable_thread_specific<std::vector<std::uint32_t>>& picked = wanted_values.picked;
+  tbb::enumerable_thread_specific<std::vector<std::uint64_t>>& fine = wanted_values.fine;
   tbb::enumerable_thread_specific<std::vector<float>> columns_2;
   run_on_threads(threads, [&] {
     tbb::parallel_for(std::size_t{0}, columns, [&](std::size_t p) {
@@ -210,29 +233,54 @@ FieldStatistics field_statistics(std::size_t columns, const FieldColumnSource& c
     m.m2 += m2[p];
     m.m4 += m4[p];
   }
-  std::vector<double> value_at_rank(ranks.size());
+}
+
+// The value at each wanted rank: from the collected keys sorted, or from the counts.
+std::vector<double> values_at_ranks(const WantedBins& w, bool collect, const Pass2Values& v) {
+  std::vector<double> value_at_rank(w.ranks.size());
   if (collect) {
     std::vector<std::uint32_t> all, scratch;
-    all.reserve(in_wanted);
-    for (const auto& k : picked) all.insert(all.end(), k.begin(), k.end());
-    require(all.size() == in_wanted, "field statistics: the values of pass 1 and pass 2 differ in number");
+    all.reserve(w.in_wanted);
+    for (const auto& k : v.picked) all.insert(all.end(), k.begin(), k.end());
+    require(all.size() == w.in_wanted, "field statistics: the values of pass 1 and pass 2 differ in number");
     radix_sort(all, scratch);  // the wanted bins in ascending order, each bin's values sorted
-    for (std::size_t w = 0; w < wanted.size(); ++w) {
-      value_at_rank[w] = static_cast<double>(float_of(all[first_of_slot[wanted[w].slot] + wanted[w].rank_in_bin]));
+    for (std::size_t i = 0; i < w.wanted.size(); ++i) {
+      value_at_rank[i] = static_cast<double>(float_of(all[w.first_of_slot[w.wanted[i].slot] + w.wanted[i].rank_in_bin]));
     }
   } else {
-    std::vector<std::uint64_t> counts(slots * kBins, 0);
-    for (const auto& f : fine) {
+    std::vector<std::uint64_t> counts(w.slots * kBins, 0);
+    for (const auto& f : v.fine) {
       for (std::size_t i = 0; i < counts.size(); ++i) counts[i] += f[i];
     }
-    for (std::size_t w = 0; w < wanted.size(); ++w) {
-      const std::uint64_t* c = counts.data() + wanted[w].slot * kBins;
+    for (std::size_t i = 0; i < w.wanted.size(); ++i) {
+      const std::uint64_t* c = counts.data() + w.wanted[i].slot * kBins;
       std::size_t below = 0, low = 0;
-      while (below + c[low] <= wanted[w].rank_in_bin) below += c[low++];
+      while (below + c[low] <= w.wanted[i].rank_in_bin) below += c[low++];
       require(low < kBins, "field statistics: a value counted in pass 1 is missing in pass 2");
-      value_at_rank[w] = static_cast<double>(float_of(static_cast<std::uint32_t>((wanted[w].bin << 16) | low)));
+      value_at_rank[i] = static_cast<double>(float_of(static_cast<std::uint32_t>((w.wanted[i].bin << 16) | low)));
     }
   }
+  return value_at_rank;
+}
+
+}  // namespace
+
+FieldStatistics field_statistics(std::size_t columns, const FieldColumnSource& column,
+                                 std::span<const double> quantiles, int threads, std::size_t collect_limit) {
+  FieldStatistics out;
+  out.per_point.assign(quantiles.size(), std::vector<double>(columns, NAN));
+  Pass1Totals t = pass_1(columns, column, quantiles, threads, out);
+  sampling::SummaryMoments& m = t.m;
+  if (m.n == 0) return out;
+  const WantedBins w = wanted_bins(t.bins, m.n);
+  // Collected and sorted when the wanted bins' values are few (pass 1 counted them), else
+  // their lower 16 bits counted.
+  const bool collect = w.in_wanted <= collect_limit;
+  Pass2Values v{{}, tbb::enumerable_thread_specific<std::vector<std::uint64_t>>(
+                        [&] { return std::vector<std::uint64_t>(collect ? 0 : w.slots * kBins, 0); })};
+  pass_2(columns, column, threads, w, collect, m, v);
+  const std::vector<double> value_at_rank = values_at_ranks(w, collect, v);
+  const std::vector<std::size_t>& ranks = w.ranks;
   out.pooled = sampling::summarize_from(m, [&](std::size_t k) {
     const auto it = std::lower_bound(ranks.begin(), ranks.end(), k);
     require(it != ranks.end() && *it == k, "field statistics: order statistic " + std::to_string(k) + " not selected");

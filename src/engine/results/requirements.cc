@@ -202,81 +202,101 @@ nlohmann::json judge_requirements(const std::vector<Requirement>& requirements, 
   return out;
 }
 
+// The sentence without a requirement: the p95 of the first output with a summary.
+std::string no_requirement_sentence(const json& outputs_summary, const std::vector<OutputSpec>& outputs,
+                                    std::size_t samples, const std::string& partial) {
+  std::string s = "No requirement is declared";
+  for (const auto& o : outputs) {
+    if (!outputs_summary.contains(o.name)) continue;
+    const json& p95 = outputs_summary[o.name]["p95"];
+    s += ": p95 of " + o.name + " is " + with_unit(p95["value"].get<double>(), o.unit);
+    if (p95["ci95"][0].is_number() && p95["ci95"][1].is_number()) {
+      s += " [" + format_significant(p95["ci95"][0].get<double>(), 4) + ", " +
+           format_significant(p95["ci95"][1].get<double>(), 4) + "]";
+    }
+    s += " over " + std::to_string(samples) + " samples";
+    break;
+  }
+  return s + partial + " (state one with [[requirement]] to get a verdict).";
+}
+
+// The requirements' clauses by verdict.
+struct VerdictClauses {
+  std::vector<std::string> met, not_met, undecided;
+};
+
+// One verdict's clause: its figures, with the bound that decides it.
+void add_clause(const json& v, VerdictClauses& c) {
+  const std::string unit = v["limit"]["unit"].get<std::string>();
+  const double limit = v["limit"]["value"].get<double>();
+  std::string clause = requirement_text(v);
+  if (v["value"].is_null()) {
+    c.undecided.push_back(clause + ": no sample ran");
+    return;
+  }
+  const double value = v["value"].get<double>();
+  const std::string pct = std::to_string(static_cast<int>(std::round(v["confidence"].get<double>() * 100.0))) + "%";
+  const std::string side = v["bound_side"].get<std::string>();
+  const std::string verdict = v["verdict"].get<std::string>();
+  // The bound that decides: on the requirement's side for "met", on the other for "not met".
+  const bool other = verdict == "not met";
+  const json& bound = v[other ? "other_bound" : "bound"];
+  const std::string bound_side = other ? (side == "upper" ? "lower" : "upper") : side;
+  std::string figures = "is " + with_unit(value, unit);
+  if (bound.is_number()) figures += " (" + bound_side + " " + pct + " bound " + format_significant(bound.get<double>(), 4) + ")";
+  if (verdict == "met") {
+    c.met.push_back(statistic_label(v["statistic"].get<std::string>()) + " of " + v["output"].get<std::string>() + " " +
+                    figures + (v["at_most"].get<bool>() ? " <= " : " >= ") + v["limit"]["as_written"].get<std::string>());
+  } else if (verdict == "not met") {
+    const double over = std::abs(value - limit);
+    std::string by = with_unit(over, unit);
+    if (limit != 0.0) by += " (" + format_significant(100.0 * over / std::abs(limit), 3) + "%)";
+    c.not_met.push_back(clause + ": it " + figures + ", " + by + (v["at_most"].get<bool>() ? " over" : " short"));
+  } else {
+    std::string u = clause + ": it " + figures + " and the interval straddles the limit";
+    if (v.contains("note")) {
+      u += "; " + v["note"].get<std::string>();
+    } else if (v.contains("samples_to_decide")) {
+      u += "; about " + std::to_string(v["samples_to_decide"].get<std::size_t>()) + " samples would likely decide it";
+    }
+    c.undecided.push_back(u);
+  }
+}
+
+std::string join_clauses(const std::vector<std::string>& parts) {
+  std::string s;
+  for (const auto& p : parts) s += (s.empty() ? "" : "; ") + p;
+  return s;
+}
+
+// The answer from the clauses: any failure first, then what is undecided, then what is met.
+std::string verdicts_sentence(const VerdictClauses& c, std::size_t n_verdicts, const std::string& partial) {
+  const auto& join = join_clauses;
+  const std::string count = std::to_string(n_verdicts);
+  std::string s;
+  if (!c.not_met.empty()) {
+    s = n_verdicts == 1 ? "NOT met" + partial + ": " + join(c.not_met)
+                        : "NOT met: " + std::to_string(c.not_met.size()) + " of " + count + " requirements fail" +
+                              partial + ": " + join(c.not_met);
+    if (!c.undecided.empty()) s += "; undecided: " + join(c.undecided);
+  } else if (!c.undecided.empty()) {
+    s = "Undecided" + partial + ": " + join(c.undecided);
+    if (!c.met.empty()) s += "; met: " + join(c.met);
+  } else {
+    s = (n_verdicts == 1 ? std::string("The requirement is met") : "Every requirement is met (" + count + " of " + count + ")") +
+        partial + ": " + join(c.met);
+  }
+  return s;
+}
+
 std::string answer_sentence(const json& verdicts, const json& outputs_summary, const std::vector<OutputSpec>& outputs,
                             const std::string& status, std::size_t samples) {
   const std::string partial =
       status == "complete" ? "" : " (on the " + std::to_string(samples) + " samples of a run that is " + status + ")";
-  if (verdicts.empty()) {
-    std::string s = "No requirement is declared";
-    for (const auto& o : outputs) {
-      if (!outputs_summary.contains(o.name)) continue;
-      const json& p95 = outputs_summary[o.name]["p95"];
-      s += ": p95 of " + o.name + " is " + with_unit(p95["value"].get<double>(), o.unit);
-      if (p95["ci95"][0].is_number() && p95["ci95"][1].is_number()) {
-        s += " [" + format_significant(p95["ci95"][0].get<double>(), 4) + ", " +
-             format_significant(p95["ci95"][1].get<double>(), 4) + "]";
-      }
-      s += " over " + std::to_string(samples) + " samples";
-      break;
-    }
-    return s + partial + " (state one with [[requirement]] to get a verdict).";
-  }
-  std::vector<std::string> met, not_met, undecided;
-  for (const auto& v : verdicts) {
-    const std::string unit = v["limit"]["unit"].get<std::string>();
-    const double limit = v["limit"]["value"].get<double>();
-    std::string clause = requirement_text(v);
-    if (v["value"].is_null()) {
-      undecided.push_back(clause + ": no sample ran");
-      continue;
-    }
-    const double value = v["value"].get<double>();
-    const std::string pct = std::to_string(static_cast<int>(std::round(v["confidence"].get<double>() * 100.0))) + "%";
-    const std::string side = v["bound_side"].get<std::string>();
-    const std::string verdict = v["verdict"].get<std::string>();
-    // The bound that decides: on the requirement's side for "met", on the other for "not met".
-    const bool other = verdict == "not met";
-    const json& bound = v[other ? "other_bound" : "bound"];
-    const std::string bound_side = other ? (side == "upper" ? "lower" : "upper") : side;
-    std::string figures = "is " + with_unit(value, unit);
-    if (bound.is_number()) figures += " (" + bound_side + " " + pct + " bound " + format_significant(bound.get<double>(), 4) + ")";
-    if (verdict == "met") {
-      met.push_back(statistic_label(v["statistic"].get<std::string>()) + " of " + v["output"].get<std::string>() + " " +
-                    figures + (v["at_most"].get<bool>() ? " <= " : " >= ") + v["limit"]["as_written"].get<std::string>());
-    } else if (verdict == "not met") {
-      const double over = std::abs(value - limit);
-      std::string by = with_unit(over, unit);
-      if (limit != 0.0) by += " (" + format_significant(100.0 * over / std::abs(limit), 3) + "%)";
-      not_met.push_back(clause + ": it " + figures + ", " + by + (v["at_most"].get<bool>() ? " over" : " short"));
-    } else {
-      std::string u = clause + ": it " + figures + " and the interval straddles the limit";
-      if (v.contains("note")) {
-        u += "; " + v["note"].get<std::string>();
-      } else if (v.contains("samples_to_decide")) {
-        u += "; about " + std::to_string(v["samples_to_decide"].get<std::size_t>()) + " samples would likely decide it";
-      }
-      undecided.push_back(u);
-    }
-  }
-  auto join = [](const std::vector<std::string>& parts) {
-    std::string s;
-    for (const auto& p : parts) s += (s.empty() ? "" : "; ") + p;
-    return s;
-  };
-  const std::string count = std::to_string(verdicts.size());
-  std::string s;
-  if (!not_met.empty()) {
-    s = verdicts.size() == 1 ? "NOT met" + partial + ": " + join(not_met)
-                             : "NOT met: " + std::to_string(not_met.size()) + " of " + count + " requirements fail" +
-                                   partial + ": " + join(not_met);
-    if (!undecided.empty()) s += "; undecided: " + join(undecided);
-  } else if (!undecided.empty()) {
-    s = "Undecided" + partial + ": " + join(undecided);
-    if (!met.empty()) s += "; met: " + join(met);
-  } else {
-    s = (verdicts.size() == 1 ? std::string("The requirement is met") : "Every requirement is met (" + count + " of " + count + ")") +
-        partial + ": " + join(met);
-  }
+  if (verdicts.empty()) return no_requirement_sentence(outputs_summary, outputs, samples, partial);
+  VerdictClauses clauses;
+  for (const auto& v : verdicts) add_clause(v, clauses);
+  std::string s = verdicts_sentence(clauses, verdicts.size(), partial);
   for (const auto& v : verdicts) {
     if (v.contains("design_note")) {
       s += " (the bounds assume independent samples, which this lhs or sobol design without replicate_size does not "

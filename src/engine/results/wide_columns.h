@@ -99,6 +99,9 @@ class WideColumnsWriter {
 
  private:
   void flush();
+  struct FlushBlocks;  // one flush's blocks of columns (wide_columns_writer.cc)
+  void encode_block(std::size_t b, FlushBlocks& f);
+  void write_block(std::size_t b, FlushBlocks& f) const;
   struct Handles;
   std::string path_;
   WideColumnsSpec spec_;

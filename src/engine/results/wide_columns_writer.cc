@@ -67,6 +67,9 @@ void append_rows(hid_t dset, hid_t mem_type, hsize_t first, hsize_t n, const voi
 // into all fall in the same set of the L1 and L2 caches, and every store misses.
 std::size_t padded_stride(std::size_t rows) { return rows + 64 / sizeof(float); }
 
+// Columns per block of a flush: as wide as a cache line.
+constexpr std::size_t kBlock = 64 / sizeof(float);
+
 }  // namespace
 
 struct WideColumnsWriter::Handles {
@@ -170,6 +173,77 @@ void WideColumnsWriter::append(std::size_t sample, bool ok, std::span<const floa
   if (samples_.size() == chunk_rows_) flush();
 }
 
+// One flush's blocks of columns: the rows, the encoded chunks, the per-thread buffers and
+// the first failed chunk write (the blocks after it are dropped).
+struct WideColumnsWriter::FlushBlocks {
+  std::size_t r = 0;     // rows in the chunk
+  hsize_t first = 0;     // the chunk's first row in the dataset
+  std::vector<std::string> encoded;                                   // per column
+  tbb::enumerable_thread_specific<std::vector<float>> block_columns;  // one block's columns per thread
+  tbb::enumerable_thread_specific<std::vector<float>> padded;         // a kept partial column, padded
+  std::string write_error;
+};
+
+// Block b's columns (kBlock wide): taken from the kept columns, or transposed row by row from
+// the row buffer into the thread's block buffer; their CRCs updated, and each encoded.
+void WideColumnsWriter::encode_block(std::size_t b, FlushBlocks& f) {
+  const std::size_t r = f.r, g = spec_.columns;
+  const hsize_t first = f.first;
+  const std::size_t p0 = b * kBlock, width = std::min(kBlock, g - p0);
+  float* base = nullptr;  // column k of the block at base + k * stride
+  std::size_t stride = 0;
+  if (keeps()) {  // the rows are in their columns already
+    stride = padded_stride(planned_rows_);
+    base = kept_.data() + p0 * stride + first;
+  } else {
+    std::vector<float>& columns = f.block_columns.local();
+    stride = padded_stride(chunk_rows_);
+    columns.resize(width * stride);
+    base = columns.data();
+    for (std::size_t i = 0; i < r; ++i) {
+      const float* row = buffer_.data() + i * g + p0;
+      for (std::size_t k = 0; k < width; ++k) base[k * stride + i] = row[k];
+    }
+  }
+  for (std::size_t k = 0; k < width; ++k) {
+    const std::size_t p = p0 + k;
+    float* values = base + k * stride;
+    crc_[p] = static_cast<std::uint32_t>(crc32(crc_[p], reinterpret_cast<const Bytef*>(values),
+                                               static_cast<uInt>(r * sizeof(float))));
+    if (!h_) continue;
+    if (r < chunk_rows_ && keeps()) {  // the kept rows end at r: pad a copy
+      std::vector<float>& pad = f.padded.local();
+      pad.assign(chunk_rows_, 0.0f);
+      std::copy(values, values + r, pad.begin());
+      values = pad.data();
+    } else if (r < chunk_rows_) {
+      std::fill(values + r, values + chunk_rows_, 0.0f);
+    }
+    const std::span<const float> column(values, chunk_rows_);
+    if (spec_.compress) {
+      f.encoded[p] = encode_chunk(column);
+    } else {
+      f.encoded[p].assign(reinterpret_cast<const char*>(column.data()), column.size() * sizeof(float));
+    }
+  }
+}
+
+// Block b's encoded chunks written in order (HDF5 calls are serialized), each freed at once.
+void WideColumnsWriter::write_block(std::size_t b, FlushBlocks& f) const {
+  if (!h_) return;
+  const std::size_t g = spec_.columns;
+  const std::size_t p0 = b * kBlock, width = std::min(kBlock, g - p0);
+  for (std::size_t p = p0; p < p0 + width && f.write_error.empty(); ++p) {
+    const hsize_t offset[2] = {f.first, p};
+    const std::uint32_t skipped = spec_.compress ? 0u : 3u;  // bit 0 shuffle, bit 1 deflate
+    if (H5Dwrite_chunk(h_->values.get(), H5P_DEFAULT, skipped, offset, f.encoded[p].size(),
+                       f.encoded[p].data()) < 0) {
+      f.write_error = hdf5::failed("cannot write a chunk of /" + spec_.dataset);
+    }
+    std::string().swap(f.encoded[p]);  // written: its memory goes back at once
+  }
+}
+
 void WideColumnsWriter::flush() {
   const std::size_t r = samples_.size();
   if (r == 0) return;
@@ -179,18 +253,17 @@ void WideColumnsWriter::flush() {
   // block buffer per thread, and encoded in parallel, and written in order by one stage at a
   // time (HDF5 calls are serialized) while later blocks are still being encoded. The rows past
   // r of a last, partial chunk are outside the dataset: zeros compress best.
-  constexpr std::size_t kBlock = 64 / sizeof(float);
   const std::size_t blocks = (g + kBlock - 1) / kBlock;
   const hsize_t first = rows_written_, n = r;
   const hsize_t extent[2] = {first + n, g};
   if (h_ && H5Dset_extent(h_->values.get(), extent) < 0) {
     throw WriteError(path_, hdf5::failed("cannot grow /" + spec_.dataset));
   }
-  std::vector<std::string> encoded(g);
-  tbb::enumerable_thread_specific<std::vector<float>> block_columns;  // one block's columns per thread
-  tbb::enumerable_thread_specific<std::vector<float>> padded;         // a kept partial column, padded
+  FlushBlocks f;
+  f.r = r;
+  f.first = first;
+  f.encoded.resize(g);
   std::size_t next_block = 0;
-  std::string write_error;  // the first failed chunk write; the blocks after it are dropped
   run_on_threads(threads_, [&] {
     tbb::parallel_pipeline(
         2 * static_cast<std::size_t>(threads_) + 1,
@@ -200,60 +273,13 @@ void WideColumnsWriter::flush() {
                                               return next_block++;
                                             }) &
             tbb::make_filter<std::size_t, std::size_t>(tbb::filter_mode::parallel, [&](std::size_t b) {
-              const std::size_t p0 = b * kBlock, width = std::min(kBlock, g - p0);
-              float* base = nullptr;  // column k of the block at base + k * stride
-              std::size_t stride = 0;
-              if (keeps()) {  // the rows are in their columns already
-                stride = padded_stride(planned_rows_);
-                base = kept_.data() + p0 * stride + first;
-              } else {
-                std::vector<float>& columns = block_columns.local();
-                stride = padded_stride(chunk_rows_);
-                columns.resize(width * stride);
-                base = columns.data();
-                for (std::size_t i = 0; i < r; ++i) {
-                  const float* row = buffer_.data() + i * g + p0;
-                  for (std::size_t k = 0; k < width; ++k) base[k * stride + i] = row[k];
-                }
-              }
-              for (std::size_t k = 0; k < width; ++k) {
-                const std::size_t p = p0 + k;
-                float* values = base + k * stride;
-                crc_[p] = static_cast<std::uint32_t>(crc32(crc_[p], reinterpret_cast<const Bytef*>(values),
-                                                           static_cast<uInt>(r * sizeof(float))));
-                if (!h_) continue;
-                if (r < chunk_rows_ && keeps()) {  // the kept rows end at r: pad a copy
-                  std::vector<float>& pad = padded.local();
-                  pad.assign(chunk_rows_, 0.0f);
-                  std::copy(values, values + r, pad.begin());
-                  values = pad.data();
-                } else if (r < chunk_rows_) {
-                  std::fill(values + r, values + chunk_rows_, 0.0f);
-                }
-                const std::span<const float> column(values, chunk_rows_);
-                if (spec_.compress) {
-                  encoded[p] = encode_chunk(column);
-                } else {
-                  encoded[p].assign(reinterpret_cast<const char*>(column.data()), column.size() * sizeof(float));
-                }
-              }
+              encode_block(b, f);
               return b;
             }) &
-            tbb::make_filter<std::size_t, void>(tbb::filter_mode::serial_in_order, [&](std::size_t b) {
-              if (!h_) return;
-              const std::size_t p0 = b * kBlock, width = std::min(kBlock, g - p0);
-              for (std::size_t p = p0; p < p0 + width && write_error.empty(); ++p) {
-                const hsize_t offset[2] = {first, p};
-                const std::uint32_t skipped = spec_.compress ? 0u : 3u;  // bit 0 shuffle, bit 1 deflate
-                if (H5Dwrite_chunk(h_->values.get(), H5P_DEFAULT, skipped, offset, encoded[p].size(),
-                                   encoded[p].data()) < 0) {
-                  write_error = hdf5::failed("cannot write a chunk of /" + spec_.dataset);
-                }
-                std::string().swap(encoded[p]);  // written: its memory goes back at once
-              }
-            }));
+            tbb::make_filter<std::size_t, void>(tbb::filter_mode::serial_in_order,
+                                                [&](std::size_t b) { write_block(b, f); }));
   });
-  if (!write_error.empty()) throw WriteError(path_, write_error);
+  if (!f.write_error.empty()) throw WriteError(path_, f.write_error);
   if (h_) {
     try {
       append_rows(h_->sample.get(), H5T_NATIVE_UINT64, first, n, samples_.data());

@@ -25,13 +25,8 @@ models::SpringPlate read_plate(TomlReader& t) {
 
 std::string ratio_check(double v) { return v >= 0.0 && v < 1.0 ? "" : "a damping ratio in [0, 1)"; }
 
-}  // namespace
-
-BalancingModel load_balancing_model(const std::string& path, const std::map<std::string, std::string>& overrides) {
-  auto [doc, ctx] = open_model_file(path, overrides);
-  TomlReader root(doc, ctx);
-  BalancingModel m;
-  static_cast<ModelHeader&>(m) = read_model_header(root, "balancing_machine");
+// [horizontal_plate] and [torsional_plate]: the spring plates, the lever and the torsional plate's end.
+void read_plates(TomlReader& root, BalancingModel& m) {
   {
     TomlReader t = root.table("horizontal_plate");
     m.horizontal_plate = read_plate(t);
@@ -49,6 +44,10 @@ BalancingModel load_balancing_model(const std::string& path, const std::map<std:
                                                        : models::TorsionPlateEnd::kGuided;
     t.accept_notes();
   }
+}
+
+// [frame] (masses, damping, gravity) and the optional [statics].
+void read_frame(TomlReader& root, BalancingModel& m) {
   {
     TomlReader t = root.table("frame");
     m.board_mass = t.quantity("board_mass", units::kMass, non_negative);
@@ -69,27 +68,33 @@ BalancingModel load_balancing_model(const std::string& path, const std::map<std:
     m.centre_offset = t.quantity("centre_offset", units::kLength, non_negative);
     t.accept_notes();
   }
-  {
-    TomlReader t = root.table("rotor");
-    auto& r = m.rotor;
-    r.mass = t.quantity("mass", units::kMass, positive);
-    r.diameter = t.quantity("diameter", units::kLength, positive);
-    r.height = t.quantity("height", units::kLength, positive);
-    r.base_height = t.quantity("base_height", units::kLength);
-    r.surface_1_height = t.quantity("surface_1_height", units::kLength);
-    r.surface_spacing = t.quantity("surface_spacing", units::kLength, positive);
-    r.surfaces = static_cast<int>(t.integer("surfaces", 2, 1000));
-    r.holes = static_cast<int>(t.integer("holes", 1, 360, 8));
-    const double top = r.surface_height(r.surfaces);
-    if (r.surface_1_height < r.base_height || top > r.base_height + r.height + 1e-12) {
-      t.error("surfaces", std::to_string(r.surfaces),
-              "testing surfaces within the rotor (surface 1 at " + units::format(r.surface_1_height, "mm", 4) +
-                  ", last at " + units::format(top, "mm", 4) + "; the rotor spans " +
-                  units::format(r.base_height, "mm", 4) + " to " + units::format(r.base_height + r.height, "mm", 4) +
-                  ")");
-    }
-    t.accept_notes();
+}
+
+// [rotor]: rotor R and its testing surfaces, which must lie within it.
+void read_rotor(TomlReader& root, BalancingModel& m) {
+  TomlReader t = root.table("rotor");
+  auto& r = m.rotor;
+  r.mass = t.quantity("mass", units::kMass, positive);
+  r.diameter = t.quantity("diameter", units::kLength, positive);
+  r.height = t.quantity("height", units::kLength, positive);
+  r.base_height = t.quantity("base_height", units::kLength);
+  r.surface_1_height = t.quantity("surface_1_height", units::kLength);
+  r.surface_spacing = t.quantity("surface_spacing", units::kLength, positive);
+  r.surfaces = static_cast<int>(t.integer("surfaces", 2, 1000));
+  r.holes = static_cast<int>(t.integer("holes", 1, 360, 8));
+  const double top = r.surface_height(r.surfaces);
+  if (r.surface_1_height < r.base_height || top > r.base_height + r.height + 1e-12) {
+    t.error("surfaces", std::to_string(r.surfaces),
+            "testing surfaces within the rotor (surface 1 at " + units::format(r.surface_1_height, "mm", 4) +
+                ", last at " + units::format(top, "mm", 4) + "; the rotor spans " +
+                units::format(r.base_height, "mm", 4) + " to " + units::format(r.base_height + r.height, "mm", 4) +
+                ")");
   }
+  t.accept_notes();
+}
+
+// [sensors], [run] and [solver]: how a measuring run is made.
+void read_run(TomlReader& root, BalancingModel& m) {
   {
     TomlReader t = root.table("sensors");
     auto& s = m.sensors;
@@ -118,36 +123,56 @@ BalancingModel load_balancing_model(const std::string& path, const std::map<std:
     s.atol_per_state.clear();
     t.accept_notes();
   }
-  {
-    TomlReader t = root.table("tolerances");
-    const auto L = units::kLength;
-    const auto one = units::kDimensionless;
-    m.plate_thickness = read_scoped_tolerance(t, "plate_thickness", L, "mm");
-    m.plate_width = read_scoped_tolerance(t, "plate_width", L, "mm");
-    m.plate_length = read_scoped_tolerance(t, "plate_length", L, "mm");
-    m.youngs_modulus = read_scoped_tolerance(t, "youngs_modulus", one, "");
-    m.lever_error = read_scoped_tolerance(t, "lever", L, "mm");
-    m.sensor_1_offset = read_scoped_tolerance(t, "sensor_1_offset", L, "mm");
-    m.piece_centre_height = read_scoped_tolerance(t, "piece_centre_height", L, "mm");
-    m.speed = read_scoped_tolerance(t, "speed", one, "");
-    m.gain_error_1 = read_scoped_tolerance(t, "gain_error_1", one, "");
-    m.gain_error_2 = read_scoped_tolerance(t, "gain_error_2", one, "");
-    m.test_mass = read_scoped_tolerance(t, "test_mass", one, "");
-    m.hole_radius = read_scoped_tolerance(t, "hole_radius", L, "mm");
-    m.hole_angle = read_scoped_tolerance(t, "hole_angle", units::kAngle, "deg");
-    m.correction_mass = read_scoped_tolerance(t, "correction_mass", one, "");
-    m.correction_angle = read_scoped_tolerance(t, "correction_angle", units::kAngle, "deg");
-    m.rotor_residual_1 = read_scoped_tolerance(t, "rotor_residual_1", kUnbalance, "g*mm");
-    m.rotor_residual_2 = read_scoped_tolerance(t, "rotor_residual_2", kUnbalance, "g*mm");
-  }
-  finish(doc, *ctx);
-  // Physics checks of the nominal machine (plates, frequencies), with the model's keys.
+}
+
+// [tolerances].
+void read_tolerances(TomlReader& root, BalancingModel& m) {
+  TomlReader t = root.table("tolerances");
+  const auto L = units::kLength;
+  const auto one = units::kDimensionless;
+  m.plate_thickness = read_scoped_tolerance(t, "plate_thickness", L, "mm");
+  m.plate_width = read_scoped_tolerance(t, "plate_width", L, "mm");
+  m.plate_length = read_scoped_tolerance(t, "plate_length", L, "mm");
+  m.youngs_modulus = read_scoped_tolerance(t, "youngs_modulus", one, "");
+  m.lever_error = read_scoped_tolerance(t, "lever", L, "mm");
+  m.sensor_1_offset = read_scoped_tolerance(t, "sensor_1_offset", L, "mm");
+  m.piece_centre_height = read_scoped_tolerance(t, "piece_centre_height", L, "mm");
+  m.speed = read_scoped_tolerance(t, "speed", one, "");
+  m.gain_error_1 = read_scoped_tolerance(t, "gain_error_1", one, "");
+  m.gain_error_2 = read_scoped_tolerance(t, "gain_error_2", one, "");
+  m.test_mass = read_scoped_tolerance(t, "test_mass", one, "");
+  m.hole_radius = read_scoped_tolerance(t, "hole_radius", L, "mm");
+  m.hole_angle = read_scoped_tolerance(t, "hole_angle", units::kAngle, "deg");
+  m.correction_mass = read_scoped_tolerance(t, "correction_mass", one, "");
+  m.correction_angle = read_scoped_tolerance(t, "correction_angle", units::kAngle, "deg");
+  m.rotor_residual_1 = read_scoped_tolerance(t, "rotor_residual_1", kUnbalance, "g*mm");
+  m.rotor_residual_2 = read_scoped_tolerance(t, "rotor_residual_2", kUnbalance, "g*mm");
+}
+
+// Physics checks of the nominal machine (plates, frequencies), with the model's keys.
+void check_physical_machine(const std::string& path, const BalancingModel& m) {
   try {
     const models::SpringPlateMachineParams p = machine_params(m, nominal_as_built(m), m.rotor);
     models::validate(p);
   } catch (const Error& e) {
     throw ValidationError({InputError(SourceLocation{path, 0, 0}, "frame", "", std::string("a physical machine: ") + e.what())});
   }
+}
+
+}  // namespace
+
+BalancingModel load_balancing_model(const std::string& path, const std::map<std::string, std::string>& overrides) {
+  auto [doc, ctx] = open_model_file(path, overrides);
+  TomlReader root(doc, ctx);
+  BalancingModel m;
+  static_cast<ModelHeader&>(m) = read_model_header(root, "balancing_machine");
+  read_plates(root, m);
+  read_frame(root, m);
+  read_rotor(root, m);
+  read_run(root, m);
+  read_tolerances(root, m);
+  finish(doc, *ctx);
+  check_physical_machine(path, m);
   return m;
 }
 

@@ -43,6 +43,220 @@ Band band_of(std::vector<double> v) {
   return b;
 }
 
+// The nominal machine (details(): nominal_machine, torsional_plate, hard_bearing) and the
+// input warnings.
+void machine_table(const json& d, const std::vector<std::string>& warnings, std::ostringstream& h) {
+  const json& nm = d["nominal_machine"];
+  const json& hb = d["hard_bearing"];
+  h << "<h2>The machine (nominal)</h2>\n<table>"
+    << "<tr><th class='l'>horizontal plates k5 (each)</th><td>" << fmt(nm["k5_N_per_m"].get<double>()) << " N/m</td></tr>"
+    << "<tr><th class='l'>torsional plate k6, lever l, k6 l&sup2;</th><td>" << fmt(nm["k6_N_per_m"].get<double>()) << " N/m, "
+    << fmt(nm["lever_m"].get<double>() * 1e3) << " mm, " << fmt(nm["k6_l2_N_m_per_rad"].get<double>()) << " N m/rad</td></tr>"
+    << "<tr><th class='l'>M, m, H, J (rotor R on)</th><td>" << fmt(nm["total_mass_kg"].get<double>()) << " kg, "
+    << fmt(nm["rotating_mass_kg"].get<double>()) << " kg, " << fmt(nm["mass_centre_height_m"].get<double>() * 1e3)
+    << " mm, " << fmt(nm["inertia_about_centre_kg_m2"].get<double>()) << " kg m&sup2;</td></tr>"
+    << "<tr><th class='l'>natural frequencies (coupled)</th><td>" << fmt(nm["omega_1_Hz"].get<double>()) << " Hz, "
+    << fmt(nm["omega_2_Hz"].get<double>()) << " Hz (uncoupled " << fmt(nm["omega_x_uncoupled_Hz"].get<double>())
+    << ", " << fmt(nm["omega_theta_uncoupled_Hz"].get<double>()) << " Hz)</td></tr>"
+    << "<tr><th class='l'>speed</th><td>" << fmt(nm["speed_rpm"].get<double>()) << " r/min = "
+    << fmt(nm["speed_Hz"].get<double>()) << " Hz</td></tr>"
+    << "<tr><th class='l'>torsional plate end condition</th><td>" << d["torsional_plate"]["end_condition"].get<std::string>()
+    << ": K<sub>rot</sub> = " << fmt(d["torsional_plate"]["rotation_factor"].get<double>()) << " k6 l&sup2;, sensor 2 reads "
+    << fmt(d["torsional_plate"]["sensor_2_force_factor"].get<double>()) << " k6 l &theta;, clamp moment "
+    << fmt(100 * d["torsional_plate"]["clamp_moment_share"].get<double>(), 3) << "% of F l (L/l = "
+    << fmt(d["torsional_plate"]["length_over_lever"].get<double>(), 3) << ")</td></tr>"
+    << "<tr><th class='l'>hard-bearing check</th><td>" << (hb["ok"].get<bool>() ? "passes" : "FAILS") << ": "
+    << html_escape(hb["message"].get<std::string>()) << "</td></tr></table>\n";
+  for (const auto& w : warnings) h << "<p><b>Warning</b>: " << html_escape(w) << "</p>\n";
+}
+
+// What every experiment's section reads and writes: the run's values, where its figures go,
+// and the page.
+struct SectionPage {
+  const McResult& mc;
+  const std::vector<std::string>& names;
+  fs::path dir;
+  bool plots;
+  std::vector<std::string>& figures;
+  std::ostringstream& h;
+  /// The ok samples' values of output `n`.
+  const std::vector<double>& values(const std::string& n) const { return mc.values[index_of(names, n)]; }
+};
+
+// Share of the machines passing: the mean of a 0 / 1 output (summed as v / n in sample order).
+double pass_share(const std::vector<double>& v) {
+  double pass = 0.0;
+  for (double x : v) pass += x / static_cast<double>(v.size());
+  return pass;
+}
+
+// Per position k, "x(k) p50 p05 p95" of NAME_p1_k<k><suffix>, then of plane 2 (gnuplot data).
+template <class XOf>
+std::string position_bands(const SectionPage& page, const BalancingExperiment& e, const std::string& suffix, XOf x_of) {
+  std::ostringstream dat;
+  for (int k = 0; k < e.positions; ++k) {
+    dat << x_of(k);
+    for (int p = 1; p <= 2; ++p) {
+      const Band b = band_of(page.values(e.name + "_p" + std::to_string(p) + "_k" + std::to_string(k) + suffix));
+      dat << ' ' << b.p50 << ' ' << b.p05 << ' ' << b.p95;
+    }
+    dat << '\n';
+  }
+  return dat.str();
+}
+
+// Separation of static and couple unbalance: each testing surface's effect on the two sensors.
+void separation_section(const SectionPage& page, const BalancingExperiment& x, const BalancingModel& model) {
+  std::ostringstream& h = page.h;
+  h << "<h2>Separation of static and couple unbalance (" << html_escape(x.name) << ")</h2>\n"
+    << "<p>" << fmt(x.mass * 1e3) << " g at r = " << fmt(x.radius * 1e3) << " mm on each testing surface in "
+    << x.positions << " holes, " << fmt(model.run.speed_rpm) << " r/min; effect on each sensor "
+    << "(|A - A<sub>bare</sub>|, mean over the holes), median and 5-95% over the machines as built. "
+    << "Sensor 1 should stay flat, sensor 2 grow in proportion to the height (the separation of the "
+    << "model's Eq. 17, spring_plate_machine.h).</p>\n<table><tr><th>surface</th><th>height (mm)</th><th>sensor 1 (mN)</th><th>sensor 2 (mN)</th></tr>\n";
+  std::ostringstream dat;
+  for (int s = 1; s <= model.rotor.surfaces; ++s) {
+    const std::string base = x.name + "_s" + std::to_string(s);
+    const Band b1 = band_of(page.values(base + "_sensor1_mN")), b2 = band_of(page.values(base + "_sensor2_mN"));
+    const double z = model.rotor.surface_height(s) * 1e3;
+    h << "<tr><td>" << s << "</td><td>" << fmt(z) << "</td><td>" << fmt(b1.p50) << " <small>[" << fmt(b1.p05)
+      << ", " << fmt(b1.p95) << "]</small></td><td>" << fmt(b2.p50) << " <small>[" << fmt(b2.p05) << ", "
+      << fmt(b2.p95) << "]</small></td></tr>\n";
+    dat << z << ' ' << b1.p50 << ' ' << b1.p05 << ' ' << b1.p95 << ' ' << b2.p50 << ' ' << b2.p05 << ' ' << b2.p95 << '\n';
+  }
+  h << "</table>\n";
+  if (page.plots) {
+    write_file_atomic((page.dir / (x.name + "_sensors.dat")).string(), dat.str());
+    svg_plot(page.dir, x.name + "_sensors",
+         "set title 'Sensor signals against the height of the test mass'\nset xlabel 'height of the testing surface above the torsion shaft (mm)'\n"
+         "set ylabel 'sensor amplitude (mN)'\nset key top left\nset xrange [0:*]\nset yrange [0:*]\n"
+         "plot '" + x.name + "_sensors.dat' u 1:2:3:4 w yerrorlines lw 2 pt 7 title 'sensor 1 (horizontal)', '' u 1:5:6:7 w yerrorlines lw 2 pt 5 title 'sensor 2 (torsional)'\n",
+         page.figures, h);
+  }
+}
+
+// U_mar: the readings against the test mass position in each correction plane.
+void umar_section(const SectionPage& page, const BalancingExperiment& x, const BalancingSections& sections) {
+  std::ostringstream& h = page.h;
+  h << "<h2>Minimum achievable residual unbalance U<sub>mar</sub> (" << html_escape(x.name) << ")</h2>\n<p>"
+    << fmt(x.mass * 1e3) << " g at r = " << fmt(x.radius * 1e3) << " mm in " << x.positions
+    << " angular positions of each correction plane (surfaces " << sections.plane_1_surface << " and "
+    << sections.plane_2_surface << "); U<sub>mar,p</sub> = (X<sub>max</sub> - X<sub>min</sub>) r / 2, U<sub>mar</sub> = "
+       "U<sub>mar1</sub> + U<sub>mar2</sub> (Eq. 18: e = U<sub>mar1</sub>/M<sub>1</sub> = U<sub>mar2</sub>/M<sub>2</sub>, "
+       "M<sub>1</sub> + M<sub>2</sub> = M<sub>R</sub>). The spread X<sub>max</sub> - X<sub>min</sub> is twice the rotor's own "
+       "residual in that plane plus what the machine adds: compare U<sub>mar,p</sub> with the true residual.</p>\n";
+  if (page.plots) {
+    write_file_atomic((page.dir / (x.name + "_readings.dat")).string(),
+                      position_bands(page, x, "_g", [&](int k) { return 360.0 * k / x.positions; }));
+    svg_plot(page.dir, x.name + "_readings",
+         "set title 'U_mar test: readings against the test mass position'\nset xlabel 'angular position of the test mass (deg)'\n"
+         "set ylabel 'reading (g at the test radius)'\nset xtics 45\nset key outside bottom center horizontal\n"
+         "plot '" + x.name + "_readings.dat' u 1:2:3:4 w yerrorlines lw 2 pt 7 title 'correction plane 1', '' u 1:5:6:7 w yerrorlines lw 2 pt 5 title 'correction plane 2'\n",
+         page.figures, h);
+  }
+}
+
+// Stability of the readings: each plane's readings over their mean.
+void stability_section(const SectionPage& page, const BalancingExperiment& x, const BalancingSections& sections) {
+  std::ostringstream& h = page.h;
+  const Band b1 = band_of(page.values(x.name + "_plane1_max_dev_pct")), b2 = band_of(page.values(x.name + "_plane2_max_dev_pct"));
+  const double pass = pass_share(page.values(x.name + "_pass_ratio"));
+  h << "<h2>Stability of the readings (" << html_escape(x.name) << "): "
+    << (x.variant == "wang2014" ? "the test as Wang 2014 Sec. 5.2.2 prints it" : "Poise's variant, not in the paper")
+    << "</h2>\n<p>" << fmt(x.mass * 1e3) << " g at r = "
+    << fmt(x.radius * 1e3) << " mm on surface " << x.surface << " in " << x.positions << " holes"
+    << (x.balance_first ? ", the rotor first balanced with the machine" : "")
+    << "; each plane's readings divided by their mean must lie within &plusmn;" << fmt(x.band * 100) << "%. "
+    << "Largest deviation: plane 1 " << fmt(b1.p50) << "% (p95 " << fmt(b1.p95) << "%), plane 2 " << fmt(b2.p50)
+    << "% (p95 " << fmt(b2.p95) << "%); " << fmt(pass * 100, 3) << "% of the machines pass.</p>\n";
+  if (x.surface == sections.plane_1_surface || x.surface == sections.plane_2_surface) {
+    h << "<p><small>The test mass sits in a correction plane, so the other plane's readings are its "
+         "residual unbalance and the machine's error alone: their ratio to their own mean measures noise, "
+         "not stability. Put the test mass between or beyond the planes to test both.</small></p>\n";
+  }
+  if (page.plots) {
+    write_file_atomic((page.dir / (x.name + "_ratios.dat")).string(),
+                      position_bands(page, x, "_ratio", [](int k) { return k + 1.0; }));
+    svg_plot(page.dir, x.name + "_ratios",
+         "set title 'Stability test: reading / mean of the plane'\nset xlabel 'hole'\nset ylabel 'reading / mean'\n"
+         "set xrange [0.5:" + std::to_string(x.positions) + ".5]\nset key outside bottom center horizontal\n"
+         "lo = " + fmt(1 - x.band) + "\nhi = " + fmt(1 + x.band) + "\n"
+         "plot lo w l dt 2 lc rgb 'red' title 'band', hi w l dt 2 lc rgb 'red' notitle, '" + x.name +
+             "_ratios.dat' u 1:2:3:4 w yerrorlines lw 2 pt 7 title 'plane 1', '' u 1:5:6:7 w yerrorlines lw 2 pt 5 title 'plane 2'\n",
+         page.figures, h);
+  }
+}
+
+// Unbalance reduction ratio, Poise's figure and ISO 21940-21's.
+void urr_section(const SectionPage& page, const BalancingExperiment& x) {
+  std::ostringstream& h = page.h;
+  const Band b = band_of(page.values(x.name + "_min_pct"));
+  const double pass = pass_share(page.values(x.name + "_pass_ratio"));
+  h << "<h2>Unbalance reduction ratio (" << html_escape(x.name) << ")</h2>\n<p>" << fmt(x.mass * 1e3)
+    << " g at r = " << fmt(x.radius * 1e3) << " mm in each correction plane (0 and 90 deg), one measuring run, "
+    << "one correction with the placement tolerances. URR = 1 - |U after| / |U before| (true unbalances), the "
+    << "smaller of the two planes: median " << fmt(b.p50) << "%, 5% quantile " << fmt(b.p05) << "%; "
+    << fmt(pass * 100, 3) << "% of the machines reach the required " << fmt(x.requirement * 100) << "% "
+    << "(<b>Poise's figure</b>: it charges the correction masses' placement errors to the machine).</p>\n";
+  const Band bi = band_of(page.values(x.name + "_iso_min_pct"));
+  const double pass_iso = pass_share(page.values(x.name + "_iso_pass_ratio"));
+  h << "<p><b>ISO 21940-21's figure</b>: the indicated test unbalances (reading with the test masses minus the bare "
+       "reading) against the known test masses, no correction: URR<sub>iso</sub> = 1 - |D - T| / |T|, the smaller plane: "
+       "median " << fmt(bi.p50) << "%, 5% quantile " << fmt(bi.p05) << "%; " << fmt(pass_iso * 100, 3)
+    << "% of the machines reach " << fmt(x.requirement * 100) << "%.</p>\n";
+}
+
+// Two-plane U_mar test, ISO 21940-21 style.
+void umar_iso_section(const SectionPage& page, const BalancingExperiment& x) {
+  std::ostringstream& h = page.h;
+  const double pass = pass_share(page.values(x.name + "_pass_ratio"));
+  const Band u1 = band_of(page.values(x.name + "_plane1_kgm")), u2 = band_of(page.values(x.name + "_plane2_kgm"));
+  h << "<h2>Two-plane U<sub>mar</sub> test, ISO 21940-21 style (" << html_escape(x.name) << ")</h2>\n<p>"
+    << fmt(x.mass * 1e3) << " g at r = " << fmt(x.radius * 1e3) << " mm in both correction planes at once (plane 2's "
+    << fmt(x.plane_2_offset / units::kRadPerDeg) << " deg from plane 1's), moved together through " << x.positions
+    << " positions. U<sub>mar,p</sub> = (X<sub>max</sub> - X<sub>min</sub>) r / 2: plane 1 median " << fmt(u1.p50 * 1e6)
+    << " g mm, plane 2 " << fmt(u2.p50 * 1e6) << " g mm; every reading within the mean &plusmn; the claimed "
+    << fmt(x.claim * 1e6) << " g mm: " << fmt(pass * 100, 3) << "% of the machines.</p>\n";
+}
+
+// Estimation error and couple interference: a histogram per error output.
+void accuracy_section(const SectionPage& page, const BalancingExperiment& x, const std::vector<OutputSpec>& outputs) {
+  std::ostringstream& h = page.h;
+  h << "<h2>Estimation error and couple interference (" << html_escape(x.name) << ")</h2>\n<p>A test piece with "
+    << fmt(x.piece_unbalance * 1e6) << " g mm in each plane (random angles) and its mass centre "
+    << "moved by the piece_centre_height tolerance, on the machine calibrated with rotor R. ic: influence "
+       "coefficients (calibrated on the machine as built); cf: the corrected closed form with the design "
+       "lever and speed (each sensor reads its own plate as built: the difference of the two horizontal "
+       "plates reaches it, their common stiffness does not). Interference I<sub>s,c</sub>: static "
+       "unbalance indicated per couple "
+       "unbalance (1/mm), from a pure couple of "
+    << fmt(x.mass * 1e3) << " g at " << fmt(x.radius * 1e3) << " mm in the two planes.</p>\n";
+  if (page.plots) {
+    for (const std::string o : {"_u_error_ic_gmm", "_u_error_cf_gmm", "_v_error_ic_gmm", "_v_error_cf_gmm", "_plane_error_ic_pct", "_plane_error_cf_pct",
+                                "_interference_ic_per_mm", "_interference_cf_per_mm"}) {
+      const std::string n = x.name + o;
+      {
+        std::ostringstream dd;
+        for (double v : page.values(n)) dd << v << '\n';
+        write_file_atomic((page.dir / (n + ".dat")).string(), dd.str());
+      }
+      std::string unit;
+      for (const auto& spec : outputs) {
+        if (spec.name == n) unit = spec.unit;
+      }
+      svg_plot(page.dir, n,
+           "set title '" + n + "'\nset xlabel '" + unit + "'\nset ylabel 'machines'\nstats '" + n +
+               ".dat' u 1 nooutput\nnb = ceil(sqrt(STATS_records)); nb = (nb < 5 ? 5 : (nb > 25 ? 25 : nb))\n"
+               "bw = (STATS_max - STATS_min) / nb\nif (bw <= 0) bw = 1e-9\n"
+               "bin(x) = bw * floor(x / bw) + bw / 2\nset boxwidth bw absolute\nset yrange [0:*]\n"
+               "if (STATS_records <= 10) set ytics 1\n"  // whole machines, not 0.5
+               "set style fill solid 0.6\nplot '" + n +
+               ".dat' u (bin($1)):(1.0) smooth freq with boxes lc rgb '#4477aa' notitle\n",
+           page.figures, h);
+    }
+  }
+}
+
 }  // namespace
 
 json BalancingStudy::details(const McResult&) const {
@@ -81,183 +295,25 @@ json BalancingStudy::details(const McResult&) const {
 
 void BalancingStudy::report_sections(const McResult& mc, const std::string& plots_dir, bool plots,
                                      std::vector<std::string>& figures, std::ostringstream& h) const {
-  const json d = details(mc);
-  const json& nm = d["nominal_machine"];
-  const json& hb = d["hard_bearing"];
-  h << "<h2>The machine (nominal)</h2>\n<table>"
-    << "<tr><th class='l'>horizontal plates k5 (each)</th><td>" << fmt(nm["k5_N_per_m"].get<double>()) << " N/m</td></tr>"
-    << "<tr><th class='l'>torsional plate k6, lever l, k6 l&sup2;</th><td>" << fmt(nm["k6_N_per_m"].get<double>()) << " N/m, "
-    << fmt(nm["lever_m"].get<double>() * 1e3) << " mm, " << fmt(nm["k6_l2_N_m_per_rad"].get<double>()) << " N m/rad</td></tr>"
-    << "<tr><th class='l'>M, m, H, J (rotor R on)</th><td>" << fmt(nm["total_mass_kg"].get<double>()) << " kg, "
-    << fmt(nm["rotating_mass_kg"].get<double>()) << " kg, " << fmt(nm["mass_centre_height_m"].get<double>() * 1e3)
-    << " mm, " << fmt(nm["inertia_about_centre_kg_m2"].get<double>()) << " kg m&sup2;</td></tr>"
-    << "<tr><th class='l'>natural frequencies (coupled)</th><td>" << fmt(nm["omega_1_Hz"].get<double>()) << " Hz, "
-    << fmt(nm["omega_2_Hz"].get<double>()) << " Hz (uncoupled " << fmt(nm["omega_x_uncoupled_Hz"].get<double>())
-    << ", " << fmt(nm["omega_theta_uncoupled_Hz"].get<double>()) << " Hz)</td></tr>"
-    << "<tr><th class='l'>speed</th><td>" << fmt(nm["speed_rpm"].get<double>()) << " r/min = "
-    << fmt(nm["speed_Hz"].get<double>()) << " Hz</td></tr>"
-    << "<tr><th class='l'>torsional plate end condition</th><td>" << d["torsional_plate"]["end_condition"].get<std::string>()
-    << ": K<sub>rot</sub> = " << fmt(d["torsional_plate"]["rotation_factor"].get<double>()) << " k6 l&sup2;, sensor 2 reads "
-    << fmt(d["torsional_plate"]["sensor_2_force_factor"].get<double>()) << " k6 l &theta;, clamp moment "
-    << fmt(100 * d["torsional_plate"]["clamp_moment_share"].get<double>(), 3) << "% of F l (L/l = "
-    << fmt(d["torsional_plate"]["length_over_lever"].get<double>(), 3) << ")</td></tr>"
-    << "<tr><th class='l'>hard-bearing check</th><td>" << (hb["ok"].get<bool>() ? "passes" : "FAILS") << ": "
-    << html_escape(hb["message"].get<std::string>()) << "</td></tr></table>\n";
-  for (const auto& w : warnings_) h << "<p><b>Warning</b>: " << html_escape(w) << "</p>\n";
-
-  const auto& names = output_names();
-  const fs::path dir(plots_dir);
-  for (const auto& x : balancing_sections(config_).experiments) {
+  machine_table(details(mc), warnings_, h);
+  const SectionPage page{mc, output_names(), fs::path(plots_dir), plots, figures, h};
+  const BalancingSections& sections = balancing_sections(config_);
+  for (const auto& x : sections.experiments) {
     if (mc.outputs.empty()) break;
-    auto values = [&](const std::string& n) { return mc.values[index_of(names, n)]; };
-    // Per position k, "x(k) p50 p05 p95" of NAME_p1_k<k><suffix>, then of plane 2 (gnuplot data).
-    auto position_bands = [&](const BalancingExperiment& e, const std::string& suffix, auto x_of) {
-      std::ostringstream dat;
-      for (int k = 0; k < e.positions; ++k) {
-        dat << x_of(k);
-        for (int p = 1; p <= 2; ++p) {
-          const Band b = band_of(values(e.name + "_p" + std::to_string(p) + "_k" + std::to_string(k) + suffix));
-          dat << ' ' << b.p50 << ' ' << b.p05 << ' ' << b.p95;
-        }
-        dat << '\n';
-      }
-      return dat.str();
-    };
     if (x.type == "separation") {
-      h << "<h2>Separation of static and couple unbalance (" << html_escape(x.name) << ")</h2>\n"
-        << "<p>" << fmt(x.mass * 1e3) << " g at r = " << fmt(x.radius * 1e3) << " mm on each testing surface in "
-        << x.positions << " holes, " << fmt(model_.run.speed_rpm) << " r/min; effect on each sensor "
-        << "(|A - A<sub>bare</sub>|, mean over the holes), median and 5-95% over the machines as built. "
-        << "Sensor 1 should stay flat, sensor 2 grow in proportion to the height (the separation of the "
-        << "model's Eq. 17, spring_plate_machine.h).</p>\n<table><tr><th>surface</th><th>height (mm)</th><th>sensor 1 (mN)</th><th>sensor 2 (mN)</th></tr>\n";
-      std::ostringstream dat;
-      for (int s = 1; s <= model_.rotor.surfaces; ++s) {
-        const std::string base = x.name + "_s" + std::to_string(s);
-        const Band b1 = band_of(values(base + "_sensor1_mN")), b2 = band_of(values(base + "_sensor2_mN"));
-        const double z = model_.rotor.surface_height(s) * 1e3;
-        h << "<tr><td>" << s << "</td><td>" << fmt(z) << "</td><td>" << fmt(b1.p50) << " <small>[" << fmt(b1.p05)
-          << ", " << fmt(b1.p95) << "]</small></td><td>" << fmt(b2.p50) << " <small>[" << fmt(b2.p05) << ", "
-          << fmt(b2.p95) << "]</small></td></tr>\n";
-        dat << z << ' ' << b1.p50 << ' ' << b1.p05 << ' ' << b1.p95 << ' ' << b2.p50 << ' ' << b2.p05 << ' ' << b2.p95 << '\n';
-      }
-      h << "</table>\n";
-      if (plots) {
-        write_file_atomic((fs::path(dir) / (x.name + "_sensors.dat")).string(), dat.str());
-        svg_plot(dir, x.name + "_sensors",
-             "set title 'Sensor signals against the height of the test mass'\nset xlabel 'height of the testing surface above the torsion shaft (mm)'\n"
-             "set ylabel 'sensor amplitude (mN)'\nset key top left\nset xrange [0:*]\nset yrange [0:*]\n"
-             "plot '" + x.name + "_sensors.dat' u 1:2:3:4 w yerrorlines lw 2 pt 7 title 'sensor 1 (horizontal)', '' u 1:5:6:7 w yerrorlines lw 2 pt 5 title 'sensor 2 (torsional)'\n",
-             figures, h);
-      }
+      separation_section(page, x, model_);
     } else if (x.type == "umar") {
-      h << "<h2>Minimum achievable residual unbalance U<sub>mar</sub> (" << html_escape(x.name) << ")</h2>\n<p>"
-        << fmt(x.mass * 1e3) << " g at r = " << fmt(x.radius * 1e3) << " mm in " << x.positions
-        << " angular positions of each correction plane (surfaces " << balancing_sections(config_).plane_1_surface << " and "
-        << balancing_sections(config_).plane_2_surface << "); U<sub>mar,p</sub> = (X<sub>max</sub> - X<sub>min</sub>) r / 2, U<sub>mar</sub> = "
-           "U<sub>mar1</sub> + U<sub>mar2</sub> (Eq. 18: e = U<sub>mar1</sub>/M<sub>1</sub> = U<sub>mar2</sub>/M<sub>2</sub>, "
-           "M<sub>1</sub> + M<sub>2</sub> = M<sub>R</sub>). The spread X<sub>max</sub> - X<sub>min</sub> is twice the rotor's own "
-           "residual in that plane plus what the machine adds: compare U<sub>mar,p</sub> with the true residual.</p>\n";
-      if (plots) {
-        write_file_atomic((fs::path(dir) / (x.name + "_readings.dat")).string(),
-                          position_bands(x, "_g", [&](int k) { return 360.0 * k / x.positions; }));
-        svg_plot(dir, x.name + "_readings",
-             "set title 'U_mar test: readings against the test mass position'\nset xlabel 'angular position of the test mass (deg)'\n"
-             "set ylabel 'reading (g at the test radius)'\nset xtics 45\nset key outside bottom center horizontal\n"
-             "plot '" + x.name + "_readings.dat' u 1:2:3:4 w yerrorlines lw 2 pt 7 title 'correction plane 1', '' u 1:5:6:7 w yerrorlines lw 2 pt 5 title 'correction plane 2'\n",
-             figures, h);
-      }
+      umar_section(page, x, sections);
     } else if (x.type == "stability") {
-      const Band b1 = band_of(values(x.name + "_plane1_max_dev_pct")), b2 = band_of(values(x.name + "_plane2_max_dev_pct"));
-      double pass = 0.0;
-      for (double v : values(x.name + "_pass_ratio")) pass += v / static_cast<double>(values(x.name + "_pass_ratio").size());
-      h << "<h2>Stability of the readings (" << html_escape(x.name) << "): "
-        << (x.variant == "wang2014" ? "the test as Wang 2014 Sec. 5.2.2 prints it" : "Poise's variant, not in the paper")
-        << "</h2>\n<p>" << fmt(x.mass * 1e3) << " g at r = "
-        << fmt(x.radius * 1e3) << " mm on surface " << x.surface << " in " << x.positions << " holes"
-        << (x.balance_first ? ", the rotor first balanced with the machine" : "")
-        << "; each plane's readings divided by their mean must lie within &plusmn;" << fmt(x.band * 100) << "%. "
-        << "Largest deviation: plane 1 " << fmt(b1.p50) << "% (p95 " << fmt(b1.p95) << "%), plane 2 " << fmt(b2.p50)
-        << "% (p95 " << fmt(b2.p95) << "%); " << fmt(pass * 100, 3) << "% of the machines pass.</p>\n";
-      if (x.surface == balancing_sections(config_).plane_1_surface || x.surface == balancing_sections(config_).plane_2_surface) {
-        h << "<p><small>The test mass sits in a correction plane, so the other plane's readings are its "
-             "residual unbalance and the machine's error alone: their ratio to their own mean measures noise, "
-             "not stability. Put the test mass between or beyond the planes to test both.</small></p>\n";
-      }
-      if (plots) {
-        write_file_atomic((fs::path(dir) / (x.name + "_ratios.dat")).string(),
-                          position_bands(x, "_ratio", [](int k) { return k + 1.0; }));
-        svg_plot(dir, x.name + "_ratios",
-             "set title 'Stability test: reading / mean of the plane'\nset xlabel 'hole'\nset ylabel 'reading / mean'\n"
-             "set xrange [0.5:" + std::to_string(x.positions) + ".5]\nset key outside bottom center horizontal\n"
-             "lo = " + fmt(1 - x.band) + "\nhi = " + fmt(1 + x.band) + "\n"
-             "plot lo w l dt 2 lc rgb 'red' title 'band', hi w l dt 2 lc rgb 'red' notitle, '" + x.name +
-                 "_ratios.dat' u 1:2:3:4 w yerrorlines lw 2 pt 7 title 'plane 1', '' u 1:5:6:7 w yerrorlines lw 2 pt 5 title 'plane 2'\n",
-             figures, h);
-      }
+      stability_section(page, x, sections);
     } else if (x.type == "urr") {
-      const Band b = band_of(values(x.name + "_min_pct"));
-      double pass = 0.0;
-      for (double v : values(x.name + "_pass_ratio")) pass += v / static_cast<double>(values(x.name + "_pass_ratio").size());
-      h << "<h2>Unbalance reduction ratio (" << html_escape(x.name) << ")</h2>\n<p>" << fmt(x.mass * 1e3)
-        << " g at r = " << fmt(x.radius * 1e3) << " mm in each correction plane (0 and 90 deg), one measuring run, "
-        << "one correction with the placement tolerances. URR = 1 - |U after| / |U before| (true unbalances), the "
-        << "smaller of the two planes: median " << fmt(b.p50) << "%, 5% quantile " << fmt(b.p05) << "%; "
-        << fmt(pass * 100, 3) << "% of the machines reach the required " << fmt(x.requirement * 100) << "% "
-        << "(<b>Poise's figure</b>: it charges the correction masses' placement errors to the machine).</p>\n";
-      const Band bi = band_of(values(x.name + "_iso_min_pct"));
-      double pass_iso = 0.0;
-      for (double v : values(x.name + "_iso_pass_ratio")) pass_iso += v / static_cast<double>(values(x.name + "_iso_pass_ratio").size());
-      h << "<p><b>ISO 21940-21's figure</b>: the indicated test unbalances (reading with the test masses minus the bare "
-           "reading) against the known test masses, no correction: URR<sub>iso</sub> = 1 - |D - T| / |T|, the smaller plane: "
-           "median " << fmt(bi.p50) << "%, 5% quantile " << fmt(bi.p05) << "%; " << fmt(pass_iso * 100, 3)
-        << "% of the machines reach " << fmt(x.requirement * 100) << "%.</p>\n";
+      urr_section(page, x);
     } else if (x.type == "umar_iso") {
-      double pass = 0.0;
-      for (double v : values(x.name + "_pass_ratio")) pass += v / static_cast<double>(values(x.name + "_pass_ratio").size());
-      const Band u1 = band_of(values(x.name + "_plane1_kgm")), u2 = band_of(values(x.name + "_plane2_kgm"));
-      h << "<h2>Two-plane U<sub>mar</sub> test, ISO 21940-21 style (" << html_escape(x.name) << ")</h2>\n<p>"
-        << fmt(x.mass * 1e3) << " g at r = " << fmt(x.radius * 1e3) << " mm in both correction planes at once (plane 2's "
-        << fmt(x.plane_2_offset / units::kRadPerDeg) << " deg from plane 1's), moved together through " << x.positions
-        << " positions. U<sub>mar,p</sub> = (X<sub>max</sub> - X<sub>min</sub>) r / 2: plane 1 median " << fmt(u1.p50 * 1e6)
-        << " g mm, plane 2 " << fmt(u2.p50 * 1e6) << " g mm; every reading within the mean &plusmn; the claimed "
-        << fmt(x.claim * 1e6) << " g mm: " << fmt(pass * 100, 3) << "% of the machines.</p>\n";
+      umar_iso_section(page, x);
     } else if (x.type == "accuracy") {
-      h << "<h2>Estimation error and couple interference (" << html_escape(x.name) << ")</h2>\n<p>A test piece with "
-        << fmt(x.piece_unbalance * 1e6) << " g mm in each plane (random angles) and its mass centre "
-        << "moved by the piece_centre_height tolerance, on the machine calibrated with rotor R. ic: influence "
-           "coefficients (calibrated on the machine as built); cf: the corrected closed form with the design "
-           "lever and speed (each sensor reads its own plate as built: the difference of the two horizontal "
-           "plates reaches it, their common stiffness does not). Interference I<sub>s,c</sub>: static "
-           "unbalance indicated per couple "
-           "unbalance (1/mm), from a pure couple of "
-        << fmt(x.mass * 1e3) << " g at " << fmt(x.radius * 1e3) << " mm in the two planes.</p>\n";
-      if (plots) {
-        for (const std::string o : {"_u_error_ic_gmm", "_u_error_cf_gmm", "_v_error_ic_gmm", "_v_error_cf_gmm", "_plane_error_ic_pct", "_plane_error_cf_pct",
-                                    "_interference_ic_per_mm", "_interference_cf_per_mm"}) {
-          const std::string n = x.name + o;
-          {
-            std::ostringstream dd;
-            for (double v : values(n)) dd << v << '\n';
-            write_file_atomic((fs::path(dir) / (n + ".dat")).string(), dd.str());
-          }
-          std::string unit;
-          for (const auto& spec : outputs()) {
-            if (spec.name == n) unit = spec.unit;
-          }
-          svg_plot(dir, n,
-               "set title '" + n + "'\nset xlabel '" + unit + "'\nset ylabel 'machines'\nstats '" + n +
-                   ".dat' u 1 nooutput\nnb = ceil(sqrt(STATS_records)); nb = (nb < 5 ? 5 : (nb > 25 ? 25 : nb))\n"
-                   "bw = (STATS_max - STATS_min) / nb\nif (bw <= 0) bw = 1e-9\n"
-                   "bin(x) = bw * floor(x / bw) + bw / 2\nset boxwidth bw absolute\nset yrange [0:*]\n"
-                   "if (STATS_records <= 10) set ytics 1\n"  // whole machines, not 0.5
-                   "set style fill solid 0.6\nplot '" + n +
-                   ".dat' u (bin($1)):(1.0) smooth freq with boxes lc rgb '#4477aa' notitle\n",
-               figures, h);
-        }
-      }
+      accuracy_section(page, x, outputs());
     }
   }
 }
-
 
 }  // namespace poise::kinds::balancing_machine

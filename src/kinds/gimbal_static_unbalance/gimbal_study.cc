@@ -66,6 +66,87 @@ std::size_t count_dims(const GimbalModel& m) {
   return d;
 }
 
+// One test's draws: the unit's, with the per-test tolerances drawn anew from `rs`.
+UnitDraws draw_test(const GimbalModel& model, UnitDraws d, sampling::RandomStream& rs) {
+  for (const auto& s : kSlots) {
+    const ScopedTolerance& t = model.*s.tol;
+    if (!t.per_test) continue;
+    d.*s.value = s.magnitude ? t.spec.dist.magnitude_quantile(rs.uniform()) : t.spec.dist.quantile(rs.uniform());
+    if (s.angle) d.*s.angle = 2.0 * kPi * rs.uniform();
+  }
+  return d;
+}
+
+// The rig as built for one test: what the procedure measures, and the unbalance (dx, dy)
+// about the rotation centre (run-out included) that the counterweight acts against.
+struct TestRig {
+  procedures::GimbalTruth truth;
+  double dx = 0.0, dy = 0.0;  ///< kg m
+};
+
+TestRig rig_for_test(const GimbalModel& model, const UnitDraws& d, const GimbalLoad& load) {
+  const double clump = load.mass + d.clump_mass;
+  const double radius = load.radius + d.hole_radius;
+  const double angle = load.angle + d.hole_angle;
+  const double m_total = model.rotor.mass + d.disk_dm + clump;
+  const double ux = d.residual_unbalance * std::cos(d.residual_angle) + d.disk_ux + clump * radius * std::cos(angle);
+  const double uy = d.residual_unbalance * std::sin(d.residual_angle) + d.disk_uy + clump * radius * std::sin(angle);
+  TestRig rig;
+  // Run-out: the rotation centre is off the geometric centre; it adds m r.
+  rig.dx = ux + m_total * d.runout * std::cos(d.runout_angle);
+  rig.dy = uy + m_total * d.runout * std::sin(d.runout_angle);
+  procedures::GimbalTruth& truth = rig.truth;
+  truth.disk = model.rotor;
+  truth.disk.mass = m_total;
+  truth.disk.inertia = model.rotor.inertia + d.disk_dj + clump * radius * radius;
+  truth.disk.eccentricity = std::hypot(rig.dx, rig.dy) / m_total;
+  truth.disk.eccentricity_angle = std::atan2(rig.dy, rig.dx);
+  truth.kt_true = model.plan.servo.kt_nominal * (1.0 + d.kt_calibration) * (1.0 + d.kt_drift);
+  truth.axis_tilt = d.axis_tilt;
+  truth.axis_tilt_azimuth = d.tilt_azimuth;
+  truth.turntable_zero = d.turntable_zero;
+  truth.disturbances = model.disturbances;
+  return rig;
+}
+
+// The estimated unbalance torque, the additive error included: amplitude (N m) and phase (rad).
+struct UnbalanceEstimate {
+  double amplitude = 0.0, phase = 0.0;
+};
+
+// Eq. 23 counterweight opposite the estimated unbalance, placed with its tolerances; the
+// residual about the bearing axis, run-out included (counterweight_residual.h), in kg m.
+double counterweight_residual(const GimbalModel& model, const std::string& placement, const UnitDraws& d,
+                              const TestRig& rig, const UnbalanceEstimate& e, sampling::NormalStream& normal) {
+  const double g0 = model.plan.gravity;
+  const double m_cw = procedures::counterweight_mass(e.amplitude, model.counterweight_radius, g0) * (1.0 + d.cw_mass);
+  const double r_cw = model.counterweight_radius + d.cw_radius;
+  const double turn_back = placement == "turntable" ? model.plan.positioning_error * normal.next() : 0.0;
+  const double a_cw = counterweight_disk_angle(placement, e.phase, d.gimbal_zero + d.turntable_zero, d.cw_angle + turn_back);
+  const std::array<double, 2> runout{d.runout * std::cos(d.runout_angle), d.runout * std::sin(d.runout_angle)};
+  const auto res = residual_about_bearing_axis({rig.dx, rig.dy}, runout, m_cw, r_cw, a_cw);
+  return std::hypot(res[0], res[1]);
+}
+
+// A group's errors over its tests, against the loads (N m, rad), and what else it reports.
+struct GroupErrors {
+  double se_t = 0, se_a = 0, sum_t = 0, sum_a = 0, sum_mk = 0, max_res = 0, max_phi = 0, sum_fit_rmse = 0;
+  std::size_t n = 0;
+
+  // The group's outputs (outputs() order) into out.outputs from index o on.
+  void write(const procedures::TestPlan& plan, SampleResult& out, std::size_t& o) const {
+    const double nn = static_cast<double>(n);
+    const double mean_t = sum_t / nn, mean_a = sum_a / nn;
+    const double sd_t = n > 1 ? std::sqrt(std::max(0.0, (se_t - nn * mean_t * mean_t) / (nn - 1))) : 0.0;
+    const double sd_a = n > 1 ? std::sqrt(std::max(0.0, (se_a - nn * mean_a * mean_a) / (nn - 1))) : 0.0;
+    const double deg = units::kRadPerDeg;
+    const double values[] = {std::sqrt(se_t / nn) * 1e3, std::sqrt(se_a / nn) / deg, mean_t * 1e3, mean_a / deg,
+                             sd_t * 1e3, sd_a / deg, sum_mk / nn * 1e3, max_res * 1e6, max_phi / deg,
+                             sum_fit_rmse / nn * 1e3, procedures::test_duration(plan) / 60.0};
+    for (double v : values) out.outputs[o++] = v;
+  }
+};
+
 }  // namespace
 
 GimbalStudy::GimbalStudy(StudyConfig config, GimbalModel model, std::size_t samples, std::uint64_t seed)
@@ -224,99 +305,49 @@ void GimbalStudy::compute(std::size_t i, Workspace& ws, SampleResult& out) const
 void GimbalStudy::run_campaign(std::uint64_t stream, const RigAsBuilt& unit, Workspace& ws, SampleResult& out) const {
   sampling::RandomStream rs(seed_, sampling::StreamId::kProcedure, stream);
   sampling::NormalStream normal(&rs);
-  const double disk_ux = unit.disk_ux, disk_uy = unit.disk_uy, disk_dm = unit.disk_dm, disk_dj = unit.disk_dj;
-  {
-    auto draw_test = [&](UnitDraws d) {
-      for (const auto& s : kSlots) {
-        const ScopedTolerance& t = model_.*s.tol;
-        if (!t.per_test) continue;
-        d.*s.value = s.magnitude ? t.spec.dist.magnitude_quantile(rs.uniform()) : t.spec.dist.quantile(rs.uniform());
-        if (s.angle) d.*s.angle = 2.0 * kPi * rs.uniform();
-      }
-      return d;
-    };
-    const double g0 = model_.plan.gravity;
-    std::size_t o = 0;
-    for (const auto& grp : gimbal_sections(config_).groups) {
-      procedures::TestPlan plan = model_.plan;
-      procedures::set_positions(plan, grp.positions, procedures::parse_placement(grp.placement));
-      const std::string placement =
-          grp.counterweight_placement == "model" ? model_.counterweight_placement : grp.counterweight_placement;
-      double se_t = 0, se_a = 0, sum_t = 0, sum_a = 0, sum_mk = 0, max_res = 0, max_phi = 0, sum_fit_rmse = 0;
-      std::size_t n = 0;
-      for (std::size_t r = 0; r < grp.repeats; ++r) {
-        for (const auto& load : grp.loads) {
-          const UnitDraws d = draw_test(unit);
-          // The rig as built for this test.
-          const double clump = load.mass + d.clump_mass;
-          const double radius = load.radius + d.hole_radius;
-          const double angle = load.angle + d.hole_angle;
-          const double m_total = model_.rotor.mass + disk_dm + clump;
-          const double ux = d.residual_unbalance * std::cos(d.residual_angle) + disk_ux + clump * radius * std::cos(angle);
-          const double uy = d.residual_unbalance * std::sin(d.residual_angle) + disk_uy + clump * radius * std::sin(angle);
-          // Run-out: the rotation centre is off the geometric centre; it adds m r.
-          const double dx = ux + m_total * d.runout * std::cos(d.runout_angle);
-          const double dy = uy + m_total * d.runout * std::sin(d.runout_angle);
-          procedures::GimbalTruth truth;
-          truth.disk = model_.rotor;
-          truth.disk.mass = m_total;
-          truth.disk.inertia = model_.rotor.inertia + disk_dj + clump * radius * radius;
-          truth.disk.eccentricity = std::hypot(dx, dy) / m_total;
-          truth.disk.eccentricity_angle = std::atan2(dy, dx);
-          truth.kt_true = model_.plan.servo.kt_nominal * (1.0 + d.kt_calibration) * (1.0 + d.kt_drift);
-          truth.axis_tilt = d.axis_tilt;
-          truth.axis_tilt_azimuth = d.tilt_azimuth;
-          truth.turntable_zero = d.turntable_zero;
-          truth.disturbances = model_.disturbances;
-          plan.oscillation.centre = model_.plan.oscillation.centre + d.gimbal_zero;
-          // The additive mechanism's per-test error, along and across the estimate (kg m).
-          double add_along = 0.0, add_across = 0.0;
-          if (model_.error_mechanism != "scale_and_zero") {
-            add_along = model_.unbalance_error_along.spec.dist.quantile(rs.uniform());
-            add_across = model_.unbalance_error_across.spec.dist.quantile(rs.uniform());
-          }
-          const procedures::MeasurementResult m = procedures::run_static_unbalance_procedure(plan, truth, rs, ws);
-          out.solver_steps += m.solver.steps;
-          out.rhs_evals += m.solver.rhs_evals;
-          const double load_torque = load.mass * g0 * load.radius;  // what the test claims to load
-          check_positions(m, grp.name, r * grp.loads.size() + static_cast<std::size_t>(&load - grp.loads.data()) + 1,
-                          load_torque, load.angle);
-          // The estimate with the additive error: a vector added to (MT_s, b).
-          const double ex = m.fit.amplitude + add_along * g0, ey = add_across * g0;
-          const double amplitude = std::hypot(ex, ey), phase = m.fit.phase + std::atan2(ey, ex);
-          const double et = amplitude - load_torque;
-          const double ea = wrap_pi(phase - load.angle);
-          se_t += et * et;
-          se_a += ea * ea;
-          sum_t += et;
-          sum_a += ea;
-          sum_mk += m.fit.offset;
-          sum_fit_rmse += m.fit.rmse;
-          // Eq. 23 counterweight opposite the estimated unbalance, placed with its tolerances;
-          // the residual about the bearing axis, run-out included (counterweight_residual.h).
-          const double m_cw = procedures::counterweight_mass(amplitude, model_.counterweight_radius, g0) *
-                              (1.0 + d.cw_mass);
-          const double r_cw = model_.counterweight_radius + d.cw_radius;
-          const double turn_back = placement == "turntable" ? model_.plan.positioning_error * normal.next() : 0.0;
-          const double a_cw = counterweight_disk_angle(placement, phase, d.gimbal_zero + d.turntable_zero,
-                                                       d.cw_angle + turn_back);
-          const std::array<double, 2> runout{d.runout * std::cos(d.runout_angle), d.runout * std::sin(d.runout_angle)};
-          const auto res = residual_about_bearing_axis({dx, dy}, runout, m_cw, r_cw, a_cw);
-          max_res = std::max(max_res, std::hypot(res[0], res[1]));
-          for (const auto& p : m.positions) max_phi = std::max(max_phi, p.max_abs_phi);
-          ++n;
+  const double g0 = model_.plan.gravity;
+  std::size_t o = 0;
+  for (const auto& grp : gimbal_sections(config_).groups) {
+    procedures::TestPlan plan = model_.plan;
+    procedures::set_positions(plan, grp.positions, procedures::parse_placement(grp.placement));
+    const std::string placement =
+        grp.counterweight_placement == "model" ? model_.counterweight_placement : grp.counterweight_placement;
+    GroupErrors g;
+    for (std::size_t r = 0; r < grp.repeats; ++r) {
+      for (const auto& load : grp.loads) {
+        const UnitDraws d = draw_test(model_, unit, rs);
+        // The rig as built for this test.
+        const TestRig rig = rig_for_test(model_, d, load);
+        plan.oscillation.centre = model_.plan.oscillation.centre + d.gimbal_zero;
+        // The additive mechanism's per-test error, along and across the estimate (kg m).
+        double add_along = 0.0, add_across = 0.0;
+        if (model_.error_mechanism != "scale_and_zero") {
+          add_along = model_.unbalance_error_along.spec.dist.quantile(rs.uniform());
+          add_across = model_.unbalance_error_across.spec.dist.quantile(rs.uniform());
         }
+        const procedures::MeasurementResult m = procedures::run_static_unbalance_procedure(plan, rig.truth, rs, ws);
+        out.solver_steps += m.solver.steps;
+        out.rhs_evals += m.solver.rhs_evals;
+        const double load_torque = load.mass * g0 * load.radius;  // what the test claims to load
+        check_positions(m, grp.name, r * grp.loads.size() + static_cast<std::size_t>(&load - grp.loads.data()) + 1,
+                        load_torque, load.angle);
+        // The estimate with the additive error: a vector added to (MT_s, b).
+        const double ex = m.fit.amplitude + add_along * g0, ey = add_across * g0;
+        const UnbalanceEstimate e{std::hypot(ex, ey), m.fit.phase + std::atan2(ey, ex)};
+        const double et = e.amplitude - load_torque;
+        const double ea = wrap_pi(e.phase - load.angle);
+        g.se_t += et * et;
+        g.se_a += ea * ea;
+        g.sum_t += et;
+        g.sum_a += ea;
+        g.sum_mk += m.fit.offset;
+        g.sum_fit_rmse += m.fit.rmse;
+        g.max_res = std::max(g.max_res, counterweight_residual(model_, placement, d, rig, e, normal));
+        for (const auto& p : m.positions) g.max_phi = std::max(g.max_phi, p.max_abs_phi);
+        ++g.n;
       }
-      const double nn = static_cast<double>(n);
-      const double mean_t = sum_t / nn, mean_a = sum_a / nn;
-      const double sd_t = n > 1 ? std::sqrt(std::max(0.0, (se_t - nn * mean_t * mean_t) / (nn - 1))) : 0.0;
-      const double sd_a = n > 1 ? std::sqrt(std::max(0.0, (se_a - nn * mean_a * mean_a) / (nn - 1))) : 0.0;
-      const double deg = units::kRadPerDeg;
-      const double values[] = {std::sqrt(se_t / nn) * 1e3, std::sqrt(se_a / nn) / deg, mean_t * 1e3, mean_a / deg,
-                               sd_t * 1e3, sd_a / deg, sum_mk / nn * 1e3, max_res * 1e6, max_phi / deg,
-                               sum_fit_rmse / nn * 1e3, procedures::test_duration(plan) / 60.0};
-      for (double v : values) out.outputs[o++] = v;
     }
+    g.write(plan, out, o);
   }
 }
 

@@ -69,6 +69,135 @@ std::string loop_statement(models::StabilizationLoop l) {
   return os.str();
 }
 
+// Quantiles of each axis' residual outputs, before balancing and after each test order.
+json residual_by_order_json(const McResult& mc, const std::vector<std::string>& names, const PlatformStudySection& ps) {
+  json res;
+  for (models::Axis a : models::kAllAxes) {
+    const std::string ax = models::axis_name(a);
+    res[ax]["initial_torque_max_mNm"] = quantiles_json(quantiles(values_of(mc, names, "initial_" + ax + "_torque_max_mNm")));
+    for (const auto& l : ps.order_labels) {
+      for (const char* o : {"residual_gmm", "residual_grid_max_gmm", "torque_max_mNm", "torque_rms_mNm", "torque_max_acc_mNm", "torque_rms_acc_mNm"}) {
+        res[ax][l][o] = quantiles_json(quantiles(values_of(mc, names, l + "_" + ax + "_" + o)));
+      }
+    }
+  }
+  return res;
+}
+
+// The platform's gimbals, their loop and the test campaign's set-up.
+void platform_table(const json& d, const PlatformStudySection& ps, std::ostringstream& h) {
+  h << "<h2>The platform and its test campaign</h2>\n<table><tr><th class='l'>gimbal (axis)</th><th>mass (kg)</th>"
+       "<th>inertia about the axis, outboard (kg m&sup2;)</th><th>K<sub>T</sub> (N m/A)</th><th>counterweight R / plane h (mm)</th>"
+       "<th>stabilization: least disturbance stiffness (N m/rad)</th></tr>\n";
+  for (const auto& g : d["gimbals"]) {
+    h << "<tr><td class='l'>" << g["axis"].get<std::string>() << "</td><td>" << fmt(g["mass_kg"].get<double>()) << "</td><td>"
+      << fmt(g["axis_inertia_kg_m2"].get<double>()) << "</td><td>" << fmt(g["kt_nominal_N_m_per_A"].get<double>()) << "</td><td>"
+      << fmt(g["counterweight_radius_m"].get<double>() * 1e3) << " / " << fmt(g["counterweight_plane_m"].get<double>() * 1e3)
+      << "</td><td>" << fmt(g["loop_min_stiffness_N_m_per_rad"].get<double>()) << "</td></tr>\n";
+  }
+  h << "</table>\n";
+  if (!d["gimbals"].empty()) {
+    const json& loop = d["gimbals"][0]["loop"];
+    h << "<p>Stabilization loop: " << html_escape(d["loop_statement"].get<std::string>()) << ". Closed-loop poles (Hz, the "
+         "same on every axis: the gains scale with its inertia):";
+    for (const auto& pole : loop["closed_loop_poles_Hz"]) {
+      h << " " << fmt(pole[0].get<double>()) << (pole[1].get<double>() < 0 ? " - " : " + ")
+        << fmt(std::abs(pole[1].get<double>())) << "j";
+    }
+    h << "; least disturbance stiffness at " << fmt(loop["least_stiffness_at_Hz"].get<double>()) << " Hz.</p>\n";
+  }
+  h << "<p>Each axis test is the complete simulated single-axis procedure (" << ps.positions
+    << " turntable positions, servo-driven oscillation integrated with CVODE, sampled current, Eq. 21, Eq. 22 fit, Eq. 23 "
+       "counterweight with its placement tolerances in the gimbal's correction plane) on the assembly that turns about "
+       "the axis, the other gimbals locked with their locking errors. Residual torque: the exact statics on a grid of "
+    << d["grid"]["points"].get<std::size_t>() << " gimbal angles (outer " << fmt(d["grid"]["outer_deg"][0].get<double>()) << " to "
+    << fmt(d["grid"]["outer_deg"][1].get<double>()) << " deg, middle " << fmt(d["grid"]["middle_deg"][0].get<double>()) << " to "
+    << fmt(d["grid"]["middle_deg"][1].get<double>()) << " deg, inner " << fmt(d["grid"]["inner_deg"][0].get<double>()) << " to "
+    << fmt(d["grid"]["inner_deg"][1].get<double>()) << " deg), under gravity and under gravity plus the stated carrier "
+       "acceleration (" << fmt(ps.acceleration[0]) << ", " << fmt(ps.acceleration[1]) << ", " << fmt(ps.acceleration[2])
+    << ") m/s&sup2; in the base frame.</p>\n";
+}
+
+// Residual torques per axis and order.
+void residual_table(const json& d, const PlatformStudySection& ps, std::ostringstream& h) {
+  h << "<h2>Residual unbalance torque per axis and test order</h2>\n<table><tr><th class='l'>axis</th><th class='l'>order</th>"
+       "<th>residual S<sub>&perp;</sub> p50 / p95 (g mm), lock angles | greatest over the grid</th><th>max over grid, gravity: p50 / p95 / p99.73 (mN m)</th>"
+       "<th>RMS over grid, gravity p50 (mN m)</th><th>max, gravity + acceleration: p50 / p95 / p99.73 (mN m)</th></tr>\n";
+  for (models::Axis a : models::kAllAxes) {
+    const std::string ax = models::axis_name(a);
+    const json& r = d["residual_by_order"][ax];
+    const json& ini = r["initial_torque_max_mNm"];
+    h << "<tr><td class='l'>" << ax << "</td><td class='l'>before balancing</td><td></td><td>" << fmt(ini["p50"].get<double>())
+      << " / " << fmt(ini["p95"].get<double>()) << " / " << fmt(ini["p99_73"].get<double>()) << "</td><td></td><td></td></tr>\n";
+    for (std::size_t o = 0; o < ps.order_labels.size(); ++o) {
+      const json& x = r[ps.order_labels[o]];
+      h << "<tr><td class='l'>" << ax << "</td><td class='l'>" << html_escape(ps.order_texts[o]) << "</td><td>"
+        << fmt(x["residual_gmm"]["p50"].get<double>()) << " / " << fmt(x["residual_gmm"]["p95"].get<double>()) << " | "
+        << fmt(x["residual_grid_max_gmm"]["p50"].get<double>()) << " / " << fmt(x["residual_grid_max_gmm"]["p95"].get<double>())
+        << "</td><td>"
+        << fmt(x["torque_max_mNm"]["p50"].get<double>()) << " / " << fmt(x["torque_max_mNm"]["p95"].get<double>()) << " / "
+        << fmt(x["torque_max_mNm"]["p99_73"].get<double>()) << "</td><td>" << fmt(x["torque_rms_mNm"]["p50"].get<double>())
+        << "</td><td>" << fmt(x["torque_max_acc_mNm"]["p50"].get<double>()) << " / "
+        << fmt(x["torque_max_acc_mNm"]["p95"].get<double>()) << " / " << fmt(x["torque_max_acc_mNm"]["p99_73"].get<double>())
+        << "</td></tr>\n";
+    }
+  }
+  h << "</table>\n<p><small>Why the order matters: an axis test sees only the part of the outboard first moment "
+       "perpendicular to its axis, with the carried gimbals at their lock angles. Testing outer or middle before the "
+       "gimbals they carry balances them against an unbalance that later moves (the inner gimbal's x/z offset turns with "
+       "gamma) or is changed afterwards (the later counterweights, and their offsets along their own axes), so they end "
+       "unbalanced over the range of angles. Inside to outside, each counterweight's side effects land on axes still to "
+       "be tested.</small></p>\n";
+}
+
+// Per axis, the distribution of the residual torque under gravity + acceleration per order.
+void residual_plots(const McResult& mc, const std::vector<std::string>& names, const PlatformStudySection& ps,
+                    const fs::path& dir, std::vector<std::string>& figures, std::ostringstream& h) {
+  for (models::Axis a : models::kAllAxes) {
+    const std::string ax = models::axis_name(a), name = "residual_" + ax;
+    std::string cmd = "set title 'Residual torque on the " + ax + " axis: max over the angle grid, gravity + acceleration'\n"
+                      "set xlabel 'residual torque (mN m)'\nset ylabel 'fraction of platforms'\nset logscale x\n"
+                      "set key bottom right\nset yrange [0:1]\nplot ";
+    for (std::size_t o = 0; o < ps.order_labels.size(); ++o) {
+      std::vector<double> v = values_of(mc, names, ps.order_labels[o] + "_" + ax + "_torque_max_acc_mNm");
+      std::sort(v.begin(), v.end());
+      const std::string file = name + "_" + ps.order_labels[o] + ".dat";
+      std::ostringstream f;
+      for (std::size_t j = 0; j < v.size(); ++j) f << v[j] << ' ' << (static_cast<double>(j) + 0.5) / static_cast<double>(v.size()) << '\n';
+      write_file_atomic((dir / file).string(), f.str());
+      cmd += std::string(o ? ", " : "") + "'" + file + "' u 1:2 w l lw 2 title '" + ps.order_texts[o] + "'";
+    }
+    svg_plot(dir, name, cmd + "\n", figures, h);
+  }
+}
+
+// The combined LOS budget table with its assumptions.
+void los_budget_table(const json& d, const PlatformStudySection& ps, std::ostringstream& h) {
+  const double px = d["pixel_arcsec"].get<double>();
+  h << "<h2>Combined LOS budget (pairing assumption)</h2>\n<p><b>Assumptions.</b> "
+    << html_escape(d["los_budget_assumptions"]["pairing"].get<std::string>()) << ". The unbalance lines "
+    << html_escape(d["los_budget_assumptions"]["loop"].get<std::string>()) << ".</p>\n"
+    << "<p>Residual unbalance torque c<sub>k</sub>&middot;(g - a(t)) on each axis through "
+       "its stabilization loop (on the outboard inertia; a loop with a position integrator takes out the constant gravity "
+       "part, a rate loop holds the error c<sub>k</sub>&middot;g / K<sub>p</sub>), LOS error |&delta;&omega; &times; d| at each grid point over a profile of " << fmt(ps.duration) << " s: a manoeuvre ("
+    << fmt(ps.manoeuvre[0]) << ", " << fmt(ps.manoeuvre[1]) << ", " << fmt(ps.manoeuvre[2]) << ") m/s&sup2; from "
+    << fmt(ps.onset) << " s over " << fmt(ps.rise_time) << " s, and " << ps.vibration.size()
+    << " vibration line(s). The gimbals hold their angles during the profile. Temporal: over the profile of one unit; "
+       "ensemble: over the units (samples).</p>\n<table><tr><th class='l'>line</th><th class='l'>nature</th><th>p50</th>"
+       "<th>p95</th><th>p99.73 (arcsec)</th>" << (px > 0 ? "<th>p99.73 (px)</th>" : "") << "</tr>\n";
+  for (const auto& l : d["los_budget"]) {
+    const json& q = l["arcsec"];
+    auto cell = [&](const char* k) { return q.contains(k) ? fmt(q[k].get<double>()) : std::string(""); };
+    h << "<tr><td class='l'>" << html_escape(l["line"].get<std::string>()) << "</td><td class='l'>"
+      << html_escape(l["nature"].get<std::string>()) << "</td><td>" << cell("p50") << "</td><td>" << cell("p95") << "</td><td>"
+      << cell("p99_73") << "</td>";
+    if (px > 0) h << "<td>" << fmt(q["p99_73"].get<double>() / px) << "</td>";
+    h << "</tr>\n";
+  }
+  h << "</table>\n";
+  if (ps.shafting_study.empty()) h << "<p><small>No [platform.shafting] study: the budget has no shafting line.</small></p>\n";
+}
+
 }  // namespace
 
 ShaftingLos compute_shafting_los(const StudyConfig& cfg, int threads) {
@@ -87,8 +216,8 @@ ShaftingLos compute_shafting_los(const StudyConfig& cfg, int threads) {
   return out;
 }
 
-json PlatformStudy::details(const McResult& mc) const {
-  json d;
+// Per gimbal: its mass properties, counterweight and stabilization loop.
+json PlatformStudy::gimbals_json() const {
   const PlatformStudySection& ps = platform_sections(config_).platform;
   json gimbals = json::array();
   for (models::Axis a : models::kAllAxes) {
@@ -113,28 +242,14 @@ json PlatformStudy::details(const McResult& mc) const {
                        {"loop_min_stiffness_N_m_per_rad", k_min},
                        {"loop_stiffness_at_vibration_lines", lines}});
   }
-  d["gimbals"] = gimbals;
-  d["loop_statement"] = loop_statement(model_.stabilization);
-  d["grid"] = {{"outer_deg", {ps.outer_min / units::kRadPerDeg, ps.outer_max / units::kRadPerDeg, ps.outer_points}},
-               {"middle_deg", {ps.middle_min / units::kRadPerDeg, ps.middle_max / units::kRadPerDeg, ps.middle_points}},
-               {"inner_deg", {ps.inner_min / units::kRadPerDeg, ps.inner_max / units::kRadPerDeg, ps.inner_points}},
-               {"points", grid_.size()}};
-  d["stated_acceleration_m_s2"] = ps.acceleration;
-  d["orders"] = json::array();
-  for (std::size_t o = 0; o < ps.orders.size(); ++o) d["orders"].push_back({{"label", ps.order_labels[o]}, {"order", ps.order_texts[o]}});
+  return gimbals;
+}
+
+// The combined LOS budget lines (reference order = the first): shafting, unbalance peak and
+// RMS, and each platform paired with shafting units.
+json PlatformStudy::los_budget_json(const McResult& mc) const {
+  const PlatformStudySection& ps = platform_sections(config_).platform;
   const auto& names = output_names();
-  json res;
-  for (models::Axis a : models::kAllAxes) {
-    const std::string ax = models::axis_name(a);
-    res[ax]["initial_torque_max_mNm"] = quantiles_json(quantiles(values_of(mc, names, "initial_" + ax + "_torque_max_mNm")));
-    for (const auto& l : ps.order_labels) {
-      for (const char* o : {"residual_gmm", "residual_grid_max_gmm", "torque_max_mNm", "torque_rms_mNm", "torque_max_acc_mNm", "torque_rms_acc_mNm"}) {
-        res[ax][l][o] = quantiles_json(quantiles(values_of(mc, names, l + "_" + ax + "_" + o)));
-      }
-    }
-  }
-  d["residual_by_order"] = res;
-  // The combined LOS budget (reference order = the first).
   json budget = json::array();
   const std::string ref = ps.order_labels.empty() ? "" : ps.order_labels[0];
   const std::vector<double>& peak = values_of(mc, names, ref + "_los_max_arcsec");
@@ -179,7 +294,24 @@ json PlatformStudy::details(const McResult& mc) const {
                       {"nature", "worst-case stacking of two ensemble p99.73s (conservative)"},
                       {"arcsec", {{"p99_73", qs.p9973 + qp.p9973}}}});
   }
-  d["los_budget"] = budget;
+  return budget;
+}
+
+json PlatformStudy::details(const McResult& mc) const {
+  json d;
+  const PlatformStudySection& ps = platform_sections(config_).platform;
+  d["gimbals"] = gimbals_json();
+  d["loop_statement"] = loop_statement(model_.stabilization);
+  d["grid"] = {{"outer_deg", {ps.outer_min / units::kRadPerDeg, ps.outer_max / units::kRadPerDeg, ps.outer_points}},
+               {"middle_deg", {ps.middle_min / units::kRadPerDeg, ps.middle_max / units::kRadPerDeg, ps.middle_points}},
+               {"inner_deg", {ps.inner_min / units::kRadPerDeg, ps.inner_max / units::kRadPerDeg, ps.inner_points}},
+               {"points", grid_.size()}};
+  d["stated_acceleration_m_s2"] = ps.acceleration;
+  d["orders"] = json::array();
+  for (std::size_t o = 0; o < ps.orders.size(); ++o) d["orders"].push_back({{"label", ps.order_labels[o]}, {"order", ps.order_texts[o]}});
+  d["residual_by_order"] = residual_by_order_json(mc, output_names(), ps);
+  // The combined LOS budget (reference order = the first).
+  d["los_budget"] = los_budget_json(mc);
   d["los_budget_assumptions"] = {
       {"loop", "the unbalance lines hold for this loop only: " + loop_statement(model_.stabilization) +
                    "; another loop type gives other figures for the same residual unbalance"},
@@ -194,108 +326,10 @@ void PlatformStudy::report_sections(const McResult& mc, const std::string& plots
                                     std::vector<std::string>& figures, std::ostringstream& h) const {
   const json d = details(mc);
   const PlatformStudySection& ps = platform_sections(config_).platform;
-  h << "<h2>The platform and its test campaign</h2>\n<table><tr><th class='l'>gimbal (axis)</th><th>mass (kg)</th>"
-       "<th>inertia about the axis, outboard (kg m&sup2;)</th><th>K<sub>T</sub> (N m/A)</th><th>counterweight R / plane h (mm)</th>"
-       "<th>stabilization: least disturbance stiffness (N m/rad)</th></tr>\n";
-  for (const auto& g : d["gimbals"]) {
-    h << "<tr><td class='l'>" << g["axis"].get<std::string>() << "</td><td>" << fmt(g["mass_kg"].get<double>()) << "</td><td>"
-      << fmt(g["axis_inertia_kg_m2"].get<double>()) << "</td><td>" << fmt(g["kt_nominal_N_m_per_A"].get<double>()) << "</td><td>"
-      << fmt(g["counterweight_radius_m"].get<double>() * 1e3) << " / " << fmt(g["counterweight_plane_m"].get<double>() * 1e3)
-      << "</td><td>" << fmt(g["loop_min_stiffness_N_m_per_rad"].get<double>()) << "</td></tr>\n";
-  }
-  h << "</table>\n";
-  if (!d["gimbals"].empty()) {
-    const json& loop = d["gimbals"][0]["loop"];
-    h << "<p>Stabilization loop: " << html_escape(d["loop_statement"].get<std::string>()) << ". Closed-loop poles (Hz, the "
-         "same on every axis: the gains scale with its inertia):";
-    for (const auto& pole : loop["closed_loop_poles_Hz"]) {
-      h << " " << fmt(pole[0].get<double>()) << (pole[1].get<double>() < 0 ? " - " : " + ")
-        << fmt(std::abs(pole[1].get<double>())) << "j";
-    }
-    h << "; least disturbance stiffness at " << fmt(loop["least_stiffness_at_Hz"].get<double>()) << " Hz.</p>\n";
-  }
-  h << "<p>Each axis test is the complete simulated single-axis procedure (" << ps.positions
-    << " turntable positions, servo-driven oscillation integrated with CVODE, sampled current, Eq. 21, Eq. 22 fit, Eq. 23 "
-       "counterweight with its placement tolerances in the gimbal's correction plane) on the assembly that turns about "
-       "the axis, the other gimbals locked with their locking errors. Residual torque: the exact statics on a grid of "
-    << d["grid"]["points"].get<std::size_t>() << " gimbal angles (outer " << fmt(d["grid"]["outer_deg"][0].get<double>()) << " to "
-    << fmt(d["grid"]["outer_deg"][1].get<double>()) << " deg, middle " << fmt(d["grid"]["middle_deg"][0].get<double>()) << " to "
-    << fmt(d["grid"]["middle_deg"][1].get<double>()) << " deg, inner " << fmt(d["grid"]["inner_deg"][0].get<double>()) << " to "
-    << fmt(d["grid"]["inner_deg"][1].get<double>()) << " deg), under gravity and under gravity plus the stated carrier "
-       "acceleration (" << fmt(ps.acceleration[0]) << ", " << fmt(ps.acceleration[1]) << ", " << fmt(ps.acceleration[2])
-    << ") m/s&sup2; in the base frame.</p>\n";
-  // Residual torques per axis and order.
-  h << "<h2>Residual unbalance torque per axis and test order</h2>\n<table><tr><th class='l'>axis</th><th class='l'>order</th>"
-       "<th>residual S<sub>&perp;</sub> p50 / p95 (g mm), lock angles | greatest over the grid</th><th>max over grid, gravity: p50 / p95 / p99.73 (mN m)</th>"
-       "<th>RMS over grid, gravity p50 (mN m)</th><th>max, gravity + acceleration: p50 / p95 / p99.73 (mN m)</th></tr>\n";
-  for (models::Axis a : models::kAllAxes) {
-    const std::string ax = models::axis_name(a);
-    const json& r = d["residual_by_order"][ax];
-    const json& ini = r["initial_torque_max_mNm"];
-    h << "<tr><td class='l'>" << ax << "</td><td class='l'>before balancing</td><td></td><td>" << fmt(ini["p50"].get<double>())
-      << " / " << fmt(ini["p95"].get<double>()) << " / " << fmt(ini["p99_73"].get<double>()) << "</td><td></td><td></td></tr>\n";
-    for (std::size_t o = 0; o < ps.order_labels.size(); ++o) {
-      const json& x = r[ps.order_labels[o]];
-      h << "<tr><td class='l'>" << ax << "</td><td class='l'>" << html_escape(ps.order_texts[o]) << "</td><td>"
-        << fmt(x["residual_gmm"]["p50"].get<double>()) << " / " << fmt(x["residual_gmm"]["p95"].get<double>()) << " | "
-        << fmt(x["residual_grid_max_gmm"]["p50"].get<double>()) << " / " << fmt(x["residual_grid_max_gmm"]["p95"].get<double>())
-        << "</td><td>"
-        << fmt(x["torque_max_mNm"]["p50"].get<double>()) << " / " << fmt(x["torque_max_mNm"]["p95"].get<double>()) << " / "
-        << fmt(x["torque_max_mNm"]["p99_73"].get<double>()) << "</td><td>" << fmt(x["torque_rms_mNm"]["p50"].get<double>())
-        << "</td><td>" << fmt(x["torque_max_acc_mNm"]["p50"].get<double>()) << " / "
-        << fmt(x["torque_max_acc_mNm"]["p95"].get<double>()) << " / " << fmt(x["torque_max_acc_mNm"]["p99_73"].get<double>())
-        << "</td></tr>\n";
-    }
-  }
-  h << "</table>\n<p><small>Why the order matters: an axis test sees only the part of the outboard first moment "
-       "perpendicular to its axis, with the carried gimbals at their lock angles. Testing outer or middle before the "
-       "gimbals they carry balances them against an unbalance that later moves (the inner gimbal's x/z offset turns with "
-       "gamma) or is changed afterwards (the later counterweights, and their offsets along their own axes), so they end "
-       "unbalanced over the range of angles. Inside to outside, each counterweight's side effects land on axes still to "
-       "be tested.</small></p>\n";
-  if (plots && !mc.values.empty()) {
-    const fs::path dir(plots_dir);
-    for (models::Axis a : models::kAllAxes) {
-      const std::string ax = models::axis_name(a), name = "residual_" + ax;
-      std::string cmd = "set title 'Residual torque on the " + ax + " axis: max over the angle grid, gravity + acceleration'\n"
-                        "set xlabel 'residual torque (mN m)'\nset ylabel 'fraction of platforms'\nset logscale x\n"
-                        "set key bottom right\nset yrange [0:1]\nplot ";
-      for (std::size_t o = 0; o < ps.order_labels.size(); ++o) {
-        std::vector<double> v = values_of(mc, output_names(), ps.order_labels[o] + "_" + ax + "_torque_max_acc_mNm");
-        std::sort(v.begin(), v.end());
-        const std::string file = name + "_" + ps.order_labels[o] + ".dat";
-        std::ostringstream f;
-        for (std::size_t j = 0; j < v.size(); ++j) f << v[j] << ' ' << (static_cast<double>(j) + 0.5) / static_cast<double>(v.size()) << '\n';
-        write_file_atomic((dir / file).string(), f.str());
-        cmd += std::string(o ? ", " : "") + "'" + file + "' u 1:2 w l lw 2 title '" + ps.order_texts[o] + "'";
-      }
-      svg_plot(dir, name, cmd + "\n", figures, h);
-    }
-  }
-  // LOS budget.
-  const double px = d["pixel_arcsec"].get<double>();
-  h << "<h2>Combined LOS budget (pairing assumption)</h2>\n<p><b>Assumptions.</b> "
-    << html_escape(d["los_budget_assumptions"]["pairing"].get<std::string>()) << ". The unbalance lines "
-    << html_escape(d["los_budget_assumptions"]["loop"].get<std::string>()) << ".</p>\n"
-    << "<p>Residual unbalance torque c<sub>k</sub>&middot;(g - a(t)) on each axis through "
-       "its stabilization loop (on the outboard inertia; a loop with a position integrator takes out the constant gravity "
-       "part, a rate loop holds the error c<sub>k</sub>&middot;g / K<sub>p</sub>), LOS error |&delta;&omega; &times; d| at each grid point over a profile of " << fmt(ps.duration) << " s: a manoeuvre ("
-    << fmt(ps.manoeuvre[0]) << ", " << fmt(ps.manoeuvre[1]) << ", " << fmt(ps.manoeuvre[2]) << ") m/s&sup2; from "
-    << fmt(ps.onset) << " s over " << fmt(ps.rise_time) << " s, and " << ps.vibration.size()
-    << " vibration line(s). The gimbals hold their angles during the profile. Temporal: over the profile of one unit; "
-       "ensemble: over the units (samples).</p>\n<table><tr><th class='l'>line</th><th class='l'>nature</th><th>p50</th>"
-       "<th>p95</th><th>p99.73 (arcsec)</th>" << (px > 0 ? "<th>p99.73 (px)</th>" : "") << "</tr>\n";
-  for (const auto& l : d["los_budget"]) {
-    const json& q = l["arcsec"];
-    auto cell = [&](const char* k) { return q.contains(k) ? fmt(q[k].get<double>()) : std::string(""); };
-    h << "<tr><td class='l'>" << html_escape(l["line"].get<std::string>()) << "</td><td class='l'>"
-      << html_escape(l["nature"].get<std::string>()) << "</td><td>" << cell("p50") << "</td><td>" << cell("p95") << "</td><td>"
-      << cell("p99_73") << "</td>";
-    if (px > 0) h << "<td>" << fmt(q["p99_73"].get<double>() / px) << "</td>";
-    h << "</tr>\n";
-  }
-  h << "</table>\n";
-  if (ps.shafting_study.empty()) h << "<p><small>No [platform.shafting] study: the budget has no shafting line.</small></p>\n";
+  platform_table(d, ps, h);
+  residual_table(d, ps, h);
+  if (plots && !mc.values.empty()) residual_plots(mc, output_names(), ps, fs::path(plots_dir), figures, h);
+  los_budget_table(d, ps, h);
 }
 
 

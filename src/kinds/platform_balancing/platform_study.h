@@ -135,6 +135,9 @@ class PlatformStudy : public ProcedureStudyBase<PlatformStudy> {
   std::array<models::StabilizationLoop, 3> loops_;
   std::array<std::array<std::vector<double>, 3>, 3> loop_response_;  ///< [axis][component](t): h_k * a_j
   std::vector<double> profile_time_;
+  /// details(): each gimbal with its loop, and the combined LOS budget lines (platform_report.cc).
+  nlohmann::json gimbals_json() const;
+  nlohmann::json los_budget_json(const McResult& mc) const;
 };
 
 }  // namespace poise::kinds::platform_balancing
