@@ -34,29 +34,34 @@ tbb_tsan() {  # prints the CMake TBB_DIR of the instrumented oneTBB
     mkdir -p "$dir"
     if [ ! -f "$dir/onetbb.tar.xz" ]; then
       curl -sSfL -o "$dir/onetbb.tar.xz.part" \
-           "http://deb.debian.org/debian/pool/main/o/onetbb/onetbb_${tbb_version}.orig.tar.xz"
+           "http://deb.debian.org/debian/pool/main/o/onetbb/onetbb_${tbb_version}.orig.tar.xz" || return 1
       mv "$dir/onetbb.tar.xz.part" "$dir/onetbb.tar.xz"
     fi
-    echo "$tbb_sha256  $dir/onetbb.tar.xz" | sha256sum -c --quiet
-    rm -rf "$dir/src" && mkdir -p "$dir/src" && tar -C "$dir/src" --strip-components=1 -xf "$dir/onetbb.tar.xz"
+    echo "$tbb_sha256  $dir/onetbb.tar.xz" | sha256sum -c --quiet >&2 || return 1
+    rm -rf "$dir/src" && mkdir -p "$dir/src" && tar -C "$dir/src" --strip-components=1 -xf "$dir/onetbb.tar.xz" || return 1
     cmake -S "$dir/src" -B "$dir/build" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DTBB_SANITIZE=thread \
           -DTBB_TEST=OFF -DTBB_STRICT=OFF -DTBBMALLOC_BUILD=OFF -DTBB_ENABLE_IPO=OFF \
-          -DCMAKE_INSTALL_PREFIX="$dir/install" -DCMAKE_INSTALL_LIBDIR=lib >&2
-    cmake --build "$dir/build" -j"$jobs" >&2
-    cmake --install "$dir/build" >&2
+          -DCMAKE_INSTALL_PREFIX="$dir/install" -DCMAKE_INSTALL_LIBDIR=lib >&2 || return 1
+    cmake --build "$dir/build" -j"$jobs" >&2 || return 1
+    cmake --install "$dir/build" >&2 || return 1
   fi
   echo "$dir/install/lib/cmake/TBB"
 }
 
+# (Called as `run ... || status=1`, where set -e does not apply: every step checks itself.)
 run() {  # run <sanitizers> <build dir> <target> <ctest label> [ctest args]
   local sanitizers=$1 dir=$2 target=$3 label=$4
   shift 4
   local reports="$root/$dir/sanitizer-reports"
   local extra=()
-  if [ "$sanitizers" = thread ]; then extra+=(-DTBB_DIR="$(tbb_tsan)"); fi
+  if [ "$sanitizers" = thread ]; then
+    local tbb_dir
+    tbb_dir="$(tbb_tsan)" || { echo "sanitize.sh: building oneTBB with TSan failed" >&2; return 1; }
+    extra+=(-DTBB_DIR="$tbb_dir")
+  fi
   cmake -S . -B "$dir" -DCMAKE_BUILD_TYPE=Debug -DCMAKE_CXX_FLAGS_DEBUG="-g1 -O1" \
         -DPOISE_SANITIZE="$sanitizers" -DPOISE_WERROR=ON -DPOISE_BUILD_PYTHON=OFF -DPOISE_BUILD_BENCH=OFF \
-        "${extra[@]}"
+        "${extra[@]}" || return 1
   rm -rf "$reports" && mkdir -p "$reports"
   # Findings go to files (one per process), so a poise run by a test that expects it to fail
   # cannot hide one; distinct exit codes say which sanitizer stopped a process.
@@ -64,9 +69,9 @@ run() {  # run <sanitizers> <build dir> <target> <ctest label> [ctest args]
   export LSAN_OPTIONS="suppressions=$root/scripts/sanitizers/lsan.supp:print_suppressions=0"
   export UBSAN_OPTIONS="log_path=$reports/ubsan:exitcode=87:print_stacktrace=1:halt_on_error=1"
   export TSAN_OPTIONS="log_path=$reports/tsan:exitcode=88:halt_on_error=0:second_deadlock_stack=1:suppressions=$root/scripts/sanitizers/tsan.supp:print_suppressions=0"
-  cmake --build "$dir" -j"$jobs" --target "$target"
+  cmake --build "$dir" -j"$jobs" --target "$target" || return 1
   local status=0
-  ctest --test-dir "$dir" -L "$label" --output-on-failure -j"$jobs" "$@" || status=$?
+  ctest --test-dir "$dir" -L "$label" --no-tests=error --output-on-failure -j"$jobs" "$@" || status=$?
   if compgen -G "$reports/*" >/dev/null; then
     echo "sanitize.sh: $sanitizers: findings ($reports):"
     for f in "$reports"/*; do echo "== $f"; cat "$f"; done
