@@ -40,7 +40,7 @@ tbb_tsan() {  # prints the CMake TBB_DIR of the instrumented oneTBB
     echo "$tbb_sha256  $dir/onetbb.tar.xz" | sha256sum -c --quiet >&2 || return 1
     rm -rf "$dir/src" && mkdir -p "$dir/src" && tar -C "$dir/src" --strip-components=1 -xf "$dir/onetbb.tar.xz" || return 1
     cmake -S "$dir/src" -B "$dir/build" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DTBB_SANITIZE=thread \
-          -DTBB_TEST=OFF -DTBB_STRICT=OFF -DTBBMALLOC_BUILD=OFF -DTBB_ENABLE_IPO=OFF \
+          -DTBB_TEST=OFF -DTBB_STRICT=OFF -DTBBMALLOC_BUILD=OFF -DTBB_ENABLE_IPO=OFF -DTBB_DISABLE_HWLOC_AUTOMATIC_SEARCH=ON \
           -DCMAKE_INSTALL_PREFIX="$dir/install" -DCMAKE_INSTALL_LIBDIR=lib >&2 || return 1
     cmake --build "$dir/build" -j"$jobs" >&2 || return 1
     cmake --install "$dir/build" >&2 || return 1
