@@ -29,7 +29,7 @@ std::string number(double v, int digits = 6) {
 std::string triple(const Eigen::Vector3d& p, double size_m, int digits = 6) {
   const double scale = p.cwiseAbs().maxCoeff();
   auto text = [&](double v) { return number(std::abs(v) <= 1e-12 * scale ? 0.0 : v / size_m, digits); };
-  return "(" + text(p.x()) + ", " + text(p.y()) + ", " + text(p.z()) + ")";
+  return std::string("(") + text(p.x()) + ", " + text(p.y()) + ", " + text(p.z()) + ")";
 }
 
 }  // namespace

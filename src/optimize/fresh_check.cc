@@ -62,7 +62,7 @@ FreshCheck check_design(const OptimizationSpec& spec, const std::vector<double>&
   if (spec.pareto) f.second = interval(set_of(spec.pareto->output), spec.pareto->statistic);
   for (const auto& r : spec.constraints) {
     ConstraintCheck c;
-    c.requirement = &r;
+    c.requirement = r;
     c.unit = output_unit(spec, r.output);
     const SampleSet s = set_of(r.output);
     c.interval = interval(s, r.statistic);
@@ -88,7 +88,7 @@ FreshCheck check_design(const OptimizationSpec& spec, const std::vector<double>&
 
 std::string FreshCheck::describe_constraint(std::size_t k) const {
   const ConstraintCheck& c = constraints[k];
-  const Requirement& r = *c.requirement;
+  const Requirement& r = c.requirement;
   const std::string& unit = c.unit;
   std::string s = r.statistic + " of " + r.output + " " + interval_text(c.interval, unit);
   if (c.bound) {
@@ -123,9 +123,9 @@ nlohmann::json FreshCheck::to_json() const {
   nlohmann::json cons = nlohmann::json::array();
   for (std::size_t k = 0; k < constraints.size(); ++k) {
     const ConstraintCheck& c = constraints[k];
-    nlohmann::json cj{{"name", c.requirement->name}, {"output", c.requirement->output},
-                      {"statistic", c.requirement->statistic}, {"bound", to_string(c.requirement->bound)},
-                      {"limit", c.requirement->limit()}, {"at_least", c.requirement->at_least.has_value()},
+    nlohmann::json cj{{"name", c.requirement.name}, {"output", c.requirement.output},
+                      {"statistic", c.requirement.statistic}, {"bound", to_string(c.requirement.bound)},
+                      {"limit", c.requirement.limit()}, {"at_least", c.requirement.at_least.has_value()},
                       {"interval", interval_json(c.interval)}, {"verdict", to_string(c.verdict)},
                       {"text", describe_constraint(k)}};
     if (c.bound) cj["bound_value"] = *c.bound;

@@ -28,7 +28,7 @@ enum class Verdict { kPasses, kStraddles, kFails };
 std::string to_string(Verdict v);  ///< "passes", "straddles the limit", "fails"
 
 struct ConstraintCheck {
-  const Requirement* requirement = nullptr;
+  Requirement requirement;       ///< a copy: a check outlives the spec it was made from
   std::string unit;              ///< of the requirement's output
   Interval interval;             ///< the statistic with its 95% interval
   std::optional<double> bound;   ///< the stated bound on these samples (bound constraints)

@@ -203,9 +203,9 @@ void constraints_at_optimum(const OptimizationSpec& spec, OptimizationOutcome& o
     for (std::size_t k = 0; k < own.constraints.size(); ++k) {
       const auto& c = own.constraints[k];
       const double figure = c.bound ? *c.bound : c.interval.value;
-      const double scale = std::max(std::fabs(c.requirement->limit()), 1e-12);
-      json j{{"name", c.requirement->name}, {"interval", interval_json(c.interval)}, {"figure", figure},
-             {"limit", c.requirement->limit()}, {"binding", std::fabs(figure - c.requirement->limit()) <= 0.02 * scale},
+      const double scale = std::max(std::fabs(c.requirement.limit()), 1e-12);
+      json j{{"name", c.requirement.name}, {"interval", interval_json(c.interval)}, {"figure", figure},
+             {"limit", c.requirement.limit()}, {"binding", std::fabs(figure - c.requirement.limit()) <= 0.02 * scale},
              {"text", own.describe_constraint(k)}};
       b.push_back(j);
     }
