@@ -83,7 +83,8 @@ std::string budget_plot_svg(const json& j, const std::vector<double>& mc) {
   if (!req.is_null()) xmax = std::max(xmax, req.get<double>());
   if (!mc.empty()) xmax = std::max(xmax, mc.back());
   xmax *= 1.05;
-  const double W = 780, H = 400, L = 60, R = 20, T = 20, B = 50;
+  // The legend sits below the axis label, outside the data (up to 4 rows of 16 px).
+  const double W = 780, H = 472, L = 60, R = 20, T = 20, B = 122;
   const double pw = W - L - R, ph = H - T - B;
   auto X = [&](double v) { return L + pw * v / xmax; };
   auto Y = [&](double p) { return T + ph * (1.0 - p); };
@@ -104,7 +105,7 @@ std::string budget_plot_svg(const json& j, const std::vector<double>& mc) {
       << "' stroke='#444'/><text x='" << L - 8 << "' y='" << f2(Y(p) + 4) << "' text-anchor='end'>" << p
       << "</text>\n";
   }
-  s << "<text x='" << L + pw / 2 << "' y='" << H - 12 << "' text-anchor='middle'>"
+  s << "<text x='" << L + pw / 2 << "' y='" << T + ph + 38 << "' text-anchor='middle'>"
     << html_escape(mc.empty() ? "combined figure" : j["monte_carlo"]["output"].get<std::string>()) << " ["
     << html_escape(unit) << "]</text>\n";
   s << "<text transform='rotate(-90)' x='" << -(T + ph / 2) << "' y='16' text-anchor='middle'>"
@@ -144,7 +145,7 @@ std::string budget_plot_svg(const json& j, const std::vector<double>& mc) {
   vline(c["greatest"].get<double>(), "#1b7837", "6,4", 1.5);
   vline(a["least"].get<double>(), "#1b7837", "", 2.5);
   vline(a["greatest"].get<double>(), "#1b7837", "", 2.5);
-  if (!req.is_null()) vline(req.get<double>(), "#b2182b", "", 2);
+  if (!req.is_null()) vline(req.get<double>(), "#b2182b", "10,3,2,3", 2);  // dash-dot: not by hue alone
   // Legend.
   struct Entry {
     const char* color;
@@ -154,12 +155,12 @@ std::string budget_plot_svg(const json& j, const std::vector<double>& mc) {
   std::vector<Entry> legend = {
       {"#1b7837", "6,4", "budget least/greatest at " + j["budget"]["level"].get<std::string>()},
       {"#1b7837", "", "budget least/greatest at confidence " + budget_number(a["confidence"])}};
-  if (!req.is_null()) legend.push_back({"#b2182b", "", "requirement"});
+  if (!req.is_null()) legend.push_back({"#b2182b", "10,3,2,3", "requirement"});
   if (!mc.empty()) {
     legend.push_back({"#08519c", "", "Monte Carlo CDF; quantile at the confidence, its 95% interval shaded"});
   }
   for (std::size_t k = 0; k < legend.size(); ++k) {
-    const double y = T + 16 + 16 * static_cast<double>(k);
+    const double y = T + ph + 62 + 16 * static_cast<double>(k);
     s << "<line x1='" << L + 10 << "' y1='" << y - 4 << "' x2='" << L + 40 << "' y2='" << y - 4 << "' stroke='"
       << legend[k].color << "' stroke-width='2'"
       << (legend[k].dash[0] ? std::string(" stroke-dasharray='") + legend[k].dash + "'" : "") << "/><text x='"
