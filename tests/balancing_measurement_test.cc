@@ -232,5 +232,39 @@ TEST(BalancingMeasurement, NoiseIsDeterministicForASeed) {
   }
 }
 
+// The fast model (steady-state response) against the full one (CVODE from rest): the same
+// noise draws in the same order, so the estimates differ only by the start transient left
+// after settling and the solver's error; with noise off the settling check reads zero.
+TEST(BalancingMeasurement, SteadyStateResponseMatchesTheIntegratedRun) {
+  const SpringPlateMachineParams p = wang2014(0.02);
+  BalancingRunConfig full;
+  BalancingRunConfig fast = full;
+  fast.response = BalancingResponse::kSteadyState;
+  SensorConfig sensors;
+  sensors.noise_rms = 1e-3;  // N
+  sensors.gain_error_1 = 0.01;
+  sensors.gain_error_2 = -0.02;
+  sensors.sensor_1_offset = 0.003;
+  BalancingWorkspace ws(full.solver);
+  sampling::RandomStream a(42, sampling::StreamId::kProcedure, 7), b(42, sampling::StreamId::kProcedure, 7);
+  const UnbalanceEstimates ef = estimate_unbalance(p, kCalRotor, kTest1, kTest2, kRotor, 0.0, full, sensors, a, ws);
+  const UnbalanceEstimates es = estimate_unbalance(p, kCalRotor, kTest1, kTest2, kRotor, 0.0, fast, sensors, b, ws);
+  EXPECT_EQ(a.uniform(), b.uniform());  // both streams advanced alike
+  for (int i = 0; i < 2; ++i) {
+    const double da = rel(es.measurement.amplitudes(i), ef.measurement.amplitudes(i));
+    const double di = rel(es.influence(i), ef.influence(i));
+    const double dc = rel(es.closed_form.planes(i), ef.closed_form.planes(i));
+    std::printf("sensor/plane %d: amplitude %.2e, influence %.2e, closed form %.2e apart\n", i + 1, da, di, dc);
+    EXPECT_LT(da, 1e-8);
+    EXPECT_LT(di, 1e-8);
+    EXPECT_LT(dc, 1e-8);
+  }
+  EXPECT_EQ(es.measurement.solver.steps, 0);
+  EXPECT_EQ(es.measurement.settle_revolutions, ef.measurement.settle_revolutions);
+  const SensorConfig clean{0.01, 0.0, 0.0, sensors.sample_rate_hz};
+  const BalancingMeasurement m0 = run_balancing_measurement(p, kRotor, 0.0, fast, clean, a, ws);
+  EXPECT_EQ(m0.last_revolution_change.maxCoeff(), 0.0);
+}
+
 }  // namespace
 }  // namespace poise::procedures

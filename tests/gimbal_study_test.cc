@@ -256,5 +256,42 @@ TEST(GimbalStudy, DiskFromGeometryCarriesTheWedgeUnbalance) {
   }
 }
 
+// The kind's fast model (StudyKind::fast_model: each position's mean current from the load
+// averaged over whole periods of the reference) against the full one on the shipped study
+// the test-plan optimization runs, with the same draws: per sample, the torque error differs
+// by far less than it varies from sample to sample, and the test time and b agree.
+TEST(GimbalStudy, FastModelFollowsTheFullModel) {
+  StudyConfig cfg = load_study(test::source_path("studies/gimbal_unbalance_mc.toml"));
+  for (const std::string positions : {"18", "36"}) {
+    const std::map<std::string, std::string> o{{"group.positions", positions}};
+    const McResult full = evaluate_study(cfg, o, 12, 5, 2);
+    StudyConfig fast_cfg = cfg;
+    fast_cfg.fast_model = true;
+    const McResult fast = evaluate_study(fast_cfg, o, 12, 5, 2);
+    ASSERT_EQ(full.failures, 0u);
+    ASSERT_EQ(fast.failures, 0u);
+    for (const std::string out : {"g_rmse_torque_mNm", "g_rmse_angle_deg", "g_test_time_min", "g_max_swing_deg"}) {
+      const auto& a = full.values[full.index(out)];
+      const auto& b = fast.values[fast.index(out)];
+      double largest = 0.0, mean = 0.0, spread = 0.0;
+      for (std::size_t i = 0; i < a.size(); ++i) {
+        largest = std::max(largest, std::abs(a[i] - b[i]));
+        mean += a[i] / static_cast<double>(a.size());
+      }
+      for (double v : a) spread += (v - mean) * (v - mean) / static_cast<double>(a.size() - 1);
+      spread = std::sqrt(spread);
+      std::printf("%s positions %s: largest |fast - full| %.3e, full mean %.4g, std %.3g\n", out.c_str(),
+                  positions.c_str(), largest, mean, spread);
+      if (out == "g_test_time_min") {
+        EXPECT_EQ(largest, 0.0);
+      } else if (out == "g_max_swing_deg") {
+        EXPECT_LT(largest, 0.005);  // the tracking error the fast model leaves out (deg)
+      } else {
+        EXPECT_LT(largest, 0.01 * spread) << out;  // errors: far inside their sample-to-sample spread
+      }
+    }
+  }
+}
+
 }  // namespace
 }  // namespace poise::engine

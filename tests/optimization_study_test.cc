@@ -419,6 +419,103 @@ seed = 9
   }
 }
 
+// search_model = "fast": the searches and the selection set run the kind's fast model, the
+// comparison set runs the full model on the finalists only (the selection pick and each
+// choice value's best), the answer states the fast model's gap to the full one on the
+// headline's fresh samples, and the cost is counted per model. A kind without a fast model
+// refuses the key.
+TEST(OptimizationStudy, FastSearchIsVerifiedOnTheFullModel) {
+  TempDir d;
+  test::write_text(d.file("study.toml"), R"([study]
+name = "tiny"
+kind = "gimbal_static_unbalance"
+model = ")" + test::source_path("models/gimbal_simulator_yang2015.toml") + R"("
+[sampling]
+method = "monte_carlo"
+samples = 4
+seed = 3
+[[group]]
+name = "g"
+positions = 8
+[[group.load]]
+mass = "25.81 g"
+radius = "51.0 mm"
+angle = "45.50 deg"
+)");
+  const std::string opt = R"([optimization]
+name = "plan"
+study = "study.toml"
+samples = 4
+seed = 5
+algorithm = "cobyla"
+max_evaluations = 4
+search_model = "fast"
+[[variable]]
+parameter = "oscillation.period"
+lower = "1 s"
+upper = "6 s"
+start = "4 s"
+[[choice]]
+parameter = "group.positions"
+values = ["8", "12", "16"]
+[[choice]]
+parameter = "group.placement"
+values = ["sequential", "back_and_forth"]
+[overrides]
+"oscillation.periods" = "1"
+[objective]
+output = "g_rmse_torque_mNm"
+statistic = "p95"
+[verification]
+samples = 8
+seed = 9
+)";
+  test::write_text(d.file("opt.toml"), opt);
+  const OptimizationSpec spec = load_optimization(d.file("opt.toml"));
+  ASSERT_TRUE(spec.fast_search);
+  EXPECT_NE(spec.fast_model_text.find("whole periods"), std::string::npos) << spec.fast_model_text;
+  const OptimizationOutcome out = optimize(spec, 2, false);
+  ASSERT_TRUE(out.feasible);
+  ASSERT_EQ(out.choices.size(), 6u);
+  // Finalists: the pick, the best of each of 3 + 2 values: at most 5 of the 6, at least 3.
+  std::size_t compared = 0;
+  for (const auto& row : out.comparison["choices"]) {
+    const bool c = row.value("compared", false);
+    compared += c ? 1 : 0;
+    EXPECT_EQ(row.contains("comparison"), c) << row.dump();
+    if (row["best"].get<bool>()) EXPECT_TRUE(c);
+  }
+  EXPECT_GE(compared, 3u);
+  EXPECT_LE(compared, 5u);
+  for (const auto& p : out.comparison["by_parameter"]) {
+    for (const auto& v : p["values"]) EXPECT_TRUE(out.comparison["choices"][v["run"].get<std::size_t>()]["compared"].get<bool>());
+  }
+  // The full model ran exactly the comparison set of the finalists; the fast model the rest.
+  EXPECT_EQ(out.model_samples, compared * spec.verification_samples);
+  EXPECT_EQ(out.design_evaluations - out.fast_evaluations, compared);
+  EXPECT_GT(out.fast_samples, 6u * spec.verification_samples);
+  // The headline's check is the full model's; the fast model on the same samples is close.
+  EXPECT_EQ(out.check.samples, spec.verification_samples);
+  ASSERT_TRUE(out.fast_model.contains("objective"));
+  const double rel = out.fast_model["objective"]["relative"].get<double>();
+  std::printf("fast model on the headline's fresh samples: relative difference %.2e\n", rel);
+  EXPECT_LT(std::fabs(rel), 0.01);
+  EXPECT_NE(out.answer.find("the searches ran the fast model"), std::string::npos) << out.answer;
+  // A kind without a fast model: refused, naming the key.
+  test::write_text(d.file("seeker_opt.toml"),
+                   "[optimization]\nname = \"s\"\nstudy = \"" + test::source_path("studies/los_seeker_wang2011.toml") +
+                       "\"\nsamples = 64\nseed = 1\nalgorithm = \"cobyla\"\nmax_evaluations = 2\nsearch_model = "
+                       "\"fast\"\n[[variable]]\nparameter = \"yaw.bearing_span\"\nlower = \"60 mm\"\nupper = \"220 "
+                       "mm\"\nstart = \"160 mm\"\n[objective]\nvariable_sum = [\"yaw.bearing_span\"]\n");
+  try {
+    load_optimization(d.file("seeker_opt.toml"));
+    FAIL() << "a kind without a fast model accepted search_model = \"fast\"";
+  } catch (const engine::ValidationError& e) {
+    EXPECT_NE(std::string(e.what()).find("optimization.search_model"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("has no fast model"), std::string::npos) << e.what();
+  }
+}
+
 TEST(OptimizationStudy, BootstrapIntervalCoversTheStatistic) {
   std::vector<double> v;
   for (int i = 0; i < 200; ++i) v.push_back(std::sin(0.37 * i) + 0.01 * i);

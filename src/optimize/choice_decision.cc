@@ -97,31 +97,34 @@ std::string equivalence_clause(const Difference& d, const Equivalence& e, const 
 
 namespace {
 
-/// Every feasible combination's design on the selection and the comparison set.
-std::vector<ChoiceOnFresh> run_fresh_sets(const OptimizationSpec& spec, const std::vector<ChoiceResult>& runs, int threads,
-                                          RunProgress& progress) {
-  std::vector<std::size_t> feasible;
-  for (std::size_t r = 0; r < runs.size(); ++r) {
-    if (runs[r].result.feasible) feasible.push_back(r);
-  }
-  progress.plan(2.0 * static_cast<double>(feasible.size() * spec.verification_samples));
+/// One fresh set of one combination's design: `model_of` is the base study to run (the full
+/// model, or the fast one for the selection set of a fast search).
+FreshCheck fresh_set(const OptimizationSpec& spec, const ChoiceResult& run, bool selection, int threads,
+                     RunProgress& progress) {
+  const auto design = overrides_of(spec, run.result.x, run.choice);
+  const bool fast = selection && spec.fast_search;
+  const std::uint64_t seed = selection ? spec.selection_seed() : spec.verification_seed;
+  const auto e = engine::evaluate_study(fast ? spec.search_study() : spec.base, design, spec.verification_samples,
+                                        seed, threads);
+  FreshCheck f = check_design(spec, run.result.x, e, seed);
+  progress.step(static_cast<double>(spec.verification_samples),
+                std::string("[") + choice_label(run.choice) + "] " + (selection ? "selection" : "comparison") +
+                    " set, " + std::to_string(spec.verification_samples) + " fresh samples" +
+                    (fast ? " (fast model)" : "") + ": objective " + short_number(f.objective_value) +
+                    ", constraints " + to_string(f.verdict),
+                fast);
+  return f;
+}
+
+/// Every feasible combination's design on the selection set.
+std::vector<ChoiceOnFresh> run_selection_set(const OptimizationSpec& spec, const std::vector<ChoiceResult>& runs,
+                                             int threads, RunProgress& progress) {
   std::vector<ChoiceOnFresh> fresh;
-  for (std::size_t r : feasible) {
-    ChoiceOnFresh c;
-    c.run = r;
-    const auto design = overrides_of(spec, runs[r].result.x, runs[r].choice);
-    for (int set = 0; set < 2; ++set) {
-      const std::uint64_t seed = set == 0 ? spec.selection_seed() : spec.verification_seed;
-      const auto e = engine::evaluate_study(spec.base, design, spec.verification_samples, seed, threads);
-      FreshCheck f = check_design(spec, runs[r].result.x, e, seed);
-      progress.step(static_cast<double>(spec.verification_samples),
-                    std::string("[") + choice_label(runs[r].choice) + "] " + (set == 0 ? "selection" : "comparison") + " set, " +
-                        std::to_string(spec.verification_samples) + " fresh samples: objective " +
-                        short_number(f.objective_value) + ", constraints " + to_string(f.verdict));
-      (set == 0 ? c.selection : c.comparison) = std::move(f);
-    }
-    fresh.push_back(std::move(c));
+  for (std::size_t r = 0; r < runs.size(); ++r) {
+    if (runs[r].result.feasible) fresh.push_back({r, {}, {}, false});
   }
+  progress.plan(static_cast<double>(fresh.size() * spec.verification_samples));
+  for (auto& c : fresh) c.selection = fresh_set(spec, runs[c.run], true, threads, progress);
   return fresh;
 }
 
@@ -147,6 +150,25 @@ struct Fresh {
   std::optional<std::size_t> best_with(const std::string& parameter, const std::string& value) const {
     auto p = pick([&](const ChoiceOnFresh& c) { return c.selection.stated_met && runs[c.run].choice.at(parameter) == value; });
     return p ? p : pick([&](const ChoiceOnFresh& c) { return runs[c.run].choice.at(parameter) == value; });
+  }
+  /// What the comparison set must see: with a fast search, the selection set's pick and each
+  /// choice value's best combination (all the decision and the answer compare); otherwise
+  /// every feasible combination.
+  std::vector<std::size_t> finalists() const {
+    std::vector<std::size_t> out;
+    auto add = [&](std::optional<std::size_t> r) {
+      if (r && std::find(out.begin(), out.end(), *r) == out.end()) out.push_back(*r);
+    };
+    if (!spec.fast_search) {
+      for (std::size_t r = 0; r < of.size(); ++r) add(of[r] ? std::optional<std::size_t>(r) : std::nullopt);
+      return out;
+    }
+    std::optional<std::size_t> h = pick([](const ChoiceOnFresh& c) { return c.selection.stated_met; });
+    add(h ? h : pick([](const ChoiceOnFresh&) { return true; }));
+    for (const auto& ch : spec.choices) {
+      for (const auto& v : ch.values) add(best_with(ch.parameter, v));
+    }
+    return out;
   }
   /// stat(a) - stat(b) on the comparison set, paired.
   Difference minus(std::size_t a, std::size_t b) const {
@@ -253,7 +275,10 @@ json choice_row(const Fresh& f, std::size_t r, std::size_t headline, std::size_t
            {"optimization_pick", r == optimization_pick}, {"selection_pick", r == selection_pick}, {"best", r == headline}};
   const ChoiceOnFresh* c = f.of[r];
   if (!c) return row;
-  row["selection"] = {{"objective", c->selection.objective_value}, {"constraints_met", c->selection.stated_met}};
+  row["selection"] = {{"objective", c->selection.objective_value}, {"constraints_met", c->selection.stated_met},
+                      {"model", f.spec.fast_search ? "fast" : "full"}};
+  row["compared"] = c->compared;
+  if (!c->compared) return row;  // not a finalist: the selection set (fast model) alone
   row["comparison"] = c->comparison.to_json();
   row["objective"] = c->comparison.objective ? interval_json(*c->comparison.objective)
                                              : json{{"value", c->comparison.objective_value}};
@@ -311,9 +336,16 @@ ChoiceDecision decide_choices(const OptimizationSpec& spec, const std::vector<Ch
   ChoiceDecision out;
   const std::string unit = spec.objective_output.empty() ? (spec.variables.empty() ? "" : spec.variables[0].unit)
                                                          : output_unit(spec, spec.objective_output);
-  out.fresh = run_fresh_sets(spec, runs, threads, progress);
+  out.fresh = run_selection_set(spec, runs, threads, progress);
   Fresh f{spec, runs, std::vector<const ChoiceOnFresh*>(runs.size(), nullptr)};
   for (const auto& c : out.fresh) f.of[c.run] = &c;
+  const std::vector<std::size_t> finalists = f.finalists();
+  progress.plan(static_cast<double>(finalists.size() * spec.verification_samples));
+  for (auto& c : out.fresh) {
+    if (std::find(finalists.begin(), finalists.end(), c.run) == finalists.end()) continue;
+    c.comparison = fresh_set(spec, runs[c.run], false, threads, progress);
+    c.compared = true;
+  }
   // The selection set's pick: the best there among the combinations meeting their constraints
   // there (as stated); if none does, the best there overall. Then the intervals decide.
   std::optional<std::size_t> h = f.pick([](const ChoiceOnFresh& c) { return c.selection.stated_met; });

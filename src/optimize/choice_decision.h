@@ -1,6 +1,9 @@
 #pragma once
 /// Discrete choices as decisions. Each combination of the choices has its best continuous
-/// design from the search (on the search's samples). Two independent fresh sets follow:
+/// design from the search (on the search's samples). Two independent fresh sets follow (with
+/// search_model = "fast", the selection set runs the fast model and only the finalists, the
+/// selection pick and each choice value's best combination, run the comparison set, on the
+/// full model):
 ///   selection set   picks: the headline (the combination best on fresh samples among those
 ///                   meeting their constraints there) and, for each value of a choice
 ///                   parameter, its best combination;
@@ -54,6 +57,7 @@ std::string equivalence_clause(const Difference& d, const Equivalence& e, const 
 struct ChoiceOnFresh {
   std::size_t run = 0;
   FreshCheck selection, comparison;
+  bool compared = false;  ///< on the comparison set (a finalist; every combination without a fast search)
 };
 
 struct ChoiceDecision {

@@ -8,9 +8,13 @@
 
 namespace poise::optimize {
 
-void RunProgress::step(double samples, const std::string& line) {
+void RunProgress::step(double samples, const std::string& line, bool fast) {
   done_ += samples;
   ++evaluations_;
+  if (fast) {
+    fast_samples_ += samples;
+    ++fast_evaluations_;
+  }
   if (!on_) return;
   const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
   // Searches usually converge before their budget, so the plan (and the ETA) is an upper bound.
@@ -94,7 +98,7 @@ ChoiceResult search_choice(const OptimizationSpec& spec, const std::map<std::str
     ScoredDesign sc;
     try {
       const engine::McResult e =
-          engine::evaluate_study(spec.base, overrides_of(spec, x, choice), spec.samples, setup.seed, threads);
+          engine::evaluate_study(spec.search_study(), overrides_of(spec, x, choice), spec.samples, setup.seed, threads);
       sc = score_design(spec, x, e);
     } catch (const std::exception& ex) {
       sc.primary.ok = false;
@@ -114,7 +118,8 @@ ChoiceResult search_choice(const OptimizationSpec& spec, const std::map<std::str
                   "[" + setup.label + "] evaluation " + std::to_string(count) + ": " + xs + " -> " +
                       (sc.primary.ok ? value_text(sc.primary.objective, "") : sc.primary.message) +
                       (setup.pareto && sc.primary.ok ? ", " + value_text(sc.second, "") : "") +
-                      (sc.primary.ok && !feasible ? " (infeasible)" : ""));
+                      (sc.primary.ok && !feasible ? " (infeasible)" : ""),
+                  spec.fast_search);
     return cr.designs.emplace(x, std::move(sc)).first->second;
   };
   // A search: `what` = objective, second, or the objective with second <= level.

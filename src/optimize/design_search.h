@@ -26,18 +26,24 @@ class RunProgress {
  public:
   explicit RunProgress(bool on) : on_(on), start_(std::chrono::steady_clock::now()) {}
   void plan(double samples) { planned_ += samples; }
-  /// `samples` done; prints "  <line>  (elapsed, ETA <= ...)" when on.
-  void step(double samples, const std::string& line);
+  /// `samples` done (of the kind's fast model if `fast`); prints "  <line>  (elapsed, ETA <=
+  /// ...)" when on.
+  void step(double samples, const std::string& line, bool fast = false);
   bool on() const { return on_; }
-  /// What the run spent: samples of the full model simulated, and design evaluations.
+  /// What the run spent: design evaluations and the samples they simulated, of the full model
+  /// and of the fast one.
   double done() const { return done_; }
   std::size_t evaluations() const { return evaluations_; }
+  std::size_t full_evaluations() const { return evaluations_ - fast_evaluations_; }
+  std::size_t fast_evaluations() const { return fast_evaluations_; }
+  double full_samples() const { return done_ - fast_samples_; }
+  double fast_samples() const { return fast_samples_; }
 
  private:
   bool on_;
   std::chrono::steady_clock::time_point start_;
-  double planned_ = 0.0, done_ = 0.0;
-  std::size_t evaluations_ = 0;
+  double planned_ = 0.0, done_ = 0.0, fast_samples_ = 0.0;
+  std::size_t evaluations_ = 0, fast_evaluations_ = 0;
 };
 
 /// What the searches keep of each design evaluated.

@@ -86,7 +86,8 @@ json optimization_json(const OptimizationSpec& spec) {
           {"common_random_numbers", true}, {"max_evaluations", spec.max_evaluations},
           {"replicates", spec.replicates}, {"verification_samples", spec.verification_samples},
           {"selection_seed", spec.selection_seed()}, {"verification_seed", spec.verification_seed},
-          {"recheck_seed", spec.recheck_seed()}, {"equivalence_margin", spec.equivalence_margin_text},
+          {"recheck_seed", spec.recheck_seed()}, {"search_model", spec.fast_search ? "fast" : "full"},
+          {"equivalence_margin", spec.equivalence_margin_text},
           {"notes", spec.notes}};
 }
 
@@ -116,8 +117,13 @@ json optimization_summary(const OptimizationSpec& spec, const OptimizationOutcom
   s["answer"] = out.answer;
   s["cost"] = {{"design_evaluations", out.design_evaluations},
                {"model_samples", out.model_samples},
-               {"what", "base-study runs of the full model (searches, replicates, fresh sets and checks) and the "
-                        "samples they simulated"}};
+               {"fast_model_evaluations", out.fast_evaluations},
+               {"fast_model_samples", out.fast_samples},
+               {"search_model", spec.fast_search ? "fast" : "full"},
+               {"what", "base-study runs (searches, replicates, fresh sets and checks; fast_model_evaluations of "
+                        "them on the kind's fast model) and the samples they simulated (model_samples of the "
+                        "full model, fast_model_samples of the fast one)"}};
+  if (!out.fast_model.is_null()) s["fast_model"] = out.fast_model;
   s["verified"] = out.feasible && out.verified;
   s["exit_status"] = exit_status;
   s["optimization"] = optimization_json(spec);

@@ -111,6 +111,7 @@ void read_optimization_table(TomlReader& root, const std::string& path, Optimiza
   s.max_evaluations = static_cast<int>(t.integer("max_evaluations", 1, 1'000'000));
   s.xtol_rel = t.number("xtol_rel", [](double v) { return v > 0 && v < 1 ? "" : "0 < xtol_rel < 1"; }, 1e-3);
   s.replicates = static_cast<int>(t.integer("replicates", 1, 50, 1));
+  s.fast_search = t.choice("search_model", {"full", "fast"}, "full") == "fast";
   if (t.has("replicate_size")) replicate_size = static_cast<std::size_t>(t.integer("replicate_size", 2, 100'000'000));
 }
 
@@ -256,6 +257,13 @@ void check_against_study(OptimizationSpec& s, const std::string& path, const std
   } catch (const engine::ValidationError&) {
   }
   std::vector<InputError> errors;
+  if (s.fast_search) {
+    s.fast_model_text = engine::study_kind(s.base.kind).fast_model(s.base);
+    if (s.fast_model_text.empty()) {
+      errors.emplace_back(SourceLocation{path, 0, 0}, "optimization.search_model", "\"fast\"",
+                          "\"full\": the kind '" + s.base.kind + "' of " + study_path + " has no fast model");
+    }
+  }
   if (replicate_size) s.base.replicate_size = *replicate_size;
   if (const std::size_t m = s.base.replicate_size; m > 0) {
     const std::string where = replicate_size ? "optimization.replicate_size" : "replicate_size (of " + study_path + ")";

@@ -7,6 +7,8 @@
 ///
 ///   [optimization]  name, study (base study file, relative to this file), title, notes,
 ///                   samples, seed, algorithm, max_evaluations, xtol_rel,
+///                   search_model ("full", or "fast": the searches on the kind's fast model,
+///                   the fresh-sample checks on the full one),
 ///                   replicates (independent searches with other seeds: the optimum's spread),
 ///                   replicate_size (randomized replicates of the lhs / sobol design, for
 ///                   intervals that cover; default the base study's [sampling] replicate_size)
@@ -85,6 +87,11 @@ struct OptimizationSpec {
   int max_evaluations = 100;
   double xtol_rel = 1e-3;
   int replicates = 1;  ///< searches with independent seeds (1: the search alone)
+  /// search_model = "fast": the searches run the kind's fast model (StudyKind::fast_model,
+  /// described in fast_model_text); every fresh-sample check, and so the exit status, runs the
+  /// full model. "full" (the default): the full model throughout.
+  bool fast_search = false;
+  std::string fast_model_text;
   std::vector<DesignVariable> variables;
   std::vector<Choice> choices;
   std::string objective_output, objective_statistic;  ///< empty output: variable_sum
@@ -102,6 +109,12 @@ struct OptimizationSpec {
   int max_nearest_rounds = 3;  ///< tightening rounds to find the nearest design that passes
 
   double max_failure_share() const { return base.max_failure_share; }
+  /// The base study as the searches run it: the fast model with search_model = "fast".
+  engine::StudyConfig search_study() const {
+    engine::StudyConfig c = base;
+    c.fast_model = fast_search;
+    return c;
+  }
   /// The seed of search replicate r (r = 0: `seed`), the selection set and the re-check set:
   /// all derived, distinct from each other and from the verification seed.
   std::uint64_t replicate_seed(int r) const;

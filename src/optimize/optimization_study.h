@@ -54,10 +54,16 @@ struct OptimizationOutcome {
   nlohmann::json front_verification;  ///< per front point: both objectives with 95% CIs
   nlohmann::json comparison;       ///< choices decided on fresh samples (choice_decision.h)
   std::string answer;              ///< the answer in one sentence
-  /// What the answer cost: design evaluations (each a base-study run of the full model) and the
-  /// samples they simulated, searches, fresh sets and checks together.
+  /// What the answer cost: design evaluations (each a base-study run) and the samples they
+  /// simulated, searches, fresh sets and checks together; model_samples of the full model,
+  /// fast_samples (in fast_evaluations) of the kind's fast model (search_model = "fast").
   std::size_t design_evaluations = 0;
   std::size_t model_samples = 0;
+  std::size_t fast_evaluations = 0;
+  std::size_t fast_samples = 0;
+  /// search_model = "fast": the headline design on its fresh samples under both models
+  /// (objective and constraint figures, their differences), and what the fast model leaves out.
+  nlohmann::json fast_model;
 };
 
 /// A statistic of `values` with a bootstrap 95% percentile interval (`resamples` resamples,

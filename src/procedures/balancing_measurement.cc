@@ -186,6 +186,38 @@ DemodulationSums sample_and_demodulate(solvers::CvodeIntegrator& integ, const Co
   return {sum1, sum2, rev1, rev2};
 }
 
+// The fast model's window: the sensors read the exact steady state. Sampled over whole
+// revolutions it demodulates exactly to the sensor's complex amplitude (the shaft angle at
+// t1 is a whole number of turns), so only the noise is sampled, with the draws of the
+// integrated run in the same order.
+DemodulationSums steady_state_sums(const models::SpringPlateMachineParams& machine,
+                                   const models::SpringPlateUnbalance& unbalance, double omega, const SampleWindow& w,
+                                   const SensorReadout& r, const SensorConfig& sensors,
+                                   sampling::NormalStream& normal) {
+  const Eigen::Vector2cd x = models::steady_state_response(machine, unbalance, omega);
+  const cd a1 = r.g1 * r.k5 * (x(0) + sensors.sensor_1_offset * x(1));
+  const cd a2 = r.g2 * r.k6l * x(1);
+  const double half = 0.5 * static_cast<double>(w.n_samples), half_rev = 0.5 * w.spr;
+  DemodulationSums s{a1 * half, a2 * half, {a1 * half_rev, a1 * half_rev}, {a2 * half_rev, a2 * half_rev}};
+  if (!(sensors.noise_rms > 0.0)) return s;
+  std::vector<cd> turn(static_cast<std::size_t>(w.spr));
+  for (int j = 0; j < w.spr; ++j) turn[static_cast<std::size_t>(j)] = std::polar(1.0, -2.0 * units::kPi * j / w.spr);
+  for (long k = 0; k < w.n_samples; ++k) {
+    const long rev = k / w.spr;
+    const cd e = turn[static_cast<std::size_t>(k % w.spr)];
+    const double n1 = sensors.noise_rms * normal.next();
+    const double n2 = sensors.noise_rms * normal.next();
+    s.sum1 += n1 * e;
+    s.sum2 += n2 * e;
+    if (rev >= w.revolutions - 2) {
+      const auto ri = static_cast<std::size_t>(rev - (w.revolutions - 2));
+      s.rev1[ri] += n1 * e;
+      s.rev2[ri] += n2 * e;
+    }
+  }
+  return s;
+}
+
 }  // namespace
 
 BalancingMeasurement run_balancing_measurement(const models::SpringPlateMachineParams& machine,
@@ -198,33 +230,37 @@ BalancingMeasurement run_balancing_measurement(const models::SpringPlateMachineP
   const double period = 2.0 * units::kPi / out.omega;
   const int spr = out.samples_per_revolution;
 
-  Context& c = ws.context();
-  scale_states(c, machine, unbalance, out.omega);
-
-  solvers::CvodeIntegrator& integ = ws.integrator();
-  const std::array<double, kStates> y0{};
-  integ.reset(0.0, y0);  // zeroes the solver's counters
   SampleWindow w;
   w.t1 = out.settle_time;
   w.t2 = w.t1 + run.revolutions * period;
-  if (w.t1 > 0.0) {
-    integ.advance(w.t1, w.t1, false);  // settle: start transient
-  } else {
-    integ.advance(w.t2, w.t2, true);   // one step, so that the interpolant exists at t = 0
-  }
   w.period = period;
   w.spr = spr;
   w.revolutions = run.revolutions;
   w.n_samples = static_cast<long>(run.revolutions) * spr;
   w.dt = period / spr;
-
   sampling::NormalStream normal(&noise);
-  const DemodulationSums s = sample_and_demodulate(integ, c, w, sensor_readout(machine, sensors), sensors, normal);
+  const SensorReadout readout = sensor_readout(machine, sensors);
+  DemodulationSums s;
+  if (run.response == BalancingResponse::kSteadyState) {
+    s = steady_state_sums(machine, unbalance, out.omega, w, readout, sensors, normal);
+  } else {
+    Context& c = ws.context();
+    scale_states(c, machine, unbalance, out.omega);
+    solvers::CvodeIntegrator& integ = ws.integrator();
+    const std::array<double, kStates> y0{};
+    integ.reset(0.0, y0);  // zeroes the solver's counters
+    if (w.t1 > 0.0) {
+      integ.advance(w.t1, w.t1, false);  // settle: start transient
+    } else {
+      integ.advance(w.t2, w.t2, true);   // one step, so that the interpolant exists at t = 0
+    }
+    s = sample_and_demodulate(integ, c, w, readout, sensors, normal);
+    out.solver = integ.stats();
+  }
   out.amplitudes = Eigen::Vector2cd(s.sum1, s.sum2) * (2.0 / static_cast<double>(w.n_samples));
   const double per_rev = 2.0 / spr;
   out.last_revolution_change(0) = std::abs(s.rev1[1] - s.rev1[0]) * per_rev / std::abs(out.amplitudes(0));
   out.last_revolution_change(1) = std::abs(s.rev2[1] - s.rev2[0]) * per_rev / std::abs(out.amplitudes(1));
-  out.solver = integ.stats();
   return out;
 }
 

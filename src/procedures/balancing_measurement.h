@@ -57,7 +57,19 @@ struct SensorConfig {
   double sensor_1_offset = 0.0;
 };
 
+/// How the sensor signals of a run are made.
+///   kIntegrated   CVODE integrates the machine from rest through the start transient and the
+///                 acquisition (steps 1-3 above): the full model.
+///   kSteadyState  the fast model: the exact steady state q = Re(X e^{i w t}) of the same linear
+///                 equations, (K - w^2 M_q + i w C) X = f^ (models::steady_state_response),
+///                 sampled at the same instants with the same gains and the same noise draws
+///                 in the same order. It leaves out what the settling leaves of the start
+///                 transient (below exp(-settle_time_constants) of it) and the solver's error;
+///                 nothing else differs (tests/balancing_measurement_test.cc compares both).
+enum class BalancingResponse { kIntegrated, kSteadyState };
+
 struct BalancingRunConfig {
+  BalancingResponse response = BalancingResponse::kIntegrated;
   double speed_rpm = 80.0;              ///< n (r/min); Wang 2014's test speed n_1
   int revolutions = 8;                  ///< N whole revolutions demodulated (>= 2)
   double settle_time_constants = 20.0;  ///< settle this many slowest decay time constants

@@ -320,6 +320,40 @@ WindowSums sample_window(const ProcedureRun& run, const PositionSensor& s, Posit
   return {sum_i, sum_track2};
 }
 
+// The period-mean model of one position (PositionModel::kPeriodMean): the mean true current
+// over whole periods of the reference; false if the drive would saturate somewhere on the way.
+bool period_mean_current(const Context& c, double* i_mean) {
+  const models::DiskRotorParams& d = c.disk;
+  const double j_total = d.inertia + d.mass * d.eccentricity * d.eccentricity;
+  const double swing = std::abs(c.amplitude) * std::max(d.cogging_order, 1);
+  const int points = 2 * (32 + static_cast<int>(std::ceil(swing)));  // even: the grid is symmetric
+  double sum = 0.0;
+  for (int j = 0; j < points; ++j) {
+    const double th = 2.0 * units::kPi * j / points;
+    const double phi = c.centre - c.amplitude * std::cos(th);
+    const double rate = c.rate_amplitude * std::sin(th);
+    const double acc = c.rate_amplitude * c.omega * std::cos(th);
+    const double q = j_total * models::rigid_axis_acceleration(d, c.gravity, phi, rate, 0.0);
+    const double i = (j_total * acc - q - c.disturbance_torque) / c.kt_true;
+    if (std::abs(i) >= c.i_max) return false;
+    sum += i;
+  }
+  *i_mean = sum / points;
+  return true;
+}
+
+// The window on the period-mean model: the same sums as integrate_window, with the current's
+// mean from period_mean_current.
+WindowSums period_mean_window(const ProcedureRun& run, const PositionSensor& s, double i_mean, PositionResult& pr) {
+  const double noise_sigma = run.plan.acquisition.noise_rms, lsb = run.w.lsb;
+  const long n_samples = run.w.n_samples;
+  const double sigma_mean = std::sqrt((noise_sigma * noise_sigma + lsb * lsb / 12.0) / static_cast<double>(n_samples));
+  pr.max_abs_phi = std::abs(run.c.amplitude);
+  WindowSums sums;
+  sums.sum_i = static_cast<double>(n_samples) * (i_mean + s.window_offset + s.drift_mean + sigma_mean * s.window_noise);
+  return sums;
+}
+
 }  // namespace
 
 MeasurementResult run_static_unbalance_procedure(const TestPlan& plan, const GimbalTruth& truth,
@@ -367,7 +401,6 @@ MeasurementResult run_static_unbalance_procedure(const TestPlan& plan, const Gim
     c.disturbance_torque = dist.harmonic2_torque * std::sin(2.0 * pr.theta_true + dist.harmonic2_phase) +
                            dist.direction_torque * pr.sweep +
                            (static_cast<int>(ip) == dist.bump_position ? dist.bump_torque : 0.0);
-    lock_and_settle(run);
     // Drift of the offset over the window: linear, so its mean is its value at the samples'
     // mean time t_start + t1 + (n - 1) dt / 2.
     const long n_samples = run.w.n_samples;
@@ -378,15 +411,22 @@ MeasurementResult run_static_unbalance_procedure(const TestPlan& plan, const Gim
                          c.i_max + std::abs(s.window_offset) + std::abs(s.drift_mean) +
                                  std::abs(dist.offset_drift_rate) * (t2 - t1) + 6.0 * noise_sigma >=
                              acq.adc_full_scale;
-    const WindowSums sums = sampled ? sample_window(run, s, pr, recorded ? record : nullptr)
-                                    : integrate_window(run, s, pr);
+    double i_mean = 0.0;
+    const bool period_mean =
+        !sampled && plan.position_model == PositionModel::kPeriodMean && period_mean_current(c, &i_mean);
+    if (!period_mean) lock_and_settle(run);
+    const WindowSums sums = period_mean ? period_mean_window(run, s, i_mean, pr)
+                            : sampled   ? sample_window(run, s, pr, recorded ? record : nullptr)
+                                        : integrate_window(run, s, pr);
     const double mean_i = sums.sum_i / static_cast<double>(n_samples);
     pr.torque = plan.servo.kt_nominal * mean_i;  // Eq. 21 with the nominal K_T
     pr.rms_tracking = std::sqrt(sums.sum_track2 / static_cast<double>(n_samples));
-    const solvers::CvodeStats st = integ.stats();
-    out.solver.steps += st.steps;
-    out.solver.rhs_evals += st.rhs_evals;
-    out.solver.jac_evals += st.jac_evals;
+    if (!period_mean) {
+      const solvers::CvodeStats st = integ.stats();
+      out.solver.steps += st.steps;
+      out.solver.rhs_evals += st.rhs_evals;
+      out.solver.jac_evals += st.jac_evals;
+    }
     theta.push_back(theta_nominal);
     torque.push_back(pr.torque);
     out.positions.push_back(pr);

@@ -64,6 +64,24 @@ enum class Supports {
                  ///< (J + m e^2) phi'' = Q_phi (models::rigid_axis_acceleration)
 };
 
+/// How a position's mean current is found (the gimbal kind's fast model is kPeriodMean).
+///   kIntegrated  CVODE integrates the servo and the rotor through the settle, the lead-in and
+///                the window (the full model).
+///   kPeriodMean  the rotor follows the reference exactly, phi = phi_c - a cos(w t'); over
+///                whole periods the mean of (J + m e^2) phi'' is zero, so the rigid rotor's
+///                equation (J + m e^2) phi'' = K_T i + T_d + Q_phi(phi, phidot) gives the mean
+///                current  mean(i) = -(mean(Q_phi) + T_d) / K_T, the mean taken by the
+///                trapezoidal rule over one period of the reference (exact to rounding for
+///                the trigonometric terms with enough points: 64, or more for a cogging order
+///                N, 2 N a + 32). It leaves out the tracking error, the start transient's
+///                remainder after the lead-in and the supports' dynamics; the acquisition's
+///                errors are drawn as on the integrated path (the same draws). A position
+///                that would saturate the drive, must be sampled (ADC coarser than the noise,
+///                near full scale) or whose record is kept is integrated as in kIntegrated.
+///                rms_tracking is 0 and max_abs_phi the reference's swing a on the other
+///                positions. Compared with the full model in tests/static_unbalance_procedure_test.cc.
+enum class PositionModel { kIntegrated, kPeriodMean };
+
 struct TestPlan {
   std::vector<double> positions;     ///< nominal turntable angles theta_i (rad), in test order
   std::vector<int> sweep;            ///< approach direction per position (+1/-1); empty = all +1
@@ -75,6 +93,7 @@ struct TestPlan {
   solvers::CvodeOptions solver;
   double gravity = 9.80665;
   Supports supports = Supports::kDynamic;
+  PositionModel position_model = PositionModel::kIntegrated;
 };
 
 /// Effects a real rig may have that the test's model (Eqs. 21-22) does not declare; all

@@ -67,6 +67,10 @@ class StudyKind {
   /// numbers: the same seed gives every design point the same draws). Default: refused.
   virtual McResult evaluate(const StudyConfig& cfg, const std::map<std::string, std::string>& model_overrides,
                                    std::size_t samples, std::uint64_t seed, int threads) const;
+  /// The kind's fast model, for an optimizer's search that is then verified on the full model
+  /// (StudyConfig::fast_model): what it leaves out and how far it is known to be from the full
+  /// model, in a sentence; "" (the default): the kind has none.
+  virtual std::string fast_model(const StudyConfig& /*cfg*/) const { return ""; }
   /// Whether a sample draws beyond its design point (per-test draws, sensor noise). Default:
   /// no.
   virtual bool has_own_randomness(const StudyConfig& /*cfg*/) const { return false; }

@@ -152,8 +152,13 @@ std::string choice_rows_html(const json& comparison, bool pareto) {
     h << "<tr><td class='l'>" << str(r, "label") << (r["best"].get<bool>() ? " (headline)" : "")
       << (r.value("selection_pick", false) && !r["best"].get<bool>() ? " (selection set's pick)" : "")
       << (r["optimization_pick"].get<bool>() ? " (search's pick)" : "") << "</td>";
-    if (!r.contains("comparison")) {
+    if (!r.contains("selection")) {
       h << "<td colspan='" << (pareto ? 6 : 5) << "'>no feasible design</td></tr>\n";
+      continue;
+    }
+    if (!r.contains("comparison")) {  // a fast search: not a finalist, so not on the comparison set
+      h << "<td>" << number(r["selection"]["objective"]) << "</td><td colspan='" << (pareto ? 5 : 4)
+        << "'>not a finalist: not run on the comparison set</td></tr>\n";
       continue;
     }
     h << "<td>" << number(r["selection"]["objective"]) << "</td><td>" << ci_text(r["objective"]) << "</td>";
@@ -211,7 +216,12 @@ std::string choices_html(const json& s) {
        "objective, the cheaper choice is the headline. Differences are paired (same units), "
        "bootstrap 95% intervals; 'bootstrap share' is the share of bootstrap resamples in which the headline stays "
        "ahead: a resampling share, not a probability that it is better. Constraints are re-checked on the comparison "
-       "set.</p>\n<table><tr><th class='l'>choice</th><th>selection set</th><th>comparison set [95% CI]</th>"
+       "set."
+    << (o.value("search_model", std::string()) == "fast"
+            ? " The searches and the selection set ran the kind's fast model; the comparison set runs the full "
+              "model, on the finalists: the selection set's pick and each choice value's best combination."
+            : "")
+    << "</p>\n<table><tr><th class='l'>choice</th><th>selection set</th><th>comparison set [95% CI]</th>"
     << (pareto ? "<th>second objective</th>" : "")
     << "<th>minus headline [95% CI]</th><th>bootstrap share headline ahead</th><th class='l'>constraints</th></tr>\n"
     << choice_rows_html(s["choices_compared"], pareto) << "</table>\n"
@@ -229,7 +239,11 @@ std::string pareto_html(const json& s) {
   h << "<h2 id='pareto'>Pareto front</h2>\n<p>" << p["evaluations"]
     << " evaluations (the objective, the second objective, and " << p.value("points", 0)
     << " epsilon-constrained searches per choice); the front is the feasible evaluations no other beats on both. Each "
-       "front point run on the comparison set (95% intervals).</p>\n<table><tr><th class='l'>choice</th>"
+       "front point run on the comparison set (95% intervals)"
+    << (s["optimization"].value("search_model", std::string()) == "fast"
+            ? ", on the fast model as the searches: the front informs, the headline's check on the full model decides"
+            : "")
+    << ".</p>\n<table><tr><th class='l'>choice</th>"
        "<th class='l'>design</th><th>"
     << html_escape(second) << "</th><th>" << html_escape(objective)
     << " (search samples)</th><th>fresh samples [95% CI]</th><th class='l'>constraints</th></tr>\n";

@@ -118,6 +118,9 @@ struct StudyConfig {
   /// Closed groups of several design dimensions (one per model tolerance drawn in more than
   /// one column), laid out after the per-dimension groups; set by a kind before plan_run.
   std::vector<std::vector<std::size_t>> saltelli_groups;
+  /// Not a file key: set by the optimizer's search (`search_model = "fast"`), the kind's fast
+  /// model (StudyKind::fast_model) instead of its full one.
+  bool fast_model = false;
   std::map<std::string, std::string> overrides;
   bool plots = true;
   std::size_t block = 1024;

@@ -40,9 +40,16 @@ class BalancingMachineKind final : public ProcedureKind {
   }
   std::unique_ptr<ProcedureStudy> make_study(const StudyConfig& cfg, const std::map<std::string, std::string>& o,
                                              std::size_t samples, std::uint64_t seed) const override {
-    auto study = std::make_unique<BalancingStudy>(cfg, load_balancing_model(cfg.model_path, o), samples, seed);
+    BalancingModel model = load_balancing_model(cfg.model_path, o);
+    if (cfg.fast_model) model.run.response = procedures::BalancingResponse::kSteadyState;
+    auto study = std::make_unique<BalancingStudy>(cfg, std::move(model), samples, seed);
     warn_once(study->warnings());
     return study;
+  }
+  std::string fast_model(const StudyConfig& /*cfg*/) const override {
+    return "the exact steady state of the machine's linear equations, sampled with the same gains and noise "
+           "draws (solver.response = \"steady_state\"): it leaves out the start transient's remainder after "
+           "settling and the integrator's error";
   }
   std::string validate(const StudyConfig& cfg) const override {
     const BalancingModel model = load_balancing_model(cfg.model_path, cfg.overrides);

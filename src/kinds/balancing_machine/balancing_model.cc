@@ -121,6 +121,11 @@ void read_run(TomlReader& root, BalancingModel& m) {
     s.atol = t.number("atol", [](double v) { return v > 0 && v < 1 ? "" : "0 < atol < 1 (relative to the response)"; });
     s.max_order = static_cast<int>(t.integer("max_order", 1, 5));
     s.atol_per_state.clear();
+    // "integrated": CVODE through the start transient (the full model); "steady_state": the
+    // exact steady state sampled with the same noise (procedures/balancing_measurement.h).
+    m.run.response = t.choice("response", {"integrated", "steady_state"}, "integrated") == "steady_state"
+                         ? procedures::BalancingResponse::kSteadyState
+                         : procedures::BalancingResponse::kIntegrated;
     t.accept_notes();
   }
 }

@@ -218,6 +218,11 @@ std::unique_ptr<BalancingStudy::Workspace> BalancingStudy::make_workspace() cons
 }
 
 nlohmann::json BalancingStudy::solver_json(const McResult& mc) const {
+  if (model_.run.response == procedures::BalancingResponse::kSteadyState) {
+    return {{"integrator", "none: the exact steady state, sampled with the run's noise (solver.response = "
+                           "\"steady_state\", the fast model)"},
+            {"runs_per_sample", runs_per_sample()}};
+  }
   return {{"integrator", "CVODE BDF"}, {"steps", mc.solver_steps}, {"rhs_evals", mc.rhs_evals},
           {"rtol", model_.run.solver.rtol}, {"atol_relative_to_response", model_.run.solver.atol},
           {"max_order", model_.run.solver.max_order}, {"runs_per_sample", runs_per_sample()}};

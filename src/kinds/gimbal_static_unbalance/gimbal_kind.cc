@@ -30,7 +30,19 @@ class GimbalStaticUnbalanceKind final : public ProcedureKind {
   }
   std::unique_ptr<ProcedureStudy> make_study(const StudyConfig& cfg, const std::map<std::string, std::string>& o,
                                              std::size_t samples, std::uint64_t seed) const override {
-    return std::make_unique<GimbalStudy>(cfg, load_gimbal_model(cfg.model_path, o), samples, seed);
+    GimbalModel model = load_gimbal_model(cfg.model_path, o);
+    if (cfg.fast_model) {
+      model.plan.position_model = procedures::PositionModel::kPeriodMean;
+      model.plan.supports = procedures::Supports::kQuasiStatic;  // for the positions it integrates
+    }
+    return std::make_unique<GimbalStudy>(cfg, std::move(model), samples, seed);
+  }
+  std::string fast_model(const StudyConfig& /*cfg*/) const override {
+    return "each position's mean current from the rigid rotor's load averaged over whole periods of the "
+           "reference (the rotor following it exactly), with the acquisition's errors drawn as in the full "
+           "model; positions that would saturate the drive or must be sampled are integrated on "
+           "quasi-static supports. It leaves out the tracking error, the start transient's remainder and "
+           "the supports' dynamics";
   }
   std::string validate(const StudyConfig& cfg) const override {
     const GimbalModel model = load_gimbal_model(cfg.model_path, cfg.overrides);
