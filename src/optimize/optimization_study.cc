@@ -443,8 +443,9 @@ std::string fast_model_clause(const OptimizationSpec& spec, const OptimizationOu
   char rel[32];
   std::snprintf(rel, sizeof rel, "%.1e", std::fabs(o["relative"].get<double>()));
   return ", which on the headline's " + std::to_string(out.fast_model["samples"].get<std::size_t>()) +
-         " fresh samples gives " + what + " " + value_text(o["fast"].get<double>(), unit) + " against " +
-         value_text(o["full"].get<double>(), unit) + " of the full model (relative difference " + rel + "; " +
+         " fresh samples gives " + what + " " + poise::interval_text(o["fast"].get<double>(), std::nullopt, std::nullopt).value + " against " +
+         poise::interval_text(o["full"].get<double>(), std::nullopt, std::nullopt).value + (unit.empty() ? "" : " " + unit) +
+         " of the full model (relative difference " + rel + "; " +
          (out.fast_model["same_verdicts"].get<bool>() ? "the same constraint verdicts"
                                                       : "constraint verdicts that DIFFER: the full model decides") +
          ")";

@@ -158,7 +158,7 @@ std::string choice_rows_html(const json& comparison, bool pareto) {
     }
     if (!r.contains("comparison")) {  // a fast search: not a finalist, so not on the comparison set
       h << "<td>" << number(r["selection"]["objective"]) << "</td><td colspan='" << (pareto ? 5 : 4)
-        << "'>not a finalist: not run on the comparison set</td></tr>\n";
+        << "' class='l'>not a finalist: not run on the comparison set</td></tr>\n";
       continue;
     }
     h << "<td>" << number(r["selection"]["objective"]) << "</td><td>" << ci_text(r["objective"]) << "</td>";
