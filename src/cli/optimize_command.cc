@@ -45,6 +45,11 @@ The answer must hold on samples the search never saw:
     exits with status 3.
   * [optimization] replicates = R repeats the headline's search with R - 1 other seeds: the
     spread of each variable and of the objective; the answer is rounded to what it supports.
+  * [optimization] search_model = "fast" runs the searches (and a choice study's selection set
+    and Pareto front) on the kind's fast model (balancing machine: the exact steady state;
+    gimbal: each position's mean current over whole periods); the comparison set and the
+    check run the full model and decide. The answer says how far the two are apart on the
+    headline's fresh samples and what each model ran (summary.json "fast_model", "cost").
 Besides model keys, a gimbal study takes study keys: group.positions, group.placement
 (sequential, interleaved, back_and_forth), group.repeats. [overrides] sets keys for every
 evaluation. A second objective ([pareto] output, statistic, points) traces the Pareto front by
