@@ -29,8 +29,10 @@ std::string to_string(Verdict v) {
 }
 
 std::string interval_text(const Interval& i, const std::string& unit) {
-  std::string s = short_number(i.value);
-  if (i.lo || i.hi) s += " [" + (i.lo ? short_number(*i.lo) : "?") + ", " + (i.hi ? short_number(*i.hi) : "?") + "]";
+  // The digits the interval supports (core/number_text.h), as every report writes them.
+  const poise::IntervalText t = poise::interval_text(i.value, i.lo, i.hi);
+  std::string s = t.value;
+  if (i.lo || i.hi) s += " [" + (i.lo ? t.lo : "?") + ", " + (i.hi ? t.hi : "?") + "]";
   return unit.empty() ? s : s + " " + unit;
 }
 

@@ -1,5 +1,6 @@
 #include "engine/report/optimization_page.h"
 
+#include <optional>
 #include <sstream>
 #include <string>
 
@@ -23,9 +24,15 @@ std::string percent(const json& fraction) {
 
 /// "1.13 [1.01, 1.23]" of an object with value and optional lo, hi.
 std::string ci_text(const json& e) {
-  std::string s = number(e["value"]);
+  if (!e.contains("value") || !e["value"].is_number()) return number(e.value("value", json()));
+  const auto end = [&](const char* k) {
+    return e.contains(k) && e[k].is_number() ? std::optional<double>(e[k].get<double>()) : std::nullopt;
+  };
+  // The digits the interval supports (core/number_text.h), as every report writes them.
+  const IntervalText t = interval_text(e["value"].get<double>(), end("lo"), end("hi"));
+  std::string s = t.value;
   if (e.contains("lo") || e.contains("hi")) {
-    s += " [" + (e.contains("lo") ? number(e["lo"]) : "?") + ", " + (e.contains("hi") ? number(e["hi"]) : "?") + "]";
+    s += " [" + (end("lo") ? t.lo : "?") + ", " + (end("hi") ? t.hi : "?") + "]";
   }
   return s;
 }
