@@ -2,7 +2,7 @@
 // (a full disk) stops the run at once with the file and the system's reason, the folder says
 // "failed" (never "complete") where it can still be written, no .tmp file is left, the exit
 // status is 1, and --resume continues once there is space. The full disk is /dev/full or the
-// test hook POISE_INJECT_WRITE_FAILURE_AFTER (engine/results/checked_file.h).
+// test hook of engine/results/fault_injection.h (POISE_INJECT_WRITE_FAILURE_AFTER for a poise run).
 #include <gtest/gtest.h>
 
 #include <cstdlib>
@@ -11,6 +11,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "engine/results/fault_injection.h"
 #include "engine/results/checked_file.h"
 #include "engine/results/result_io.h"
 #include "test_util.h"
@@ -32,13 +33,16 @@ bool has_tmp_file(const fs::path& dir) {
   return false;
 }
 
-// The environment of one test: the hook set for the poise run it starts, removed after.
+// The hook of one test, removed after: injected in this process (the engine's own writes),
+// and in the environment the poise runs it starts read at their entry point.
 struct InjectedFullDisk {
   InjectedFullDisk(const std::string& after_bytes, const std::string& only_file) {
+    poise::engine::fault_injection::fail_writes_after(std::stoull(after_bytes), only_file);
     setenv("POISE_INJECT_WRITE_FAILURE_AFTER", after_bytes.c_str(), 1);
     if (!only_file.empty()) setenv("POISE_INJECT_WRITE_FAILURE_FILE", only_file.c_str(), 1);
   }
   ~InjectedFullDisk() {
+    poise::engine::fault_injection::fail_writes_after(std::nullopt);
     unsetenv("POISE_INJECT_WRITE_FAILURE_AFTER");
     unsetenv("POISE_INJECT_WRITE_FAILURE_FILE");
   }

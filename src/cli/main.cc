@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "engine/results/fault_injection.h"
 #include "cli/budget_command.h"
 #include "cli/count_check.h"
 #include "cli/diagnose_command.h"
@@ -95,6 +96,9 @@ int run_main(int argc, char** argv);
 
 int main(int argc, char** argv) {
   poise::kinds::register_study_kinds();
+  // Test hooks of the failure-handling tests (POISE_INJECT_*), read here only: the engine
+  // takes them injected (engine/results/fault_injection.h).
+  poise::engine::fault_injection::set_from_environment();
   try {
     poise::sampling::Cluster::init(&argc, &argv);
   } catch (const std::exception& e) {

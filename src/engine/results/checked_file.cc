@@ -1,5 +1,7 @@
 #include "engine/results/checked_file.h"
 
+#include "engine/results/fault_injection.h"
+
 #include <fcntl.h>
 #include <unistd.h>
 
@@ -12,33 +14,6 @@
 #include <utility>
 
 namespace poise::engine {
-namespace {
-
-// How many of `n` bytes to `path` the test hook lets through; the rest fail with ENOSPC.
-// The hook's budget is shared by every checked write of the process, and starts afresh when
-// the variable changes (tests set it in-process).
-std::size_t allowed_by_hook(const std::string& path, std::size_t n) {
-  const char* after = std::getenv("POISE_INJECT_WRITE_FAILURE_AFTER");
-  if (after == nullptr || *after == '\0') return n;
-  const char* only = std::getenv("POISE_INJECT_WRITE_FAILURE_FILE");
-  if (only && *only) {
-    const std::string name = std::filesystem::path(path).filename().string();
-    if (name != only && name != std::string(only) + ".tmp") return n;
-  }
-  static std::mutex mutex;
-  static std::string budget_of;  // the variable's value the budget was set from
-  static std::size_t left = 0;
-  const std::lock_guard<std::mutex> lock(mutex);
-  if (budget_of != after) {
-    budget_of = after;
-    left = static_cast<std::size_t>(std::strtoull(after, nullptr, 10));
-  }
-  const std::size_t take = std::min(left, n);
-  left -= take;
-  return take;
-}
-
-}  // namespace
 
 WriteError::WriteError(std::string path, const std::string& reason)
     : Error(path + ": " + reason), path_(std::move(path)) {}
@@ -66,7 +41,7 @@ CheckedFile::~CheckedFile() {
 
 void CheckedFile::write(std::string_view text) {
   if (fd_ < 0) return;
-  const std::size_t allowed = allowed_by_hook(path_, text.size());
+  const std::size_t allowed = fault_injection::allowed_write(path_, text.size());
   std::size_t done = 0;
   while (done < allowed) {
     const ssize_t n = ::write(fd_, text.data() + done, allowed - done);

@@ -4,10 +4,11 @@
 /// reason ("…/samples.csv: No space left on device"), so a run stops at once instead of
 /// computing on into a file that no longer grows.
 ///
-/// Test hook: POISE_INJECT_WRITE_FAILURE_AFTER=N makes the checked writes of this process
-/// fail with ENOSPC once N bytes in all have been written through them (a disk that fills up
-/// mid-run), the last one short as a real full disk's; with POISE_INJECT_WRITE_FAILURE_FILE=NAME
-/// only the writes of files named NAME (e.g. samples.csv) count and fail.
+/// Test hook (injected: engine/results/fault_injection.h, fail_writes_after): the checked
+/// writes of this process fail with ENOSPC once N bytes in all have been written through them
+/// (a disk that fills up mid-run), the last one short as a real full disk's; optionally only
+/// the writes of files of one name (e.g. samples.csv) count and fail. The `poise` command sets
+/// it from POISE_INJECT_WRITE_FAILURE_AFTER=N and POISE_INJECT_WRITE_FAILURE_FILE=NAME.
 #include <string>
 #include <string_view>
 

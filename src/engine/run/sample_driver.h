@@ -22,6 +22,7 @@
 #include <vector>
 
 #include "core/error.h"
+#include "engine/results/fault_injection.h"
 #include "sampling/distributed.h"
 #include "sampling/interrupt.h"
 #include "sampling/progress.h"
@@ -135,10 +136,9 @@ DriveOutcome drive_samples(const DriveSpec& spec, MakeWorkspace make_workspace, 
   DriveOutcome out;
   out.completed = spec.first;
   const std::size_t round_size = chunk * static_cast<std::size_t>(ranks);
-  // Fault injection for the tests of failure handling: POISE_INJECT_FAILURE_EVERY=k fails
-  // every k-th sample (indices k-1, 2k-1, ...) as a solver failure would.
-  const char* inject_env = std::getenv("POISE_INJECT_FAILURE_EVERY");
-  const std::size_t inject = inject_env ? static_cast<std::size_t>(std::strtoull(inject_env, nullptr, 10)) : 0;
+  // Fault injection for the tests of failure handling (engine/results/fault_injection.h):
+  // every k-th sample (indices k-1, 2k-1, ...) fails as a solver failure would.
+  const std::size_t inject = fault_injection::failing_sample_period();
   auto compute_chunk = [&](std::size_t first, std::size_t n, std::vector<Result>& into) {
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, std::max<std::size_t>(spec.grain, 1)),
                       [&](const tbb::blocked_range<std::size_t>& r) {
@@ -147,7 +147,7 @@ DriveOutcome drive_samples(const DriveSpec& spec, MakeWorkspace make_workspace, 
                           compute(first + k, ws, into[k]);
                           if (inject > 0 && (first + k + 1) % inject == 0) {
                             into[k].ok = false;
-                            into[k].message = "injected failure (POISE_INJECT_FAILURE_EVERY)";
+                            into[k].message = "injected failure (fault_injection::fail_every_sample)";
                           }
                         }
                       });

@@ -1,0 +1,30 @@
+#pragma once
+/// Test hooks for failure handling, set by whoever runs the engine (a test in process, or the
+/// command line's entry point from its POISE_INJECT_* variables): the engine itself never
+/// reads the environment. Off by default; process-wide and thread-safe.
+///   write failures  every checked write of the process (engine/results/checked_file.h) may
+///                   pass `bytes` bytes in total, the rest fail as a full disk (ENOSPC);
+///                   with `only_file`, only writes to that file name (or its ".tmp") count.
+///   sample failures every k-th sample (indices k-1, 2k-1, ...) of a run fails as a solver
+///                   failure would (engine/run/sample_driver.h).
+#include <cstddef>
+#include <optional>
+#include <string>
+
+namespace poise::engine::fault_injection {
+
+/// Lets `bytes` more bytes through (then ENOSPC); std::nullopt: writes never fail.
+void fail_writes_after(std::optional<std::size_t> bytes, const std::string& only_file = "");
+/// How many of `n` bytes to `path` the hook lets through (n when off); counts them.
+std::size_t allowed_write(const std::string& path, std::size_t n);
+
+/// Every k-th sample fails (0: none).
+void fail_every_sample(std::size_t k);
+std::size_t failing_sample_period();
+
+/// The hooks from POISE_INJECT_WRITE_FAILURE_AFTER, POISE_INJECT_WRITE_FAILURE_FILE and
+/// POISE_INJECT_FAILURE_EVERY, for a program's entry point (the `poise` command calls it
+/// once, before it runs anything).
+void set_from_environment();
+
+}  // namespace poise::engine::fault_injection
