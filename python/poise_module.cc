@@ -14,15 +14,19 @@
 #include <iterator>
 #include <map>
 #include <memory>
+#include <mutex>
 #include <optional>
 #include <random>
 #include <span>
 #include <string>
+#include <string_view>
+#include <utility>
 #include <vector>
 
 #include "cli/budget_command.h"
 #include "cli/diagnose_command.h"
 #include "cli/mass_properties_command.h"
+#include "core/diagnostics.h"
 #include "core/error.h"
 #include "core/version.h"
 #include "engine/kind_interface/input_evaluation.h"
@@ -320,6 +324,22 @@ PYBIND11_MODULE(_poise, m) {
     }
   });
   m.attr("version") = std::string(poise::kVersion) + " (" + poise::kGitCommit + ")";
+  // Warnings are kept for Python (poise.PoiseWarning through the warnings module, raised by
+  // poise/__init__.py once the call returns and holds the GIL again); progress stays on stderr.
+  static std::mutex warnings_mutex;
+  static std::vector<std::string> pending_warnings;
+  poise::diagnostics::set_sink([](poise::diagnostics::Kind kind, std::string_view text) {
+    if (kind == poise::diagnostics::Kind::kWarning) {
+      const std::lock_guard<std::mutex> lock(warnings_mutex);
+      pending_warnings.emplace_back(text);
+    } else {
+      std::fprintf(stderr, "%.*s\n", static_cast<int>(text.size()), text.data());
+    }
+  });
+  m.def("take_warnings", [] {
+    const std::lock_guard<std::mutex> lock(warnings_mutex);
+    return std::exchange(pending_warnings, {});
+  });
   m.def("run", &run, py::arg("study"), py::arg("samples"), py::arg("seed"), py::arg("threads"), py::arg("overrides"),
         py::arg("plots"), py::arg("out"), py::arg("progress"), py::arg("sensitivity_base"));
   m.def("budget", &budget, py::arg("path"));

@@ -22,12 +22,14 @@ import difflib
 import json
 import os
 import re
+import warnings
 
 import numpy as np
 
 from . import _poise
 
-__all__ = ["run", "Study", "Result", "budget", "mass_properties", "diagnose", "Error", "InputError", "version"]
+__all__ = ["run", "Study", "Result", "budget", "mass_properties", "diagnose", "Error", "InputError", "PoiseWarning",
+           "version"]
 
 version = _poise.version
 
@@ -46,6 +48,15 @@ class InputError(ValueError, Error):
         self.key = key or None
 
 
+class PoiseWarning(UserWarning):
+    """What Poise warns about an input it accepts (a rotor denser than lead, a test mass off the rotor)."""
+
+
+def _warn_pending():
+    for text in _poise.take_warnings():
+        warnings.warn(text, PoiseWarning, stacklevel=4)  # at the caller of poise.run, poise.Study, ...
+
+
 def _call(function, *args):
     try:
         return function(*args)
@@ -60,6 +71,8 @@ def _call(function, *args):
         if category == "interrupt":
             raise KeyboardInterrupt(message) from None
         raise Error(message) from None
+    finally:
+        _warn_pending()
 
 
 def _count(name, value, least):

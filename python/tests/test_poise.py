@@ -277,3 +277,22 @@ def test_arguments_of_the_wrong_kind_are_input_errors(tmp_path):
     assert e.value.key == "out"
     with pytest.raises(poise.InputError, match="poise budget"):
         poise.run(os.path.join(SRC, "studies", "wang2011_budget.toml"))
+
+
+def test_warnings_reach_python_as_poise_warnings():
+    # A fresh interpreter: Poise says a study's warnings once per process.
+    code = (
+        "import warnings, poise\n"
+        "with warnings.catch_warnings(record=True) as w:\n"
+        "    warnings.simplefilter('always')\n"
+        f"    poise.Study({os.path.join(SRC, 'studies', 'wang2014_balancing_mc.toml')!r})\n"
+        "print(len(w), all(issubclass(x.category, poise.PoiseWarning) for x in w))\n"
+        "print(w[0].message if w else '')\n"
+    )
+    r = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, env=os.environ.copy(), timeout=120)
+    assert r.returncode == 0, r.stderr
+    first, message = r.stdout.splitlines()[:2]
+    count, all_poise = first.split()
+    assert int(count) >= 1 and all_poise == "True", r.stdout
+    assert "above lead" in message or "outside the rotor" in message, r.stdout
+    assert "poise: warning:" not in r.stderr  # not printed besides: Python has them

@@ -1,4 +1,5 @@
 #include "model_files/gimbal_model.h"
+#include "core/diagnostics.h"
 
 #include <cmath>
 #include <cstdio>
@@ -301,7 +302,7 @@ GeometryInputs read_geometry_table(TomlReader& root, const std::string& path, Gi
 // The parts' warnings, and the disk model's nominal mass and inertia.
 void attach_geometry(GeometryInputs&& g, const std::string& path, GimbalModel& m) {
   if (g.parts) {
-    for (const std::string& w : g.parts->warnings) std::cerr << "poise: warning: " << path << ": " << w << '\n';
+    for (const std::string& w : g.parts->warnings) diagnostics::warning(path + ": " + w);
     m.rotor_parts = std::move(g.parts);
   }
   if (!g.disk_model.empty()) {

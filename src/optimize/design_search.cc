@@ -1,4 +1,5 @@
 #include "optimize/design_search.h"
+#include "core/diagnostics.h"
 
 #include <algorithm>
 #include <cmath>
@@ -19,7 +20,9 @@ void RunProgress::step(double samples, const std::string& line, bool fast) {
   const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
   // Searches usually converge before their budget, so the plan (and the ETA) is an upper bound.
   const double eta = done_ > 0 ? elapsed / done_ * std::max(planned_ - done_, 0.0) : 0.0;
-  std::fprintf(stderr, "  %s  (%.0f s, ETA <= %.1f min)\n", line.c_str(), elapsed, eta / 60.0);
+  char timing[64];
+  std::snprintf(timing, sizeof timing, "  (%.0f s, ETA <= %.1f min)", elapsed, eta / 60.0);
+  diagnostics::progress("  " + line + timing);
 }
 
 double objective_value(const OptimizationSpec& spec, const std::vector<double>& x, const engine::McResult& e) {

@@ -1,4 +1,5 @@
 #include "optimize/optimization_output.h"
+#include "core/diagnostics.h"
 
 #include <algorithm>
 #include <cmath>
@@ -171,9 +172,9 @@ OptimizationRun write_optimization(const OptimizationSpec& spec, const engine::R
       options.threads > 0 ? options.threads : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
   const std::string dir = engine::make_run_folder(options.results_root, spec.name, options.out);
   if (options.progress) {
-    std::fprintf(stderr, "poise: optimization %s -> %s\n  %s, up to %d evaluations of %zu samples each (seed %llu)\n",
-                 spec.name.c_str(), dir.c_str(), to_string(spec.algorithm).c_str(), spec.max_evaluations, spec.samples,
-                 static_cast<unsigned long long>(spec.seed));
+    diagnostics::progress("poise: optimization " + spec.name + " -> " + dir + "\n  " + to_string(spec.algorithm) +
+                          ", up to " + std::to_string(spec.max_evaluations) + " evaluations of " +
+                          std::to_string(spec.samples) + " samples each (seed " + std::to_string(spec.seed) + ")");
   }
   const std::string started = engine::now_iso8601();
   const OptimizationOutcome out = optimize(spec, threads, options.progress);

@@ -1,4 +1,5 @@
 #include "engine/run/convergence.h"
+#include "core/diagnostics.h"
 
 #include <algorithm>
 #include <cmath>
@@ -139,9 +140,9 @@ std::string StopRule::operator()(const std::vector<std::vector<double>>& values,
   checks_.push_back({{"samples", completed}, {"value", e.value}, {"ci95", estimate_json(e)["ci95"]}, {"width", width},
                      {"target_width", target}});
   if (verbose_) {
-    std::fprintf(stderr, "\n  until: %s.%s = %s, 95%% interval width %s (target %s) at %zu samples\n",
-                 until_->output.c_str(), until_->statistic.c_str(), fmt(e.value).c_str(), fmt(width).c_str(),
-                 fmt(target).c_str(), completed);
+    diagnostics::progress("\n  until: " + until_->output + "." + until_->statistic + " = " + fmt(e.value) +
+                          ", 95% interval width " + fmt(width) + " (target " + fmt(target) + ") at " +
+                          std::to_string(completed) + " samples");
   }
   if (width <= target) {
     met_at_ = completed;

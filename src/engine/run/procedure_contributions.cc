@@ -1,4 +1,5 @@
 #include "engine/run/procedure_contributions.h"
+#include "core/diagnostics.h"
 
 #include <algorithm>
 #include <cmath>
@@ -55,7 +56,10 @@ json run_procedure_contributions(const StudyConfig& cfg, const StudyFactory& mak
   for (const auto& k : tolerance_keys) {
     if (!k.empty() && std::find(keys.begin(), keys.end(), k) == keys.end()) keys.push_back(k);
   }
-  if (progress) std::fprintf(stderr, "  contributions: %zu runs of %zu samples\n", keys.size() + 1, samples);
+  if (progress) {
+    diagnostics::progress("  contributions: " + std::to_string(keys.size() + 1) + " runs of " + std::to_string(samples) +
+                          " samples");
+  }
   json all = run_without(cfg, make_study, {}, samples, seed, threads, outputs);
   all["without"] = "(nothing: all tolerances)";
   out.push_back(all);

@@ -1,4 +1,5 @@
 #include "engine/run/procedure_runner.h"
+#include "core/diagnostics.h"
 
 #include "engine/results/references.h"
 #include "engine/run/procedure_contributions.h"
@@ -157,7 +158,10 @@ std::string run_procedure_study(const StudyConfig& cfg_in, const StudyFactory& m
   if (!options.resume.empty()) {
     done = read_done_samples(csv_path, header, study.input_names().size(), study.output_names().size(),
                              study.has_solver());
-    if (options.progress && root) std::fprintf(stderr, "  resuming: %zu of %zu samples already done\n", done.size(), n);
+    if (options.progress && root) {
+      diagnostics::progress("  resuming: " + std::to_string(done.size()) + " of " + std::to_string(n) +
+                            " samples already done");
+    }
   }
   CheckedFile csv = cfg.samples_csv ? open_samples_csv(plan, header, !options.resume.empty()) : CheckedFile{};
   sampling::InterruptGuard interrupts;

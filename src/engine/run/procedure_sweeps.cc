@@ -1,4 +1,5 @@
 #include "engine/run/procedure_sweeps.h"
+#include "core/diagnostics.h"
 
 #include <cmath>
 #include <cstdio>
@@ -23,7 +24,7 @@ json run_procedure_sweeps(const StudyConfig& cfg, const StudyFactory& make_study
     const std::size_t n = sweep_samples(sw, run_samples);
     json js{{"parameter", sw.parameter}, {"samples", n}, {"points", json::array()}};
     for (const auto& v : sw.values) {
-      if (progress) std::fprintf(stderr, "  sweep %s = %s: %zu samples\n", sw.parameter.c_str(), v.c_str(), n);
+      if (progress) diagnostics::progress("  sweep " + sw.parameter + " = " + v + ": " + std::to_string(n) + " samples");
       StudyConfig c = cfg;
       auto overrides = c.overrides;
       overrides[sw.parameter] = v;

@@ -1,4 +1,5 @@
 #include "engine/run/run_plan.h"
+#include "core/diagnostics.h"
 
 #include <algorithm>
 #include <cstdio>
@@ -109,12 +110,12 @@ std::optional<UntilTarget> plan_until(const RunPlan& plan, const std::vector<std
 void announce_run(const StudyConfig& cfg, const RunPlan& plan, const std::optional<UntilTarget>& until, bool progress) {
   if (!progress || !sampling::Cluster::root()) return;
   const int ranks = sampling::Cluster::size();
-  std::fprintf(stderr, "poise: study %s -> %s\n  %zu samples%s (%s%s, seed %llu) on %d thread(s)%s\n", cfg.name.c_str(),
-               plan.dir.c_str(), plan.samples, until ? (" at most, until " + until->text).c_str() : "",
-               sampling::to_string(cfg.method).c_str(),
-               cfg.replicate_size > 0 ? (", replicates of " + std::to_string(cfg.replicate_size)).c_str() : "",
-               static_cast<unsigned long long>(plan.seed), plan.threads,
-               ranks > 1 ? (" x " + std::to_string(ranks) + " MPI ranks").c_str() : "");
+  diagnostics::progress("poise: study " + cfg.name + " -> " + plan.dir + "\n  " + std::to_string(plan.samples) +
+                        " samples" + (until ? " at most, until " + until->text : std::string()) + " (" +
+                        sampling::to_string(cfg.method) +
+                        (cfg.replicate_size > 0 ? ", replicates of " + std::to_string(cfg.replicate_size) : std::string()) +
+                        ", seed " + std::to_string(plan.seed) + ") on " + std::to_string(plan.threads) + " thread(s)" +
+                        (ranks > 1 ? " x " + std::to_string(ranks) + " MPI ranks" : std::string()));
 }
 
 std::string read_complete_rows(const std::string& csv_path, const std::string& header) {

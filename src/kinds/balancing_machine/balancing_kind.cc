@@ -1,4 +1,5 @@
 #include "kinds/balancing_machine/balancing_kind.h"
+#include "core/diagnostics.h"
 
 #include <cstdio>
 #include <mutex>
@@ -18,12 +19,7 @@ using nlohmann::json;
 
 // Each warning once per process (a run builds the study more than once: plan, run, report).
 void warn_once(const std::vector<std::string>& warnings) {
-  static std::mutex mutex;
-  static std::set<std::string> shown;
-  const std::lock_guard<std::mutex> lock(mutex);
-  for (const auto& w : warnings) {
-    if (shown.insert(w).second) std::fprintf(stderr, "poise: warning: %s\n", w.c_str());
-  }
+  for (const auto& w : warnings) diagnostics::warning_once(w);
 }
 
 class BalancingMachineKind final : public ProcedureKind {

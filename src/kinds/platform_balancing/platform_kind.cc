@@ -1,4 +1,5 @@
 #include "kinds/platform_balancing/platform_kind.h"
+#include "core/diagnostics.h"
 
 #include <cstdio>
 
@@ -41,8 +42,8 @@ class PlatformBalancingKind final : public ProcedureKind {
         options.threads > 0 ? options.threads : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
     const PlatformStudySection& ps = platform_sections(cfg).platform;
     if (options.progress && !ps.shafting_study.empty()) {
-      std::fprintf(stderr, "poise: shafting LOS line from %s (%zu samples)\n", ps.shafting_study.c_str(),
-                   ps.shafting_samples);
+      diagnostics::progress("poise: shafting LOS line from " + ps.shafting_study + " (" +
+                            std::to_string(ps.shafting_samples) + " samples)");
     }
     const ShaftingLos shafting = compute_shafting_los(cfg, threads);
     return run_procedure_study(
