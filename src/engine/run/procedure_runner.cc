@@ -122,27 +122,73 @@ json summary_of(const FinishedRun& f, const StopRule& rule, const RunOptions& op
   return s;
 }
 
+// What a probe study (one sample) tells the plan: the design's dimensions, their tolerance
+// groups (one closed Sobol group per model tolerance drawn in several columns) and the
+// within-sample randomness sources, the outputs.
+struct DesignProbe {
+  std::size_t dimensions = 0;
+  bool own_randomness = false;
+  ToleranceGroups tolerances;
+  std::vector<std::string> sources, output_names;
+};
+
+DesignProbe probe_design(StudyConfig& cfg, const StudyFactory& make_study) {
+  const std::unique_ptr<ProcedureStudy> probe = make_study(cfg, 1, cfg.seed);
+  const std::vector<std::string> dimension_names = probe->design_dimension_names();
+  std::vector<std::string> keys = probe->design_dimension_tolerances();
+  keys.resize(dimension_names.size());
+  DesignProbe d{dimension_names.size(), probe->has_own_randomness(), tolerance_groups(dimension_names, keys),
+                probe->randomness_sources(), probe->output_names()};
+  if (d.sources.empty()) d.sources = {"per-test draws, noise"};
+  cfg.saltelli_groups = d.tolerances.closed_groups();
+  cfg.saltelli_noise_sources = d.sources.size();
+  return d;
+}
+
+// The run's stop rule and, for a study with a per-sample field, where and how the field goes:
+// samples.h5 as the samples stream in (a resumed run recomputes it whole) and its figures.
+RunControl run_control(const StudyConfig& cfg, const std::shared_ptr<StopRule>& rule, const std::string& h5_path,
+                       const std::map<std::string, std::string>& h5_text,
+                       const std::map<std::string, std::uint64_t>& h5_numbers) {
+  RunControl control;
+  control.distributed = true;
+  control.stop = [rule](const McResult& r) { return (*rule)(r.values, r.ok_index, r.failures, r.ok_index.size() + r.failures); };
+  control.field_figures = cfg.maps || cfg.grid_values;
+  control.field_file = cfg.grid_values ? h5_path : std::string();
+  control.field_maps = cfg.maps;
+  control.field_attributes = h5_text;
+  control.field_number_attributes = h5_numbers;
+  return control;
+}
+
+// A complete run's sweeps and contributions (each a set of further in-memory runs).
+void add_sweeps_and_contributions(json& s, const FinishedRun& f, const StudyFactory& make_study,
+                                  const RunOptions& options) {
+  const bool talk = options.progress && sampling::Cluster::root();
+  const std::size_t n = f.plan.samples;
+  if (!f.cfg.sweeps.empty()) {
+    s["sweeps"] = run_procedure_sweeps(f.cfg, make_study, n, f.plan.seed, f.plan.threads, talk, f.requirements,
+                                       f.study.outputs());
+  }
+  if (f.cfg.contribution_samples > 0) {
+    s["contributions"] = run_procedure_contributions(f.cfg, make_study, f.study.tolerance_keys(),
+                                                     std::min(f.cfg.contribution_samples, n), f.plan.seed,
+                                                     f.plan.threads, talk, f.study.outputs());
+  }
+}
+
 }  // namespace
 
 std::string run_procedure_study(const StudyConfig& cfg_in, const StudyFactory& make_study, const RunOptions& options,
                                 const std::vector<Requirement>& requirements) {
   StudyConfig cfg = cfg_in;
   const bool root = sampling::Cluster::root();
-  // One probe study (one sample) answers what the plan needs: the design's dimensions, their
-  // tolerance keys and randomness sources (Sobol groups), and the output names.
-  const std::unique_ptr<ProcedureStudy> probe = make_study(cfg, 1, cfg.seed);
-  const std::vector<std::string> dimension_names = probe->design_dimension_names();
-  std::vector<std::string> keys = probe->design_dimension_tolerances();
-  keys.resize(dimension_names.size());
-  // Sensitivity: one closed Sobol group per model tolerance drawn in several columns.
-  const ToleranceGroups tolerances = tolerance_groups(dimension_names, keys);
-  cfg.saltelli_groups = tolerances.closed_groups();
-  std::vector<std::string> sources = probe->randomness_sources();  // of the within-sample randomness
-  if (sources.empty()) sources = {"per-test draws, noise"};
-  cfg.saltelli_noise_sources = sources.size();
+  const DesignProbe probe = probe_design(cfg, make_study);
+  const ToleranceGroups& tolerances = probe.tolerances;
+  const std::vector<std::string>& sources = probe.sources;
   RunPlan plan = plan_run(cfg, options, [&] {
-    return std::make_pair(dimension_names.size(), probe->has_own_randomness());
-  }, [&] { return probe->output_names(); });
+    return std::make_pair(probe.dimensions, probe.own_randomness);
+  }, [&] { return probe.output_names; });
   const std::size_t n = plan.samples;
   const std::unique_ptr<ProcedureStudy> owned = make_study(cfg, n, plan.seed);
   const ProcedureStudy& study = *owned;
@@ -167,20 +213,11 @@ std::string run_procedure_study(const StudyConfig& cfg_in, const StudyFactory& m
   sampling::InterruptGuard interrupts;
   auto rule = std::make_shared<StopRule>(study.output_names(), n, cfg.max_failure_share, until, cfg.replicate_size,
                                          options.progress && root);
-  RunControl control;
-  control.distributed = true;
-  control.stop = [rule](const McResult& r) { return (*rule)(r.values, r.ok_index, r.failures, r.ok_index.size() + r.failures); };
-  // A study with a per-sample field writes it to samples.h5 as the samples stream in (a
-  // resumed run recomputes it whole) and makes its figures.
   const std::string h5_path = (fs::path(plan.dir) / "samples.h5").string();
   const std::map<std::string, std::string> h5_text{{"study", cfg.name}, {"kind", cfg.kind}, {"study_file", cfg.file},
                                                    {"method", sampling::to_string(cfg.method)}, {"poise_version", kVersion}};
   const std::map<std::string, std::uint64_t> h5_numbers{{"seed", plan.seed}, {"planned_samples", n}};
-  control.field_figures = cfg.maps || cfg.grid_values;
-  control.field_file = cfg.grid_values ? h5_path : std::string();
-  control.field_maps = cfg.maps;
-  control.field_attributes = h5_text;
-  control.field_number_attributes = h5_numbers;
+  const RunControl control = run_control(cfg, rule, h5_path, h5_text, h5_numbers);
   // Rows on disk are not written again (a study may recompute them: a resumed LOS run).
   SampleRowWriter rows(csv, plan.threads, done.size(), study.has_solver());
   McResult mc = study.run(plan.threads, options.progress, [&](std::span<const SampleResult> block) {
@@ -203,14 +240,7 @@ std::string run_procedure_study(const StudyConfig& cfg_in, const StudyFactory& m
                     : cfg.samples_csv && !mc.field.present
                         ? write_sample_columns_h5(csv_path, h5_path, study.input_names(), study.outputs(), h5_text, h5_numbers)
                         : json(nullptr);
-  if (status == "complete" && plan.sensitivity_base == 0 && !cfg.sweeps.empty()) {
-    s["sweeps"] = run_procedure_sweeps(cfg, make_study, n, plan.seed, plan.threads, options.progress && root, requirements,
-                                       study.outputs());
-  }
-  if (status == "complete" && plan.sensitivity_base == 0 && cfg.contribution_samples > 0) {
-    s["contributions"] = run_procedure_contributions(cfg, make_study, study.tolerance_keys(), std::min(cfg.contribution_samples, n),
-                                                     plan.seed, plan.threads, options.progress && root, study.outputs());
-  }
+  if (status == "complete" && plan.sensitivity_base == 0) add_sweeps_and_contributions(s, f, make_study, options);
   write_file_atomic((fs::path(plan.dir) / "summary.json").string(), s.dump(2) + "\n");
   const fs::path pdir = fs::path(plan.dir) / "plots";
   fs::create_directories(pdir);
