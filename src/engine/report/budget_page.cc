@@ -74,98 +74,123 @@ std::string point_text(const json& at) {
 
 }  // namespace
 
-std::string budget_plot_svg(const json& j, const std::vector<double>& mc) {
-  const std::string unit = j["budget"]["unit"].get<std::string>();
-  const json& c = j["combined"];
-  const json& a = j["at_confidence"];
-  const json& req = j["budget"]["requirement"];
-  double xmax = std::max({c["greatest"].get<double>(), a["greatest"].get<double>(), 1e-300});
-  if (!req.is_null()) xmax = std::max(xmax, req.get<double>());
-  if (!mc.empty()) xmax = std::max(xmax, mc.back());
-  xmax *= 1.05;
-  // The legend sits below the axis label, outside the data (up to 4 rows of 16 px).
-  const double W = 780, H = 472, L = 60, R = 20, T = 20, B = 122;
-  const double pw = W - L - R, ph = H - T - B;
-  auto X = [&](double v) { return L + pw * v / xmax; };
-  auto Y = [&](double p) { return T + ph * (1.0 - p); };
-  std::ostringstream s;
-  s << "<svg xmlns='http://www.w3.org/2000/svg' width='" << W << "' height='" << H << "' viewBox='0 0 " << W << ' '
-    << H << "' font-family='sans-serif' font-size='12'>\n";
-  s << "<rect x='" << L << "' y='" << T << "' width='" << pw << "' height='" << ph
+namespace {
+
+// The chart's frame: the plot area inside the margins (the legend sits below the axis label,
+// outside the data: up to 4 rows of 16 px) and the value and probability scales.
+struct ChartFrame {
+  double W = 780, H = 472, L = 60, R = 20, T = 20, B = 122;
+  double pw = W - L - R, ph = H - T - B;
+  double xmax = 1.0;
+  double X(double v) const { return L + pw * v / xmax; }
+  double Y(double p) const { return T + ph * (1.0 - p); }
+};
+
+void axes_svg(std::ostringstream& s, const ChartFrame& f, const json& j, const std::vector<double>& mc,
+              const std::string& unit) {
+  s << "<rect x='" << f.L << "' y='" << f.T << "' width='" << f.pw << "' height='" << f.ph
     << "' fill='none' stroke='#444'/>\n";
-  const double step = nice_step(xmax);
-  for (double t = 0; t <= xmax + 1e-12; t += step) {
-    s << "<line x1='" << f2(X(t)) << "' y1='" << T + ph << "' x2='" << f2(X(t)) << "' y2='" << T + ph + 5
-      << "' stroke='#444'/><text x='" << f2(X(t)) << "' y='" << T + ph + 18 << "' text-anchor='middle'>"
+  const double step = nice_step(f.xmax);
+  for (double t = 0; t <= f.xmax + 1e-12; t += step) {
+    s << "<line x1='" << f2(f.X(t)) << "' y1='" << f.T + f.ph << "' x2='" << f2(f.X(t)) << "' y2='" << f.T + f.ph + 5
+      << "' stroke='#444'/><text x='" << f2(f.X(t)) << "' y='" << f.T + f.ph + 18 << "' text-anchor='middle'>"
       << tick_text(t) << "</text>\n";
   }
   for (int k = 0; k <= 4; ++k) {
     const double p = k / 4.0;
-    s << "<line x1='" << L - 5 << "' y1='" << f2(Y(p)) << "' x2='" << L << "' y2='" << f2(Y(p))
-      << "' stroke='#444'/><text x='" << L - 8 << "' y='" << f2(Y(p) + 4) << "' text-anchor='end'>" << p
+    s << "<line x1='" << f.L - 5 << "' y1='" << f2(f.Y(p)) << "' x2='" << f.L << "' y2='" << f2(f.Y(p))
+      << "' stroke='#444'/><text x='" << f.L - 8 << "' y='" << f2(f.Y(p) + 4) << "' text-anchor='end'>" << p
       << "</text>\n";
   }
-  s << "<text x='" << L + pw / 2 << "' y='" << T + ph + 38 << "' text-anchor='middle'>"
+  s << "<text x='" << f.L + f.pw / 2 << "' y='" << f.T + f.ph + 38 << "' text-anchor='middle'>"
     << html_escape(mc.empty() ? "combined figure" : j["monte_carlo"]["output"].get<std::string>()) << " ["
     << html_escape(unit) << "]</text>\n";
-  s << "<text transform='rotate(-90)' x='" << -(T + ph / 2) << "' y='16' text-anchor='middle'>"
+  s << "<text transform='rotate(-90)' x='" << -(f.T + f.ph / 2) << "' y='16' text-anchor='middle'>"
     << (mc.empty() ? "" : "fraction of units at or below (CDF)") << "</text>\n";
-  if (!mc.empty()) {
-    // Histogram (scaled to 0.9 of the height) and empirical CDF of the Monte Carlo.
-    const int bins = 50;
-    std::vector<double> count(bins, 0.0);
-    for (double v : mc) count[std::min(bins - 1, static_cast<int>(v / xmax * bins))] += 1;
-    const double top = *std::max_element(count.begin(), count.end());
-    for (int b = 0; b < bins; ++b) {
-      const double h = 0.9 * count[b] / top;
-      s << "<rect x='" << f2(X(xmax * b / bins)) << "' y='" << f2(Y(h)) << "' width='" << f2(pw / bins)
-        << "' height='" << f2(ph * h) << "' fill='#c6dbef' stroke='#fff' stroke-width='0.5'/>\n";
-    }
-    s << "<polyline fill='none' stroke='#08519c' stroke-width='1.5' points='";
-    const std::size_t n = mc.size(), every = std::max<std::size_t>(1, n / 800);
-    for (std::size_t i = 0; i < n; i += every) s << f2(X(mc[i])) << ',' << f2(Y(static_cast<double>(i + 1) / static_cast<double>(n))) << ' ';
-    s << f2(X(mc.back())) << ',' << f2(Y(1.0)) << "'/>\n";
-    const json& m = j["monte_carlo"];
-    const double q = m["value"].get<double>(), p = m["quantile"].get<double>();
-    if (!m["ci95"][0].is_null() && !m["ci95"][1].is_null()) {
-      const double lo = m["ci95"][0].get<double>(), hi = m["ci95"][1].get<double>();
-      s << "<rect x='" << f2(X(lo)) << "' y='" << T << "' width='" << f2(std::max(1.0, X(hi) - X(lo)))
-        << "' height='" << ph << "' fill='#08519c' opacity='0.15'/>\n";
-    }
-    s << "<line x1='" << f2(X(q)) << "' y1='" << T << "' x2='" << f2(X(q)) << "' y2='" << T + ph
-      << "' stroke='#08519c' stroke-width='2'/>\n<line x1='" << L << "' y1='" << f2(Y(p)) << "' x2='" << L + pw
-      << "' y2='" << f2(Y(p)) << "' stroke='#08519c' stroke-dasharray='2,3'/>\n";
+}
+
+// Histogram (scaled to 0.9 of the height) and empirical CDF of the Monte Carlo, its quantile
+// at the confidence with the 95% interval shaded.
+void monte_carlo_svg(std::ostringstream& s, const ChartFrame& f, const json& j, const std::vector<double>& mc) {
+  const int bins = 50;
+  std::vector<double> count(bins, 0.0);
+  for (double v : mc) count[std::min(bins - 1, static_cast<int>(v / f.xmax * bins))] += 1;
+  const double top = *std::max_element(count.begin(), count.end());
+  for (int b = 0; b < bins; ++b) {
+    const double h = 0.9 * count[b] / top;
+    s << "<rect x='" << f2(f.X(f.xmax * b / bins)) << "' y='" << f2(f.Y(h)) << "' width='" << f2(f.pw / bins)
+      << "' height='" << f2(f.ph * h) << "' fill='#c6dbef' stroke='#fff' stroke-width='0.5'/>\n";
   }
+  s << "<polyline fill='none' stroke='#08519c' stroke-width='1.5' points='";
+  const std::size_t n = mc.size(), every = std::max<std::size_t>(1, n / 800);
+  for (std::size_t i = 0; i < n; i += every) {
+    s << f2(f.X(mc[i])) << ',' << f2(f.Y(static_cast<double>(i + 1) / static_cast<double>(n))) << ' ';
+  }
+  s << f2(f.X(mc.back())) << ',' << f2(f.Y(1.0)) << "'/>\n";
+  const json& m = j["monte_carlo"];
+  const double q = m["value"].get<double>(), p = m["quantile"].get<double>();
+  if (!m["ci95"][0].is_null() && !m["ci95"][1].is_null()) {
+    const double lo = m["ci95"][0].get<double>(), hi = m["ci95"][1].get<double>();
+    s << "<rect x='" << f2(f.X(lo)) << "' y='" << f.T << "' width='" << f2(std::max(1.0, f.X(hi) - f.X(lo)))
+      << "' height='" << f.ph << "' fill='#08519c' opacity='0.15'/>\n";
+  }
+  s << "<line x1='" << f2(f.X(q)) << "' y1='" << f.T << "' x2='" << f2(f.X(q)) << "' y2='" << f.T + f.ph
+    << "' stroke='#08519c' stroke-width='2'/>\n<line x1='" << f.L << "' y1='" << f2(f.Y(p)) << "' x2='" << f.L + f.pw
+    << "' y2='" << f2(f.Y(p)) << "' stroke='#08519c' stroke-dasharray='2,3'/>\n";
+}
+
+struct LegendEntry {
+  const char* color;
+  const char* dash;
+  std::string text;
+};
+
+// The budget's lines (dashed: at its level; solid: at the confidence), the requirement
+// (dash-dot: not by hue alone), and the legend below the axis.
+void budget_lines_svg(std::ostringstream& s, const ChartFrame& f, const json& j, bool with_mc) {
+  const json& c = j["combined"];
+  const json& a = j["at_confidence"];
+  const json& req = j["budget"]["requirement"];
   auto vline = [&](double v, const char* color, const char* dash, double width) {
-    s << "<line x1='" << f2(X(v)) << "' y1='" << T << "' x2='" << f2(X(v)) << "' y2='" << T + ph << "' stroke='"
-      << color << "' stroke-width='" << width << "'" << (dash[0] ? std::string(" stroke-dasharray='") + dash + "'" : "")
-      << "/>\n";
+    s << "<line x1='" << f2(f.X(v)) << "' y1='" << f.T << "' x2='" << f2(f.X(v)) << "' y2='" << f.T + f.ph
+      << "' stroke='" << color << "' stroke-width='" << width << "'"
+      << (dash[0] ? std::string(" stroke-dasharray='") + dash + "'" : "") << "/>\n";
   };
   vline(c["least"].get<double>(), "#1b7837", "6,4", 1.5);
   vline(c["greatest"].get<double>(), "#1b7837", "6,4", 1.5);
   vline(a["least"].get<double>(), "#1b7837", "", 2.5);
   vline(a["greatest"].get<double>(), "#1b7837", "", 2.5);
-  if (!req.is_null()) vline(req.get<double>(), "#b2182b", "10,3,2,3", 2);  // dash-dot: not by hue alone
-  // Legend.
-  struct Entry {
-    const char* color;
-    const char* dash;
-    std::string text;
-  };
-  std::vector<Entry> legend = {
+  if (!req.is_null()) vline(req.get<double>(), "#b2182b", "10,3,2,3", 2);
+  std::vector<LegendEntry> legend = {
       {"#1b7837", "6,4", "budget least/greatest at " + j["budget"]["level"].get<std::string>()},
       {"#1b7837", "", "budget least/greatest at confidence " + budget_number(a["confidence"])}};
   if (!req.is_null()) legend.push_back({"#b2182b", "10,3,2,3", "requirement"});
-  if (!mc.empty()) {
-    legend.push_back({"#08519c", "", "Monte Carlo CDF; quantile at the confidence, its 95% interval shaded"});
-  }
+  if (with_mc) legend.push_back({"#08519c", "", "Monte Carlo CDF; quantile at the confidence, its 95% interval shaded"});
   for (std::size_t k = 0; k < legend.size(); ++k) {
-    const double y = T + ph + 62 + 16 * static_cast<double>(k);
-    s << "<line x1='" << L + 10 << "' y1='" << y - 4 << "' x2='" << L + 40 << "' y2='" << y - 4 << "' stroke='"
+    const double y = f.T + f.ph + 62 + 16 * static_cast<double>(k);
+    s << "<line x1='" << f.L + 10 << "' y1='" << y - 4 << "' x2='" << f.L + 40 << "' y2='" << y - 4 << "' stroke='"
       << legend[k].color << "' stroke-width='2'"
       << (legend[k].dash[0] ? std::string(" stroke-dasharray='") + legend[k].dash + "'" : "") << "/><text x='"
-      << L + 46 << "' y='" << y << "'>" << html_escape(legend[k].text) << "</text>\n";
+      << f.L + 46 << "' y='" << y << "'>" << html_escape(legend[k].text) << "</text>\n";
   }
+}
+
+}  // namespace
+
+std::string budget_plot_svg(const json& j, const std::vector<double>& mc) {
+  const std::string unit = j["budget"]["unit"].get<std::string>();
+  const json& req = j["budget"]["requirement"];
+  ChartFrame f;
+  f.xmax = std::max({j["combined"]["greatest"].get<double>(), j["at_confidence"]["greatest"].get<double>(), 1e-300});
+  if (!req.is_null()) f.xmax = std::max(f.xmax, req.get<double>());
+  if (!mc.empty()) f.xmax = std::max(f.xmax, mc.back());
+  f.xmax *= 1.05;
+  std::ostringstream s;
+  s << "<svg xmlns='http://www.w3.org/2000/svg' width='" << f.W << "' height='" << f.H << "' viewBox='0 0 " << f.W
+    << ' ' << f.H << "' font-family='sans-serif' font-size='12'>\n";
+  axes_svg(s, f, j, mc, unit);
+  if (!mc.empty()) monte_carlo_svg(s, f, j, mc);
+  budget_lines_svg(s, f, j, !mc.empty());
   s << "</svg>\n";
   return s.str();
 }
