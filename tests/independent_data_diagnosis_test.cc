@@ -20,31 +20,15 @@
 #include "estimators/oscillation_diagnosis.h"
 #include "estimators/residual_diagnosis.h"
 #include "estimators/sine_fit.h"
+#include "diagnosis_scoring.h"
 #include "independent_gimbal_data.h"
 
 namespace poise::estimators {
 namespace {
 
 namespace td = poise::testdata;
+using scoring::to_table;
 constexpr double kPi = std::numbers::pi;
-
-TorqueTable to_table(const td::Table& t) {
-  TorqueTable out;
-  out.file = "independent.csv";
-  out.torque_column = "torque_mNm";
-  out.unit = "mN*m";
-  out.unit_factor = 1e-3;
-  for (std::size_t i = 0; i < t.theta_deg.size(); ++i) {
-    out.theta_deg.push_back(t.theta_deg[i]);
-    out.theta_rad.push_back(t.theta_deg[i] * kPi / 180.0);
-    out.torque.push_back(t.torque_mNm[i]);
-    out.torque_Nm.push_back(t.torque_mNm[i] * 1e-3);
-    out.rows.push_back(i + 2);
-  }
-  out.time_s = t.time_s;
-  out.sweep = t.sweep;
-  return out;
-}
 
 struct Truth {
   double amplitude, phase;  // mN*m, rad

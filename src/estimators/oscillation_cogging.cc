@@ -1,6 +1,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <vector>
 
 #include "core/angles.h"
@@ -45,7 +46,7 @@ OrderRange cogging_orders(const Signals& s, const OscillationOptions& opt, Oscil
   return r;
 }
 
-// Fast scan: with Q an orthonormal basis of the model and r the current residual (Q^T r = 0),
+// Fast scan (the RSS each order removes): with Q an orthonormal basis of the model and r the current residual (Q^T r = 0),
 // the RSS that the pair C = [sin N phi, cos N phi] removes is b^T G^-1 b with b = C^T r and
 // G = C^T C - (Q^T C)^T (Q^T C). One pass over the samples per order: sin and cos of N phi by
 // the angle-addition recurrence (restarted exactly every 64 orders: its rounding grows like
@@ -54,6 +55,9 @@ OrderScan scan_orders(const Eigen::MatrixXd& model, const Eigen::VectorXd& resid
                       const Eigen::VectorXd& phi, const OrderRange& range) {
   OrderScan scan;
   if (range.min_order > range.max_order) return scan;
+  scan.first = range.min_order;
+  scan.drop.assign(static_cast<std::size_t>(range.max_order - range.min_order + 1),
+                   std::numeric_limits<double>::quiet_NaN());
   const Eigen::Index n = phi.size(), p = model.cols();
   Eigen::HouseholderQR<Eigen::MatrixXd> qr(model);
   // Row-major copy of Q: one sample's p values side by side.
@@ -62,7 +66,6 @@ OrderScan scan_orders(const Eigen::MatrixXd& model, const Eigen::VectorXd& resid
   const Eigen::ArrayXd s1 = phi.array().sin(), c1 = phi.array().cos();
   Eigen::ArrayXd sn(n), cn(n);
   std::vector<double> qs(static_cast<std::size_t>(p)), qc(static_cast<std::size_t>(p));
-  double best_drop = 0.0;  // compare by the RSS removed: p-values underflow to 0
   for (int order = range.min_order; order <= range.max_order; ++order) {
     const bool restart = (order - range.min_order) % 64 == 0;
     if (restart) sn = (order * phi.array()).sin(), cn = (order * phi.array()).cos();
@@ -95,31 +98,65 @@ OrderScan scan_orders(const Eigen::MatrixXd& model, const Eigen::VectorXd& resid
     if (g(0, 0) < 1e-6 * ss || g(1, 1) < 1e-6 * cc) continue;
     ++scan.count;
     const Eigen::Vector2d b(bs, bc);
-    const double drop = b.dot(g.ldlt().solve(b));
-    if (drop > best_drop) best_drop = drop, scan.best = order;
+    scan.drop[static_cast<std::size_t>(order - range.min_order)] = b.dot(g.ldlt().solve(b));
   }
   return scan;
 }
 
-double p_away_from_reversals(const Signals& s, const Eigen::MatrixXd& model, int order) {
+Moving away_from_reversals(const Signals& s, const Eigen::MatrixXd& model) {
   const double limit = kMovingFraction * s.rate.cwiseAbs().maxCoeff();
   std::vector<Eigen::Index> keep;
   for (Eigen::Index k = 0; k < s.rate.size(); ++k) {
     if (std::abs(s.rate[k]) >= limit) keep.push_back(k);
   }
   const auto m = static_cast<Eigen::Index>(keep.size());
-  const Eigen::MatrixXd cols = cogging_columns(s.phi, order);
-  Eigen::MatrixXd x0(m, model.cols()), c(m, 2);
-  Eigen::VectorXd y(m);
+  Moving mv{Eigen::MatrixXd(m, model.cols()), Eigen::VectorXd(m), Eigen::VectorXd(m)};
   for (Eigen::Index i = 0; i < m; ++i) {
-    x0.row(i) = model.row(keep[static_cast<std::size_t>(i)]);
-    c.row(i) = cols.row(keep[static_cast<std::size_t>(i)]);
-    y[i] = s.y[keep[static_cast<std::size_t>(i)]];
+    const Eigen::Index k = keep[static_cast<std::size_t>(i)];
+    mv.model.row(i) = model.row(k), mv.y[i] = s.y[k], mv.phi[i] = s.phi[k];
   }
-  if (m <= x0.cols() + 3 || independence(x0, c) < 1e-3) return 1.0;
-  const Eigen::MatrixXd x1 = joined(x0, c);
-  return f_test_p(least_squares(x0, y).rss, least_squares(x1, y).rss, 2, static_cast<long>(m),
-                  static_cast<long>(x1.cols()));
+  return mv;
+}
+
+namespace {
+// Survival function of F(2, d2): (1 + 2 F / d2)^(-d2 / 2).
+double f2_sf(double f, double d2) { return f <= 0 ? 1.0 : std::exp(-0.5 * d2 * std::log1p(2.0 * f / d2)); }
+
+double median_of(std::vector<double> v) {
+  const auto mid = v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2);
+  std::nth_element(v.begin(), mid, v.end());
+  if (v.size() % 2 == 1) return *mid;
+  return 0.5 * (*mid + *std::max_element(v.begin(), mid));
+}
+}  // namespace
+
+LocalTest best_local_order(const OrderScan& scan, double cell, double white_var, double dof_white) {
+  LocalTest best;
+  const auto n = static_cast<long>(scan.drop.size());
+  const long guard = std::lround(kGuardCells * cell), width = std::lround(kLocalCells * cell);
+  std::vector<double> nb;
+  for (long i = 0; i < n; ++i) {
+    const double d = scan.drop[static_cast<std::size_t>(i)];
+    if (!std::isfinite(d)) continue;
+    nb.clear();
+    for (long j = std::max(0L, i - guard - width); j < n && j <= i + guard + width; ++j) {
+      const double v = scan.drop[static_cast<std::size_t>(j)];
+      if (std::abs(j - i) >= guard && std::isfinite(v)) nb.push_back(v);
+    }
+    const double cells = static_cast<double>(nb.size()) / std::max(1.0, cell);
+    LocalTest t;
+    t.order = scan.first + static_cast<int>(i);
+    if (cells >= 2.0) {
+      t.sigma2 = median_of(nb) / (2.0 * std::log(2.0)), t.dof = 2.0 * cells;
+    } else {
+      t.sigma2 = white_var, t.dof = dof_white;
+    }
+    if (!(t.sigma2 > 0)) continue;
+    t.f = d / (2.0 * t.sigma2);
+    t.p = f2_sf(t.f, t.dof);
+    if (best.order == 0 || t.p < best.p || (t.p == best.p && t.f > best.f)) best = t;
+  }
+  return best;
 }
 
 }  // namespace poise::estimators::osc

@@ -4,6 +4,7 @@
 /// oscillation_diagnosis.h.
 #include <Eigen/Dense>
 #include <string>
+#include <vector>
 
 #include "estimators/oscillation_diagnosis.h"
 
@@ -51,17 +52,37 @@ struct OrderRange {
 };
 OrderRange cogging_orders(const Signals& s, const OscillationOptions& opt, OscillationDiagnosis& out);
 
-/// The order that removes the most residual sum of squares (resid: residual of model, hence
-/// orthogonal to its columns), and how many orders were examinable.
+/// The RSS each order's pair removes from resid (resid: residual of model, hence orthogonal
+/// to its columns); NaN where the pair lies (numerically) in the model's span.
 struct OrderScan {
-  int best = 0, count = 0;
+  int first = 0, count = 0;  ///< drop[k] is order first + k; count: orders examinable
+  std::vector<double> drop;
 };
 OrderScan scan_orders(const Eigen::MatrixXd& model, const Eigen::VectorXd& resid,
                       const Eigen::VectorXd& phi, const OrderRange& range);
 
-/// The F test p of cogging of `order` on the samples away from the reversals (|phi'| at least
-/// kMovingFraction of its maximum), with the model's columns fitted on them too.
+/// Each order's removed RSS judged against the residual's local noise level: the median of
+/// the drops of the neighbouring orders (kGuardCells resolution cells either side left out,
+/// kLocalCells cells either side used; a cell is 2 pi / swing orders, the spacing of
+/// independent orders), sigma^2 = median / (2 ln 2) (the median of a chi^2(2) drop is
+/// 2 ln 2 sigma^2). F = drop / (2 sigma^2) is then F(2, 2 K) with K the independent cells in
+/// the neighbourhood. Where fewer than 2 cells of neighbours exist, the whole residual's
+/// variance (white-noise F test, dof_white) is used. The best order: the smallest p.
+inline constexpr double kGuardCells = 2.0, kLocalCells = 12.0;
+struct LocalTest {
+  int order = 0;
+  double f = 0.0, dof = 0.0, p = 1.0, sigma2 = 0.0;
+};
+LocalTest best_local_order(const OrderScan& scan, double cell, double white_var, double dof_white);
+
+/// The samples away from the reversals (|phi'| at least kMovingFraction of its maximum),
+/// where a cogging torque cycles and the friction model's error at the reversals (another
+/// friction law, presliding, the sign's smoothing) does not live: the model's rows, y, phi.
 inline constexpr double kMovingFraction = 0.3;
-double p_away_from_reversals(const Signals& s, const Eigen::MatrixXd& model, int order);
+struct Moving {
+  Eigen::MatrixXd model;
+  Eigen::VectorXd y, phi;
+};
+Moving away_from_reversals(const Signals& s, const Eigen::MatrixXd& model);
 
 }  // namespace poise::estimators::osc

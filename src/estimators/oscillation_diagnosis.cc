@@ -8,6 +8,7 @@
 #include <optional>
 #include <string>
 
+#include "core/angles.h"
 #include "estimators/oscillation_detail.h"
 
 namespace poise::estimators {
@@ -86,41 +87,47 @@ Tested test_columns(const Eigen::MatrixXd& model, const Eigen::VectorXd& y, cons
   return {std::move(c), p, std::min(1.0, p * family), dbic, f};
 }
 
-// The round's cogging candidate: the scan's best order, unless it sits at the swing's limit,
-// fits more than the residual can hold, or does not hold away from the reversals (each said
-// in out.not_identifiable, and the family closed).
+// The round's cogging candidate. The orders are scanned on the samples away from the
+// reversals (the model refitted there), each judged against the residual's local noise level
+// (osc::best_local_order), Bonferroni over the orders scanned; the delta BIC is that of the
+// same samples. The best order is refused when it sits at the swing's limit or fits more than
+// the residual can hold (each said in out.not_identifiable, and the family closed).
 std::optional<Tested> cogging_candidate(const Signals& s, const Eigen::MatrixXd& model, const Fit& cur,
-                                        const osc::OrderRange& range, double plausible, double alpha,
+                                        const osc::OrderRange& range, double plausible,
                                         OscillationDiagnosis& out, bool& closed) {
-  const osc::OrderScan scan = osc::scan_orders(model, s.y - model * cur.beta, s.phi, range);
-  if (scan.count == 0 || scan.best == 0) return std::nullopt;
+  const osc::Moving mv = osc::away_from_reversals(s, model);
+  const auto m = mv.y.size();
+  if (m <= model.cols() + 3) return std::nullopt;
+  const Fit mfit = least_squares(mv.model, mv.y);
+  const osc::OrderScan scan = osc::scan_orders(mv.model, mv.y - mv.model * mfit.beta, mv.phi, range);
+  if (scan.count == 0) return std::nullopt;
+  const double swing = s.phi.maxCoeff() - s.phi.minCoeff();
+  const double dof_white = static_cast<double>(m - mv.model.cols());
+  const osc::LocalTest lt = osc::best_local_order(scan, angles::kTwoPi / swing, mfit.rss / dof_white, dof_white);
+  if (lt.order == 0) return std::nullopt;
   Tested t = test_columns(model, s.y, cur,
-                          {"cogging", scan.best, osc::cogging_columns(s.phi, scan.best),
+                          {"cogging", lt.order, osc::cogging_columns(s.phi, lt.order),
                            "motor cogging (slot/pole detent) or a periodic drag of the bearing cage"},
-                          scan.count);
+                          1.0);
+  const Tested on_moving =
+      test_columns(mv.model, mv.y, mfit, {"cogging", lt.order, osc::cogging_columns(mv.phi, lt.order), ""}, 1.0);
+  t.p = lt.p, t.p_family = std::min(1.0, lt.p * scan.count), t.dbic = on_moving.dbic;
   const Eigen::Index k0 = model.cols();
   const double amp = std::hypot(t.fit.beta[k0], t.fit.beta[k0 + 1]);
   const int edge = range.min_order + std::max(2, range.min_order / 20);
   char buf[400];
-  if (range.limited_by_swing && scan.best <= edge) {
+  if (range.limited_by_swing && lt.order <= edge) {
     std::snprintf(buf, sizeof buf,
                   "the best order, %d, lies at the swing's limit (orders from %d are scanned): the "
                   "structure most likely belongs to a lower order that this swing cannot identify; "
                   "not added. A larger swing would test the lower orders",
-                  scan.best, range.min_order);
+                  lt.order, range.min_order);
   } else if (amp > plausible) {
     std::snprintf(buf, sizeof buf,
                   "the best order, %d, fits an amplitude of %.3g N*m, more than the %.3g N*m the base "
                   "residual can hold (2 sqrt(2) x its RMS): it trades off with the base terms and is "
                   "refused as implausible",
-                  scan.best, amp, plausible);
-  } else if (t.p_family < alpha && osc::p_away_from_reversals(s, model, scan.best) >= alpha) {
-    std::snprintf(buf, sizeof buf,
-                  "the best order, %d, is significant over the record (p = %.3g over %d orders) but "
-                  "not on the samples away from the reversals (|phi'| >= %.0f %% of its maximum), "
-                  "where a cogging torque cycles and a friction model's error does not live: not "
-                  "added",
-                  scan.best, t.p_family, scan.count, 100.0 * osc::kMovingFraction);
+                  lt.order, amp, plausible);
   } else {
     return t;
   }
@@ -206,7 +213,7 @@ OscillationDiagnosis diagnose_oscillation(const OscillationRecord& rec, const Os
       tested.push_back(test_columns(model, s.y, cur, c, 1.0));
     }
     if (!cogging_in) {
-      auto c = cogging_candidate(s, model, cur, range, plausible, opt.alpha, out, cogging_in);
+      auto c = cogging_candidate(s, model, cur, range, plausible, out, cogging_in);
       if (c) tested.push_back(std::move(*c));
     }
     if (tested.empty()) break;

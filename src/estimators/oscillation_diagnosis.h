@@ -25,13 +25,17 @@
 ///                    N >= 360 deg / swing (swing = max phi - min phi) and N >= min order, up
 ///                    to the record's Nyquist limit pi / (max |phi'| dt) (its frequency
 ///                    N |phi'| / 2 pi below half the sample rate; max order option when > 0).
-///                    The detection floor is the family's: about 5 sigma of the whole-record
-///                    matched filter T sqrt(n / 2) / sigma for ~4000 orders (chi^2(2) of the
-///                    best order against 2 ln(orders / alpha)).
-///                    The order picked must also be significant (F test at alpha) on the
-///                    samples away from the reversals (|phi'| >= 30 % of its maximum), where
-///                    a cogging torque cycles and the friction model's error at the reversal
-///                    (another friction law, the sign's smoothing) does not live.
+///                    The orders are scanned on the samples away from the reversals
+///                    (|phi'| >= 30 % of its maximum, the base model refitted there), where a
+///                    cogging torque cycles and the friction model's error at the reversals
+///                    (another friction law, presliding, the sign's smoothing) does not live.
+///                    Each order's removed RSS is judged against the residual's LOCAL noise
+///                    level, not a white-noise sigma (the servo's own current, e.g. encoder
+///                    quantisation limit cycling and a sensor filter, is coloured): sigma^2 =
+///                    median of the drops of the neighbouring orders (2 to 14 resolution
+///                    cells 2 pi / swing either side) / (2 ln 2), F = drop / (2 sigma^2) ~
+///                    F(2, 2 K), K the independent cells used; Bonferroni over the orders
+///                    scanned, the delta BIC on the same samples.
 ///                    A lower order covers part of a cycle and trades off with the constant
 ///                    and the spring: it is reported as "not identifiable with this swing",
 ///                    with the swing that would test it. A fitted amplitude above
