@@ -58,12 +58,6 @@ SampleRows read_rows(const fs::path& csv, const std::vector<std::string>& inputs
   return rows;
 }
 
-std::string quoted(const std::string& s) {
-  std::string out = "'";
-  for (char c : s) out += c == '\'' ? std::string("''") : std::string(1, c);
-  return out + "'";
-}
-
 }  // namespace
 
 std::vector<DriverShare> main_effect_shares(const std::vector<std::string>& inputs,
@@ -127,13 +121,13 @@ bool driver_scatter(const fs::path& plots_dir, const fs::path& samples_csv, cons
   const std::size_t ycol = shares.size() + 1;
   std::ostringstream g;
   g << "set multiplot layout 1," << shares.size() << " title "
-    << quoted(what + " against its " + std::to_string(shares.size()) + " strongest drivers (" +
+    << gnuplot_quoted(what + " against its " + std::to_string(shares.size()) + " strongest drivers (" +
               std::to_string(rows.y.size()) + " samples; main-effect share of the variance in brackets)")
-    << "\nset ylabel " << quoted(what + (unit.empty() ? "" : " [" + unit + "]")) << "\nunset key\nset xtics rotate by 30 right\n";
+    << "\nset ylabel " << gnuplot_quoted(what + (unit.empty() ? "" : " [" + unit + "]")) << "\nunset key\nset xtics rotate by 30 right\n";
   for (std::size_t k = 0; k < shares.size(); ++k) {
     char share[32];
     std::snprintf(share, sizeof share, " (%.2f)", shares[k].share);
-    g << "set xlabel " << quoted(shares[k].input + share) << "\nplot '" << name << ".dat' u " << k + 1 << ':' << ycol
+    g << "set xlabel " << gnuplot_quoted(shares[k].input + share) << "\nplot '" << name << ".dat' u " << k + 1 << ':' << ycol
       << ":(sprintf('" << literal(shares[k].input) << " %.4g, " << literal(output.name) << " %.4g " << literal(unit)
       << "', $" << k + 1 << ", $"
       << ycol << ")) with labels hypertext point pt 7 ps 0.3 lc rgb '#4477aa'\n";

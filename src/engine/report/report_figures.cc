@@ -16,12 +16,6 @@ namespace {
 
 constexpr const char* kTerminal = "set terminal svg size 720,420 dynamic noenhanced font 'Helvetica,12'\n";
 
-std::string quoted(const std::string& s) {
-  std::string out = "'";
-  for (char c : s) out += c == '\'' ? std::string("''") : std::string(1, c);
-  return out + "'";
-}
-
 // A label in a gnuplot data file: in double quotes (single ones would be shown).
 std::string data_label(const std::string& s) {
   std::string out = "\"";
@@ -55,7 +49,7 @@ std::string vertical_lines(const std::vector<FigureLine>& lines, double lo, doub
   for (const auto& l : lines) {
     const bool left = l.x > 0.5 * (lo + hi);
     g << "set arrow from " << l.x << ", graph 0 to " << l.x << ", graph 1 nohead lw 2 dt 2 lc rgb '" << l.colour << "'\n"
-      << "set label " << quoted(l.label) << " at " << l.x << ", graph " << (0.95 - 0.08 * (i++ % 6))
+      << "set label " << gnuplot_quoted(l.label) << " at " << l.x << ", graph " << (0.95 - 0.08 * (i++ % 6))
       << (left ? " right offset -0.5,0" : " offset 0.5,0") << " tc rgb '" << l.colour << "'\n";
   }
   return g.str();
@@ -86,6 +80,56 @@ HistogramBins histogram_bins(const std::vector<double>& sorted) {
     ++h.counts[std::min(b, bins - 1)];  // the largest value closes the last bin
   }
   return h;
+}
+
+// How an output is named in a figure: its description, the axis label with its unit, the unit
+// as declared and as set into hover texts (gnuplot_format_literal).
+struct FigureText {
+  std::string what, axis, unit, hover_unit;
+};
+
+// Mean and p95 against sample count (`finite` values in all), written and drawn.
+bool convergence_figure(const fs::path& dir, const std::string& output, const FigureText& text,
+                        const std::vector<double>& values, const std::vector<std::size_t>& order, std::size_t finite,
+                        std::vector<std::string>& figures, std::string& why) {
+  // Statistics against sample count (in sample order): mean with its t interval and p95
+  // with its binomial order-statistic interval, at geometrically spaced counts.
+  std::vector<std::size_t> counts;
+  for (double c = static_cast<double>(finite); c >= 8; c /= 1.5) counts.push_back(static_cast<std::size_t>(c));
+  if (counts.size() >= 3) {  // a curve needs a few sample counts
+    std::ostringstream d;
+    d << "# samples  mean  mean_lo  mean_hi  p95  p95_lo  p95_hi  [" << text.unit << "]\n";
+    std::vector<std::pair<std::size_t, double>> by_order;
+    for (std::size_t i = 0; i < values.size(); ++i) {
+      if (std::isfinite(values[i])) by_order.emplace_back(i < order.size() ? order[i] : i, values[i]);
+    }
+    std::sort(by_order.begin(), by_order.end());
+    std::reverse(counts.begin(), counts.end());
+    for (std::size_t c : counts) {
+      std::vector<double> head;
+      for (std::size_t i = 0; i < c; ++i) head.push_back(by_order[i].second);
+      const sampling::Summary s = sampling::summarize(head);
+      auto end = [](const std::optional<double>& e, double fallback) { return e ? *e : fallback; };
+      d << c << ' ' << s.mean.value << ' ' << end(s.mean.lo, s.mean.value) << ' ' << end(s.mean.hi, s.mean.value) << ' '
+        << s.p95.value << ' ' << end(s.p95.lo, s.p95.value) << ' ' << end(s.p95.hi, s.p95.value) << '\n';
+    }
+    write_file_atomic((dir / (output + "_convergence.dat")).string(), d.str());  // gnuplot reads it next
+    std::ostringstream conv;
+    // The x axis ends at the run's sample count (not gnuplot's next power of ten).
+    conv << "set title " << gnuplot_quoted(text.what + ": mean and p95 against sample count (95% intervals)")
+         << "\nset xlabel 'samples'\nset logscale x\nset xrange [" << static_cast<double>(counts.front()) * 0.8 << ':'
+         << static_cast<double>(finite) * 1.1 << "]\nset ylabel " << gnuplot_quoted(text.axis)
+         << "\nset key outside bottom center horizontal\nplot '" << output
+         << "_convergence.dat' u 1:2:3:4 with yerrorlines lw 2 pt 1 lc rgb '#4477aa' title 'mean', '' u 1:5:6:7 with "
+            "yerrorlines lw 2 dt 2 pt 6 lc rgb '#ee7733' title 'p95'"
+         << hover_points(output + "_convergence.dat", "1", "2",
+                         "sprintf('%d samples: mean %.4g [%.4g, %.4g] " + text.hover_unit + "', $1, $2, $3, $4)", "#4477aa")
+         << hover_points(output + "_convergence.dat", "1", "5",
+                         "sprintf('%d samples: p95 %.4g [%.4g, %.4g] " + text.hover_unit + "', $1, $5, $6, $7)", "#ee7733")
+         << "\n";
+    if (!run(dir, output + "_convergence", conv.str(), figures, why)) return false;
+  }
+  return true;
 }
 
 }  // namespace
@@ -145,9 +189,9 @@ bool distribution_figures(const fs::path& dir, const std::string& output, const 
   const std::size_t most = *std::max_element(bins.counts.begin(), bins.counts.end());
   std::ostringstream hist;
   hist.precision(10);
-  hist << "set title " << quoted("Distribution of " + what + " (" + output + ") over " + std::to_string(sorted.size()) +
+  hist << "set title " << gnuplot_quoted("Distribution of " + what + " (" + output + ") over " + std::to_string(sorted.size()) +
                                  " samples")
-       << "\nset xlabel " << quoted(xl) << "\nset ylabel 'samples'\nset key outside bottom center horizontal\n"
+       << "\nset xlabel " << gnuplot_quoted(xl) << "\nset ylabel 'samples'\nset key outside bottom center horizontal\n"
        << "set boxwidth " << bins.width << " absolute\nset yrange [0:*]\n" << (most <= 10 ? "set ytics 1\n" : "")
        << "set style fill solid 0.6\n" << vertical_lines(lines, sorted.front(), sorted.back()) << "plot '" << output
        << "_hist.dat' u 1:2 with boxes lc rgb '#4477aa' title 'simulated'"
@@ -155,7 +199,7 @@ bool distribution_figures(const fs::path& dir, const std::string& output, const 
        << "\n";
   if (!run(dir, output + "_hist", hist.str(), figures, why)) return false;
   std::ostringstream cdf;
-  cdf << "set title " << quoted("CDF of " + what + " with its 95% band (DKW)") << "\nset xlabel " << quoted(xl)
+  cdf << "set title " << gnuplot_quoted("CDF of " + what + " with its 95% band (DKW)") << "\nset xlabel " << gnuplot_quoted(xl)
       << "\nset ylabel 'share of samples at or below'\nset yrange [0:1]\nset key outside bottom center horizontal\n"
       << vertical_lines(lines, sorted.front(), sorted.back()) << "plot '" << output
       << "_cdf.dat' u 1:3:4 with filledcurves lc rgb '#bbccee' title '95% band', '' u 1:2 with steps lw 2 lc rgb "
@@ -164,44 +208,7 @@ bool distribution_figures(const fs::path& dir, const std::string& output, const 
                       "#4477aa", cdf_every)
       << "\n";
   if (!run(dir, output + "_cdf", cdf.str(), figures, why)) return false;
-  // Statistics against sample count (in sample order): mean with its t interval and p95
-  // with its binomial order-statistic interval, at geometrically spaced counts.
-  std::vector<std::size_t> counts;
-  for (double c = static_cast<double>(v.size()); c >= 8; c /= 1.5) counts.push_back(static_cast<std::size_t>(c));
-  if (counts.size() >= 3) {  // a curve needs a few sample counts
-    std::ostringstream d;
-    d << "# samples  mean  mean_lo  mean_hi  p95  p95_lo  p95_hi  [" << unit << "]\n";
-    std::vector<std::pair<std::size_t, double>> by_order;
-    for (std::size_t i = 0; i < values.size(); ++i) {
-      if (std::isfinite(values[i])) by_order.emplace_back(i < order.size() ? order[i] : i, values[i]);
-    }
-    std::sort(by_order.begin(), by_order.end());
-    std::reverse(counts.begin(), counts.end());
-    for (std::size_t c : counts) {
-      std::vector<double> head;
-      for (std::size_t i = 0; i < c; ++i) head.push_back(by_order[i].second);
-      const sampling::Summary s = sampling::summarize(head);
-      auto end = [](const std::optional<double>& e, double fallback) { return e ? *e : fallback; };
-      d << c << ' ' << s.mean.value << ' ' << end(s.mean.lo, s.mean.value) << ' ' << end(s.mean.hi, s.mean.value) << ' '
-        << s.p95.value << ' ' << end(s.p95.lo, s.p95.value) << ' ' << end(s.p95.hi, s.p95.value) << '\n';
-    }
-    write_file_atomic((dir / (output + "_convergence.dat")).string(), d.str());  // gnuplot reads it next
-    std::ostringstream conv;
-    // The x axis ends at the run's sample count (not gnuplot's next power of ten).
-    conv << "set title " << quoted(what + ": mean and p95 against sample count (95% intervals)")
-         << "\nset xlabel 'samples'\nset logscale x\nset xrange [" << static_cast<double>(counts.front()) * 0.8 << ':'
-         << static_cast<double>(v.size()) * 1.1 << "]\nset ylabel " << quoted(xl)
-         << "\nset key outside bottom center horizontal\nplot '" << output
-         << "_convergence.dat' u 1:2:3:4 with yerrorlines lw 2 pt 1 lc rgb '#4477aa' title 'mean', '' u 1:5:6:7 with "
-            "yerrorlines lw 2 dt 2 pt 6 lc rgb '#ee7733' title 'p95'"
-         << hover_points(output + "_convergence.dat", "1", "2",
-                         "sprintf('%d samples: mean %.4g [%.4g, %.4g] " + unit_text + "', $1, $2, $3, $4)", "#4477aa")
-         << hover_points(output + "_convergence.dat", "1", "5",
-                         "sprintf('%d samples: p95 %.4g [%.4g, %.4g] " + unit_text + "', $1, $5, $6, $7)", "#ee7733")
-         << "\n";
-    if (!run(dir, output + "_convergence", conv.str(), figures, why)) return false;
-  }
-  return true;
+  return convergence_figure(dir, output, {what, xl, unit, unit_text}, values, order, v.size(), figures, why);
 }
 
 bool tornado_figure(const fs::path& dir, const std::string& name, const std::string& title, const std::string& xlabel,
@@ -215,7 +222,7 @@ bool tornado_figure(const fs::path& dir, const std::string& name, const std::str
     write_file_atomic((dir / (name + ".dat")).string(), d.str());
   }
   std::ostringstream g;
-  g << "set title " << quoted(title) << "\nset xlabel " << quoted(xlabel) << "\nset yrange [" << bars.size()
+  g << "set title " << gnuplot_quoted(title) << "\nset xlabel " << gnuplot_quoted(xlabel) << "\nset yrange [" << bars.size()
     << "-0.5:-0.5]\nset ytics scale 0\nset style fill solid 0.7\nunset key\nset lmargin 34\n"
     << "plot '" << name << ".dat' u ($2/2):1:(abs($2)/2):(0.35):ytic(3) with boxxyerror lc rgb '#4477aa'"
     << hover_points(name + ".dat", "2", "1", "sprintf('%s: %.4g', strcol(3), $2)", "#4477aa") << "\n";
@@ -247,7 +254,7 @@ bool sensitivity_tornado(const fs::path& dir, const json& sensitivity, const std
     write_file_atomic((dir / (name + ".dat")).string(), d.str());
   }
   std::ostringstream g;
-  g << "set title " << quoted("Which inputs drive " + output + ": Sobol indices (95% intervals)")
+  g << "set title " << gnuplot_quoted("Which inputs drive " + output + ": Sobol indices (95% intervals)")
     << "\nset xlabel 'index (share of the variance)'\nset yrange [*:*] reverse\nset ytics scale 0\nset lmargin 34\n"
     << "set style fill solid 0.7\nset key outside bottom center horizontal\nset xrange [0:*]\n"
     << "plot '" << name << ".dat' u ($2/2):($1-0.18):($2/2):(0.16):ytic(8) with boxxyerror lc rgb '#4477aa' title 'total', "
@@ -276,12 +283,12 @@ bool sweep_figure(const fs::path& dir, const std::string& name, const std::strin
     write_file_atomic((dir / (name + ".dat")).string(), d.str());
   }
   std::ostringstream g;
-  g << "set title " << quoted(title) << "\nset xlabel " << quoted(xlabel) << "\nset ylabel " << quoted(ylabel)
+  g << "set title " << gnuplot_quoted(title) << "\nset xlabel " << gnuplot_quoted(xlabel) << "\nset ylabel " << gnuplot_quoted(ylabel)
     << "\nset key outside bottom center horizontal\nset offsets graph 0.05, graph 0.05, graph 0.1, graph 0.1\n";
   // The limits as constant functions: the y range then takes them in.
-  g << "plot '" << name << ".dat' u 1:2:3:4 with yerrorlines lw 2 pt 7 lc rgb '#4477aa' t " << quoted(ylabel + ", 95% interval")
+  g << "plot '" << name << ".dat' u 1:2:3:4 with yerrorlines lw 2 pt 7 lc rgb '#4477aa' t " << gnuplot_quoted(ylabel + ", 95% interval")
     << hover_points(name + ".dat", "1", "2", "sprintf('%.4g: %.4g [%.4g, %.4g]', $1, $2, $3, $4)", "#4477aa");
-  for (const auto& l : limits) g << ", " << l.x << " w l lw 2 dt 2 lc rgb '" << l.colour << "' t " << quoted(l.label);
+  for (const auto& l : limits) g << ", " << l.x << " w l lw 2 dt 2 lc rgb '" << l.colour << "' t " << gnuplot_quoted(l.label);
   g << "\n";
   return run(dir, name, g.str(), figures, why);
 }

@@ -34,6 +34,12 @@ bool svg_plot(const std::filesystem::path& dir, const std::string& name, const s
   return false;
 }
 
+std::string gnuplot_quoted(const std::string& text) {
+  std::string out = "'";
+  for (char c : text) out += c == '\'' ? std::string("''") : std::string(1, c);
+  return out + "'";
+}
+
 std::string gnuplot_format_literal(const std::string& text) {
   std::string out;
   for (char c : text) out += c == '%' ? std::string("%%") : c == '\'' ? std::string("''") : std::string(1, c);

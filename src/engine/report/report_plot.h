@@ -16,6 +16,9 @@ inline constexpr const char* kViridisPalette =
     "set palette defined (0 '#440154', 0.125 '#472d7b', 0.25 '#3b528b', 0.375 '#2c728e', 0.5 '#21918c', "
     "0.625 '#28ae80', 0.75 '#5ec962', 0.875 '#addc30', 1 '#fde725')\n";
 
+/// A gnuplot string literal in single quotes (' doubled): titles and labels as written.
+std::string gnuplot_quoted(const std::string& text);
+
 /// Text set inside a gnuplot sprintf format in single quotes (a hover text): % and ' doubled,
 /// so that a unit "%" or a name with an apostrophe prints as itself.
 std::string gnuplot_format_literal(const std::string& text);
