@@ -29,6 +29,10 @@ struct Tested {
   Candidate cand;
   double p, p_family, dbic;
   Fit fit;
+  /// Ranks the round's candidates: ln of the family's p (uncapped, in logs: p underflows), for
+  /// cogging that of its F were the noise level known (chi^2(2) / 2: a level estimated from a
+  /// few neighbouring orders caps p, not the effect's strength).
+  double log_p_rank;
 };
 
 OscillationParam param(const Fit& f, Eigen::Index i, const char* name, const char* unit) {
@@ -84,39 +88,39 @@ Tested test_columns(const Eigen::MatrixXd& model, const Eigen::VectorXd& y, cons
   const double p = osc::f_test_p(cur.rss, f.rss, c.cols.cols(), n, x.cols());
   const double dbic = static_cast<double>(n) * std::log(f.rss / cur.rss) +
                       static_cast<double>(c.cols.cols()) * std::log(static_cast<double>(n));
-  return {std::move(c), p, std::min(1.0, p * family), dbic, f};
+  return {std::move(c), p, std::min(1.0, p * family), dbic, f, std::log(p * family)};
 }
 
-// The round's cogging candidate. The orders are scanned on the samples away from the
-// reversals (the model refitted there), each judged against the residual's local noise level
-// (osc::best_local_order), Bonferroni over the orders scanned; the delta BIC is that of the
-// same samples. The best order is refused when it sits at the swing's limit or fits more than
-// the residual can hold (each said in out.not_identifiable, and the family closed).
+// The round's cogging candidate (osc::pick_cogging): the orders scanned over the whole record
+// and on the samples away from the reversals (the model refitted there), each judged against
+// the larger of the residual's white and local noise levels; the smaller p of the two scans,
+// Bonferroni over all the orders they examined; the delta BIC is that of the samples of the
+// scan that found it. Ranked among the round's candidates by the p its F would have were the
+// noise level known (log_p_rank). The order is refused when it sits at the swing's limit or
+// fits more than the residual can hold (each said in out.not_identifiable, and the family
+// closed).
 std::optional<Tested> cogging_candidate(const Signals& s, const Eigen::MatrixXd& model, const Fit& cur,
                                         const osc::OrderRange& range, double plausible,
                                         OscillationDiagnosis& out, bool& closed) {
   const osc::Moving mv = osc::away_from_reversals(s, model);
-  const auto m = mv.y.size();
-  if (m <= model.cols() + 3) return std::nullopt;
-  const Fit mfit = least_squares(mv.model, mv.y);
-  const osc::OrderScan scan = osc::scan_orders(mv.model, mv.y - mv.model * mfit.beta, mv.phi, range);
-  if (scan.count == 0) return std::nullopt;
-  const double swing = s.phi.maxCoeff() - s.phi.minCoeff();
-  const double dof_white = static_cast<double>(m - mv.model.cols());
-  const osc::LocalTest lt = osc::best_local_order(scan, angles::kTwoPi / swing, mfit.rss / dof_white, dof_white);
-  if (lt.order == 0) return std::nullopt;
+  const osc::CoggingPick pick = osc::pick_cogging(s, model, mv, range);
+  const osc::LocalTest& lt = pick.test;
+  if (pick.count == 0 || lt.order == 0) return std::nullopt;
   Tested t = test_columns(model, s.y, cur,
                           {"cogging", lt.order, osc::cogging_columns(s.phi, lt.order),
                            "motor cogging (slot/pole detent) or a periodic drag of the bearing cage"},
                           1.0);
-  const Tested on_moving =
-      test_columns(mv.model, mv.y, mfit, {"cogging", lt.order, osc::cogging_columns(mv.phi, lt.order), ""}, 1.0);
-  t.p = lt.p, t.p_family = std::min(1.0, lt.p * scan.count), t.dbic = on_moving.dbic;
+  if (pick.on_moving) {
+    const Fit mfit = least_squares(mv.model, mv.y);
+    t.dbic = test_columns(mv.model, mv.y, mfit, {"cogging", lt.order, osc::cogging_columns(mv.phi, lt.order), ""}, 1.0).dbic;
+  }
+  const double log_count = std::log(static_cast<double>(pick.count));
+  t.log_p_rank = -lt.f + log_count;
+  t.p = std::exp(lt.log_p), t.p_family = std::min(1.0, std::exp(lt.log_p + log_count));
   const Eigen::Index k0 = model.cols();
   const double amp = std::hypot(t.fit.beta[k0], t.fit.beta[k0 + 1]);
-  const int edge = range.min_order + std::max(2, range.min_order / 20);
   char buf[400];
-  if (range.limited_by_swing && lt.order <= edge) {
+  if (pick.at_edge) {
     std::snprintf(buf, sizeof buf,
                   "the best order, %d, lies at the swing's limit (orders from %d are scanned): the "
                   "structure most likely belongs to a lower order that this swing cannot identify; "
@@ -219,7 +223,7 @@ OscillationDiagnosis diagnose_oscillation(const OscillationRecord& rec, const Os
     if (tested.empty()) break;
     // Holm across the round's candidates (each family counted once): the smallest first.
     const auto top_it = std::min_element(tested.begin(), tested.end(),
-                                         [](const Tested& a, const Tested& b) { return a.p_family < b.p_family; });
+                                         [](const Tested& a, const Tested& b) { return a.log_p_rank < b.log_p_rank; });
     const Tested& top = *top_it;
     const double p_adj = std::min(1.0, top.p_family * static_cast<double>(tested.size()));
     out.rounds = round + 1;
