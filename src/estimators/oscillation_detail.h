@@ -4,6 +4,7 @@
 /// oscillation_diagnosis.h.
 #include <Eigen/Dense>
 #include <string>
+#include <vector>
 
 #include "estimators/oscillation_diagnosis.h"
 
@@ -51,17 +52,64 @@ struct OrderRange {
 };
 OrderRange cogging_orders(const Signals& s, const OscillationOptions& opt, OscillationDiagnosis& out);
 
-/// The order that removes the most residual sum of squares (resid: residual of model, hence
-/// orthogonal to its columns), and how many orders were examinable.
+/// The RSS each order's pair removes from resid (resid: residual of model, hence orthogonal
+/// to its columns); NaN where the pair lies (numerically) in the model's span.
 struct OrderScan {
-  int best = 0, count = 0;
+  int first = 0, count = 0;  ///< drop[k] is order first + k; count: orders examinable
+  std::vector<double> drop;
 };
 OrderScan scan_orders(const Eigen::MatrixXd& model, const Eigen::VectorXd& resid,
                       const Eigen::VectorXd& phi, const OrderRange& range);
 
-/// The F test p of cogging of `order` on the samples away from the reversals (|phi'| at least
-/// kMovingFraction of its maximum), with the model's columns fitted on them too.
+/// One scan on the samples (model's rows, y, phi): the model fitted, the orders scanned on its
+/// residual (scan_orders), count: the orders examinable. An order's removed RSS (its drop) is
+/// judged against the larger of the white level of the residual its pair leaves (the classic
+/// F test, F(2, n - p - 2)) and the local noise level there: the median of the drops of the
+/// neighbouring orders (kGuardCells resolution cells either side left out, kLocalCells cells
+/// either side used; a cell is 2 pi / swing orders, the spacing of independent orders),
+/// sigma^2 = median / (2 ln 2) (the median of a chi^2(2) drop is 2 ln 2 sigma^2), F = drop /
+/// (2 sigma^2) then F(2, 2 K) with K the independent cells in the neighbourhood (used with at
+/// least 2 cells). Where the noise is coloured (the servo's current, the friction law's misfit)
+/// the local level holds it; where it is white the classic test keeps its power. Two orders are
+/// judged so, with their pair in the model (the neighbours rescanned: a strong order's own
+/// side lobes would raise its local level): the smallest p with the scan's own levels, moved
+/// to the largest drop within a cell of it (the least-squares order of its peak: the levels of
+/// neighbouring orders differ, their p do not rank the orders of one peak), and the largest
+/// drop of all; test: the smaller p of the two.
+inline constexpr double kGuardCells = 2.0, kLocalCells = 12.0;
+struct LocalTest {
+  int order = 0;
+  double f = 0.0, dof = 0.0, log_p = 0.0, sigma2 = 0.0;  ///< log_p: ln p (p underflows)
+  bool white = true;                                      ///< sigma2 the white level
+};
+struct ScanBest {
+  LocalTest test;
+  int count = 0;
+};
+ScanBest scan_best(const Eigen::MatrixXd& model, const Eigen::VectorXd& y, const Eigen::VectorXd& phi,
+                   const OrderRange& range, double cell);
+
+/// The samples away from the reversals (|phi'| at least kMovingFraction of its maximum),
+/// where a cogging torque cycles and the friction model's error at the reversals (another
+/// friction law, presliding, the sign's smoothing) does not live: the model's rows, y, phi.
 inline constexpr double kMovingFraction = 0.3;
-double p_away_from_reversals(const Signals& s, const Eigen::MatrixXd& model, int order);
+struct Moving {
+  Eigen::MatrixXd model;
+  Eigen::VectorXd y, phi;
+};
+Moving away_from_reversals(const Signals& s, const Eigen::MatrixXd& model);
+
+/// The round's cogging order: scan_best over the whole record and over the samples away from
+/// the reversals (mv: the orders from their own swing's limit, their own cell); the smaller p
+/// of the two, except that a pick at the whole record's swing limit (the lowest orders scanned,
+/// min order + max(2, min order / 20), when limited by the swing) is returned as such (at_edge:
+/// to be refused) and the moving samples' pick at their own limit is not taken. count: the
+/// orders both scans examined (the Bonferroni family).
+struct CoggingPick {
+  LocalTest test;
+  int count = 0;
+  bool on_moving = false, at_edge = false;
+};
+CoggingPick pick_cogging(const Signals& s, const Eigen::MatrixXd& model, const Moving& mv, const OrderRange& range);
 
 }  // namespace poise::estimators::osc

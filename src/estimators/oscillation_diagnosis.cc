@@ -8,6 +8,7 @@
 #include <optional>
 #include <string>
 
+#include "core/angles.h"
 #include "estimators/oscillation_detail.h"
 
 namespace poise::estimators {
@@ -28,6 +29,10 @@ struct Tested {
   Candidate cand;
   double p, p_family, dbic;
   Fit fit;
+  /// Ranks the round's candidates: ln of the family's p (uncapped, in logs: p underflows), for
+  /// cogging that of its F were the noise level known (chi^2(2) / 2: a level estimated from a
+  /// few neighbouring orders caps p, not the effect's strength).
+  double log_p_rank;
 };
 
 OscillationParam param(const Fit& f, Eigen::Index i, const char* name, const char* unit) {
@@ -83,44 +88,50 @@ Tested test_columns(const Eigen::MatrixXd& model, const Eigen::VectorXd& y, cons
   const double p = osc::f_test_p(cur.rss, f.rss, c.cols.cols(), n, x.cols());
   const double dbic = static_cast<double>(n) * std::log(f.rss / cur.rss) +
                       static_cast<double>(c.cols.cols()) * std::log(static_cast<double>(n));
-  return {std::move(c), p, std::min(1.0, p * family), dbic, f};
+  return {std::move(c), p, std::min(1.0, p * family), dbic, f, std::log(p * family)};
 }
 
-// The round's cogging candidate: the scan's best order, unless it sits at the swing's limit,
-// fits more than the residual can hold, or does not hold away from the reversals (each said
-// in out.not_identifiable, and the family closed).
+// The round's cogging candidate (osc::pick_cogging): the orders scanned over the whole record
+// and on the samples away from the reversals (the model refitted there), each judged against
+// the larger of the residual's white and local noise levels; the smaller p of the two scans,
+// Bonferroni over all the orders they examined; the delta BIC is that of the samples of the
+// scan that found it. Ranked among the round's candidates by the p its F would have were the
+// noise level known (log_p_rank). The order is refused when it sits at the swing's limit or
+// fits more than the residual can hold (each said in out.not_identifiable, and the family
+// closed).
 std::optional<Tested> cogging_candidate(const Signals& s, const Eigen::MatrixXd& model, const Fit& cur,
-                                        const osc::OrderRange& range, double plausible, double alpha,
+                                        const osc::OrderRange& range, double plausible,
                                         OscillationDiagnosis& out, bool& closed) {
-  const osc::OrderScan scan = osc::scan_orders(model, s.y - model * cur.beta, s.phi, range);
-  if (scan.count == 0 || scan.best == 0) return std::nullopt;
+  const osc::Moving mv = osc::away_from_reversals(s, model);
+  const osc::CoggingPick pick = osc::pick_cogging(s, model, mv, range);
+  const osc::LocalTest& lt = pick.test;
+  if (pick.count == 0 || lt.order == 0) return std::nullopt;
   Tested t = test_columns(model, s.y, cur,
-                          {"cogging", scan.best, osc::cogging_columns(s.phi, scan.best),
+                          {"cogging", lt.order, osc::cogging_columns(s.phi, lt.order),
                            "motor cogging (slot/pole detent) or a periodic drag of the bearing cage"},
-                          scan.count);
+                          1.0);
+  if (pick.on_moving) {
+    const Fit mfit = least_squares(mv.model, mv.y);
+    t.dbic = test_columns(mv.model, mv.y, mfit, {"cogging", lt.order, osc::cogging_columns(mv.phi, lt.order), ""}, 1.0).dbic;
+  }
+  const double log_count = std::log(static_cast<double>(pick.count));
+  t.log_p_rank = -lt.f + log_count;
+  t.p = std::exp(lt.log_p), t.p_family = std::min(1.0, std::exp(lt.log_p + log_count));
   const Eigen::Index k0 = model.cols();
   const double amp = std::hypot(t.fit.beta[k0], t.fit.beta[k0 + 1]);
-  const int edge = range.min_order + std::max(2, range.min_order / 20);
   char buf[400];
-  if (range.limited_by_swing && scan.best <= edge) {
+  if (pick.at_edge) {
     std::snprintf(buf, sizeof buf,
                   "the best order, %d, lies at the swing's limit (orders from %d are scanned): the "
                   "structure most likely belongs to a lower order that this swing cannot identify; "
                   "not added. A larger swing would test the lower orders",
-                  scan.best, range.min_order);
+                  lt.order, range.min_order);
   } else if (amp > plausible) {
     std::snprintf(buf, sizeof buf,
                   "the best order, %d, fits an amplitude of %.3g N*m, more than the %.3g N*m the base "
                   "residual can hold (2 sqrt(2) x its RMS): it trades off with the base terms and is "
                   "refused as implausible",
-                  scan.best, amp, plausible);
-  } else if (t.p_family < alpha && osc::p_away_from_reversals(s, model, scan.best) >= alpha) {
-    std::snprintf(buf, sizeof buf,
-                  "the best order, %d, is significant over the record (p = %.3g over %d orders) but "
-                  "not on the samples away from the reversals (|phi'| >= %.0f %% of its maximum), "
-                  "where a cogging torque cycles and a friction model's error does not live: not "
-                  "added",
-                  scan.best, t.p_family, scan.count, 100.0 * osc::kMovingFraction);
+                  lt.order, amp, plausible);
   } else {
     return t;
   }
@@ -206,13 +217,13 @@ OscillationDiagnosis diagnose_oscillation(const OscillationRecord& rec, const Os
       tested.push_back(test_columns(model, s.y, cur, c, 1.0));
     }
     if (!cogging_in) {
-      auto c = cogging_candidate(s, model, cur, range, plausible, opt.alpha, out, cogging_in);
+      auto c = cogging_candidate(s, model, cur, range, plausible, out, cogging_in);
       if (c) tested.push_back(std::move(*c));
     }
     if (tested.empty()) break;
     // Holm across the round's candidates (each family counted once): the smallest first.
     const auto top_it = std::min_element(tested.begin(), tested.end(),
-                                         [](const Tested& a, const Tested& b) { return a.p_family < b.p_family; });
+                                         [](const Tested& a, const Tested& b) { return a.log_p_rank < b.log_p_rank; });
     const Tested& top = *top_it;
     const double p_adj = std::min(1.0, top.p_family * static_cast<double>(tested.size()));
     out.rounds = round + 1;

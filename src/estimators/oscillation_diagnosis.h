@@ -25,13 +25,28 @@
 ///                    N >= 360 deg / swing (swing = max phi - min phi) and N >= min order, up
 ///                    to the record's Nyquist limit pi / (max |phi'| dt) (its frequency
 ///                    N |phi'| / 2 pi below half the sample rate; max order option when > 0).
-///                    The detection floor is the family's: about 5 sigma of the whole-record
-///                    matched filter T sqrt(n / 2) / sigma for ~4000 orders (chi^2(2) of the
-///                    best order against 2 ln(orders / alpha)).
-///                    The order picked must also be significant (F test at alpha) on the
-///                    samples away from the reversals (|phi'| >= 30 % of its maximum), where
-///                    a cogging torque cycles and the friction model's error at the reversal
-///                    (another friction law, the sign's smoothing) does not live.
+///                    The orders are scanned twice: over the whole record and on the
+///                    samples away from the reversals (|phi'| >= 30 % of its maximum, the base
+///                    model refitted there, orders from their own swing's limit, a pick
+///                    within max(2, 5 %) of it not taken), where a cogging torque cycles and the friction model's error at the
+///                    reversals (another friction law, presliding, the sign's smoothing) does
+///                    not live. Each order's removed RSS (drop) is judged against the larger
+///                    of the white level of the residual its pair leaves (the classic F test)
+///                    and the residual's LOCAL noise level (the servo's own current, e.g.
+///                    encoder quantisation limit cycling and a sensor filter, and the friction
+///                    law's misfit are coloured): sigma^2 = median of the drops of the
+///                    neighbouring orders (2 to 14 resolution cells 2 pi / swing either side,
+///                    the window shifted inward at the scan's ends) / (2 ln 2), F = drop /
+///                    (2 sigma^2) ~ F(2, 2 K), K the independent cells used. Two orders per
+///                    scan are judged so with their pair in the model (a strong order's own
+///                    side lobes would raise its local level): the smallest p (the whitened
+///                    matched filter; moved to the largest drop within a cell, the
+///                    least-squares order, where its level is then the white one) and the
+///                    largest drop. The smaller p of the scans, Bonferroni over all the
+///                    orders both scanned; the delta BIC on the samples of the scan that found
+///                    it. Among the round's candidates cogging is ranked by the p its F would
+///                    have were the noise level known (chi^2(2) / 2): a level estimated from
+///                    a few cells caps p, not the effect's strength.
 ///                    A lower order covers part of a cycle and trades off with the constant
 ///                    and the spring: it is reported as "not identifiable with this swing",
 ///                    with the swing that would test it. A fitted amplitude above
