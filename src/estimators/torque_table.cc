@@ -121,6 +121,70 @@ Columns find_columns(const std::string& file, std::size_t line,
   return c;
 }
 
+// One data row's cells into the table (every cell checked: a number, in range).
+void read_row(const std::string& path, std::size_t line, const std::vector<std::string_view>& cells,
+              const Columns& cols, TorqueTable& t) {
+  if (cells.size() != cols.names.size()) {
+    fail(path, line,
+         "row '" + join(cells) + "' has " + std::to_string(cells.size()) + (cells.size() == 1 ? " cell" : " cells") +
+             " but the header has " + std::to_string(cols.names.size()) + " columns '" + join(cols.names) + "'");
+  }
+  const auto number = [&](std::size_t col) {
+    const std::string& name = cols.names[col];
+    if (cells[col].empty()) fail(path, line, "column '" + name + "': empty cell; expected a number");
+    const auto v = parse_number(cells[col]);
+    if (!v) fail(path, line, "column '" + name + "': cell '" + std::string(cells[col]) + "' is not a finite number");
+    return *v;
+  };
+  const double theta = number(cols.theta);
+  const double torque = number(cols.torque);
+  if (!(std::abs(torque * t.unit_factor) <= kMaxTorqueNm)) {
+    fail(path, line,
+         "column '" + cols.names[cols.torque] + "': cell '" + std::string(cells[cols.torque]) +
+             "'; expected a torque of at most 1e9 N*m in magnitude");
+  }
+  t.theta_deg.push_back(theta);
+  t.theta_rad.push_back(theta * (std::numbers::pi / 180.0));
+  t.torque.push_back(torque);
+  t.torque_Nm.push_back(torque * t.unit_factor);
+  t.rows.push_back(line);
+  if (cols.time) t.time_s.push_back(number(*cols.time));
+  if (cols.se) {
+    const double se = number(*cols.se);
+    if (!(se > 0.0) || !(se * cols.se_factor * t.unit_factor <= kMaxTorqueNm)) {
+      fail(path, line,
+           "column '" + cols.names[*cols.se] + "': cell '" + std::string(cells[*cols.se]) +
+               "'; expected a standard error > 0 and at most 1e9 N*m (the scatter of the "
+               "position's period integrals / sqrt(periods))");
+    }
+    t.torque_se.push_back(se * cols.se_factor);
+  }
+  if (cols.sweep) {
+    const double sw = number(*cols.sweep);
+    if (sw != 1.0 && sw != -1.0) {
+      fail(path, line,
+           "column 'sweep': cell '" + std::string(cells[*cols.sweep]) + "'; expected +1 or -1 (turntable direction)");
+    }
+    t.sweep.push_back(sw > 0.0 ? 1 : -1);
+  }
+}
+
+// The whole table: a header, enough rows, at least 3 distinct angles.
+void check_table(const std::string& path, const std::optional<Columns>& cols, const TorqueTable& t) {
+  if (!cols) fail(path, 0, "no header line; expected e.g. 'theta_deg,torque_mNm'");
+  if (t.size() < kMinRows) {
+    fail(path, 0,
+         std::to_string(t.size()) + " data rows; expected at least " + std::to_string(kMinRows) +
+             " (the sine fit has 3 parameters)");
+  }
+  const std::size_t distinct = count_distinct_angles(t.theta_rad);
+  if (distinct < 3) {
+    fail(path, 0,
+         "duplicate angles only: " + std::to_string(distinct) + " distinct value(s) of theta_deg modulo 360 deg in " +
+             std::to_string(t.size()) + " rows; expected at least 3");
+  }
+}
+
 }  // namespace
 
 TorqueTable read_torque_table(const std::string& path) {
@@ -143,72 +207,11 @@ TorqueTable read_torque_table(const std::string& path) {
     const std::vector<std::string_view> cells = split_cells(raw);
     if (!cols) {
       cols = find_columns(path, line, cells, t);
-      continue;
-    }
-    if (cells.size() != cols->names.size()) {
-      fail(path, line,
-           "row '" + join(cells) + "' has " + std::to_string(cells.size()) +
-               (cells.size() == 1 ? " cell" : " cells") + " but the header has " +
-               std::to_string(cols->names.size()) + " columns '" + join(cols->names) + "'");
-    }
-    const auto number = [&](std::size_t col) {
-      const std::string& name = cols->names[col];
-      if (cells[col].empty())
-        fail(path, line, "column '" + name + "': empty cell; expected a number");
-      const auto v = parse_number(cells[col]);
-      if (!v) {
-        fail(
-            path, line,
-            "column '" + name + "': cell '" + std::string(cells[col]) + "' is not a finite number");
-      }
-      return *v;
-    };
-    const double theta = number(cols->theta);
-    const double torque = number(cols->torque);
-    if (!(std::abs(torque * t.unit_factor) <= kMaxTorqueNm)) {
-      fail(path, line,
-           "column '" + cols->names[cols->torque] + "': cell '" + std::string(cells[cols->torque]) +
-               "'; expected a torque of at most 1e9 N*m in magnitude");
-    }
-    t.theta_deg.push_back(theta);
-    t.theta_rad.push_back(theta * (std::numbers::pi / 180.0));
-    t.torque.push_back(torque);
-    t.torque_Nm.push_back(torque * t.unit_factor);
-    t.rows.push_back(line);
-    if (cols->time) t.time_s.push_back(number(*cols->time));
-    if (cols->se) {
-      const double se = number(*cols->se);
-      if (!(se > 0.0) || !(se * cols->se_factor * t.unit_factor <= kMaxTorqueNm)) {
-        fail(path, line,
-             "column '" + cols->names[*cols->se] + "': cell '" + std::string(cells[*cols->se]) +
-                 "'; expected a standard error > 0 and at most 1e9 N*m (the scatter of the "
-                 "position's period integrals / sqrt(periods))");
-      }
-      t.torque_se.push_back(se * cols->se_factor);
-    }
-    if (cols->sweep) {
-      const double s = number(*cols->sweep);
-      if (s != 1.0 && s != -1.0) {
-        fail(path, line,
-             "column 'sweep': cell '" + std::string(cells[*cols->sweep]) +
-                 "'; expected +1 or -1 (turntable direction)");
-      }
-      t.sweep.push_back(s > 0.0 ? 1 : -1);
+    } else {
+      read_row(path, line, cells, *cols, t);
     }
   }
-  if (!cols) fail(path, 0, "no header line; expected e.g. 'theta_deg,torque_mNm'");
-  if (t.size() < kMinRows) {
-    fail(path, 0,
-         std::to_string(t.size()) + " data rows; expected at least " + std::to_string(kMinRows) +
-             " (the sine fit has 3 parameters)");
-  }
-  const std::size_t distinct = count_distinct_angles(t.theta_rad);
-  if (distinct < 3) {
-    fail(path, 0,
-         "duplicate angles only: " + std::to_string(distinct) +
-             " distinct value(s) of theta_deg modulo 360 deg in " + std::to_string(t.size()) +
-             " rows; expected at least 3");
-  }
+  check_table(path, cols, t);
   return t;
 }
 
