@@ -212,12 +212,16 @@ void ObstructionStudy::report_sections(const McResult& mc, const std::string& pl
   figures.push_back({"map_fraction", map_dat.str(),
                      "set title 'Unobstructed share of the beam, nominal design [%]'\nset xlabel 'yaw [deg]'\n"
                      "set ylabel 'pitch [deg]'\n" + std::string(kViridisPalette) + "set cblabel '%'\n"
-                     "plot 'map_fraction.dat' u 1:2:3 with image notitle\n",
+                     "plot 'map_fraction.dat' u 1:2:3 with image notitle, '' u 1:2:(sprintf(\"yaw %g deg, pitch "
+                     "%g deg: %.4g %% unobstructed, least clearance %.3g mm\", $1, $2, $3, $4)) with labels "
+                     "hypertext point pt 7 ps 0.3 lc rgb '#ffffff' notitle\n",
                      "Unobstructed share of the beam over the field of regard (nominal)"});
   figures.push_back({"map_clearance", map_dat.str(),
                      "set title 'Least clearance of the moving frames, nominal design [mm]'\nset xlabel 'yaw [deg]'\n"
                      "set ylabel 'pitch [deg]'\n" + std::string(kViridisPalette) + "set cblabel 'mm'\n"
-                     "plot 'map_clearance.dat' u 1:2:4 with image notitle\n",
+                     "plot 'map_clearance.dat' u 1:2:4 with image notitle, '' u 1:2:(sprintf(\"yaw %g deg, pitch "
+                     "%g deg: least clearance %.3g mm, %.4g %% unobstructed\", $1, $2, $4, $3)) with labels "
+                     "hypertext point pt 7 ps 0.3 lc rgb '#ffffff' notitle\n",
                      "Least clearance (ring-housing, barrel-housing, barrel-ring) over the field (nominal)"});
   figures.push_back({"clearance_vs_pitch", sweep_dat.str(),
                      "set title 'Clearance against pitch, nominal design'\nset xlabel 'pitch [deg]'\nset ylabel 'mm'\n"

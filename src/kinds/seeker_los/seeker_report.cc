@@ -131,7 +131,11 @@ void SeekerLosStudy::report_sections(const McResult& mc, const std::string& plot
     svg_plot(plots_dir, "map_p95",
              "set title 'p95 over units of the total LOS error at each gimbal angle [arcsec]'\n"
              "set xlabel 'yaw [deg]'\nset ylabel 'pitch [deg]'\nset view map\nset pm3d map interpolate 4,4\n" +
-                 std::string(kViridisPalette) + "set cblabel 'arcsec'\nsplot 'map.dat' u 1:2:4 with pm3d notitle\n",
+                 std::string(kViridisPalette) +
+                 "set cblabel 'arcsec'\nsplot 'map.dat' u 1:2:4 with pm3d notitle, "
+                 // Each grid point's figures on hover (a small white dot marks where they were computed).
+                 "'map.dat' u 1:2:4:(sprintf(\"yaw %g deg, pitch %g deg: p50 %.3g, p95 %.3g, p99.73 %.3g arcsec\", "
+                 "$1, $2, $3, $4, $5)) with labels hypertext point pt 7 ps 0.3 lc rgb '#ffffff' notitle\n",
              figures, h);
   }
   h << "<h2>Tolerances sampled</h2>\n<table><tr><th class='l'>input</th><th class='l'>distribution</th>"
