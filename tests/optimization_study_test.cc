@@ -483,7 +483,9 @@ seed = 9
     const bool c = row.value("compared", false);
     compared += c ? 1 : 0;
     EXPECT_EQ(row.contains("comparison"), c) << row.dump();
-    if (row["best"].get<bool>()) EXPECT_TRUE(c);
+    if (row["best"].get<bool>()) {
+      EXPECT_TRUE(c);
+    }
   }
   EXPECT_GE(compared, 3u);
   EXPECT_LE(compared, 5u);
