@@ -289,12 +289,8 @@ TEST(OptimizationStudy, RepositoryOptimizationFilesLoad) {
   EXPECT_EQ(to_string(plates.constraints[1].bound), "lower95");
 }
 
-// Two objectives on a tiny gimbal study: the unbalance error against the test time, with the
-// number of positions a discrete choice. Checks the epsilon-constraint front (non-dominated,
-// ordered, reaching both single-objective optima), the exact test times, and the comparison
-// of the choices on fresh samples.
-TEST(OptimizationStudy, ParetoFrontOfErrorAgainstTestTime) {
-  TempDir d;
+// A tiny gimbal study (4 rigs, 8 positions, the reference load) as study.toml in `d`.
+void write_tiny_gimbal_study(const TempDir& d) {
   test::write_text(d.file("study.toml"), R"([study]
 name = "tiny"
 kind = "gimbal_static_unbalance"
@@ -311,6 +307,15 @@ mass = "25.81 g"
 radius = "51.0 mm"
 angle = "45.50 deg"
 )");
+}
+
+// Two objectives on a tiny gimbal study: the unbalance error against the test time, with the
+// number of positions a discrete choice. Checks the epsilon-constraint front (non-dominated,
+// ordered, reaching both single-objective optima), the exact test times, and the comparison
+// of the choices on fresh samples.
+TEST(OptimizationStudy, ParetoFrontOfErrorAgainstTestTime) {
+  TempDir d;
+  write_tiny_gimbal_study(d);
   test::write_text(d.file("opt.toml"), R"([optimization]
 name = "plan"
 study = "study.toml"
@@ -426,22 +431,7 @@ seed = 9
 // refuses the key.
 TEST(OptimizationStudy, FastSearchIsVerifiedOnTheFullModel) {
   TempDir d;
-  test::write_text(d.file("study.toml"), R"([study]
-name = "tiny"
-kind = "gimbal_static_unbalance"
-model = ")" + test::source_path("models/gimbal_simulator_yang2015.toml") + R"("
-[sampling]
-method = "monte_carlo"
-samples = 4
-seed = 3
-[[group]]
-name = "g"
-positions = 8
-[[group.load]]
-mass = "25.81 g"
-radius = "51.0 mm"
-angle = "45.50 deg"
-)");
+  write_tiny_gimbal_study(d);
   const std::string opt = R"([optimization]
 name = "plan"
 study = "study.toml"

@@ -230,14 +230,23 @@ void lock_and_settle(const ProcedureRun& run) {
   run.integ.advance(run.w.t1, run.w.t1, false);  // lead-in: the start transient is not integrated
 }
 
+// The sum of the window's n measured currents from the true current's mean: the sensor's
+// offset and drift at the samples' mean time, and the white noise's mean through the ADC drawn
+// in distribution, N(0, (sigma^2 + q^2 / 12) / n) (both the integrated and the period-mean window).
+double measured_current_sum(const ProcedureRun& run, const PositionSensor& s, double i_mean) {
+  const double noise_sigma = run.plan.acquisition.noise_rms, lsb = run.w.lsb;
+  const auto n = static_cast<double>(run.w.n_samples);
+  const double sigma_mean = std::sqrt((noise_sigma * noise_sigma + lsb * lsb / 12.0) / n);
+  return n * (i_mean + s.window_offset + s.drift_mean + sigma_mean * s.window_noise);
+}
+
 // The window from its integrals: the current's mean with the noise's mean drawn in
 // distribution. Steps to t2; |phi - phi_c| at each step end and at the turning points in between.
 WindowSums integrate_window(const ProcedureRun& run, const PositionSensor& s, PositionResult& pr) {
   const Context& c = run.c;
   solvers::CvodeIntegrator& integ = run.integ;
-  const double t1 = run.w.t1, t2 = run.w.t2, lsb = run.w.lsb;
+  const double t1 = run.w.t1, t2 = run.w.t2;
   const long n_samples = run.w.n_samples;
-  const double noise_sigma = run.plan.acquisition.noise_rms;
   const std::size_t q0 = run.q0;
   auto swing = [&](double phi) { pr.max_abs_phi = std::max(pr.max_abs_phi, std::abs(phi - c.centre)); };
   std::array<double, kDynamicStates> yi{};
@@ -257,10 +266,8 @@ WindowSums integrate_window(const ProcedureRun& run, const PositionSensor& s, Po
   }
   const auto st = integ.state();
   const double window = t2 - t1;
-  const double i_mean = st[q0] / window;
-  const double sigma_mean = std::sqrt((noise_sigma * noise_sigma + lsb * lsb / 12.0) / static_cast<double>(n_samples));
   WindowSums sums;
-  sums.sum_i = static_cast<double>(n_samples) * (i_mean + s.window_offset + s.drift_mean + sigma_mean * s.window_noise);
+  sums.sum_i = measured_current_sum(run, s, st[q0] / window);
   sums.sum_track2 = static_cast<double>(n_samples) * st[q0 + 1] / window;
   pr.saturated = st[q0 + 2] > 0.0;
   return sums;
@@ -345,12 +352,9 @@ bool period_mean_current(const Context& c, double* i_mean) {
 // The window on the period-mean model: the same sums as integrate_window, with the current's
 // mean from period_mean_current.
 WindowSums period_mean_window(const ProcedureRun& run, const PositionSensor& s, double i_mean, PositionResult& pr) {
-  const double noise_sigma = run.plan.acquisition.noise_rms, lsb = run.w.lsb;
-  const long n_samples = run.w.n_samples;
-  const double sigma_mean = std::sqrt((noise_sigma * noise_sigma + lsb * lsb / 12.0) / static_cast<double>(n_samples));
   pr.max_abs_phi = std::abs(run.c.amplitude);
   WindowSums sums;
-  sums.sum_i = static_cast<double>(n_samples) * (i_mean + s.window_offset + s.drift_mean + sigma_mean * s.window_noise);
+  sums.sum_i = measured_current_sum(run, s, i_mean);
   return sums;
 }
 
