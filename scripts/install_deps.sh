@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Installs the Debian 12 packages Poise needs. Idempotent: installs only what is missing.
-# --tests: also what only the tests need (headless Chromium for the report tests).
+# --tests: also what only the tests need (headless Chromium for the report tests, clang-format
+# and clang-tidy for the format and lint checks).
 set -euo pipefail
 PKGS=(
   build-essential cmake git pkg-config
@@ -18,6 +19,7 @@ PKGS=(
 )
 if [ "${1:-}" = "--tests" ]; then
   PKGS+=(chromium)  # tests/reports: every report rendered as a person sees it
+  PKGS+=(clang-format-14 clang-tidy-14)  # scripts/check_format.sh (run by test.sh), scripts/check_tidy.sh
 fi
 missing=()
 for p in "${PKGS[@]}"; do

@@ -48,6 +48,7 @@ double line_base(const LineSpec& line, int level) {
 namespace {
 std::vector<std::string> names_of(const std::vector<FieldVariable>& field) {
   std::vector<std::string> out;
+  out.reserve(field.size());
   for (const auto& v : field) out.push_back(v.name);
   return out;
 }

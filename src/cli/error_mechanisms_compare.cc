@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <boost/math/distributions/chi_squared.hpp>
 #include <cmath>
+#include <limits>
 #include <map>
 #include <string>
 #include <vector>
@@ -201,7 +202,7 @@ json predictive_checks(const UnbalanceTestData& data, const std::vector<std::str
 // Which mechanism the data support: the best validation log-likelihood (held-out tables).
 std::string supported_mechanism(const std::map<std::string, double>& held_out_total) {
   std::string best;
-  double best_ll = -INFINITY;
+  double best_ll = -std::numeric_limits<double>::infinity();
   for (const auto& [name, ll] : held_out_total) {
     if (ll > best_ll) {
       best_ll = ll;

@@ -164,7 +164,7 @@ void examine(Part& p, const Options& opt, double weld_m, double max_share, Compu
   try {
     p.mesh = geometry::load_mesh(p.file, p.unit_m, &p.repairs, weld_m);
   } catch (const Error& e) {
-    c.errors.push_back(e.what());  // MeshFormatError (names file and line), unreadable file, unknown extension
+    c.errors.emplace_back(e.what());  // MeshFormatError (names file and line), unreadable file, unknown extension
     return;
   }
   if (opt.drop_duplicates) p.dropped = geometry::drop_duplicate_triangles(p.mesh);

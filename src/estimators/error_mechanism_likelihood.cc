@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <boost/math/tools/minima.hpp>
 #include <cmath>
+#include <limits>
 #include <numeric>
 #include <random>
 
@@ -115,7 +116,7 @@ MechanismSigmas fit_mechanism(std::span<const UnbalanceTestRecord> tests, ErrorM
     s = ll(z) >= ll(x) ? z : x;
   };
   const double hi_rel = largest_load > 0 ? 10.0 * largest / largest_load : 1.0;
-  double previous = -INFINITY;
+  double previous = -std::numeric_limits<double>::infinity();
   for (int sweep = 0; sweep < 200; ++sweep) {
     if (f.scale) search([](MechanismSigmas& x, double v) { x.scale = v; }, hi_rel);
     if (f.zero) search([](MechanismSigmas& x, double v) { x.zero = v; }, hi_rel);

@@ -74,7 +74,7 @@ Signals derive_signals(const OscillationRecord& rec, const OscillationOptions& o
               " N*m/A; expected a finite value in (0, 1e6) N*m/A");
   require(opt.derivative_window >= 5 && opt.derivative_window % 2 == 1, "derivative window must be odd and >= 5");
   const int m = opt.derivative_window / 2;
-  require(n_all >= static_cast<std::size_t>(8 * opt.derivative_window),
+  require(n_all >= 8 * static_cast<std::size_t>(opt.derivative_window),
           w.file + ": " + std::to_string(n_all) + " samples; expected at least " +
               std::to_string(8 * opt.derivative_window) + " (8 derivative windows of " +
               std::to_string(opt.derivative_window) + " samples)");

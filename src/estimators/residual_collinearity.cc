@@ -20,7 +20,7 @@ MatrixXd basis(const MatrixXd& a) {
   Eigen::ColPivHouseholderQR<MatrixXd> qr(a / scale);
   qr.setThreshold(1e-8);
   const Index r = qr.rank();
-  const MatrixXd q = qr.householderQ() * MatrixXd::Identity(a.rows(), r);
+  MatrixXd q = qr.householderQ() * MatrixXd::Identity(a.rows(), r);  // not const: returned by move
   return q;
 }
 
@@ -48,6 +48,7 @@ std::vector<CandidateCollinearity> plan_collinearity(const Model& base, const Mo
   const MatrixXd one = MatrixXd::Ones(d.n, 1);
   const MatrixXd h1 = residualize(base.x.leftCols(2), one);
   std::vector<MatrixXd> resid;
+  resid.reserve(c.size());
   for (const Term& t : c) resid.push_back(residualize(t.cols, base.x));
   std::vector<CandidateCollinearity> out;
   for (std::size_t i = 0; i < c.size(); ++i) {

@@ -141,6 +141,7 @@ Mesh box(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi, int n, const std:
 
 std::vector<DiskHole> yang2015_hole_pattern(double d, double b_offset, double r_a, double r_b) {
   std::vector<DiskHole> holes;
+  holes.reserve(16);
   for (int k = 0; k < 8; ++k) holes.push_back({r_a, k * kPi / 4.0, d});
   for (int k = 0; k < 8; ++k) holes.push_back({r_b, k * kPi / 4.0 + b_offset, d});
   return holes;

@@ -184,7 +184,7 @@ Mesh read_stl_binary(const std::string& bytes, const std::string& name, double u
   for (std::uint32_t k = 0; k < n; ++k) {
     const char* rec = bytes.data() + 84 + 50 * static_cast<std::size_t>(k);
     std::array<std::uint32_t, 3> idx{};
-    for (int j = 0; j < 3; ++j) {
+    for (std::size_t j = 0; j < 3; ++j) {
       float xyz[3];
       std::memcpy(xyz, rec + 12 + 12 * j, 12);
       for (float c : xyz) {
@@ -228,7 +228,7 @@ Mesh read_obj(std::istream& in, const std::string& name, double unit_m) {
           fail_line(name, ln, "vertex coordinate '" + tok[k + 1] + "' is not a finite number");
         }
       }
-      mesh.vertices.push_back(v * unit_m);
+      mesh.vertices.emplace_back(v * unit_m);
     } else if (kw == "f") {
       if (tok.size() < 4) fail_line(name, ln, "face needs at least 3 vertices, got " + std::to_string(tok.size() - 1));
       std::vector<std::uint32_t> poly;

@@ -40,7 +40,8 @@ void nearest16(const EmbreeScene& scene, const Eigen::Vector3d* o, int n, const 
   rtcIntersect16(valid, scene.handle(), &ctx, &rh);
   for (int i = 0; i < 16; ++i) {
     const bool hit = i < n && rh.hit.geomID[i] != RTC_INVALID_GEOMETRY_ID;
-    t[i] = hit ? rh.ray.tfar[i] : kInf;
+    // float to float: clang-tidy 14 takes the float infinity for a constant out of float's range.
+    t[i] = hit ? rh.ray.tfar[i] : kInf;  // NOLINT(bugprone-narrowing-conversions)
     geom[i] = hit ? rh.hit.geomID[i] : RTC_INVALID_GEOMETRY_ID;
   }
 }

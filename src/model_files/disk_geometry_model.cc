@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <numbers>
+#include <utility>
 
 #include "core/error.h"
 #include "core/units.h"
@@ -71,7 +72,7 @@ DiskGeometryModel load_disk_geometry_model(const std::string& path, const std::m
   return m;
 }
 
-DiskSampler::DiskSampler(const DiskGeometryModel& model) : model_(model) {
+DiskSampler::DiskSampler(DiskGeometryModel model) : model_(std::move(model)) {
   const double mm = 1e-3;
   for (std::size_t k = 0; k < model_.nominal.holes.size(); ++k) {
     const std::string h = std::string(k < 8 ? "A" : "B") + std::to_string(k % 8);
@@ -97,7 +98,7 @@ geometry::DiskSpec DiskSampler::draw(std::span<const double> u, std::span<double
   put(model_.thickness.dist.quantile(u[k]));
   put(model_.wedge.dist.magnitude_quantile(u[k]));
   put(2.0 * std::numbers::pi * u[k]);
-  const geometry::DiskSpec s = spec_of(values);
+  geometry::DiskSpec s = spec_of(values);  // not const: returned by move
   for (std::size_t i = 0; i < values.size(); ++i) values[i] /= columns_[i].display_factor;
   return s;
 }

@@ -34,7 +34,7 @@ DiskGeometryModel load_disk_geometry_model(const std::string& path,
 /// Maps design points to as-built disks. Immutable, thread-safe.
 class DiskSampler {
  public:
-  explicit DiskSampler(const DiskGeometryModel& model);
+  explicit DiskSampler(DiskGeometryModel model);
   std::size_t dimension() const { return columns_.size(); }
   const std::vector<InputColumn>& columns() const { return columns_; }
   /// u: design point (size dimension()); values: drawn inputs in display units.

@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <filesystem>
+#include <utility>
 
 #include "core/units.h"
 #include "engine/study_files/model_overrides.h"
@@ -91,9 +92,9 @@ std::string TiltReading::describe() const {
 std::vector<std::string> SeekerModel::tolerance_keys() const {
   std::vector<std::string> keys = {"yaw.perpendicularity"};
   for (const auto& src : yaw.bearing_sources) keys.push_back("yaw." + src.name);
-  keys.push_back("pitch.perpendicularity");
+  keys.emplace_back("pitch.perpendicularity");
   for (const auto& src : pitch.bearing_sources) keys.push_back("pitch." + src.name);
-  keys.push_back("optics.axis_error");
+  keys.emplace_back("optics.axis_error");
   return keys;
 }
 
@@ -166,7 +167,7 @@ SeekerModel load_seeker_model(const std::string& path,
   return m;
 }
 
-SeekerSampler::SeekerSampler(const SeekerModel& model) : model_(model) {
+SeekerSampler::SeekerSampler(SeekerModel model) : model_(std::move(model)) {
   // Each column with the model file's tolerance key it is drawn from (its Sobol group).
   std::string tolerance;
   auto add = [&](std::string name, double factor) {

@@ -94,7 +94,7 @@ SeekerModel load_seeker_model(const std::string& path,
 /// Maps unit-hypercube points to error realizations. Immutable, thread-safe.
 class SeekerSampler {
  public:
-  explicit SeekerSampler(const SeekerModel& model);
+  explicit SeekerSampler(SeekerModel model);
   std::size_t dimension() const { return columns_.size(); }
   const std::vector<InputColumn>& columns() const { return columns_; }
   /// The model file's tolerance key of each column ("yaw.radial_runout" for its amplitude and

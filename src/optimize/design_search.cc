@@ -143,6 +143,7 @@ ChoiceResult search_choice(const OptimizationSpec& spec, const std::map<std::str
     return minimize(f, v, o);
   };
   std::vector<double> x0;
+  x0.reserve(vars.size());
   for (const auto& v : vars) x0.push_back(v.start);
   cr.result = search("objective", 0.0, x0);
   if (setup.pareto && spec.pareto && cr.result.feasible) {

@@ -26,9 +26,9 @@ std::string objective_label(const OptimizationSpec& spec) {
 /// plots/convergence.{dat,gp,svg}: every evaluation of every search and its best so far.
 bool convergence_plot(const OptimizationSpec& spec, const OptimizationOutcome& out, const fs::path& pdir) {
   std::ostringstream d;
-  for (std::size_t r = 0; r < out.runs.size(); ++r) {
+  for (const auto& run : out.runs) {
     double best = INFINITY;
-    for (const auto& e : out.runs[r].result.history) {
+    for (const auto& e : run.result.history) {
       if (e.feasible) best = std::min(best, e.result.objective);
       d << e.evaluation << ' ' << (e.result.ok ? e.result.objective : NAN) << ' ' << (e.feasible ? 1 : 0) << ' '
         << (std::isfinite(best) ? best : NAN) << '\n';
@@ -94,8 +94,8 @@ std::string objective_name(const OptimizationSpec& spec) {
 std::vector<std::string> optimization_plots(const OptimizationSpec& spec, const OptimizationOutcome& out,
                                             const fs::path& pdir) {
   std::vector<std::string> figures;
-  if (convergence_plot(spec, out, pdir)) figures.push_back("convergence.svg");
-  if (spec.pareto && out.feasible && pareto_plot(spec, out, pdir)) figures.push_back("pareto.svg");
+  if (convergence_plot(spec, out, pdir)) figures.emplace_back("convergence.svg");
+  if (spec.pareto && out.feasible && pareto_plot(spec, out, pdir)) figures.emplace_back("pareto.svg");
   return figures;
 }
 

@@ -72,7 +72,7 @@ std::uint64_t OptimizationSpec::recheck_seed() const { return mix(verification_s
 std::string choice_key_label(const std::string& key, const std::vector<std::string>& keys) {
   // The shortest dotted suffix of the key that no other key shares.
   for (std::size_t pos = key.rfind('.'); pos != std::string::npos && pos > 0; pos = key.rfind('.', pos - 1)) {
-    const std::string suffix = key.substr(pos + 1);
+    std::string suffix = key.substr(pos + 1);  // not const: returned by move
     const bool unique = std::none_of(keys.begin(), keys.end(), [&](const std::string& k) {
       return k != key && (k == suffix || (k.size() > suffix.size() && k.compare(k.size() - suffix.size() - 1, std::string::npos, "." + suffix) == 0));
     });
@@ -83,6 +83,7 @@ std::string choice_key_label(const std::string& key, const std::vector<std::stri
 
 std::string choice_label(const std::map<std::string, std::string>& choice) {
   std::vector<std::string> keys;
+  keys.reserve(choice.size());
   for (const auto& [k, v] : choice) keys.push_back(k);
   std::string s;
   for (const auto& [k, v] : choice) s += (s.empty() ? "" : ", ") + choice_key_label(k, keys) + " = " + v;

@@ -217,6 +217,7 @@ void measure_spread(const OptimizationSpec& spec, OptimizationOutcome& out, cons
     };
     for (std::size_t i = 0; i < spec.variables.size(); ++i) {
       std::vector<double> v;
+      v.reserve(xs.size());
       for (const auto& x : xs) v.push_back(x[i]);
       json j = spread_of(v);
       j["parameter"] = spec.variables[i].parameter;

@@ -118,7 +118,7 @@ class Run {
     history_.push_back(HistoryEntry{static_cast<int>(history_.size()) + 1, std::move(x),
                                     std::move(e), feasible});
     current_ = history_.size() - 1;
-    keys_.push_back(seen_.emplace(std::move(key), current_).first);
+    keys_.emplace_back(seen_.emplace(std::move(key), current_).first);
     return true;
   }
 

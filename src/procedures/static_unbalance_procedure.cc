@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <utility>
 
 #include "core/error.h"
 #include "core/units.h"
@@ -113,8 +114,8 @@ solvers::CvodeOptions extended_options(solvers::CvodeOptions opt, Supports suppo
 
 }  // namespace
 
-StaticUnbalanceWorkspace::StaticUnbalanceWorkspace(const solvers::CvodeOptions& opt)
-    : opt_(opt), ctx_(std::make_unique<Context>()) {}
+StaticUnbalanceWorkspace::StaticUnbalanceWorkspace(solvers::CvodeOptions opt)
+    : opt_(std::move(opt)), ctx_(std::make_unique<Context>()) {}
 
 StaticUnbalanceWorkspace::~StaticUnbalanceWorkspace() = default;
 
@@ -291,7 +292,7 @@ WindowSums sample_window(const ProcedureRun& run, const PositionSensor& s, Posit
   sampling::NormalStream sample_noise(&sample_stream);
   long k = 0;
   double t = integ.time(), tn = 0.0;
-  std::array<double, 6 * kDynamicStates> poly{};
+  std::array<double, std::size_t{6} * kDynamicStates> poly{};
   int q = integ.step_polynomial(poly, &tn);
   while (k < n_samples) {
     const double tk = t1 + static_cast<double>(k) * dt;

@@ -147,7 +147,7 @@ struct MeasurementResult {
 /// buffers, reused for every position and sample.
 class StaticUnbalanceWorkspace {
  public:
-  explicit StaticUnbalanceWorkspace(const solvers::CvodeOptions& opt);
+  explicit StaticUnbalanceWorkspace(solvers::CvodeOptions opt);
   struct Context;  // what the right-hand side reads (defined in the .cc)
   ~StaticUnbalanceWorkspace();
   StaticUnbalanceWorkspace(const StaticUnbalanceWorkspace&) = delete;

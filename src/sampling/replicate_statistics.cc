@@ -126,6 +126,7 @@ Summary summarize_replicates(std::span<const double> values, std::span<const std
   if (r < 2) return pooled;  // max keeps its order-statistic bound
   auto by_replicates = [&](Estimate& e, Estimate Summary::*field) {
     std::vector<double> x;
+    x.reserve(per.size());
     for (const auto& s : per) x.push_back((s.*field).value);
     const double half = t975(r) * mean_and_se(x).second;
     e.lo = e.value - half;

@@ -43,6 +43,7 @@ SampleRows read_rows(const fs::path& csv, const std::vector<std::string>& inputs
   const std::size_t status = column("status"), yc = column(output);
   if (status >= header.size() || yc >= header.size()) return rows;
   std::vector<std::size_t> xc;
+  xc.reserve(inputs.size());
   for (const auto& name : inputs) xc.push_back(column(name));
   rows.x.resize(inputs.size());
   while (rows.y.size() < max_rows && std::getline(in, line)) {

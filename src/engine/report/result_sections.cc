@@ -285,8 +285,7 @@ std::string sweeps_html(const json& sweeps, const std::vector<OutputSpec>& outpu
     if (!plots) continue;
     std::vector<std::string> figures;
     std::string why;
-    for (std::size_t k = 0; k < show.size(); ++k) {
-      const auto& [name, stat] = show[k];
+    for (const auto& [name, stat] : show) {
       std::vector<SweepFigurePoint> pts;
       std::string unit;
       for (const auto& p : sw["points"]) {

@@ -34,7 +34,7 @@ std::string file_sha1(const std::string& path) {
   boost::uuids::detail::sha1::digest_type d;
   h.get_digest(d);
   char buf[41];
-  for (int i = 0; i < 5; ++i) std::snprintf(buf + 8 * i, 9, "%08x", d[i]);
+  for (std::size_t i = 0; i < 5; ++i) std::snprintf(buf + 8 * i, 9, "%08x", d[i]);
   return buf;
 }
 
@@ -50,6 +50,7 @@ std::string program_output(const std::vector<std::string>& args) {
   posix_spawn_file_actions_adddup2(&actions, fds[1], STDOUT_FILENO);
   posix_spawn_file_actions_addopen(&actions, STDERR_FILENO, "/dev/null", O_WRONLY, 0);
   std::vector<char*> argv;
+  argv.reserve(args.size() + 1);
   for (const auto& a : args) argv.push_back(const_cast<char*>(a.c_str()));
   argv.push_back(nullptr);
   pid_t pid = 0;

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <sstream>
 
 #include "core/units.h"
@@ -146,8 +147,8 @@ json compare_references(const std::vector<ReferenceFigure>& refs, const std::vec
       const json& e = o[r.statistic];
       c["simulated"] = e;
       const double val = e["value"].is_number() ? e["value"].get<double>() : NAN;
-      const double lo = e["ci95"][0].is_number() ? e["ci95"][0].get<double>() : -INFINITY;
-      const double hi = e["ci95"][1].is_number() ? e["ci95"][1].get<double>() : INFINITY;
+      const double lo = e["ci95"][0].is_number() ? e["ci95"][0].get<double>() : -std::numeric_limits<double>::infinity();
+      const double hi = e["ci95"][1].is_number() ? e["ci95"][1].get<double>() : std::numeric_limits<double>::infinity();
       agrees = (in_unit >= lo && in_unit <= hi) ||
                (r.tolerance_relative > 0 && std::abs(val - in_unit) <= r.tolerance_relative * std::abs(in_unit));
       c["rule"] = r.tolerance_relative > 0

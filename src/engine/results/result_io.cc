@@ -1,8 +1,8 @@
 #include "engine/results/result_io.h"
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
-#include <cstring>
 #include <filesystem>
 #include <fstream>
 
@@ -41,10 +41,7 @@ std::string csv_number(double v) {
 
 char* put_csv_number(char* at, double v) {
   *at++ = ',';
-  if (std::isnan(v)) {
-    std::memcpy(at, "nan", 3);
-    return at + 3;
-  }
+  if (std::isnan(v)) return std::copy_n("nan", 3, at);
   return std::to_chars(at, at + (kCsvNumberChars - 1), v).ptr;
 }
 

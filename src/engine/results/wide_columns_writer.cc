@@ -28,7 +28,7 @@ using hdf5::text_attribute;
 
 std::string hex(const Sha1::digest_type& d) {
   char buf[41];
-  for (int i = 0; i < 5; ++i) std::snprintf(buf + 8 * i, 9, "%08x", d[i]);
+  for (std::size_t i = 0; i < 5; ++i) std::snprintf(buf + 8 * i, 9, "%08x", d[i]);
   return buf;
 }
 

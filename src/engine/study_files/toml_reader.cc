@@ -88,6 +88,7 @@ std::vector<std::string> TomlReader::keys() const {
   }
   std::stable_sort(ordered.begin(), ordered.end());
   std::vector<std::string> out;
+  out.reserve(ordered.size());
   for (auto& p : ordered) out.push_back(p.second);
   return out;
 }

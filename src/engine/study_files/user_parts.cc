@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <set>
+#include <utility>
 
 #include "core/units.h"
 #include "geometry/mass_properties.h"
@@ -137,7 +138,7 @@ UserParts load_user_parts_file(const std::string& path) {
   return parts;
 }
 
-UserPartsSampler::UserPartsSampler(const UserParts& parts) : parts_(parts) {
+UserPartsSampler::UserPartsSampler(UserParts parts) : parts_(std::move(parts)) {
   for (const auto& p : parts_.parts) {
     nominal_.push_back(p.part);
     const std::string& n = p.part.name;

@@ -59,7 +59,7 @@ UserParts load_user_parts_file(const std::string& path);
 /// _dy_mm, _dz_mm, <name>_rx_deg, _ry_deg, _rz_deg, <name>_scale_ppm.
 class UserPartsSampler {
  public:
-  explicit UserPartsSampler(const UserParts& parts);
+  explicit UserPartsSampler(UserParts parts);
   std::size_t dimension() const { return columns_.size(); }
   const std::vector<InputColumn>& columns() const { return columns_; }
   const std::vector<geometry::AssemblyPart>& nominal() const { return nominal_; }

@@ -1,5 +1,6 @@
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "core/units.h"
 #include "kinds/balancing_machine/balancing_bench.h"
@@ -79,8 +80,8 @@ void umar_test(Bench& bench, const BalancingExperiment& x, const RotorR& r, std:
   std::vector<double> readings;
   for (int p = 0; p < 2; ++p) {
     const double z = p == 0 ? r.z1 : r.z2;
-    xmax[p] = -INFINITY;
-    xmin[p] = INFINITY;
+    xmax[p] = -std::numeric_limits<double>::infinity();
+    xmin[p] = std::numeric_limits<double>::infinity();
     for (int kpos = 0; kpos < x.positions; ++kpos) {
       const PlaneMass mass = bench.place(x.mass, x.radius, 2 * kPi * kpos / pos, z);
       const Eigen::Vector2cd plane = bench.reading(bench.measure(bench.machine_r, with(r.masses, {mass})));
@@ -175,8 +176,8 @@ void umar_iso_test(Bench& bench, const BalancingExperiment& x,
                    t.mean[1] * 1e3, t.pass ? 1.0 : 0.0}) {
     out[o++] = v;
   }
-  for (int p = 0; p < 2; ++p) {
-    for (double v : t.readings[p]) out[o++] = v * 1e3;
+  for (const auto& readings : t.readings) {
+    for (double v : readings) out[o++] = v * 1e3;
   }
 }
 

@@ -145,11 +145,11 @@ void BalancingStudy::compute(std::size_t i, Workspace& ws, SampleResult& out) co
 
 std::vector<double> BalancingStudy::nominal_inputs() const {
   std::vector<double> x;
-  for (std::size_t s = 0; s < kSlotCount; ++s) {
-    const ScopedTolerance& t = model_.*kSlots[s].tol;
+  for (const SlotSpec& slot : kSlots) {
+    const ScopedTolerance& t = model_.*slot.tol;
     if (t.per_test) continue;
-    x.push_back(kSlots[s].magnitude ? 0.0 : t.spec.dist.quantile(0.5) / t.spec.display_factor);
-    if (kSlots[s].magnitude) x.push_back(0.0);
+    x.push_back(slot.magnitude ? 0.0 : t.spec.dist.quantile(0.5) / t.spec.display_factor);
+    if (slot.magnitude) x.push_back(0.0);
   }
   return x;
 }

@@ -173,13 +173,13 @@ GimbalStudy::GimbalStudy(StudyConfig config, GimbalModel model, std::size_t samp
   if (disk_) {
     for (const auto& c : disk_->columns()) input_names_.push_back("disk_" + c.name);
     for (const char* n : {"disk_unbalance_gmm", "disk_unbalance_angle_deg", "disk_mass_g", "disk_inertia_kgm2"}) {
-      input_names_.push_back(n);
+      input_names_.emplace_back(n);
     }
   }
   if (parts_) {
     for (const auto& c : parts_->columns()) input_names_.push_back("part_" + c.name);
     for (const char* n : {"parts_unbalance_gmm", "parts_unbalance_angle_deg", "parts_mass_g", "parts_inertia_kgm2"}) {
-      input_names_.push_back(n);
+      input_names_.emplace_back(n);
     }
   }
   static constexpr OutputDeclaration kGroupOutputs[] = {

@@ -117,6 +117,7 @@ PlatformStudy::PlatformStudy(StudyConfig config, PlatformModel model, std::size_
     input_tolerances_.resize(input_names_.size(), std::string("tolerances.") + slot_name(s));
   }
   std::vector<OutputSpec> outputs;
+  outputs.reserve(models::kAllAxes.size());
   for (Axis a : models::kAllAxes) {
     outputs.push_back({std::string("initial_") + models::axis_name(a) + "_torque_max_mNm", "mN*m",
                         std::string("largest unbalance torque on the ") + models::axis_name(a) +
