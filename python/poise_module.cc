@@ -30,9 +30,9 @@
 #include "core/error.h"
 #include "core/version.h"
 #include "engine/kind_interface/input_evaluation.h"
-#include "engine/study_files/study_config.h"
 #include "engine/kind_interface/study_kind.h"
 #include "engine/run/study_runner.h"
+#include "engine/study_files/study_config.h"
 #include "engine/study_files/toml_reader.h"
 #include "geometry/mesh_check.h"
 #include "kinds/registry.h"
@@ -96,8 +96,8 @@ std::string temporary_run_folder() {
 
 // poise.run: the study run as `poise run` runs it; the folder's samples and summary read back.
 py::dict run(const std::string& study, std::optional<std::size_t> samples, std::optional<std::uint64_t> seed,
-             int threads, const std::map<std::string, std::string>& overrides, bool plots, std::optional<std::string> out,
-             bool progress, std::size_t sensitivity_base) {
+             int threads, const std::map<std::string, std::string>& overrides, bool plots,
+             std::optional<std::string> out, bool progress, std::size_t sensitivity_base) {
   engine::RunOptions opt;
   opt.sensitivity_base = sensitivity_base;
   opt.samples = samples;
@@ -163,7 +163,8 @@ py::dict run(const std::string& study, std::optional<std::size_t> samples, std::
 // poise.Study: a study file with its kind; evaluates at given inputs where the kind can.
 class Study {
  public:
-  Study(const std::string& path, const std::map<std::string, std::string>& overrides, std::optional<std::uint64_t> seed) {
+  Study(const std::string& path, const std::map<std::string, std::string>& overrides,
+        std::optional<std::uint64_t> seed) {
     guarded([&] {
       cfg_ = engine::load_study(path);
       if (!overrides.empty()) {
@@ -217,15 +218,19 @@ class Study {
   py::tuple evaluate(const std::vector<Column>& columns, std::size_t points, int threads) const {
     const engine::InputEvaluator& ev = need();
     if (columns.size() != ev.input_names().size()) {
-      throw NativeError{"input", "evaluate: expected " + std::to_string(ev.input_names().size()) + " input columns, got " +
-                                     std::to_string(columns.size()), "", "", 0};
+      throw NativeError{"input",
+                        "evaluate: expected " + std::to_string(ev.input_names().size()) + " input columns, got " +
+                            std::to_string(columns.size()),
+                        "", "", 0};
     }
     engine::InputColumns in;
     for (std::size_t j = 0; j < columns.size(); ++j) {
       const auto size = static_cast<std::size_t>(columns[j].size());
       if (size != points && size != 1) {
-        throw NativeError{"input", "evaluate: input " + ev.input_names()[j] + " has " + std::to_string(size) +
-                                       " values for " + std::to_string(points) + " points", "", ev.input_names()[j], 0};
+        throw NativeError{"input",
+                          "evaluate: input " + ev.input_names()[j] + " has " + std::to_string(size) + " values for " +
+                              std::to_string(points) + " points",
+                          "", ev.input_names()[j], 0};
       }
       in.data.push_back(columns[j].data());
       in.stride.push_back(size == 1 ? 0 : 1);
@@ -236,8 +241,10 @@ class Study {
   py::tuple evaluate_matrix(const Column& x, int threads) const {
     const engine::InputEvaluator& ev = need();
     if (x.ndim() != 2 || static_cast<std::size_t>(x.shape(1)) != ev.input_names().size()) {
-      throw NativeError{"input", "evaluate: expected a 2-D array with " + std::to_string(ev.input_names().size()) +
-                                     " columns, one per input", "", "", 0};
+      throw NativeError{
+          "input",
+          "evaluate: expected a 2-D array with " + std::to_string(ev.input_names().size()) + " columns, one per input",
+          "", "", 0};
     }
     return run_evaluation(ev, engine::InputColumns::row_major(x.data(), ev.input_names().size()),
                           static_cast<std::size_t>(x.shape(0)), threads);

@@ -9,10 +9,10 @@ namespace poise::python {
 
 struct SampleTable {
   std::vector<std::string> input_names, output_names;
-  std::vector<double> sample;            ///< each row's sample index
-  std::vector<bool> ok;                  ///< status "ok"
+  std::vector<double> sample;                        ///< each row's sample index
+  std::vector<bool> ok;                              ///< status "ok"
   std::vector<std::vector<double>> inputs, outputs;  ///< per column, one value per row
-  std::vector<std::string> messages;     ///< a failed sample's reason ("" for ok)
+  std::vector<std::string> messages;                 ///< a failed sample's reason ("" for ok)
 };
 
 /// samples.csv of a run: the input columns lie between "status" and the first declared

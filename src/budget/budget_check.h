@@ -24,8 +24,8 @@ struct Verdict {
   std::optional<double> relative_difference;
   std::optional<double> relative_difference_least, relative_difference_greatest;  ///< ranged
   std::string verdict_least, verdict_greatest;  ///< ranged: the verdict of each end alone
-  std::string compared;  ///< "value", "least and greatest", "greatest"
-  std::string slip;      ///< likely slip, when one explains the disagreement
+  std::string compared;                         ///< "value", "least and greatest", "greatest"
+  std::string slip;                             ///< likely slip, when one explains the disagreement
 };
 
 /// Whether every compared end of d is within 1% of r.
@@ -52,13 +52,13 @@ struct ItemResult {
 
 struct BudgetResult {
   std::vector<ItemResult> lines, groups;
-  Range combined;       ///< at the lines' level
-  Range at_confidence;  ///< random lines scaled by multiple / level
+  Range combined;                               ///< at the lines' level
+  Range at_confidence;                          ///< random lines scaled by multiple / level
   std::optional<Range> combined_from_declared;  ///< the top items' declared values combined
   Verdict combined_verdict;
-  Verdict pixels_verdict;  ///< declared_in_pixels against the combined figure
-  double multiple = 1.0;      ///< two-sided normal multiple of the confidence
-  double random_scale = 1.0;  ///< multiple / level
+  Verdict pixels_verdict;               ///< declared_in_pixels against the combined figure
+  double multiple = 1.0;                ///< two-sided normal multiple of the confidence
+  double random_scale = 1.0;            ///< multiple / level
   std::optional<bool> requirement_met;  ///< at_confidence.greatest <= requirement
   std::size_t grid_points = 1;
   std::vector<double> least_at, greatest_at;  ///< field points of the combined extremes

@@ -85,9 +85,9 @@ std::vector<InputError> check_expressions(const BudgetSpec& spec) {
         problem = err.what();
       }
       if (!problem.empty()) {
-        errors.emplace_back(SourceLocation{spec.file, line, 0}, path, "\"" + text + "\"",
-                            "a finite value over the whole field (" + problem + " at " + describe_point(spec.field, x) +
-                                ")");
+        errors.emplace_back(
+            SourceLocation{spec.file, line, 0}, path, "\"" + text + "\"",
+            "a finite value over the whole field (" + problem + " at " + describe_point(spec.field, x) + ")");
         return;
       }
     }
@@ -161,8 +161,7 @@ double BudgetEvaluator::node_value(const std::vector<std::size_t>& entries, Comb
   return combine(rule, e);
 }
 
-double BudgetEvaluator::value(std::size_t item, const std::vector<double>& x, const Mode& mode,
-                              bool top_call) const {
+double BudgetEvaluator::value(std::size_t item, const std::vector<double>& x, const Mode& mode, bool top_call) const {
   if (!top_call && mode.declared != Mode::Declared::kNo) {
     const Declared& d = declared(item);
     if (d.present) return mode.declared == Mode::Declared::kLeast ? d.least : d.greatest;

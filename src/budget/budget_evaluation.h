@@ -35,7 +35,7 @@ struct Mode {
   /// Items with a declared value take it (least or greatest end) instead of being recomputed;
   /// `declared_below` applies this to the members below the evaluated item only.
   enum class Declared { kNo, kLeast, kGreatest } declared = Declared::kNo;
-  double random_scale = 1.0;   ///< factor on random lines (the confidence multiple / level)
+  double random_scale = 1.0;  ///< factor on random lines (the confidence multiple / level)
   bool use_propagation = true;
   std::optional<std::size_t> left_out;  ///< an item taken as zero
   std::optional<Combination> rule;      ///< replaces the combination of the evaluated node

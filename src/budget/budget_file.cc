@@ -21,9 +21,8 @@ using engine::TomlReader;
 // Names muParser keeps for its own functions and constants: not usable as a variable.
 const std::set<std::string>& reserved_names() {
   static const std::set<std::string> names = {
-      "sin",  "cos",   "tan",   "asin",  "acos", "atan", "sinh", "cosh", "tanh", "asinh", "acosh", "atanh",
-      "log2", "log10", "log",   "ln",    "exp",  "sqrt", "sign", "rint", "abs",  "min",   "max",   "sum",
-      "avg",  "pi",    "_pi",   "_e"};
+      "sin", "cos", "tan", "asin", "acos", "atan", "sinh", "cosh", "tanh", "asinh", "acosh", "atanh", "log2", "log10",
+      "log", "ln",  "exp", "sqrt", "sign", "rint", "abs",  "min",  "max",  "sum",   "avg",   "pi",    "_pi",  "_e"};
   return names;
 }
 
@@ -72,9 +71,9 @@ void read_range(TomlReader& t, const std::string& key, FieldVariable& v) {
     }
   }
   if (!(dims[0] == dims[1])) {
-    t.error(key, engine::describe_node(*n), "both ends in the same kind of unit (" +
-                                                 units::dimension_name(dims[0]) + " and " +
-                                                 units::dimension_name(dims[1]) + " given)");
+    t.error(key, engine::describe_node(*n),
+            "both ends in the same kind of unit (" + units::dimension_name(dims[0]) + " and " +
+                units::dimension_name(dims[1]) + " given)");
     return;
   }
   if (ends[1] < ends[0]) {
@@ -94,8 +93,9 @@ void read_field(TomlReader& root, BudgetSpec& b) {
     v.name = name;
     v.line = f.line_of(name);
     if (!is_identifier(name) || reserved_names().count(name)) {
-      f.error(name, "", "a variable name of letters, digits and '_' that is not a function or constant of "
-                        "expressions (sin, cos, tan, sqrt, abs, pi, ...)");
+      f.error(name, "",
+              "a variable name of letters, digits and '_' that is not a function or constant of "
+              "expressions (sin, cos, tan, sqrt, abs, pi, ...)");
     }
     if (f.raw().get(name)->is_table()) {
       TomlReader sub = f.table(name);
@@ -148,7 +148,8 @@ bool read_budget_table(TomlReader& t, BudgetSpec& b) {
       b.dimension = units::parse_quantity("1 " + b.unit).dim;
       unit_ok = true;
     } catch (const Error& e) {
-      t.error("unit", quote_value(b.unit), std::string("a unit such as \"arcsec\", \"urad\" or \"mm\" (") + e.what() + ")");
+      t.error("unit", quote_value(b.unit),
+              std::string("a unit such as \"arcsec\", \"urad\" or \"mm\" (") + e.what() + ")");
     }
   }
   b.level = level_sigmas(t.choice("level", {"1sigma", "2sigma", "3sigma"}));

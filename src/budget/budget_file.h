@@ -45,16 +45,16 @@ std::string to_string(Combination c);
 struct FieldVariable {
   std::string name;
   double lo = 0.0, hi = 0.0;  ///< SI (rad for angles)
-  std::string unit;            ///< display unit as written ("deg", "" when dimensionless)
+  std::string unit;           ///< display unit as written ("deg", "" when dimensionless)
   bool angle = false;
-  std::string model_key;       ///< optional: the model tolerance this variable stands for
+  std::string model_key;  ///< optional: the model tolerance this variable stands for
   int line = 0;
 };
 
 /// What the author wrote for a line, a group or the combined figure.
 struct Declared {
   bool present = false;
-  bool ranged = false;           ///< ["least", "greatest"] over the field
+  bool ranged = false;                 ///< ["least", "greatest"] over the field
   double least = 0.0, greatest = 0.0;  ///< SI of the budget's dimension (or px for pixels)
   std::string as_written;
   int line = 0;
@@ -66,16 +66,16 @@ struct LineSpec {
   int line = 0;      ///< in the file
   int name_line = 0;
   LineKind kind = LineKind::kRandom;
-  bool given = false;  ///< a `value` line
-  double value = 0.0;  ///< SI, when given
-  double tolerance = 0.0;           ///< SI, as written
+  bool given = false;      ///< a `value` line
+  double value = 0.0;      ///< SI, when given
+  double tolerance = 0.0;  ///< SI, as written
   std::string tolerance_text;
-  std::optional<double> lever;      ///< m
+  std::optional<double> lever;  ///< m
   std::string lever_text;
   sampling::DistributionKind distribution = sampling::DistributionKind::kNormal;
   sampling::ToleranceConvention convention = sampling::ToleranceConvention::kOneSigma;
-  std::string gain = "1";           ///< muParser expression of the field variables
-  std::string propagation;          ///< "" = 1
+  std::string gain = "1";   ///< muParser expression of the field variables
+  std::string propagation;  ///< "" = 1
   int gain_line = 0, propagation_line = 0;
   Declared declared;
   std::string model_key;
@@ -97,7 +97,7 @@ struct GroupSpec {
 struct BudgetSpec {
   std::string file;
   std::string name, title, notes, source;
-  std::string unit;  ///< e.g. "arcsec"
+  std::string unit;          ///< e.g. "arcsec"
   double unit_factor = 1.0;  ///< SI per unit
   units::Dimension dimension{};
   int level = 1;  ///< sigmas a contribution stands for

@@ -29,7 +29,8 @@ std::string read_expression(TomlReader& t, const std::string& key, const std::ve
     std::snprintf(buf, sizeof buf, "%.17g", n->value<double>().value_or(0.0));
     text = buf;
   } else {
-    t.error(key, engine::describe_node(*n), "a number or an expression of the [field] variables, e.g. \"1/cos(pitch)\"");
+    t.error(key, engine::describe_node(*n),
+            "a number or an expression of the [field] variables, e.g. \"1/cos(pitch)\"");
     return fallback;
   }
   try {
@@ -44,8 +45,7 @@ std::string read_expression(TomlReader& t, const std::string& key, const std::ve
 }  // namespace
 
 Combination parse_combination(TomlReader& t, const std::string& key, std::optional<Combination> fallback) {
-  const std::optional<std::string> fb =
-      fallback ? std::optional<std::string>(to_string(*fallback)) : std::nullopt;
+  const std::optional<std::string> fb = fallback ? std::optional<std::string>(to_string(*fallback)) : std::nullopt;
   const std::string c = t.choice(key, {"rss", "linear", "bias_linear_random_rss"}, fb);
   if (c == "linear") return Combination::kLinear;
   if (c == "bias_linear_random_rss") return Combination::kBiasLinearRandomRss;
@@ -96,8 +96,8 @@ Declared read_declared(TomlReader& t, const std::string& key, const Units& u) {
   }
   t.context().used.insert(t.path(key));
   const auto* arr = n->as_array();
-  const std::string expected = "a value with its unit, e.g. " + example(u) +
-                               ", or [\"least\", \"greatest\"] over the field";
+  const std::string expected =
+      "a value with its unit, e.g. " + example(u) + ", or [\"least\", \"greatest\"] over the field";
   if (!arr || arr->size() != 2 || !arr->get(0)->is_string() || !arr->get(1)->is_string()) {
     t.error(key, engine::describe_node(*n), expected);
     return d;
@@ -146,8 +146,11 @@ LineSpec read_line(TomlReader& t, const Units& u, const std::vector<std::string>
     bool extra = false;
     for (const char* key : {"tolerance", "lever", "distribution", "tolerance_is", "gain", "declared"}) {
       if (t.has(key)) {
-        t.error(key, "", std::string("no ") + key + " in a line given as a value (a value line has nothing to "
-                                                     "recompute; remove value or " + key + ")");
+        t.error(key, "",
+                std::string("no ") + key +
+                    " in a line given as a value (a value line has nothing to "
+                    "recompute; remove value or " +
+                    key + ")");
         extra = true;
       }
     }
@@ -157,11 +160,13 @@ LineSpec read_line(TomlReader& t, const Units& u, const std::vector<std::string>
   const bool angle_budget = u.dimension == units::kAngle;
   if (!t.has("tolerance")) {
     if (t.has("lever")) {
-      t.error("lever", "", "a tolerance to go with the lever (the lever turns a length tolerance into an angle; "
-                           "tolerance missing)");
+      t.error("lever", "",
+              "a tolerance to go with the lever (the lever turns a length tolerance into an angle; "
+              "tolerance missing)");
     } else {
-      t.error("tolerance", "", "a tolerance (with distribution and tolerance_is), or a value: the line's "
-                               "contribution as given (both missing)");
+      t.error("tolerance", "",
+              "a tolerance (with distribution and tolerance_is), or a value: the line's "
+              "contribution as given (both missing)");
     }
     t.accept_all();  // the line's other keys are not checked further
     return l;
@@ -175,8 +180,9 @@ LineSpec read_line(TomlReader& t, const Units& u, const std::vector<std::string>
     l.lever_text = text_of("lever");
     if (!angle_budget) {
       t.error("lever", quote_value(l.lever_text),
-              "no lever in a budget in " + u.unit + " (a lever turns a length into an angle; the budget's unit is "
-              "not an angle)");
+              "no lever in a budget in " + u.unit +
+                  " (a lever turns a length into an angle; the budget's unit is "
+                  "not an angle)");
     } else {
       l.lever = t.quantity("lever", units::kLength, engine::positive);
       l.tolerance = t.quantity("tolerance", units::kLength, engine::non_negative);
@@ -192,7 +198,8 @@ LineSpec read_line(TomlReader& t, const Units& u, const std::vector<std::string>
                                     fixed ? std::optional<std::string>("bounds") : std::nullopt);
   l.convention = sampling::parse_convention(conv);
   if (fixed && l.kind == LineKind::kRandom) {
-    t.error("distribution", "\"fixed\"", "kind = \"bias\" for a fixed value (a fixed value does not vary: it is a bias)");
+    t.error("distribution", "\"fixed\"",
+            "kind = \"bias\" for a fixed value (a fixed value does not vary: it is a bias)");
   }
   if (t.context().errors.size() == errors_before) {
     try {
@@ -207,8 +214,7 @@ LineSpec read_line(TomlReader& t, const Units& u, const std::vector<std::string>
   return l;
 }
 
-GroupSpec read_group(TomlReader& t, const Units& u, const std::vector<std::string>& field_names,
-                     Combination fallback) {
+GroupSpec read_group(TomlReader& t, const Units& u, const std::vector<std::string>& field_names, Combination fallback) {
   GroupSpec g;
   g.path = t.prefix();
   g.line = static_cast<int>(t.raw().source().begin.line);

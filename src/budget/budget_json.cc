@@ -149,8 +149,9 @@ json budget_json(const BudgetSpec& spec, const BudgetResult& res) {
                           {"random_scale", res.random_scale}};
   out["requirement_met"] = res.requirement_met ? json(*res.requirement_met) : json(nullptr);
   if (res.requirement_met) {
-    out["requirement_met_note"] = "requirement_met is the combination rule's verdict alone; where the budget has a "
-                                  "model, the Monte Carlo of its exact chain decides (requirement_verdict, answer)";
+    out["requirement_met_note"] =
+        "requirement_met is the combination rule's verdict alone; where the budget has a "
+        "model, the Monte Carlo of its exact chain decides (requirement_verdict, answer)";
   }
   return out;
 }

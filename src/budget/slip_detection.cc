@@ -43,8 +43,8 @@ std::string factor_slip(const Declared& d, const Range& r, int level) {
     if (k == level) continue;
     const double f = static_cast<double>(k) / level;
     if (agrees(d, scaled(r, f))) {
-      return "level mix-up: the declared value is " + ratio_text(f) + " x the recomputed one, a " +
-             std::to_string(k) + "-sigma figure in a " + std::to_string(level) + "-sigma budget";
+      return "level mix-up: the declared value is " + ratio_text(f) + " x the recomputed one, a " + std::to_string(k) +
+             "-sigma figure in a " + std::to_string(level) + "-sigma budget";
     }
   }
   struct Factor {
@@ -91,7 +91,8 @@ std::string convention_slip(const BudgetEvaluator& ev, const LineSpec& l, const 
         }
         if (!agrees(d, alt)) continue;
         const std::string ratio = ratio_text(alt.greatest / r.greatest);
-        if (k == l.distribution && l.convention == ToleranceConvention::kBounds && c == ToleranceConvention::kOneSigma) {
+        if (k == l.distribution && l.convention == ToleranceConvention::kBounds &&
+            c == ToleranceConvention::kOneSigma) {
           return "bounds read as sigma: the declared value is " + ratio + " x the recomputed one (the " +
                  sampling::to_string(k) + " law's +-t taken as its standard deviation)";
         }
@@ -100,8 +101,8 @@ std::string convention_slip(const BudgetEvaluator& ev, const LineSpec& l, const 
                  ": the declared value is " + ratio + " x the recomputed one";
         }
         return "the tolerance read as " + sampling::to_string(k) + " " + sigmas_text(c) + " instead of " +
-               sampling::to_string(l.distribution) + " " + sigmas_text(l.convention) +
-               ": the declared value is " + ratio + " x the recomputed one";
+               sampling::to_string(l.distribution) + " " + sigmas_text(l.convention) + ": the declared value is " +
+               ratio + " x the recomputed one";
       }
     }
   }
@@ -185,9 +186,18 @@ std::string ratio_text(double r) {
     double v;
     const char* text;
   };
-  const Named named[] = {{std::sqrt(3.0), "sqrt(3)"}, {std::sqrt(2.0), "sqrt(2)"}, {1 / std::sqrt(3.0), "1/sqrt(3)"},
-                         {1 / std::sqrt(2.0), "1/sqrt(2)"}, {2.0, "2"}, {3.0, "3"}, {0.5, "1/2"}, {1.0 / 3, "1/3"},
-                         {1.5, "1.5"}, {2.0 / 3, "2/3"}, {std::sqrt(6.0), "sqrt(6)"}, {1 / std::sqrt(6.0), "1/sqrt(6)"}};
+  const Named named[] = {{std::sqrt(3.0), "sqrt(3)"},
+                         {std::sqrt(2.0), "sqrt(2)"},
+                         {1 / std::sqrt(3.0), "1/sqrt(3)"},
+                         {1 / std::sqrt(2.0), "1/sqrt(2)"},
+                         {2.0, "2"},
+                         {3.0, "3"},
+                         {0.5, "1/2"},
+                         {1.0 / 3, "1/3"},
+                         {1.5, "1.5"},
+                         {2.0 / 3, "2/3"},
+                         {std::sqrt(6.0), "sqrt(6)"},
+                         {1 / std::sqrt(6.0), "1/sqrt(6)"}};
   for (const auto& n : named) {
     if (std::abs(r - n.v) <= 0.005 * n.v) return n.text;
   }

@@ -13,14 +13,14 @@
 #include "budget/budget_file.h"
 #include "budget/budget_json.h"
 #include "cli/budget_monte_carlo.h"
-#include "engine/kind_interface/output_spec.h"
-#include "engine/results/requirements.h"
-#include "engine/results/result_io.h"
-#include "engine/report/budget_page.h"
 #include "cli/budget_text.h"
 #include "core/error.h"
-#include "sampling/statistics.h"
+#include "engine/kind_interface/output_spec.h"
+#include "engine/report/budget_page.h"
+#include "engine/results/requirements.h"
+#include "engine/results/result_io.h"
 #include "engine/study_files/toml_reader.h"
+#include "sampling/statistics.h"
 
 namespace poise::cli {
 namespace {
@@ -89,8 +89,8 @@ unknown_model_keys). --out DIR: report.html (self-contained) and budget.json.
 Exit status: 0 success, 2 invalid input (file, line, key and what was expected), 1 other failure.
 )HELP";
 
-engine::ValidationError input_error(const std::string& file, int line, const std::string& key,
-                                     const std::string& value, const std::string& expected) {
+engine::ValidationError input_error(const std::string& file, int line, const std::string& key, const std::string& value,
+                                    const std::string& expected) {
   return engine::ValidationError({InputError(SourceLocation{file, line, 0}, key, value, expected)});
 }
 
@@ -109,9 +109,9 @@ MonteCarloPlan plan_monte_carlo(const budget::BudgetSpec& spec) {
   if (!plan.kind) {
     std::string kinds;
     for (const auto& k : monte_carlo_kinds()) kinds += (kinds.empty() ? "" : ", ") + k.model_kind;
-    throw input_error(spec.file, spec.model_line, "budget.model", engine::quote_value(spec.model_as_written),
-                      "a model file of a kind with a Monte Carlo (" + kinds + "); its [model] kind is \"" +
-                          model_kind + "\"");
+    throw input_error(
+        spec.file, spec.model_line, "budget.model", engine::quote_value(spec.model_as_written),
+        "a model file of a kind with a Monte Carlo (" + kinds + "); its [model] kind is \"" + model_kind + "\"");
   }
   std::string names;
   for (const auto& o : plan.kind->outputs(spec.model_path)) {
@@ -149,11 +149,12 @@ void add_model_keys(const budget::BudgetSpec& spec, const MonteCarloPlan& plan, 
       if (!known.count(key)) {
         unknown.push_back({{"key", key}, {"in", where}, {"name", name}, {"line", line}});
         std::cerr << "poise: warning: " << spec.file << ":" << line << ": key '" << where << "' = \"" << key
-                  << "\": the model has no such tolerance; it has: " << [&] {
-                       std::string s;
-                       for (const auto& k : plan.tolerance_keys) s += (s.empty() ? "" : ", ") + k;
-                       return s;
-                     }() << '\n';
+                  << "\": the model has no such tolerance; it has: " <<
+            [&] {
+              std::string s;
+              for (const auto& k : plan.tolerance_keys) s += (s.empty() ? "" : ", ") + k;
+              return s;
+            }() << '\n';
       }
     };
     for (const auto& l : spec.lines) check(l.model_key, l.path + ".model_key", l.model_key_line, l.name);
@@ -172,8 +173,9 @@ std::vector<double> add_monte_carlo(const budget::BudgetSpec& spec, const budget
   out["monte_carlo"] = nullptr;
   out["budget_vs_monte_carlo"] = nullptr;
   if (!plan.kind) return {};
-  if (progress) std::cerr << "poise budget: Monte Carlo of " << spec.model_path << ", " << spec.samples << " samples (seed "
-            << spec.seed << ")...\n";
+  if (progress)
+    std::cerr << "poise budget: Monte Carlo of " << spec.model_path << ", " << spec.samples << " samples (seed "
+              << spec.seed << ")...\n";
   const MonteCarloValues mc = plan.kind->run(spec.model_path, spec.output, spec.samples, spec.seed);
   if (mc.values.empty()) throw Error("every Monte Carlo sample failed; nothing to compare the budget with");
   std::vector<double> v = mc.values;
@@ -219,8 +221,10 @@ void add_budget_answer(const budget::BudgetSpec& spec, const std::vector<double>
                                 " at the confidence " + engine::format_significant(spec.confidence) + " and says " +
                                 (rule <= limit ? "met" : "not met");
   if (mc_values.empty()) {
-    out["answer"] = std::string(rule <= limit ? "Met" : "NOT met") + " by the budget's combination rule alone (no model "
-                    "to sample): " + rule_text + " against " + spec.requirement_text + ".";
+    out["answer"] = std::string(rule <= limit ? "Met" : "NOT met") +
+                    " by the budget's combination rule alone (no model "
+                    "to sample): " +
+                    rule_text + " against " + spec.requirement_text + ".";
     return;
   }
   engine::Requirement r;
@@ -242,7 +246,10 @@ void add_budget_answer(const budget::BudgetSpec& spec, const std::vector<double>
   const std::string verdict = verdicts[0]["verdict"].get<std::string>();
   const bool agree = (verdict == "met") == (rule <= limit) && verdict != "undecided";
   out["answer"] = "By the Monte Carlo of the model's exact chain: " + answer + "; " + rule_text +
-                  (verdict == "undecided" ? "" : agree ? ", in agreement" : ", which the Monte Carlo contradicts") + ".";
+                  (verdict == "undecided" ? ""
+                   : agree                ? ", in agreement"
+                                          : ", which the Monte Carlo contradicts") +
+                  ".";
 }
 
 }  // namespace
@@ -274,7 +281,8 @@ int run_budget(const std::string& path, bool as_json, const std::string& out_dir
     if (!out_dir.empty()) {
       std::filesystem::create_directories(out_dir);
       engine::write_file_atomic((std::filesystem::path(out_dir) / "budget.json").string(), j.dump(2) + "\n");
-      engine::write_file_atomic((std::filesystem::path(out_dir) / "report.html").string(), engine::budget_report_html(j, mc_values));
+      engine::write_file_atomic((std::filesystem::path(out_dir) / "report.html").string(),
+                                engine::budget_report_html(j, mc_values));
       if (!as_json) std::cout << "report: " << out_dir << "/report.html\n";
     }
   } catch (const engine::ValidationError& e) {
@@ -298,9 +306,10 @@ BudgetHandler add_budget_command(CLI::App& app) {
     bool json = false;
   };
   auto opt = std::make_shared<Options>();
-  CLI::App* sub = app.add_subcommand(
-      "budget", "check an error budget: every line recomputed from its inputs, verdicts and likely slips, the "
-                "combined figure at the requirement's confidence, the Monte Carlo of the model beside it");
+  CLI::App* sub =
+      app.add_subcommand("budget",
+                         "check an error budget: every line recomputed from its inputs, verdicts and likely slips, the "
+                         "combined figure at the requirement's confidence, the Monte Carlo of the model beside it");
   sub->add_option("BUDGET", opt->file, "budget file (TOML), e.g. studies/wang2011_budget.toml")->required();
   sub->add_flag("--json", opt->json, "print one JSON object instead of words");
   sub->add_option("--out,-o", opt->out, "folder for report.html (self-contained) and budget.json");

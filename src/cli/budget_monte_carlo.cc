@@ -29,17 +29,16 @@ std::vector<MonteCarloKind> monte_carlo_kinds() {
   std::vector<MonteCarloKind> out;
   for (const engine::StudyKind* kind : engine::study_kinds()) {
     if (kind->model_kind().empty()) continue;
-    out.push_back(
-        {kind->model_kind(), kind->summary(),
-         [kind](const std::string& model_path) {
-           std::vector<MonteCarloOutput> outputs;
-           for (const auto& o : kind->outputs(kind->model_study(model_path))) outputs.push_back({o.name, o.unit, o.description});
-           return outputs;
-         },
-         [kind](const std::string& model_path) { return kind->model_tolerance_keys(model_path); },
-         [kind](const std::string& model_path, const std::string& output, std::size_t samples, std::uint64_t seed) {
-           return run_kind(*kind, model_path, output, samples, seed);
-         }});
+    out.push_back({kind->model_kind(), kind->summary(),
+                   [kind](const std::string& model_path) {
+                     std::vector<MonteCarloOutput> outputs;
+                     for (const auto& o : kind->outputs(kind->model_study(model_path)))
+                       outputs.push_back({o.name, o.unit, o.description});
+                     return outputs;
+                   },
+                   [kind](const std::string& model_path) { return kind->model_tolerance_keys(model_path); },
+                   [kind](const std::string& model_path, const std::string& output, std::size_t samples,
+                          std::uint64_t seed) { return run_kind(*kind, model_path, output, samples, seed); }});
   }
   return out;
 }

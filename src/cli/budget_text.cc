@@ -32,8 +32,8 @@ void print_item(const json& it, const std::string& unit, std::ostream& out) {
   if (!rd.empty()) out << " (" << rd << ")";
   out << ": " << (verdict == "agrees" ? "agrees (within 1%)" : "DISAGREES");
   if (verdict == "disagrees" && it.contains("verdict_least")) {
-    out << " (least " << it["verdict_least"].get<std::string>() << ", greatest " << it["verdict_greatest"].get<std::string>()
-        << ")";
+    out << " (least " << it["verdict_least"].get<std::string>() << ", greatest "
+        << it["verdict_greatest"].get<std::string>() << ")";
   }
   out << '\n';
   if (it.contains("slip")) out << "      likely slip: " << it["slip"].get<std::string>() << '\n';
@@ -54,9 +54,10 @@ void print_heading(const json& j, const std::string& unit, std::ostream& out) {
       disagree += it["verdict"] == "disagrees";
     }
   }
-  out << "Budget \"" << b["name"].get<std::string>() << "\" (" << b["file"].get<std::string>() << "): "
-      << j["lines"].size() << " lines, " << j["groups"].size() << " groups, in " << unit << ", each contribution at "
-      << b["level"].get<std::string>() << ", combined by " << b["combination"].get<std::string>() << ".\n";
+  out << "Budget \"" << b["name"].get<std::string>() << "\" (" << b["file"].get<std::string>()
+      << "): " << j["lines"].size() << " lines, " << j["groups"].size() << " groups, in " << unit
+      << ", each contribution at " << b["level"].get<std::string>() << ", combined by "
+      << b["combination"].get<std::string>() << ".\n";
   if (!b["title"].get<std::string>().empty()) out << b["title"].get<std::string>() << '\n';
   out << agree << " declared figures follow from their inputs, " << disagree << " do not.\n";
   if (!b["field"].empty()) {
@@ -112,9 +113,10 @@ void print_at_confidence(const json& j, const std::string& unit, std::ostream& o
       << ", random lines x " << budget_number(a["random_scale"]) << "): " << recomputed_text(a, unit) << '\n';
   if (!j["requirement_met"].is_null()) {
     out << "Requirement " << budget_number(b["requirement"]) << " " << unit << " ("
-        << b["requirement_as_written"].get<std::string>() << "): "
-        << (j["requirement_met"].get<bool>() ? "met" : "NOT met") << " by the combination rule alone (the budget's greatest "
-        << budget_number(a["greatest"]) << " " << unit << "); the answer below decides on the Monte Carlo where there is one.\n";
+        << b["requirement_as_written"].get<std::string>()
+        << "): " << (j["requirement_met"].get<bool>() ? "met" : "NOT met")
+        << " by the combination rule alone (the budget's greatest " << budget_number(a["greatest"]) << " " << unit
+        << "); the answer below decides on the Monte Carlo where there is one.\n";
   }
 }
 
@@ -123,11 +125,11 @@ void print_monte_carlo(const json& j, const std::string& unit, std::ostream& out
   const json& a = j["at_confidence"];
   const json& m = j["monte_carlo"];
   out << "\nMonte Carlo of the model's exact chain (" << m["model"].get<std::string>() << ", " << m["samples"]
-      << " samples, " << m["failures"] << " failed, seed " << m["seed"] << "):\n  "
-      << m["output"].get<std::string>() << " at " << m["quantile"].get<double>() << ": "
-      << budget_number(m["value"]) << " " << unit << " (95% interval " << budget_number(m["ci95"][0]) << " to "
-      << budget_number(m["ci95"][1]) << ")\n  The budget (" << budget_number(a["greatest"]) << " " << unit
-      << ") is " << j["budget_vs_monte_carlo"].get<std::string>() << " against it"
+      << " samples, " << m["failures"] << " failed, seed " << m["seed"] << "):\n  " << m["output"].get<std::string>()
+      << " at " << m["quantile"].get<double>() << ": " << budget_number(m["value"]) << " " << unit << " (95% interval "
+      << budget_number(m["ci95"][0]) << " to " << budget_number(m["ci95"][1]) << ")\n  The budget ("
+      << budget_number(a["greatest"]) << " " << unit << ") is " << j["budget_vs_monte_carlo"].get<std::string>()
+      << " against it"
       << (j["budget_vs_monte_carlo_decided"].get<bool>() ? "" : " (within the Monte Carlo's 95% interval: not decided)")
       << ".\n";
 }

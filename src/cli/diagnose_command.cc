@@ -17,10 +17,10 @@
 #include "cli/diagnose_output.h"
 #include "core/error.h"
 #include "core/units.h"
-#include "estimators/residual_diagnosis.h"
-#include "estimators/torque_table.h"
 #include "engine/report/diagnosis_page.h"
 #include "engine/results/result_io.h"
+#include "estimators/residual_diagnosis.h"
+#include "estimators/torque_table.h"
 
 namespace poise::cli {
 namespace {
@@ -224,8 +224,8 @@ json diagnose_json(const DiagnoseRequest& request) {
 
 DiagnoseHandler add_diagnose_command(CLI::App& app) {
   auto opt = std::make_shared<Options>();  // outlives this call: CLI11 writes into it
-  CLI::App* sub = app.add_subcommand(
-      "diagnose", "find effects beyond the Eq. 22 sine in measured unbalance torque data");
+  CLI::App* sub =
+      app.add_subcommand("diagnose", "find effects beyond the Eq. 22 sine in measured unbalance torque data");
   sub->add_option("DATA", opt->data,
                   "CSV file with columns theta_deg and torque_mNm (or "
                   "torque_Nm), optional time_s and sweep")
@@ -234,13 +234,11 @@ DiagnoseHandler add_diagnose_command(CLI::App& app) {
   sub->add_option("--alpha", opt->alpha, "familywise level per round (Holm), default 0.05");
   sub->add_option("--max-harmonic", opt->max_harmonic,
                   "highest harmonic tried, default 6 (capped to keep 5 residual dof)");
-  sub->add_option("--noise", opt->noise,
-                  "independent noise level of one point, e.g. \"0.2 mN*m\" (lack-of-fit test)");
+  sub->add_option("--noise", opt->noise, "independent noise level of one point, e.g. \"0.2 mN*m\" (lack-of-fit test)");
   sub->add_option("--study", opt->study,
                   "a gimbal_static_unbalance study: the effects found are added to its model's "
                   "[disturbances] and the simulated errors with and without them are reported");
-  sub->add_option("--study-samples", opt->study_samples,
-                  "samples of each --study evaluation, default 64");
+  sub->add_option("--study-samples", opt->study_samples, "samples of each --study evaluation, default 64");
   sub->add_option("--load-torque", opt->load_torque, "known load torque, e.g. \"12.91 mN*m\"");
   sub->add_option("--load-angle", opt->load_angle, "angle of the known load, e.g. \"45.5 deg\"");
   sub->add_option("--out", opt->out,

@@ -6,9 +6,9 @@
 #include <numeric>
 
 #include "core/error.h"
-#include "model_files/gimbal_model.h"
-#include "engine/study_files/study_config.h"
 #include "engine/kind_interface/study_evaluation.h"
+#include "engine/study_files/study_config.h"
+#include "model_files/gimbal_model.h"
 
 using namespace poise::model_files;  // the kinds' and model files' own namespaces
 
@@ -106,12 +106,11 @@ LoopResult close_the_loop(const std::string& study_path, const est::TorqueTable&
     int k = std::snprintf(buf, sizeof buf,
                           "With these effects in the model the simulated test's %s is %.4g +- %.3g "
                           "(mean +- sd over %zu samples; %.4g +- %.3g without them)",
-                          err->name.c_str(), err->mean_with, err->sd_with, samples,
-                          err->mean_without, err->sd_without);
+                          err->name.c_str(), err->mean_with, err->sd_with, samples, err->mean_without, err->sd_without);
     if (fit && k > 0 && static_cast<std::size_t>(k) < sizeof buf) {
       k += std::snprintf(buf + k, sizeof buf - static_cast<std::size_t>(k),
-                         "; its fit residual %s is %.4g (%.4g without)", fit->name.c_str(),
-                         fit->mean_with, fit->mean_without);
+                         "; its fit residual %s is %.4g (%.4g without)", fit->name.c_str(), fit->mean_with,
+                         fit->mean_without);
     }
     if (k > 0 && static_cast<std::size_t>(k) < sizeof buf) {
       std::snprintf(buf + k, sizeof buf - static_cast<std::size_t>(k),
@@ -152,8 +151,8 @@ std::string loop_text(const LoopResult& r) {
   for (const auto& u : r.unmapped) s += "  " + u + ": no key of the simulation model maps to it\n";
   char buf[300];
   for (const LoopOutput& o : r.outputs) {
-    std::snprintf(buf, sizeof buf, "  %s: without %.4g +- %.3g, with %.4g +- %.3g\n", o.name.c_str(),
-                  o.mean_without, o.sd_without, o.mean_with, o.sd_with);
+    std::snprintf(buf, sizeof buf, "  %s: without %.4g +- %.3g, with %.4g +- %.3g\n", o.name.c_str(), o.mean_without,
+                  o.sd_without, o.mean_with, o.sd_with);
     s += buf;
   }
   return s + "  " + r.sentence + "\n";

@@ -35,11 +35,11 @@ struct LoopResult {
   std::string study;
   std::vector<std::pair<std::string, std::string>> overrides;  ///< key, value
   std::vector<std::string> unmapped;                           ///< effects with no key
-  std::vector<LoopOutput> outputs;  ///< the study's error outputs
+  std::vector<LoopOutput> outputs;                             ///< the study's error outputs
   std::size_t samples = 0;
-  double measured_rmse = 0.0;       ///< table unit
+  double measured_rmse = 0.0;  ///< table unit
   std::string unit;
-  std::string sentence;             ///< "with these effects in the model ..."
+  std::string sentence;  ///< "with these effects in the model ..."
 };
 
 /// Maps, evaluates and compares (see above). Throws poise::Error / ValidationError for a

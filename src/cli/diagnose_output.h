@@ -33,8 +33,8 @@ nlohmann::json to_json(const estimators::TorqueTable& t, const estimators::Diagn
 /// The diagnosis in one sentence: the effects found, the unbalance estimate reported, what is
 /// ambiguous and whether structure is left. The report opens with it; the terminal ends with it.
 std::string answer_sentence(const estimators::TorqueTable& t, const estimators::DiagnosisResult& r);
-void print_text(const estimators::TorqueTable& t, const estimators::DiagnosisResult& r,
-                double alpha, const std::optional<Load>& load, std::ostream& out);
+void print_text(const estimators::TorqueTable& t, const estimators::DiagnosisResult& r, double alpha,
+                const std::optional<Load>& load, std::ostream& out);
 
 // diagnose_plot.cc: the figure of --out DIR (report.html: engine/report/diagnosis_page.h).
 // plot.dat, plot.gp and (if gnuplot runs) plot.svg; returns the note for the report.

@@ -17,19 +17,16 @@ namespace est = poise::estimators;
 using nlohmann::json;
 
 // plot.dat, plot.gp and (if gnuplot runs) plot.svg; returns the note for the report.
-std::string write_plot(const fs::path& dir, const est::TorqueTable& t,
-                       const est::DiagnosisResult& r) {
+std::string write_plot(const fs::path& dir, const est::TorqueTable& t, const est::DiagnosisResult& r) {
   std::vector<std::size_t> idx(t.size());
   std::iota(idx.begin(), idx.end(), std::size_t{0});
-  std::stable_sort(idx.begin(), idx.end(),
-                   [&](auto a, auto b) { return t.theta_deg[a] < t.theta_deg[b]; });
+  std::stable_sort(idx.begin(), idx.end(), [&](auto a, auto b) { return t.theta_deg[a] < t.theta_deg[b]; });
   std::ostringstream dat;
-  dat << "# theta_deg measured fitted_before fitted_after residual_before residual_after ("
-      << t.unit << ")\n";
+  dat << "# theta_deg measured fitted_before fitted_after residual_before residual_after (" << t.unit << ")\n";
   dat.precision(10);
   for (std::size_t i : idx) {
-    dat << t.theta_deg[i] << ' ' << t.torque[i] << ' ' << r.fitted_before[i] << ' '
-        << r.fitted_after[i] << ' ' << r.residual_before[i] << ' ' << r.residual_after[i] << '\n';
+    dat << t.theta_deg[i] << ' ' << t.torque[i] << ' ' << r.fitted_before[i] << ' ' << r.fitted_after[i] << ' '
+        << r.residual_before[i] << ' ' << r.residual_after[i] << '\n';
   }
   engine::write_file_atomic((dir / "plot.dat").string(), dat.str());
   const auto& b = r.estimate_before;
@@ -38,8 +35,7 @@ std::string write_plot(const fs::path& dir, const est::TorqueTable& t,
   gp << "set terminal svg size 900,760 noenhanced font 'Helvetica,12' background rgb 'white'\n"
      << "set output 'plot.svg'\nset samples 721\nset grid\nset autoscale xfix\nset key below "
         "horizontal\n"
-     << "set multiplot layout 2,1 title 'Residual diagnosis of "
-     << fs::path(t.file).filename().string() << "'\n"
+     << "set multiplot layout 2,1 title 'Residual diagnosis of " << fs::path(t.file).filename().string() << "'\n"
      << "set xlabel 'turntable angle theta [deg]'\nset ylabel 'torque [" << t.unit << "]'\n"
      << "A = " << b.amplitude << "; B = " << b.phase << "; K = " << b.offset << "\n"
      << "plot 'plot.dat' u 1:2 w p pt 7 ps 0.7 lc rgb '#000000' t 'measured', \\\n"

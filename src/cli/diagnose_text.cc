@@ -20,12 +20,8 @@ std::string num(double v, int significant) {
 namespace {
 
 json estimate_json(const est::UnbalanceEstimate& e) {
-  return {{"amplitude", e.amplitude},
-          {"phase_deg", e.phase * kDegPerRad},
-          {"offset", e.offset},
-          {"se_amplitude", e.se_amplitude},
-          {"se_phase_deg", e.se_phase * kDegPerRad},
-          {"se_offset", e.se_offset}};
+  return {{"amplitude", e.amplitude},       {"phase_deg", e.phase * kDegPerRad},       {"offset", e.offset},
+          {"se_amplitude", e.se_amplitude}, {"se_phase_deg", e.se_phase * kDegPerRad}, {"se_offset", e.se_offset}};
 }
 
 }  // namespace
@@ -36,8 +32,8 @@ std::string answer_sentence(const est::TorqueTable& t, const est::DiagnosisResul
   const est::UnbalanceEstimate& a = r.estimate_after;
   std::string s = (found.empty() ? "No effect beyond Eq. 22 was found in the " + std::to_string(t.size()) + " points"
                                  : "Beyond Eq. 22 the " + std::to_string(t.size()) + " points show " + found) +
-                  "; the unbalance estimate is " + num(a.amplitude, 4) + " +- " + num(a.se_amplitude, 2) + " " + t.unit +
-                  " at " + num(a.phase * kDegPerRad, 4) + " +- " + num(a.se_phase * kDegPerRad, 2) + " deg";
+                  "; the unbalance estimate is " + num(a.amplitude, 4) + " +- " + num(a.se_amplitude, 2) + " " +
+                  t.unit + " at " + num(a.phase * kDegPerRad, 4) + " +- " + num(a.se_phase * kDegPerRad, 2) + " deg";
   if (!found.empty()) {
     s += " (the base fit alone: " + num(r.estimate_before.amplitude, 4) + " " + t.unit + " at " +
          num(r.estimate_before.phase * kDegPerRad, 4) + " deg)";
@@ -51,16 +47,14 @@ std::string answer_sentence(const est::TorqueTable& t, const est::DiagnosisResul
   return s + ".";
 }
 
-json to_json(const est::TorqueTable& t, const est::DiagnosisResult& r,
-             const std::optional<Load>& load, double alpha) {
+json to_json(const est::TorqueTable& t, const est::DiagnosisResult& r, const std::optional<Load>& load, double alpha) {
   json effects = json::array();
   for (const est::Effect& e : r.effects) {
     json params = json::object();
-    for (const auto& p : e.params)
-      params[p.name] = {{"value", p.value}, {"se", p.se}, {"unit", p.unit}};
-    json j = {{"name", e.name},           {"title", effect_title(e)}, {"params", params},
-              {"p_value", e.p_value},     {"p_adjusted", e.p_adjusted},
-              {"delta_bic", e.delta_bic}, {"causes", e.causes}};
+    for (const auto& p : e.params) params[p.name] = {{"value", p.value}, {"se", p.se}, {"unit", p.unit}};
+    json j = {{"name", e.name},       {"title", effect_title(e)},   {"params", params},
+              {"p_value", e.p_value}, {"p_adjusted", e.p_adjusted}, {"delta_bic", e.delta_bic},
+              {"causes", e.causes}};
     if (e.name == "harmonic") j["order"] = e.order;
     // The family the issue fixes (time_drift with its shape, step, kt_drift, ...); the name
     // above stays the candidate fitted (e.g. exponential_drift: family time_drift, shape
@@ -95,8 +89,7 @@ json to_json(const est::TorqueTable& t, const est::DiagnosisResult& r,
       readings.push_back(
           {{"effects", rd.effects}, {"delta_bic", rd.delta_bic}, {"estimate", estimate_json(rd.estimate)}});
     }
-    ambiguous.push_back(
-        {{"readings", readings}, {"correlation", a.correlation}, {"why", a.why}, {"plan", a.plan}});
+    ambiguous.push_back({{"readings", readings}, {"correlation", a.correlation}, {"why", a.why}, {"plan", a.plan}});
   }
   json collinearity = json::array();
   for (const est::CandidateCollinearity& c : r.collinearity) {
@@ -157,20 +150,18 @@ std::string effect_title(const est::Effect& e) {
   }
   if (e.family == "time_drift") return "time_drift (" + e.shape + ")";
   if (e.name == "outlier") {
-    return "outlier at row " + std::to_string(e.index) + " (file line " + std::to_string(e.line) +
-           ")";
+    return "outlier at row " + std::to_string(e.index) + " (file line " + std::to_string(e.line) + ")";
   }
   if (e.name == "step") {
-    return "step before row " + std::to_string(e.index) + " (file line " + std::to_string(e.line) +
-           ")";
+    return "step before row " + std::to_string(e.index) + " (file line " + std::to_string(e.line) + ")";
   }
   return e.name;
 }
 
 std::string estimate_text(const est::UnbalanceEstimate& e, const std::string& u) {
-  return "amplitude " + num(e.amplitude, 5) + " +- " + num(e.se_amplitude, 2) + " " + u +
-         ", phase " + num(e.phase * kDegPerRad, 5) + " +- " + num(e.se_phase * kDegPerRad, 2) +
-         " deg, offset " + num(e.offset, 4) + " +- " + num(e.se_offset, 2) + " " + u;
+  return "amplitude " + num(e.amplitude, 5) + " +- " + num(e.se_amplitude, 2) + " " + u + ", phase " +
+         num(e.phase * kDegPerRad, 5) + " +- " + num(e.se_phase * kDegPerRad, 2) + " deg, offset " + num(e.offset, 4) +
+         " +- " + num(e.se_offset, 2) + " " + u;
 }
 
 namespace {
@@ -182,8 +173,8 @@ std::string error_text(const est::EstimateError& e, const std::string& u) {
 
 }  // namespace
 
-void print_text(const est::TorqueTable& t, const est::DiagnosisResult& r, double alpha,
-                const std::optional<Load>& load, std::ostream& out) {
+void print_text(const est::TorqueTable& t, const est::DiagnosisResult& r, double alpha, const std::optional<Load>& load,
+                std::ostream& out) {
   const std::string& u = t.unit;
   const auto& b = r.estimate_before;
   out << "Residual diagnosis of " << t.size() << " points from " << t.file << " (torque in " << u
@@ -193,8 +184,8 @@ void print_text(const est::TorqueTable& t, const est::DiagnosisResult& r, double
       << ", time drift, K_T drift, direction offset, step, exponential settling, outliers, AR(1) "
          "errors; forward stepwise, Holm per round at alpha = "
       << alpha << ", delta_BIC < 0\n\n"
-      << "Base fit (Eq. 22): M(theta) = " << num(b.amplitude, 5) << " sin(theta + "
-      << num(b.phase * kDegPerRad, 4) << " deg) + " << num(b.offset, 4) << " " << u << "\n\n";
+      << "Base fit (Eq. 22): M(theta) = " << num(b.amplitude, 5) << " sin(theta + " << num(b.phase * kDegPerRad, 4)
+      << " deg) + " << num(b.offset, 4) << " " << u << "\n\n";
   out << "Effects found (in the order added):" << (r.effects.empty() ? " none\n" : "\n");
   for (std::size_t i = 0; i < r.effects.size(); ++i) {
     const est::Effect& e = r.effects[i];
@@ -211,9 +202,8 @@ void print_text(const est::TorqueTable& t, const est::DiagnosisResult& r, double
       << "Collinearity under this plan (r1: canonical correlation with the first harmonic; VIF "
          "against Eq. 22; the closest other candidate, base projected out; limit 0.9):\n";
   for (const est::CandidateCollinearity& c : r.collinearity) {
-    out << "  " << c.candidate << ": r1 " << num(c.r_first_harmonic, 3) << ", VIF "
-        << num(c.vif_base, 3) << (c.most_collinear_with.empty() ? "" : ", closest " +
-                                   c.most_collinear_with + " at r " + num(c.r_other, 3))
+    out << "  " << c.candidate << ": r1 " << num(c.r_first_harmonic, 3) << ", VIF " << num(c.vif_base, 3)
+        << (c.most_collinear_with.empty() ? "" : ", closest " + c.most_collinear_with + " at r " + num(c.r_other, 3))
         << (c.r_other >= 0.9 || c.r_first_harmonic >= 0.9 || c.vif_base >= 1.0 / (1.0 - 0.81)
                 ? "  (not separable on this plan)"
                 : "")
@@ -241,13 +231,12 @@ void print_text(const est::TorqueTable& t, const est::DiagnosisResult& r, double
   }
   out << "\nCandidates tested in the last round, not added:\n";
   for (const auto& s : r.tested) out << "  " << s << "\n";
-  out << "\nrmse (sqrt(RSS/n)): before " << num(r.rmse_before) << " " << u << ", after "
-      << num(r.rmse_after) << " " << u << "\n"
+  out << "\nrmse (sqrt(RSS/n)): before " << num(r.rmse_before) << " " << u << ", after " << num(r.rmse_after) << " "
+      << u << "\n"
       << "Unbalance estimate (first harmonic, +- 1 SE):\n"
       << "  before: " << estimate_text(r.estimate_before, u) << "\n"
       << "  selected model: " << estimate_text(r.estimate_selected, u) << "\n"
-      << "  after:  " << estimate_text(r.estimate_after, u)
-      << " (the estimate reported: see the effects' notes)\n";
+      << "  after:  " << estimate_text(r.estimate_after, u) << " (the estimate reported: see the effects' notes)\n";
   if (load) {
     const est::KnownLoadErrors k = est::known_load_errors(r, load->torque, load->angle_rad);
     out << "Error against the known load " << num(load->torque) << " " << u << " at "

@@ -56,7 +56,8 @@ Exit status: 0 success, 2 invalid input (the message names the file, line and co
 
 void print_text(const json& r, std::ostream& o) {
   char b[400];
-  std::snprintf(b, sizeof b, "Per-test error mechanisms against %zu measured tests (per-position noise %.3f mN*m from Table 1)\n\n",
+  std::snprintf(b, sizeof b,
+                "Per-test error mechanisms against %zu measured tests (per-position noise %.3f mN*m from Table 1)\n\n",
                 r["tests"].get<std::size_t>(), r["position_noise_mNm"].get<double>());
   o << b;
   o << "Printed error rows checked against measured - load:\n";
@@ -68,11 +69,13 @@ void print_text(const json& r, std::ostream& o) {
     o << b;
   }
   for (const auto& t : r["rmse_recomputed"]) {
-    std::snprintf(b, sizeof b, "  %s: RMSE_MT %.2f mN*m, RMSE_b %.2f deg from measured - load", t["table"].get<std::string>().c_str(),
-                  t["rmse_torque_mNm"].get<double>(), t["rmse_angle_deg"].get<double>());
+    std::snprintf(b, sizeof b, "  %s: RMSE_MT %.2f mN*m, RMSE_b %.2f deg from measured - load",
+                  t["table"].get<std::string>().c_str(), t["rmse_torque_mNm"].get<double>(),
+                  t["rmse_angle_deg"].get<double>());
     o << b;
     if (t.contains("rmse_angle_from_printed_errors_deg")) {
-      std::snprintf(b, sizeof b, " (%.2f mN*m, %.2f deg from the printed error rows)", t["rmse_torque_from_printed_errors_mNm"].get<double>(),
+      std::snprintf(b, sizeof b, " (%.2f mN*m, %.2f deg from the printed error rows)",
+                    t["rmse_torque_from_printed_errors_mNm"].get<double>(),
                     t["rmse_angle_from_printed_errors_deg"].get<double>());
       o << b;
     }
@@ -80,21 +83,25 @@ void print_text(const json& r, std::ostream& o) {
   }
   auto params = [](const json& p) {
     std::string s;
-    for (const auto& [k, v] : p.items()) s += (s.empty() ? "" : ", ") + k + " " + std::to_string(v.get<double>()).substr(0, 6);
+    for (const auto& [k, v] : p.items())
+      s += (s.empty() ? "" : ", ") + k + " " + std::to_string(v.get<double>()).substr(0, 6);
     return s;
   };
-  o << "\nCalibrated on one table (calibration_target: its own log-likelihood is no evidence),\nvalidated on the others (ln L, higher is better):\n";
+  o << "\nCalibrated on one table (calibration_target: its own log-likelihood is no evidence),\nvalidated on the "
+       "others (ln L, higher is better):\n";
   for (const auto& row : r["calibrate_on_one_validate_on_others"]) {
     o << "  calibrated on " << row["calibration_table"].get<std::string>() << ":\n";
     for (const auto& m : row["mechanisms"]) {
-      std::snprintf(b, sizeof b, "    %-22s ln L calibration_target %7.2f; validation", m["mechanism"].get<std::string>().c_str(),
-                    m["calibration_target"]["log_likelihood"].get<double>());
+      std::snprintf(b, sizeof b, "    %-22s ln L calibration_target %7.2f; validation",
+                    m["mechanism"].get<std::string>().c_str(), m["calibration_target"]["log_likelihood"].get<double>());
       o << b;
       for (const auto& v : m["validation"]) {
-        std::snprintf(b, sizeof b, " %s %.1f", v["table"].get<std::string>().c_str(), v["log_likelihood"].get<double>());
+        std::snprintf(b, sizeof b, " %s %.1f", v["table"].get<std::string>().c_str(),
+                      v["log_likelihood"].get<double>());
         o << b;
       }
-      std::snprintf(b, sizeof b, "; sum %.1f\n      (%s)\n", m["validation_log_likelihood"].get<double>(), params(m["parameters"]).c_str());
+      std::snprintf(b, sizeof b, "; sum %.1f\n      (%s)\n", m["validation_log_likelihood"].get<double>(),
+                    params(m["parameters"]).c_str());
       o << b;
     }
   }
@@ -105,9 +112,10 @@ void print_text(const json& r, std::ostream& o) {
   }
   o << "\n\nJoint fits on all tables:\n";
   for (const auto& j : r["joint_fit_all_tables"]) {
-    std::snprintf(b, sizeof b, "  %-24s k=%d  ln L %8.2f  AIC %8.2f  dAIC %7.2f  (%s)\n", j["mechanism"].get<std::string>().c_str(),
-                  j["free_sigmas"].get<int>(), j["log_likelihood"].get<double>(), j["aic"].get<double>(),
-                  j["delta_aic"].get<double>(), params(j["parameters"]).c_str());
+    std::snprintf(b, sizeof b, "  %-24s k=%d  ln L %8.2f  AIC %8.2f  dAIC %7.2f  (%s)\n",
+                  j["mechanism"].get<std::string>().c_str(), j["free_sigmas"].get<int>(),
+                  j["log_likelihood"].get<double>(), j["aic"].get<double>(), j["delta_aic"].get<double>(),
+                  params(j["parameters"]).c_str());
     o << b;
   }
   for (const auto& t : r["likelihood_ratio_tests"]) {
@@ -118,7 +126,8 @@ void print_text(const json& r, std::ostream& o) {
   o << "\nPredictive checks (share of " << r["predictive_draws"].get<int>()
     << " simulated copies under the joint fit as extreme as the data):\n";
   for (const auto& c : r["predictive_checks"]) {
-    std::snprintf(b, sizeof b, "  %-22s %s:", c["mechanism"].get<std::string>().c_str(), c["table"].get<std::string>().c_str());
+    std::snprintf(b, sizeof b, "  %-22s %s:", c["mechanism"].get<std::string>().c_str(),
+                  c["table"].get<std::string>().c_str());
     o << b;
     if (c.contains("spearman_abs_torque_error_vs_load")) {
       std::snprintf(b, sizeof b, " |dMT| vs load rho_s %+.2f (share %.4f), |db| vs load %+.2f (share %.4f);",
@@ -145,8 +154,10 @@ ErrorMechanismsHandler add_error_mechanisms_command(CLI::App& app) {
   CLI::App* sub = app.add_subcommand(
       "error-mechanisms", "which per-test error (K_T scale and zero, or additive) measured unbalance tests support");
   sub->add_option("DIR", opt->dir, "folder with the measured tables (default data/yang2015)");
-  sub->add_option("--calibrate", opt->calibrate, "list this calibration table first, e.g. \"Table 4\" (default: all in file order)");
-  sub->add_option("--draws", opt->draws, "simulated copies per predictive check (default 20000)")->check(CLI::Range(100, 10000000));
+  sub->add_option("--calibrate", opt->calibrate,
+                  "list this calibration table first, e.g. \"Table 4\" (default: all in file order)");
+  sub->add_option("--draws", opt->draws, "simulated copies per predictive check (default 20000)")
+      ->check(CLI::Range(100, 10000000));
   sub->add_flag("--json", opt->json, "print the comparison as one JSON object");
   sub->footer(kHelp);
   return [sub, opt]() -> std::optional<int> {

@@ -69,7 +69,10 @@ double chibar_p(double x, int extra) {
 json printed_error_checks(const UnbalanceTestData& data) {
   json checks = json::array();
   for (const auto& m : data.mismatches) {
-    checks.push_back({{"table", m.table}, {"test", m.number}, {"column", m.column}, {"printed", m.printed},
+    checks.push_back({{"table", m.table},
+                      {"test", m.number},
+                      {"column", m.column},
+                      {"printed", m.printed},
                       {"recomputed", m.recomputed},
                       {"note", "the printed error differs from measured - load of its own row"}});
   }
@@ -86,7 +89,8 @@ json rmse_recomputed(const UnbalanceTestData& data, const std::vector<std::strin
       st += std::pow(t.torque - t.load_torque, 2);
       sa += std::pow(std::remainder(t.angle - t.load_angle, 2 * 3.141592653589793), 2);
     }
-    json r{{"table", name}, {"rmse_torque_mNm", 1e3 * std::sqrt(st / static_cast<double>(rows.size()))},
+    json r{{"table", name},
+           {"rmse_torque_mNm", 1e3 * std::sqrt(st / static_cast<double>(rows.size()))},
            {"rmse_angle_deg", std::sqrt(sa / static_cast<double>(rows.size())) / kDeg}};
     for (const auto& p : data.printed_rmse) {
       if (p.table == name) {
@@ -116,8 +120,10 @@ CrossValidation calibrate_on_one(const UnbalanceTestData& data, const std::vecto
     json row{{"calibration_table", cal}, {"mechanisms", json::array()}};
     for (ErrorMechanism m : kCandidates) {
       const MechanismSigmas s = estimators::fit_mechanism(on, m, position_noise);
-      json mj{{"mechanism", estimators::to_string(m)}, {"parameters", sigmas_json(m, s)},
-              {"calibration_target", {{"table", cal}, {"log_likelihood", estimators::mechanism_log_likelihood(on, s, position_noise)}}},
+      json mj{{"mechanism", estimators::to_string(m)},
+              {"parameters", sigmas_json(m, s)},
+              {"calibration_target",
+               {{"table", cal}, {"log_likelihood", estimators::mechanism_log_likelihood(on, s, position_noise)}}},
               {"validation", json::array()}};
       double total = 0;
       for (const auto& other : tables) {
@@ -149,14 +155,17 @@ JointFits joint_fits(const UnbalanceTestData& data, double position_noise) {
   std::map<ErrorMechanism, double>& ll_joint = r.log_likelihood;
   std::map<ErrorMechanism, MechanismSigmas>& fitted = r.sigmas;
   double best_aic = INFINITY;
-  for (ErrorMechanism m : {ErrorMechanism::kScaleAndZero, ErrorMechanism::kAdditive, ErrorMechanism::kAdditiveAlongAcross,
-                           ErrorMechanism::kScaleZeroAndAdditive}) {
+  for (ErrorMechanism m : {ErrorMechanism::kScaleAndZero, ErrorMechanism::kAdditive,
+                           ErrorMechanism::kAdditiveAlongAcross, ErrorMechanism::kScaleZeroAndAdditive}) {
     fitted[m] = estimators::fit_mechanism(data.tests, m, position_noise);
     ll_joint[m] = estimators::mechanism_log_likelihood(data.tests, fitted[m], position_noise);
     const double aic = 2.0 * estimators::parameter_count(m) - 2.0 * ll_joint[m];
     best_aic = std::min(best_aic, aic);
-    joint.push_back({{"mechanism", estimators::to_string(m)}, {"parameters", sigmas_json(m, fitted[m])},
-                     {"free_sigmas", estimators::parameter_count(m)}, {"log_likelihood", ll_joint[m]}, {"aic", aic}});
+    joint.push_back({{"mechanism", estimators::to_string(m)},
+                     {"parameters", sigmas_json(m, fitted[m])},
+                     {"free_sigmas", estimators::parameter_count(m)},
+                     {"log_likelihood", ll_joint[m]},
+                     {"aic", aic}});
   }
   for (auto& j : joint) j["delta_aic"] = j["aic"].get<double>() - best_aic;
   return r;
@@ -165,13 +174,20 @@ JointFits joint_fits(const UnbalanceTestData& data, double position_noise) {
 // (2) Likelihood-ratio tests between the joint fits.
 json likelihood_ratio_tests(const JointFits& fits) {
   const std::map<ErrorMechanism, double>& ll_joint = fits.log_likelihood;
-  const double lr_add = 2.0 * (ll_joint.at(ErrorMechanism::kScaleZeroAndAdditive) - ll_joint.at(ErrorMechanism::kScaleAndZero));
-  const double lr_sz = 2.0 * (ll_joint.at(ErrorMechanism::kScaleZeroAndAdditive) - ll_joint.at(ErrorMechanism::kAdditive));
-  return {
-      {{"question", "is the additive error needed beside scale and zero?"}, {"null", "scale_and_zero"},
-       {"alternative", "scale_zero_and_additive"}, {"statistic", lr_add}, {"p_value", chibar_p(lr_add, 1)}},
-      {{"question", "are the scale and zero errors needed beside the additive one?"}, {"null", "additive"},
-       {"alternative", "scale_zero_and_additive"}, {"statistic", lr_sz}, {"p_value", chibar_p(lr_sz, 2)}}};
+  const double lr_add =
+      2.0 * (ll_joint.at(ErrorMechanism::kScaleZeroAndAdditive) - ll_joint.at(ErrorMechanism::kScaleAndZero));
+  const double lr_sz =
+      2.0 * (ll_joint.at(ErrorMechanism::kScaleZeroAndAdditive) - ll_joint.at(ErrorMechanism::kAdditive));
+  return {{{"question", "is the additive error needed beside scale and zero?"},
+           {"null", "scale_and_zero"},
+           {"alternative", "scale_zero_and_additive"},
+           {"statistic", lr_add},
+           {"p_value", chibar_p(lr_add, 1)}},
+          {{"question", "are the scale and zero errors needed beside the additive one?"},
+           {"null", "additive"},
+           {"alternative", "scale_zero_and_additive"},
+           {"statistic", lr_sz},
+           {"p_value", chibar_p(lr_sz, 2)}}};
 }
 
 // (3) Predictive checks under the joint fits, per mechanism and table.

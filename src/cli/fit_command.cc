@@ -78,9 +78,7 @@ nlohmann::json to_json(const estimators::TorqueTable& t, const estimators::SineF
           {"phase_deg", rad_to_deg(f.phase)},
           {"offset", f.offset},
           {"standard_errors",
-           {{"amplitude", f.se_amplitude},
-            {"phase_deg", rad_to_deg(f.se_phase)},
-            {"offset", f.se_offset}}},
+           {{"amplitude", f.se_amplitude}, {"phase_deg", rad_to_deg(f.se_phase)}, {"offset", f.se_offset}}},
           {"rmse", f.rmse},
           {"sigma", f.sigma},
           {"max_abs_residual", f.max_abs_residual},
@@ -89,41 +87,35 @@ nlohmann::json to_json(const estimators::TorqueTable& t, const estimators::SineF
           {"residuals", std::move(residuals)}};
 }
 
-void print_text(const estimators::TorqueTable& t, const estimators::SineFitResult& f,
-                std::ostream& out) {
+void print_text(const estimators::TorqueTable& t, const estimators::SineFitResult& f, std::ostream& out) {
   const int d = decimals_for(t.torque);
   const std::string& u = t.unit;
-  const auto worst = static_cast<std::size_t>(
-      std::max_element(f.residuals.begin(), f.residuals.end(),
-                       [](double x, double y) { return std::abs(x) < std::abs(y); }) -
-      f.residuals.begin());
-  out << "Least-squares sine fit (Yang et al. 2015, Eq. 22) of " << f.n << " points from " << t.file
-      << ", column " << t.torque_column << ":\n\n"
-      << "  M(theta) = " << fixed(f.amplitude, d) << " sin(theta + "
-      << fixed(rad_to_deg(f.phase), 2) << " deg) + " << fixed(f.offset, d) << " " << u << "\n\n"
-      << "  amplitude MT_s = " << fixed(f.amplitude, d + 1) << " +- "
-      << fixed(f.se_amplitude, d + 1) << " " << u << "\n"
-      << "  phase b        = " << fixed(rad_to_deg(f.phase), 3) << " +- "
-      << fixed(rad_to_deg(f.se_phase), 3) << " deg\n"
-      << "  offset MK      = " << fixed(f.offset, d + 1) << " +- " << fixed(f.se_offset, d + 1)
-      << " " << u << "\n"
-      << "  (+- one standard error, from the residual spread with n - 3 = " << f.n - 3
-      << " degrees of freedom)\n\n"
+  const auto worst =
+      static_cast<std::size_t>(std::max_element(f.residuals.begin(), f.residuals.end(),
+                                                [](double x, double y) { return std::abs(x) < std::abs(y); }) -
+                               f.residuals.begin());
+  out << "Least-squares sine fit (Yang et al. 2015, Eq. 22) of " << f.n << " points from " << t.file << ", column "
+      << t.torque_column << ":\n\n"
+      << "  M(theta) = " << fixed(f.amplitude, d) << " sin(theta + " << fixed(rad_to_deg(f.phase), 2) << " deg) + "
+      << fixed(f.offset, d) << " " << u << "\n\n"
+      << "  amplitude MT_s = " << fixed(f.amplitude, d + 1) << " +- " << fixed(f.se_amplitude, d + 1) << " " << u
+      << "\n"
+      << "  phase b        = " << fixed(rad_to_deg(f.phase), 3) << " +- " << fixed(rad_to_deg(f.se_phase), 3)
+      << " deg\n"
+      << "  offset MK      = " << fixed(f.offset, d + 1) << " +- " << fixed(f.se_offset, d + 1) << " " << u << "\n"
+      << "  (+- one standard error, from the residual spread with n - 3 = " << f.n - 3 << " degrees of freedom)\n\n"
       << "  rmse           = " << fixed(f.rmse, d + 1) << " " << u << "  (RMS of residuals)\n"
-      << "  sigma          = " << fixed(f.sigma, d + 1) << " " << u
-      << "  (residual standard deviation)\n"
+      << "  sigma          = " << fixed(f.sigma, d + 1) << " " << u << "  (residual standard deviation)\n"
       << "  max |residual| = " << fixed(f.max_abs_residual, d + 1) << " " << u
       << "  (theta = " << fixed(t.theta_deg[worst], 2) << " deg, line " << t.rows[worst] << ")\n\n";
   const int w = 12;
   char line[160];
   out << "  torque in " << u << ", residual = measured - fitted\n";
-  std::snprintf(line, sizeof line, "  %*s %*s %*s %*s\n", w, "theta [deg]", w, "measured", w,
-                "fitted", w, "residual");
+  std::snprintf(line, sizeof line, "  %*s %*s %*s %*s\n", w, "theta [deg]", w, "measured", w, "fitted", w, "residual");
   out << line;
   for (std::size_t i = 0; i < t.size(); ++i) {
-    std::snprintf(line, sizeof line, "  %*.2f %*.*f %*.*f %*.*f\n", w, t.theta_deg[i], w, d + 1,
-                  t.torque[i], w, d + 1, estimators::sine_fit_predict(f, t.theta_rad[i]), w, d + 1,
-                  f.residuals[i]);
+    std::snprintf(line, sizeof line, "  %*.2f %*.*f %*.*f %*.*f\n", w, t.theta_deg[i], w, d + 1, t.torque[i], w, d + 1,
+                  estimators::sine_fit_predict(f, t.theta_rad[i]), w, d + 1, f.residuals[i]);
     out << line;
   }
 }
@@ -154,11 +146,9 @@ FitHandler add_fit_command(CLI::App& app) {
     bool json = false;
   };
   auto opt = std::make_shared<Options>();  // outlives this call: CLI11 writes into it
-  CLI::App* sub = app.add_subcommand(
-      "fit", "least-squares sine fit of measured unbalance torque against turntable angle");
-  sub->add_option("DATA", opt->data,
-                  "CSV file with columns theta_deg and torque_mNm (or torque_Nm)")
-      ->required();
+  CLI::App* sub =
+      app.add_subcommand("fit", "least-squares sine fit of measured unbalance torque against turntable angle");
+  sub->add_option("DATA", opt->data, "CSV file with columns theta_deg and torque_mNm (or torque_Nm)")->required();
   sub->add_flag("--json", opt->json, "print the fit as one JSON object");
   sub->footer(kFitHelp);
   return [sub, opt]() -> std::optional<int> {

@@ -6,8 +6,8 @@
 
 #include <nlohmann/json.hpp>
 
-#include "engine/study_files/study_keys.h"
 #include "engine/kind_interface/study_kind.h"
+#include "engine/study_files/study_keys.h"
 
 namespace poise::cli {
 
@@ -44,8 +44,8 @@ KeysHandler add_keys_command(CLI::App& app) {
   return [sub, opt]() -> std::optional<int> {
     if (!*sub) return std::nullopt;
     if (opt->kind.empty()) {
-      std::cout << "Study kinds ([study] kind = ...):\n" << study_kinds_text()
-                << "\n`poise keys KIND` lists the keys of a kind's study and model files.\n";
+      std::cout << "Study kinds ([study] kind = ...):\n"
+                << study_kinds_text() << "\n`poise keys KIND` lists the keys of a kind's study and model files.\n";
       return 0;
     }
     try {
@@ -63,8 +63,9 @@ KeysHandler add_keys_command(CLI::App& app) {
         }
         return a;
       };
-      std::cout << nlohmann::json{{"kind", opt->kind}, {"study", to_json(keys.study)}, {"model", to_json(keys.model)}}.dump(2)
-                << '\n';
+      std::cout
+          << nlohmann::json{{"kind", opt->kind}, {"study", to_json(keys.study)}, {"model", to_json(keys.model)}}.dump(2)
+          << '\n';
     } else {
       std::cout << engine::keys_text(opt->kind, keys);
     }

@@ -2,12 +2,11 @@
 #include <CLI/CLI.hpp>
 #include <chrono>
 #include <cstdio>
-#include <thread>
 #include <iostream>
 #include <string>
+#include <thread>
 #include <vector>
 
-#include "engine/results/fault_injection.h"
 #include "cli/budget_command.h"
 #include "cli/count_check.h"
 #include "cli/diagnose_command.h"
@@ -20,10 +19,11 @@
 #include "cli/study_commands.h"
 #include "core/error.h"
 #include "core/version.h"
-#include "sampling/distributed.h"
+#include "engine/results/fault_injection.h"
 #include "engine/run/study_runner.h"
 #include "engine/study_files/toml_reader.h"
 #include "kinds/registry.h"
+#include "sampling/distributed.h"
 
 namespace {
 

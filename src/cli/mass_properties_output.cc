@@ -97,8 +97,8 @@ nlohmann::json to_json(const Computed& c) {
 void print_text(const Computed& c, std::ostream& out) {
   for (const auto& p : c.parts) {
     const std::size_t cavities = cavities_of(p);
-    out << p.file << " (" << p.unit << ", " << g(p.density) << " kg/m^3): " << p.mesh.triangles.size()
-              << " triangles, " << p.check.shells.size() << (p.check.shells.size() == 1 ? " shell" : " shells");
+    out << p.file << " (" << p.unit << ", " << g(p.density) << " kg/m^3): " << p.mesh.triangles.size() << " triangles, "
+        << p.check.shells.size() << (p.check.shells.size() == 1 ? " shell" : " shells");
     if (cavities) out << " (" << cavities << (cavities == 1 ? " cavity" : " cavities") << ")";
     out << ", closed and consistently oriented\n";
     print_properties(p.exact, p.check.volume_m3, difference(p.exact, p.raycast), p.unit, p.unit_m, out);

@@ -118,17 +118,17 @@ void repair_notes(const Part& p, std::vector<std::string>& notes) {
   if (weld.merged_vertices > 0 || weld.dropped_triangles > 0) {
     notes.push_back(p.file + ": welded " + std::to_string(weld.merged_vertices) + " vertices onto others within " +
                     geometry::describe_length(p.mesh, weld.tolerance_m) +
-                    (weld.dropped_triangles > 0
-                         ? " and dropped the " + std::to_string(weld.dropped_triangles) +
-                               " triangles this left without area"
-                         : std::string()) +
+                    (weld.dropped_triangles > 0 ? " and dropped the " + std::to_string(weld.dropped_triangles) +
+                                                      " triangles this left without area"
+                                                : std::string()) +
                     " (--weld sets the tolerance, \"0\" none)");
   }
   if (p.repairs.needles.dropped > 0) {
     notes.push_back(p.file + ": dropped " +
                     count(p.repairs.needles.dropped, "zero-area triangle", "zero-area triangles") +
                     " the closed surface does not need (needles whose edges pair up among themselves; they enclose "
-                    "nothing), the first was " + p.repairs.needles.first);
+                    "nothing), the first was " +
+                    p.repairs.needles.first);
   }
   if (p.dropped > 0) {
     notes.push_back(p.file + ": dropped " + std::to_string(p.dropped) +
@@ -140,14 +140,15 @@ void repair_notes(const Part& p, std::vector<std::string>& notes) {
 void judge_overlap(const Part& p, const geometry::RayCastStats& stats, double max_share, Computed& c) {
   if (stats.overlap_rays == 0) return;
   const double share = stats.overlap_volume_m3 / std::abs(p.check.volume_m3);
-  const std::string what = "about " + geometry::describe_volume(p.mesh, stats.overlap_volume_m3) +
-                           " counted twice (" + g(share) + " of the part's volume; accepted up to " + g(max_share) +
-                           ", --max-overlap), " + geometry::describe_box(p.mesh, stats.overlap_box);
+  const std::string what = "about " + geometry::describe_volume(p.mesh, stats.overlap_volume_m3) + " counted twice (" +
+                           g(share) + " of the part's volume; accepted up to " + g(max_share) + ", --max-overlap), " +
+                           geometry::describe_box(p.mesh, stats.overlap_box);
   if (share > max_share) {
     c.errors.push_back(p.file + ": shells overlap: " + std::to_string(stats.overlap_rays) + " of " +
                        std::to_string(stats.rays) +
                        " check rays pass through material enclosed by two shells (solids exported into one "
-                       "another), " + what + "; unite them in CAD, or export them as separate files");
+                       "another), " +
+                       what + "; unite them in CAD, or export them as separate files");
   } else {
     c.notes.push_back(p.file + ": shells overlap by " + what +
                       " (a trace, as touching curved faces leave where their facets cross); the figures include it");
@@ -195,7 +196,8 @@ void examine(Part& p, const Options& opt, double weld_m, double max_share, Compu
     c.errors.push_back(p.file + ": the ray-cast check differs from the exact mass by " + g(100.0 * dm) +
                        " % (tolerance " + g(100.0 * kRaycastTolerance, 2) +
                        " %): the mesh may count a region twice (faces or shells exported twice) or not enclose what "
-                       "it seems to; if its walls are thin, raise --rays (now " + std::to_string(c.rays) + ") to tell");
+                       "it seems to; if its walls are thin, raise --rays (now " +
+                       std::to_string(c.rays) + ") to tell");
   }
 }
 

@@ -22,9 +22,9 @@ struct Options {
   std::string rays = "256";
   bool json = false;
   bool drop_duplicates = false;
-  std::string weld;                  // a length with its unit, "0" for none; "" = the default
-  std::string max_overlap;           // a share of the part's volume; "" = geometry::kMaxOverlapShare
-  std::vector<std::string> extras;   // arguments CLI11 did not recognise
+  std::string weld;                 // a length with its unit, "0" for none; "" = the default
+  std::string max_overlap;          // a share of the part's volume; "" = geometry::kMaxOverlapShare
+  std::vector<std::string> extras;  // arguments CLI11 did not recognise
 };
 
 /// Ray cast against exact mass, relative: thin members at 256 rays agree to about 1 %.

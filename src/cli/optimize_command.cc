@@ -1,13 +1,13 @@
 #include "cli/optimize_command.h"
 
-#include <iostream>
 #include <cstdint>
+#include <iostream>
 #include <memory>
 #include <optional>
 
 #include "core/error.h"
-#include "optimize/optimization_study.h"
 #include "engine/study_files/toml_reader.h"
+#include "optimize/optimization_study.h"
 
 namespace poise::cli {
 namespace {
@@ -89,7 +89,8 @@ OptimizeHandler add_optimize_command(CLI::App& app) {
     std::optional<std::uint64_t> seed;
   };
   auto opt = std::make_shared<Options>();
-  CLI::App* sub = app.add_subcommand("optimize", "optimize design variables or a test plan over a Monte Carlo study (NLopt)");
+  CLI::App* sub =
+      app.add_subcommand("optimize", "optimize design variables or a test plan over a Monte Carlo study (NLopt)");
   sub->add_option("FILE", opt->file, "optimization file (TOML), e.g. studies/bearing_span_sizing.toml")
       ->required()
       ->check(CLI::ExistingFile);

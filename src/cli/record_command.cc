@@ -11,12 +11,12 @@
 
 #include "core/error.h"
 #include "core/units.h"
-#include "estimators/oscillation_diagnosis.h"
-#include "estimators/oscillation_record.h"
-#include "model_files/gimbal_model.h"
 #include "engine/results/checked_file.h"
 #include "engine/results/result_io.h"
 #include "engine/study_files/toml_reader.h"
+#include "estimators/oscillation_diagnosis.h"
+#include "estimators/oscillation_record.h"
+#include "model_files/gimbal_model.h"
 
 using namespace poise::model_files;  // the kinds' and model files' own namespaces
 
@@ -78,14 +78,15 @@ int simulate(const Args& a) {
   const double true_torque = m.rotor.mass * m.plan.gravity * truth.disk.eccentricity *
                              std::sin(res.positions[0].theta_true + truth.disk.eccentricity_angle);
   const double cable = m.rotor.torsion_stiffness * (m.plan.oscillation.centre - m.rotor.torsion_zero);
-  std::printf("wrote %zu samples of the position theta = %s to %s\n  Eq. 21 torque %.4f mN*m; unbalance torque "
-              "m g e sin(theta + eps) = %.4f mN*m; K_T = %s\n  (Eq. 21 also carries the position's constant "
-              "torques: cable k_CR (phi_c - phi_0) = %.4f mN*m and the current-sensor offset, %s + window noise "
-              "%s rms)\n",
-              rec.size(), a.theta_text.c_str(), a.out.c_str(), res.positions[0].torque * 1e3, true_torque * 1e3,
-              units::format(m.plan.servo.kt_nominal, "N*m/A").c_str(), cable * 1e3,
-              units::format(m.plan.acquisition.offset, "mA").c_str(),
-              units::format(m.plan.acquisition.offset_noise, "mA").c_str());
+  std::printf(
+      "wrote %zu samples of the position theta = %s to %s\n  Eq. 21 torque %.4f mN*m; unbalance torque "
+      "m g e sin(theta + eps) = %.4f mN*m; K_T = %s\n  (Eq. 21 also carries the position's constant "
+      "torques: cable k_CR (phi_c - phi_0) = %.4f mN*m and the current-sensor offset, %s + window noise "
+      "%s rms)\n",
+      rec.size(), a.theta_text.c_str(), a.out.c_str(), res.positions[0].torque * 1e3, true_torque * 1e3,
+      units::format(m.plan.servo.kt_nominal, "N*m/A").c_str(), cable * 1e3,
+      units::format(m.plan.acquisition.offset, "mA").c_str(),
+      units::format(m.plan.acquisition.offset_noise, "mA").c_str());
   return 0;
 }
 
@@ -103,8 +104,8 @@ int diagnose(const Args& a) {
   } catch (const Error&) {
     throw;
   } catch (const std::exception& e) {  // e.g. a Boost.Math domain error from degenerate data
-    throw Error(a.file + ": the record cannot be diagnosed (" + e.what() +
-                "); check --kt (" + a.kt_text + ") and the record's columns and units");
+    throw Error(a.file + ": the record cannot be diagnosed (" + e.what() + "); check --kt (" + a.kt_text +
+                ") and the record's columns and units");
   }
   nlohmann::json j;
   auto p = [](const estimators::OscillationParam& q, double f) {
@@ -120,8 +121,11 @@ int diagnose(const Args& a) {
   for (const auto& b : d.base_before) j["base_model"][b.name] = {{"value", b.value}, {"se", b.se}, {"unit", b.unit}};
   j["effects"] = nlohmann::json::array();
   for (const auto& e : d.effects) {
-    nlohmann::json ej{{"name", e.name}, {"p_value", e.p_value}, {"p_adjusted", e.p_adjusted},
-                      {"delta_bic", e.delta_bic}, {"causes", e.causes}};
+    nlohmann::json ej{{"name", e.name},
+                      {"p_value", e.p_value},
+                      {"p_adjusted", e.p_adjusted},
+                      {"delta_bic", e.delta_bic},
+                      {"causes", e.causes}};
     if (e.name == "cogging") ej["order"] = e.order;
     for (const auto& q : e.params) ej["params"][q.name] = {{"value", q.value}, {"se", q.se}, {"unit", q.unit}};
     j["effects"].push_back(ej);
@@ -134,21 +138,25 @@ int diagnose(const Args& a) {
   }
   std::printf("Time-series diagnosis of %s (%zu samples used, K_T = %s)\n\n", a.file.c_str(), d.n, a.kt_text.c_str());
   std::printf("  base model  K_T i = J phi'' + B phi' + C sign(phi') [+ K phi] + M_0\n");
-  for (const auto& b : d.base_before) std::printf("    %-2s = %.4g +- %.2g %s\n", b.name.c_str(), b.value, b.se, b.unit.c_str());
+  for (const auto& b : d.base_before)
+    std::printf("    %-2s = %.4g +- %.2g %s\n", b.name.c_str(), b.value, b.se, b.unit.c_str());
   std::printf("\n  effects found: %zu\n", d.effects.size());
   for (const auto& e : d.effects) {
     std::printf("  * %s%s  p = %.2g (Holm %.2g), delta BIC = %.1f\n", e.name.c_str(),
-                e.name == "cogging" ? (" of order " + std::to_string(e.order) + " per turn").c_str() : "",
-                e.p_value, e.p_adjusted, e.delta_bic);
-    for (const auto& q : e.params) std::printf("      %s = %.4g +- %.2g %s\n", q.name.c_str(), q.value, q.se, q.unit.c_str());
+                e.name == "cogging" ? (" of order " + std::to_string(e.order) + " per turn").c_str() : "", e.p_value,
+                e.p_adjusted, e.delta_bic);
+    for (const auto& q : e.params)
+      std::printf("      %s = %.4g +- %.2g %s\n", q.name.c_str(), q.value, q.se, q.unit.c_str());
     std::printf("      causes: %s\n", e.causes.c_str());
     if (e.name == "cogging") {  // close the loop: the effect, as the simulation model takes it
-      std::printf("      into the model: --set rotor.cogging_torque=\"%.4g N*m\" --set rotor.cogging_order=%d "
-                  "--set rotor.cogging_phase=\"%.4g rad\"\n",
-                  e.params[0].value, e.order, e.params[1].value);
+      std::printf(
+          "      into the model: --set rotor.cogging_torque=\"%.4g N*m\" --set rotor.cogging_order=%d "
+          "--set rotor.cogging_phase=\"%.4g rad\"\n",
+          e.params[0].value, e.order, e.params[1].value);
     }
   }
-  for (const auto& [name, why] : d.not_identifiable) std::printf("  not identifiable here: %s: %s\n", name.c_str(), why.c_str());
+  for (const auto& [name, why] : d.not_identifiable)
+    std::printf("  not identifiable here: %s: %s\n", name.c_str(), why.c_str());
   std::printf("\n  torque residual RMS  %.4f -> %.4f mN*m\n", d.rmse_before * 1e3, d.rmse_after * 1e3);
   std::printf("  position torque: Eq. 21 %.4f mN*m; M_0 base %.4f +- %.4f; with the effects %.4f +- %.4f mN*m\n",
               d.torque_eq21 * 1e3, d.torque_before.value * 1e3, d.torque_before.se * 1e3, d.torque_after.value * 1e3,
@@ -160,11 +168,11 @@ int diagnose(const Args& a) {
 
 std::function<std::optional<int>()> add_record_commands(CLI::App& app) {
   auto a = std::make_shared<Args>();
-  CLI::App* sim = app.add_subcommand(
-      "simulate-record",
-      "simulate one turntable position of the static-unbalance test and write its raw record "
-      "(time_s, current_A, phi_deg); --set switches on effects the test's model lacks, e.g. "
-      "--set rotor.cogging_torque=\"0.3 mN*m\" --set rotor.cogging_order=180");
+  CLI::App* sim =
+      app.add_subcommand("simulate-record",
+                         "simulate one turntable position of the static-unbalance test and write its raw record "
+                         "(time_s, current_A, phi_deg); --set switches on effects the test's model lacks, e.g. "
+                         "--set rotor.cogging_torque=\"0.3 mN*m\" --set rotor.cogging_order=180");
   sim->add_option("MODEL", a->model, "gimbal model file, e.g. models/gimbal_simulator_yang2015.toml")
       ->required()
       ->check(CLI::ExistingFile);
@@ -180,7 +188,9 @@ std::function<std::optional<int>()> add_record_commands(CLI::App& app) {
       "pi / (max |phi'| dt), per turn, confirmed away from the reversals), offset drift and "
       "friction asymmetry, adds what is significant (F test, Holm, BIC) and reports the position's "
       "torque before and after");
-  diag->add_option("RECORD", a->file, "CSV with columns time_s, current_A, phi_deg")->required()->check(CLI::ExistingFile);
+  diag->add_option("RECORD", a->file, "CSV with columns time_s, current_A, phi_deg")
+      ->required()
+      ->check(CLI::ExistingFile);
   diag->add_option("--kt", a->kt_text, "torque constant with its unit (default \"0.05 N*m/A\")");
   diag->add_flag("--json", a->json, "print one JSON object");
   return [a, sim, diag]() -> std::optional<int> {

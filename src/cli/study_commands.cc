@@ -74,8 +74,9 @@ void StudyCommands::add_sensitivity(CLI::App& app) {
       "(--resume), and distributed under mpirun.");
   CLI::App* s = sensitivity_;
   s->add_option("STUDY", study_, "study file (TOML); with --resume, run.json names it")->check(CLI::ExistingFile);
-  s->add_option("--base,-b", base_, "base rows N (each index's interval narrows as 1/sqrt(N); 64-256 for a "
-                                    "simulated procedure, 1000+ for a LOS study)")
+  s->add_option("--base,-b", base_,
+                "base rows N (each index's interval narrows as 1/sqrt(N); 64-256 for a "
+                "simulated procedure, 1000+ for a LOS study)")
       ->check(at_least_one());
   s->add_option("--seed,-s", seed_, "random seed (overrides [sampling] seed)");
   s->add_option("--threads,-j", opt_.threads, "worker threads (default: all cores)")->check(CLI::NonNegativeNumber);

@@ -29,10 +29,10 @@ std::vector<std::string> split(const std::string& line) {
 
 // The header's columns, and which tests the file holds.
 struct TableColumns {
-  std::size_t count = 0;                    ///< cells per row
-  std::map<std::string, std::size_t> col;   ///< column name -> index
-  bool loading = false;                     ///< loading tests (circle) or repeatability (points)
-  bool printed = false;                     ///< printed error columns to check
+  std::size_t count = 0;                   ///< cells per row
+  std::map<std::string, std::size_t> col;  ///< column name -> index
+  bool loading = false;                    ///< loading tests (circle) or repeatability (points)
+  bool printed = false;                    ///< printed error columns to check
 };
 
 TableColumns read_header(const std::string& path, const std::string& line) {
@@ -80,7 +80,8 @@ estimators::UnbalanceTestRecord identify_test(const TableRow& r, int row) {
   estimators::UnbalanceTestRecord t;
   if (r.columns.loading) {
     const std::string circle = r.cell("circle");
-    if (circle != "C_A" && circle != "C_B") throw Error(r.at + ": column circle: '" + circle + "' (expected C_A or C_B)");
+    if (circle != "C_A" && circle != "C_B")
+      throw Error(r.at + ": column circle: '" + circle + "' (expected C_A or C_B)");
     t.table = circle == "C_A" ? "Table 2" : "Table 3";
     t.number = r.has("test") ? static_cast<int>(r.number("test")) : row;
     t.positions = r.has("points") ? static_cast<int>(r.number("points")) : 36;
@@ -154,7 +155,8 @@ void read_unbalance_tests(const std::string& path, UnbalanceTestData& data) {
     f.load_deg = r.number("load_angle_deg");
     f.meas_mNm = r.number("measured_torque_mNm");
     f.meas_deg = r.number("measured_angle_deg");
-    if (!(f.load_mNm > 0)) throw Error(r.at + ": column load_torque_mNm: " + r.cell("load_torque_mNm") + " (expected > 0)");
+    if (!(f.load_mNm > 0))
+      throw Error(r.at + ": column load_torque_mNm: " + r.cell("load_torque_mNm") + " (expected > 0)");
     t.load_torque = f.load_mNm * 1e-3;
     t.load_angle = f.load_deg * kRadPerDeg;
     t.torque = f.meas_mNm * 1e-3;

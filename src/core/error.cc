@@ -29,8 +29,7 @@ std::string format(const SourceLocation& where, const std::string& key, const st
 }
 }  // namespace
 
-InputError::InputError(SourceLocation where, std::string key, std::string value,
-                       std::string expected)
+InputError::InputError(SourceLocation where, std::string key, std::string value, std::string expected)
     : Error(format(where, key, value, expected)),
       where_(std::move(where)),
       key_(std::move(key)),
@@ -38,9 +37,11 @@ InputError::InputError(SourceLocation where, std::string key, std::string value,
       expected_(std::move(expected)) {}
 
 InvariantError::InvariantError(const std::string& invariant, const std::string& detail, const char* file, int line)
-    : Error("internal error (a bug in Poise, not in your files; please report it with the command and its files): "
-            "invariant '" + invariant + "' does not hold at " + file + ":" + std::to_string(line) +
-            (detail.empty() ? std::string() : ": " + detail)) {}
+    : Error(
+          "internal error (a bug in Poise, not in your files; please report it with the command and its files): "
+          "invariant '" +
+          invariant + "' does not hold at " + file + ":" + std::to_string(line) +
+          (detail.empty() ? std::string() : ": " + detail)) {}
 
 namespace detail {
 void invariant_failed(const char* condition, const std::string& detail, const char* file, int line) {

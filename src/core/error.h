@@ -75,6 +75,4 @@ namespace detail {
     if (!(cond)) ::poise::detail::invariant_failed(#cond, (what), __FILE__, __LINE__); \
   } while (false)
 
-namespace poise {
-
-}  // namespace poise
+namespace poise {}  // namespace poise

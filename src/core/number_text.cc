@@ -1,7 +1,7 @@
 #include "core/number_text.h"
 
-#include <cmath>
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 
 namespace poise {

@@ -222,8 +222,7 @@ Quantity parse_quantity(std::string_view text) {
 double parse_as(std::string_view text, const Dimension& expected) {
   Quantity q;
   const std::string example = example_unit(expected);
-  const std::string hint = example.empty() ? std::string("a plain number")
-                                           : "e.g. \"1 " + example + "\"";
+  const std::string hint = example.empty() ? std::string("a plain number") : "e.g. \"1 " + example + "\"";
   try {
     q = parse_quantity(text);
   } catch (const Error& e) {
@@ -233,8 +232,7 @@ double parse_as(std::string_view text, const Dimension& expected) {
     if (q.dim == kDimensionless) {
       throw Error("missing unit; expected " + dimension_name(expected) + ", " + hint);
     }
-    throw Error("wrong unit: got " + dimension_name(q.dim) + ", expected " +
-                dimension_name(expected) + ", " + hint);
+    throw Error("wrong unit: got " + dimension_name(q.dim) + ", expected " + dimension_name(expected) + ", " + hint);
   }
   return q.value;
 }

@@ -73,8 +73,9 @@ double mechanism_log_likelihood(std::span<const UnbalanceTestRecord> tests, cons
                                 double position_noise) {
   double ll = 0.0;
   for (const auto& t : tests) {
-    if (t.positions < 4) throw Error("error-mechanism likelihood: test " + std::to_string(t.number) + " of " + t.table +
-                                     " has " + std::to_string(t.positions) + " positions (at least 4 expected)");
+    if (t.positions < 4)
+      throw Error("error-mechanism likelihood: test " + std::to_string(t.number) + " of " + t.table + " has " +
+                  std::to_string(t.positions) + " positions (at least 4 expected)");
     const LoadFrameError e = load_frame_error(t);
     const double noise = fit_noise_variance(position_noise, t.positions);
     const double l2 = t.load_torque * t.load_torque;

@@ -31,13 +31,13 @@ namespace poise::estimators {
 
 /// One measured test: the load it was given and what it measured (SI: N*m, rad).
 struct UnbalanceTestRecord {
-  std::string table;          ///< e.g. "Table 2"
-  int number = 0;             ///< test number in its table
-  double load_torque = 0.0;   ///< L (N*m)
-  double load_angle = 0.0;    ///< a (rad)
-  double torque = 0.0;        ///< MT_s measured (N*m)
-  double angle = 0.0;         ///< b measured (rad)
-  int positions = 36;         ///< turntable positions of the test
+  std::string table;         ///< e.g. "Table 2"
+  int number = 0;            ///< test number in its table
+  double load_torque = 0.0;  ///< L (N*m)
+  double load_angle = 0.0;   ///< a (rad)
+  double torque = 0.0;       ///< MT_s measured (N*m)
+  double angle = 0.0;        ///< b measured (rad)
+  int positions = 36;        ///< turntable positions of the test
 };
 
 enum class ErrorMechanism { kScaleAndZero, kAdditive, kAdditiveAlongAcross, kScaleZeroAndAdditive };
@@ -46,10 +46,10 @@ int parameter_count(ErrorMechanism m);    ///< free sigmas: 2, 1, 2, 3
 
 /// The candidates' standard deviations (1 sigma). Unused ones stay 0.
 struct MechanismSigmas {
-  double scale = 0.0;    ///< s_k, relative
-  double zero = 0.0;     ///< s_z (rad)
-  double along = 0.0;    ///< additive error along the unbalance (N*m); s_d for `additive`
-  double across = 0.0;   ///< additive error across it (N*m); s_d for `additive`
+  double scale = 0.0;   ///< s_k, relative
+  double zero = 0.0;    ///< s_z (rad)
+  double along = 0.0;   ///< additive error along the unbalance (N*m); s_d for `additive`
+  double across = 0.0;  ///< additive error across it (N*m); s_d for `additive`
 };
 
 /// (r, t) of one test, N*m.

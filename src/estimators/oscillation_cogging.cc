@@ -29,8 +29,8 @@ OrderRange cogging_orders(const Signals& s, const OscillationOptions& opt, Oscil
   OrderRange r;
   r.max_order = static_cast<int>(std::min(nyquist, 1e6));
   if (opt.cogging_max_order > 0) r.max_order = std::min(r.max_order, opt.cogging_max_order);
-  r.min_order = std::max(opt.cogging_min_order,
-                         swing > 0 ? static_cast<int>(std::ceil(kTwoPi / swing - 1e-9)) : r.max_order + 1);
+  r.min_order =
+      std::max(opt.cogging_min_order, swing > 0 ? static_cast<int>(std::ceil(kTwoPi / swing - 1e-9)) : r.max_order + 1);
   r.limited_by_swing = r.min_order > opt.cogging_min_order;
   if (r.limited_by_swing) {
     char buf[600];
@@ -46,13 +46,12 @@ OrderRange cogging_orders(const Signals& s, const OscillationOptions& opt, Oscil
   return r;
 }
 
-// Fast scan (the RSS each order removes): with Q an orthonormal basis of the model and r the current residual (Q^T r = 0),
-// the RSS that the pair C = [sin N phi, cos N phi] removes is b^T G^-1 b with b = C^T r and
-// G = C^T C - (Q^T C)^T (Q^T C). One pass over the samples per order: sin and cos of N phi by
-// the angle-addition recurrence (restarted exactly every 64 orders: its rounding grows like
-// N eps), the sums of b, C^T C and Q^T C accumulated together.
-OrderScan scan_orders(const Eigen::MatrixXd& model, const Eigen::VectorXd& resid,
-                      const Eigen::VectorXd& phi, const OrderRange& range) {
+// Fast scan (the RSS each order removes): with Q an orthonormal basis of the model and r the current residual (Q^T r =
+// 0), the RSS that the pair C = [sin N phi, cos N phi] removes is b^T G^-1 b with b = C^T r and G = C^T C - (Q^T C)^T
+// (Q^T C). One pass over the samples per order: sin and cos of N phi by the angle-addition recurrence (restarted
+// exactly every 64 orders: its rounding grows like N eps), the sums of b, C^T C and Q^T C accumulated together.
+OrderScan scan_orders(const Eigen::MatrixXd& model, const Eigen::VectorXd& resid, const Eigen::VectorXd& phi,
+                      const OrderRange& range) {
   OrderScan scan;
   if (range.min_order > range.max_order) return scan;
   scan.first = range.min_order;
@@ -86,7 +85,8 @@ OrderScan scan_orders(const Eigen::MatrixXd& model, const Eigen::VectorXd& resid
       bs += sv * r, bc += cv * r, ss += sv * sv, sc += sv * cv, cc += cv * cv;
       if (!project) continue;
       const double* qk = q.data() + k * p;
-      for (Eigen::Index j = 0; j < p; ++j) qs[static_cast<std::size_t>(j)] += qk[j] * sv, qc[static_cast<std::size_t>(j)] += qk[j] * cv;
+      for (Eigen::Index j = 0; j < p; ++j)
+        qs[static_cast<std::size_t>(j)] += qk[j] * sv, qc[static_cast<std::size_t>(j)] += qk[j] * cv;
     }
     Eigen::Matrix2d g;
     g << ss, sc, sc, cc;
@@ -253,7 +253,8 @@ CoggingPick pick_cogging(const Signals& s, const Eigen::MatrixXd& model, const M
   OrderRange near = range;
   const double swing = mv.phi.size() > 0 ? mv.phi.maxCoeff() - mv.phi.minCoeff() : 0.0;
   if (swing > 0) near.min_order = std::max(range.min_order, static_cast<int>(std::ceil(angles::kTwoPi / swing - 1e-9)));
-  CoggingPick moving = scanned(mv.model, mv.y, mv.phi, near, range.limited_by_swing || near.min_order > range.min_order);
+  CoggingPick moving =
+      scanned(mv.model, mv.y, mv.phi, near, range.limited_by_swing || near.min_order > range.min_order);
   moving.on_moving = true;
   const int count = whole.count + moving.count;
   // The swing limit is the whole record's: there a pick at it is refused; the moving samples'

@@ -12,10 +12,10 @@ namespace poise::estimators::osc {
 
 /// The samples the model uses (the derivative window's edges dropped).
 struct Signals {
-  Eigen::VectorXd y;          ///< K_T i, N m
+  Eigen::VectorXd y;                  ///< K_T i, N m
   Eigen::VectorXd phi, rate, acc, t;  ///< rad, rad/s (Savitzky-Golay), rad/s^2, s
-  Eigen::VectorXd direction;  ///< sign of the rate, a zero rate taking the last nonzero sign
-  double dt = 0.0;            ///< sampling step, s
+  Eigen::VectorXd direction;          ///< sign of the rate, a zero rate taking the last nonzero sign
+  double dt = 0.0;                    ///< sampling step, s
   std::size_t n = 0;
 };
 
@@ -58,8 +58,8 @@ struct OrderScan {
   int first = 0, count = 0;  ///< drop[k] is order first + k; count: orders examinable
   std::vector<double> drop;
 };
-OrderScan scan_orders(const Eigen::MatrixXd& model, const Eigen::VectorXd& resid,
-                      const Eigen::VectorXd& phi, const OrderRange& range);
+OrderScan scan_orders(const Eigen::MatrixXd& model, const Eigen::VectorXd& resid, const Eigen::VectorXd& phi,
+                      const OrderRange& range);
 
 /// One scan on the samples (model's rows, y, phi): the model fitted, the orders scanned on its
 /// residual (scan_orders), count: the orders examinable. An order's removed RSS (its drop) is
@@ -80,7 +80,7 @@ inline constexpr double kGuardCells = 2.0, kLocalCells = 12.0;
 struct LocalTest {
   int order = 0;
   double f = 0.0, dof = 0.0, log_p = 0.0, sigma2 = 0.0;  ///< log_p: ln p (p underflows)
-  bool white = true;                                      ///< sigma2 the white level
+  bool white = true;                                     ///< sigma2 the white level
 };
 struct ScanBest {
   LocalTest test;

@@ -61,8 +61,9 @@ Eigen::MatrixXd base_model(const Signals& s, OscillationDiagnosis& out, bool& in
     model = osc::joined(model, s.acc);
   } else {
     out.not_identifiable.emplace_back(
-        "spring", "the motion is too purely sinusoidal to separate a spring (gravity's pendulum stiffness, "
-                  "cable) from the inertia; it is lumped into J");
+        "spring",
+        "the motion is too purely sinusoidal to separate a spring (gravity's pendulum stiffness, "
+        "cable) from the inertia; it is lumped into J");
   }
   Eigen::VectorXd bend = ((s.phi.array() - s.phi.mean()).cos() - 1.0).matrix();
   bend.array() -= bend.mean();
@@ -80,8 +81,8 @@ Eigen::MatrixXd base_model(const Signals& s, OscillationDiagnosis& out, bool& in
   return model;
 }
 
-Tested test_columns(const Eigen::MatrixXd& model, const Eigen::VectorXd& y, const Fit& cur,
-                    Candidate c, double family) {
+Tested test_columns(const Eigen::MatrixXd& model, const Eigen::VectorXd& y, const Fit& cur, Candidate c,
+                    double family) {
   const Eigen::MatrixXd x = osc::joined(model, c.cols);
   const Fit f = least_squares(x, y);
   const auto n = static_cast<long>(y.size());
@@ -100,8 +101,8 @@ Tested test_columns(const Eigen::MatrixXd& model, const Eigen::VectorXd& y, cons
 // fits more than the residual can hold (each said in out.not_identifiable, and the family
 // closed).
 std::optional<Tested> cogging_candidate(const Signals& s, const Eigen::MatrixXd& model, const Fit& cur,
-                                        const osc::OrderRange& range, double plausible,
-                                        OscillationDiagnosis& out, bool& closed) {
+                                        const osc::OrderRange& range, double plausible, OscillationDiagnosis& out,
+                                        bool& closed) {
   const osc::Moving mv = osc::away_from_reversals(s, model);
   const osc::CoggingPick pick = osc::pick_cogging(s, model, mv, range);
   const osc::LocalTest& lt = pick.test;
@@ -112,7 +113,8 @@ std::optional<Tested> cogging_candidate(const Signals& s, const Eigen::MatrixXd&
                           1.0);
   if (pick.on_moving) {
     const Fit mfit = least_squares(mv.model, mv.y);
-    t.dbic = test_columns(mv.model, mv.y, mfit, {"cogging", lt.order, osc::cogging_columns(mv.phi, lt.order), ""}, 1.0).dbic;
+    t.dbic =
+        test_columns(mv.model, mv.y, mfit, {"cogging", lt.order, osc::cogging_columns(mv.phi, lt.order), ""}, 1.0).dbic;
   }
   const double log_count = std::log(static_cast<double>(pick.count));
   t.log_p_rank = -lt.f + log_count;
@@ -171,15 +173,15 @@ OscillationDiagnosis diagnose_oscillation(const OscillationRecord& rec, const Os
   const Signals s = osc::derive_signals(rec, opt);
   OscillationDiagnosis out;
   out.n = s.n;
-  out.torque_eq21 = opt.kt * std::accumulate(rec.current.begin(), rec.current.end(), 0.0) /
-                    static_cast<double>(rec.current.size());
+  out.torque_eq21 =
+      opt.kt * std::accumulate(rec.current.begin(), rec.current.end(), 0.0) / static_cast<double>(rec.current.size());
   bool inertia = false, curvature = false;
   Eigen::MatrixXd model = base_model(s, out, inertia, curvature);
   const Fit base = least_squares(model, s.y);
   out.torque_before = param(base, 0, "M_0", "N*m");
   if (inertia) {
-    out.base_before = {param(base, 4, "J", "kg*m^2"), param(base, 1, "B", "N*m*s/rad"),
-                       param(base, 2, "C", "N*m"), param(base, 3, "K", "N*m/rad")};
+    out.base_before = {param(base, 4, "J", "kg*m^2"), param(base, 1, "B", "N*m*s/rad"), param(base, 2, "C", "N*m"),
+                       param(base, 3, "K", "N*m/rad")};
   } else {
     // J + K / (-omega^2) in one: the phi column's coefficient over -omega^2.
     const Eigen::VectorXd delta = (s.phi.array() - s.phi.mean()).matrix();
@@ -208,9 +210,10 @@ OscillationDiagnosis diagnose_oscillation(const OscillationRecord& rec, const Os
       if (osc::independence(model, c.cols) < 1e-3) {
         if (round == 0) {
           out.not_identifiable.emplace_back(
-              c.name, "a constant friction asymmetry is, at one position, the unbalance torque's alias: it "
-                  "biases M_0 (and Eq. 21) by half the asymmetry; separate it with tests at two "
-                  "oscillation centres or by comparing turntable directions");
+              c.name,
+              "a constant friction asymmetry is, at one position, the unbalance torque's alias: it "
+              "biases M_0 (and Eq. 21) by half the asymmetry; separate it with tests at two "
+              "oscillation centres or by comparing turntable directions");
         }
         continue;
       }

@@ -28,22 +28,18 @@
 ///                    The orders are scanned twice: over the whole record and on the
 ///                    samples away from the reversals (|phi'| >= 30 % of its maximum, the base
 ///                    model refitted there, orders from their own swing's limit, a pick
-///                    within max(2, 5 %) of it not taken), where a cogging torque cycles and the friction model's error at the
-///                    reversals (another friction law, presliding, the sign's smoothing) does
-///                    not live. Each order's removed RSS (drop) is judged against the larger
-///                    of the white level of the residual its pair leaves (the classic F test)
-///                    and the residual's LOCAL noise level (the servo's own current, e.g.
-///                    encoder quantisation limit cycling and a sensor filter, and the friction
-///                    law's misfit are coloured): sigma^2 = median of the drops of the
-///                    neighbouring orders (2 to 14 resolution cells 2 pi / swing either side,
-///                    the window shifted inward at the scan's ends) / (2 ln 2), F = drop /
-///                    (2 sigma^2) ~ F(2, 2 K), K the independent cells used. Two orders per
-///                    scan are judged so with their pair in the model (a strong order's own
-///                    side lobes would raise its local level): the smallest p (the whitened
-///                    matched filter; moved to the largest drop within a cell, the
-///                    least-squares order, where its level is then the white one) and the
-///                    largest drop. The smaller p of the scans, Bonferroni over all the
-///                    orders both scanned; the delta BIC on the samples of the scan that found
+///                    within max(2, 5 %) of it not taken), where a cogging torque cycles and the friction model's error
+///                    at the reversals (another friction law, presliding, the sign's smoothing) does not live. Each
+///                    order's removed RSS (drop) is judged against the larger of the white level of the residual its
+///                    pair leaves (the classic F test) and the residual's LOCAL noise level (the servo's own current,
+///                    e.g. encoder quantisation limit cycling and a sensor filter, and the friction law's misfit are
+///                    coloured): sigma^2 = median of the drops of the neighbouring orders (2 to 14 resolution cells 2
+///                    pi / swing either side, the window shifted inward at the scan's ends) / (2 ln 2), F = drop / (2
+///                    sigma^2) ~ F(2, 2 K), K the independent cells used. Two orders per scan are judged so with their
+///                    pair in the model (a strong order's own side lobes would raise its local level): the smallest p
+///                    (the whitened matched filter; moved to the largest drop within a cell, the least-squares order,
+///                    where its level is then the white one) and the largest drop. The smaller p of the scans,
+///                    Bonferroni over all the orders both scanned; the delta BIC on the samples of the scan that found
 ///                    it. Among the round's candidates cogging is ranked by the p its F would
 ///                    have were the noise level known (chi^2(2) / 2): a level estimated from
 ///                    a few cells caps p, not the effect's strength.
@@ -71,19 +67,19 @@
 namespace poise::estimators {
 
 struct OscillationRecord {
-  std::vector<double> t;        ///< s, uniformly sampled
-  std::vector<double> current;  ///< A
-  std::vector<double> phi;      ///< rad
+  std::vector<double> t;           ///< s, uniformly sampled
+  std::vector<double> current;     ///< A
+  std::vector<double> phi;         ///< rad
   std::string file;                ///< for messages; "" = unnamed
   std::vector<std::size_t> lines;  ///< 1-based file line of each sample; empty = unknown
 };
 
 struct OscillationOptions {
-  double kt = 0.0;               ///< N m/A, the nominal torque constant
+  double kt = 0.0;  ///< N m/A, the nominal torque constant
   double alpha = 0.05;
-  int derivative_window = 9;     ///< odd number of samples
+  int derivative_window = 9;  ///< odd number of samples
   int cogging_min_order = 20;
-  int cogging_max_order = 0;     ///< highest order scanned; 0: the record's Nyquist limit
+  int cogging_max_order = 0;  ///< highest order scanned; 0: the record's Nyquist limit
 };
 
 struct OscillationParam {
@@ -93,22 +89,22 @@ struct OscillationParam {
 };
 
 struct OscillationEffect {
-  std::string name;              ///< cogging, offset_drift, coulomb_asymmetry
-  int order = 0;                 ///< cogging order N
+  std::string name;  ///< cogging, offset_drift, coulomb_asymmetry
+  int order = 0;     ///< cogging order N
   std::vector<OscillationParam> params;
   double p_value = 1.0, p_adjusted = 1.0, delta_bic = 0.0;
   std::string causes;
 };
 
 struct OscillationDiagnosis {
-  std::size_t n = 0;             ///< samples used (the window's edges dropped)
-  double torque_eq21 = 0.0;      ///< K_T mean(i) (N m), Eq. 21
-  OscillationParam torque_before;  ///< M_0 of the base model (N m)
-  OscillationParam torque_after;   ///< M_0 with the effects found (N m)
+  std::size_t n = 0;                          ///< samples used (the window's edges dropped)
+  double torque_eq21 = 0.0;                   ///< K_T mean(i) (N m), Eq. 21
+  OscillationParam torque_before;             ///< M_0 of the base model (N m)
+  OscillationParam torque_after;              ///< M_0 with the effects found (N m)
   std::vector<OscillationParam> base_before;  ///< J, B, C of the base model
   std::vector<OscillationEffect> effects;
   std::vector<std::pair<std::string, std::string>> not_identifiable;  ///< (candidate, why)
-  double rmse_before = 0.0, rmse_after = 0.0;  ///< torque residual (N m)
+  double rmse_before = 0.0, rmse_after = 0.0;                         ///< torque residual (N m)
   int rounds = 0;
 };
 

@@ -63,8 +63,8 @@ OscillationRecord read_oscillation_record(const std::string& path) {
       const std::size_t sign = !c.empty() && c[0] == '+' ? 1 : 0;  // "+0.5" as written by some loggers
       double v = 0.0;
       const auto res = std::from_chars(c.data() + sign, c.data() + c.size(), v);
-      const bool whole = c.size() > sign && !(sign && c[1] == '-') && res.ec == std::errc() &&
-                         res.ptr == c.data() + c.size();
+      const bool whole =
+          c.size() > sign && !(sign && c[1] == '-') && res.ec == std::errc() && res.ptr == c.data() + c.size();
       if (!whole || !std::isfinite(v)) {
         throw InputError({path, static_cast<int>(std::min<std::size_t>(lineno, 2147483647u)), 0},
                          std::string("column ") + name, c.empty() ? "(empty)" : c, "a finite number");

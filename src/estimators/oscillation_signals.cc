@@ -38,9 +38,8 @@ double uniform_step(const OscillationRecord& rec, const Where& w) {
   require(dt > 0, w.file + ": time must increase (median step " + num(dt) + " s)");
   for (std::size_t k = 1; k < n; ++k) {
     const double step = rec.t[k] - rec.t[k - 1];
-    require(std::abs(step - dt) < 1e-6 * dt + 1e-12,
-            w.at(k) + "time must be uniformly sampled: step " + num(step) + " s, expected " +
-                num(dt) + " s (the median step)");
+    require(std::abs(step - dt) < 1e-6 * dt + 1e-12, w.at(k) + "time must be uniformly sampled: step " + num(step) +
+                                                         " s, expected " + num(dt) + " s (the median step)");
   }
   return dt;
 }
@@ -70,8 +69,7 @@ Signals derive_signals(const OscillationRecord& rec, const OscillationOptions& o
   require(rec.current.size() == n_all && rec.phi.size() == n_all, "record columns differ in length");
   const Where w{rec, rec.file.empty() ? std::string("record") : rec.file};
   require(std::isfinite(opt.kt) && opt.kt > 0 && opt.kt < 1e6,
-          w.file + ": the torque constant K_T = " + num(opt.kt) +
-              " N*m/A; expected a finite value in (0, 1e6) N*m/A");
+          w.file + ": the torque constant K_T = " + num(opt.kt) + " N*m/A; expected a finite value in (0, 1e6) N*m/A");
   require(opt.derivative_window >= 5 && opt.derivative_window % 2 == 1, "derivative window must be odd and >= 5");
   const int m = opt.derivative_window / 2;
   require(n_all >= 8 * static_cast<std::size_t>(opt.derivative_window),
@@ -99,8 +97,8 @@ Signals derive_signals(const OscillationRecord& rec, const OscillationOptions& o
     s.acc[e] = 2.0 * (wn * sj2 - s2 * s0) / (wn * s4 - s2 * s2) / (s.dt * s.dt);
     s.phi[e] = rec.phi[c];
     s.y[e] = opt.kt * rec.current[c];
-    require(std::isfinite(s.y[e]), w.at(c) + "K_T i is not finite (K_T = " + num(opt.kt) +
-                                       " N*m/A, i = " + num(rec.current[c]) + " A)");
+    require(std::isfinite(s.y[e]),
+            w.at(c) + "K_T i is not finite (K_T = " + num(opt.kt) + " N*m/A, i = " + num(rec.current[c]) + " A)");
     s.t[e] = rec.t[c];
   }
   require(s.rate.cwiseAbs().maxCoeff() > 0.0, w.file + ": phi does not move: no oscillation to diagnose");

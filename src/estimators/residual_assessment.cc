@@ -19,8 +19,6 @@ using Eigen::VectorXd;
 
 using angles::kPi;
 
-
-
 using angles::wrap_two_pi;
 
 std::string fmt(const char* f, double a, double b = 0.0) {
@@ -28,7 +26,6 @@ std::string fmt(const char* f, double a, double b = 0.0) {
   std::snprintf(buf, sizeof buf, f, a, b);
   return buf;
 }
-
 
 // (a, c, K) of the model.
 UnbalanceEstimate estimate_of_model(const Model& m, const ModelData& d);
@@ -43,8 +40,8 @@ UnbalanceEstimate estimate_of_model(const Model& m, const ModelData& d) { return
 // Bayesian model averaging over the readings with BIC weights w_i ~ exp(-delta_BIC_i / 2)
 // (Raftery 1995): the mean's move from the selected model goes into delta, the between-
 // readings variance sum w_i |x_i - mean|^2 (first harmonic) into allowance2.
-void average_readings(const AmbiguousFinding& a, const Eigen::Vector3d& coef_sel,
-                      Eigen::Vector3d& delta, double& allowance2, bool equal_weights = false) {
+void average_readings(const AmbiguousFinding& a, const Eigen::Vector3d& coef_sel, Eigen::Vector3d& delta,
+                      double& allowance2, bool equal_weights = false) {
   double wsum = 0.0;
   Eigen::Vector3d mean = Eigen::Vector3d::Zero();
   std::vector<std::pair<double, Eigen::Vector3d>> v;
@@ -74,8 +71,7 @@ double drop_one_p(const Model& m, const ModelData& d, std::size_t i) {
   if (!f1.ok || !f0.ok || f1.dof < 1 || !(f1.rss > 0.0)) return 0.0;
   const double q = static_cast<double>(t.cols.cols());
   const double fs = std::max(0.0, (f0.rss - f1.rss) / q) / (f1.rss / static_cast<double>(f1.dof));
-  return boost::math::cdf(boost::math::complement(
-      boost::math::fisher_f(q, static_cast<double>(f1.dof)), fs));
+  return boost::math::cdf(boost::math::complement(boost::math::fisher_f(q, static_cast<double>(f1.dof)), fs));
 }
 
 std::string term_label(const Term& t) {
@@ -86,8 +82,8 @@ std::string term_label(const Term& t) {
 }
 
 bool is_time_like(const std::string& n) {
-  return n == "time_drift" || n == "time_drift_quadratic" || n == "exponential_drift" ||
-         n == "step" || n == "kt_drift" || n == "autocorrelation";
+  return n == "time_drift" || n == "time_drift_quadratic" || n == "exponential_drift" || n == "step" ||
+         n == "kt_drift" || n == "autocorrelation";
 }
 
 double model_bic(const Model& m, const ModelData& d) {
@@ -128,8 +124,7 @@ UnbalanceEstimate estimate_of(const Model& m, const ModelData& d) {
   // where K_T is the calibrated (cold) one: (a, c, K) (1 + kappa t_start), delta method.
   Eigen::Vector3d v = f.beta.head<3>();
   Eigen::Matrix3d cov = f.cov.block<3, 3>(0, 0);
-  const auto kt = std::find_if(m.terms.begin(), m.terms.end(),
-                               [](const Term& t) { return t.name == "kt_drift"; });
+  const auto kt = std::find_if(m.terms.begin(), m.terms.end(), [](const Term& t) { return t.name == "kt_drift"; });
   if (kt != m.terms.end()) {
     const Index j = kt->first;
     const double s = 1.0 + f.beta(j) * d.t_start;
@@ -174,7 +169,6 @@ Model with_term(const Model& m, const ModelData& d, Term t) {
   return out;
 }
 
-
 void assess(const Model& m, const AssessmentInputs& in, DiagnosisResult& res) {
   const ModelData& d = in.d;
   const double bic_sel = model_bic(m, d);
@@ -201,8 +195,7 @@ void assess(const Model& m, const AssessmentInputs& in, DiagnosisResult& res) {
     // Trade-off with the first harmonic given the rest of the model (constant kept).
     MatrixXd others(d.n, rest.x.cols() - 2);
     others << rest.x.col(2), rest.x.rightCols(rest.x.cols() - 3);
-    e.r_first_harmonic = canonical_correlation(residualize(t.cols, others),
-                                               residualize(m.x.leftCols(2), others));
+    e.r_first_harmonic = canonical_correlation(residualize(t.cols, others), residualize(m.x.leftCols(2), others));
     if (in.guarded != nullptr && std::isfinite((*in.guarded)[i])) {
       e.moves_estimate = false;  // the guard keeps the plain estimate (residual_guard.h)
       guarded_any = true;
@@ -228,8 +221,8 @@ void assess(const Model& m, const AssessmentInputs& in, DiagnosisResult& res) {
       // shape the data do not reject very strongly (BIC within 10, Kass and Raftery 1995) is
       // a reading, and the readings count equally: a K_T drift read as a step or as a linear
       // drift moved the estimate 4-7 SE the wrong way in 7 of 100 independent tables.
-      const bool shape_window = is_time_like(t.name) && is_time_like(c.name) &&
-                                e.r_first_harmonic >= kWeakCorrelation && db < kBicVeryStrong;
+      const bool shape_window =
+          is_time_like(t.name) && is_time_like(c.name) && e.r_first_harmonic >= kWeakCorrelation && db < kBicVeryStrong;
       shape_readings = shape_readings || (shape_window && db >= kBicIndistinct);
       if ((r >= kConfounded && db < kBicStrong) || db < kBicIndistinct || shape_window) {
         a.readings.push_back({term_label(c), db, estimate_of(alt, d)});
@@ -242,16 +235,14 @@ void assess(const Model& m, const AssessmentInputs& in, DiagnosisResult& res) {
       const Model alt = with_term(rest, d, Term("autocorrelation", "autocorrelation"));
       const double db = model_bic(alt, d) - bic_sel;
       if (db < kBicStrong) {
-        a.readings.push_back({"autocorrelation (AR(1) errors) instead of " + term_label(t), db,
-                              estimate_of(alt, d)});
+        a.readings.push_back({"autocorrelation (AR(1) errors) instead of " + term_label(t), db, estimate_of(alt, d)});
         if (other_name.empty()) other_name = "autocorrelation";
       }
     }
-    const bool harmonic_confounded =
-        e.r_first_harmonic >= kFirstHarmonicLimit && drop_one_p(m, d, i) >= kIdentifiedP;
+    const bool harmonic_confounded = e.r_first_harmonic >= kFirstHarmonicLimit && drop_one_p(m, d, i) >= kIdentifiedP;
     if (harmonic_confounded) {
-      a.readings.push_back({"no effect (part of the first harmonic)", model_bic(rest, d) - bic_sel,
-                            estimate_of(rest, d)});
+      a.readings.push_back(
+          {"no effect (part of the first harmonic)", model_bic(rest, d) - bic_sel, estimate_of(rest, d)});
       a.correlation = std::max(a.correlation, e.r_first_harmonic);
       if (other_name.empty()) other_name = "first harmonic";
     }
@@ -259,9 +250,8 @@ void assess(const Model& m, const AssessmentInputs& in, DiagnosisResult& res) {
     if (a.readings.size() > 1) {
       e.moves_estimate = false;
       a.why = term_label(t) + " and " + a.readings[1].effects +
-              (a.correlation > 0.0
-                   ? fmt(" are collinear under this plan (canonical correlation %.3f)", a.correlation)
-                   : std::string(" are not told apart by these data (BIC within 6)")) +
+              (a.correlation > 0.0 ? fmt(" are collinear under this plan (canonical correlation %.3f)", a.correlation)
+                                   : std::string(" are not told apart by these data (BIC within 6)")) +
               (in.monotone_plan ? "; time order follows angle order" : "");
       a.plan = separating_plan(t.name == "harmonic" ? "harmonic" : t.name,
                                other_name == "harmonic" ? "harmonic" : other_name);
@@ -276,25 +266,27 @@ void assess(const Model& m, const AssessmentInputs& in, DiagnosisResult& res) {
         }
         delta += coef_rest - coef_sel;
         allowance2 += 0.25 * spread * spread;
-        e.estimate_note = "trades off with the first harmonic and is not identified (drop-one p >= "
-                          "1e-4): the estimate does not take it; the readings' spread is added to "
-                          "its uncertainty";
+        e.estimate_note =
+            "trades off with the first harmonic and is not identified (drop-one p >= "
+            "1e-4): the estimate does not take it; the readings' spread is added to "
+            "its uncertainty";
       } else {
         average_readings(a, coef_sel, delta, allowance2, shape_readings);
         e.estimate_note = shape_readings
-            ? "the time shape trades off with the unbalance and the data do not single it out "
-              "(another shape within 10 BIC): the estimate averages the readings equally, their "
-              "spread added to its uncertainty"
-            : "ambiguous: the estimate averages the readings with BIC weights, their spread "
-              "added to its uncertainty";
+                              ? "the time shape trades off with the unbalance and the data do not single it out "
+                                "(another shape within 10 BIC): the estimate averages the readings equally, their "
+                                "spread added to its uncertainty"
+                              : "ambiguous: the estimate averages the readings with BIC weights, their spread "
+                                "added to its uncertainty";
       }
       res.ambiguous.push_back(std::move(a));
     } else if (correlated_outlier) {
       e.moves_estimate = false;
       delta += coef_rest - coef_sel;
       allowance2 += 0.25 * mv.squaredNorm();
-      e.estimate_note = "in correlated noise a single excursion is not told from the noise's own: "
-                        "tentative, the estimate does not take it";
+      e.estimate_note =
+          "in correlated noise a single excursion is not told from the noise's own: "
+          "tentative, the estimate does not take it";
     }
   }
   // The guarded effects dropped together: a term collinear with another moves the estimate
@@ -326,12 +318,12 @@ void assess(const Model& m, const AssessmentInputs& in, DiagnosisResult& res) {
       {
         AmbiguousFinding a;
         a.readings.push_back({names, 0.0, estimate_of(m, d)});
-        a.readings.push_back({"autocorrelation (AR(1) errors) instead of " + names, db,
-                              estimate_of(alt, d)});
+        a.readings.push_back({"autocorrelation (AR(1) errors) instead of " + names, db, estimate_of(alt, d)});
         a.correlation = 1.0;
-        a.why = names + " and correlated noise: time order follows angle order, so a smooth "
-                        "function of angle is one of time; whatever the BIC says, it rests on "
-                        "the AR(1) form of the noise, which the plan cannot check";
+        a.why = names +
+                " and correlated noise: time order follows angle order, so a smooth "
+                "function of angle is one of time; whatever the BIC says, it rests on "
+                "the AR(1) form of the noise, which the plan cannot check";
         a.plan = separating_plan("harmonic", "autocorrelation");
         average_readings(a, coef_sel, delta, allowance2);
         for (std::size_t i : members) {

@@ -63,15 +63,13 @@ UnbalanceEstimate estimate_of(const Model& m, const ModelData& d);
 
 /// Collinearity of each candidate of the pool (given the base model) with the base and with
 /// each other.
-std::vector<CandidateCollinearity> plan_collinearity(const Model& base, const ModelData& d,
-                                                     const CandidatePool& pool);
+std::vector<CandidateCollinearity> plan_collinearity(const Model& base, const ModelData& d, const CandidatePool& pool);
 
 struct AssessmentInputs {
-  AssessmentInputs(const ModelData& data, const CandidatePool& candidates)
-      : d(data), pool(candidates) {}
+  AssessmentInputs(const ModelData& data, const CandidatePool& candidates) : d(data), pool(candidates) {}
   const ModelData& d;
   const CandidatePool& pool;
-  bool monotone_plan = false;      ///< time order follows angle order
+  bool monotone_plan = false;        ///< time order follows angle order
   bool residual_correlated = false;  ///< the omnibus whiteness tests fail
   /// The final model of the other search (AR(1) first or deferred) when it ended elsewhere.
   const Model* other_search = nullptr;

@@ -94,8 +94,7 @@ Term exponential_family(const Model& m, const ModelData& d, const std::vector<do
   Term best = scan(m, d, std::move(members), "exponential_drift", "time constant");
   if (best.examined) {
     char buf[120];
-    std::snprintf(buf, sizeof buf, "tau = %.4g, Bonferroni over %d time constants", best.param,
-                  best.scanned);
+    std::snprintf(buf, sizeof buf, "tau = %.4g, Bonferroni over %d time constants", best.param, best.scanned);
     best.note = buf;
   }
   return best;
@@ -117,16 +116,14 @@ Term kt_drift_term(const Model& m, const ModelData& d, const std::vector<double>
 }
 
 static bool is_time_shape(const std::string& n) {
-  return n == "time_drift" || n == "time_drift_quadratic" || n == "exponential_drift" ||
-         n == "step" || n == "kt_drift";
+  return n == "time_drift" || n == "time_drift_quadratic" || n == "exponential_drift" || n == "step" || n == "kt_drift";
 }
 
 // The time-shaped effects the search added (linear and quadratic drift, step, settling, K_T
 // drift) are compared, as a group, with each single time shape on the rest of the model;
 // the lowest BIC (scanned tau or change point counted as a parameter) is kept. A saturating
 // drift then is not left as linear plus quadratic, nor a K_T drift as an additive one.
-void compare_time_shapes(const ModelData& d, const CandidatePool& pool, Model& m,
-                         std::vector<std::string>& notes) {
+void compare_time_shapes(const ModelData& d, const CandidatePool& pool, Model& m, std::vector<std::string>& notes) {
   std::vector<std::size_t> group;
   for (std::size_t i = 0; i < m.terms.size(); ++i) {
     if (is_time_shape(m.terms[i].name)) group.push_back(i);

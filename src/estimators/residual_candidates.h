@@ -37,8 +37,8 @@ void drop_redundant(const ModelData& d, Model& m, std::vector<std::string>& note
 
 /// The time-shaped effects of m (drift, quadratic drift, step, settling, K_T drift) against
 /// each single time shape of the pool on the rest of the model; the lowest BIC is kept.
-void compare_time_shapes(const ModelData& d, const std::function<std::vector<Term>(const Model&)>& pool,
-                         Model& m, std::vector<std::string>& notes);
+void compare_time_shapes(const ModelData& d, const std::function<std::vector<Term>(const Model&)>& pool, Model& m,
+                         std::vector<std::string>& notes);
 
 /// Column of a step at position k of the measurement order.
 Eigen::MatrixXd step_column(const ModelData& d, std::size_t k);

@@ -24,7 +24,6 @@ MatrixXd basis(const MatrixXd& a) {
   return q;
 }
 
-
 }  // namespace
 
 double canonical_correlation(const MatrixXd& a, const MatrixXd& b) {
@@ -42,8 +41,7 @@ MatrixXd residualize(const MatrixXd& c, const MatrixXd& x) {
   return c - q * (q.transpose() * c);
 }
 
-std::vector<CandidateCollinearity> plan_collinearity(const Model& base, const ModelData& d,
-                                                     const CandidatePool& pool) {
+std::vector<CandidateCollinearity> plan_collinearity(const Model& base, const ModelData& d, const CandidatePool& pool) {
   const std::vector<Term> c = pool(base);
   const MatrixXd one = MatrixXd::Ones(d.n, 1);
   const MatrixXd h1 = residualize(base.x.leftCols(2), one);

@@ -47,8 +47,7 @@ constexpr int kMaxRounds = 200;  // the search ends long before: each round adds
 using angles::wrap_two_pi;
 
 std::vector<Term> round_candidates(const Model& m, const Data& d, const TorqueTable& table,
-                                   const std::vector<double>& t_c, int max_harmonic,
-                                   bool kt) {
+                                   const std::vector<double>& t_c, int max_harmonic, bool kt) {
   const Index n = d.n;
   std::vector<Term> c;
   for (int k = 2; k <= max_harmonic; ++k) {
@@ -72,12 +71,10 @@ std::vector<Term> round_candidates(const Model& m, const Data& d, const TorqueTa
     column_term("time_drift_quadratic", [&](std::size_t i) { return t_c[i] * t_c[i]; });
   }
   if (!m.has("kt_drift") && kt) c.push_back(detail::kt_drift_term(m, d, t_c));
-  const bool both = !table.sweep.empty() &&
-                    std::count(table.sweep.begin(), table.sweep.end(), 1) > 0 &&
+  const bool both = !table.sweep.empty() && std::count(table.sweep.begin(), table.sweep.end(), 1) > 0 &&
                     std::count(table.sweep.begin(), table.sweep.end(), -1) > 0;
   if (!m.has("direction_offset")) {
-    column_term("direction_offset",
-                [&](std::size_t i) { return both ? static_cast<double>(table.sweep[i]) : 0.0; });
+    column_term("direction_offset", [&](std::size_t i) { return both ? static_cast<double>(table.sweep[i]) : 0.0; });
     if (!both) {
       c.back().note = table.sweep.empty() ? "not examined: the table has no sweep column"
                                           : "not examined: only one sweep direction occurs";
@@ -90,14 +87,13 @@ void check(const TorqueTable& t, const DiagnosisOptions& o) {
   const std::size_t n = t.theta_rad.size();
   require(std::isfinite(o.alpha) && o.alpha > 0.0 && o.alpha < 1.0,
           "diagnose_residuals: alpha = " + std::to_string(o.alpha) + "; expected 0 < alpha < 1");
-  require(o.max_harmonic >= 1, "diagnose_residuals: max_harmonic = " +
-                                   std::to_string(o.max_harmonic) + "; expected >= 1 (1 = none)");
-  require(t.torque.size() == n && (t.time_s.empty() || t.time_s.size() == n) &&
-              (t.sweep.empty() || t.sweep.size() == n),
-          "diagnose_residuals: columns of different lengths (" + std::to_string(n) + " angles, " +
-              std::to_string(t.torque.size()) + " torques, " + std::to_string(t.time_s.size()) +
-              " times, " + std::to_string(t.sweep.size()) +
-              " sweeps); expected one of each per point, time and sweep optional");
+  require(o.max_harmonic >= 1,
+          "diagnose_residuals: max_harmonic = " + std::to_string(o.max_harmonic) + "; expected >= 1 (1 = none)");
+  require(
+      t.torque.size() == n && (t.time_s.empty() || t.time_s.size() == n) && (t.sweep.empty() || t.sweep.size() == n),
+      "diagnose_residuals: columns of different lengths (" + std::to_string(n) + " angles, " +
+          std::to_string(t.torque.size()) + " torques, " + std::to_string(t.time_s.size()) + " times, " +
+          std::to_string(t.sweep.size()) + " sweeps); expected one of each per point, time and sweep optional");
   for (double v : t.time_s) require(std::isfinite(v), "diagnose_residuals: a time is not finite");
 }
 
@@ -115,14 +111,13 @@ struct Search {
   std::vector<std::string> tested, notes;
   std::string summary;             // effects in the order added, e.g. "harmonic 2, time_drift"
   std::vector<std::string> found;  // the same, sorted: the model whatever the order
-  double bic = 0.0;  // -2 ln L + k ln n of the final model (ML form, rho at its estimate)
+  double bic = 0.0;                // -2 ln L + k ln n of the final model (ML form, rho at its estimate)
 };
 
 // Every column candidate for a model (families: the best member), examined ones only.
 detail::CandidatePool make_pool(const SearchInputs& in) {
   return [&in](const Model& m) {
-    std::vector<Term> c =
-        round_candidates(m, in.d, in.table, in.t, in.max_harmonic, in.options.kt_drift);
+    std::vector<Term> c = round_candidates(m, in.d, in.table, in.t, in.max_harmonic, in.options.kt_drift);
     std::vector<Term> out;
     for (Term& t : c) {
       if (t.note.empty() && nested_test(m, in.d, t)) out.push_back(std::move(t));
@@ -131,8 +126,7 @@ detail::CandidatePool make_pool(const SearchInputs& in) {
     if (in.options.exponential && !m.has("exponential_drift")) {
       out.push_back(detail::exponential_family(m, in.d, in.t));
     }
-    out.erase(std::remove_if(out.begin(), out.end(), [](const Term& t) { return !t.examined; }),
-              out.end());
+    out.erase(std::remove_if(out.begin(), out.end(), [](const Term& t) { return !t.examined; }), out.end());
     return out;
   };
 }
@@ -147,8 +141,7 @@ Search search(const SearchInputs& in, const Model& start, bool ar_last) {
   Model& m = s.m;
   while (s.rounds < kMaxRounds) {
     ++s.rounds;
-    std::vector<Term> c =
-        round_candidates(m, d, in.table, in.t, in.max_harmonic, in.options.kt_drift);
+    std::vector<Term> c = round_candidates(m, d, in.table, in.t, in.max_harmonic, in.options.kt_drift);
     for (Term& term : c) {
       if (term.note.empty()) nested_test(m, d, term);
     }
@@ -162,8 +155,8 @@ Search search(const SearchInputs& in, const Model& start, bool ar_last) {
     const Term* pick = nullptr;
     for (int pass = ar_last ? 0 : 1; pass < 2 && !pick; ++pass) {
       for (const Term& term : c) {
-        if ((pass == 0 && term.name == "autocorrelation") || !term.examined ||
-            !(term.p_adj < alpha) || !(term.delta_bic < 0.0)) {
+        if ((pass == 0 && term.name == "autocorrelation") || !term.examined || !(term.p_adj < alpha) ||
+            !(term.delta_bic < 0.0)) {
           continue;
         }
         if (!pick || term.p_adj < pick->p_adj || (term.p_adj == pick->p_adj && term.p < pick->p)) {
@@ -192,8 +185,8 @@ Search search(const SearchInputs& in, const Model& start, bool ar_last) {
       m.rho = fit_rho(m.x, d);
       continue;
     }
-    const auto ar = std::find_if(m.terms.begin(), m.terms.end(),
-                                 [](const Term& x) { return x.name == "autocorrelation"; });
+    const auto ar =
+        std::find_if(m.terms.begin(), m.terms.end(), [](const Term& x) { return x.name == "autocorrelation"; });
     char buf[200];
     std::snprintf(buf, sizeof buf,
                   "autocorrelation, added in round %d, was removed in round %d: with %s in the "
@@ -207,8 +200,7 @@ Search search(const SearchInputs& in, const Model& start, bool ar_last) {
   detail::drop_redundant(d, m, s.notes);
   detail::compare_time_shapes(d, make_pool(in), m, s.notes);
   for (const Term& term : m.terms) {
-    s.found.push_back(term.name == "outlier" ? "outlier at row " + std::to_string(term.index)
-                                             : term.label);
+    s.found.push_back(term.name == "outlier" ? "outlier at row " + std::to_string(term.index) : term.label);
     s.summary += (s.summary.empty() ? "" : ", ") + s.found.back();
   }
   std::sort(s.found.begin(), s.found.end());
@@ -265,8 +257,7 @@ DiagnosisResult diagnose_residuals(const TorqueTable& table, const DiagnosisOpti
                     "The search with AR(1) allowed in any round found %s (BIC %.2f); with AR(1) "
                     "deferred until no column effect qualifies it found %s (BIC %.2f). The "
                     "lower BIC is kept: %s.",
-                    s.summary.c_str(), s.bic, a.summary.c_str(), a.bic,
-                    keep_a ? "the second" : "the first");
+                    s.summary.c_str(), s.bic, a.summary.c_str(), a.bic, keep_a ? "the second" : "the first");
       if (keep_a) s = std::move(a);
       s.notes.emplace_back(buf);
     }
@@ -281,8 +272,7 @@ DiagnosisResult diagnose_residuals(const TorqueTable& table, const DiagnosisOpti
   for (const Term& term : m.terms) res.effects.push_back(to_effect(term, m, f, table));
   res.rmse_before = base.rmse;
   res.rmse_after = std::sqrt(f.rss / static_cast<double>(n));
-  res.estimate_before = {base.amplitude,    base.phase,    base.offset,
-                         base.se_amplitude, base.se_phase, base.se_offset};
+  res.estimate_before = {base.amplitude, base.phase, base.offset, base.se_amplitude, base.se_phase, base.se_offset};
   res.estimate_selected = detail::estimate_of(m, d);
   for (std::size_t i = 0; i < n; ++i) {
     const auto k = static_cast<Index>(i);
@@ -342,14 +332,13 @@ DiagnosisResult diagnose_residuals(const TorqueTable& table, const DiagnosisOpti
       "itself: the unbalance phase and amplitude carry it and no residual of one test shows it; "
       "it needs a calibration of the turntable against an angle standard (polygon and "
       "autocollimator, or an encoder of known accuracy)");
-  res.not_identifiable.emplace_back(
-      "kt_scale", "a constant error of K_T scales the whole torque: it needs a calibration with a "
-                  "known load (--load-torque), not a residual");
+  res.not_identifiable.emplace_back("kt_scale",
+                                    "a constant error of K_T scales the whole torque: it needs a calibration with a "
+                                    "known load (--load-torque), not a residual");
   return res;
 }
 
-KnownLoadErrors known_load_errors(const DiagnosisResult& r, double true_amplitude,
-                                  double true_phase_rad) {
+KnownLoadErrors known_load_errors(const DiagnosisResult& r, double true_amplitude, double true_phase_rad) {
   const auto error = [&](const UnbalanceEstimate& e) {
     double dphi = std::remainder(e.phase - true_phase_rad, 2.0 * kPi);
     if (dphi <= -kPi) dphi += 2.0 * kPi;

@@ -152,9 +152,9 @@ namespace poise::estimators {
 
 /// How the diagnosis searches.
 struct DiagnosisOptions {
-  double alpha = 0.05;      ///< familywise level per round (Holm), in (0, 1)
-  int max_harmonic = 6;     ///< highest harmonic tried (>= 1; 1 = none), capped as above
-  bool outliers = true;     ///< try the outlier family
+  double alpha = 0.05;          ///< familywise level per round (Holm), in (0, 1)
+  int max_harmonic = 6;         ///< highest harmonic tried (>= 1; 1 = none), capped as above
+  bool outliers = true;         ///< try the outlier family
   bool autocorrelation = true;  ///< try AR(1) errors
   bool steps = true;            ///< try the step family
   bool exponential = true;      ///< try the exponential settling family
@@ -173,19 +173,19 @@ struct UnbalanceEstimate {
 
 /// One parameter of an effect, in the final model.
 struct EffectParam {
-  std::string name;   ///< e.g. "amplitude", "phase_deg", "slope", "rho"
+  std::string name;  ///< e.g. "amplitude", "phase_deg", "slope", "rho"
   double value = 0.0;
-  double se = 0.0;    ///< standard error
-  std::string unit;   ///< e.g. "mN*m", "deg", "mN*m/s"; "" for rho
+  double se = 0.0;   ///< standard error
+  std::string unit;  ///< e.g. "mN*m", "deg", "mN*m/s"; "" for rho
 };
 
 /// An effect added to the model.
 struct Effect {
-  std::string name;   ///< harmonic, time_drift, time_drift_quadratic, exponential_drift,
-                      ///< step, kt_drift, direction_offset, outlier, autocorrelation: the
-                      ///< candidate fitted (its family and shape below)
-  int order = 0;      ///< harmonic order k (harmonic only; 0 else)
-  int index = -1;     ///< outlier: 0-based data row; -1 else
+  std::string name;      ///< harmonic, time_drift, time_drift_quadratic, exponential_drift,
+                         ///< step, kt_drift, direction_offset, outlier, autocorrelation: the
+                         ///< candidate fitted (its family and shape below)
+  int order = 0;         ///< harmonic order k (harmonic only; 0 else)
+  int index = -1;        ///< outlier: 0-based data row; -1 else
   std::size_t line = 0;  ///< outlier: 1-based file line (from TorqueTable::rows); 0 else
   std::vector<EffectParam> params;
   double p_value = 1.0;     ///< raw p of its round (outlier: Bonferroni over the family)
@@ -216,11 +216,11 @@ struct Effect {
 /// Collinearity of one candidate with the base model and the other candidates under this
 /// data's plan (angle order, time order, sweep), before any test.
 struct CandidateCollinearity {
-  std::string candidate;           ///< e.g. "harmonic 3", "time_drift", "step at mid-run"
-  double r_first_harmonic = 0.0;   ///< canonical correlation with (sin, cos), constant removed
-  double vif_base = 1.0;           ///< 1 / (1 - R^2) against (sin, cos, 1)
-  std::string most_collinear_with; ///< the other candidate it is closest to ("" none)
-  double r_other = 0.0;            ///< their canonical correlation, base projected out
+  std::string candidate;            ///< e.g. "harmonic 3", "time_drift", "step at mid-run"
+  double r_first_harmonic = 0.0;    ///< canonical correlation with (sin, cos), constant removed
+  double vif_base = 1.0;            ///< 1 / (1 - R^2) against (sin, cos, 1)
+  std::string most_collinear_with;  ///< the other candidate it is closest to ("" none)
+  double r_other = 0.0;             ///< their canonical correlation, base projected out
 };
 
 /// One reading of an ambiguous finding: the selected model with the finding's effect
@@ -241,9 +241,9 @@ struct AmbiguousFinding {
 
 /// Result of diagnose_residuals. Torques in the table's unit (TorqueTable::unit).
 struct DiagnosisResult {
-  std::vector<Effect> effects;  ///< in the order added
-  double rmse_before = 0.0;     ///< sqrt(RSS / n) of the base fit
-  double rmse_after = 0.0;      ///< sqrt(RSS / n) of the final model (transformed RSS with AR)
+  std::vector<Effect> effects;        ///< in the order added
+  double rmse_before = 0.0;           ///< sqrt(RSS / n) of the base fit
+  double rmse_after = 0.0;            ///< sqrt(RSS / n) of the final model (transformed RSS with AR)
   UnbalanceEstimate estimate_before;  ///< fit_sine of the data
   /// The estimate reported (see "Never worse"): estimate_selected unless an effect is ambiguous
   /// or an outlier in correlated noise. With time drift the intercept is at the mean time,
@@ -266,7 +266,7 @@ struct DiagnosisResult {
   std::string plan;                                 ///< the plan as the data show it
   std::vector<CandidateCollinearity> collinearity;  ///< every candidate under this plan
   std::vector<AmbiguousFinding> ambiguous;
-  OmnibusResult omnibus;                            ///< structure left in residual_after
+  OmnibusResult omnibus;  ///< structure left in residual_after
   /// Effects no residual of one test can reveal, with why and what would (candidate, why).
   std::vector<std::pair<std::string, std::string>> not_identifiable;
 };
@@ -293,7 +293,6 @@ struct KnownLoadErrors {
 
 /// Errors of the diagnosis' estimates against a known load of true_amplitude (torque unit of
 /// the table) at true_phase_rad (the phase b of Eq. 22, e.g. the mass' mounting angle).
-KnownLoadErrors known_load_errors(const DiagnosisResult& result, double true_amplitude,
-                                  double true_phase_rad);
+KnownLoadErrors known_load_errors(const DiagnosisResult& result, double true_amplitude, double true_phase_rad);
 
 }  // namespace poise::estimators

@@ -98,8 +98,7 @@ RhoFit fit_rho(const MatrixXd& x, const ModelData& d) {
   // Observed information by a central difference; the asymptotic (1 - rho^2) / n otherwise.
   const double h = 1e-3, c = std::clamp(rf.rho, -kMaxRho + h, kMaxRho - h);
   const double curv = (at(c + h) - 2.0 * at(c) + at(c - h)) / (h * h);
-  rf.se = curv < 0.0 ? 1.0 / std::sqrt(-curv)
-                     : std::sqrt((1.0 - rf.rho * rf.rho) / static_cast<double>(d.n));
+  rf.se = curv < 0.0 ? 1.0 / std::sqrt(-curv) : std::sqrt((1.0 - rf.rho * rf.rho) / static_cast<double>(d.n));
   return rf;
 }
 
@@ -127,8 +126,7 @@ bool nested_test(const Model& m, const ModelData& d, Term& t, bool refit_rho) {
   }
   const LinearFit f0 = fit_linear(m.x, d, m.ar, rho);
   const double rss0 = std::max(f0.rss, d.rss_floor), rss1 = std::max(f1.rss, d.rss_floor);
-  const double fstat =
-      ((rss0 - rss1) / static_cast<double>(q)) / (rss1 / static_cast<double>(f1.dof));
+  const double fstat = ((rss0 - rss1) / static_cast<double>(q)) / (rss1 / static_cast<double>(f1.dof));
   const boost::math::fisher_f dist(static_cast<double>(q), static_cast<double>(f1.dof));
   t.p = fstat > 0.0 ? boost::math::cdf(boost::math::complement(dist, fstat)) : 1.0;
   const double n = static_cast<double>(d.n);
@@ -143,8 +141,8 @@ Term outlier_family(const Model& m, const ModelData& d) {
   double best_p = 2.0;
   int tested = 0;
   for (Index i = 0; i < d.n; ++i) {
-    const bool flagged = std::any_of(m.terms.begin(), m.terms.end(),
-                                     [&](const Term& t) { return t.index == static_cast<int>(i); });
+    const bool flagged =
+        std::any_of(m.terms.begin(), m.terms.end(), [&](const Term& t) { return t.index == static_cast<int>(i); });
     if (flagged) continue;
     Term t("outlier", "outlier", 0, static_cast<int>(i));
     t.cols = MatrixXd::Zero(d.n, 1);
@@ -158,8 +156,8 @@ Term outlier_family(const Model& m, const ModelData& d) {
     return best;
   }
   best.p = std::min(1.0, tested * best.p);
-  best.note = "largest at row " + std::to_string(best.index) + ", Bonferroni over " +
-              std::to_string(tested) + " points";
+  best.note =
+      "largest at row " + std::to_string(best.index) + ", Bonferroni over " + std::to_string(tested) + " points";
   return best;
 }
 
@@ -204,8 +202,7 @@ void holm(std::vector<Term>& c) {
 std::string describe(const Term& t) {
   if (!t.examined) return t.label + ": " + t.note;
   char buf[160];
-  std::snprintf(buf, sizeof buf, "p = %.3g, Holm-adjusted p = %.3g, delta_BIC = %+.2f", t.p,
-                t.p_adj, t.delta_bic);
+  std::snprintf(buf, sizeof buf, "p = %.3g, Holm-adjusted p = %.3g, delta_BIC = %+.2f", t.p, t.p_adj, t.delta_bic);
   return t.label + (t.note.empty() ? "" : " (" + t.note + ")") + ": " + buf;
 }
 

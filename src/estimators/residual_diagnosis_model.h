@@ -81,8 +81,7 @@ struct Model {
   bool ar = false;
   RhoFit rho;
   bool has(const std::string& name, int order = 0) const {
-    return std::any_of(terms.begin(), terms.end(),
-                       [&](const Term& t) { return t.name == name && t.order == order; });
+    return std::any_of(terms.begin(), terms.end(), [&](const Term& t) { return t.name == name && t.order == order; });
   }
 };
 

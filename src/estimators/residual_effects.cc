@@ -11,9 +11,9 @@
 namespace poise::estimators::detail {
 namespace {
 
-using Eigen::Index;
 using angles::kPi;
 using angles::wrap_two_pi;
+using Eigen::Index;
 constexpr double kDegPerRad = 180.0 / kPi;
 
 constexpr const char* kCauseHarmonic2 =
@@ -25,8 +25,7 @@ constexpr const char* kCauseHarmonicHigh =
     "coupled through compliance.";
 constexpr const char* kCauseDrift =
     "Motor or amplifier heating, current-sensor offset drift, or K_T changing with temperature.";
-constexpr const char* kCauseDirection =
-    "Backlash in the turntable, cable wind-up, or hysteresis of the flex leads.";
+constexpr const char* kCauseDirection = "Backlash in the turntable, cable wind-up, or hysteresis of the flex leads.";
 constexpr const char* kCauseOutlier =
     "A disturbed point: turntable not settled or not locked, a bump, or a missed period.";
 constexpr const char* kCauseAr =
@@ -40,7 +39,6 @@ constexpr const char* kCauseExponential =
 constexpr const char* kCauseKt =
     "The torque constant changing during the test (magnet and winding temperature: NdFeB about "
     "-0.1 %/K), scaling the whole measured torque.";
-
 
 struct Polar {
   double amplitude, phase, se_amplitude, se_phase;
@@ -72,8 +70,7 @@ Effect to_effect(const Term& t, const Model& m, const LinearFit& f, const Torque
     return EffectParam{"", f.beta(t.first + k), std::sqrt(f.cov(t.first + k, t.first + k)), u};
   };
   if (t.name == "harmonic") {
-    const Polar p =
-        polar(f.beta(t.first), f.beta(t.first + 1), f.cov.block<2, 2>(t.first, t.first));
+    const Polar p = polar(f.beta(t.first), f.beta(t.first + 1), f.cov.block<2, 2>(t.first, t.first));
     e.params = {{"amplitude", p.amplitude, p.se_amplitude, u},
                 {"phase_deg", p.phase * kDegPerRad, p.se_phase * kDegPerRad, "deg"}};
     e.causes = t.order == 2 ? kCauseHarmonic2 : kCauseHarmonicHigh;
@@ -89,16 +86,16 @@ Effect to_effect(const Term& t, const Model& m, const LinearFit& f, const Torque
     p.name = "level_change";
     const auto row = static_cast<std::size_t>(t.index);
     const double at = table.time_s.empty() ? static_cast<double>(row) : table.time_s[row];
-    e.params = {p, {"first_row_after", static_cast<double>(row), 0.0, ""},
-                {"at_time", at, std::numeric_limits<double>::quiet_NaN(),
-                 table.time_s.empty() ? "measurement" : "s"}};
+    e.params = {p,
+                {"first_row_after", static_cast<double>(row), 0.0, ""},
+                {"at_time", at, std::numeric_limits<double>::quiet_NaN(), table.time_s.empty() ? "measurement" : "s"}};
     e.line = row < table.rows.size() ? table.rows[row] : 0;
     e.causes = kCauseStep;
   } else if (t.name == "exponential_drift") {
     EffectParam p = coef(0);
     p.name = "initial_excess";
-    e.params = {p, {"tau", t.param, std::numeric_limits<double>::quiet_NaN(),
-                    table.time_s.empty() ? "measurement" : "s"}};
+    e.params = {p,
+                {"tau", t.param, std::numeric_limits<double>::quiet_NaN(), table.time_s.empty() ? "measurement" : "s"}};
     e.causes = kCauseExponential;
   } else if (t.name == "kt_drift") {
     EffectParam p = coef(0);
@@ -124,6 +121,5 @@ Effect to_effect(const Term& t, const Model& m, const LinearFit& f, const Torque
   }
   return e;
 }
-
 
 }  // namespace poise::estimators::detail

@@ -20,7 +20,6 @@ Vector3d coefficients(const UnbalanceEstimate& e) {
   return {e.amplitude * std::cos(e.phase), e.amplitude * std::sin(e.phase), e.offset};
 }
 
-
 // The effect's own test once AR(1) errors are allowed: its drop-one F test (GLS, Bonferroni
 // over a scanned family's members) in the model with AR(1) errors, at the REML rho of that
 // model and at the upper end of rho's 95 % profile interval (l_R within 1.92 of its maximum):
@@ -33,8 +32,7 @@ double p_under_ar1(const Model& m, const ModelData& d, std::size_t i) {
   g.ar = true;
   g.rho = fit_rho(g.x, d);
   double upper = g.rho.rho;
-  while (upper + kStep <= kMaxRho &&
-         restricted_loglik(g.x, d, upper + kStep) > g.rho.loglik - kHalfChi2) {
+  while (upper + kStep <= kMaxRho && restricted_loglik(g.x, d, upper + kStep) > g.rho.loglik - kHalfChi2) {
     upper += kStep;
   }
   const int family = std::max(1, m.terms[i].scanned);
@@ -60,13 +58,12 @@ bool separated(const Model& m, const ModelData& d, std::size_t i, const Term& c,
 
 struct Competitor {
   Reading reading;
-  std::string name;         // candidate name, for the separating plan
+  std::string name;           // candidate name, for the separating plan
   bool noise_wander = false;  // the effect not told from correlated noise
 };
 
 // The competing explanations of term i (the guard's list in residual_guard.h).
-std::vector<Competitor> competitors(const Model& m, const GuardInputs& in, std::size_t i,
-                                    double r_first, bool moves) {
+std::vector<Competitor> competitors(const Model& m, const GuardInputs& in, std::size_t i, double r_first, bool moves) {
   const ModelData& d = in.d;
   const Term& t = m.terms[i];
   const double bic_sel = model_bic(m, d);
@@ -90,14 +87,14 @@ std::vector<Competitor> competitors(const Model& m, const GuardInputs& in, std::
     // beyond kGuardSe (as without AR). (A harmonic
     // there has AR(1) errors as a reading already: residual_assessment.h.)
     const double level = r_first >= kFirstHarmonicLimit || moves ? kIdentifiedP : in.alpha;
-    const bool inseparable = in.monotone_plan && is_time_like(t.name) &&
-                             (r_first >= kWeakCorrelation || moves) &&
+    const bool inseparable = in.monotone_plan && is_time_like(t.name) && (r_first >= kWeakCorrelation || moves) &&
                              p_under_ar1(m, d, i) >= level;
     if (db < kBicVeryStrong || inseparable) {
       out.push_back({{"autocorrelation (AR(1) errors) instead of " + term_label(t) +
                           (inseparable ? " (with AR(1) errors allowed its own test fails)" : ""),
                       db, estimate_of(alt, d)},
-                     "autocorrelation", inseparable});
+                     "autocorrelation",
+                     inseparable});
     }
   }
   return out;
@@ -108,8 +105,7 @@ double first_harmonic_tradeoff(const Model& m, const ModelData& d, std::size_t i
   const Model rest = without_term(m, i);
   Eigen::MatrixXd others(d.n, rest.x.cols() - 2);
   others << rest.x.col(2), rest.x.rightCols(rest.x.cols() - 3);
-  return canonical_correlation(residualize(m.terms[i].cols, others),
-                               residualize(m.x.leftCols(2), others));
+  return canonical_correlation(residualize(m.terms[i].cols, others), residualize(m.x.leftCols(2), others));
 }
 
 }  // namespace
@@ -147,7 +143,6 @@ std::string separating_plan(const std::string& a, const std::string& b) {
   return "repeat positions at the start and end of the run and randomise the position order";
 }
 
-
 namespace {
 
 // m without the terms flagged in `drop`.
@@ -162,8 +157,8 @@ Model without_terms(const Model& m, const ModelData& d, const std::vector<bool>&
 
 // The readings of term j of cur (cur: the selected model without the terms guarded so far)
 // against the plain estimate; an ambiguous finding when one disagrees beyond kGuardSe.
-bool guard_one(const Model& cur, const GuardInputs& in, std::size_t j, DiagnosisResult& res,
-               double& allowance, std::string& against_label) {
+bool guard_one(const Model& cur, const GuardInputs& in, std::size_t j, DiagnosisResult& res, double& allowance,
+               std::string& against_label) {
   const ModelData& d = in.d;
   const LinearFit f = fit_linear(cur.x, d, cur.ar, cur.rho.rho);
   if (!f.ok) return false;
@@ -199,8 +194,7 @@ bool guard_one(const Model& cur, const GuardInputs& in, std::size_t j, Diagnosis
   }
   // Moving the estimate beyond kGuardSe takes an effect identified beyond doubt: drop-one
   // p < kIdentifiedP (Bonferroni over a scanned family), else "no effect" is a reading.
-  const Competitor none{{"no effect", model_bic(rest, d) - model_bic(cur, d), estimate_of(rest, d)},
-                        "first harmonic"};
+  const Competitor none{{"no effect", model_bic(rest, d) - model_bic(cur, d), estimate_of(rest, d)}, "first harmonic"};
   const double p_own = drop_one_p(cur, d, j) * std::max(1, cur.terms[j].scanned);
   if (n_se(plain) > kGuardSe && p_own >= kIdentifiedP && n_se(plain) > worst_se) {
     worst_se = n_se(plain), against = &none;
@@ -213,8 +207,8 @@ bool guard_one(const Model& cur, const GuardInputs& in, std::size_t j, Diagnosis
     a.readings.push_back(c.reading);
     reach = std::max(reach, (coefficients(c.reading.estimate) - plain).head<2>().norm());
   }
-  a.readings.push_back({"plain estimate (without " + name + ")",
-                        model_bic(rest, d) - model_bic(cur, d), estimate_of(rest, d)});
+  a.readings.push_back(
+      {"plain estimate (without " + name + ")", model_bic(rest, d) - model_bic(cur, d), estimate_of(rest, d)});
   char buf[320];
   std::snprintf(buf, sizeof buf,
                 "%s and %s fit the data about as well (BIC within 10, or not separable from "
@@ -257,8 +251,8 @@ GuardResult guard_estimate(const Model& m, const GuardInputs& in, DiagnosisResul
 namespace {
 
 bool shape_or_direction(const std::string& n) {
-  return n == "time_drift" || n == "exponential_drift" || n == "step" || n == "kt_drift" ||
-         n == "direction_offset" || n == "time_drift_quadratic";
+  return n == "time_drift" || n == "exponential_drift" || n == "step" || n == "kt_drift" || n == "direction_offset" ||
+         n == "time_drift_quadratic";
 }
 
 std::string family_of(const std::string& name) {
@@ -281,16 +275,15 @@ std::string shape_of(const std::string& name) {
 // corrections differ in kind and which the usual plans confound.
 double identified_by(const std::string& a, const std::string& b) {
   const auto additive = [](const std::string& n) {
-    return n == "time_drift" || n == "exponential_drift" || n == "step" ||
-           n == "time_drift_quadratic";
+    return n == "time_drift" || n == "exponential_drift" || n == "step" || n == "time_drift_quadratic";
   };
   return additive(a) && additive(b) ? kBicIndistinct : kBicStrong;
 }
 
 }  // namespace
 
-void name_families(const Model& m, const ModelData& d, const CandidatePool& pool,
-                   const GuardResult& guard, DiagnosisResult& res) {
+void name_families(const Model& m, const ModelData& d, const CandidatePool& pool, const GuardResult& guard,
+                   DiagnosisResult& res) {
   const bool curved = m.has("time_drift_quadratic");
   for (std::size_t i = 0; i < m.terms.size(); ++i) {
     const Term& t = m.terms[i];

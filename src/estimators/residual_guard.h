@@ -57,8 +57,7 @@ namespace poise::estimators::detail {
 inline constexpr double kGuardSe = 2.0;  ///< readings further apart than this many SE disagree
 
 struct GuardInputs {
-  GuardInputs(const ModelData& data, const CandidatePool& candidates)
-      : d(data), pool(candidates) {}
+  GuardInputs(const ModelData& data, const CandidatePool& candidates) : d(data), pool(candidates) {}
   const ModelData& d;
   const CandidatePool& pool;
   double alpha = 0.05;
@@ -80,7 +79,7 @@ GuardResult guard_estimate(const Model& m, const GuardInputs& in, DiagnosisResul
 /// Sets family, shape, shape_delta_bic and alternative of res.effects. A time-shaped effect
 /// the guard kept out of the estimate is a time effect of shape "not identifiable", its
 /// alternative the competing reading.
-void name_families(const Model& m, const ModelData& d, const CandidatePool& pool,
-                   const GuardResult& guard, DiagnosisResult& res);
+void name_families(const Model& m, const ModelData& d, const CandidatePool& pool, const GuardResult& guard,
+                   DiagnosisResult& res);
 
 }  // namespace poise::estimators::detail

@@ -2,10 +2,10 @@
 
 #include "core/error.h"
 
+#include <Eigen/QR>
 #include <algorithm>
 #include <boost/math/distributions/chi_squared.hpp>
 #include <boost/math/distributions/fisher_f.hpp>
-#include <Eigen/QR>
 #include <boost/math/distributions/normal.hpp>
 #include <cmath>
 #include <cstdio>
@@ -52,8 +52,7 @@ StructureTest lack_of_fit(const OmnibusInput& in, double rss) {
   const double n = static_cast<double>(in.residual.size()), g = static_cast<double>(groups.size());
   const double p = static_cast<double>(in.parameters);
   if (!(g > p) || !(n > g)) {
-    t.note = n > g ? "not examined: fewer positions than fitted columns"
-                   : "not examined: no position is repeated";
+    t.note = n > g ? "not examined: fewer positions than fitted columns" : "not examined: no position is repeated";
     return t;
   }
   if (in.ar) {
@@ -73,8 +72,7 @@ StructureTest lack_of_fit(const OmnibusInput& in, double rss) {
     return t;
   }
   t.statistic = (ss_lof / (g - p)) / (ss_pe / (n - g));
-  t.p_value = boost::math::cdf(
-      boost::math::complement(boost::math::fisher_f(g - p, n - g), t.statistic));
+  t.p_value = boost::math::cdf(boost::math::complement(boost::math::fisher_f(g - p, n - g), t.statistic));
   t.examined = true;
   t.note = fmt("%.0f positions, pure error on %.0f dof", g, n - g);
   return t;
@@ -92,8 +90,8 @@ StructureTest declared_noise(const OmnibusInput& in, double rss) {
     }
     mean_var /= static_cast<double>(in.residual.size());
     t.statistic = chi2;
-    t.note = fmt("residual sd %.4g against the points' own standard errors (rms %.4g)",
-                 std::sqrt(rss / dof), std::sqrt(mean_var));
+    t.note = fmt("residual sd %.4g against the points' own standard errors (rms %.4g)", std::sqrt(rss / dof),
+                 std::sqrt(mean_var));
   } else if (in.noise > 0.0) {
     t.statistic = rss / (in.noise * in.noise);
     t.note = fmt("residual sd %.4g against declared %.4g", std::sqrt(rss / dof), in.noise);
@@ -116,7 +114,8 @@ StructureTest ljung_box(const std::vector<double>& r, bool ar) {
   }
   // h ~ ln n (Tsay 2010): with h = n / 4 the chi^2 tail over-rejects at n = 36 (measured 3.3 %
   // at a nominal 1.7 % over 4000 white records; 1.6 % with h = ln n).
-  const std::size_t h = std::max<std::size_t>(2, static_cast<std::size_t>(std::lround(std::log(static_cast<double>(n)))));
+  const std::size_t h =
+      std::max<std::size_t>(2, static_cast<std::size_t>(std::lround(std::log(static_cast<double>(n)))));
   const double mean = std::accumulate(r.begin(), r.end(), 0.0) / static_cast<double>(n);
   double c0 = 0.0;
   for (double v : r) c0 += (v - mean) * (v - mean);
@@ -279,9 +278,10 @@ OmnibusResult omnibus_check(const OmnibusInput& in) {
   out.p_value = std::min(1.0, m * worst->p_value);
   out.unexplained = out.p_value < in.alpha;
   if (!out.unexplained) {
-    out.message = fmt("No structure left in the residual beyond the noise (omnibus p = %.3g, "
-                      "Bonferroni over %.0f tests, alpha = %.3g).",
-                      out.p_value, m, in.alpha);
+    out.message =
+        fmt("No structure left in the residual beyond the noise (omnibus p = %.3g, "
+            "Bonferroni over %.0f tests, alpha = %.3g).",
+            out.p_value, m, in.alpha);
     return out;
   }
   // Where: by every test that fails at the family's level, then the largest residuals.
@@ -298,9 +298,9 @@ OmnibusResult omnibus_check(const OmnibusInput& in) {
           a = k;
         }
       }
-      return "correlated residuals in measurement order (" + t.name + "); longest run of one sign: " +
-             std::to_string(best_len) + " points from " + at_row(in, in.order[best_a]) + " to " +
-             at_row(in, in.order[best_a + best_len - 1]);
+      return "correlated residuals in measurement order (" + t.name +
+             "); longest run of one sign: " + std::to_string(best_len) + " points from " +
+             at_row(in, in.order[best_a]) + " to " + at_row(in, in.order[best_a + best_len - 1]);
     }
     if (t.name == "lack_of_fit") {
       return "repeated positions disagree with the model more than with each other";
@@ -314,15 +314,14 @@ OmnibusResult omnibus_check(const OmnibusInput& in) {
   }
   std::vector<std::size_t> idx(n);
   std::iota(idx.begin(), idx.end(), std::size_t{0});
-  std::sort(idx.begin(), idx.end(), [&](auto x, auto y) {
-    return std::abs(in.residual[x]) > std::abs(in.residual[y]);
-  });
+  std::sort(idx.begin(), idx.end(),
+            [&](auto x, auto y) { return std::abs(in.residual[x]) > std::abs(in.residual[y]); });
   out.where += "; largest residuals at";
   for (std::size_t k = 0; k < std::min<std::size_t>(3, n); ++k) {
     out.where += (k ? ", " : " ") + at_row(in, idx[k]) + fmt(" %+.3g", in.residual[idx[k]]);
   }
-  out.message = "Unexplained structure: " + worst->name + fmt(" p = %.3g (omnibus p = %.3g)", worst->p_value, out.p_value) +
-                " - " + out.where +
+  out.message = "Unexplained structure: " + worst->name +
+                fmt(" p = %.3g (omnibus p = %.3g)", worst->p_value, out.p_value) + " - " + out.where +
                 ". No candidate effect explains it; the unbalance estimate carries it and its "
                 "standard errors, which assume independent noise, do not cover it.";
   return out;

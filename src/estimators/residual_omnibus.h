@@ -50,15 +50,15 @@ struct StructureTest {
 
 /// The residual of the final model, with what locates each point.
 struct OmnibusInput {
-  std::vector<double> residual;           ///< per row (with AR(1): the innovations)
-  std::vector<std::size_t> order;         ///< rows in measurement order
-  std::vector<double> theta_deg;          ///< per row
-  std::vector<double> time_s;             ///< per row; empty: none
-  std::vector<std::size_t> lines;         ///< per row, 1-based file line; empty: none
-  std::size_t parameters = 3;             ///< fitted columns p (AR not counted)
-  bool ar = false;                        ///< residual are AR(1) innovations
-  double noise = 0.0;                     ///< declared independent noise sd; 0 = none
-  std::vector<double> noise_per_point;    ///< per row (e.g. from period scatter); wins over noise
+  std::vector<double> residual;         ///< per row (with AR(1): the innovations)
+  std::vector<std::size_t> order;       ///< rows in measurement order
+  std::vector<double> theta_deg;        ///< per row
+  std::vector<double> time_s;           ///< per row; empty: none
+  std::vector<std::size_t> lines;       ///< per row, 1-based file line; empty: none
+  std::size_t parameters = 3;           ///< fitted columns p (AR not counted)
+  bool ar = false;                      ///< residual are AR(1) innovations
+  double noise = 0.0;                   ///< declared independent noise sd; 0 = none
+  std::vector<double> noise_per_point;  ///< per row (e.g. from period scatter); wins over noise
   double alpha = 0.05;
   /// The final model's columns (rows as residual); when given (and !ar) the Ljung-Box, runs
   /// and CUSUM p-values are Monte Carlo ones under this design (see above).

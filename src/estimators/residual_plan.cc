@@ -32,8 +32,7 @@ bool monotone_plan(const TorqueTable& table, const std::vector<std::size_t>& ord
   return std::abs(order_angle_correlation(table, order)) > 0.95;
 }
 
-std::string describe_plan(const TorqueTable& table, const std::vector<std::size_t>& order,
-                          bool monotone) {
+std::string describe_plan(const TorqueTable& table, const std::vector<std::size_t>& order, bool monotone) {
   const std::size_t positions = count_distinct_angles(table.theta_rad);
   const long up = std::count(table.sweep.begin(), table.sweep.end(), 1);
   const long down = std::count(table.sweep.begin(), table.sweep.end(), -1);
@@ -44,11 +43,9 @@ std::string describe_plan(const TorqueTable& table, const std::vector<std::size_
                 table.size(), positions, positions < table.size() ? " (some repeated)" : "",
                 table.sweep.empty() ? "no sweep column"
                 : (up > 0 && down > 0)
-                    ? ("both directions (" + std::to_string(up) + " +, " + std::to_string(down) +
-                       " -)").c_str()
+                    ? ("both directions (" + std::to_string(up) + " +, " + std::to_string(down) + " -)").c_str()
                     : "one direction",
-                table.time_s.empty() ? "the row order" : "time_s",
-                order_angle_correlation(table, order),
+                table.time_s.empty() ? "the row order" : "time_s", order_angle_correlation(table, order),
                 monotone ? ": time order follows angle order, so any smooth function of time is "
                            "one of angle (harmonics, drifts and correlated noise are confounded)"
                          : "");

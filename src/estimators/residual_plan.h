@@ -17,7 +17,6 @@ double order_angle_correlation(const TorqueTable& table, const std::vector<std::
 bool monotone_plan(const TorqueTable& table, const std::vector<std::size_t>& order);
 
 /// One line: points, positions, repeats, directions, order source and the rank correlation.
-std::string describe_plan(const TorqueTable& table, const std::vector<std::size_t>& order,
-                          bool monotone);
+std::string describe_plan(const TorqueTable& table, const std::vector<std::size_t>& order, bool monotone);
 
 }  // namespace poise::estimators::detail

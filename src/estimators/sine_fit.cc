@@ -24,8 +24,8 @@ using angles::wrap_two_pi;
 
 void check_input(std::span<const double> theta_rad, std::span<const double> value) {
   if (theta_rad.size() != value.size()) {
-    throw Error("fit_sine: " + std::to_string(theta_rad.size()) + " angles but " +
-                std::to_string(value.size()) + " values; expected one value per angle");
+    throw Error("fit_sine: " + std::to_string(theta_rad.size()) + " angles but " + std::to_string(value.size()) +
+                " values; expected one value per angle");
   }
   if (theta_rad.size() < 4) {
     throw Error("fit_sine: " + std::to_string(theta_rad.size()) +
@@ -33,8 +33,7 @@ void check_input(std::span<const double> theta_rad, std::span<const double> valu
   }
   for (std::size_t i = 0; i < theta_rad.size(); ++i) {
     if (!std::isfinite(theta_rad[i]) || !std::isfinite(value[i])) {
-      throw Error("fit_sine: point " + std::to_string(i) +
-                  " (theta = " + std::to_string(theta_rad[i]) +
+      throw Error("fit_sine: point " + std::to_string(i) + " (theta = " + std::to_string(theta_rad[i]) +
                   " rad, value = " + std::to_string(value[i]) + ") is not finite");
     }
   }
@@ -78,8 +77,7 @@ SineFitResult fit_sine(std::span<const double> theta_rad, std::span<const double
   Eigen::ColPivHouseholderQR<Eigen::MatrixX3d> qr(x);
   qr.setThreshold(kRankThreshold);
   if (qr.rank() < 3) {
-    throw Error("fit_sine: the design [sin theta, cos theta, 1] is rank-deficient (rank " +
-                std::to_string(qr.rank()) +
+    throw Error("fit_sine: the design [sin theta, cos theta, 1] is rank-deficient (rank " + std::to_string(qr.rank()) +
                 " of 3): the angles are too close together to separate amplitude, phase and "
                 "offset; spread them over the turn");
   }
@@ -100,15 +98,12 @@ SineFitResult fit_sine(std::span<const double> theta_rad, std::span<const double
 
   // (X^T X)^-1 = P R^-1 R^-T P^T = L L^T from X P = Q R; X^T X itself is never formed.
   const Eigen::Matrix3d rr = qr.matrixR().topLeftCorner<3, 3>().triangularView<Eigen::Upper>();
-  const Eigen::Matrix3d r_inv =
-      rr.triangularView<Eigen::Upper>().solve(Eigen::Matrix3d::Identity());
+  const Eigen::Matrix3d r_inv = rr.triangularView<Eigen::Upper>().solve(Eigen::Matrix3d::Identity());
   const Eigen::Matrix3d l = qr.colsPermutation() * r_inv;
   fit.covariance = fit.sigma * fit.sigma * (l * l.transpose());
 
   // se of g^T beta is sigma |L^T g|: a norm, so never negative through rounding.
-  const auto se_of = [&](const Eigen::Vector3d& g) {
-    return fit.sigma * (l.transpose() * g).norm();
-  };
+  const auto se_of = [&](const Eigen::Vector3d& g) { return fit.sigma * (l.transpose() * g).norm(); };
   const double amp = fit.amplitude;
   if (amp > 0.0) {
     // Unit gradients (a, c) / A and (-c, a) / A keep the products in range for any A.

@@ -58,17 +58,17 @@ namespace poise::estimators {
 
 /// Result of fit_sine. Values are in the unit of the fitted values; angles in radians.
 struct SineFitResult {
-  std::size_t n = 0;              ///< number of points
-  double amplitude = 0.0;         ///< MT_s = hypot(a, c) >= 0
-  double phase = 0.0;             ///< b = atan2(c, a), rad, wrapped to [0, 2 pi)
-  double offset = 0.0;            ///< MK = K
-  double se_amplitude = 0.0;      ///< standard error of amplitude (delta method)
-  double se_phase = 0.0;          ///< standard error of phase, rad (delta method)
-  double se_offset = 0.0;         ///< standard error of offset
-  double rmse = 0.0;              ///< sqrt(SSR / n): RMS of the residuals
-  double sigma = 0.0;             ///< sqrt(SSR / (n - 3)): residual standard deviation
-  double max_abs_residual = 0.0;  ///< max_i |r_i|
-  std::vector<double> residuals;  ///< r_i = value_i - fitted_i, in input order
+  std::size_t n = 0;                                     ///< number of points
+  double amplitude = 0.0;                                ///< MT_s = hypot(a, c) >= 0
+  double phase = 0.0;                                    ///< b = atan2(c, a), rad, wrapped to [0, 2 pi)
+  double offset = 0.0;                                   ///< MK = K
+  double se_amplitude = 0.0;                             ///< standard error of amplitude (delta method)
+  double se_phase = 0.0;                                 ///< standard error of phase, rad (delta method)
+  double se_offset = 0.0;                                ///< standard error of offset
+  double rmse = 0.0;                                     ///< sqrt(SSR / n): RMS of the residuals
+  double sigma = 0.0;                                    ///< sqrt(SSR / (n - 3)): residual standard deviation
+  double max_abs_residual = 0.0;                         ///< max_i |r_i|
+  std::vector<double> residuals;                         ///< r_i = value_i - fitted_i, in input order
   Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();  ///< of (a, c, K)
 };
 

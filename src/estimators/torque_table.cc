@@ -21,9 +21,7 @@ constexpr std::size_t kMinRows = 4;
 constexpr double kMaxTorqueNm = 1e9;
 
 std::string_view trim(std::string_view s) {
-  const auto is_space = [](char ch) {
-    return ch == ' ' || ch == '\t' || ch == '\r' || ch == '\v' || ch == '\f';
-  };
+  const auto is_space = [](char ch) { return ch == ' ' || ch == '\t' || ch == '\r' || ch == '\v' || ch == '\f'; };
   while (!s.empty() && is_space(s.front())) s.remove_prefix(1);
   while (!s.empty() && is_space(s.back())) s.remove_suffix(1);
   return s;
@@ -74,8 +72,8 @@ struct Columns {
   double se_factor = 1.0;  // file unit of the se column in the table's torque unit
 };
 
-Columns find_columns(const std::string& file, std::size_t line,
-                     const std::vector<std::string_view>& header, TorqueTable& t) {
+Columns find_columns(const std::string& file, std::size_t line, const std::vector<std::string_view>& header,
+                     TorqueTable& t) {
   const std::string where = "header '" + join(header) + "'";
   Columns c;
   c.names.assign(header.begin(), header.end());
@@ -95,19 +93,16 @@ Columns find_columns(const std::string& file, std::size_t line,
     if (header[i] == "torque_se_Nm") se_nm = i;
   }
   if (se_mnm && se_nm) {
-    fail(file, line,
-         where + ": two columns 'torque_se_mNm' and 'torque_se_Nm'; expected at most one");
+    fail(file, line, where + ": two columns 'torque_se_mNm' and 'torque_se_Nm'; expected at most one");
   }
   if (!theta) {
     fail(file, line, where + ": no column 'theta_deg'; expected the turntable angle in degrees");
   }
   if (mnm && nm) {
-    fail(file, line,
-         where + ": two torque columns 'torque_mNm' and 'torque_Nm'; expected exactly one");
+    fail(file, line, where + ": two torque columns 'torque_mNm' and 'torque_Nm'; expected exactly one");
   }
   if (!mnm && !nm) {
-    fail(file, line,
-         where + ": no torque column; expected 'torque_mNm' (mN*m) or 'torque_Nm' (N*m)");
+    fail(file, line, where + ": no torque column; expected 'torque_mNm' (mN*m) or 'torque_Nm' (N*m)");
   }
   c.theta = *theta;
   c.torque = mnm ? *mnm : *nm;

@@ -22,7 +22,8 @@ void on_error(void*, RTCError code, const char* str) {
 
 void check(RTCDevice dev, const char* what) {
   const RTCError e = rtcGetDeviceError(dev);
-  if (e != RTC_ERROR_NONE) throw Error(std::string("Embree: ") + what + " failed (error code " + std::to_string(static_cast<int>(e)) + ")");
+  if (e != RTC_ERROR_NONE)
+    throw Error(std::string("Embree: ") + what + " failed (error code " + std::to_string(static_cast<int>(e)) + ")");
 }
 
 // The filter of collect-all-hits scenes: record the hit, reject it so traversal goes on.
@@ -45,7 +46,9 @@ void collect_filter(const RTCFilterFunctionNArguments* args) {
 RTCDevice embree_device() {
   static RTCDevice device = [] {
     RTCDevice d = rtcNewDevice("verbose=0");
-    if (!d) throw Error("Embree: rtcNewDevice failed (error code " + std::to_string(static_cast<int>(rtcGetDeviceError(nullptr))) + ")");
+    if (!d)
+      throw Error("Embree: rtcNewDevice failed (error code " +
+                  std::to_string(static_cast<int>(rtcGetDeviceError(nullptr))) + ")");
     rtcSetDeviceErrorFunction(d, on_error, nullptr);
     return d;
   }();
@@ -68,10 +71,12 @@ EmbreeScene::EmbreeScene(std::vector<Mesh> meshes, bool collect_all_hits)
   for (std::size_t k = 0; k < meshes_.size(); ++k) {
     const Mesh& m = meshes_[k];
     RTCGeometry g = rtcNewGeometry(dev, RTC_GEOMETRY_TYPE_TRIANGLE);
-    auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
-                                                         3 * sizeof(float), std::max<std::size_t>(m.vertices.size(), 1)));
+    auto* v =
+        static_cast<float*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float),
+                                                    std::max<std::size_t>(m.vertices.size(), 1)));
     auto* ix = static_cast<unsigned*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
-                                                              3 * sizeof(unsigned), std::max<std::size_t>(m.triangles.size(), 1)));
+                                                              3 * sizeof(unsigned),
+                                                              std::max<std::size_t>(m.triangles.size(), 1)));
     check(dev, "allocating geometry buffers");
     for (std::size_t i = 0; i < m.vertices.size(); ++i) {
       for (int j = 0; j < 3; ++j) v[3 * i + j] = static_cast<float>(m.vertices[i][j]);
@@ -128,7 +133,8 @@ void EmbreeScene::trace_all(const Eigen::Vector3d& o, const Eigen::Vector3d& d, 
     const double t = n.dot(m.vertices[m.triangles[pid][0]] - o) / nd;
     out.push_back({t, nd < 0 ? +1 : -1, gid, pid});
   }
-  std::sort(out.begin(), out.end(), [](const Crossing& a, const Crossing& b) { return a.t < b.t || (a.t == b.t && a.sign < b.sign); });
+  std::sort(out.begin(), out.end(),
+            [](const Crossing& a, const Crossing& b) { return a.t < b.t || (a.t == b.t && a.sign < b.sign); });
   // Merge crossings of one ray through a shared edge or vertex: same mesh, same sign, (nearly)
   // the same t, triangles sharing a vertex. Coincident faces of different shells stay apart.
   auto adjacent = [&](const Crossing& a, const Crossing& b) {

@@ -45,8 +45,8 @@ class EmbreeScene {
 
   /// One surface crossing along a ray.
   struct Crossing {
-    double t = 0.0;   ///< distance along the (unit) direction, refined in double precision
-    int sign = 0;     ///< +1 entering material (normal against the ray), -1 leaving
+    double t = 0.0;  ///< distance along the (unit) direction, refined in double precision
+    int sign = 0;    ///< +1 entering material (normal against the ray), -1 leaving
     unsigned geom = 0, prim = 0;
   };
   /// Every crossing of the ray o + t d (t > 0), sorted by t, duplicates at shared edges and

@@ -163,7 +163,8 @@ Assembly simulator_disk(const DiskSpec& s) {
   parts.push_back(std::move(disk));
   for (std::size_t k = 0; k < s.holes.size(); ++k) {
     const DiskHole& h = s.holes[k];
-    require(h.diameter > 0 && h.radius + h.diameter / 2 < s.radius, "simulator_disk: hole " + std::to_string(k) + " outside the disk");
+    require(h.diameter > 0 && h.radius + h.diameter / 2 < s.radius,
+            "simulator_disk: hole " + std::to_string(k) + " outside the disk");
     Eigen::Isometry3d at = Eigen::Isometry3d::Identity();
     at.translation() = Eigen::Vector3d(h.radius * std::cos(h.angle), h.radius * std::sin(h.angle), 0.0);
     Mesh hole = cylinder(h.diameter / 2, 0.0, s.thickness, s.hole_segments, "hole_" + std::to_string(k), at);
@@ -179,8 +180,9 @@ Assembly simulator_disk(const DiskSpec& s) {
     const double length = c.mass / (c.density * kPi * r * r);
     Eigen::Isometry3d at = Eigen::Isometry3d::Identity();
     at.translation() = Eigen::Vector3d(h.radius * std::cos(h.angle), h.radius * std::sin(h.angle), 0.0);
-    parts.push_back({cylinder(r, s.thickness, s.thickness + length, s.hole_segments, "clump_on_hole_" + std::to_string(c.hole), at),
-                     c.density});
+    parts.push_back(
+        {cylinder(r, s.thickness, s.thickness + length, s.hole_segments, "clump_on_hole_" + std::to_string(c.hole), at),
+         c.density});
   }
   return parts;
 }
@@ -193,10 +195,12 @@ std::string check_seeker_geometry(const SeekerGeometry& g) {
     return "yaw_span must exceed bearing_width + 2 (ring_gap + ring_section)";
   }
   if (g.barrel_wall >= g.barrel_radius) return "barrel_wall must be thinner than barrel_radius";
-  if (g.aperture_radius >= g.barrel_radius - g.barrel_wall) return "aperture_radius must be smaller than the barrel's bore";
+  if (g.aperture_radius >= g.barrel_radius - g.barrel_wall)
+    return "aperture_radius must be smaller than the barrel's bore";
   if (!(g.barrel_back < g.detector_x && g.detector_x < g.barrel_front)) return "detector_x must lie inside the barrel";
   if (g.window_radius >= g.housing_radius) return "window_radius must be smaller than housing_radius";
-  if (!(g.housing_back < g.barrel_back && g.front_x > g.barrel_front)) return "the housing must extend past both ends of the barrel";
+  if (!(g.housing_back < g.barrel_back && g.front_x > g.barrel_front))
+    return "the housing must extend past both ends of the barrel";
   if (g.segments < 8) return "segments must be at least 8";
   return "";
 }

@@ -69,17 +69,17 @@ struct DiskClump {
 };
 
 struct DiskSpec {
-  double radius = 0.0;      ///< m
-  double thickness = 0.0;   ///< m, at the centre
-  double density = 0.0;     ///< kg/m^3
+  double radius = 0.0;     ///< m
+  double thickness = 0.0;  ///< m, at the centre
+  double density = 0.0;    ///< kg/m^3
   /// Face parallelism: the top face tilts so that the thickness differs by `wedge` (m)
   /// across the diameter, thickest towards `wedge_angle`.
   double wedge = 0.0;
   double wedge_angle = 0.0;
   std::vector<DiskHole> holes;
   std::vector<DiskClump> clumps;
-  int segments = 256;       ///< of the rim
-  int hole_segments = 48;   ///< of each hole and clump
+  int segments = 256;      ///< of the rim
+  int hole_segments = 48;  ///< of each hole and clump
 };
 
 /// Eight holes on each of the two circles C_A (5.10 cm) and C_B (3.50 cm), circle A from
@@ -97,26 +97,26 @@ Assembly simulator_disk(const DiskSpec& spec);
 /// Axes: x the roll axis (LOS at zero), z the yaw axis, the pitch axis along y; the gimbal
 /// centre is the origin.
 struct SeekerGeometry {
-  double yaw_span = 0.082;    ///< L1: yaw bearings at z = +-L1/2 (in the housing's posts)
-  double pitch_span = 0.056;  ///< L2: pitch bearings at y = +-L2/2 (in the ring's sides)
-  double bearing_width = 0.007;   ///< each bearing's width (m)
-  double ring_section = 0.006;    ///< ring members' thickness (radial)
-  double ring_depth = 0.020;      ///< ring extent along x
-  double ring_gap = 0.001;        ///< ring top/bottom members to the yaw bearing seats
-  double shaft_radius = 0.005;    ///< yaw and pitch shafts (short journals in the bearings)
-  double barrel_radius = 0.020;   ///< optical barrel, outer
+  double yaw_span = 0.082;       ///< L1: yaw bearings at z = +-L1/2 (in the housing's posts)
+  double pitch_span = 0.056;     ///< L2: pitch bearings at y = +-L2/2 (in the ring's sides)
+  double bearing_width = 0.007;  ///< each bearing's width (m)
+  double ring_section = 0.006;   ///< ring members' thickness (radial)
+  double ring_depth = 0.020;     ///< ring extent along x
+  double ring_gap = 0.001;       ///< ring top/bottom members to the yaw bearing seats
+  double shaft_radius = 0.005;   ///< yaw and pitch shafts (short journals in the bearings)
+  double barrel_radius = 0.020;  ///< optical barrel, outer
   double barrel_wall = 0.002;
-  double barrel_back = -0.030;    ///< x of the barrel's ends, pitch frame
+  double barrel_back = -0.030;  ///< x of the barrel's ends, pitch frame
   double barrel_front = 0.040;
-  double aperture_radius = 0.015; ///< clear aperture of the optics (beam radius)
-  double detector_x = -0.025;     ///< beam origin plane, pitch frame
-  double housing_radius = 0.058;  ///< inner radius of the housing cylinder
+  double aperture_radius = 0.015;  ///< clear aperture of the optics (beam radius)
+  double detector_x = -0.025;      ///< beam origin plane, pitch frame
+  double housing_radius = 0.058;   ///< inner radius of the housing cylinder
   double housing_wall = 0.003;
-  double housing_back = -0.080;   ///< x of the open back end
-  double front_x = 0.075;         ///< x of the front wall's inner face
+  double housing_back = -0.080;  ///< x of the open back end
+  double front_x = 0.075;        ///< x of the front wall's inner face
   double front_wall = 0.004;
-  double window_radius = 0.055;   ///< radius of the window opening in the front wall
-  double post_radius = 0.010;     ///< yaw bearing posts (cylinders about z, housing to bearing)
+  double window_radius = 0.055;  ///< radius of the window opening in the front wall
+  double post_radius = 0.010;    ///< yaw bearing posts (cylinders about z, housing to bearing)
   int segments = 96;
 };
 

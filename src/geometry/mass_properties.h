@@ -28,9 +28,9 @@ namespace poise::geometry {
 
 /// Zeroth, first and second moments about the origin; additive over bodies.
 struct Moments {
-  double mass = 0.0;                                   ///< kg
-  Eigen::Vector3d first = Eigen::Vector3d::Zero();     ///< kg m
-  Eigen::Matrix3d second = Eigen::Matrix3d::Zero();    ///< kg m^2, int rho x x^T
+  double mass = 0.0;                                 ///< kg
+  Eigen::Vector3d first = Eigen::Vector3d::Zero();   ///< kg m
+  Eigen::Matrix3d second = Eigen::Matrix3d::Zero();  ///< kg m^2, int rho x x^T
   Moments& operator+=(const Moments& o);
 };
 
@@ -46,7 +46,7 @@ Moments exact_moments(const Mesh& mesh, double density);
 Moments exact_moments(const Assembly& parts);
 
 struct RayGridOptions {
-  int axis = 2;            ///< rays along x (0), y (1) or z (2)
+  int axis = 2;  ///< rays along x (0), y (1) or z (2)
   /// Cells across the larger transverse side of the body's bounding box; h = that side / n.
   int rays_per_side = 200;
 };
@@ -75,8 +75,8 @@ inline constexpr double kMaxOverlapShare = 1e-6;
 /// Ray-cast moments of every mesh of a scene built with collect_all_hits (densities per
 /// geomID). Rows of the grid run in parallel (oneTBB); the sum is taken in row order, so
 /// the result is the same for any thread count.
-Moments raycast_moments(const EmbreeScene& scene, const std::vector<double>& densities,
-                        const RayGridOptions& opt, RayCastStats* stats = nullptr);
+Moments raycast_moments(const EmbreeScene& scene, const std::vector<double>& densities, const RayGridOptions& opt,
+                        RayCastStats* stats = nullptr);
 /// One scene and one grid per body (fitted to its bounding box), so a small part (a hole, a
 /// clump weight) gets as many rays as a large one and its result moves with it exactly.
 Moments raycast_moments(const Assembly& parts, const RayGridOptions& opt, RayCastStats* stats = nullptr);

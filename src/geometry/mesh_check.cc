@@ -240,8 +240,8 @@ std::string open_edges_error(const Mesh& mesh, const MeshCheck& r, const std::ve
                     ", the first at " + describe_triangle(mesh, r.open_edges.first_triangle);
   const Gap gap = widest_gap(mesh, open);
   if (gap.width_m < 0.0) return msg;
-  msg += "; the widest gap is " + describe_length(mesh, gap.width_m) + " across, near " +
-         describe_point(mesh, gap.where);
+  msg +=
+      "; the widest gap is " + describe_length(mesh, gap.width_m) + " across, near " + describe_point(mesh, gap.where);
   // A crack far narrower than the part: welding its sides would close it.
   if (gap.width_m == 0.0) {
     msg += " (vertices that coincide but are not shared: a weld joins them, --weld 0 keeps them apart)";
@@ -276,8 +276,9 @@ void topology_errors(const Mesh& mesh, MeshCheck& r, const Surface& s) {
                       !r.non_orientable_shells.count;
   Defect degenerate = r.degenerate_triangles;
   if (!closed && r.zero_area_triangles.count) {
-    degenerate.first_triangle = degenerate.count ? std::min(degenerate.first_triangle, r.zero_area_triangles.first_triangle)
-                                                 : r.zero_area_triangles.first_triangle;
+    degenerate.first_triangle = degenerate.count
+                                    ? std::min(degenerate.first_triangle, r.zero_area_triangles.first_triangle)
+                                    : r.zero_area_triangles.first_triangle;
     degenerate.count += r.zero_area_triangles.count;
   }
   if (degenerate.count) {

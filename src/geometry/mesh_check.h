@@ -94,5 +94,4 @@ MeshCheck require_valid_mesh(const Mesh& mesh);
 /// `unit` is the name the lengths were read in ("mm", "m", "in", "cm"), `unit_m` its size.
 std::string unit_warning(const Mesh& mesh, const std::string& unit, double unit_m);
 
-
 }  // namespace poise::geometry

@@ -39,7 +39,9 @@ Gap widest_gap(const Mesh& mesh, const std::vector<Edge>& open_edges) {
   // Sorted by the x of their middles: an edge farther in x than the best so far (plus both
   // half-lengths) cannot be nearer.
   std::sort(segs.begin(), segs.end(), [](const Segment& x, const Segment& y) {
-    return x.mid.x() != y.mid.x() ? x.mid.x() < y.mid.x() : x.mid.y() != y.mid.y() ? x.mid.y() < y.mid.y() : x.mid.z() < y.mid.z();
+    return x.mid.x() != y.mid.x()   ? x.mid.x() < y.mid.x()
+           : x.mid.y() != y.mid.y() ? x.mid.y() < y.mid.y()
+                                    : x.mid.z() < y.mid.z();
   });
   std::size_t tests = 0;
   for (std::size_t i = 0; i < segs.size() && tests < kMaxTests; ++i) {

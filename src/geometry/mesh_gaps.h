@@ -20,7 +20,7 @@ namespace poise::geometry {
 using Edge = std::array<std::uint32_t, 2>;
 
 struct Gap {
-  double width_m = -1.0;  ///< < 0: no other open edge to measure to
+  double width_m = -1.0;                            ///< < 0: no other open edge to measure to
   Eigen::Vector3d where = Eigen::Vector3d::Zero();  ///< the middle of the open edge at the widest gap
 };
 

@@ -14,8 +14,8 @@
 #include <vector>
 
 #include "geometry/mesh_needles.h"
-#include "geometry/vertex_welder.h"
 #include "geometry/polygon_triangulation.h"
+#include "geometry/vertex_welder.h"
 
 namespace poise::geometry {
 namespace {
@@ -81,7 +81,8 @@ class StlAsciiReader {
           if (tok.size() != 5 || lower(tok[1]) != "normal") expect("'facet normal nx ny nz'");
           for (int k = 2; k < 5; ++k) {
             double v;
-            if (!parse_double(tok[k], v)) fail_line(name_, ln, "facet normal component '" + tok[k] + "' is not a number");
+            if (!parse_double(tok[k], v))
+              fail_line(name_, ln, "facet normal component '" + tok[k] + "' is not a number");
           }
           facet_line_ = ln;
           state_ = State::kFacet;
@@ -242,8 +243,9 @@ Mesh read_obj(std::istream& in, const std::string& name, double unit_m) {
         const auto nv = static_cast<long long>(mesh.vertices.size());
         const long long resolved = i > 0 ? i - 1 : nv + i;
         if (resolved < 0 || resolved >= nv) {
-          fail_line(name, ln, "face vertex index " + std::to_string(i) + " is out of range (" + std::to_string(nv) +
-                                  " vertices defined so far)");
+          fail_line(name, ln,
+                    "face vertex index " + std::to_string(i) + " is out of range (" + std::to_string(nv) +
+                        " vertices defined so far)");
         }
         poly.push_back(static_cast<std::uint32_t>(resolved));
       }
@@ -286,7 +288,8 @@ Mesh read_stl(const std::string& bytes, const std::string& name, double unit_m) 
   const std::size_t whole = (bytes.size() - 84) / 50;
   throw MeshFormatError(name + ": binary STL header declares " + std::to_string(n) + " triangles (" +
                         std::to_string(expected) + " bytes) but the file has " + std::to_string(bytes.size()) +
-                        " bytes" + (bytes.size() < expected ? " (truncated in triangle " + std::to_string(whole) + ")" : ""));
+                        " bytes" +
+                        (bytes.size() < expected ? " (truncated in triangle " + std::to_string(whole) + ")" : ""));
 }
 
 Mesh load_mesh(const std::string& path, double unit_m, LoadReport* report, double weld_m) {
@@ -314,7 +317,8 @@ std::string obj_text(const Mesh& mesh, double unit_m) {
   std::ostringstream out;
   out.precision(10);
   out << "# " << mesh.name << " (Poise), units: " << unit_m << " m\n";
-  for (const auto& v : mesh.vertices) out << "v " << v.x() / unit_m << ' ' << v.y() / unit_m << ' ' << v.z() / unit_m << '\n';
+  for (const auto& v : mesh.vertices)
+    out << "v " << v.x() / unit_m << ' ' << v.y() / unit_m << ' ' << v.z() / unit_m << '\n';
   for (const auto& t : mesh.triangles) out << "f " << t[0] + 1 << ' ' << t[1] + 1 << ' ' << t[2] + 1 << '\n';
   return out.str();
 }
@@ -332,7 +336,8 @@ std::string stl_bytes(const Mesh& mesh, double unit_m) {
     const Eigen::Vector3d nrm = mesh.face_normal(k).normalized();
     for (int j = 0; j < 3; ++j) rec[j] = static_cast<float>(nrm[j]);
     for (int i = 0; i < 3; ++i) {
-      for (int j = 0; j < 3; ++j) rec[3 + 3 * i + j] = static_cast<float>(mesh.vertices[mesh.triangles[k][i]][j] / unit_m);
+      for (int j = 0; j < 3; ++j)
+        rec[3 + 3 * i + j] = static_cast<float>(mesh.vertices[mesh.triangles[k][i]][j] / unit_m);
     }
     out.append(reinterpret_cast<const char*>(rec), sizeof rec);
     const std::uint16_t attr = 0;
@@ -376,9 +381,13 @@ void write_whole_file(const std::string& path, const std::string& bytes) {
 
 }  // namespace
 
-void write_obj(const Mesh& mesh, const std::string& path, double unit_m) { write_whole_file(path, obj_text(mesh, unit_m)); }
+void write_obj(const Mesh& mesh, const std::string& path, double unit_m) {
+  write_whole_file(path, obj_text(mesh, unit_m));
+}
 
-void write_stl(const Mesh& mesh, const std::string& path, double unit_m) { write_whole_file(path, stl_bytes(mesh, unit_m)); }
+void write_stl(const Mesh& mesh, const std::string& path, double unit_m) {
+  write_whole_file(path, stl_bytes(mesh, unit_m));
+}
 
 void write_ascii_stl(const Mesh& mesh, const std::string& path, double unit_m) {
   write_whole_file(path, ascii_stl_text(mesh, unit_m));

@@ -2,14 +2,13 @@
 /// Reading and writing meshes: Wavefront OBJ and STL (binary and ASCII).
 ///
 /// OBJ: `v x y z [w]` (or `v x y z r g b`) vertices, `f i j k ...` faces (polygons are
-/// triangulated by ear clipping, geometry/polygon_triangulation.h; `i`, `i/t`, `i//n`, `i/t/n` and negative, relative indices
-/// accepted); `vt`, `vn`, `vp`, `o`, `g`, `s`, `usemtl`, `mtllib`, `l`, `p` and comments
-/// are skipped; any other statement is an error.
-/// STL: binary when the size is exactly 84 + 50 n bytes for the n the header declares,
-/// else ASCII (`solid` ... `facet normal` / `outer loop` / 3 x `vertex` / `endloop` /
-/// `endfacet` ... `endsolid`, possibly several solids one after another: one mesh). STL repeats vertices per triangle; equal coordinates are
-/// merged so the mesh is indexed (and check_closed() can judge it). STL normals are
-/// ignored: orientation comes from the vertex order, as the format specifies.
+/// triangulated by ear clipping, geometry/polygon_triangulation.h; `i`, `i/t`, `i//n`, `i/t/n` and negative, relative
+/// indices accepted); `vt`, `vn`, `vp`, `o`, `g`, `s`, `usemtl`, `mtllib`, `l`, `p` and comments are skipped; any other
+/// statement is an error. STL: binary when the size is exactly 84 + 50 n bytes for the n the header declares, else
+/// ASCII (`solid` ... `facet normal` / `outer loop` / 3 x `vertex` / `endloop` / `endfacet` ... `endsolid`, possibly
+/// several solids one after another: one mesh). STL repeats vertices per triangle; equal coordinates are merged so the
+/// mesh is indexed (and check_closed() can judge it). STL normals are ignored: orientation comes from the vertex order,
+/// as the format specifies.
 ///
 /// Lengths in the file are in `unit_m` metres per file unit (CAD exports are usually mm:
 /// pass 1e-3). A malformed file throws MeshFormatError, whose message names the file, the

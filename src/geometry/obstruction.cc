@@ -60,7 +60,8 @@ bool closest_callback(RTCPointQueryFunctionArguments* args) {
   const Mesh& m = *cq->mesh;
   const Triangle& tri = m.triangles[args->primID];
   bool on_face = false;
-  const Eigen::Vector3d q = closest_point_on_triangle(cq->p, m.vertices[tri[0]], m.vertices[tri[1]], m.vertices[tri[2]], &on_face);
+  const Eigen::Vector3d q =
+      closest_point_on_triangle(cq->p, m.vertices[tri[0]], m.vertices[tri[1]], m.vertices[tri[2]], &on_face);
   const double d = (q - cq->p).norm();
   if (d < cq->best) {
     cq->best = d;

@@ -70,7 +70,7 @@ class SeekerScenes {
  private:
   SeekerGeometry geometry_;
   SeekerMeshes meshes_;
-  std::unique_ptr<EmbreeScene> base_, yaw_, pitch_;            // beam tracing (nearest hit)
+  std::unique_ptr<EmbreeScene> base_, yaw_, pitch_;             // beam tracing (nearest hit)
   std::unique_ptr<EmbreeScene> housing_q_, ring_q_, barrel_q_;  // point queries, inside tests
   std::vector<Eigen::Vector3d> origins_;
 };

@@ -38,7 +38,7 @@ MassProperties as_built_part(const AssemblyPart& part, const PartDeviation& d) {
 
 MassProperties as_built_assembly(const std::vector<AssemblyPart>& parts, const std::vector<PartDeviation>& deviations) {
   POISE_INVARIANT(deviations.empty() || deviations.size() == parts.size(),
-          "as_built_assembly: one deviation per part, or none");
+                  "as_built_assembly: one deviation per part, or none");
   std::vector<MassProperties> bodies;
   bodies.reserve(parts.size());
   for (std::size_t i = 0; i < parts.size(); ++i) {

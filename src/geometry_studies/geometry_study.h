@@ -30,7 +30,6 @@ class TomlReader;  // engine/study_files/toml_reader.h
 namespace poise::geometry_studies {
 using namespace poise::engine;
 
-
 struct GeometryStudySpec {
   // geometry_mass_properties
   int rays_per_side = 200;

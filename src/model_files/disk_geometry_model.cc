@@ -14,7 +14,8 @@ namespace {
 using units::kDensity;
 }  // namespace
 
-DiskGeometryModel load_disk_geometry_model(const std::string& path, const std::map<std::string, std::string>& overrides) {
+DiskGeometryModel load_disk_geometry_model(const std::string& path,
+                                           const std::map<std::string, std::string>& overrides) {
   auto [doc, ctx] = open_model_file(path, overrides);
   TomlReader root(doc, ctx);
   DiskGeometryModel m;
@@ -37,13 +38,15 @@ DiskGeometryModel load_disk_geometry_model(const std::string& path, const std::m
     s.hole_segments = static_cast<int>(t.integer("segments", 8, 1024, 48));
     t.accept_notes();
     if (s.radius > 0 && ra + d / 2 >= s.radius) {
-      t.error("circle_a_radius", units::format(ra, "mm"), "holes inside the disk (circle radius + diameter/2 < disk radius)");
+      t.error("circle_a_radius", units::format(ra, "mm"),
+              "holes inside the disk (circle radius + diameter/2 < disk radius)");
     }
     if (d > 0 && std::abs(ra - rb) < d) {
       t.error("circle_b_radius", units::format(rb, "mm"), "circles at least one hole diameter apart");
     }
     if (d > 0 && 2 * rb * std::sin(std::numbers::pi / 8) <= d) {
-      t.error("circle_b_radius", units::format(rb, "mm"), "holes of circle B apart from each other (2 r sin(22.5 deg) > diameter)");
+      t.error("circle_b_radius", units::format(rb, "mm"),
+              "holes of circle B apart from each other (2 r sin(22.5 deg) > diameter)");
     }
     s.holes = geometry::yang2015_hole_pattern(d, off, ra, rb);
   }

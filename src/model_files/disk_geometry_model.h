@@ -14,10 +14,10 @@
 #include <string>
 #include <vector>
 
+#include "engine/study_files/model_overrides.h"
+#include "engine/study_files/tolerance_spec.h"
 #include "geometry/generators.h"
 #include "model_files/seeker_model.h"
-#include "engine/study_files/tolerance_spec.h"
-#include "engine/study_files/model_overrides.h"
 
 namespace poise::model_files {
 using namespace poise::engine;

@@ -7,23 +7,23 @@
 #include <iostream>
 
 #include "core/units.h"
+#include "engine/study_files/model_overrides.h"
 #include "geometry/generators.h"
 #include "geometry/mass_properties.h"
-#include "engine/study_files/model_overrides.h"
 
 namespace poise::model_files {
 using namespace poise::engine;
 namespace {
 using units::Dimension;
 
-const Dimension kUnbalance{{1, 1, 0, 0, 0, 0}};          // kg m
-const Dimension kInertia{{2, 1, 0, 0, 0, 0}};            // kg m^2
-const Dimension kStiffness{{0, 1, -2, 0, 0, 0}};         // N/m
-const Dimension kDamping{{0, 1, -1, 0, 0, 0}};           // N s/m
-const Dimension kRotDamping{{2, 1, -1, 0, -1, 0}};       // N m s/rad
-const Dimension kRotStiffness{{2, 1, -2, 0, -1, 0}};     // N m/rad
-const Dimension kAngularRate{{0, 0, -1, 0, 1, 0}};       // rad/s
-const Dimension kTorquePerCurrent{{2, 1, -2, -1, 0, 0}}; // N m/A
+const Dimension kUnbalance{{1, 1, 0, 0, 0, 0}};           // kg m
+const Dimension kInertia{{2, 1, 0, 0, 0, 0}};             // kg m^2
+const Dimension kStiffness{{0, 1, -2, 0, 0, 0}};          // N/m
+const Dimension kDamping{{0, 1, -1, 0, 0, 0}};            // N s/m
+const Dimension kRotDamping{{2, 1, -1, 0, -1, 0}};        // N m s/rad
+const Dimension kRotStiffness{{2, 1, -2, 0, -1, 0}};      // N m/rad
+const Dimension kAngularRate{{0, 0, -1, 0, 1, 0}};        // rad/s
+const Dimension kTorquePerCurrent{{2, 1, -2, -1, 0, 0}};  // N m/A
 
 }  // namespace
 
@@ -48,8 +48,9 @@ void read_oscillation_table(TomlReader& t, procedures::OscillationConfig& o) {
   o.swing_range = t.quantity("swing_range", units::kAngle, positive, 3.0 * units::kRadPerDeg);
   const double swing = o.rate_amplitude * o.period / (2.0 * units::kPi);
   if (std::abs(o.centre) + swing > o.swing_range + 1e-12) {
-    t.error("rate_amplitude", "", "an oscillation within the stated swing_range +-" + units::format(o.swing_range, "deg", 4) +
-                                      " (|centre| + A T / 2 pi = " + units::format(std::abs(o.centre) + swing, "deg", 4) + ")");
+    t.error("rate_amplitude", "",
+            "an oscillation within the stated swing_range +-" + units::format(o.swing_range, "deg", 4) +
+                " (|centre| + A T / 2 pi = " + units::format(std::abs(o.centre) + swing, "deg", 4) + ")");
   }
   t.accept_notes();
 }
@@ -78,7 +79,7 @@ void read_solver_table(TomlReader& t, solvers::CvodeOptions& solver) {
   const double atol_length = t.quantity("atol_length", units::kLength, positive);
   solver.max_order = static_cast<int>(t.integer("max_order", 1, 5));
   // phi, phidot, y, ydot, z, zdot, integral of the angle error
-  solver.atol_per_state = {atol_angle, 10 * atol_angle, atol_length, 1e3 * atol_length,
+  solver.atol_per_state = {atol_angle,  10 * atol_angle,   atol_length,     1e3 * atol_length,
                            atol_length, 1e3 * atol_length, 0.1 * atol_angle};
   t.accept_notes();
 }
@@ -148,11 +149,10 @@ void check_quasi_static_supports(TomlReader& root, const GimbalModel& m) {
     // The reduction drops terms of order (servo / support frequency)^2: 1% at a factor 10.
     const double f_support = std::sqrt(m.rotor.support_stiffness / m.rotor.mass) / (2.0 * units::kPi);
     if (f_support < 10.0 * m.plan.servo.bandwidth_hz) {
-      root.table("rotor").error(
-          "supports", "\"quasi_static\"",
-          "\"dynamic\", or supports whose mode sqrt(support_stiffness / mass) / 2 pi = " +
-              units::format(f_support, "Hz", 4) + " is at least 10 x the servo bandwidth (" +
-              units::format(m.plan.servo.bandwidth_hz, "Hz", 4) + ")");
+      root.table("rotor").error("supports", "\"quasi_static\"",
+                                "\"dynamic\", or supports whose mode sqrt(support_stiffness / mass) / 2 pi = " +
+                                    units::format(f_support, "Hz", 4) + " is at least 10 x the servo bandwidth (" +
+                                    units::format(m.plan.servo.bandwidth_hz, "Hz", 4) + ")");
     }
   }
 }
@@ -179,7 +179,9 @@ void read_plausibility_and_disturbances(TomlReader& root, GimbalModel& m) {
     auto& p = m.plausibility;
     p.stated = true;
     p.kt_temperature_coefficient_per_K = t.number("kt_temperature_coefficient_per_K", [](double v) {
-      return v != 0.0 && std::abs(v) < 0.1 ? "" : "a relative change of K_T per kelvin, nonzero and below 0.1 (NdFeB: -0.0012)";
+      return v != 0.0 && std::abs(v) < 0.1
+                 ? ""
+                 : "a relative change of K_T per kelvin, nonzero and below 0.1 (NdFeB: -0.0012)";
     });
     p.magnet_temperature_swing_K = t.number("magnet_temperature_swing_K", [](double v) {
       return v >= 0.0 && v <= 200.0 ? "" : "kelvin from 0 to 200 (1 sigma between tests)";
@@ -275,10 +277,12 @@ GeometryInputs read_geometry_table(TomlReader& root, const std::string& path, Gi
     TomlReader t = root.table("geometry");
     g.disk_model = t.string("disk_model", "");  // "" = off
     if (!g.disk_model.empty()) {
-      const std::string resolved = (std::filesystem::path(path).parent_path() / g.disk_model).lexically_normal().string();
+      const std::string resolved =
+          (std::filesystem::path(path).parent_path() / g.disk_model).lexically_normal().string();
       std::error_code ec;  // a name too long for the file system is a missing file, not an exception
       if (!std::filesystem::is_regular_file(resolved, ec)) {
-        t.error("disk_model", quote_value(g.disk_model), "\"\" (off) or an existing disk model file (looked for " + resolved + ")");
+        t.error("disk_model", quote_value(g.disk_model),
+                "\"\" (off) or an existing disk model file (looked for " + resolved + ")");
       }
       g.disk_model = resolved;
     }
@@ -316,8 +320,7 @@ void attach_geometry(GeometryInputs&& g, const std::string& path, GimbalModel& m
 
 }  // namespace
 
-GimbalModel load_gimbal_model(const std::string& path,
-                              const std::map<std::string, std::string>& overrides) {
+GimbalModel load_gimbal_model(const std::string& path, const std::map<std::string, std::string>& overrides) {
   auto [doc, ctx] = open_model_file(path, overrides);
   TomlReader root(doc, ctx);
   GimbalModel m;
@@ -351,9 +354,10 @@ std::vector<std::string> plausibility_warnings(const GimbalModel& m) {
   const double coef = std::abs(p.kt_temperature_coefficient_per_K);
   const double k_limit = coef * p.magnet_temperature_swing_K;
   if (s_k > k_limit * (1.0 + 1e-9)) {
-    w.push_back("tolerances.kt_drift: 1 sigma " + num(100.0 * s_k) + "% of K_T between tests needs a " + num(s_k / coef) +
-                " K (1 sigma) magnet temperature swing at " + num(100.0 * p.kt_temperature_coefficient_per_K) +
-                " %/K; [plausibility] states " + num(p.magnet_temperature_swing_K) + " K (" + num(100.0 * k_limit) +
+    w.push_back("tolerances.kt_drift: 1 sigma " + num(100.0 * s_k) + "% of K_T between tests needs a " +
+                num(s_k / coef) + " K (1 sigma) magnet temperature swing at " +
+                num(100.0 * p.kt_temperature_coefficient_per_K) + " %/K; [plausibility] states " +
+                num(p.magnet_temperature_swing_K) + " K (" + num(100.0 * k_limit) +
                 "% of K_T): past the physically plausible range");
   }
   const double s_z = m.gimbal_zero.spec.dist.stddev();

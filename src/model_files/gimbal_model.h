@@ -9,20 +9,20 @@
 #include <string>
 #include <vector>
 
-#include "procedures/static_unbalance_procedure.h"
-#include "model_files/disk_geometry_model.h"
-#include "engine/study_files/tolerance_spec.h"
-#include "engine/study_files/user_parts.h"
-#include "engine/study_files/toml_reader.h"
 #include "engine/study_files/model_overrides.h"
+#include "engine/study_files/tolerance_spec.h"
+#include "engine/study_files/toml_reader.h"
+#include "engine/study_files/user_parts.h"
+#include "model_files/disk_geometry_model.h"
+#include "procedures/static_unbalance_procedure.h"
 
 namespace poise::model_files {
 using namespace poise::engine;
 
 struct GimbalModel : ModelHeader {  ///< file, name, title, source of the model file
-  models::DiskRotorParams rotor;   ///< eccentricity comes from the sampled unbalance
-  procedures::TestPlan plan;       ///< positions are set per test group
-  double counterweight_radius = 0; ///< R of Eq. 23 (m)
+  models::DiskRotorParams rotor;    ///< eccentricity comes from the sampled unbalance
+  procedures::TestPlan plan;        ///< positions are set per test group
+  double counterweight_radius = 0;  ///< R of Eq. 23 (m)
   /// [counterweight] placement: "disk_frame" (at the fitted angle + 180 deg on the disk's own
   /// angle scale, registered to the gimbal zero: the zero errors go into the placement) or
   /// "turntable" (Yang 2015 Sec. 5.2: the turntable is turned back to the fitted angle and the
@@ -36,21 +36,21 @@ struct GimbalModel : ModelHeader {  ///< file, name, title, source of the model 
   std::string error_mechanism = "scale_and_zero";
   procedures::Disturbances disturbances;  ///< undeclared effects, off unless [disturbances] sets them
   // Tolerances (SI). Magnitudes for vectors; their directions are uniform.
-  ScopedTolerance residual_unbalance;   ///< simulator's own unbalance (kg m), random angle
-  ScopedTolerance runout;               ///< bearing run-out (m), random angle
-  ScopedTolerance clump_mass;           ///< deviation of the test mass (kg)
-  ScopedTolerance hole_radius;          ///< deviation of the hole radius (m)
-  ScopedTolerance hole_angle;           ///< deviation of the hole angle (rad)
-  ScopedTolerance kt_calibration;       ///< K_T true / nominal - 1
-  ScopedTolerance kt_drift;             ///< further K_T change between tests
-  ScopedTolerance turntable_zero;       ///< registration error of the turntable zero (rad)
-  ScopedTolerance gimbal_zero;          ///< registration error of the gimbal zero (rad)
-  ScopedTolerance axis_tilt;            ///< gimbal axis vs turntable axis (rad), random azimuth
-  ScopedTolerance counterweight_mass;   ///< placement: mass deviation (relative)
+  ScopedTolerance residual_unbalance;          ///< simulator's own unbalance (kg m), random angle
+  ScopedTolerance runout;                      ///< bearing run-out (m), random angle
+  ScopedTolerance clump_mass;                  ///< deviation of the test mass (kg)
+  ScopedTolerance hole_radius;                 ///< deviation of the hole radius (m)
+  ScopedTolerance hole_angle;                  ///< deviation of the hole angle (rad)
+  ScopedTolerance kt_calibration;              ///< K_T true / nominal - 1
+  ScopedTolerance kt_drift;                    ///< further K_T change between tests
+  ScopedTolerance turntable_zero;              ///< registration error of the turntable zero (rad)
+  ScopedTolerance gimbal_zero;                 ///< registration error of the gimbal zero (rad)
+  ScopedTolerance axis_tilt;                   ///< gimbal axis vs turntable axis (rad), random azimuth
+  ScopedTolerance counterweight_mass;          ///< placement: mass deviation (relative)
   ScopedTolerance counterweight_radius_error;  ///< placement: radius deviation (m)
-  ScopedTolerance counterweight_angle;  ///< placement: angle deviation (rad)
-  ScopedTolerance unbalance_error_along;   ///< additive error along the estimated unbalance (kg m)
-  ScopedTolerance unbalance_error_across;  ///< additive error across it (kg m)
+  ScopedTolerance counterweight_angle;         ///< placement: angle deviation (rad)
+  ScopedTolerance unbalance_error_along;       ///< additive error along the estimated unbalance (kg m)
+  ScopedTolerance unbalance_error_across;      ///< additive error across it (kg m)
   /// [plausibility] (optional): what the calibrated per-test tolerances may physically be.
   struct Plausibility {
     bool stated = false;
@@ -94,7 +94,6 @@ void read_test_plan_tables(TomlReader& root, procedures::TestPlan& plan);
 std::vector<std::string> plausibility_warnings(const GimbalModel& m);
 
 /// Loads and validates; `overrides` replace values by dotted key. Throws ValidationError.
-GimbalModel load_gimbal_model(const std::string& path,
-                              const std::map<std::string, std::string>& overrides = {});
+GimbalModel load_gimbal_model(const std::string& path, const std::map<std::string, std::string>& overrides = {});
 
 }  // namespace poise::model_files

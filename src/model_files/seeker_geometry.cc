@@ -3,10 +3,10 @@
 #include <filesystem>
 
 #include "core/error.h"
-#include "geometry/mesh_check.h"
-#include "geometry/mesh_io.h"
 #include "engine/study_files/model_overrides.h"
 #include "engine/study_files/user_parts.h"
+#include "geometry/mesh_check.h"
+#include "geometry/mesh_io.h"
 
 namespace poise::model_files {
 using namespace poise::engine;
@@ -17,8 +17,8 @@ std::shared_ptr<const geometry::Mesh> read_mesh(TomlReader& t, const char* key, 
                                                 const std::string& base_dir, std::string& resolved) {
   const std::string file = t.string(key, "");
   if (file.empty() || t.schema_only()) return nullptr;
-  const std::filesystem::path p = std::filesystem::path(file).is_absolute() ? std::filesystem::path(file)
-                                                                           : std::filesystem::path(base_dir) / file;
+  const std::filesystem::path p =
+      std::filesystem::path(file).is_absolute() ? std::filesystem::path(file) : std::filesystem::path(base_dir) / file;
   resolved = p.lexically_normal().string();
   try {
     std::error_code ec;

@@ -25,8 +25,8 @@
 #include <optional>
 #include <string>
 
-#include "geometry/generators.h"
 #include "engine/study_files/toml_reader.h"
+#include "geometry/generators.h"
 #include "model_files/seeker_model.h"
 
 namespace poise::model_files {

@@ -25,7 +25,7 @@ struct SourceDef {
 // with the shaft (1), clearance sets a static offset (0), an oval bore and seat give 2,
 // ball form error is taken at the cage's ball-pass order (3 by default; set `order`).
 constexpr SourceDef kBearingSources[] = {
-    {"radial_runout", 1.0, true},  {"face_runout", 1.0, true},   {"clearance", 0.0, true},
+    {"radial_runout", 1.0, true},  {"face_runout", 1.0, true},     {"clearance", 0.0, true},
     {"bore_roundness", 2.0, true}, {"ball_roundness", 3.0, false}, {"seat_deformation", 2.0, false},
 };
 
@@ -35,8 +35,10 @@ void read_tilt_reading(TomlReader& axis_table, const std::string& axis, TiltRead
   if (axis != "yaw") {
     for (const char* key : {"direction", "sigma_of", "azimuth"}) {
       if (t.has(key)) {
-        t.error(key, "", std::string("no `") + key + "` here: the pitch axis' perpendicularity is its tilt towards "
-                "the yaw axis, one direction by definition (the key belongs to [yaw.perpendicularity])");
+        t.error(key, "",
+                std::string("no `") + key +
+                    "` here: the pitch axis' perpendicularity is its tilt towards "
+                    "the yaw axis, one direction by definition (the key belongs to [yaw.perpendicularity])");
       }
     }
     return;
@@ -46,15 +48,18 @@ void read_tilt_reading(TomlReader& axis_table, const std::string& axis, TiltRead
   // With a fixed direction the tolerance is that of the one signed component: sigma_of may
   // say "component" (so that one override of `direction` and one of `sigma_of` turn the
   // shipped reading into the paper's), never "magnitude".
-  const std::string sigma_of = t.choice("sigma_of", {"magnitude", "component"}, r.random_direction ? "magnitude" : "component");
+  const std::string sigma_of =
+      t.choice("sigma_of", {"magnitude", "component"}, r.random_direction ? "magnitude" : "component");
   r.per_component = r.random_direction && sigma_of == "component";
   if (!r.random_direction || t.schema_only()) r.azimuth = t.quantity("azimuth", kAngle, {}, 0.0);
   if (r.random_direction && t.has("azimuth")) {
-    t.error("azimuth", "", "no azimuth with direction = \"random\" (the azimuth is drawn); set direction = "
+    t.error("azimuth", "",
+            "no azimuth with direction = \"random\" (the azimuth is drawn); set direction = "
             "\"fixed\" to give one");
   }
   if (!r.random_direction && sigma_of == "magnitude") {
-    t.error("sigma_of", sigma_of, "sigma_of = \"component\" (or no sigma_of) with direction = \"fixed\": the "
+    t.error("sigma_of", sigma_of,
+            "sigma_of = \"component\" (or no sigma_of) with direction = \"fixed\": the "
             "tolerance is that of the one signed component along `azimuth`; \"magnitude\" reads a tilt of random "
             "direction");
   }
@@ -74,8 +79,8 @@ SeekerAxis read_axis(TomlReader& root, const std::string& name) {
     src.load_scaled = def.load_scaled;
     src.spec = read_tolerance(t, def.name, kLength, "mm");
     TomlReader st = t.table(def.name);
-    src.order = st.number("order", [](double v) { return v >= 0 ? "" : "an order >= 0"; },
-                          def.default_order);
+    src.order = st.number(
+        "order", [](double v) { return v >= 0 ? "" : "an order >= 0"; }, def.default_order);
     axis.bearing_sources.push_back(src);
   }
   return axis;
@@ -128,8 +133,7 @@ models::WangBudgetInputs SeekerModel::budget_inputs() const {
   return in;
 }
 
-SeekerModel load_seeker_model(const std::string& path,
-                              const std::map<std::string, std::string>& overrides) {
+SeekerModel load_seeker_model(const std::string& path, const std::map<std::string, std::string>& overrides) {
   auto [doc, ctx] = open_model_file(path, overrides);
   TomlReader root(doc, ctx);
   SeekerModel m;
@@ -160,8 +164,8 @@ SeekerModel load_seeker_model(const std::string& path,
     m.barrel_length = t.quantity("barrel_length", kLength, positive);
     m.optical_axis = read_tolerance(t, "axis_error", kLength, "mm");
   }
-  m.geometry = read_seeker_geometry(root, m.yaw.span, m.pitch.span,
-                                    std::filesystem::path(path).parent_path().string(), m.meshes);
+  m.geometry = read_seeker_geometry(root, m.yaw.span, m.pitch.span, std::filesystem::path(path).parent_path().string(),
+                                    m.meshes);
   finish(doc, *ctx);
   if (!ctx->errors.empty()) throw ValidationError(ctx->errors);
   return m;
@@ -200,8 +204,7 @@ SeekerSampler::SeekerSampler(SeekerModel model) : model_(std::move(model)) {
   }
 }
 
-models::SeekerErrorState SeekerSampler::draw(std::span<const double> u,
-                                             std::span<double> values) const {
+models::SeekerErrorState SeekerSampler::draw(std::span<const double> u, std::span<double> values) const {
   if (u.size() != dimension() || values.size() != dimension()) {  // per sample: no string unless wrong
     throw Error("seeker sampler: design point of the wrong size");
   }

@@ -29,30 +29,30 @@
 #include <string>
 #include <vector>
 
+#include "engine/study_files/input_column.h"
+#include "engine/study_files/model_overrides.h"
+#include "engine/study_files/tolerance_spec.h"
 #include "geometry/generators.h"
 #include "models/seeker_los_budget.h"
 #include "models/seeker_los_chain.h"
-#include "engine/study_files/input_column.h"
-#include "engine/study_files/tolerance_spec.h"
-#include "engine/study_files/model_overrides.h"
 
 namespace poise::model_files {
 using namespace poise::engine;
 
 /// A displacement source at the bearings of one axis.
 struct BearingSource {
-  std::string name;      ///< "radial_runout", ...
-  ToleranceSpec spec;    ///< amplitude per bearing (m)
-  double order = 1.0;    ///< cycles per shaft turn
+  std::string name;          ///< "radial_runout", ...
+  ToleranceSpec spec;        ///< amplitude per bearing (m)
+  double order = 1.0;        ///< cycles per shaft turn
   bool load_scaled = false;  ///< multiplied by k'
 };
 
 /// How the yaw perpendicularity's tilt is drawn (see above).
 struct TiltReading {
-  bool random_direction = true;     ///< direction = "random" | "fixed"
-  bool per_component = false;       ///< sigma_of = "component" | "magnitude" (random only)
-  double azimuth = 0.0;             ///< rad, direction = "fixed"
-  std::string describe() const;     ///< e.g. "random direction, tolerance of the magnitude"
+  bool random_direction = true;  ///< direction = "random" | "fixed"
+  bool per_component = false;    ///< sigma_of = "component" | "magnitude" (random only)
+  double azimuth = 0.0;          ///< rad, direction = "fixed"
+  std::string describe() const;  ///< e.g. "random direction, tolerance of the magnitude"
 };
 struct SeekerAxis {
   double span = 0.0;  ///< bearing span L (m)
@@ -61,9 +61,9 @@ struct SeekerAxis {
   std::vector<BearingSource> bearing_sources;
 };
 
-struct SeekerModel : ModelHeader {  ///< file, name, title, source of the model file
+struct SeekerModel : ModelHeader {                                ///< file, name, title, source of the model file
   double yaw_min = 0, yaw_max = 0, pitch_min = 0, pitch_max = 0;  ///< rad
-  double pixel_ifov = 0;   ///< rad per pixel
+  double pixel_ifov = 0;                                          ///< rad per pixel
   std::string pixel_ifov_source;
   ToleranceSpec load_deformation;  ///< k'
   SeekerAxis yaw, pitch;
@@ -88,8 +88,7 @@ struct SeekerModel : ModelHeader {  ///< file, name, title, source of the model 
 
 /// Loads and validates a model file; `overrides` replace values by dotted key before
 /// validation ("yaw.bearing_span" -> "100 mm"). Throws ValidationError with every problem.
-SeekerModel load_seeker_model(const std::string& path,
-                              const std::map<std::string, std::string>& overrides = {});
+SeekerModel load_seeker_model(const std::string& path, const std::map<std::string, std::string>& overrides = {});
 
 /// Maps unit-hypercube points to error realizations. Immutable, thread-safe.
 class SeekerSampler {

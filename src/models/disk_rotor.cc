@@ -18,8 +18,8 @@ GimbalGravity gravity_in_gimbal(double g, double theta, double tilt, double tilt
 
 namespace {
 // Generalized force on phi: motor, cogging, friction, cable and gravity (no y, z in it).
-inline double phi_force(const DiskRotorParams& p, const GimbalGravity& g, double phi, double w, double sp,
-                        double cp, double motor_torque) {
+inline double phi_force(const DiskRotorParams& p, const GimbalGravity& g, double phi, double w, double sp, double cp,
+                        double motor_torque) {
   const double cogging =
       p.cogging_order > 0 ? -p.cogging_torque * std::sin(p.cogging_order * phi + p.cogging_phase) : 0.0;
   return motor_torque + cogging - p.viscous_friction * w - p.coulomb_friction * std::tanh(w / p.coulomb_smoothing) -
@@ -34,8 +34,8 @@ double rigid_axis_acceleration(const DiskRotorParams& p, const GimbalGravity& g,
   return q_phi / (p.inertia + p.mass * p.eccentricity * p.eccentricity);
 }
 
-std::array<double, 3> disk_accelerations(const DiskRotorParams& p, const GimbalGravity& g,
-                                         const DiskState& s, double motor_torque) {
+std::array<double, 3> disk_accelerations(const DiskRotorParams& p, const GimbalGravity& g, const DiskState& s,
+                                         double motor_torque) {
   const double phi = s[0], w = s[1], y = s[2], yd = s[3], z = s[4], zd = s[5];
   const double m = p.mass, e = p.eccentricity;
   const double pa = phi + p.eccentricity_angle;

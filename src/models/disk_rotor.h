@@ -63,20 +63,20 @@
 namespace poise::models {
 
 struct DiskRotorParams {
-  double mass = 0.0;                  ///< m (kg), whole rotating gimbal
-  double inertia = 0.0;               ///< J about the mass centre (kg m^2)
-  double eccentricity = 0.0;          ///< e (m), mass centre from the rotation centre
-  double eccentricity_angle = 0.0;    ///< eps (rad), in the disk frame
-  double support_stiffness = 0.0;     ///< k (N/m), bending of the supports
-  double support_damping = 0.0;       ///< c (N s/m)
-  double viscous_friction = 0.0;      ///< K_f (N m s/rad)
-  double coulomb_friction = 0.0;      ///< T_c (N m)
-  double coulomb_smoothing = 1e-3;    ///< w_s (rad/s), tanh regularization of sign(phidot)
-  double torsion_stiffness = 0.0;     ///< k_CR (N m/rad), cable / flex
-  double torsion_zero = 0.0;          ///< phi_0 (rad), where the cable torque vanishes
-  double cogging_torque = 0.0;        ///< T_cog (N m): motor cogging -T_cog sin(N phi + psi_cog)
-  int cogging_order = 0;              ///< N, cycles per turn (0 = none)
-  double cogging_phase = 0.0;         ///< psi_cog (rad)
+  double mass = 0.0;                ///< m (kg), whole rotating gimbal
+  double inertia = 0.0;             ///< J about the mass centre (kg m^2)
+  double eccentricity = 0.0;        ///< e (m), mass centre from the rotation centre
+  double eccentricity_angle = 0.0;  ///< eps (rad), in the disk frame
+  double support_stiffness = 0.0;   ///< k (N/m), bending of the supports
+  double support_damping = 0.0;     ///< c (N s/m)
+  double viscous_friction = 0.0;    ///< K_f (N m s/rad)
+  double coulomb_friction = 0.0;    ///< T_c (N m)
+  double coulomb_smoothing = 1e-3;  ///< w_s (rad/s), tanh regularization of sign(phidot)
+  double torsion_stiffness = 0.0;   ///< k_CR (N m/rad), cable / flex
+  double torsion_zero = 0.0;        ///< phi_0 (rad), where the cable torque vanishes
+  double cogging_torque = 0.0;      ///< T_cog (N m): motor cogging -T_cog sin(N phi + psi_cog)
+  int cogging_order = 0;            ///< N, cycles per turn (0 = none)
+  double cogging_phase = 0.0;       ///< psi_cog (rad)
 };
 
 /// Components of gravity perpendicular to the gimbal axis, in the gimbal frame (m/s^2).
@@ -94,8 +94,8 @@ GimbalGravity gravity_in_gimbal(double g, double theta, double tilt = 0.0, doubl
 using DiskState = std::array<double, 6>;
 
 /// Accelerations (phi'', y'', z'') for motor torque M.
-std::array<double, 3> disk_accelerations(const DiskRotorParams& p, const GimbalGravity& g,
-                                         const DiskState& s, double motor_torque);
+std::array<double, 3> disk_accelerations(const DiskRotorParams& p, const GimbalGravity& g, const DiskState& s,
+                                         double motor_torque);
 
 /// phi'' of the rigid rotor on quasi-static supports: Q_phi / (J + m e^2) (see above).
 double rigid_axis_acceleration(const DiskRotorParams& p, const GimbalGravity& g, double phi, double phidot,

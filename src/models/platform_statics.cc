@@ -59,8 +59,8 @@ Eigen::Matrix3d base_from_gimbal(Axis a, const GimbalAngles& q) {
 
 FrameForces specific_force_in_frames(const GimbalAngles& q, const Eigen::Vector3d& f_base) {
   FrameForces f;
-  f.outer = rot_x(q.alpha).transpose() * f_base;  // C_b^o
-  f.middle = rot_z(q.beta).transpose() * f.outer;  // C_o^m
+  f.outer = rot_x(q.alpha).transpose() * f_base;    // C_b^o
+  f.middle = rot_z(q.beta).transpose() * f.outer;   // C_o^m
   f.inner = rot_y(q.gamma).transpose() * f.middle;  // C_m^p
   return f;
 }
@@ -80,9 +80,7 @@ GimbalBody outboard_assembly(const Platform& p, Axis a, const GimbalAngles& q) {
   GimbalBody acc;
   const Eigen::Matrix3d ry = rot_y(q.gamma);
   switch (a) {
-    case Axis::kInner:
-      accumulate(acc, p.inner, Eigen::Matrix3d::Identity());
-      break;
+    case Axis::kInner: accumulate(acc, p.inner, Eigen::Matrix3d::Identity()); break;
     case Axis::kMiddle:
       accumulate(acc, p.middle, Eigen::Matrix3d::Identity());
       accumulate(acc, p.inner, ry);

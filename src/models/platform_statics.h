@@ -60,9 +60,9 @@ struct GimbalAngles {
 /// Mass properties of one gimbal (with what it carries) in its own frame, about the
 /// common centre of the axes.
 struct GimbalBody {
-  double mass = 0.0;                                     ///< kg
+  double mass = 0.0;                                       ///< kg
   Eigen::Vector3d first_moment = Eigen::Vector3d::Zero();  ///< m r (kg m)
-  Eigen::Matrix3d inertia = Eigen::Matrix3d::Zero();     ///< about the centre (kg m^2)
+  Eigen::Matrix3d inertia = Eigen::Matrix3d::Zero();       ///< about the centre (kg m^2)
 
   Eigen::Vector3d centroid() const { return mass > 0 ? Eigen::Vector3d(first_moment / mass) : Eigen::Vector3d::Zero(); }
   /// Adds a point mass (a counterweight) at position p (m) of this gimbal's frame.
@@ -71,7 +71,7 @@ struct GimbalBody {
 
 enum class Axis { kInner = 0, kMiddle = 1, kOuter = 2 };
 inline constexpr std::array<Axis, 3> kAllAxes{Axis::kInner, Axis::kMiddle, Axis::kOuter};
-const char* axis_name(Axis a);           ///< "inner", "middle", "outer"
+const char* axis_name(Axis a);  ///< "inner", "middle", "outer"
 /// Index (0, 1, 2) of the gimbal's rotation axis in its own frame: inner y, middle z, outer x.
 int axis_component(Axis a);
 
@@ -102,7 +102,7 @@ GimbalBody outboard_assembly(const Platform& p, Axis a, const GimbalAngles& q);
 struct PlatformTorques {
   Eigen::Vector3d inner, middle, outer;  ///< tau = S x f: gravity / inertial torque
   /// Axis components: inner y, middle z, outer x (the disturbance the axis servo sees).
-  std::array<double, 3> axis{};          ///< indexed by Axis
+  std::array<double, 3> axis{};  ///< indexed by Axis
   /// The paper's M = f x S = -tau (Eqs. 4, 7, 10), the holding torque.
   Eigen::Vector3d paper(Axis a) const { return -(a == Axis::kInner ? inner : (a == Axis::kMiddle ? middle : outer)); }
 };

@@ -30,8 +30,7 @@ AxisTerms axis_terms(const WangBudgetAxisInputs& a, double k_min, double k_max) 
   const double r2 = a.seat_deformation / (kSqrt2 * a.span) * kArcsecPerRad;
   t.random_wobble = std::sqrt(r1 * r1 + r2 * r2);
   auto rss = [&](double w) {
-    return std::sqrt(t.perpendicularity * t.perpendicularity + w * w +
-                     t.random_wobble * t.random_wobble);
+    return std::sqrt(t.perpendicularity * t.perpendicularity + w * w + t.random_wobble * t.random_wobble);
   };
   t.total_min = rss(t.wobble_min);
   t.total_max = rss(t.wobble_max);
@@ -61,8 +60,8 @@ PointFigures point_figures(double d1, double d2, double d3, double a, double b) 
 
 }  // namespace
 
-WangGridFigures wang_grid_figures(double d1_min, double d1_max, double d2_min, double d2_max,
-                                  double d3, const WangBudgetInputs& in) {
+WangGridFigures wang_grid_figures(double d1_min, double d1_max, double d2_min, double d2_max, double d3,
+                                  const WangBudgetInputs& in) {
   const auto alpha = linspace(in.alpha_min, in.alpha_max, in.grid_points);
   const auto beta = linspace(in.beta_min, in.beta_max, in.grid_points);
   const double inf = std::numeric_limits<double>::infinity();
@@ -106,12 +105,10 @@ WangBudget compute_wang_budget(const WangBudgetInputs& in) {
     b.terms.push_back({std::move(key), std::move(desc), std::move(eq), v, std::move(unit)});
   };
   add("sigma_11", "yaw axis perpendicularity to base", "Eq. 1", y.perpendicularity, "arcsec");
-  add("delta_16", "yaw run-out RSS (radial, face, clearance, bore)", "Sec. 2.1.1 (3)",
-      y.runout_rss * 1e3, "mm");
+  add("delta_16", "yaw run-out RSS (radial, face, clearance, bore)", "Sec. 2.1.1 (3)", y.runout_rss * 1e3, "mm");
   add("sigma_12_min", "yaw wobble, k' = k_min", "Eq. 2", y.wobble_min, "arcsec");
   add("sigma_12_max", "yaw wobble, k' = k_max", "Eq. 2", y.wobble_max, "arcsec");
-  add("sigma_13", "yaw random wobble (ball roundness, seat deformation)", "Eq. 3",
-      y.random_wobble, "arcsec");
+  add("sigma_13", "yaw random wobble (ball roundness, seat deformation)", "Eq. 3", y.random_wobble, "arcsec");
   add("delta_1_min", "yaw shafting total, k' = k_min", "Sec. 2.1.1", y.total_min, "arcsec");
   add("delta_1_max", "yaw shafting total, k' = k_max", "Sec. 2.1.1", y.total_max, "arcsec");
   add("sigma_21", "pitch axis perpendicularity to yaw axis", "Eq. 4", p.perpendicularity, "arcsec");
@@ -138,22 +135,18 @@ WangBudget compute_wang_budget(const WangBudgetInputs& in) {
   }
   const WangGridFigures g = wang_grid_figures(y.total_min, y.total_max, p.total_min, p.total_max, d3, in);
   const double px = in.pixel_ifov * kArcsecPerRad;
-  add("los_min", "LOS error sqrt(Da^2 + Db^2), least over the field, k' = k_min", "Sec. 3",
-      g.rss_min, "arcsec");
-  add("los_max", "LOS error sqrt(Da^2 + Db^2), greatest over the field, k' = k_max", "Sec. 3",
-      g.rss_max, "arcsec");
+  add("los_min", "LOS error sqrt(Da^2 + Db^2), least over the field, k' = k_min", "Sec. 3", g.rss_min, "arcsec");
+  add("los_max", "LOS error sqrt(Da^2 + Db^2), greatest over the field, k' = k_max", "Sec. 3", g.rss_max, "arcsec");
   add("los_min_px", "least LOS error in pixels", "Sec. 3", g.rss_min / px, "px");
   add("los_max_px", "greatest LOS error in pixels", "Sec. 3", g.rss_max / px, "px");
-  add("los_eq8_min", "LOS error by Eq. 8 as printed, least over the field, k' = k_min", "Eq. 8",
-      g.eq8_min, "arcsec");
-  add("los_eq8_max", "LOS error by Eq. 8 as printed, greatest over the field, k' = k_max", "Eq. 8",
-      g.eq8_max, "arcsec");
-  add("los_gc_min", "angle true-nominal LOS sqrt((Da cos b)^2 + Db^2), least, k' = k_min",
-      "corrected Eq. 8", g.gc_min, "arcsec");
-  add("los_gc_max", "angle true-nominal LOS sqrt((Da cos b)^2 + Db^2), greatest, k' = k_max",
-      "corrected Eq. 8", g.gc_max, "arcsec");
-  add("los_gc_max_px", "greatest angle true-nominal LOS in pixels", "corrected Eq. 8",
-      g.gc_max / px, "px");
+  add("los_eq8_min", "LOS error by Eq. 8 as printed, least over the field, k' = k_min", "Eq. 8", g.eq8_min, "arcsec");
+  add("los_eq8_max", "LOS error by Eq. 8 as printed, greatest over the field, k' = k_max", "Eq. 8", g.eq8_max,
+      "arcsec");
+  add("los_gc_min", "angle true-nominal LOS sqrt((Da cos b)^2 + Db^2), least, k' = k_min", "corrected Eq. 8", g.gc_min,
+      "arcsec");
+  add("los_gc_max", "angle true-nominal LOS sqrt((Da cos b)^2 + Db^2), greatest, k' = k_max", "corrected Eq. 8",
+      g.gc_max, "arcsec");
+  add("los_gc_max_px", "greatest angle true-nominal LOS in pixels", "corrected Eq. 8", g.gc_max / px, "px");
   return b;
 }
 

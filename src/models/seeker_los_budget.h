@@ -47,19 +47,19 @@ struct WangBudgetAxisInputs {
 
 struct WangBudgetInputs {
   WangBudgetAxisInputs yaw, pitch;
-  double k_min = 0.4, k_max = 0.96;  ///< load-deformation factor k'
-  double optical_axis_error = 0.0;   ///< Delta_3 (m)
-  double barrel_length = 0.0;        ///< L_3 (m)
+  double k_min = 0.4, k_max = 0.96;                                 ///< load-deformation factor k'
+  double optical_axis_error = 0.0;                                  ///< Delta_3 (m)
+  double barrel_length = 0.0;                                       ///< L_3 (m)
   double alpha_min = 0, alpha_max = 0, beta_min = 0, beta_max = 0;  ///< rad
-  std::size_t grid_points = 61;            ///< per axis, for min/max over the field of regard
-  double pixel_ifov = 0.0;           ///< rad per pixel
+  std::size_t grid_points = 61;                                     ///< per axis, for min/max over the field of regard
+  double pixel_ifov = 0.0;                                          ///< rad per pixel
 };
 
 /// One line of the budget. Values in `unit` (arcsec, mm or px).
 struct BudgetTerm {
-  std::string key;          ///< e.g. "sigma_11", matches the model file's [declared] keys
+  std::string key;  ///< e.g. "sigma_11", matches the model file's [declared] keys
   std::string description;
-  std::string equation;     ///< where it comes from in the paper
+  std::string equation;  ///< where it comes from in the paper
   double value = 0.0;
   std::string unit;
 };
@@ -77,8 +77,8 @@ struct WangBudget {
 struct WangGridFigures {
   double eq8_min = 0, eq8_max = 0, rss_min = 0, rss_max = 0, gc_min = 0, gc_max = 0;
 };
-WangGridFigures wang_grid_figures(double d1_min, double d1_max, double d2_min, double d2_max,
-                                  double d3, const WangBudgetInputs& in);
+WangGridFigures wang_grid_figures(double d1_min, double d1_max, double d2_min, double d2_max, double d3,
+                                  const WangBudgetInputs& in);
 
 /// Throws poise::Error for non-positive spans, lengths or IFOV, or k_min > k_max.
 WangBudget compute_wang_budget(const WangBudgetInputs& in);

@@ -31,15 +31,14 @@ inline Eigen::Vector3d apply_tilt(const Eigen::Vector3d& a, const Eigen::Vector3
 }
 
 // T(a -> u) for u = normalize(a + t1 e1 + t2 e2).
-inline Eigen::Matrix3d tilt_rotation(const Eigen::Vector3d& a, const Eigen::Vector3d& e1,
-                                     const Eigen::Vector3d& e2, const Eigen::Vector2d& t) {
+inline Eigen::Matrix3d tilt_rotation(const Eigen::Vector3d& a, const Eigen::Vector3d& e1, const Eigen::Vector3d& e2,
+                                     const Eigen::Vector2d& t) {
   const Eigen::Vector3d u = (a + t[0] * e1 + t[1] * e2).normalized();
   return minimal_rotation(a, u);
 }
 
 // Error of unit LOS d against the nominal LOS with precomputed cos/sin of alpha, beta.
-inline PointingError error_against(const Eigen::Vector3d& d, double ca, double sa, double cb,
-                                   double sb) {
+inline PointingError error_against(const Eigen::Vector3d& d, double ca, double sa, double cb, double sb) {
   const Eigen::Vector3d n(cb * ca, cb * sa, sb);
   PointingError e;
   e.total = 2.0 * small_asin(0.5 * (d - n).norm());
@@ -59,13 +58,13 @@ inline PointingError error_against(const Eigen::Vector3d& d, double ca, double s
 // behind the yaw azimuth: never in a tolerance study, kept exact anyway). restrict: the
 // arrays are disjoint, so no run-time alias checks. Cloned for AVX2 (4 doubles a lane, picked
 // at run time; no FMA, so every result is bit-identical to the SSE2 clone's).
-__attribute__((target_clones("avx2", "default"))) void error_row(const Eigen::Matrix3d& m, double ca, double sa, std::size_t nb, const double* __restrict qx,
-               const double* __restrict qy, const double* __restrict qz, const double* __restrict cb,
-               const double* __restrict sb, double* __restrict tot, double* __restrict yaw, double* __restrict pit,
-               double* __restrict arg_h, double* __restrict arg_r, double* __restrict arg_p,
-               double* __restrict arg_a) {
-  const double m00 = m(0, 0), m01 = m(0, 1), m02 = m(0, 2), m10 = m(1, 0), m11 = m(1, 1), m12 = m(1, 2),
-               m20 = m(2, 0), m21 = m(2, 1), m22 = m(2, 2);
+__attribute__((target_clones("avx2", "default"))) void error_row(
+    const Eigen::Matrix3d& m, double ca, double sa, std::size_t nb, const double* __restrict qx,
+    const double* __restrict qy, const double* __restrict qz, const double* __restrict cb, const double* __restrict sb,
+    double* __restrict tot, double* __restrict yaw, double* __restrict pit, double* __restrict arg_h,
+    double* __restrict arg_r, double* __restrict arg_p, double* __restrict arg_a) {
+  const double m00 = m(0, 0), m01 = m(0, 1), m02 = m(0, 2), m10 = m(1, 0), m11 = m(1, 1), m12 = m(1, 2), m20 = m(2, 0),
+               m21 = m(2, 1), m22 = m(2, 2);
   for (std::size_t ib = 0; ib < nb; ++ib) {
     const double dx = m00 * qx[ib] + m01 * qy[ib] + m02 * qz[ib];
     const double dy = m10 * qx[ib] + m11 * qy[ib] + m12 * qz[ib];
@@ -131,9 +130,7 @@ Eigen::Matrix3d pitch_orientation(const AxisErrorState& pitch, double beta) {
   return tilt_rotation(-kY, kX, kZ, pitch.tilt(beta)) * r;
 }
 
-Eigen::Vector3d optical_axis(double collimation) {
-  return Eigen::Vector3d(1.0, collimation, 0.0).normalized();
-}
+Eigen::Vector3d optical_axis(double collimation) { return Eigen::Vector3d(1.0, collimation, 0.0).normalized(); }
 
 Eigen::Vector3d nominal_los(double alpha, double beta) {
   return {std::cos(beta) * std::cos(alpha), std::cos(beta) * std::sin(alpha), std::sin(beta)};
@@ -177,8 +174,8 @@ LosGrid::Workspace LosGrid::make_workspace() const {
   return ws;
 }
 
-void LosGrid::tilts_on_grid(const AxisErrorState& axis, std::span<const double> phi,
-                            std::vector<PhaseTable>& tables, std::span<Eigen::Vector2d> out) {
+void LosGrid::tilts_on_grid(const AxisErrorState& axis, std::span<const double> phi, std::vector<PhaseTable>& tables,
+                            std::span<Eigen::Vector2d> out) {
   if (out.size() != phi.size()) throw Error("LOS grid tilt output has the wrong size");
   // Group the harmonics by order: C_n = sum A_h e^{i psi_h} (order 0 is a constant).
   std::array<double, AxisErrorState::kMaxHarmonics> orders{}, cre{}, cim{};

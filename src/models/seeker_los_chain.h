@@ -122,16 +122,16 @@ class LosGrid {
     std::vector<Eigen::Vector3d> pitch_los;
     std::vector<PhaseTable> yaw_phases, pitch_phases;  ///< filled on first use of an order
     std::vector<Eigen::Vector2d> tilts;                ///< one axis' tilt at each of its angles
-    std::vector<double> pitch_xyz;  ///< pitch LOS as x[], y[], z[] (the vectorized row loop)
-    std::vector<double> row;        ///< one yaw angle's errors over beta and their series' arguments
+    std::vector<double> pitch_xyz;                     ///< pitch LOS as x[], y[], z[] (the vectorized row loop)
+    std::vector<double> row;                           ///< one yaw angle's errors over beta and their series' arguments
   };
   Workspace make_workspace() const;
   /// Fills out (size()) with the pointing error at every grid point.
   void evaluate(const SeekerErrorState& s, Workspace& ws, std::span<PointingError> out) const;
   /// t(phi) at every angle of `phi` (the grid's alpha or beta) by the grouped sum above;
   /// `tables` caches the phase tables of that angle list. out.size() == phi.size().
-  static void tilts_on_grid(const AxisErrorState& axis, std::span<const double> phi,
-                            std::vector<PhaseTable>& tables, std::span<Eigen::Vector2d> out);
+  static void tilts_on_grid(const AxisErrorState& axis, std::span<const double> phi, std::vector<PhaseTable>& tables,
+                            std::span<Eigen::Vector2d> out);
 
  private:
   std::vector<double> alpha_, beta_;

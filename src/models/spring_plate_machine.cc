@@ -48,7 +48,8 @@ double sensor_1_stiffness(const SpringPlateMachineParams& p) {
 
 // End slope phi per unit theta of the clamped ends (the guided end 0; pinned: free).
 double end_slope_sign(TorsionPlateEnd end) {
-  return end == TorsionPlateEnd::kClampedBaseInboard ? 1.0 : (end == TorsionPlateEnd::kClampedBaseOutboard ? -1.0 : 0.0);
+  return end == TorsionPlateEnd::kClampedBaseInboard ? 1.0
+                                                     : (end == TorsionPlateEnd::kClampedBaseOutboard ? -1.0 : 0.0);
 }
 
 }  // namespace
@@ -125,8 +126,9 @@ double torsion_plate_max_moment(const SpringPlate& plate, TorsionPlateEnd end, d
   // w'(L) = phi; M = E I w'' is linear in x, largest at an end.
   const double ei = plate.youngs_modulus * plate_second_moment(plate), len = plate.length;
   const double v = lever * theta;
-  const double phi = end == TorsionPlateEnd::kPinned ? 1.5 * v / len
-                     : end == TorsionPlateEnd::kGuided ? 0.0 : end_slope_sign(end) * theta;
+  const double phi = end == TorsionPlateEnd::kPinned   ? 1.5 * v / len
+                     : end == TorsionPlateEnd::kGuided ? 0.0
+                                                       : end_slope_sign(end) * theta;
   const double a = (3.0 * v - phi * len) / (len * len), b = (phi * len - 2.0 * v) / (len * len * len);
   return ei * std::max(std::abs(2.0 * a), std::abs(2.0 * a + 6.0 * b * len));
 }
@@ -202,19 +204,17 @@ Eigen::Vector2cd unbalance_forcing(const SpringPlateUnbalance& u, double omega) 
   return {f, f * u.height + t};
 }
 
-Eigen::Vector2cd steady_state_response(const SpringPlateMachineParams& p, const SpringPlateUnbalance& u,
-                                       double omega) {
+Eigen::Vector2cd steady_state_response(const SpringPlateMachineParams& p, const SpringPlateUnbalance& u, double omega) {
   validate(p);
-  const Eigen::Matrix2cd a = (stiffness_matrix(p) - omega * omega * mass_matrix(p)).cast<cd>() +
-                             cd(0.0, omega) * damping_matrix(p).cast<cd>();
+  const Eigen::Matrix2cd a =
+      (stiffness_matrix(p) - omega * omega * mass_matrix(p)).cast<cd>() + cd(0.0, omega) * damping_matrix(p).cast<cd>();
   // 2x2: Cramer's rule is exact and keeps the error small near a singular (undamped resonant) A.
   const cd det = a(0, 0) * a(1, 1) - a(0, 1) * a(1, 0);
   const Eigen::Vector2cd f = unbalance_forcing(u, omega);
   return {(a(1, 1) * f(0) - a(0, 1) * f(1)) / det, (a(0, 0) * f(1) - a(1, 0) * f(0)) / det};
 }
 
-Eigen::Vector2cd hard_bearing_response(const SpringPlateMachineParams& p, const SpringPlateUnbalance& u,
-                                       double omega) {
+Eigen::Vector2cd hard_bearing_response(const SpringPlateMachineParams& p, const SpringPlateUnbalance& u, double omega) {
   validate(p);
   const Eigen::Matrix2d k = stiffness_matrix(p);
   const Eigen::Vector2cd f = unbalance_forcing(u, omega);
@@ -226,9 +226,8 @@ Eigen::Vector2cd sensor_forces(const SpringPlateMachineParams& p, const Eigen::V
           p.torsion_split.force_factor * p.torsional_plate_stiffness * p.lever * response(1)};
 }
 
-SpringPlateUnbalance unbalance_from_sensor_forces(const SpringPlateMachineParams& p,
-                                                  const Eigen::Vector2cd& sensor, double omega,
-                                                  double height) {
+SpringPlateUnbalance unbalance_from_sensor_forces(const SpringPlateMachineParams& p, const Eigen::Vector2cd& sensor,
+                                                  double omega, double height) {
   require_positive(omega, "omega", "unbalance from sensor forces");
   const double w2 = omega * omega;
   const cd u = 2.0 * sensor(0) / w2;

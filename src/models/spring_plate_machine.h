@@ -164,13 +164,13 @@ struct SpringPlateMachineParams {
   double horizontal_plate_stiffness = 0.0;  ///< k5 (N/m), the mean of the two plates: 2 k5 = k5,1 + k5,2
   /// k5,1 (N/m): the plate that carries sensor 1; 0 = horizontal_plate_stiffness (equal plates).
   double sensor_1_plate_stiffness = 0.0;
-  double torsional_plate_stiffness = 0.0;   ///< k6 (N/m)
+  double torsional_plate_stiffness = 0.0;  ///< k6 (N/m)
   /// Torsional plate's end condition: K_rot = rotation_factor k6 l^2, sensor 2 reads
   /// force_factor k6 l theta (TorsionPlateSplit; guided = 1, 1, 0).
   TorsionPlateSplit torsion_split;
-  double damping_x = 0.0;                   ///< c_x (N s/m)
-  double damping_theta = 0.0;               ///< c_theta (N m s/rad)
-  double gravity = 0.0;                     ///< g (m/s^2); 0 = Eq. 8 (pendulum term off)
+  double damping_x = 0.0;      ///< c_x (N s/m)
+  double damping_theta = 0.0;  ///< c_theta (N m s/rad)
+  double gravity = 0.0;        ///< g (m/s^2); 0 = Eq. 8 (pendulum term off)
 };
 
 /// Throws poise::Error naming the field, its value and the constraint violated.
@@ -190,11 +190,11 @@ Eigen::Matrix2d stiffness_matrix(const SpringPlateMachineParams& p);  ///< diag(
 Eigen::Matrix2d damping_matrix(const SpringPlateMachineParams& p);    ///< diag(c_x, c_theta)
 
 struct NaturalFrequencies {
-  double omega_1 = 0.0;       ///< lower coupled natural frequency (rad/s)
-  double omega_2 = 0.0;       ///< upper (rad/s)
-  double omega_x = 0.0;       ///< uncoupled sqrt(2 k5 / M) (Eq. 9's omega_n1)
-  double omega_theta = 0.0;   ///< uncoupled sqrt(K_tt / (J + m H^2)) (Eq. 9's omega_n2, corrected)
-  Eigen::Matrix2d modes;      ///< columns: mode shapes (x, theta), mass-normalized
+  double omega_1 = 0.0;      ///< lower coupled natural frequency (rad/s)
+  double omega_2 = 0.0;      ///< upper (rad/s)
+  double omega_x = 0.0;      ///< uncoupled sqrt(2 k5 / M) (Eq. 9's omega_n1)
+  double omega_theta = 0.0;  ///< uncoupled sqrt(K_tt / (J + m H^2)) (Eq. 9's omega_n2, corrected)
+  Eigen::Matrix2d modes;     ///< columns: mode shapes (x, theta), mass-normalized
 };
 
 /// Undamped natural frequencies: K phi = w^2 M_q phi (generalized symmetric eigenproblem).
@@ -205,13 +205,11 @@ Eigen::Vector2cd unbalance_forcing(const SpringPlateUnbalance& u, double omega);
 
 /// Steady-state complex amplitudes X = (x^, theta^), q(t) = Re(X e^{i omega t}): exact
 /// solution of (K - omega^2 M_q + i omega C) X = f^.
-Eigen::Vector2cd steady_state_response(const SpringPlateMachineParams& p, const SpringPlateUnbalance& u,
-                                       double omega);
+Eigen::Vector2cd steady_state_response(const SpringPlateMachineParams& p, const SpringPlateUnbalance& u, double omega);
 
 /// Hard-bearing limit (omega << omega_1), Eq. 11 corrected: X = K^{-1} f^, i.e.
 /// x^ = U w^2 e^{i a3} / (2 k5), theta^ = (U h e^{i a3} + V e^{i a4}) w^2 / (k6 l^2 - m g H).
-Eigen::Vector2cd hard_bearing_response(const SpringPlateMachineParams& p, const SpringPlateUnbalance& u,
-                                       double omega);
+Eigen::Vector2cd hard_bearing_response(const SpringPlateMachineParams& p, const SpringPlateUnbalance& u, double omega);
 
 /// Sensor forces, Eq. 12 as built: (F_n1, F_n2) = (k5,1 x, force_factor k6 l theta), complex
 /// amplitudes (N); Eq. 12 as printed for equal plates and a guided torsional plate.
@@ -223,9 +221,8 @@ Eigen::Vector2cd sensor_forces(const SpringPlateMachineParams& p, const Eigen::V
 /// nothing of k5 or k6: in the hard-bearing limit F_n1 = F / 2 and F_n2 l (1 + s) = F h + T
 /// whatever the plate stiffnesses, provided the two horizontal plates are equal. Returns the
 /// unbalance with static_phase and couple_phase from the complex values.
-SpringPlateUnbalance unbalance_from_sensor_forces(const SpringPlateMachineParams& p,
-                                                  const Eigen::Vector2cd& sensor, double omega,
-                                                  double height);
+SpringPlateUnbalance unbalance_from_sensor_forces(const SpringPlateMachineParams& p, const Eigen::Vector2cd& sensor,
+                                                  double omega, double height);
 
 struct HardBearingCheck {
   bool ok = false;

@@ -1,10 +1,10 @@
 #include "models/stabilization_loop.h"
 
-#include <unsupported/Eigen/Polynomials>
 #include <algorithm>
 #include <cmath>
 #include <limits>
 #include <numbers>
+#include <unsupported/Eigen/Polynomials>
 
 namespace poise::models {
 
@@ -46,8 +46,7 @@ double StabilizationLoop::disturbance_stiffness(double w) const {
 }
 
 std::vector<std::complex<double>> StabilizationLoop::closed_loop_poles() const {
-  std::vector<std::complex<double>> r =
-      ki() > 0 ? roots({inertia, kd(), kp(), ki()}) : roots({inertia, kd(), kp()});
+  std::vector<std::complex<double>> r = ki() > 0 ? roots({inertia, kd(), kp(), ki()}) : roots({inertia, kd(), kp()});
   std::sort(r.begin(), r.end(), [](auto a, auto b) {
     return std::abs(a.imag()) != std::abs(b.imag()) ? std::abs(a.imag()) < std::abs(b.imag()) : a.real() > b.real();
   });
@@ -101,8 +100,8 @@ std::size_t CarrierProfile::steps() const {
   return static_cast<std::size_t>(std::floor(duration / time_step + 1e-9)) + 1;
 }
 
-std::vector<double> loop_response(const StabilizationLoop& loop, const std::function<double(double)>& torque,
-                                  double dt, std::size_t steps) {
+std::vector<double> loop_response(const StabilizationLoop& loop, const std::function<double(double)>& torque, double dt,
+                                  std::size_t steps) {
   std::vector<double> out(steps, 0.0);
   if (steps == 0) return out;
   const double j = loop.inertia, kp = loop.kp(), kd = loop.kd(), ki = loop.ki();

@@ -49,15 +49,15 @@ const char* loop_type_name(LoopType t);
 
 struct StabilizationLoop {
   LoopType type = LoopType::kPositionPid;
-  double inertia = 0.0;        ///< J about the axis (kg m^2)
+  double inertia = 0.0;  ///< J about the axis (kg m^2)
   /// position_pid: f_n, natural frequency of the PD part (Hz); rate_pi: f_c, the open-loop
   /// crossover (Hz).
   double frequency_hz = 20.0;
-  double damping = 0.7;        ///< zeta (position_pid only)
-  double integral_ratio = 0.1; ///< rho
-  double kp() const;           ///< N m/rad
-  double kd() const;           ///< N m s/rad
-  double ki() const;           ///< N m/(rad s)
+  double damping = 0.7;         ///< zeta (position_pid only)
+  double integral_ratio = 0.1;  ///< rho
+  double kp() const;            ///< N m/rad
+  double kd() const;            ///< N m s/rad
+  double ki() const;            ///< N m/(rad s)
   /// |T / th| at angular frequency w (rad/s); w = 0 gives +infinity with an integrator.
   double disturbance_stiffness(double w) const;
   /// Roots of the closed-loop characteristic polynomial (rad/s), sorted by |imag| then real.
@@ -74,11 +74,11 @@ struct VibrationLine {
 };
 
 struct CarrierProfile {
-  double duration = 1.0;   ///< s
-  double time_step = 1e-3; ///< s
+  double duration = 1.0;                                ///< s
+  double time_step = 1e-3;                              ///< s
   Eigen::Vector3d manoeuvre = Eigen::Vector3d::Zero();  ///< m/s^2 (base frame), held after the ramp
-  double onset = 0.0;      ///< s
-  double rise_time = 0.0;  ///< s (0 = a step)
+  double onset = 0.0;                                   ///< s
+  double rise_time = 0.0;                               ///< s (0 = a step)
   std::vector<VibrationLine> vibration;
   Eigen::Vector3d acceleration(double t) const;
   std::size_t steps() const;  ///< samples 0..steps()-1 at t = k dt
@@ -86,7 +86,7 @@ struct CarrierProfile {
 
 /// Angle error th(t_k) (rad), t_k = k dt for k = 0..steps-1, of the loop under the torque
 /// T(t) (N m), evaluated at RK4's stages, from rest (th = 0, integrator holding T(0)).
-std::vector<double> loop_response(const StabilizationLoop& loop, const std::function<double(double)>& torque,
-                                  double dt, std::size_t steps);
+std::vector<double> loop_response(const StabilizationLoop& loop, const std::function<double(double)>& torque, double dt,
+                                  std::size_t steps);
 
 }  // namespace poise::models

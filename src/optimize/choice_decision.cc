@@ -4,9 +4,9 @@
 #include <cmath>
 #include <cstdio>
 
+#include "engine/kind_interface/procedure_study.h"
 #include "sampling/random_stream.h"
 #include "sampling/statistics.h"
-#include "engine/kind_interface/procedure_study.h"
 
 namespace poise::optimize {
 namespace {
@@ -85,12 +85,17 @@ std::string equivalence_clause(const Difference& d, const Equivalence& e, const 
   s += u + ", which ";
   const std::string m = margin_text + " margin (" + short_number(e.margin) + u + ")";
   if (e.shown) return s + "lies within the " + m + ", so equivalence is shown";
-  if (e.worse) return s + "lies wholly above the " + m + ", so equivalence is ruled out: " + subject + " is worse beyond the margin";
-  if (e.better) return s + "lies wholly below the " + m + ", so equivalence is ruled out: " + subject + " is better beyond the margin";
+  if (e.worse)
+    return s + "lies wholly above the " + m + ", so equivalence is ruled out: " + subject +
+           " is worse beyond the margin";
+  if (e.better)
+    return s + "lies wholly below the " + m + ", so equivalence is ruled out: " + subject +
+           " is better beyond the margin";
   if (!d.lo || !d.hi) return s + "has no interval, so equivalence is NOT shown";
   if (e.exceeds == "both") {
-    return s + "exceeds the " + m + " on both sides, so equivalence is NOT shown (the interval is wider than the "
-               "margin: these fresh samples cannot resolve it)";
+    return s + "exceeds the " + m +
+           " on both sides, so equivalence is NOT shown (the interval is wider than the "
+           "margin: these fresh samples cannot resolve it)";
   }
   return s + "exceeds the " + m + " on the " + e.exceeds + " side, so equivalence is NOT shown";
 }
@@ -104,8 +109,8 @@ FreshCheck fresh_set(const OptimizationSpec& spec, const ChoiceResult& run, bool
   const auto design = overrides_of(spec, run.result.x, run.choice);
   const bool fast = selection && spec.fast_search;
   const std::uint64_t seed = selection ? spec.selection_seed() : spec.verification_seed;
-  const auto e = engine::evaluate_study(fast ? spec.search_study() : spec.base, design, spec.verification_samples,
-                                        seed, threads);
+  const auto e =
+      engine::evaluate_study(fast ? spec.search_study() : spec.base, design, spec.verification_samples, seed, threads);
   FreshCheck f = check_design(spec, run.result.x, e, seed);
   progress.step(static_cast<double>(spec.verification_samples),
                 std::string("[") + choice_label(run.choice) + "] " + (selection ? "selection" : "comparison") +
@@ -148,7 +153,8 @@ struct Fresh {
   /// The best combination with `parameter` = `value`: among those meeting their constraints on
   /// the selection set when any does.
   std::optional<std::size_t> best_with(const std::string& parameter, const std::string& value) const {
-    auto p = pick([&](const ChoiceOnFresh& c) { return c.selection.stated_met && runs[c.run].choice.at(parameter) == value; });
+    auto p = pick(
+        [&](const ChoiceOnFresh& c) { return c.selection.stated_met && runs[c.run].choice.at(parameter) == value; });
     return p ? p : pick([&](const ChoiceOnFresh& c) { return runs[c.run].choice.at(parameter) == value; });
   }
   /// What the comparison set must see: with a fast search, the selection set's pick and each
@@ -172,8 +178,9 @@ struct Fresh {
   }
   /// stat(a) - stat(b) on the comparison set, paired.
   Difference minus(std::size_t a, std::size_t b) const {
-    return difference(of[a]->comparison.objective_values, of[a]->comparison.ok_index, of[b]->comparison.objective_values,
-                      of[b]->comparison.ok_index, spec.objective_statistic, spec.verification_seed);
+    return difference(of[a]->comparison.objective_values, of[a]->comparison.ok_index,
+                      of[b]->comparison.objective_values, of[b]->comparison.ok_index, spec.objective_statistic,
+                      spec.verification_seed);
   }
   double margin_against(std::size_t reference) const {
     return spec.equivalence_relative ? spec.equivalence_margin * std::fabs(of[reference]->comparison.objective_value)
@@ -232,8 +239,8 @@ std::string decision_sentence(const Fresh& f, const Choice& ch, std::size_t chos
   const Equivalence e = equivalence(d, f.margin_against(chosen));  // as the by-value table states it
   const std::string u = unit.empty() ? "" : " " + unit;
   const std::string figures = interval_text(*A.objective, unit) + " with " + a + " against " +
-                              interval_text(*B.objective, unit) + " with " + b + ", paired difference (" + a + " minus " + b + ") " +
-                              signed_number(d.value) +
+                              interval_text(*B.objective, unit) + " with " + b + ", paired difference (" + a +
+                              " minus " + b + ") " + signed_number(d.value) +
                               (d.lo && d.hi ? " [" + signed_number(*d.lo) + ", " + signed_number(*d.hi) + "]" : "") + u;
   std::string s;
   if (e.shown) {
@@ -253,7 +260,8 @@ std::string decision_sentence(const Fresh& f, const Choice& ch, std::size_t chos
                              : ", with no interval");
   }
   if (!e.shown) {
-    s += "; equivalence within " + spec.equivalence_margin_text + " is " + (e.worse || e.better ? "ruled out" : "NOT shown");
+    s += "; equivalence within " + spec.equivalence_margin_text + " is " +
+         (e.worse || e.better ? "ruled out" : "NOT shown");
   }
   const double sa = f.second(chosen), sb = f.second(other);
   if (std::isfinite(sa) && std::isfinite(sb) && sa > 0.0 && sb > 0.0) {
@@ -271,11 +279,16 @@ std::string decision_sentence(const Fresh& f, const Choice& ch, std::size_t chos
 /// A row of the comparison table: a combination on both fresh sets, against the headline.
 json choice_row(const Fresh& f, std::size_t r, std::size_t headline, std::size_t selection_pick,
                 std::size_t optimization_pick) {
-  json row{{"choice", f.runs[r].choice}, {"label", choice_label(f.runs[r].choice)}, {"feasible", f.runs[r].result.feasible},
-           {"optimization_pick", r == optimization_pick}, {"selection_pick", r == selection_pick}, {"best", r == headline}};
+  json row{{"choice", f.runs[r].choice},
+           {"label", choice_label(f.runs[r].choice)},
+           {"feasible", f.runs[r].result.feasible},
+           {"optimization_pick", r == optimization_pick},
+           {"selection_pick", r == selection_pick},
+           {"best", r == headline}};
   const ChoiceOnFresh* c = f.of[r];
   if (!c) return row;
-  row["selection"] = {{"objective", c->selection.objective_value}, {"constraints_met", c->selection.stated_met},
+  row["selection"] = {{"objective", c->selection.objective_value},
+                      {"constraints_met", c->selection.stated_met},
                       {"model", f.spec.fast_search ? "fast" : "full"}};
   row["compared"] = c->compared;
   if (!c->compared) return row;  // not a finalist: the selection set (fast model) alone
@@ -316,8 +329,11 @@ json by_parameter_json(const Fresh& f, std::size_t headline, const json& rows, c
           const Difference d = f.minus(*p, headline);
           const Equivalence e = equivalence(d, f.margin_against(headline));
           j["minus_best"] = difference_json(d);
-          j["equivalence"] = {{"margin", e.margin}, {"shown", e.shown}, {"worse_beyond_margin", e.worse},
-                              {"better_beyond_margin", e.better}, {"exceeds", e.exceeds},
+          j["equivalence"] = {{"margin", e.margin},
+                              {"shown", e.shown},
+                              {"worse_beyond_margin", e.worse},
+                              {"better_beyond_margin", e.better},
+                              {"exceeds", e.exceeds},
                               {"text", equivalence_clause(d, e, unit, spec.equivalence_margin_text,
                                                           parameter_value(spec, ch.parameter, val))}};
         }
@@ -354,12 +370,18 @@ ChoiceDecision decide_choices(const OptimizationSpec& spec, const std::vector<Ch
   const std::size_t selection_pick = h ? *h : optimization_pick;
   out.headline = h ? decided_headline(f, selection_pick) : optimization_pick;
   json rows = json::array();
-  for (std::size_t r = 0; r < runs.size(); ++r) rows.push_back(choice_row(f, r, out.headline, selection_pick, optimization_pick));
-  out.json = {{"output", spec.objective_output}, {"statistic", spec.objective_statistic},
-              {"samples", spec.verification_samples}, {"selection_seed", spec.selection_seed()},
-              {"comparison_seed", spec.verification_seed}, {"headline", out.headline},
-              {"selection_pick", selection_pick}, {"headline_met_constraints_on_selection_set", out.headline_met_on_selection},
-              {"equivalence_margin", spec.equivalence_margin_text}, {"choices", rows}};
+  for (std::size_t r = 0; r < runs.size(); ++r)
+    rows.push_back(choice_row(f, r, out.headline, selection_pick, optimization_pick));
+  out.json = {{"output", spec.objective_output},
+              {"statistic", spec.objective_statistic},
+              {"samples", spec.verification_samples},
+              {"selection_seed", spec.selection_seed()},
+              {"comparison_seed", spec.verification_seed},
+              {"headline", out.headline},
+              {"selection_pick", selection_pick},
+              {"headline_met_constraints_on_selection_set", out.headline_met_on_selection},
+              {"equivalence_margin", spec.equivalence_margin_text},
+              {"choices", rows}};
   if (!h) return out;
   out.json["by_parameter"] = by_parameter_json(f, out.headline, rows, unit);
   if (spec.objective_output.empty()) {

@@ -40,11 +40,11 @@ Difference difference(const std::vector<double>& a, const std::vector<std::size_
                       std::uint64_t seed, int resamples = 2000);
 
 struct Equivalence {
-  double margin = 0.0;   ///< absolute, in the objective's unit
-  bool shown = false;    ///< the whole interval within [-margin, +margin]
-  bool worse = false;    ///< the whole interval above +margin (a is worse beyond the margin)
-  bool better = false;   ///< the whole interval below -margin
-  std::string exceeds;   ///< "upper", "lower", "both" or "" (which end leaves the margin)
+  double margin = 0.0;  ///< absolute, in the objective's unit
+  bool shown = false;   ///< the whole interval within [-margin, +margin]
+  bool worse = false;   ///< the whole interval above +margin (a is worse beyond the margin)
+  bool better = false;  ///< the whole interval below -margin
+  std::string exceeds;  ///< "upper", "lower", "both" or "" (which end leaves the margin)
 };
 Equivalence equivalence(const Difference& d, double margin);
 
@@ -61,11 +61,11 @@ struct ChoiceOnFresh {
 };
 
 struct ChoiceDecision {
-  std::vector<ChoiceOnFresh> fresh;     ///< feasible combinations, in run order
-  std::size_t headline = 0;             ///< index into runs
+  std::vector<ChoiceOnFresh> fresh;       ///< feasible combinations, in run order
+  std::size_t headline = 0;               ///< index into runs
   bool headline_met_on_selection = true;  ///< false: none met its constraints on the selection set
-  nlohmann::json json;                  ///< choices, by_parameter (with equivalence), sets
-  std::string sentence;                 ///< the decision in words ("" without a choice parameter)
+  nlohmann::json json;                    ///< choices, by_parameter (with equivalence), sets
+  std::string sentence;                   ///< the decision in words ("" without a choice parameter)
 };
 
 /// Evaluates every feasible combination's design on both fresh sets and decides.

@@ -47,8 +47,9 @@ ScoredDesign score_design(const OptimizationSpec& spec, const std::vector<double
   Evaluation& r = s.primary;
   if (s.failure_share > spec.max_failure_share()) {
     char buf[160];
-    std::snprintf(buf, sizeof buf, "%zu of %zu samples failed (%.1f%%, over the study's max_failure_share %.3g): ",
-                  e.failures, e.n, 100.0 * s.failure_share, spec.max_failure_share());
+    std::snprintf(buf, sizeof buf,
+                  "%zu of %zu samples failed (%.1f%%, over the study's max_failure_share %.3g): ", e.failures, e.n,
+                  100.0 * s.failure_share, spec.max_failure_share());
     r.ok = false;
     r.message = buf + e.first_failure();
     return s;
@@ -74,7 +75,8 @@ std::map<std::string, std::string> overrides_of(const OptimizationSpec& spec, co
                                                 const std::map<std::string, std::string>& choice) {
   std::map<std::string, std::string> o = spec.overrides;
   for (const auto& [k, v] : choice) o[k] = v;
-  for (std::size_t i = 0; i < spec.variables.size(); ++i) o[spec.variables[i].parameter] = value_text(x[i], spec.variables[i].unit);
+  for (std::size_t i = 0; i < spec.variables.size(); ++i)
+    o[spec.variables[i].parameter] = value_text(x[i], spec.variables[i].unit);
   return o;
 }
 

@@ -14,9 +14,9 @@
 #include <string>
 #include <vector>
 
+#include "engine/kind_interface/study_evaluation.h"
 #include "optimize/optimization_spec.h"
 #include "optimize/optimizer.h"
-#include "engine/kind_interface/study_evaluation.h"
 
 namespace poise::optimize {
 
@@ -69,18 +69,18 @@ std::map<std::string, std::string> overrides_of(const OptimizationSpec& spec, co
 
 /// One evaluation of any search (for the Pareto front).
 struct ParetoPoint {
-  std::size_t choice = 0;      ///< index of the combination of choices
-  std::string search;          ///< "objective", "second", "epsilon <level>"
-  std::vector<double> x;       ///< variables in their units
+  std::size_t choice = 0;  ///< index of the combination of choices
+  std::string search;      ///< "objective", "second", "epsilon <level>"
+  std::vector<double> x;   ///< variables in their units
   double objective = NAN, second = NAN;
-  bool feasible = false;       ///< ok and every constraint met (the epsilon bound aside)
+  bool feasible = false;  ///< ok and every constraint met (the epsilon bound aside)
 };
 
 /// The searches of one combination of the choices with one seed.
 struct ChoiceResult {
   std::map<std::string, std::string> choice;  ///< parameter -> value
   std::uint64_t seed = 0;
-  Result result;                              ///< the objective's search, in the variables' units
+  Result result;                                        ///< the objective's search, in the variables' units
   std::map<std::vector<double>, ScoredDesign> designs;  ///< every design evaluated
 };
 
@@ -88,9 +88,9 @@ struct SearchSetup {
   std::size_t choice_index = 0;
   std::uint64_t seed = 0;
   std::vector<double> start;
-  bool pareto = false;                    ///< also the second objective and epsilon searches
+  bool pareto = false;                       ///< also the second objective and epsilon searches
   std::vector<ParetoPoint>* pool = nullptr;  ///< where the Pareto evaluations go
-  std::string label;                      ///< progress prefix ("positions = 18", "replicate 2")
+  std::string label;                         ///< progress prefix ("positions = 18", "replicate 2")
 };
 
 /// Runs the searches of one combination of the choices.

@@ -3,8 +3,8 @@
 #include <cmath>
 #include <cstdio>
 
-#include "optimize/design_search.h"
 #include "engine/kind_interface/procedure_study.h"
+#include "optimize/design_search.h"
 
 namespace poise::optimize {
 nlohmann::json interval_json(const Interval& i) {
@@ -116,19 +116,28 @@ std::string FreshCheck::problems() const {
 }
 
 nlohmann::json FreshCheck::to_json() const {
-  nlohmann::json j{{"samples", samples}, {"seed", seed}, {"failures", failures}, {"failure_share", failure_share},
-                   {"failures_within_max_share", failures_ok}, {"verdict", to_string(verdict)},
-                   {"verified", verdict == Verdict::kPasses}, {"constraints_met_as_stated", stated_met}};
+  nlohmann::json j{{"samples", samples},
+                   {"seed", seed},
+                   {"failures", failures},
+                   {"failure_share", failure_share},
+                   {"failures_within_max_share", failures_ok},
+                   {"verdict", to_string(verdict)},
+                   {"verified", verdict == Verdict::kPasses},
+                   {"constraints_met_as_stated", stated_met}};
   if (objective) j["objective"] = interval_json(*objective);
   j["objective_value"] = objective_value;
   if (second) j["second_objective"] = interval_json(*second);
   nlohmann::json cons = nlohmann::json::array();
   for (std::size_t k = 0; k < constraints.size(); ++k) {
     const ConstraintCheck& c = constraints[k];
-    nlohmann::json cj{{"name", c.requirement.name}, {"output", c.requirement.output},
-                      {"statistic", c.requirement.statistic}, {"bound", to_string(c.requirement.bound)},
-                      {"limit", c.requirement.limit()}, {"at_least", c.requirement.at_least.has_value()},
-                      {"interval", interval_json(c.interval)}, {"verdict", to_string(c.verdict)},
+    nlohmann::json cj{{"name", c.requirement.name},
+                      {"output", c.requirement.output},
+                      {"statistic", c.requirement.statistic},
+                      {"bound", to_string(c.requirement.bound)},
+                      {"limit", c.requirement.limit()},
+                      {"at_least", c.requirement.at_least.has_value()},
+                      {"interval", interval_json(c.interval)},
+                      {"verdict", to_string(c.verdict)},
                       {"text", describe_constraint(k)}};
     if (c.bound) cj["bound_value"] = *c.bound;
     cons.push_back(cj);

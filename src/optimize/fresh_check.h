@@ -11,16 +11,16 @@
 /// min and max have no distribution-free interval on their far side: they are judged on the
 /// sample extreme of the fresh samples (which, with more samples than the search, is the
 /// stricter figure).
-#include "core/number_text.h"
 #include <optional>
 #include <string>
 #include <vector>
+#include "core/number_text.h"
 
 #include <nlohmann/json.hpp>
 
+#include "engine/kind_interface/study_evaluation.h"
 #include "engine/results/confidence_bound.h"
 #include "optimize/optimization_spec.h"
-#include "engine/kind_interface/study_evaluation.h"
 
 namespace poise::optimize {
 
@@ -28,11 +28,11 @@ enum class Verdict { kPasses, kStraddles, kFails };
 std::string to_string(Verdict v);  ///< "passes", "straddles the limit", "fails"
 
 struct ConstraintCheck {
-  Requirement requirement;       ///< a copy: a check outlives the spec it was made from
-  std::string unit;              ///< of the requirement's output
-  Interval interval;             ///< the statistic with its 95% interval
-  std::optional<double> bound;   ///< the stated bound on these samples (bound constraints)
-  bool stated_met = false;       ///< the figure as stated (value or bound) meets the limit
+  Requirement requirement;      ///< a copy: a check outlives the spec it was made from
+  std::string unit;             ///< of the requirement's output
+  Interval interval;            ///< the statistic with its 95% interval
+  std::optional<double> bound;  ///< the stated bound on these samples (bound constraints)
+  bool stated_met = false;      ///< the figure as stated (value or bound) meets the limit
   Verdict verdict = Verdict::kFails;
 };
 

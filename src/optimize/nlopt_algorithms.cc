@@ -83,8 +83,7 @@ Algorithm parse_algorithm(std::string_view name) {
     names += names.empty() ? "" : ", ";
     names += i.name;
   }
-  throw Error("unknown optimization algorithm '" + std::string(name) + "': expected one of " +
-              names);
+  throw Error("unknown optimization algorithm '" + std::string(name) + "': expected one of " + names);
 }
 
 std::string to_string(Algorithm algorithm) { return info(algorithm).name; }

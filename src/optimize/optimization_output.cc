@@ -12,16 +12,16 @@
 #include "core/error.h"
 #include "core/version.h"
 #include "engine/kind_interface/procedure_study.h"
-#include "engine/results/provenance.h"
 #include "engine/report/optimization_page.h"
-#include "optimize/optimization_plots.h"
+#include "engine/results/provenance.h"
 #include "engine/results/result_io.h"
+#include "optimize/optimization_plots.h"
 
 namespace poise::optimize {
 namespace {
 namespace fs = std::filesystem;
-using nlohmann::json;
 using engine::html_escape;
+using nlohmann::json;
 
 void write_history(const OptimizationSpec& spec, const OptimizationOutcome& out, const std::string& dir) {
   std::ostringstream h;
@@ -38,9 +38,10 @@ void write_history(const OptimizationSpec& spec, const OptimizationOutcome& out,
       for (double x : e.x) h << ',' << engine::csv_number(x);
       h << ',' << engine::csv_number(e.result.objective);
       for (std::size_t k = 0; k < spec.constraints.size(); ++k) {
-        h << ',' << (k < e.result.constraints.size()
-                         ? engine::csv_number(constraint_figure(spec.constraints[k], e.result.constraints[k]))
-                         : "");
+        h << ','
+          << (k < e.result.constraints.size()
+                  ? engine::csv_number(constraint_figure(spec.constraints[k], e.result.constraints[k]))
+                  : "");
       }
       const auto it = run.designs.find(e.x);
       h << ',' << (it != run.designs.end() ? engine::csv_number(it->second.failure_share) : "") << ','
@@ -67,7 +68,6 @@ void write_pareto_csv(const OptimizationSpec& spec, const OptimizationOutcome& o
   engine::write_file_atomic((fs::path(dir) / "pareto.csv").string(), p.str());
 }
 
-
 std::string design_cells(const OptimizationSpec& spec, const std::vector<double>& x) {
   std::string s;
   for (std::size_t i = 0; i < spec.variables.size() && i < x.size(); ++i) {
@@ -78,16 +78,25 @@ std::string design_cells(const OptimizationSpec& spec, const std::vector<double>
   return s;
 }
 
-
 json optimization_json(const OptimizationSpec& spec) {
-  return {{"name", spec.name}, {"title", spec.title}, {"file", spec.file}, {"study", spec.base.file},
-          {"algorithm", to_string(spec.algorithm)}, {"algorithm_advice", algorithm_advice(spec.algorithm)},
-          {"samples_per_evaluation", spec.samples}, {"seed", spec.seed},
-          {"replicate_size", spec.base.replicate_size}, {"max_failure_share", spec.max_failure_share()},
-          {"common_random_numbers", true}, {"max_evaluations", spec.max_evaluations},
-          {"replicates", spec.replicates}, {"verification_samples", spec.verification_samples},
-          {"selection_seed", spec.selection_seed()}, {"verification_seed", spec.verification_seed},
-          {"recheck_seed", spec.recheck_seed()}, {"search_model", spec.fast_search ? "fast" : "full"},
+  return {{"name", spec.name},
+          {"title", spec.title},
+          {"file", spec.file},
+          {"study", spec.base.file},
+          {"algorithm", to_string(spec.algorithm)},
+          {"algorithm_advice", algorithm_advice(spec.algorithm)},
+          {"samples_per_evaluation", spec.samples},
+          {"seed", spec.seed},
+          {"replicate_size", spec.base.replicate_size},
+          {"max_failure_share", spec.max_failure_share()},
+          {"common_random_numbers", true},
+          {"max_evaluations", spec.max_evaluations},
+          {"replicates", spec.replicates},
+          {"verification_samples", spec.verification_samples},
+          {"selection_seed", spec.selection_seed()},
+          {"verification_seed", spec.verification_seed},
+          {"recheck_seed", spec.recheck_seed()},
+          {"search_model", spec.fast_search ? "fast" : "full"},
           {"equivalence_margin", spec.equivalence_margin_text},
           {"notes", spec.notes}};
 }
@@ -100,8 +109,12 @@ json runs_json(const OptimizationSpec& spec, const OptimizationOutcome& out) {
     for (std::size_t i = 0; i < spec.variables.size() && i < run.result.x.size(); ++i) {
       x[spec.variables[i].parameter] = value_text(run.result.x[i], spec.variables[i].unit);
     }
-    runs.push_back({{"choice", run.choice}, {"label", choice_label(run.choice)}, {"status", run.result.status},
-                    {"evaluations", run.result.evaluations}, {"feasible", run.result.feasible}, {"x", x},
+    runs.push_back({{"choice", run.choice},
+                    {"label", choice_label(run.choice)},
+                    {"status", run.result.status},
+                    {"evaluations", run.result.evaluations},
+                    {"feasible", run.result.feasible},
+                    {"x", x},
                     {"design", design_cells(spec, run.result.x)},
                     {"objective", run.result.feasible ? json(run.result.best.objective) : json(nullptr)},
                     {"headline", out.feasible && r == out.best},
@@ -121,17 +134,22 @@ json optimization_summary(const OptimizationSpec& spec, const OptimizationOutcom
                {"fast_model_evaluations", out.fast_evaluations},
                {"fast_model_samples", out.fast_samples},
                {"search_model", spec.fast_search ? "fast" : "full"},
-               {"what", "base-study runs (searches, replicates, fresh sets and checks; fast_model_evaluations of "
-                        "them on the kind's fast model) and the samples they simulated (model_samples of the "
-                        "full model, fast_model_samples of the fast one)"}};
+               {"what",
+                "base-study runs (searches, replicates, fresh sets and checks; fast_model_evaluations of "
+                "them on the kind's fast model) and the samples they simulated (model_samples of the "
+                "full model, fast_model_samples of the fast one)"}};
   if (!out.fast_model.is_null()) s["fast_model"] = out.fast_model;
   s["verified"] = out.feasible && out.verified;
   s["exit_status"] = exit_status;
   s["optimization"] = optimization_json(spec);
   json constraints = json::array();
   for (const auto& c : spec.constraints) {
-    constraints.push_back({{"name", c.name}, {"output", c.output}, {"statistic", c.statistic},
-                           {"bound", to_string(c.bound)}, {"limit", c.limit()}, {"at_least", c.at_least.has_value()},
+    constraints.push_back({{"name", c.name},
+                           {"output", c.output},
+                           {"statistic", c.statistic},
+                           {"bound", to_string(c.bound)},
+                           {"limit", c.limit()},
+                           {"at_least", c.at_least.has_value()},
                            {"text", c.describe()}});
   }
   s["constraints"] = constraints;
@@ -152,16 +170,20 @@ json optimization_summary(const OptimizationSpec& spec, const OptimizationOutcom
     if (spec.pareto) {
       s["pareto"] = {{"objective", {{"output", spec.objective_output}, {"statistic", spec.objective_statistic}}},
                      {"second", {{"output", spec.pareto->output}, {"statistic", spec.pareto->statistic}}},
-                     {"evaluations", out.pool.size()}, {"points", spec.pareto->points},
+                     {"evaluations", out.pool.size()},
+                     {"points", spec.pareto->points},
                      {"front", out.front_verification}};
     }
   } else {
     s["message"] = out.message;
   }
-  s["provenance"] = {{"poise_version", kVersion}, {"git_commit", engine::git_commit()},
+  s["provenance"] = {{"poise_version", kVersion},
+                     {"git_commit", engine::git_commit()},
                      {"optimization_file_sha1", engine::file_sha1(spec.file)},
-                     {"study_file_sha1", engine::file_sha1(spec.base.file)}, {"threads", threads},
-                     {"started", started}, {"finished", engine::now_iso8601()}};
+                     {"study_file_sha1", engine::file_sha1(spec.base.file)},
+                     {"threads", threads},
+                     {"started", started},
+                     {"finished", engine::now_iso8601()}};
   return s;
 }
 
@@ -188,7 +210,8 @@ OptimizationRun write_optimization(const OptimizationSpec& spec, const engine::R
   engine::write_file_atomic((fs::path(dir) / "summary.json").string(), summary.dump(2) + "\n");
   const fs::path pdir = fs::path(dir) / "plots";
   fs::create_directories(pdir);
-  const std::vector<std::string> figures = options.plots ? optimization_plots(spec, out, pdir) : std::vector<std::string>{};
+  const std::vector<std::string> figures =
+      options.plots ? optimization_plots(spec, out, pdir) : std::vector<std::string>{};
   engine::write_file_atomic((fs::path(dir) / "report.html").string(),
                             engine::optimization_report_html(summary, pdir, figures));
   if (!out.feasible) throw Error(out.message + " (history in " + dir + ")");

@@ -42,11 +42,18 @@ bool convergence_plot(const OptimizationSpec& spec, const OptimizationOutcome& o
   }
   std::ostringstream cgp;
   cgp << "set terminal svg size 720,420 dynamic noenhanced font 'Helvetica,12'\nset output 'convergence.svg'\n"
-         "set grid\nset title 'Convergence'\nset xlabel 'evaluation'\nset ylabel '" << objective_label(spec)
-      << "'\nset key outside bottom center horizontal\nlabels = '" << titles.str() << "'\n"
-         "plot for [i=0:" << out.runs.size() - 1 << "] 'convergence.dat' index i u 1:($3 > 0 ? $2 : 1/0) w p pt 7 title sprintf('feasible (%s)', word(labels, i+1)), "
-         "for [i=0:" << out.runs.size() - 1 << "] 'convergence.dat' index i u 1:($3 > 0 ? 1/0 : $2) w p pt 6 lc rgb 'gray' notitle, "
-         "for [i=0:" << out.runs.size() - 1 << "] 'convergence.dat' index i u 1:4 w steps lw 2 notitle\n";
+         "set grid\nset title 'Convergence'\nset xlabel 'evaluation'\nset ylabel '"
+      << objective_label(spec) << "'\nset key outside bottom center horizontal\nlabels = '" << titles.str()
+      << "'\n"
+         "plot for [i=0:"
+      << out.runs.size() - 1
+      << "] 'convergence.dat' index i u 1:($3 > 0 ? $2 : 1/0) w p pt 7 title sprintf('feasible (%s)', word(labels, "
+         "i+1)), "
+         "for [i=0:"
+      << out.runs.size() - 1
+      << "] 'convergence.dat' index i u 1:($3 > 0 ? 1/0 : $2) w p pt 6 lc rgb 'gray' notitle, "
+         "for [i=0:"
+      << out.runs.size() - 1 << "] 'convergence.dat' index i u 1:4 w steps lw 2 notitle\n";
   engine::write_file_atomic((pdir / "convergence.gp").string(), cgp.str());
   std::string why;
   return engine::run_gnuplot((pdir / "convergence.gp").string(), &why);
@@ -66,13 +73,14 @@ bool pareto_plot(const OptimizationSpec& spec, const OptimizationOutcome& out, c
        << ' ' << f["objective_optimization"].get<double>() << '\n';
   }
   engine::write_file_atomic((pdir / "pareto.dat").string(), d2.str());
-  const std::string xl = spec.pareto->statistic + " of " + spec.pareto->output + " [" +
-                         output_unit(spec, spec.pareto->output) + "]";
-  const std::string yl = spec.objective_statistic + " of " + spec.objective_output + " [" +
-                         output_unit(spec, spec.objective_output) + "]";
+  const std::string xl =
+      spec.pareto->statistic + " of " + spec.pareto->output + " [" + output_unit(spec, spec.pareto->output) + "]";
+  const std::string yl =
+      spec.objective_statistic + " of " + spec.objective_output + " [" + output_unit(spec, spec.objective_output) + "]";
   std::ostringstream pgp;
   pgp << "set terminal svg size 760,480 dynamic noenhanced font 'Helvetica,12'\nset output 'pareto.svg'\n"
-         "set grid\nset title 'Pareto front'\nset xlabel '" << xl << "'\nset ylabel '" << yl
+         "set grid\nset title 'Pareto front'\nset xlabel '"
+      << xl << "'\nset ylabel '" << yl
       << "'\nset key outside bottom center horizontal\n"
          "plot 'pareto.dat' index 0 u 1:2:3 w p pt 7 ps 0.6 lc variable title 'feasible evaluations (colour: choice)', "
          "'pareto.dat' index 1 u 1:5 w lp pt 6 ps 1.2 lc rgb 'black' title 'front (optimization samples)', "
@@ -85,7 +93,8 @@ bool pareto_plot(const OptimizationSpec& spec, const OptimizationOutcome& out, c
 }  // namespace
 
 std::string objective_name(const OptimizationSpec& spec) {
-  if (spec.objective_output.empty()) return "objective_sum" + (spec.variables.empty() ? "" : "_" + spec.variables[0].unit);
+  if (spec.objective_output.empty())
+    return "objective_sum" + (spec.variables.empty() ? "" : "_" + spec.variables[0].unit);
   std::string stat = spec.objective_statistic;
   std::replace(stat.begin(), stat.end(), '.', '_');
   return "objective." + spec.objective_output + "." + stat;

@@ -10,9 +10,9 @@
 
 #include "core/error.h"
 #include "core/units.h"
-#include "sampling/design.h"
 #include "engine/kind_interface/study_evaluation.h"
 #include "engine/study_files/toml_reader.h"
+#include "sampling/design.h"
 
 namespace poise::optimize {
 namespace {
@@ -65,7 +65,9 @@ std::string Requirement::describe() const {
          (at_least ? " >= " : " <= ") + value_text(limit(), "");
 }
 
-std::uint64_t OptimizationSpec::replicate_seed(int r) const { return r == 0 ? seed : mix(seed, static_cast<std::uint64_t>(r)); }
+std::uint64_t OptimizationSpec::replicate_seed(int r) const {
+  return r == 0 ? seed : mix(seed, static_cast<std::uint64_t>(r));
+}
 std::uint64_t OptimizationSpec::selection_seed() const { return mix(verification_seed, 1000); }
 std::uint64_t OptimizationSpec::recheck_seed() const { return mix(verification_seed, 2000); }
 
@@ -74,7 +76,8 @@ std::string choice_key_label(const std::string& key, const std::vector<std::stri
   for (std::size_t pos = key.rfind('.'); pos != std::string::npos && pos > 0; pos = key.rfind('.', pos - 1)) {
     std::string suffix = key.substr(pos + 1);  // not const: returned by move
     const bool unique = std::none_of(keys.begin(), keys.end(), [&](const std::string& k) {
-      return k != key && (k == suffix || (k.size() > suffix.size() && k.compare(k.size() - suffix.size() - 1, std::string::npos, "." + suffix) == 0));
+      return k != key && (k == suffix || (k.size() > suffix.size() && k.compare(k.size() - suffix.size() - 1,
+                                                                                std::string::npos, "." + suffix) == 0));
     });
     if (unique) return suffix;
   }
@@ -110,7 +113,8 @@ void read_optimization_table(TomlReader& root, const std::string& path, Optimiza
   const std::string algo = t.choice("algorithm", {"cobyla", "bobyqa", "sbplx", "neldermead", "direct_l", "isres"});
   s.algorithm = parse_algorithm(algo);
   s.max_evaluations = static_cast<int>(t.integer("max_evaluations", 1, 1'000'000));
-  s.xtol_rel = t.number("xtol_rel", [](double v) { return v > 0 && v < 1 ? "" : "0 < xtol_rel < 1"; }, 1e-3);
+  s.xtol_rel = t.number(
+      "xtol_rel", [](double v) { return v > 0 && v < 1 ? "" : "0 < xtol_rel < 1"; }, 1e-3);
   s.replicates = static_cast<int>(t.integer("replicates", 1, 50, 1));
   s.fast_search = t.choice("search_model", {"full", "fast"}, "full") == "fast";
   if (t.has("replicate_size")) replicate_size = static_cast<std::size_t>(t.integer("replicate_size", 2, 100'000'000));
@@ -126,7 +130,8 @@ void read_design_space(TomlReader& root, OptimizationSpec& s) {
     auto [hi, u2] = number_and_unit(v, "upper", &ok2);
     auto [st, u3] = number_and_unit(v, "start", &ok3);
     if (ok1 && ok2 && ok3) {
-      if (u1 != u2 || u1 != u3) v.error("upper", "\"" + u2 + "\"", "lower, upper and start in the same unit (\"" + u1 + "\")");
+      if (u1 != u2 || u1 != u3)
+        v.error("upper", "\"" + u2 + "\"", "lower, upper and start in the same unit (\"" + u1 + "\")");
       if (!(lo < hi)) v.error("upper", value_text(hi, u2), "upper > lower");
       if (!(st >= lo && st <= hi)) v.error("start", value_text(st, u3), "start within [lower, upper]");
     }
@@ -190,10 +195,12 @@ Requirement read_constraint(TomlReader& c) {
                     r.statistic + " has none on its far side, use a quantile such as p99.73");
       }
       if (r.at_most && r.bound.side != BoundSide::kUpper) {
-        c.error("bound", "\"" + text + "\"", "an upper bound (\"upper95\") with at_most: the limit must hold at the pessimistic end");
+        c.error("bound", "\"" + text + "\"",
+                "an upper bound (\"upper95\") with at_most: the limit must hold at the pessimistic end");
       }
       if (r.at_least && r.bound.side != BoundSide::kLower) {
-        c.error("bound", "\"" + text + "\"", "a lower bound (\"lower95\") with at_least: the limit must hold at the pessimistic end");
+        c.error("bound", "\"" + text + "\"",
+                "a lower bound (\"lower95\") with at_least: the limit must hold at the pessimistic end");
       }
     }
   }
@@ -271,7 +278,8 @@ void check_against_study(OptimizationSpec& s, const std::string& path, const std
     if (s.base.method == sampling::SamplingMethod::kSobol && (m & (m - 1)) != 0) {
       errors.emplace_back(SourceLocation{path, 0, 0}, where, std::to_string(m), "a power of two for a sobol design");
     }
-    for (auto [n, key] : {std::pair{s.samples, "optimization.samples"}, std::pair{s.verification_samples, "verification.samples"}}) {
+    for (auto [n, key] :
+         {std::pair{s.samples, "optimization.samples"}, std::pair{s.verification_samples, "verification.samples"}}) {
       if (n % m != 0 || n / m < 2) {
         errors.emplace_back(SourceLocation{path, 0, 0}, key, std::to_string(n),
                             "a multiple of the replicate size " + std::to_string(m) + ", at least 2 replicates");
@@ -289,7 +297,8 @@ void check_against_study(OptimizationSpec& s, const std::string& path, const std
     if (std::find(names.begin(), names.end(), output) == names.end()) {
       std::string all;
       for (const auto& n : names) all += (all.empty() ? "" : ", ") + n;
-      errors.emplace_back(SourceLocation{path, 0, 0}, key, "\"" + output + "\"", "an output of " + study_path + ": " + all);
+      errors.emplace_back(SourceLocation{path, 0, 0}, key, "\"" + output + "\"",
+                          "an output of " + study_path + ": " + all);
     }
   };
   if (!s.objective_output.empty()) check_output(s.objective_output, "objective.output");

@@ -30,8 +30,8 @@
 #include <vector>
 
 #include "engine/results/confidence_bound.h"
-#include "optimize/optimizer.h"
 #include "engine/study_files/study_config.h"
+#include "optimize/optimizer.h"
 
 namespace poise::optimize {
 
@@ -49,10 +49,9 @@ using engine::sample_set;
 using engine::SampleSet;
 using engine::to_string;
 
-
 struct DesignVariable {
-  std::string parameter;  ///< dotted model key
-  std::string unit;       ///< unit the bounds were written in ("mm"); "" if dimensionless
+  std::string parameter;                         ///< dotted model key
+  std::string unit;                              ///< unit the bounds were written in ("mm"); "" if dimensionless
   double lower = 0.0, upper = 0.0, start = 0.0;  ///< in that unit
 };
 
@@ -79,7 +78,7 @@ struct ParetoSpec {
 
 struct OptimizationSpec {
   std::string file, name, title, notes;
-  engine::StudyConfig base;  ///< the base study (replicate_size as the optimization sets it)
+  engine::StudyConfig base;                         ///< the base study (replicate_size as the optimization sets it)
   std::map<std::string, std::string> output_units;  ///< each output's declared unit (its kind's)
   std::size_t samples = 64;
   std::uint64_t seed = 1;

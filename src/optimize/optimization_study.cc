@@ -5,10 +5,10 @@
 #include <cstdio>
 
 #include "core/error.h"
+#include "engine/kind_interface/procedure_study.h"
 #include "optimize/optimization_output.h"
 #include "sampling/random_stream.h"
 #include "sampling/statistics.h"
-#include "engine/kind_interface/procedure_study.h"
 
 namespace poise::optimize {
 namespace {
@@ -117,8 +117,8 @@ void explain_no_design(const OptimizationSpec& spec, OptimizationOutcome& out) {
       if (!h.result.ok && failed.empty()) failed = h.result.message;
     }
   }
-  out.message = "no design met the constraints in " + std::to_string(spec.max_evaluations) +
-                " evaluations per choice" + (closest.empty() ? "" : "; closest: " + closest) +
+  out.message = "no design met the constraints in " + std::to_string(spec.max_evaluations) + " evaluations per choice" +
+                (closest.empty() ? "" : "; closest: " + closest) +
                 (failed.empty() ? "" : "; a failed evaluation: " + failed) +
                 ". Relax a constraint, widen the bounds or change the algorithm (a global one: direct_l, isres).";
   out.answer = "No design found: " + out.message;
@@ -137,7 +137,7 @@ void decide_or_check(const OptimizationSpec& spec, OptimizationOutcome& out, int
   } else {
     out.best = 0;
     const auto e = engine::evaluate_study(spec.base, overrides_of(spec, out.runs[0].result.x, out.runs[0].choice),
-                                           spec.verification_samples, spec.verification_seed, threads);
+                                          spec.verification_samples, spec.verification_seed, threads);
     out.check = check_design(spec, out.runs[0].result.x, e, spec.verification_seed);
     progress.step(static_cast<double>(spec.verification_samples),
                   "[check] " + std::to_string(spec.verification_samples) + " fresh samples: constraints " +
@@ -155,10 +155,12 @@ void measure_fast_model_gap(const OptimizationSpec& spec, OptimizationOutcome& o
   progress.step(static_cast<double>(out.check.samples), "[fast model] the same fresh samples on the fast model", true);
   auto pair = [](double full, double quick) {
     const double d = quick - full;
-    return json{{"full", full}, {"fast", quick}, {"difference", d},
-                {"relative", full != 0.0 ? d / std::fabs(full) : 0.0}};
+    return json{
+        {"full", full}, {"fast", quick}, {"difference", d}, {"relative", full != 0.0 ? d / std::fabs(full) : 0.0}};
   };
-  json j{{"description", spec.fast_model_text}, {"samples", out.check.samples}, {"seed", out.check.seed},
+  json j{{"description", spec.fast_model_text},
+         {"samples", out.check.samples},
+         {"seed", out.check.seed},
          {"objective", pair(out.check.objective_value, fast.objective_value)}};
   double largest_sample = 0.0;  // the objective output, sample by sample
   if (out.check.objective_values.size() == fast.objective_values.size() && out.check.ok_index == fast.ok_index) {
@@ -189,8 +191,8 @@ void measure_spread(const OptimizationSpec& spec, OptimizationOutcome& out, cons
     json vars = json::array();
     std::vector<std::vector<double>> xs{best.result.x};
     std::vector<double> fs{best.result.best.objective};
-    json searches = json::array({{{"seed", spec.seed}, {"feasible", true}, {"x", best.result.x},
-                                  {"objective", best.result.best.objective}}});
+    json searches = json::array(
+        {{{"seed", spec.seed}, {"feasible", true}, {"x", best.result.x}, {"objective", best.result.best.objective}}});
     for (int r = 1; r < spec.replicates; ++r) {
       SearchSetup setup;
       setup.seed = spec.replicate_seed(r);
@@ -211,7 +213,9 @@ void measure_spread(const OptimizationSpec& spec, OptimizationOutcome& out, cons
       double m = 0.0, s = 0.0;
       for (double x : v) m += x / static_cast<double>(v.size());
       for (double x : v) s += (x - m) * (x - m);
-      return json{{"min", *lo}, {"max", *hi}, {"mean", m},
+      return json{{"min", *lo},
+                  {"max", *hi},
+                  {"mean", m},
                   {"std", v.size() > 1 ? std::sqrt(s / static_cast<double>(v.size() - 1)) : 0.0},
                   {"supported_step", supported_step(*hi - *lo)}};
     };
@@ -224,8 +228,11 @@ void measure_spread(const OptimizationSpec& spec, OptimizationOutcome& out, cons
       j["unit"] = spec.variables[i].unit;
       vars.push_back(j);
     }
-    out.spread = {{"searches", static_cast<int>(xs.size())}, {"requested", spec.replicates}, {"variables", vars},
-                  {"objective", spread_of(fs)}, {"runs", searches}};
+    out.spread = {{"searches", static_cast<int>(xs.size())},
+                  {"requested", spec.replicates},
+                  {"variables", vars},
+                  {"objective", spread_of(fs)},
+                  {"runs", searches}};
     if (spec.replicates < 2) out.spread = json{{"searches", 1}, {"requested", 1}};
   }
 }
@@ -243,8 +250,11 @@ void constraints_at_optimum(const OptimizationSpec& spec, OptimizationOutcome& o
       const auto& c = own.constraints[k];
       const double figure = c.bound ? *c.bound : c.interval.value;
       const double scale = std::max(std::fabs(c.requirement.limit()), 1e-12);
-      json j{{"name", c.requirement.name}, {"interval", interval_json(c.interval)}, {"figure", figure},
-             {"limit", c.requirement.limit()}, {"binding", std::fabs(figure - c.requirement.limit()) <= 0.02 * scale},
+      json j{{"name", c.requirement.name},
+             {"interval", interval_json(c.interval)},
+             {"figure", figure},
+             {"limit", c.requirement.limit()},
+             {"binding", std::fabs(figure - c.requirement.limit()) <= 0.02 * scale},
              {"text", own.describe_constraint(k)}};
       b.push_back(j);
     }
@@ -253,8 +263,8 @@ void constraints_at_optimum(const OptimizationSpec& spec, OptimizationOutcome& o
 }
 
 /// Not verified: the nearest design that passes, by tightening what failed by its excess.
-void find_nearest_design(const OptimizationSpec& spec, OptimizationOutcome& out, const ChoiceResult& best,
-                         int threads, RunProgress& progress) {
+void find_nearest_design(const OptimizationSpec& spec, OptimizationOutcome& out, const ChoiceResult& best, int threads,
+                         RunProgress& progress) {
   if (!out.verified) {
     json rounds = json::array();
     OptimizationSpec tight = spec;
@@ -297,7 +307,8 @@ void find_nearest_design(const OptimizationSpec& spec, OptimizationOutcome& out,
       }
       x = nr.result.x;
       const auto design = overrides_of(spec, x, best.choice);
-      const auto e = engine::evaluate_study(spec.base, design, spec.verification_samples, spec.verification_seed, threads);
+      const auto e =
+          engine::evaluate_study(spec.base, design, spec.verification_samples, spec.verification_seed, threads);
       last = check_design(spec, x, e, spec.verification_seed);
       progress.step(static_cast<double>(spec.verification_samples),
                     "[nearest, round " + std::to_string(round) + "] check: " + to_string(last.verdict));
@@ -305,7 +316,8 @@ void find_nearest_design(const OptimizationSpec& spec, OptimizationOutcome& out,
       rj["objective"] = nr.result.best.objective;
       rj["check"] = last.to_json();
       if (last.verdict == Verdict::kPasses) {
-        const auto e2 = engine::evaluate_study(spec.base, design, spec.verification_samples, spec.recheck_seed(), threads);
+        const auto e2 =
+            engine::evaluate_study(spec.base, design, spec.verification_samples, spec.recheck_seed(), threads);
         const FreshCheck again = check_design(spec, x, e2, spec.recheck_seed());
         progress.step(static_cast<double>(spec.verification_samples),
                       "[nearest, round " + std::to_string(round) + "] re-check: " + to_string(again.verdict));
@@ -316,8 +328,13 @@ void find_nearest_design(const OptimizationSpec& spec, OptimizationOutcome& out,
           for (std::size_t i = 0; i < spec.variables.size(); ++i) {
             design_json[spec.variables[i].parameter] = value_text(x[i], spec.variables[i].unit);
           }
-          out.nearest = {{"found", true}, {"design", design_json}, {"overrides", design}, {"x", x},
-                         {"objective", again.objective_value}, {"check", last.to_json()}, {"recheck", again.to_json()},
+          out.nearest = {{"found", true},
+                         {"design", design_json},
+                         {"overrides", design},
+                         {"x", x},
+                         {"objective", again.objective_value},
+                         {"check", last.to_json()},
+                         {"recheck", again.to_json()},
                          {"rounds", rounds}};
           break;
         }
@@ -326,7 +343,8 @@ void find_nearest_design(const OptimizationSpec& spec, OptimizationOutcome& out,
       rounds.push_back(rj);
     }
     if (out.nearest.is_null()) {
-      if (why_none.empty()) why_none = "none passed in " + std::to_string(spec.max_nearest_rounds) + " tightening rounds";
+      if (why_none.empty())
+        why_none = "none passed in " + std::to_string(spec.max_nearest_rounds) + " tightening rounds";
       out.nearest = {{"found", false}, {"why", why_none}, {"rounds", rounds}};
     }
   }
@@ -338,7 +356,8 @@ void pareto_front(const OptimizationSpec& spec, OptimizationOutcome& out, int th
   if (spec.pareto) {
     std::vector<std::size_t> idx;
     for (std::size_t i = 0; i < out.pool.size(); ++i) {
-      if (out.pool[i].feasible && std::isfinite(out.pool[i].objective) && std::isfinite(out.pool[i].second)) idx.push_back(i);
+      if (out.pool[i].feasible && std::isfinite(out.pool[i].objective) && std::isfinite(out.pool[i].second))
+        idx.push_back(i);
     }
     std::sort(idx.begin(), idx.end(), [&](std::size_t a, std::size_t b) {
       const auto &pa = out.pool[a], &pb = out.pool[b];
@@ -358,14 +377,19 @@ void pareto_front(const OptimizationSpec& spec, OptimizationOutcome& out, int th
       // With a fast search the front is drawn on the fast model, fresh samples too: it informs,
       // the headline's check on the full model decides (and states the gap between the two).
       const auto ef = engine::evaluate_study(spec.search_study(), overrides_of(spec, p.x, out.choices[p.choice]),
-                                              spec.verification_samples, spec.verification_seed, threads);
+                                             spec.verification_samples, spec.verification_seed, threads);
       const FreshCheck f = check_design(spec, p.x, ef, spec.verification_seed);
-      progress.step(static_cast<double>(spec.verification_samples),
-                    std::string("[pareto front] point checked on fresh samples") + (spec.fast_search ? " (fast model)" : ""),
-                    spec.fast_search);
-      json j{{"choice", out.choices[p.choice]}, {"label", choice_label(out.choices[p.choice])}, {"x", json::object()},
+      progress.step(
+          static_cast<double>(spec.verification_samples),
+          std::string("[pareto front] point checked on fresh samples") + (spec.fast_search ? " (fast model)" : ""),
+          spec.fast_search);
+      json j{{"choice", out.choices[p.choice]},
+             {"label", choice_label(out.choices[p.choice])},
+             {"x", json::object()},
              {"model", spec.fast_search ? "fast" : "full"},
-             {"objective_optimization", p.objective}, {"second_optimization", p.second}, {"failures", f.failures},
+             {"objective_optimization", p.objective},
+             {"second_optimization", p.second},
+             {"failures", f.failures},
              {"constraints_verdict", to_string(f.verdict)}};
       for (std::size_t q = 0; q < spec.variables.size(); ++q) {
         j["x"][spec.variables[q].parameter] = value_text(p.x[q], spec.variables[q].unit);
@@ -388,9 +412,11 @@ void answer_sentence(const OptimizationSpec& spec, OptimizationOutcome& out, con
       objective = spec.objective_statistic + " of " + spec.objective_output + " " +
                   interval_text(*out.check.objective, output_unit(spec, spec.objective_output));
     } else {
-      objective = "sum " + rounded_text(out.check.objective_value,
-                                        out.spread.contains("objective") ? out.spread["objective"]["supported_step"].get<double>() : 0.0,
-                                        spec.variables[0].unit);
+      objective =
+          "sum " +
+          rounded_text(out.check.objective_value,
+                       out.spread.contains("objective") ? out.spread["objective"]["supported_step"].get<double>() : 0.0,
+                       spec.variables[0].unit);
     }
     // The choice sentence names the headline combination already.
     const std::string label = choice_label(best.choice);
@@ -403,7 +429,8 @@ void answer_sentence(const OptimizationSpec& spec, OptimizationOutcome& out, con
               std::to_string(out.check.constraints.size()) + " constraints pass)";
     } else if (out.verified) {
       std::string cons;
-      for (std::size_t k = 0; k < out.check.constraints.size(); ++k) cons += (k ? "; " : "") + out.check.describe_constraint(k);
+      for (std::size_t k = 0; k < out.check.constraints.size(); ++k)
+        cons += (k ? "; " : "") + out.check.describe_constraint(k);
       check += cons.empty() ? "it is verified" : cons + ": verified";
     } else {
       check += "it is NOT verified: " + out.check.problems();
@@ -439,14 +466,15 @@ std::string fast_model_clause(const OptimizationSpec& spec, const OptimizationOu
   if (!out.fast_model.is_object() || !out.fast_model.contains("objective")) return "";
   const json& o = out.fast_model["objective"];
   const std::string unit = spec.objective_output.empty() ? std::string() : output_unit(spec, spec.objective_output);
-  const std::string what = spec.objective_output.empty() ? "the objective"
-                                                         : spec.objective_statistic + " of " + spec.objective_output;
+  const std::string what =
+      spec.objective_output.empty() ? "the objective" : spec.objective_statistic + " of " + spec.objective_output;
   char rel[32];
   std::snprintf(rel, sizeof rel, "%.1e", std::fabs(o["relative"].get<double>()));
   return ", which on the headline's " + std::to_string(out.fast_model["samples"].get<std::size_t>()) +
-         " fresh samples gives " + what + " " + poise::interval_text(o["fast"].get<double>(), std::nullopt, std::nullopt).value + " against " +
-         poise::interval_text(o["full"].get<double>(), std::nullopt, std::nullopt).value + (unit.empty() ? "" : " " + unit) +
-         " of the full model (relative difference " + rel + "; " +
+         " fresh samples gives " + what + " " +
+         poise::interval_text(o["fast"].get<double>(), std::nullopt, std::nullopt).value + " against " +
+         poise::interval_text(o["full"].get<double>(), std::nullopt, std::nullopt).value +
+         (unit.empty() ? "" : " " + unit) + " of the full model (relative difference " + rel + "; " +
          (out.fast_model["same_verdicts"].get<bool>() ? "the same constraint verdicts"
                                                       : "constraint verdicts that DIFFER: the full model decides") +
          ")";
@@ -505,10 +533,11 @@ OptimizationOutcome optimize(const OptimizationSpec& spec, int threads, bool pro
   const bool closed = !out.answer.empty() && out.answer.back() == '.';
   if (closed) out.answer.pop_back();
   if (out.fast_evaluations > 0) {
-    out.answer += "; the searches ran the fast model (" + std::to_string(out.fast_evaluations) + " design evaluations, " +
-                  std::to_string(out.fast_samples) + " samples)" + fast_model_clause(spec, out) +
-                  "; the full model ran " + std::to_string(out.design_evaluations - out.fast_evaluations) +
-                  " design evaluations (" + std::to_string(out.model_samples) + " samples).";
+    out.answer += "; the searches ran the fast model (" + std::to_string(out.fast_evaluations) +
+                  " design evaluations, " + std::to_string(out.fast_samples) + " samples)" +
+                  fast_model_clause(spec, out) + "; the full model ran " +
+                  std::to_string(out.design_evaluations - out.fast_evaluations) + " design evaluations (" +
+                  std::to_string(out.model_samples) + " samples).";
   } else {
     out.answer += "; it took " + std::to_string(out.design_evaluations) + " design evaluations (" +
                   std::to_string(out.model_samples) + " samples of the full model).";

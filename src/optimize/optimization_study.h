@@ -21,11 +21,11 @@
 
 #include <nlohmann/json.hpp>
 
+#include "engine/run/study_runner.h"
 #include "optimize/choice_decision.h"
 #include "optimize/design_search.h"
 #include "optimize/fresh_check.h"
 #include "optimize/optimization_spec.h"
-#include "engine/run/study_runner.h"
 
 namespace poise::optimize {
 
@@ -36,24 +36,24 @@ inline constexpr int kExitInvalidInput = 2;  ///< the files did not validate
 inline constexpr int kExitNotVerified = 3;   ///< design not verified on fresh samples
 
 struct OptimizationOutcome {
-  std::vector<ChoiceResult> runs;  ///< one per combination of the choices (or one)
-  std::size_t best = 0;            ///< the headline: index into runs (best on fresh samples)
+  std::vector<ChoiceResult> runs;     ///< one per combination of the choices (or one)
+  std::size_t best = 0;               ///< the headline: index into runs (best on fresh samples)
   std::size_t optimization_pick = 0;  ///< best on the search's own samples
   bool feasible = false;
-  std::string message;             ///< why not, when infeasible
+  std::string message;                         ///< why not, when infeasible
   std::map<std::string, std::string> optimum;  ///< overrides of the headline design
-  FreshCheck check;                ///< the headline's fresh-sample check (comparison set)
-  bool verified = false;           ///< check.verdict == passes
-  nlohmann::json verification;     ///< check as json
-  nlohmann::json nearest;          ///< when not verified: the nearest design that passes, or why none
-  nlohmann::json spread;           ///< replicates of the search: spread of variables and objective
-  nlohmann::json binding;          ///< constraints on the search's samples at the optimum, with intervals
+  FreshCheck check;                            ///< the headline's fresh-sample check (comparison set)
+  bool verified = false;                       ///< check.verdict == passes
+  nlohmann::json verification;                 ///< check as json
+  nlohmann::json nearest;                      ///< when not verified: the nearest design that passes, or why none
+  nlohmann::json spread;                       ///< replicates of the search: spread of variables and objective
+  nlohmann::json binding;                      ///< constraints on the search's samples at the optimum, with intervals
   std::vector<std::map<std::string, std::string>> choices;  ///< the combinations, in order
-  std::vector<ParetoPoint> pool;   ///< every evaluation ([pareto] only)
-  std::vector<std::size_t> front;  ///< indices into pool, by increasing second objective
-  nlohmann::json front_verification;  ///< per front point: both objectives with 95% CIs
-  nlohmann::json comparison;       ///< choices decided on fresh samples (choice_decision.h)
-  std::string answer;              ///< the answer in one sentence
+  std::vector<ParetoPoint> pool;                            ///< every evaluation ([pareto] only)
+  std::vector<std::size_t> front;                           ///< indices into pool, by increasing second objective
+  nlohmann::json front_verification;                        ///< per front point: both objectives with 95% CIs
+  nlohmann::json comparison;                                ///< choices decided on fresh samples (choice_decision.h)
+  std::string answer;                                       ///< the answer in one sentence
   /// What the answer cost: design evaluations (each a base-study run) and the samples they
   /// simulated, searches, fresh sets and checks together; model_samples of the full model,
   /// fast_samples (in fast_evaluations) of the kind's fast model (search_model = "fast").
@@ -68,8 +68,8 @@ struct OptimizationOutcome {
 
 /// A statistic of `values` with a bootstrap 95% percentile interval (`resamples` resamples,
 /// deterministic in `seed`): {value, lo, hi}.
-nlohmann::json statistic_with_ci(const std::vector<double>& values, const std::string& statistic,
-                                 std::uint64_t seed, int resamples = 1000);
+nlohmann::json statistic_with_ci(const std::vector<double>& values, const std::string& statistic, std::uint64_t seed,
+                                 int resamples = 1000);
 
 /// Runs the optimization and the checks. Does not write anything.
 OptimizationOutcome optimize(const OptimizationSpec& spec, int threads, bool progress);

@@ -37,33 +37,28 @@ void validate(const std::vector<Variable>& vars, const Options& opt) {
     require(std::isfinite(v.lower) && std::isfinite(v.upper) && std::isfinite(v.start),
             who + ": lower, upper and start must be finite (lower = " + number(v.lower) +
                 ", upper = " + number(v.upper) + ", start = " + number(v.start) + ")");
-    require(v.lower < v.upper, who + ": lower (" + number(v.lower) + ") must be below upper (" +
-                                   number(v.upper) + ")");
+    require(v.lower < v.upper, who + ": lower (" + number(v.lower) + ") must be below upper (" + number(v.upper) + ")");
     require(v.start >= v.lower && v.start <= v.upper,
-            who + ": start " + number(v.start) + " is outside [" + number(v.lower) + ", " +
-                number(v.upper) + "]");
+            who + ": start " + number(v.start) + " is outside [" + number(v.lower) + ", " + number(v.upper) + "]");
     for (std::size_t j = 0; j < i; ++j) {
-      require(vars[j].name != v.name || v.name.empty(),
-              "optimizer: variable name '" + v.name + "' appears twice");
+      require(vars[j].name != v.name || v.name.empty(), "optimizer: variable name '" + v.name + "' appears twice");
     }
   }
-  require(opt.max_evaluations >= 1, "optimizer: max_evaluations must be at least 1 (got " +
-                                        std::to_string(opt.max_evaluations) + ")");
+  require(opt.max_evaluations >= 1,
+          "optimizer: max_evaluations must be at least 1 (got " + std::to_string(opt.max_evaluations) + ")");
   require(std::isfinite(opt.xtol_rel) && opt.xtol_rel >= 0.0,
           "optimizer: xtol_rel must be finite and >= 0 (got " + number(opt.xtol_rel) + ")");
   require(std::isfinite(opt.ftol_rel) && opt.ftol_rel >= 0.0,
           "optimizer: ftol_rel must be finite and >= 0 (got " + number(opt.ftol_rel) + ")");
   require(std::isfinite(opt.constraint_tolerance) && opt.constraint_tolerance >= 0.0,
-          "optimizer: constraint_tolerance must be finite and >= 0 (got " +
-              number(opt.constraint_tolerance) + ")");
+          "optimizer: constraint_tolerance must be finite and >= 0 (got " + number(opt.constraint_tolerance) + ")");
   check_algorithm(opt.algorithm);
 }
 
 /// State of one minimize call, shared by the NLopt callbacks (all in scaled coordinates u).
 class Run {
  public:
-  Run(const Problem& f, const std::vector<Variable>& vars, const Options& opt)
-      : f_(f), vars_(vars), opt_(opt) {}
+  Run(const Problem& f, const std::vector<Variable>& vars, const Options& opt) : f_(f), vars_(vars), opt_(opt) {}
 
   void set_stopper(nlopt::opt* o) { stopper_ = o; }
 
@@ -94,8 +89,7 @@ class Run {
       e = f_(x);
       if (e.ok && e.constraints.size() != opt_.constraints) {
         throw Error("optimizer: the problem returned " + std::to_string(e.constraints.size()) +
-                    " constraint values, Options::constraints is " +
-                    std::to_string(opt_.constraints));
+                    " constraint values, Options::constraints is " + std::to_string(opt_.constraints));
       }
     } catch (...) {
       error_ = std::current_exception();
@@ -109,14 +103,12 @@ class Run {
     for (std::size_t i = 0; e.ok && i < e.constraints.size(); ++i) {
       if (!std::isfinite(e.constraints[i])) {
         e.ok = false;
-        e.message = "constraint " + std::to_string(i + 1) + " is not finite (" +
-                    number(e.constraints[i]) + ")";
+        e.message = "constraint " + std::to_string(i + 1) + " is not finite (" + number(e.constraints[i]) + ")";
       }
     }
     bool feasible = e.ok;
     for (double c : e.constraints) feasible = feasible && c <= opt_.constraint_tolerance;
-    history_.push_back(HistoryEntry{static_cast<int>(history_.size()) + 1, std::move(x),
-                                    std::move(e), feasible});
+    history_.push_back(HistoryEntry{static_cast<int>(history_.size()) + 1, std::move(x), std::move(e), feasible});
     current_ = history_.size() - 1;
     keys_.emplace_back(seen_.emplace(std::move(key), current_).first);
     return true;
@@ -255,17 +247,16 @@ std::string optimize_status(nlopt::opt& o, Run& run, std::vector<double>& u, con
     double fu = 0.0;
     status = result_words(o.optimize(u, fu));
   } catch (const nlopt::roundoff_limited&) {
-    status = "stopped: roundoff limited, no further progress at floating-point precision "
-             "(NLOPT_ROUNDOFF_LIMITED)";
+    status =
+        "stopped: roundoff limited, no further progress at floating-point precision "
+        "(NLOPT_ROUNDOFF_LIMITED)";
   } catch (const nlopt::forced_stop&) {
     if (run.error()) std::rethrow_exception(run.error());
-    status = run.cap_reached()
-                 ? "stopped: max_evaluations (" + std::to_string(opt.max_evaluations) +
-                       ") calls of the problem reached (NLOPT_FORCED_STOP)"
-                 : std::string("stopped: forced stop (NLOPT_FORCED_STOP)");
+    status = run.cap_reached() ? "stopped: max_evaluations (" + std::to_string(opt.max_evaluations) +
+                                     ") calls of the problem reached (NLOPT_FORCED_STOP)"
+                               : std::string("stopped: forced stop (NLOPT_FORCED_STOP)");
   } catch (const std::invalid_argument& e) {
-    throw Error("optimizer: NLopt refused the setup of " + to_string(opt.algorithm) + ": " +
-                e.what());
+    throw Error("optimizer: NLopt refused the setup of " + to_string(opt.algorithm) + ": " + e.what());
   } catch (const std::bad_alloc&) {
     throw;
   } catch (const std::runtime_error& e) {
@@ -287,15 +278,14 @@ Result collect_result(Run& run, std::string status, const Options& opt) {
     result.best = result.history[best].result;
   }
   if (!result.feasible) {
-    std::string why = "no feasible evaluation in " + std::to_string(result.evaluations) +
-                      " evaluations";
+    std::string why = "no feasible evaluation in " + std::to_string(result.evaluations) + " evaluations";
     if (result.x.empty()) {
       why += " (every evaluation failed)";
     } else {
       double violation = 0.0;
       for (double c : result.best.constraints) violation = std::max(violation, c);
-      why += " (x is the least violating point, largest constraint " + short_number(violation) +
-             " > tolerance " + short_number(opt.constraint_tolerance) + ")";
+      why += " (x is the least violating point, largest constraint " + short_number(violation) + " > tolerance " +
+             short_number(opt.constraint_tolerance) + ")";
     }
     status = why + "; " + status;
   }
@@ -313,8 +303,7 @@ Result minimize(const Problem& f, const std::vector<Variable>& vars, const Optio
   const bool auglag = opt.constraints > 0 && !has_native_constraints(opt.algorithm);
 
   Run run(f, vars, opt);
-  nlopt::opt o(auglag ? (local ? nlopt::LN_AUGLAG : nlopt::AUGLAG) : nlopt_algorithm(opt.algorithm),
-               n);
+  nlopt::opt o(auglag ? (local ? nlopt::LN_AUGLAG : nlopt::AUGLAG) : nlopt_algorithm(opt.algorithm), n);
   configure(o, n, opt, local);
   if (auglag) set_auglag_subsidiary(o, n, opt, local);
   run.set_stopper(&o);

@@ -75,7 +75,7 @@ struct Options {
   /// max_evaluations or xtol_rel).
   double ftol_rel = 1e-8;
   std::size_t constraints = 0;  ///< number of constraint values the problem returns
-  std::uint64_t seed = 1;     ///< ISRES only (nlopt::srand)
+  std::uint64_t seed = 1;       ///< ISRES only (nlopt::srand)
   /// A point is feasible iff ok and every constraint <= constraint_tolerance; also the
   /// tolerance given to NLopt for each constraint.
   double constraint_tolerance = 1e-8;

@@ -93,8 +93,8 @@ void set_timing(const models::SpringPlateMachineParams& machine, const Balancing
   out.omega = omega;
   const double sigma = slowest_decay_rate(machine);
   out.decay_time_constant = 1.0 / sigma;
-  out.settle_revolutions = std::max(run.min_settle_revolutions,
-                                    static_cast<int>(std::ceil(run.settle_time_constants / sigma / period)));
+  out.settle_revolutions =
+      std::max(run.min_settle_revolutions, static_cast<int>(std::ceil(run.settle_time_constants / sigma / period)));
   out.settle_time = out.settle_revolutions * period;
   const double spr_real = std::round(sensors.sample_rate_hz * period);
   require(spr_real >= 3.0 && spr_real < 1e8, "balancing measurement: need 3 or more samples per revolution");
@@ -252,7 +252,7 @@ BalancingMeasurement run_balancing_measurement(const models::SpringPlateMachineP
     if (w.t1 > 0.0) {
       integ.advance(w.t1, w.t1, false);  // settle: start transient
     } else {
-      integ.advance(w.t2, w.t2, true);   // one step, so that the interpolant exists at t = 0
+      integ.advance(w.t2, w.t2, true);  // one step, so that the interpolant exists at t = 0
     }
     s = sample_and_demodulate(integ, c, w, readout, sensors, normal);
     out.solver = integ.stats();
@@ -265,10 +265,9 @@ BalancingMeasurement run_balancing_measurement(const models::SpringPlateMachineP
 }
 
 BalancingMeasurement run_balancing_measurement(const models::SpringPlateMachineParams& machine,
-                                               std::span<const models::PlaneMass> masses,
-                                               double reference_height, const BalancingRunConfig& run,
-                                               const SensorConfig& sensors, sampling::RandomStream& noise,
-                                               BalancingWorkspace& ws) {
+                                               std::span<const models::PlaneMass> masses, double reference_height,
+                                               const BalancingRunConfig& run, const SensorConfig& sensors,
+                                               sampling::RandomStream& noise, BalancingWorkspace& ws) {
   const models::SpringPlateUnbalance u =
       models::to_machine_unbalance(models::resultant_unbalance(masses, reference_height));
   return run_balancing_measurement(machine, u, run, sensors, noise, ws);
@@ -295,8 +294,8 @@ ClosedFormEstimate closed_form_estimate(const models::SpringPlateMachineParams& 
   return e;
 }
 
-InfluenceCalibration calibrate_influence(const Eigen::Vector2cd& bare, const Eigen::Vector2cd& with_test_1,
-                                         cd test_1, const Eigen::Vector2cd& with_test_2, cd test_2) {
+InfluenceCalibration calibrate_influence(const Eigen::Vector2cd& bare, const Eigen::Vector2cd& with_test_1, cd test_1,
+                                         const Eigen::Vector2cd& with_test_2, cd test_2) {
   require(test_1 != 0.0 && test_2 != 0.0, "influence calibration: a test mass is zero");
   InfluenceCalibration cal;
   cal.coefficients.col(0) = (with_test_1 - bare) / test_1;
@@ -323,21 +322,18 @@ UnbalanceEstimates estimate_unbalance(const models::SpringPlateMachineParams& ma
                                       sampling::RandomStream& noise, BalancingWorkspace& ws) {
   UnbalanceEstimates out;
   std::vector<models::PlaneMass> masses(calibration_rotor.begin(), calibration_rotor.end());
-  out.calibration_runs.push_back(
-      run_balancing_measurement(machine, masses, reference_height, run, sensors, noise, ws));
+  out.calibration_runs.push_back(run_balancing_measurement(machine, masses, reference_height, run, sensors, noise, ws));
   masses.push_back(test_1);
-  out.calibration_runs.push_back(
-      run_balancing_measurement(machine, masses, reference_height, run, sensors, noise, ws));
+  out.calibration_runs.push_back(run_balancing_measurement(machine, masses, reference_height, run, sensors, noise, ws));
   masses.back() = test_2;
-  out.calibration_runs.push_back(
-      run_balancing_measurement(machine, masses, reference_height, run, sensors, noise, ws));
+  out.calibration_runs.push_back(run_balancing_measurement(machine, masses, reference_height, run, sensors, noise, ws));
   const auto unb = [](const models::PlaneMass& m) { return m.mass * m.radius * std::polar(1.0, m.angle); };
   out.calibration = calibrate_influence(out.calibration_runs[0].amplitudes, out.calibration_runs[1].amplitudes,
                                         unb(test_1), out.calibration_runs[2].amplitudes, unb(test_2));
   out.measurement = run_balancing_measurement(machine, rotor, reference_height, run, sensors, noise, ws);
   out.influence = influence_estimate(out.calibration, out.measurement.amplitudes);
-  out.closed_form = closed_form_estimate(machine, out.measurement.amplitudes, out.measurement.omega,
-                                         reference_height, {test_1.height, test_2.height});
+  out.closed_form = closed_form_estimate(machine, out.measurement.amplitudes, out.measurement.omega, reference_height,
+                                         {test_1.height, test_2.height});
   return out;
 }
 

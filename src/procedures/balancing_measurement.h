@@ -32,8 +32,8 @@
 ///       matrix C is (A_j - A0) / T_j; a rotor's plane unbalances are C^{-1} A. Exact for a
 ///       linear machine at any speed and independent of the sensors' gains (they scale the
 ///       rows of C and of A alike).
-#include <memory>
 #include <complex>
+#include <memory>
 #include <span>
 #include <vector>
 
@@ -46,10 +46,10 @@
 namespace poise::procedures {
 
 struct SensorConfig {
-  double gain_error_1 = 0.0;      ///< relative: measured = (1 + g) true, sensor 1
-  double gain_error_2 = 0.0;      ///< sensor 2
-  double noise_rms = 0.0;         ///< white noise per sample, each sensor (N)
-  double sample_rate_hz = 2000.0; ///< nominal; rounded to whole samples per revolution
+  double gain_error_1 = 0.0;       ///< relative: measured = (1 + g) true, sensor 1
+  double gain_error_2 = 0.0;       ///< sensor 2
+  double noise_rms = 0.0;          ///< white noise per sample, each sensor (N)
+  double sample_rate_hz = 2000.0;  ///< nominal; rounded to whole samples per revolution
   /// Height a (m) of sensor 1's measuring point above the torsion shaft axis. 0 (as
   /// designed): it reads the horizontal plates, F_n1 = k5 x. Otherwise it reads the
   /// horizontal motion of the swinging part at that height, F_n1 = k5 (x + a theta): the
@@ -90,7 +90,7 @@ struct BalancingMeasurement {
   /// Settling check: |A(last rev) - A(previous rev)| per sensor, relative to |A| (measured
   /// signal, so it contains the noise floor ~ noise_rms sqrt(2 / K) / |A| when noise is on).
   Eigen::Vector2d last_revolution_change = Eigen::Vector2d::Zero();
-  solvers::CvodeStats solver;        ///< counters of this run
+  solvers::CvodeStats solver;  ///< counters of this run
 };
 
 /// Reference-synchronous demodulation: A = (2/K) sum s_k e^{-i phi_k} (= a - i b). Exact for
@@ -126,10 +126,9 @@ BalancingMeasurement run_balancing_measurement(const models::SpringPlateMachineP
 
 /// The same for masses on planes (Eqs. 1-2, couple about `reference_height`).
 BalancingMeasurement run_balancing_measurement(const models::SpringPlateMachineParams& machine,
-                                               std::span<const models::PlaneMass> masses,
-                                               double reference_height, const BalancingRunConfig& run,
-                                               const SensorConfig& sensors, sampling::RandomStream& noise,
-                                               BalancingWorkspace& ws);
+                                               std::span<const models::PlaneMass> masses, double reference_height,
+                                               const BalancingRunConfig& run, const SensorConfig& sensors,
+                                               sampling::RandomStream& noise, BalancingWorkspace& ws);
 
 // ---- estimators -----------------------------------------------------------------------------
 
@@ -148,8 +147,8 @@ struct ClosedFormEstimate {
   std::complex<double> static_unbalance;  ///< U e^{i a3} (kg m)
   std::complex<double> couple_unbalance;  ///< V e^{i a4} (kg m^2), about `height`
   double height = 0.0;
-  models::SpringPlateUnbalance machine;   ///< the same as magnitudes and phases
-  Eigen::Vector2cd planes;                ///< U1, U2 (kg m); correction masses go opposite
+  models::SpringPlateUnbalance machine;  ///< the same as magnitudes and phases
+  Eigen::Vector2cd planes;               ///< U1, U2 (kg m); correction masses go opposite
 };
 
 /// Eq. 13 corrected on demodulated amplitudes, then split to the planes.
@@ -158,9 +157,9 @@ ClosedFormEstimate closed_form_estimate(const models::SpringPlateMachineParams& 
                                         const CorrectionPlanes& planes);
 
 struct InfluenceCalibration {
-  Eigen::Matrix2cd coefficients;   ///< C: A = C (U1, U2) (N per kg m), column j = plane j
+  Eigen::Matrix2cd coefficients;  ///< C: A = C (U1, U2) (N per kg m), column j = plane j
   Eigen::Vector2cd bare_amplitudes;
-  Eigen::Vector2cd bare_unbalance; ///< C^{-1} A0: the calibration rotor's own plane unbalances
+  Eigen::Vector2cd bare_unbalance;  ///< C^{-1} A0: the calibration rotor's own plane unbalances
 };
 
 /// C from the three runs; test_j = m r e^{i a} of the test mass on plane j (kg m).
@@ -174,9 +173,9 @@ Eigen::Vector2cd influence_estimate(const InfluenceCalibration& cal, const Eigen
 
 struct UnbalanceEstimates {
   ClosedFormEstimate closed_form;
-  Eigen::Vector2cd influence;          ///< (U1, U2) by influence coefficients (kg m)
+  Eigen::Vector2cd influence;  ///< (U1, U2) by influence coefficients (kg m)
   InfluenceCalibration calibration;
-  BalancingMeasurement measurement;    ///< the unknown rotor's run
+  BalancingMeasurement measurement;                    ///< the unknown rotor's run
   std::vector<BalancingMeasurement> calibration_runs;  ///< bare, test 1, test 2
 };
 

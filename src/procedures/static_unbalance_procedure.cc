@@ -16,7 +16,7 @@ struct StaticUnbalanceWorkspace::Context {
   double kp = 0, kd = 0, ki = 0, j_ff = 0, kt_nominal = 1, kt_true = 1, i_max = 1;
   double disturbance_torque = 0;  // constant external torque at this position (N m)
   double t0 = 0, omega = 1, amplitude = 0, rate_amplitude = 0, centre = 0;
-  double t1 = 0;                  // start of the integration window (s)
+  double t1 = 0;  // start of the integration window (s)
   long rhs_calls = 0;
 };
 
@@ -204,11 +204,11 @@ struct ProcedureRun {
 
 // One position's sensor offset and noise over the window (drawn from the main stream).
 struct PositionSensor {
-  double t_start = 0.0;        // the test clock at the position's start (s)
-  double window_offset = 0.0;  // offset during the window (A)
-  double window_noise = 0.0;   // the white noise's mean over the window, in distribution (N(0, 1))
+  double t_start = 0.0;          // the test clock at the position's start (s)
+  double window_offset = 0.0;    // offset during the window (A)
+  double window_noise = 0.0;     // the white noise's mean over the window, in distribution (N(0, 1))
   std::uint64_t sample_key = 0;  // the samples' sub-stream, when sampled
-  double drift_mean = 0.0;     // the offset's drift at the samples' mean time (A)
+  double drift_mean = 0.0;       // the offset's drift at the samples' mean time (A)
 };
 
 // What the window's samples sum to: the measured current and the squared tracking error.
@@ -362,9 +362,8 @@ WindowSums period_mean_window(const ProcedureRun& run, const PositionSensor& s, 
 }  // namespace
 
 MeasurementResult run_static_unbalance_procedure(const TestPlan& plan, const GimbalTruth& truth,
-                                            sampling::RandomStream& noise,
-                                            StaticUnbalanceWorkspace& ws, int record_position,
-                                            std::vector<RecordSample>* record) {
+                                                 sampling::RandomStream& noise, StaticUnbalanceWorkspace& ws,
+                                                 int record_position, std::vector<RecordSample>* record) {
   check_plan(plan);
   Context& c = ws.context();
   const bool quasi = plan.supports == Supports::kQuasiStatic;
@@ -373,8 +372,15 @@ MeasurementResult run_static_unbalance_procedure(const TestPlan& plan, const Gim
   set_servo_and_oscillation(c, plan, truth);
   const AcquisitionConfig& acq = plan.acquisition;
   const Disturbances& dist = truth.disturbances;
-  const ProcedureRun run{c, integ, plan, dist, acquisition_window(plan), quasi,
-                         n_states, n_states - kQuadratures, quasi ? std::size_t{2} : std::size_t{6}};
+  const ProcedureRun run{c,
+                         integ,
+                         plan,
+                         dist,
+                         acquisition_window(plan),
+                         quasi,
+                         n_states,
+                         n_states - kQuadratures,
+                         quasi ? std::size_t{2} : std::size_t{6}};
   const double t1 = run.w.t1, t2 = run.w.t2;
   c.t1 = t1;
   sampling::NormalStream normal(&noise);
@@ -399,10 +405,9 @@ MeasurementResult run_static_unbalance_procedure(const TestPlan& plan, const Gim
     pr.theta_true = theta_nominal + truth.turntable_zero + plan.positioning_error * normal.next();
     offset += acq.offset_drift * normal.next();
     s.window_offset = offset + acq.offset_noise * normal.next();
-    s.window_noise = normal.next();          // the white noise's mean, in distribution
-    s.sample_key = noise.next_bits();        // its samples' sub-stream otherwise
-    c.gravity = models::gravity_in_gimbal(plan.gravity, pr.theta_true, truth.axis_tilt,
-                                          truth.axis_tilt_azimuth);
+    s.window_noise = normal.next();    // the white noise's mean, in distribution
+    s.sample_key = noise.next_bits();  // its samples' sub-stream otherwise
+    c.gravity = models::gravity_in_gimbal(plan.gravity, pr.theta_true, truth.axis_tilt, truth.axis_tilt_azimuth);
     c.disturbance_torque = dist.harmonic2_torque * std::sin(2.0 * pr.theta_true + dist.harmonic2_phase) +
                            dist.direction_torque * pr.sweep +
                            (static_cast<int>(ip) == dist.bump_position ? dist.bump_torque : 0.0);

@@ -12,8 +12,8 @@
 /// and cable torque (in the disk model), current acquisition (rate, white noise, offset
 /// with a per-position random-walk drift, ADC resolution and range), turntable positioning
 /// error, gimbal axis tilted against the turntable axis, bearing run-out.
-#include <memory>
 #include <cstdint>
+#include <memory>
 #include <span>
 #include <string>
 #include <vector>
@@ -26,32 +26,32 @@
 namespace poise::procedures {
 
 struct ServoConfig {
-  double bandwidth_hz = 20.0;      ///< position loop crossover
+  double bandwidth_hz = 20.0;  ///< position loop crossover
   double damping = 0.8;
-  double integral_ratio = 0.1;     ///< Ki = Kp * w_c * ratio
-  double inertia_estimate = 0.0;   ///< J used for the gains and the feed-forward (kg m^2)
-  double current_limit = 1.0;      ///< amplifier limit (A)
-  double kt_nominal = 0.1;         ///< K_T the controller and the estimate assume (N m/A)
+  double integral_ratio = 0.1;    ///< Ki = Kp * w_c * ratio
+  double inertia_estimate = 0.0;  ///< J used for the gains and the feed-forward (kg m^2)
+  double current_limit = 1.0;     ///< amplifier limit (A)
+  double kt_nominal = 0.1;        ///< K_T the controller and the estimate assume (N m/A)
 };
 
 struct OscillationConfig {
-  double rate_amplitude = 0.0;  ///< A (rad/s)
-  double period = 4.0;          ///< T (s)
-  int periods = 2;              ///< N whole periods integrated
-  double lead_in = 0.5;         ///< time after the oscillation starts before the integration
-                                ///< window (s); the window still spans N whole periods
-  double settle_time = 1.0;     ///< holding at the start angle after locking (s)
-  double centre = 0.0;          ///< phi_c (rad)
+  double rate_amplitude = 0.0;               ///< A (rad/s)
+  double period = 4.0;                       ///< T (s)
+  int periods = 2;                           ///< N whole periods integrated
+  double lead_in = 0.5;                      ///< time after the oscillation starts before the integration
+                                             ///< window (s); the window still spans N whole periods
+  double settle_time = 1.0;                  ///< holding at the start angle after locking (s)
+  double centre = 0.0;                       ///< phi_c (rad)
   double swing_range = 0.05235987755982988;  ///< the test's stated range of |phi| (rad; Yang 2015: 3 deg)
 };
 
 struct AcquisitionConfig {
   double rate_hz = 1000.0;
-  double noise_rms = 0.0;       ///< white current noise (A)
-  double offset = 0.0;          ///< current-sensor offset at the first position (A)
-  double offset_drift = 0.0;    ///< random-walk step of the offset per position (A, 1 sigma)
-  double offset_noise = 0.0;    ///< the sensor's low-frequency (1/f) noise as it averages over
-                                ///< one position's window: white from position to position (A)
+  double noise_rms = 0.0;     ///< white current noise (A)
+  double offset = 0.0;        ///< current-sensor offset at the first position (A)
+  double offset_drift = 0.0;  ///< random-walk step of the offset per position (A, 1 sigma)
+  double offset_noise = 0.0;  ///< the sensor's low-frequency (1/f) noise as it averages over
+                              ///< one position's window: white from position to position (A)
   int adc_bits = 16;
   double adc_full_scale = 2.0;  ///< +- range (A)
 };
@@ -83,10 +83,10 @@ enum class Supports {
 enum class PositionModel { kIntegrated, kPeriodMean };
 
 struct TestPlan {
-  std::vector<double> positions;     ///< nominal turntable angles theta_i (rad), in test order
-  std::vector<int> sweep;            ///< approach direction per position (+1/-1); empty = all +1
-  double move_time = 5.0;            ///< turntable move and lock between positions (s)
-  double positioning_error = 0.0;    ///< turntable error per position (rad, 1 sigma)
+  std::vector<double> positions;   ///< nominal turntable angles theta_i (rad), in test order
+  std::vector<int> sweep;          ///< approach direction per position (+1/-1); empty = all +1
+  double move_time = 5.0;          ///< turntable move and lock between positions (s)
+  double positioning_error = 0.0;  ///< turntable error per position (rad, 1 sigma)
   ServoConfig servo;
   OscillationConfig oscillation;
   AcquisitionConfig acquisition;
@@ -99,12 +99,12 @@ struct TestPlan {
 /// Effects a real rig may have that the test's model (Eqs. 21-22) does not declare; all
 /// off by default. They let the residual diagnosis be tested on data whose effect is known.
 struct Disturbances {
-  double offset_drift_rate = 0.0;   ///< current-sensor offset drifting linearly in time (A/s)
-  double harmonic2_torque = 0.0;    ///< torque T2 sin(2 theta + psi2) at each position (N m):
-  double harmonic2_phase = 0.0;     ///< an out-of-round bearing under the gravity load
-  double direction_torque = 0.0;    ///< torque +-T_d by approach direction (cable wind-up, N m)
-  int bump_position = -1;           ///< one position disturbed by a bump (index, -1 = none)
-  double bump_torque = 0.0;         ///< its extra torque during that position (N m)
+  double offset_drift_rate = 0.0;  ///< current-sensor offset drifting linearly in time (A/s)
+  double harmonic2_torque = 0.0;   ///< torque T2 sin(2 theta + psi2) at each position (N m):
+  double harmonic2_phase = 0.0;    ///< an out-of-round bearing under the gravity load
+  double direction_torque = 0.0;   ///< torque +-T_d by approach direction (cable wind-up, N m)
+  int bump_position = -1;          ///< one position disturbed by a bump (index, -1 = none)
+  double bump_torque = 0.0;        ///< its extra torque during that position (N m)
 };
 
 /// The unit under test as it really is (one Monte Carlo sample).
@@ -113,34 +113,34 @@ struct GimbalTruth {
   double kt_true = 0.1;          ///< real K_T (N m/A)
   double axis_tilt = 0.0;        ///< gimbal axis vs turntable axis (rad)
   double axis_tilt_azimuth = 0.0;
-  double turntable_zero = 0.0;   ///< registration error of the turntable zero (rad)
+  double turntable_zero = 0.0;  ///< registration error of the turntable zero (rad)
   Disturbances disturbances;
 };
 
 struct PositionResult {
-  double theta_nominal = 0.0;    ///< rad
-  double time = 0.0;             ///< middle of the integration window since the test began (s)
-  int sweep = 1;                 ///< approach direction
-  double theta_true = 0.0;       ///< rad
-  double torque = 0.0;           ///< M_i (N m), Eq. 21
-  double max_abs_phi = 0.0;      ///< largest |phi - phi_c| in the integration window (rad),
-                                 ///< the swing about the commanded centre (the +-3 deg limit)
-  double rms_tracking = 0.0;     ///< RMS of phi_ref - phi in the window (rad)
-  bool saturated = false;        ///< current limit reached in the window
+  double theta_nominal = 0.0;  ///< rad
+  double time = 0.0;           ///< middle of the integration window since the test began (s)
+  int sweep = 1;               ///< approach direction
+  double theta_true = 0.0;     ///< rad
+  double torque = 0.0;         ///< M_i (N m), Eq. 21
+  double max_abs_phi = 0.0;    ///< largest |phi - phi_c| in the integration window (rad),
+                               ///< the swing about the commanded centre (the +-3 deg limit)
+  double rms_tracking = 0.0;   ///< RMS of phi_ref - phi in the window (rad)
+  bool saturated = false;      ///< current limit reached in the window
 };
 
 /// One sample of a raw record: what the acquisition saw at one position.
 struct RecordSample {
-  double t;          ///< s since the start of the integration window
-  double current;    ///< measured drive current (A), with noise and ADC
-  double phi;        ///< gimbal angle from the encoder (rad)
+  double t;        ///< s since the start of the integration window
+  double current;  ///< measured drive current (A), with noise and ADC
+  double phi;      ///< gimbal angle from the encoder (rad)
 };
 
 struct MeasurementResult {
   std::vector<PositionResult> positions;
-  estimators::SineFitResult fit;   ///< MT_s (N m), b (rad), MK (N m)
-  solvers::CvodeStats solver;      ///< counters of this measurement
-  double rhs_seconds = 0.0;        ///< time inside the right-hand side (if timed)
+  estimators::SineFitResult fit;  ///< MT_s (N m), b (rad), MK (N m)
+  solvers::CvodeStats solver;     ///< counters of this measurement
+  double rhs_seconds = 0.0;       ///< time inside the right-hand side (if timed)
 };
 
 /// Per-thread state: the integrators (one per support formulation, made on first use) and
@@ -180,18 +180,16 @@ class StaticUnbalanceWorkspace {
 /// per-sample noise from a sub-stream keyed by a word drawn from `noise`: the main stream
 /// advances the same way on both paths, so any position can be replayed with its record.
 MeasurementResult run_static_unbalance_procedure(const TestPlan& plan, const GimbalTruth& truth,
-                                            sampling::RandomStream& noise,
-                                            StaticUnbalanceWorkspace& ws,
-                                            int record_position = -1,
-                                            std::vector<RecordSample>* record = nullptr);
+                                                 sampling::RandomStream& noise, StaticUnbalanceWorkspace& ws,
+                                                 int record_position = -1, std::vector<RecordSample>* record = nullptr);
 
 /// Order in which the turntable visits n positions evenly spaced over 360 deg.
 enum class Placement {
-  kSequential,   ///< 0, 360/n, 2 * 360/n, ... deg
-  kInterleaved,  ///< van der Corput (bit-reversed) order: 0, 180, 90, 270, ... deg, so that a
-                 ///< drift in time is not a function of the angle
-  kBackAndForth, ///< even positions going up, odd ones coming back down (approach -1): a
-                 ///< linear drift then adds the same to both legs' sum at every angle
+  kSequential,    ///< 0, 360/n, 2 * 360/n, ... deg
+  kInterleaved,   ///< van der Corput (bit-reversed) order: 0, 180, 90, 270, ... deg, so that a
+                  ///< drift in time is not a function of the angle
+  kBackAndForth,  ///< even positions going up, odd ones coming back down (approach -1): a
+                  ///< linear drift then adds the same to both legs' sum at every angle
 };
 Placement parse_placement(const std::string& name);  ///< "sequential" | "interleaved" | "back_and_forth"
 
@@ -210,8 +208,6 @@ inline double test_duration(const TestPlan& plan) {
 }
 
 /// Eq. 23: counterweight mass for amplitude MT_s at radius R.
-inline double counterweight_mass(double amplitude, double radius, double g) {
-  return amplitude / (radius * g);
-}
+inline double counterweight_mass(double amplitude, double radius, double g) { return amplitude / (radius * g); }
 
 }  // namespace poise::procedures

@@ -1,8 +1,8 @@
 #include "sampling/design.h"
 
-#include <boost/random/sobol.hpp>
 #include <algorithm>
 #include <bit>
+#include <boost/random/sobol.hpp>
 #include <mutex>
 #include <numeric>
 
@@ -30,7 +30,8 @@ void sobol_point(std::size_t i, std::span<const std::uint64_t> shift, std::span<
     if (!scramble.empty()) {
       std::uint64_t y = 0;
       for (int k = 0; k < 64; ++k) {
-        const auto bit = static_cast<std::uint64_t>(std::popcount(raw & scramble[d * 64 + static_cast<std::size_t>(k)]) & 1);
+        const auto bit =
+            static_cast<std::uint64_t>(std::popcount(raw & scramble[d * 64 + static_cast<std::size_t>(k)]) & 1);
         y |= bit << (63 - k);
       }
       raw = y;
@@ -45,8 +46,7 @@ SamplingMethod parse_sampling_method(std::string_view name) {
   if (name == "monte_carlo") return SamplingMethod::kMonteCarlo;
   if (name == "lhs") return SamplingMethod::kLatinHypercube;
   if (name == "sobol") return SamplingMethod::kSobol;
-  throw Error("unknown sampling method \"" + std::string(name) +
-              "\"; expected \"monte_carlo\", \"lhs\" or \"sobol\"");
+  throw Error("unknown sampling method \"" + std::string(name) + "\"; expected \"monte_carlo\", \"lhs\" or \"sobol\"");
 }
 
 std::string to_string(SamplingMethod method) {
@@ -63,8 +63,8 @@ struct Design::Replicates {
   std::vector<std::shared_ptr<const Design>> designs;  // [replicate], built on first use
 };
 
-Design::Design(SamplingMethod method, std::uint64_t seed, std::size_t n_samples,
-               std::size_t dimension, const DesignOptions& options)
+Design::Design(SamplingMethod method, std::uint64_t seed, std::size_t n_samples, std::size_t dimension,
+               const DesignOptions& options)
     : method_(method), seed_(seed), n_samples_(n_samples), dimension_(dimension), options_(options) {
   require(n_samples > 0, "a design needs at least one sample");
   require(options.replicate_size == 0 || options.saltelli_base == 0,
@@ -77,8 +77,7 @@ Design::Design(SamplingMethod method, std::uint64_t seed, std::size_t n_samples,
   }
   if (options.saltelli_base > 0) {
     const std::size_t groups = saltelli_groups();
-    require(n_samples == options.saltelli_base * (groups + 2),
-            "the Saltelli layout needs base x (groups + 2) samples");
+    require(n_samples == options.saltelli_base * (groups + 2), "the Saltelli layout needs base x (groups + 2) samples");
     for (const auto& g : options.saltelli_extra_groups) {
       for (std::size_t d : g) require(d < dimension, "a Saltelli group names a dimension past the design's");
     }
@@ -100,9 +99,9 @@ Design::Design(SamplingMethod method, std::uint64_t seed, std::size_t n_samples,
       }
     }
   } else if (method == SamplingMethod::kSobol) {
-    require(dimension <= boost::random::default_sobol_table::max_dimension,
-            "Sobol design limited to " + std::to_string(boost::random::default_sobol_table::max_dimension) +
-                " dimensions");
+    require(
+        dimension <= boost::random::default_sobol_table::max_dimension,
+        "Sobol design limited to " + std::to_string(boost::random::default_sobol_table::max_dimension) + " dimensions");
     RandomStream rs(seed, StreamId::kSobolShift, 0);
     sobol_shift_.resize(dimension);
     for (auto& s : sobol_shift_) s = rs.next_bits();
@@ -165,8 +164,7 @@ void Design::point(std::size_t i, std::span<double> u) const {
     const std::vector<std::size_t>* extra =
         m >= first_extra ? &options_.saltelli_extra_groups[m - first_extra] : nullptr;
     for (std::size_t d = 0; d < dimension_; ++d) {
-      const bool from_b =
-          m == 1 || m == 2 + d || (extra && std::find(extra->begin(), extra->end(), d) != extra->end());
+      const bool from_b = m == 1 || m == 2 + d || (extra && std::find(extra->begin(), extra->end(), d) != extra->end());
       u[d] = ab[from_b ? dimension_ + d : d];
     }
     return;
@@ -182,14 +180,11 @@ void Design::point(std::size_t i, std::span<double> u) const {
       const double n = static_cast<double>(n_samples_);
       for (std::size_t d = 0; d < dimension_; ++d) {
         // Rounding could reach the top of the stratum (1.0 in the last one): clamp inside.
-        u[d] = std::min((static_cast<double>(lhs_permutation_[d][i]) + rs.uniform()) / n,
-                        1.0 - 0x1.0p-53);
+        u[d] = std::min((static_cast<double>(lhs_permutation_[d][i]) + rs.uniform()) / n, 1.0 - 0x1.0p-53);
       }
       break;
     }
-    case SamplingMethod::kSobol:
-      sobol_point(i, sobol_shift_, sobol_scramble_, u);
-      break;
+    case SamplingMethod::kSobol: sobol_point(i, sobol_shift_, sobol_scramble_, u); break;
   }
 }
 

@@ -52,7 +52,7 @@ struct DesignOptions {
   /// (per-test draws, measurement noise); 1 = all of it one group.
   std::size_t saltelli_noise_sources = 1;
   std::vector<std::vector<std::size_t>> saltelli_extra_groups;  ///< closed groups of dimensions
-  bool scramble = false;           ///< sobol: linear matrix scramble (set for replicates)
+  bool scramble = false;                                        ///< sobol: linear matrix scramble (set for replicates)
 };
 
 SamplingMethod parse_sampling_method(std::string_view name);  // "monte_carlo", "lhs", "sobol"
@@ -83,9 +83,7 @@ class Design {
     return options_.saltelli_noise_group ? std::max<std::size_t>(options_.saltelli_noise_sources, 1) : 0;
   }
   /// Saltelli layout: the number of groups (dimension, plus one for the noise group).
-  std::size_t saltelli_groups() const {
-    return dimension_ + noise_groups() + options_.saltelli_extra_groups.size();
-  }
+  std::size_t saltelli_groups() const { return dimension_ + noise_groups() + options_.saltelli_extra_groups.size(); }
 
  private:
   struct Replicates;  // lazily built designs of the replicates, shared by copies
@@ -98,7 +96,7 @@ class Design {
   std::vector<std::uint64_t> sobol_scramble_;                // [dimension][64] row masks
   DesignOptions options_;
   std::shared_ptr<Replicates> replicates_;
-  std::shared_ptr<const Design> saltelli_base_;              // 2 x dimension, N points
+  std::shared_ptr<const Design> saltelli_base_;  // 2 x dimension, N points
 };
 
 }  // namespace poise::sampling

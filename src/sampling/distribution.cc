@@ -33,8 +33,7 @@ DistributionKind parse_distribution_kind(std::string_view name) {
   if (name == "arcsine") return DistributionKind::kArcsine;
   if (name == "truncated_normal") return DistributionKind::kTruncatedNormal;
   if (name == "fixed") return DistributionKind::kFixed;
-  throw Error("unknown distribution \"" + std::string(name) + "\"; expected one of " +
-              distribution_kind_names());
+  throw Error("unknown distribution \"" + std::string(name) + "\"; expected one of " + distribution_kind_names());
 }
 
 ToleranceConvention parse_convention(std::string_view name) {
@@ -42,8 +41,7 @@ ToleranceConvention parse_convention(std::string_view name) {
   if (name == "1sigma") return ToleranceConvention::kOneSigma;
   if (name == "2sigma") return ToleranceConvention::kTwoSigma;
   if (name == "3sigma") return ToleranceConvention::kThreeSigma;
-  throw Error("unknown tolerance convention \"" + std::string(name) + "\"; expected one of " +
-              convention_names());
+  throw Error("unknown tolerance convention \"" + std::string(name) + "\"; expected one of " + convention_names());
 }
 
 std::string distribution_kind_names() {
@@ -72,8 +70,7 @@ std::string to_string(ToleranceConvention c) {
   return "?";
 }
 
-Distribution::Distribution(DistributionKind kind, double nominal, double tolerance,
-                           ToleranceConvention convention)
+Distribution::Distribution(DistributionKind kind, double nominal, double tolerance, ToleranceConvention convention)
     : kind_(kind), convention_(convention), nominal_(nominal), tolerance_(tolerance) {
   if (!std::isfinite(nominal) || !std::isfinite(tolerance)) {
     throw Error("distribution parameters must be finite");
@@ -105,8 +102,7 @@ Distribution::Distribution(DistributionKind kind, double nominal, double toleran
       half_width_ = tolerance;
       phi_lo_ = standard_normal_cdf(-k);
       break;
-    case DistributionKind::kFixed:
-      break;
+    case DistributionKind::kFixed: break;
   }
 }
 
@@ -152,8 +148,7 @@ double Distribution::stddev() const {
 
 double Distribution::lower() const {
   switch (kind_) {
-    case DistributionKind::kNormal:
-      return sigma_ > 0 ? -std::numeric_limits<double>::infinity() : nominal_;
+    case DistributionKind::kNormal: return sigma_ > 0 ? -std::numeric_limits<double>::infinity() : nominal_;
     case DistributionKind::kFixed: return nominal_ + tolerance_;
     default: return nominal_ - half_width_;
   }
@@ -161,8 +156,7 @@ double Distribution::lower() const {
 
 double Distribution::upper() const {
   switch (kind_) {
-    case DistributionKind::kNormal:
-      return sigma_ > 0 ? std::numeric_limits<double>::infinity() : nominal_;
+    case DistributionKind::kNormal: return sigma_ > 0 ? std::numeric_limits<double>::infinity() : nominal_;
     case DistributionKind::kFixed: return nominal_ + tolerance_;
     default: return nominal_ + half_width_;
   }
@@ -174,8 +168,7 @@ std::string Distribution::describe(double display_factor, std::string_view unit)
   const std::string u(unit);
   switch (kind_) {
     case DistributionKind::kFixed:
-      std::snprintf(buf, sizeof buf, "fixed at %.4g %s", (nominal_ + tolerance_) / display_factor,
-                    u.c_str());
+      std::snprintf(buf, sizeof buf, "fixed at %.4g %s", (nominal_ + tolerance_) / display_factor, u.c_str());
       break;
     case DistributionKind::kNormal:
       std::snprintf(buf, sizeof buf, "normal, +-%.4g %s read as %s (sigma = %.4g %s)", t, u.c_str(),

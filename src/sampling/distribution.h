@@ -36,8 +36,7 @@ class Distribution {
  public:
   /// Throws poise::Error naming the offending combination (e.g. normal with bounds,
   /// negative tolerance).
-  Distribution(DistributionKind kind, double nominal, double tolerance,
-               ToleranceConvention convention);
+  Distribution(DistributionKind kind, double nominal, double tolerance, ToleranceConvention convention);
 
   /// Inverse CDF at u in (0, 1).
   double quantile(double u) const;

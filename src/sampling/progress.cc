@@ -42,15 +42,15 @@ void Progress::update(std::size_t done) {
   if (tty_) {
     if (done != total_ && now - last_print_ < std::chrono::milliseconds(200)) return;
     last_print_ = now;
-    std::fprintf(out_, "\r  %5.1f%%  %zu/%zu %s  %.0f %s/s  elapsed %s  ETA %s   ", pct, done,
-                 total_, label_.c_str(), rate, label_.c_str(), hms(t).c_str(), hms(eta).c_str());
+    std::fprintf(out_, "\r  %5.1f%%  %zu/%zu %s  %.0f %s/s  elapsed %s  ETA %s   ", pct, done, total_, label_.c_str(),
+                 rate, label_.c_str(), hms(t).c_str(), hms(eta).c_str());
     std::fflush(out_);
   } else {
     const int decile = static_cast<int>(10 * done / total_);
     if (decile == last_decile_) return;
     last_decile_ = decile;
-    std::fprintf(out_, "  %3d%%  %zu/%zu %s  %.0f %s/s  elapsed %s  ETA %s\n", decile * 10, done,
-                 total_, label_.c_str(), rate, label_.c_str(), hms(t).c_str(), hms(eta).c_str());
+    std::fprintf(out_, "  %3d%%  %zu/%zu %s  %.0f %s/s  elapsed %s  ETA %s\n", decile * 10, done, total_,
+                 label_.c_str(), rate, label_.c_str(), hms(t).c_str(), hms(eta).c_str());
   }
 }
 

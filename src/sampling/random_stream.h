@@ -10,22 +10,20 @@ namespace poise::sampling {
 
 /// Stream ids keep independent uses of one seed apart.
 enum class StreamId : std::uint64_t {
-  kDesign = 1,       ///< plain Monte Carlo design points
+  kDesign = 1,  ///< plain Monte Carlo design points
   kLhsPermutation = 2,
   kLhsJitter = 3,
   kSobolShift = 4,
   kReplicateSeed = 5,  ///< seed of each randomized replicate of a design
   kSobolScramble = 6,  ///< linear matrix scramble of a Sobol replicate
-  kProcedure = 16,   ///< randomness inside a sample's procedure (noise etc.)
-  kNoise = 17,       ///< measurement noise, apart from the procedure's other draws
-  kBootstrap = 18,   ///< bootstrap resampling of results
+  kProcedure = 16,     ///< randomness inside a sample's procedure (noise etc.)
+  kNoise = 17,         ///< measurement noise, apart from the procedure's other draws
+  kBootstrap = 18,     ///< bootstrap resampling of results
 };
 
 /// Maps 64 random bits to a double in the open interval (0, 1): the top 52 bits, centred
 /// in their cell, exact in double precision, within [2^-53, 1 - 2^-53] and symmetric.
-inline double to_open_unit(std::uint64_t bits) {
-  return (static_cast<double>(bits >> 12) + 0.5) * 0x1.0p-52;
-}
+inline double to_open_unit(std::uint64_t bits) { return (static_cast<double>(bits >> 12) + 0.5) * 0x1.0p-52; }
 
 /// A sequence of random numbers keyed by (seed, stream, index).
 class RandomStream {

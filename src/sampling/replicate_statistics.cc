@@ -59,7 +59,8 @@ Ends woodruff_ends(double p, double q, double t_quantile, const std::vector<doub
 }
 
 // The replicates of 2 or more values.
-std::vector<std::vector<double>> replicate_groups(std::span<const double> values, std::span<const std::size_t> replicate_of) {
+std::vector<std::vector<double>> replicate_groups(std::span<const double> values,
+                                                  std::span<const std::size_t> replicate_of) {
   POISE_INVARIANT(values.size() == replicate_of.size(), "one replicate number per value");
   std::vector<std::vector<double>> all;
   for (std::size_t k = 0; k < values.size(); ++k) {
@@ -86,9 +87,9 @@ void woodruff(Estimate& e, double p, const std::vector<double>& sorted, const st
   }
   const double tail = replicate_size * std::min(p, 1.0 - p);
   if (tail < kMinTailPerReplicate) {
-    e.note += std::string(e.note.empty() ? "" : "; ") + "approximate: replicate_size x " +
-              (p > 0.5 ? "(1 - p)" : "p") + " = " + format("%.3g", tail) + " < " +
-              format("%.0f", kMinTailPerReplicate) + ", so each replicate holds only a few samples beyond " + name +
+    e.note += std::string(e.note.empty() ? "" : "; ") + "approximate: replicate_size x " + (p > 0.5 ? "(1 - p)" : "p") +
+              " = " + format("%.3g", tail) + " < " + format("%.0f", kMinTailPerReplicate) +
+              ", so each replicate holds only a few samples beyond " + name +
               " and their spread is a spread of small counts; use replicates of at least " +
               format("%.0f", std::ceil(kMinTailPerReplicate / std::min(p, 1.0 - p))) + " samples for this figure";
   }
@@ -96,8 +97,9 @@ void woodruff(Estimate& e, double p, const std::vector<double>& sorted, const st
 
 }  // namespace
 
-std::optional<double> replicate_quantile_bound(std::span<const double> values, std::span<const std::size_t> replicate_of,
-                                               double p, double confidence, bool upper) {
+std::optional<double> replicate_quantile_bound(std::span<const double> values,
+                                               std::span<const std::size_t> replicate_of, double p, double confidence,
+                                               bool upper) {
   const std::vector<std::vector<double>> groups = replicate_groups(values, replicate_of);
   if (groups.size() < 2) return std::nullopt;
   std::vector<double> sorted(values.begin(), values.end());

@@ -89,13 +89,12 @@ Estimate with_spread(double value, const Spread& s) { return {value, s.lo, s.hi,
 void check_sobol_inputs(std::span<const double> fA, std::span<const double> fB,
                         const std::vector<std::span<const double>>& fAB) {
   const std::size_t N = fA.size(), k = fAB.size();
-  require(fB.size() == N, "Sobol indices: f(A) has " + std::to_string(N) + " values but f(B) has " +
-                              std::to_string(fB.size()));
+  require(fB.size() == N,
+          "Sobol indices: f(A) has " + std::to_string(N) + " values but f(B) has " + std::to_string(fB.size()));
   require(k > 0, "Sobol indices need at least one input group");
   for (std::size_t g = 0; g < k; ++g) {
     require(fAB[g].size() == N, "Sobol indices: f(AB) of group " + std::to_string(g) + " has " +
-                                    std::to_string(fAB[g].size()) + " values, expected " +
-                                    std::to_string(N));
+                                    std::to_string(fAB[g].size()) + " values, expected " + std::to_string(N));
   }
 }
 
@@ -134,8 +133,7 @@ BaseRows base_rows(std::span<const double> fA, std::span<const double> fB,
 
 // Row-major table of the columns (n x cols) of the base rows, shifted by `shift`.
 std::vector<double> column_table(std::span<const double> fA, std::span<const double> fB,
-                                 const std::vector<std::span<const double>>& fAB, const BaseRows& rows,
-                                 double shift) {
+                                 const std::vector<std::span<const double>>& fAB, const BaseRows& rows, double shift) {
   const std::vector<std::size_t>& base = rows.rows;
   const Layout& layout = rows.layout;
   const std::size_t n = base.size(), k = fAB.size();
@@ -254,8 +252,8 @@ SobolResult sobol_indices(std::span<const double> fA, std::span<const double> fB
   const std::size_t n = rows.rows.size();
   res.n = n;
   if (n < 2) {
-    res.note = "fewer than 2 rows with f(A) and f(B) both finite (" + std::to_string(n) + " of " +
-               std::to_string(N) + "): indices undefined";
+    res.note = "fewer than 2 rows with f(A) and f(B) both finite (" + std::to_string(n) + " of " + std::to_string(N) +
+               "): indices undefined";
     return res;
   }
 

@@ -53,11 +53,11 @@ namespace poise::sampling {
 inline constexpr double kConstantOutputTolerance = 1e-10;
 
 struct SobolIndex {
-  Estimate first;               ///< S_g with its 95% percentile-bootstrap interval
-  Estimate total;               ///< ST_g with its 95% percentile-bootstrap interval
-  double first_se = 0.0;        ///< bootstrap standard error of S_g (0 without bootstrap)
-  double total_se = 0.0;        ///< bootstrap standard error of ST_g
-  std::size_t rows_used = 0;    ///< n_g: base rows with fA, fB and fAB^(g) finite
+  Estimate first;             ///< S_g with its 95% percentile-bootstrap interval
+  Estimate total;             ///< ST_g with its 95% percentile-bootstrap interval
+  double first_se = 0.0;      ///< bootstrap standard error of S_g (0 without bootstrap)
+  double total_se = 0.0;      ///< bootstrap standard error of ST_g
+  std::size_t rows_used = 0;  ///< n_g: base rows with fA, fB and fAB^(g) finite
 };
 
 struct SobolResult {

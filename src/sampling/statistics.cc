@@ -2,11 +2,11 @@
 
 #include <algorithm>
 #include <boost/math/distributions/binomial.hpp>
-#include <boost/math/special_functions/beta.hpp>
 #include <boost/math/distributions/students_t.hpp>
+#include <boost/math/special_functions/beta.hpp>
 #include <cmath>
-#include <limits>
 #include <cstdio>
+#include <limits>
 
 #include "core/error.h"
 
@@ -178,7 +178,8 @@ Summary summarize_from(const SummaryMoments& m, const std::function<double(std::
   const double m4 = m.m4 / nn;
   // A spread at the level of the values' round-off (identical values summed in another order)
   // is no spread: 0, not 1e-15 printed as a result.
-  const double sd = std::sqrt(var) <= 64.0 * std::numeric_limits<double>::epsilon() * std::fabs(mean) ? 0.0 : std::sqrt(var);
+  const double sd =
+      std::sqrt(var) <= 64.0 * std::numeric_limits<double>::epsilon() * std::fabs(mean) ? 0.0 : std::sqrt(var);
   s.mean.value = mean;
   if (n > 1) {
     boost::math::students_t t(nn - 1.0);
@@ -194,8 +195,7 @@ Summary summarize_from(const SummaryMoments& m, const std::function<double(std::
     s.std.hi = sd + 1.959963984540054 * se_s;
   }
   const QuantileRanks r50 = quantile_ranks(n, 0.50, true), r95 = quantile_ranks(n, 0.95, true),
-                      r9973 = quantile_ranks(n, 0.9973, true),
-                      rmax = quantile_ranks(n, nn / (nn + 1.0), true);
+                      r9973 = quantile_ranks(n, 0.9973, true), rmax = quantile_ranks(n, nn / (nn + 1.0), true);
   s.p50 = quantile_at(r50, at);
   s.p95 = quantile_at(r95, at);
   s.p99_73 = quantile_at(r9973, at);

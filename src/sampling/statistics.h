@@ -79,8 +79,9 @@ Summary summarize_replicates(std::span<const double> values, std::span<const std
 /// one-sided confidence `confidence` (t(confidence, R-1)); nullopt with fewer than 2
 /// replicates of 2 or more values, or when the end lies past the pooled sample. At 0.975 the
 /// ends of summarize_replicates' 95% interval.
-std::optional<double> replicate_quantile_bound(std::span<const double> values, std::span<const std::size_t> replicate_of,
-                                               double p, double confidence, bool upper);
+std::optional<double> replicate_quantile_bound(std::span<const double> values,
+                                               std::span<const std::size_t> replicate_of, double p, double confidence,
+                                               bool upper);
 
 /// Expected samples per replicate beyond a quantile below which its replicate interval is
 /// approximate, and `--until` on it is refused.

@@ -66,8 +66,7 @@ void cvode_error_handler(int, const char* module, const char* function, char* ms
   self->last_error_ = std::string(module) + "::" + function + ": " + msg;
 }
 
-CvodeIntegrator::CvodeIntegrator(std::size_t n, RhsFunction rhs, void* user_data,
-                                 const CvodeOptions& opt)
+CvodeIntegrator::CvodeIntegrator(std::size_t n, RhsFunction rhs, void* user_data, const CvodeOptions& opt)
     : n_(n), owned_(std::make_unique<Handles>()), opt_(opt) {
   POISE_INVARIANT(n > 0, "CVODE needs at least one state");
   SUNContext ctx = nullptr;
@@ -159,9 +158,7 @@ int CvodeIntegrator::step_polynomial(std::span<double> c, double* tn) const {
   return q;
 }
 
-std::span<const double> CvodeIntegrator::state() const {
-  return {N_VGetArrayPointer(static_cast<N_Vector>(y_)), n_};
-}
+std::span<const double> CvodeIntegrator::state() const { return {N_VGetArrayPointer(static_cast<N_Vector>(y_)), n_}; }
 
 CvodeStats CvodeIntegrator::stats() const {
   long steps = 0, nfe = 0, nfe_ls = 0, nje = 0;

@@ -35,10 +35,10 @@ inline const char* relative_tolerance_problem(double rtol) {
 
 struct CvodeOptions {
   double rtol = 1e-7;
-  double atol = 1e-10;     ///< absolute tolerance, same for every component...
+  double atol = 1e-10;                 ///< absolute tolerance, same for every component...
   std::vector<double> atol_per_state;  ///< ...unless given per component (size n)
-  double max_step = 0.0;   ///< 0 = no limit
-  long max_steps = 100000; ///< per call of advance()
+  double max_step = 0.0;               ///< 0 = no limit
+  long max_steps = 100000;             ///< per call of advance()
   /// Highest BDF order (1-5). BDF orders above 2 are not A-stable: a lightly damped fast
   /// mode (the disk's supports) forces them into tiny steps, while BDF2 damps it and steps
   /// with the slow motion. 0 = CVODE's default (5).
@@ -48,7 +48,7 @@ struct CvodeOptions {
 /// Counters since the last reset() (CVodeReInit zeroes CVODE's counters).
 struct CvodeStats {
   long steps = 0;
-  long rhs_evals = 0;      ///< including those for finite-difference Jacobians
+  long rhs_evals = 0;  ///< including those for finite-difference Jacobians
   long jac_evals = 0;
 };
 
@@ -81,12 +81,12 @@ class CvodeIntegrator {
   struct Handles;  // complete in the .cc, where the constructor and destructor are
   std::size_t n_;
   std::unique_ptr<Handles> owned_;
-  void* ctx_ = nullptr;   // SUNContext
-  void* mem_ = nullptr;   // CVODE memory
-  void* y_ = nullptr;     // N_Vector
-  void* tmp_ = nullptr;   // N_Vector for interpolation
-  void* a_ = nullptr;     // SUNMatrix
-  void* ls_ = nullptr;    // SUNLinearSolver
+  void* ctx_ = nullptr;  // SUNContext
+  void* mem_ = nullptr;  // CVODE memory
+  void* y_ = nullptr;    // N_Vector
+  void* tmp_ = nullptr;  // N_Vector for interpolation
+  void* a_ = nullptr;    // SUNMatrix
+  void* ls_ = nullptr;   // SUNLinearSolver
   double t_ = 0.0;
   CvodeOptions opt_;
   mutable std::string last_error_;

@@ -4,8 +4,8 @@
 #include <sstream>
 
 #include "core/error.h"
-#include "engine/study_files/model_overrides.h"
 #include "engine/results/result_io.h"
+#include "engine/study_files/model_overrides.h"
 #include "engine/study_files/tolerance_spec.h"
 
 namespace poise::engine {
@@ -121,7 +121,8 @@ class ClosedFormStudy final : public ProcedureStudyBase<ClosedFormStudy> {
   }
   void evaluate_point(std::size_t, std::span<const double> inputs, std::span<double> outputs) const override {
     std::vector<double> values = model_.values;
-    for (std::size_t k = 0; k < model_.drawn.size(); ++k) values[model_.drawn[k].parameter] = inputs[k] * input_factor_[k];
+    for (std::size_t k = 0; k < model_.drawn.size(); ++k)
+      values[model_.drawn[k].parameter] = inputs[k] * input_factor_[k];
     const std::vector<double> si = kind_.compute(values);
     for (std::size_t k = 0; k < si.size() && k < outputs.size(); ++k) outputs[k] = si[k] / output_factor_[k];
   }
@@ -149,10 +150,11 @@ class ClosedFormStudy final : public ProcedureStudyBase<ClosedFormStudy> {
                        : "deviation: " + dr.spec.dist.describe(dr.spec.display_factor, p.display_unit);
         source = dr.spec.source;
       }
-      html << "<tr><td class='l'><code>" << html_escape(p.name) << "</code> " << html_escape(p.description) << "</td><td>"
-           << format_significant(model_.values[k] / display_factor(p.display_unit), 6)
+      html << "<tr><td class='l'><code>" << html_escape(p.name) << "</code> " << html_escape(p.description)
+           << "</td><td>" << format_significant(model_.values[k] / display_factor(p.display_unit), 6)
            << (p.display_unit.empty() || p.display_unit == "1" ? "" : " " + html_escape(p.display_unit))
-           << "</td><td class='l'>" << html_escape(tol) << "</td><td class='l'>" << html_escape(source) << "</td></tr>\n";
+           << "</td><td class='l'>" << html_escape(tol) << "</td><td class='l'>" << html_escape(source)
+           << "</td></tr>\n";
     }
     html << "</table>\n";
   }
@@ -181,24 +183,27 @@ std::string ClosedFormKind::validate(const StudyConfig& cfg) const {
     for (const auto& dr : m.drawn) {
       const std::string name = declaration_.parameters[dr.parameter].name;
       if (dr.range && sw.parameter == "parameters." + name) {
-        throw ValidationError({InputError(SourceLocation{cfg.file, sw.line, 0}, "sweep.parameter", quote_value(sw.parameter),
-                                          "a parameter whose value counts: " + name + " is drawn from its range "
-                                          "([tolerances." + name + "] min, max); sweep tolerances." + name +
-                                          ".min and .max, or give it a deviation instead")});
+        throw ValidationError({InputError(
+            SourceLocation{cfg.file, sw.line, 0}, "sweep.parameter", quote_value(sw.parameter),
+            "a parameter whose value counts: " + name +
+                " is drawn from its range "
+                "([tolerances." +
+                name + "] min, max); sweep tolerances." + name + ".min and .max, or give it a deviation instead")});
       }
     }
   }
-  return cfg.file + ": valid. Study '" + cfg.name + "' (" + cfg.kind + ") on model '" + m.header.name + "': " +
-         std::to_string(m.drawn.size()) + " toleranced parameter(s) of " + std::to_string(declaration_.parameters.size()) +
-         ", " + std::to_string(declaration_.outputs.size()) + " outputs, " + sampling::to_string(cfg.method) + " design, " +
-         std::to_string(cfg.samples) + " samples, seed " + std::to_string(cfg.seed) + ".";
+  return cfg.file + ": valid. Study '" + cfg.name + "' (" + cfg.kind + ") on model '" + m.header.name +
+         "': " + std::to_string(m.drawn.size()) + " toleranced parameter(s) of " +
+         std::to_string(declaration_.parameters.size()) + ", " + std::to_string(declaration_.outputs.size()) +
+         " outputs, " + sampling::to_string(cfg.method) + " design, " + std::to_string(cfg.samples) +
+         " samples, seed " + std::to_string(cfg.seed) + ".";
 }
 
 std::unique_ptr<ProcedureStudy> ClosedFormKind::make_study(const StudyConfig& cfg,
                                                            const std::map<std::string, std::string>& model_overrides,
                                                            std::size_t samples, std::uint64_t seed) const {
-  return std::make_unique<ClosedFormStudy>(cfg, *this, load_model(declaration_, cfg.model_path, model_overrides), samples,
-                                           seed);
+  return std::make_unique<ClosedFormStudy>(cfg, *this, load_model(declaration_, cfg.model_path, model_overrides),
+                                           samples, seed);
 }
 
 }  // namespace poise::engine

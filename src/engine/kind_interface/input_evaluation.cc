@@ -22,8 +22,8 @@ InputColumns InputColumns::row_major(const double* matrix, std::size_t inputs) {
   return c;
 }
 
-InputEvaluationFailures evaluate_inputs(const InputEvaluator& evaluator, const InputColumns& inputs,
-                                        std::size_t points, std::span<double> outputs, int threads) {
+InputEvaluationFailures evaluate_inputs(const InputEvaluator& evaluator, const InputColumns& inputs, std::size_t points,
+                                        std::span<double> outputs, int threads) {
   const std::size_t ni = evaluator.input_names().size(), no = evaluator.outputs().size();
   if (inputs.data.size() != ni || inputs.stride.size() != ni || outputs.size() != points * no) {
     throw Error("evaluate: " + std::to_string(points) + " points need " + std::to_string(ni) +
@@ -44,7 +44,8 @@ InputEvaluationFailures evaluate_inputs(const InputEvaluator& evaluator, const I
         for (std::size_t k = r.begin(); k < r.end(); ++k) {
           const double x = inputs.at(j, k);
           rows[(k - r.begin()) * ni + j] = x;
-          if (!std::isfinite(x)) not_finite.emplace_back(k, "input " + evaluator.input_names()[j] + " is not a finite number");
+          if (!std::isfinite(x))
+            not_finite.emplace_back(k, "input " + evaluator.input_names()[j] + " is not a finite number");
         }
       }
       InputColumns chunk = InputColumns::row_major(rows.data(), ni);
@@ -52,7 +53,8 @@ InputEvaluationFailures evaluate_inputs(const InputEvaluator& evaluator, const I
       evaluator.evaluate_points(chunk, outputs.data(), r.begin(), r.end(), local);
       // A point with a NaN or infinite input has no answer, whatever the formula made of it.
       for (const auto& [k, why] : not_finite) {
-        std::fill(outputs.begin() + static_cast<std::ptrdiff_t>(k * no), outputs.begin() + static_cast<std::ptrdiff_t>((k + 1) * no), NAN);
+        std::fill(outputs.begin() + static_cast<std::ptrdiff_t>(k * no),
+                  outputs.begin() + static_cast<std::ptrdiff_t>((k + 1) * no), NAN);
         std::erase_if(local, [k = k](const auto& f) { return f.first == k; });
       }
       std::sort(not_finite.begin(), not_finite.end());

@@ -83,7 +83,7 @@ struct InputEvaluationFailures {
 
 /// All `points` points (outputs row-major, points x outputs().size()) on `threads` threads
 /// (0 = all cores), in chunks. The result does not depend on the thread count.
-InputEvaluationFailures evaluate_inputs(const InputEvaluator& evaluator, const InputColumns& inputs,
-                                        std::size_t points, std::span<double> outputs, int threads);
+InputEvaluationFailures evaluate_inputs(const InputEvaluator& evaluator, const InputColumns& inputs, std::size_t points,
+                                        std::span<double> outputs, int threads);
 
 }  // namespace poise::engine

@@ -14,8 +14,7 @@ std::vector<OutputSpec> ProcedureKind::outputs(const StudyConfig& cfg) const {
 
 std::string ProcedureKind::run(const StudyConfig& cfg, const RunOptions& options) const {
   return run_procedure_study(
-      cfg,
-      [&](const StudyConfig& c, std::size_t n, std::uint64_t seed) { return make_study(c, c.overrides, n, seed); },
+      cfg, [&](const StudyConfig& c, std::size_t n, std::uint64_t seed) { return make_study(c, c.overrides, n, seed); },
       options, requirements(cfg));
 }
 
@@ -38,10 +37,9 @@ class ProcedureInputEvaluator final : public InputEvaluator {
   bool has_own_randomness() const override { return study_->has_own_randomness(); }
   void evaluate_points(const InputColumns& inputs, double* values, std::size_t begin, std::size_t end,
                        std::vector<std::pair<std::size_t, std::string>>& failures) const override {
-    evaluate_each_point(inputs, {}, input_names().size(), outputs().size(), values, begin, end, failures,
-                        [&](std::size_t k, std::span<const double> x, std::span<double> y) {
-                          study_->evaluate_point(k, x, y);
-                        });
+    evaluate_each_point(
+        inputs, {}, input_names().size(), outputs().size(), values, begin, end, failures,
+        [&](std::size_t k, std::span<const double> x, std::span<double> y) { study_->evaluate_point(k, x, y); });
   }
 
  private:
@@ -54,9 +52,8 @@ bool ProcedureKind::has_own_randomness(const StudyConfig& cfg) const {
   return make_study(cfg, cfg.overrides, 1, cfg.seed)->has_own_randomness();
 }
 
-std::unique_ptr<InputEvaluator> ProcedureKind::input_evaluator(const StudyConfig& cfg,
-                                                               const std::map<std::string, std::string>& model_overrides,
-                                                               std::uint64_t seed) const {
+std::unique_ptr<InputEvaluator> ProcedureKind::input_evaluator(
+    const StudyConfig& cfg, const std::map<std::string, std::string>& model_overrides, std::uint64_t seed) const {
   auto overrides = cfg.overrides;
   for (const auto& [k, v] : model_overrides) overrides[k] = v;
   // One sample's study: the inputs are given, no design point is drawn (a study with draws of
@@ -74,7 +71,7 @@ McResult evaluate_procedure(const ProcedureStudy& study, int threads) {
 }
 
 McResult ProcedureKind::evaluate(const StudyConfig& cfg, const std::map<std::string, std::string>& model_overrides,
-                                        std::size_t samples, std::uint64_t seed, int threads) const {
+                                 std::size_t samples, std::uint64_t seed, int threads) const {
   return evaluate_procedure(*make_study(cfg, model_overrides, samples, seed), threads);
 }
 

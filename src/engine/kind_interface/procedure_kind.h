@@ -29,7 +29,7 @@ class ProcedureKind : public StudyKind {
                                                   const std::map<std::string, std::string>& model_overrides,
                                                   std::uint64_t seed) const override;
   McResult evaluate(const StudyConfig& cfg, const std::map<std::string, std::string>& model_overrides,
-                           std::size_t samples, std::uint64_t seed, int threads) const override;
+                    std::size_t samples, std::uint64_t seed, int threads) const override;
 };
 
 /// The optimizer's view of one in-memory run of a procedure study.

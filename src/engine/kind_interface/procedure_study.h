@@ -14,12 +14,12 @@
 
 #include <nlohmann/json.hpp>
 
-#include "sampling/progress.h"
-#include "sampling/statistics.h"
-#include "engine/results/mc_result.h"
 #include "engine/kind_interface/output_spec.h"
+#include "engine/results/mc_result.h"
 #include "engine/run/sample_driver.h"
 #include "engine/study_files/study_config.h"
+#include "sampling/progress.h"
+#include "sampling/statistics.h"
 
 namespace poise::engine {
 
@@ -29,7 +29,7 @@ using SampleSink = std::function<void(std::span<const SampleResult>)>;
 /// and with a stop rule checked on rank 0 after each chunk on the results so far.
 struct RunControl {
   bool distributed = false;
-  std::size_t replicate_size = 0;  ///< set from the study's config by ProcedureStudyBase::run
+  std::size_t replicate_size = 0;                    ///< set from the study's config by ProcedureStudyBase::run
   std::function<std::string(const McResult&)> stop;  ///< "" = go on
   /// A study with a per-sample field: make its figures (McResult::field) and write its values
   /// to `field_file` (samples.h5 of a run; "" = kept in memory, or a scratch file when too
@@ -65,8 +65,8 @@ std::function<OutputValues(const std::string&)> requirement_values(const McResul
 /// workspace per thread; `done` (a resumed run's samples) counted but not recomputed.
 template <class MakeWorkspace, class Compute>
 McResult run_procedure_samples(std::size_t samples, std::size_t block, int threads, bool progress,
-                               const SampleSink& sink, std::span<const SampleResult> done,
-                               MakeWorkspace make_workspace, Compute compute, const RunControl& control = {}) {
+                               const SampleSink& sink, std::span<const SampleResult> done, MakeWorkspace make_workspace,
+                               Compute compute, const RunControl& control = {}) {
   McResult r;
   r.n = samples;
   r.replicate_size = control.replicate_size;
@@ -91,8 +91,7 @@ McResult run_procedure_samples(std::size_t samples, std::size_t block, int threa
         if (sink) sink(finished);
         collect_samples(r, finished);
       },
-      [&](std::size_t) { return control.stop ? control.stop(r) : std::string(); }, encode_result, decode_result,
-      &bar);
+      [&](std::size_t) { return control.stop ? control.stop(r) : std::string(); }, encode_result, decode_result, &bar);
   bar.finish();
   r.wall_seconds = bar.elapsed_seconds();
   r.completed = o.completed;
@@ -115,8 +114,8 @@ class ProcedureStudy {
   virtual std::string model_name() const = 0;
   virtual std::string model_source() const = 0;
   /// Runs samples [done.size(), n); `done` (a resumed run's samples) are counted, not rerun.
-  virtual McResult run(int threads, bool progress, const SampleSink& sink,
-                       std::span<const SampleResult> done, const RunControl& control = {}) const = 0;
+  virtual McResult run(int threads, bool progress, const SampleSink& sink, std::span<const SampleResult> done,
+                       const RunControl& control = {}) const = 0;
   /// Dimensions of the design point (for sensitivity indices: the first of input_names()
   /// unless a study says otherwise) and whether a sample has randomness of its own beyond
   /// its design point (per-test draws, noise).
@@ -178,9 +177,9 @@ class ProcedureStudyBase : public ProcedureStudy {
     const Derived& d = static_cast<const Derived&>(*this);
     RunControl c = control;
     c.replicate_size = d.config().replicate_size;
-    return run_procedure_samples(d.samples(), d.config().block, threads, progress, sink, done,
-                                 [&d] { return d.make_workspace(); },
-                                 [&d](std::size_t i, auto& ws, SampleResult& res) { d.compute(i, ws, res); }, c);
+    return run_procedure_samples(
+        d.samples(), d.config().block, threads, progress, sink, done, [&d] { return d.make_workspace(); },
+        [&d](std::size_t i, auto& ws, SampleResult& res) { d.compute(i, ws, res); }, c);
   }
   std::vector<std::string> design_dimension_names() const override {
     const Derived& d = static_cast<const Derived&>(*this);

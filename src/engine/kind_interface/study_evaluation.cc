@@ -21,7 +21,7 @@ std::map<std::string, std::string> merged(const StudyConfig& cfg, const std::map
 }  // namespace
 
 McResult evaluate_study(const StudyConfig& base, const std::map<std::string, std::string>& overrides,
-                               std::size_t samples, std::uint64_t seed, int threads) {
+                        std::size_t samples, std::uint64_t seed, int threads) {
   StudyConfig cfg = base;
   const StudyKind& kind = study_kind(cfg.kind);
   const auto model_overrides = kind.apply_study_overrides(cfg, merged(base, overrides));

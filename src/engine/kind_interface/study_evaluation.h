@@ -17,7 +17,7 @@ namespace poise::engine {
 /// and `seed`. Study keys among the overrides (group.positions, ...: apply_study_overrides)
 /// change the study's test plan instead of its model. Throws ValidationError if an override is not valid for the model.
 McResult evaluate_study(const StudyConfig& cfg, const std::map<std::string, std::string>& overrides,
-                               std::size_t samples, std::uint64_t seed, int threads);
+                        std::size_t samples, std::uint64_t seed, int threads);
 
 /// Output names of a study without running it (validates study and model).
 std::vector<std::string> study_output_names(const StudyConfig& cfg);

@@ -20,15 +20,17 @@ std::map<std::string, std::string> StudyKind::apply_study_overrides(
 }
 
 McResult StudyKind::evaluate(const StudyConfig& cfg, const std::map<std::string, std::string>&, std::size_t,
-                                    std::uint64_t, int) const {
-  throw Error(cfg.file + ": a " + name() + " study cannot be the base of an optimization (its kind has no in-memory "
+                             std::uint64_t, int) const {
+  throw Error(cfg.file + ": a " + name() +
+              " study cannot be the base of an optimization (its kind has no in-memory "
               "evaluation); optimize over a study of a kind that streams its samples (`poise --help` lists the kinds)");
 }
 
 std::unique_ptr<InputEvaluator> StudyKind::input_evaluator(const StudyConfig& cfg,
                                                            const std::map<std::string, std::string>&,
                                                            std::uint64_t) const {
-  throw Error(cfg.file + ": a " + name() + " study cannot be evaluated at inputs you give: its samples.csv inputs "
+  throw Error(cfg.file + ": a " + name() +
+              " study cannot be evaluated at inputs you give: its samples.csv inputs "
               "do not determine a sample (some are derived from others, or drawn per test); run it instead "
               "(poise run, poise.run), whose outputs come with the inputs each sample drew");
 }

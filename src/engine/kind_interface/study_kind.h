@@ -21,9 +21,9 @@
 
 #include "engine/kind_interface/input_evaluation.h"
 #include "engine/kind_interface/output_spec.h"
-#include "engine/study_files/study_config.h"
 #include "engine/kind_interface/study_evaluation.h"
 #include "engine/run/study_runner.h"
+#include "engine/study_files/study_config.h"
 #include "engine/study_files/toml_reader.h"
 
 namespace poise::engine {
@@ -66,7 +66,7 @@ class StudyKind {
   /// One in-memory run with extra model overrides, for the optimizer (common random
   /// numbers: the same seed gives every design point the same draws). Default: refused.
   virtual McResult evaluate(const StudyConfig& cfg, const std::map<std::string, std::string>& model_overrides,
-                                   std::size_t samples, std::uint64_t seed, int threads) const;
+                            std::size_t samples, std::uint64_t seed, int threads) const;
   /// The kind's fast model, for an optimizer's search that is then verified on the full model
   /// (StudyConfig::fast_model): what it leaves out and how far it is known to be from the full
   /// model, in a sentence; "" (the default): the kind has none.

@@ -165,7 +165,8 @@ void budget_lines_svg(std::ostringstream& s, const ChartFrame& f, const json& j,
       {"#1b7837", "6,4", "budget least/greatest at " + j["budget"]["level"].get<std::string>()},
       {"#1b7837", "", "budget least/greatest at confidence " + budget_number(a["confidence"])}};
   if (!req.is_null()) legend.push_back({"#b2182b", "10,3,2,3", "requirement"});
-  if (with_mc) legend.push_back({"#08519c", "", "Monte Carlo CDF; quantile at the confidence, its 95% interval shaded"});
+  if (with_mc)
+    legend.push_back({"#08519c", "", "Monte Carlo CDF; quantile at the confidence, its 95% interval shaded"});
   for (std::size_t k = 0; k < legend.size(); ++k) {
     const double y = f.T + f.ph + 62 + 16 * static_cast<double>(k);
     s << "<line x1='" << f.L + 10 << "' y1='" << y - 4 << "' x2='" << f.L + 40 << "' y2='" << y - 4 << "' stroke='"
@@ -270,7 +271,8 @@ std::string combination_html(const json& j, const std::string& unit) {
   }
   h << "<tr><td class='l'>at confidence " << budget_number(a["confidence"]) << " (random lines x "
     << budget_number(a["random_scale"]) << ", normal two-sided multiple " << budget_number(a["multiple"])
-    << ")</td><td>" << budget_number(a["least"]) << "</td><td>" << budget_number(a["greatest"]) << "</td><td class='l'>";
+    << ")</td><td>" << budget_number(a["least"]) << "</td><td>" << budget_number(a["greatest"])
+    << "</td><td class='l'>";
   if (!j["requirement_met"].is_null()) {
     h << "requirement " << budget_number(b["requirement"]) << " " << html_escape(unit) << ": "
       << (j["requirement_met"].get<bool>() ? "met" : "not met") << " by the combination rule alone (the answer above "
@@ -287,8 +289,8 @@ std::string monte_carlo_html(const json& j, const std::string& unit, const std::
   if (!j["monte_carlo"].is_null()) {
     const json& m = j["monte_carlo"];
     h << "<p>Monte Carlo of <code>" << html_escape(m["model"].get<std::string>()) << "</code> (" << m["samples"]
-      << " independent samples, " << m["failures"] << " failed, seed " << m["seed"] << "): "
-      << html_escape(m["output"].get<std::string>()) << " at " << budget_number(m["quantile"]) << " is "
+      << " independent samples, " << m["failures"] << " failed, seed " << m["seed"]
+      << "): " << html_escape(m["output"].get<std::string>()) << " at " << budget_number(m["quantile"]) << " is "
       << budget_number(m["value"]) << " " << html_escape(unit) << " (95% interval " << budget_number(m["ci95"][0])
       << " to " << budget_number(m["ci95"][1]) << "). The budget's greatest at that confidence, "
       << budget_number(a["greatest"]) << " " << html_escape(unit) << ", is <b>"
@@ -301,7 +303,8 @@ std::string monte_carlo_html(const json& j, const std::string& unit, const std::
   h << budget_plot_svg(j, mc);
   if (!j["unmapped_model_tolerances"].empty()) {
     h << "<p>Model tolerances no line covers (sampled by the Monte Carlo, absent from the budget):";
-    for (const auto& k : j["unmapped_model_tolerances"]) h << " <code>" << html_escape(k.get<std::string>()) << "</code>";
+    for (const auto& k : j["unmapped_model_tolerances"])
+      h << " <code>" << html_escape(k.get<std::string>()) << "</code>";
     h << "</p>\n";
   }
   for (const auto& k : j["unknown_model_keys"]) {
@@ -316,8 +319,8 @@ std::string monte_carlo_html(const json& j, const std::string& unit, const std::
 std::string budget_report_html(const json& j, const std::vector<double>& mc) {
   const json& b = j["budget"];
   const std::string unit = b["unit"].get<std::string>();
-  const std::string title = b["title"].get<std::string>().empty() ? b["name"].get<std::string>()
-                                                                  : b["title"].get<std::string>();
+  const std::string title =
+      b["title"].get<std::string>().empty() ? b["name"].get<std::string>() : b["title"].get<std::string>();
   std::ostringstream h;
   h << report_page_head("budget " + b["name"].get<std::string>()) << "<h1>" << html_escape(title) << "</h1>\n"
     << answer_html(j.value("answer", std::string()),

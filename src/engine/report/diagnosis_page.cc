@@ -100,8 +100,8 @@ std::string separability_html(const json& d) {
     h << "<p>" << text(a, "why") << ".</p>\n<table><tr><th class='l'>reading</th><th>&Delta;BIC</th>"
       << "<th class='l'>unbalance estimate</th></tr>\n";
     for (const auto& rd : a["readings"]) {
-      h << "<tr><td class='l'>" << text(rd, "effects") << "</td><td>" << num(rd["delta_bic"], 3) << "</td><td class='l'>"
-        << estimate_text(rd["estimate"], d.value("unit", std::string())) << "</td></tr>\n";
+      h << "<tr><td class='l'>" << text(rd, "effects") << "</td><td>" << num(rd["delta_bic"], 3)
+        << "</td><td class='l'>" << estimate_text(rd["estimate"], d.value("unit", std::string())) << "</td></tr>\n";
     }
     h << "</table>\n<p>A plan that would separate them: " << text(a, "plan") << ".</p>\n";
   }
@@ -114,7 +114,8 @@ std::string separability_html(const json& d) {
 std::string before_after_html(const json& d) {
   const std::string u = d.value("unit", std::string());
   std::ostringstream h;
-  const auto row = [&](const std::string& name, const json& a, const json& b, const char* key, const std::string& unit) {
+  const auto row = [&](const std::string& name, const json& a, const json& b, const char* key,
+                       const std::string& unit) {
     h << "<tr><td class='l'>" << name << "</td><td>" << num(a[key], 5) << "</td><td>" << num(b[key], 5)
       << "</td><td class='l'>" << html_escape(unit) << "</td></tr>\n";
   };
@@ -131,8 +132,8 @@ std::string before_after_html(const json& d) {
   row("offset MK", eb, ea, "offset", u);
   row("SE offset", eb, ea, "se_offset", u);
   if (d.contains("load")) {
-    h << "<tr><th colspan='4' class='l'>against the known load " << num(d["load"]["torque"], 4) << " "
-      << html_escape(u) << " at " << num(d["load"]["angle_deg"], 4) << " deg (estimate - load)</th></tr>\n";
+    h << "<tr><th colspan='4' class='l'>against the known load " << num(d["load"]["torque"], 4) << " " << html_escape(u)
+      << " at " << num(d["load"]["angle_deg"], 4) << " deg (estimate - load)</th></tr>\n";
     row("amplitude error", d["error_before"], d["error_after"], "amplitude", u);
     row("phase error", d["error_before"], d["error_after"], "phase_deg", "deg");
   }
@@ -162,9 +163,10 @@ std::string diagnosis_report_html(const json& d, const std::filesystem::path& pl
     << answer_html(d.value("answer", std::string()), json::array()) << method_html(d) << findings_html(d)
     << separability_html(d) << before_after_html(d) << closed_loop_html(d) << "<h2 id='plot'>Plot</h2>\n";
   if (plot_note.empty()) {
-    h << inline_svg(plot_svg, "Upper panel: measured points, the base fit and the final model at each point. Lower "
-                              "panel: residuals of both (with AR(1) errors the final residual is the innovation; a "
-                              "flagged outlier's residual is 0).");
+    h << inline_svg(plot_svg,
+                    "Upper panel: measured points, the base fit and the final model at each point. Lower "
+                    "panel: residuals of both (with AR(1) errors the final residual is the innovation; a "
+                    "flagged outlier's residual is 0).");
   } else {
     h << "<p><b>" << html_escape(plot_note) << "</b></p>\n";
   }

@@ -104,7 +104,8 @@ bool driver_scatter(const fs::path& plots_dir, const fs::path& samples_csv, cons
   {
     std::ostringstream d;
     d.precision(8);
-    d << "# " << output.name << " against its strongest drivers, first " << rows.y.size() << " ok rows of samples.csv\n#";
+    d << "# " << output.name << " against its strongest drivers, first " << rows.y.size()
+      << " ok rows of samples.csv\n#";
     for (const auto& s : shares) d << ' ' << s.input;
     d << ' ' << output.name << '\n';
     for (std::size_t i = 0; i < rows.y.size(); ++i) {
@@ -123,15 +124,16 @@ bool driver_scatter(const fs::path& plots_dir, const fs::path& samples_csv, cons
   std::ostringstream g;
   g << "set multiplot layout 1," << shares.size() << " title "
     << gnuplot_quoted(what + " against its " + std::to_string(shares.size()) + " strongest drivers (" +
-              std::to_string(rows.y.size()) + " samples; main-effect share of the variance in brackets)")
-    << "\nset ylabel " << gnuplot_quoted(what + (unit.empty() ? "" : " [" + unit + "]")) << "\nunset key\nset xtics rotate by 30 right\n";
+                      std::to_string(rows.y.size()) + " samples; main-effect share of the variance in brackets)")
+    << "\nset ylabel " << gnuplot_quoted(what + (unit.empty() ? "" : " [" + unit + "]"))
+    << "\nunset key\nset xtics rotate by 30 right\n";
   for (std::size_t k = 0; k < shares.size(); ++k) {
     char share[32];
     std::snprintf(share, sizeof share, " (%.2f)", shares[k].share);
-    g << "set xlabel " << gnuplot_quoted(shares[k].input + share) << "\nplot '" << name << ".dat' u " << k + 1 << ':' << ycol
-      << ":(sprintf('" << literal(shares[k].input) << " %.4g, " << literal(output.name) << " %.4g " << literal(unit)
-      << "', $" << k + 1 << ", $"
-      << ycol << ")) with labels hypertext point pt 7 ps 0.3 lc rgb '#4477aa'\n";
+    g << "set xlabel " << gnuplot_quoted(shares[k].input + share) << "\nplot '" << name << ".dat' u " << k + 1 << ':'
+      << ycol << ":(sprintf('" << literal(shares[k].input) << " %.4g, " << literal(output.name) << " %.4g "
+      << literal(unit) << "', $" << k + 1 << ", $" << ycol
+      << ")) with labels hypertext point pt 7 ps 0.3 lc rgb '#4477aa'\n";
     if (k == 0) g << "unset ylabel\n";
   }
   g << "unset multiplot\n";

@@ -4,9 +4,9 @@
 #include <sstream>
 #include <string>
 
+#include "core/number_text.h"
 #include "engine/report/report_contents.h"
 #include "engine/report/report_plot.h"
-#include "core/number_text.h"
 #include "engine/results/result_io.h"
 
 namespace poise::engine {
@@ -42,7 +42,8 @@ std::string design_text(const json& x) {
   if (!x.is_object()) return html_escape(x.dump());
   std::string s;
   for (const auto& [k, v] : x.items()) {
-    s += (s.empty() ? "" : ", ") + html_escape(k) + " = " + html_escape(v.is_string() ? v.get<std::string>() : v.dump());
+    s +=
+        (s.empty() ? "" : ", ") + html_escape(k) + " = " + html_escape(v.is_string() ? v.get<std::string>() : v.dump());
   }
   return s;
 }
@@ -73,16 +74,19 @@ std::string opening_html(const json& s) {
   const bool feasible = s.value("feasible", false), verified = s.value("verified", false);
   std::ostringstream h;
   h << "<p class='answer" << (verified ? "" : " bad") << "'><b>"
-    << (!feasible ? "No feasible design." : verified ? "Verified on fresh samples." : "Design NOT verified on fresh "
-                                                                                      "samples (exit status 3).")
+    << (!feasible  ? "No feasible design."
+        : verified ? "Verified on fresh samples."
+                   : "Design NOT verified on fresh "
+                     "samples (exit status 3).")
     << "</b> " << str(s, "answer") << "</p>\n";
-  h << "<p>Optimization <code>" << str(o, "file") << "</code> over the study <code>" << str(o, "study") << "</code>: "
-    << str(o, "algorithm") << " (" << str(o, "algorithm_advice") << "), " << o["samples_per_evaluation"]
+  h << "<p>Optimization <code>" << str(o, "file") << "</code> over the study <code>" << str(o, "study")
+    << "</code>: " << str(o, "algorithm") << " (" << str(o, "algorithm_advice") << "), " << o["samples_per_evaluation"]
     << " samples per evaluation with common random numbers (seed " << o["seed"] << ")";
   if (o.value("replicate_size", 0) > 0) {
     h << ", intervals from randomized replicates of " << o["replicate_size"] << " samples";
   }
-  h << "; an evaluation with more than " << percent(o["max_failure_share"]) << " failed samples counts as failed.</p>\n";
+  h << "; an evaluation with more than " << percent(o["max_failure_share"])
+    << " failed samples counts as failed.</p>\n";
   return h.str();
 }
 
@@ -130,7 +134,8 @@ std::string fresh_check_html(const json& s) {
   h << "<h2 id='fresh-check'>Fresh-sample check of the answer's design</h2>\n" << check_table(s["verification"]);
   if (!s.value("verified", false)) h << nearest_html(s);
   h << spread_html(s) << "<p>Constraints at the optimum on the search's own "
-    << s["optimization"]["samples_per_evaluation"] << " samples (95% intervals; binding: within 2% of the limit):</p><ul>\n";
+    << s["optimization"]["samples_per_evaluation"]
+    << " samples (95% intervals; binding: within 2% of the limit):</p><ul>\n";
   for (const auto& b : s["constraints_on_search_samples"]) {
     h << "<li>" << str(b, "text") << (b["binding"].get<bool>() ? " <b>(binding)</b>" : "") << "</li>\n";
   }
@@ -146,8 +151,8 @@ std::string searches_html(const json& s) {
     h << "<tr><td class='l'>" << str(r, "label") << (r.value("headline", false) ? " (headline)" : "")
       << (r.value("optimization_pick", false) ? " (search's pick)" : "") << "</td><td class='l'>" << str(r, "status")
       << "</td><td>" << r["evaluations"] << "</td><td>" << (r["feasible"].get<bool>() ? "yes" : "no")
-      << "</td><td class='l'>" << str(r, "design") << "</td><td>" << (r["feasible"].get<bool>() ? number(r["objective"]) : "")
-      << "</td></tr>\n";
+      << "</td><td class='l'>" << str(r, "design") << "</td><td>"
+      << (r["feasible"].get<bool>() ? number(r["objective"]) : "") << "</td></tr>\n";
   }
   h << "</table>\n";
   return h.str();
@@ -239,7 +244,8 @@ std::string choices_html(const json& s) {
 std::string pareto_html(const json& s) {
   if (!s.contains("pareto")) return "";
   const json& p = s["pareto"];
-  const std::string second = p["second"]["statistic"].get<std::string>() + " " + p["second"]["output"].get<std::string>();
+  const std::string second =
+      p["second"]["statistic"].get<std::string>() + " " + p["second"]["output"].get<std::string>();
   const std::string objective =
       p["objective"]["statistic"].get<std::string>() + " " + p["objective"]["output"].get<std::string>();
   std::ostringstream h;
@@ -269,14 +275,14 @@ std::string pareto_html(const json& s) {
 std::string optimization_report_html(const json& s, const std::filesystem::path& plots_dir,
                                      const std::vector<std::string>& figures) {
   const json& o = s["optimization"];
-  const std::string title = o.value("title", std::string()).empty() ? o.value("name", std::string())
-                                                                      : o.value("title", std::string());
+  const std::string title =
+      o.value("title", std::string()).empty() ? o.value("name", std::string()) : o.value("title", std::string());
   std::ostringstream h;
-  h << report_page_head(o.value("name", std::string())) << "<h1>" << html_escape(title) << "</h1>\n"
-    << opening_html(s);
+  h << report_page_head(o.value("name", std::string())) << "<h1>" << html_escape(title) << "</h1>\n" << opening_html(s);
   if (s.value("feasible", false)) h << fresh_check_html(s);
   h << searches_html(s) << choices_html(s) << pareto_html(s);
-  if (!s.value("feasible", false)) h << "<h2 id='infeasible'>No feasible design</h2>\n<p>" << str(s, "message") << "</p>\n";
+  if (!s.value("feasible", false))
+    h << "<h2 id='infeasible'>No feasible design</h2>\n<p>" << str(s, "message") << "</p>\n";
   if (!figures.empty()) h << "<h2 id='figures'>Figures</h2>\n" << figures_html(plots_dir, figures);
   if (!o.value("notes", std::string()).empty()) {
     h << "<h2 id='notes'>Notes of the study file (its author's text, not this run's figures)</h2>\n<pre>"
@@ -284,7 +290,8 @@ std::string optimization_report_html(const json& s, const std::filesystem::path&
   }
   h << "<p><small>Files beside this page: <a href='summary.json'>summary.json</a>, <a href='history.csv'>history.csv"
        "</a>"
-    << (s.contains("pareto") ? ", <a href='pareto.csv'>pareto.csv</a>" : "") << ", plots/.</small></p>\n</body></html>\n";
+    << (s.contains("pareto") ? ", <a href='pareto.csv'>pareto.csv</a>" : "")
+    << ", plots/.</small></p>\n</body></html>\n";
   return with_contents(h.str());
 }
 

@@ -25,7 +25,8 @@ std::string data_label(const std::string& s) {
 
 bool run(const fs::path& dir, const std::string& name, const std::string& script, std::vector<std::string>& figures,
          std::string& why) {
-  write_file_atomic((dir / (name + ".gp")).string(), kTerminal + ("set output '" + name + ".svg'\nset grid\n") + script);
+  write_file_atomic((dir / (name + ".gp")).string(),
+                    kTerminal + ("set output '" + name + ".svg'\nset grid\n") + script);
   if (!run_gnuplot((dir / (name + ".gp")).string(), &why)) return false;
   native_tooltips(dir / (name + ".svg"));
   figures.push_back(name + ".svg");
@@ -35,8 +36,8 @@ bool run(const fs::path& dir, const std::string& name, const std::string& script
 // A series' values on hover: the points of `data` (columns x and y) as hypertext points of
 // the series' colour, each with its text (a gnuplot sprintf of the columns); the SVG's own
 // tooltip then shows them (native_tooltips). `every` thins a long series (a CDF of 10^6).
-std::string hover_points(const std::string& data, const std::string& x, const std::string& y,
-                         const std::string& text, const std::string& colour, std::size_t every = 1) {
+std::string hover_points(const std::string& data, const std::string& x, const std::string& y, const std::string& text,
+                         const std::string& colour, std::size_t every = 1) {
   return ", '" + data + "'" + (every > 1 ? " every " + std::to_string(every) : std::string()) + " u " + x + ":" + y +
          ":(" + text + ") with labels hypertext point pt 7 ps 0.5 lc rgb '" + colour + "' notitle";
 }
@@ -48,7 +49,8 @@ std::string vertical_lines(const std::vector<FigureLine>& lines, double lo, doub
   int i = 0;
   for (const auto& l : lines) {
     const bool left = l.x > 0.5 * (lo + hi);
-    g << "set arrow from " << l.x << ", graph 0 to " << l.x << ", graph 1 nohead lw 2 dt 2 lc rgb '" << l.colour << "'\n"
+    g << "set arrow from " << l.x << ", graph 0 to " << l.x << ", graph 1 nohead lw 2 dt 2 lc rgb '" << l.colour
+      << "'\n"
       << "set label " << gnuplot_quoted(l.label) << " at " << l.x << ", graph " << (0.95 - 0.08 * (i++ % 6))
       << (left ? " right offset -0.5,0" : " offset 0.5,0") << " tc rgb '" << l.colour << "'\n";
   }
@@ -123,9 +125,11 @@ bool convergence_figure(const fs::path& dir, const std::string& output, const Fi
          << "_convergence.dat' u 1:2:3:4 with yerrorlines lw 2 pt 1 lc rgb '#4477aa' title 'mean', '' u 1:5:6:7 with "
             "yerrorlines lw 2 dt 2 pt 6 lc rgb '#ee7733' title 'p95'"
          << hover_points(output + "_convergence.dat", "1", "2",
-                         "sprintf('%d samples: mean %.4g [%.4g, %.4g] " + text.hover_unit + "', $1, $2, $3, $4)", "#4477aa")
+                         "sprintf('%d samples: mean %.4g [%.4g, %.4g] " + text.hover_unit + "', $1, $2, $3, $4)",
+                         "#4477aa")
          << hover_points(output + "_convergence.dat", "1", "5",
-                         "sprintf('%d samples: p95 %.4g [%.4g, %.4g] " + text.hover_unit + "', $1, $5, $6, $7)", "#ee7733")
+                         "sprintf('%d samples: p95 %.4g [%.4g, %.4g] " + text.hover_unit + "', $1, $5, $6, $7)",
+                         "#ee7733")
          << "\n";
     if (!run(dir, output + "_convergence", conv.str(), figures, why)) return false;
   }
@@ -134,7 +138,8 @@ bool convergence_figure(const fs::path& dir, const std::string& output, const Fi
 
 }  // namespace
 
-std::vector<std::string> main_outputs(const std::vector<std::string>& outputs, const json& references, std::size_t limit) {
+std::vector<std::string> main_outputs(const std::vector<std::string>& outputs, const json& references,
+                                      std::size_t limit) {
   std::vector<std::string> out;
   if (references.is_array()) {
     for (const auto& r : references) {
@@ -151,8 +156,8 @@ std::vector<std::string> main_outputs(const std::vector<std::string>& outputs, c
 
 bool distribution_figures(const fs::path& dir, const std::string& output, const std::string& unit,
                           const std::string& description, const std::vector<double>& values,
-                          const std::vector<std::size_t>& order,
-                          const std::vector<FigureLine>& lines, std::vector<std::string>& figures, std::string& why) {
+                          const std::vector<std::size_t>& order, const std::vector<FigureLine>& lines,
+                          std::vector<std::string>& figures, std::string& why) {
   std::vector<double> v;
   for (double x : values) {
     if (std::isfinite(x)) v.push_back(x);
@@ -189,23 +194,28 @@ bool distribution_figures(const fs::path& dir, const std::string& output, const 
   const std::size_t most = *std::max_element(bins.counts.begin(), bins.counts.end());
   std::ostringstream hist;
   hist.precision(10);
-  hist << "set title " << gnuplot_quoted("Distribution of " + what + " (" + output + ") over " + std::to_string(sorted.size()) +
-                                 " samples")
+  hist << "set title "
+       << gnuplot_quoted("Distribution of " + what + " (" + output + ") over " + std::to_string(sorted.size()) +
+                         " samples")
        << "\nset xlabel " << gnuplot_quoted(xl) << "\nset ylabel 'samples'\nset key outside bottom center horizontal\n"
-       << "set boxwidth " << bins.width << " absolute\nset yrange [0:*]\n" << (most <= 10 ? "set ytics 1\n" : "")
-       << "set style fill solid 0.6\n" << vertical_lines(lines, sorted.front(), sorted.back()) << "plot '" << output
+       << "set boxwidth " << bins.width << " absolute\nset yrange [0:*]\n"
+       << (most <= 10 ? "set ytics 1\n" : "") << "set style fill solid 0.6\n"
+       << vertical_lines(lines, sorted.front(), sorted.back()) << "plot '" << output
        << "_hist.dat' u 1:2 with boxes lc rgb '#4477aa' title 'simulated'"
-       << hover_points(output + "_hist.dat", "1", "2", "sprintf('%.4g " + unit_text + ": %d samples', $1, $2)", "#4477aa")
+       << hover_points(output + "_hist.dat", "1", "2", "sprintf('%.4g " + unit_text + ": %d samples', $1, $2)",
+                       "#4477aa")
        << "\n";
   if (!run(dir, output + "_hist", hist.str(), figures, why)) return false;
   std::ostringstream cdf;
-  cdf << "set title " << gnuplot_quoted("CDF of " + what + " with its 95% band (DKW)") << "\nset xlabel " << gnuplot_quoted(xl)
+  cdf << "set title " << gnuplot_quoted("CDF of " + what + " with its 95% band (DKW)") << "\nset xlabel "
+      << gnuplot_quoted(xl)
       << "\nset ylabel 'share of samples at or below'\nset yrange [0:1]\nset key outside bottom center horizontal\n"
       << vertical_lines(lines, sorted.front(), sorted.back()) << "plot '" << output
       << "_cdf.dat' u 1:3:4 with filledcurves lc rgb '#bbccee' title '95% band', '' u 1:2 with steps lw 2 lc rgb "
          "'#4477aa' title 'empirical CDF'"
-      << hover_points(output + "_cdf.dat", "1", "2", "sprintf('%.4g " + unit_text + ": share %.3f [%.3f, %.3f]', $1, $2, $3, $4)",
-                      "#4477aa", cdf_every)
+      << hover_points(output + "_cdf.dat", "1", "2",
+                      "sprintf('%.4g " + unit_text + ": share %.3f [%.3f, %.3f]', $1, $2, $3, $4)", "#4477aa",
+                      cdf_every)
       << "\n";
   if (!run(dir, output + "_cdf", cdf.str(), figures, why)) return false;
   return convergence_figure(dir, output, {what, xl, unit, unit_text}, values, order, v.size(), figures, why);
@@ -218,12 +228,13 @@ bool tornado_figure(const fs::path& dir, const std::string& name, const std::str
   {
     std::ostringstream d;
     d << "# rank  value  label\n";
-    for (std::size_t i = 0; i < bars.size(); ++i) d << i << ' ' << bars[i].second << ' ' << data_label(bars[i].first) << '\n';
+    for (std::size_t i = 0; i < bars.size(); ++i)
+      d << i << ' ' << bars[i].second << ' ' << data_label(bars[i].first) << '\n';
     write_file_atomic((dir / (name + ".dat")).string(), d.str());
   }
   std::ostringstream g;
-  g << "set title " << gnuplot_quoted(title) << "\nset xlabel " << gnuplot_quoted(xlabel) << "\nset yrange [" << bars.size()
-    << "-0.5:-0.5]\nset ytics scale 0\nset style fill solid 0.7\nunset key\nset lmargin 34\n"
+  g << "set title " << gnuplot_quoted(title) << "\nset xlabel " << gnuplot_quoted(xlabel) << "\nset yrange ["
+    << bars.size() << "-0.5:-0.5]\nset ytics scale 0\nset style fill solid 0.7\nunset key\nset lmargin 34\n"
     << "plot '" << name << ".dat' u ($2/2):1:(abs($2)/2):(0.35):ytic(3) with boxxyerror lc rgb '#4477aa'"
     << hover_points(name + ".dat", "2", "1", "sprintf('%s: %.4g', strcol(3), $2)", "#4477aa") << "\n";
   return run(dir, name, g.str(), figures, why);
@@ -244,7 +255,8 @@ bool sensitivity_tornado(const fs::path& dir, const json& sensitivity, const std
       if (i >= 12) break;
       auto val = [](const json& e, int k) {
         if (k < 0) return e["value"].is_number() ? e["value"].get<double>() : 0.0;
-        return e["ci95"][k].is_number() ? e["ci95"][k].get<double>() : (e["value"].is_number() ? e["value"].get<double>() : 0.0);
+        return e["ci95"][k].is_number() ? e["ci95"][k].get<double>()
+                                        : (e["value"].is_number() ? e["value"].get<double>() : 0.0);
       };
       d << i++ << ' ' << val(g["total"], -1) << ' ' << val(g["total"], 0) << ' ' << val(g["total"], 1) << ' '
         << val(g["first"], -1) << ' ' << val(g["first"], 0) << ' ' << val(g["first"], 1) << ' '
@@ -257,13 +269,15 @@ bool sensitivity_tornado(const fs::path& dir, const json& sensitivity, const std
   g << "set title " << gnuplot_quoted("Which inputs drive " + output + ": Sobol indices (95% intervals)")
     << "\nset xlabel 'index (share of the variance)'\nset yrange [*:*] reverse\nset ytics scale 0\nset lmargin 34\n"
     << "set style fill solid 0.7\nset key outside bottom center horizontal\nset xrange [0:*]\n"
-    << "plot '" << name << ".dat' u ($2/2):($1-0.18):($2/2):(0.16):ytic(8) with boxxyerror lc rgb '#4477aa' title 'total', "
+    << "plot '" << name
+    << ".dat' u ($2/2):($1-0.18):($2/2):(0.16):ytic(8) with boxxyerror lc rgb '#4477aa' title 'total', "
     << "'' u 2:($1-0.18):3:4 with xerrorbars lc rgb '#222222' pt 0 notitle, "
     << "'' u ($5/2):($1+0.18):($5/2):(0.16) with boxxyerror lc rgb '#ee7733' title 'first order', "
     << "'' u 5:($1+0.18):6:7 with xerrorbars lc rgb '#222222' pt 0 notitle"
-    << hover_points(name + ".dat", "2", "($1-0.18)", "sprintf('%s: total %.3f [%.3f, %.3f]', strcol(8), $2, $3, $4)", "#4477aa")
-    << hover_points(name + ".dat", "5", "($1+0.18)", "sprintf('%s: first order %.3f [%.3f, %.3f]', strcol(8), $5, $6, $7)",
-                    "#ee7733")
+    << hover_points(name + ".dat", "2", "($1-0.18)", "sprintf('%s: total %.3f [%.3f, %.3f]', strcol(8), $2, $3, $4)",
+                    "#4477aa")
+    << hover_points(name + ".dat", "5", "($1+0.18)",
+                    "sprintf('%s: first order %.3f [%.3f, %.3f]', strcol(8), $5, $6, $7)", "#ee7733")
     << "\n";
   return run(dir, name, g.str(), figures, why);
 }
@@ -283,12 +297,15 @@ bool sweep_figure(const fs::path& dir, const std::string& name, const std::strin
     write_file_atomic((dir / (name + ".dat")).string(), d.str());
   }
   std::ostringstream g;
-  g << "set title " << gnuplot_quoted(title) << "\nset xlabel " << gnuplot_quoted(xlabel) << "\nset ylabel " << gnuplot_quoted(ylabel)
+  g << "set title " << gnuplot_quoted(title) << "\nset xlabel " << gnuplot_quoted(xlabel) << "\nset ylabel "
+    << gnuplot_quoted(ylabel)
     << "\nset key outside bottom center horizontal\nset offsets graph 0.05, graph 0.05, graph 0.1, graph 0.1\n";
   // The limits as constant functions: the y range then takes them in.
-  g << "plot '" << name << ".dat' u 1:2:3:4 with yerrorlines lw 2 pt 7 lc rgb '#4477aa' t " << gnuplot_quoted(ylabel + ", 95% interval")
+  g << "plot '" << name << ".dat' u 1:2:3:4 with yerrorlines lw 2 pt 7 lc rgb '#4477aa' t "
+    << gnuplot_quoted(ylabel + ", 95% interval")
     << hover_points(name + ".dat", "1", "2", "sprintf('%.4g: %.4g [%.4g, %.4g]', $1, $2, $3, $4)", "#4477aa");
-  for (const auto& l : limits) g << ", " << l.x << " w l lw 2 dt 2 lc rgb '" << l.colour << "' t " << gnuplot_quoted(l.label);
+  for (const auto& l : limits)
+    g << ", " << l.x << " w l lw 2 dt 2 lc rgb '" << l.colour << "' t " << gnuplot_quoted(l.label);
   g << "\n";
   return run(dir, name, g.str(), figures, why);
 }

@@ -30,8 +30,9 @@ std::vector<std::string> main_outputs(const std::vector<std::string>& outputs, c
 /// sample order, `order` their sample indices); appends the SVG names made to `figures`.
 /// Returns false (with the reason in `why`) when gnuplot could not make them.
 bool distribution_figures(const std::filesystem::path& plots_dir, const std::string& output, const std::string& unit,
-                          const std::string& description, const std::vector<double>& values, const std::vector<std::size_t>& order,
-                          const std::vector<FigureLine>& lines, std::vector<std::string>& figures, std::string& why);
+                          const std::string& description, const std::vector<double>& values,
+                          const std::vector<std::size_t>& order, const std::vector<FigureLine>& lines,
+                          std::vector<std::string>& figures, std::string& why);
 
 /// A tornado chart of summary.json's "sensitivity" for one output (the largest total indices,
 /// first-order beside them, 95% intervals as error bars). False if gnuplot failed.

@@ -10,8 +10,8 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
-#include <set>
 #include <iterator>
+#include <set>
 
 #include "engine/results/result_io.h"
 
@@ -22,8 +22,10 @@ namespace fs = std::filesystem;
 
 bool svg_plot(const std::filesystem::path& dir, const std::string& name, const std::string& script,
               std::vector<std::string>& figures, std::ostringstream& html) {
-  write_file_atomic((dir / (name + ".gp")).string(), "set terminal svg size 720,420 dynamic noenhanced font 'Helvetica,12'\n"
-                                                     "set output '" + name + ".svg'\nset grid\n" + script);
+  write_file_atomic((dir / (name + ".gp")).string(),
+                    "set terminal svg size 720,420 dynamic noenhanced font 'Helvetica,12'\n"
+                    "set output '" +
+                        name + ".svg'\nset grid\n" + script);
   std::string why;
   if (run_gnuplot((dir / (name + ".gp")).string(), &why)) {
     native_tooltips(dir / (name + ".svg"));
@@ -64,8 +66,9 @@ bool run_gnuplot(const std::string& script_path, std::string* why) {
   const int rc = posix_spawnp(&pid, "gnuplot", &actions, nullptr, argv.data(), environ);
   posix_spawn_file_actions_destroy(&actions);
   if (rc != 0) {
-    if (why) *why = std::string("gnuplot could not be started (") + std::strerror(rc) +
-                    "; scripts/install_deps.sh installs it); the scripts and data are kept in plots/";
+    if (why)
+      *why = std::string("gnuplot could not be started (") + std::strerror(rc) +
+             "; scripts/install_deps.sh installs it); the scripts and data are kept in plots/";
     return false;
   }
   int status = 0;
@@ -127,7 +130,8 @@ std::string prefixed_ids(const std::string& svg, const std::string& prefix) {
     } else if (svg[i] == 'i') {
       name = id_value_at(svg, i);
     }
-    if (name == std::string::npos || name >= svg.size() || !(std::isalpha(static_cast<unsigned char>(svg[name])) || svg[name] == '_')) {
+    if (name == std::string::npos || name >= svg.size() ||
+        !(std::isalpha(static_cast<unsigned char>(svg[name])) || svg[name] == '_')) {
       continue;
     }
     std::size_t end = name;
@@ -192,8 +196,8 @@ std::string inline_svg(const std::filesystem::path& svg_file, const std::string&
   if (start != std::string::npos) text = text.substr(start);
   text = prefixed_ids(text, svg_file.stem().string() + "-");
   // gnuplot's fixed width and height make the figure as wide as drawn: let it scale.
-  return "<figure class='fig'>" + text + (caption.empty() ? "" : "<figcaption>" + html_escape(caption) + "</figcaption>") +
-         "</figure>\n";
+  return "<figure class='fig'>" + text +
+         (caption.empty() ? "" : "<figcaption>" + html_escape(caption) + "</figcaption>") + "</figure>\n";
 }
 
 std::string figures_html(const std::filesystem::path& plots_dir, const std::vector<std::string>& figures) {

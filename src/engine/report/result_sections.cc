@@ -56,13 +56,17 @@ std::string references_html(const json& compared) {
        "<th>simulated</th><th>where it falls</th><th class='l'>verdict</th></tr>\n";
   for (const auto& c : compared) {
     const std::string verdict = c["verdict"].get<std::string>();
-    const std::string cls = verdict == "agrees" ? "ok" : verdict == "disagrees" ? "bad" : verdict == "undecided" ? "close" : "target";
+    const std::string cls = verdict == "agrees"      ? "ok"
+                            : verdict == "disagrees" ? "bad"
+                            : verdict == "undecided" ? "close"
+                                                     : "target";
     const std::string unit = c["unit"].get<std::string>();
     h << "<tr class='" << cls << "'><td class='l'>" << html_escape(c["name"].get<std::string>()) << "<br><small><code>"
       << html_escape(c["output"].get<std::string>()) << "</code>, " << html_escape(c["statistic"].get<std::string>())
       << "</small></td><td class='l'>" << (c["role"] == "validation" ? "validation" : "calibration target")
-      << (c.contains("follows_from") ? "<br><small>tuned: " + html_escape(c["follows_from"].get<std::string>()) + "</small>"
-                                     : std::string())
+      << (c.contains("follows_from")
+              ? "<br><small>tuned: " + html_escape(c["follows_from"].get<std::string>()) + "</small>"
+              : std::string())
       << "</td><td class='l'>" << html_escape(c["source"].get<std::string>()) << "</td><td>"
       << fmt(c["reference"].get<double>()) << " " << html_escape(unit) << "</td><td>";
     if (c.contains("simulated")) {
@@ -85,7 +89,8 @@ std::string references_html(const json& compared) {
   h << "</table>\n<p><small>";
   h << "A reference that is one realisation (a measured campaign: statistic <i>sample</i>) agrees when it lies "
        "within the central 95% of the simulated distribution; a reference that is a figure of the distribution "
-       "(mean, p95, ...) agrees when it lies within that figure's 95% interval (or the declared tolerance).</small></p>\n";
+       "(mean, p95, ...) agrees when it lies within that figure's 95% interval (or the declared "
+       "tolerance).</small></p>\n";
   return h.str();
 }
 
@@ -94,7 +99,9 @@ std::string answer_html(const std::string& answer, const json& verdicts) {
   if (verdicts.empty()) return h;
   h += "<table><tr><th class='l'>requirement</th><th>value</th><th>lower bound</th><th>upper bound</th>"
        "<th>one-sided confidence</th><th class='l'>verdict</th></tr>\n";
-  auto number = [](const json& x) { return x.is_number() ? format_significant(x.get<double>(), 4) : std::string("&ndash;"); };
+  auto number = [](const json& x) {
+    return x.is_number() ? format_significant(x.get<double>(), 4) : std::string("&ndash;");
+  };
   for (const auto& v : verdicts) {
     const std::string unit = v["limit"]["unit"].get<std::string>();
     const bool upper_is_bound = v.value("bound_side", "upper") == "upper";
@@ -103,10 +110,12 @@ std::string answer_html(const std::string& answer, const json& verdicts) {
     const json& lower = upper_is_bound ? v.value("other_bound", none) : v.value("bound", none);
     h += "<tr><td class='l'>" + html_escape(requirement_text(v)) + "</td><td>" +
          (v["value"].is_number() ? html_escape(with_unit(v["value"].get<double>(), unit)) : "&ndash;") + "</td><td>" +
-         number(lower) + "</td><td>" + number(upper) + "</td><td>" + format_significant(v["confidence"].get<double>(), 4) +
-         "</td><td class='l'><b>" + html_escape(v["verdict"].get<std::string>()) + "</b>" +
+         number(lower) + "</td><td>" + number(upper) + "</td><td>" +
+         format_significant(v["confidence"].get<double>(), 4) + "</td><td class='l'><b>" +
+         html_escape(v["verdict"].get<std::string>()) + "</b>" +
          (v.contains("note") ? " <small>" + html_escape(v["note"].get<std::string>()) + "</small>" : "") +
-         (v.contains("design_note") ? " <small>(" + html_escape(v["design_note"].get<std::string>()) + ")</small>" : "") +
+         (v.contains("design_note") ? " <small>(" + html_escape(v["design_note"].get<std::string>()) + ")</small>"
+                                    : "") +
          "</td></tr>\n";
   }
   return h + "</table>\n";
@@ -124,13 +133,16 @@ std::string sensitivity_html(const json& s) {
     return std::string(buf) + (resolved ? "" : " <small>(not resolved)</small>");
   };
   std::string h = "<h2>Which input drives each output (Sobol indices)</h2>\n<p>" +
-                  html_escape(s["method"].get<std::string>()) + "; " + std::to_string(s["base_rows"].get<std::size_t>()) +
-                  " base rows, " + std::to_string(s["evaluations"].get<std::size_t>()) + " evaluations. " +
-                  html_escape(s["reading"].get<std::string>()) + ". Groups whose total index is below 0.01 at both ends are left out; "
+                  html_escape(s["method"].get<std::string>()) + "; " +
+                  std::to_string(s["base_rows"].get<std::size_t>()) + " base rows, " +
+                  std::to_string(s["evaluations"].get<std::size_t>()) + " evaluations. " +
+                  html_escape(s["reading"].get<std::string>()) +
+                  ". Groups whose total index is below 0.01 at both ends are left out; "
                   "an index whose 95% interval reaches zero is marked not resolved (these samples do not tell it "
                   "apart from no influence).</p>\n";
   auto table = [&](const json& rows, const json& first_sum, const char* what) {
-    std::string t = "<table><tr><th class='l'>" + std::string(what) + "</th><th>first order S</th><th>total ST</th></tr>\n";
+    std::string t =
+        "<table><tr><th class='l'>" + std::string(what) + "</th><th>first order S</th><th>total ST</th></tr>\n";
     for (const auto& g : rows) {
       const json& hi = g["total"]["ci95"][1];
       if (hi.is_number() && hi.get<double>() < 0.01) continue;
@@ -140,7 +152,8 @@ std::string sensitivity_html(const json& s) {
       }
       t += "<tr><td class='l'>" + name + "</td><td>" + f(g["first"]) + "</td><td>" + f(g["total"]) + "</td></tr>\n";
     }
-    return t + "<tr><td class='l'><i>sum of first order</i></td><td>" + f(first_sum) + "</td><td></td></tr>\n</table>\n";
+    return t + "<tr><td class='l'><i>sum of first order</i></td><td>" + f(first_sum) +
+           "</td><td></td></tr>\n</table>\n";
   };
   for (const auto& [name, o] : s["outputs"].items()) {
     h += "<h3><code>" + html_escape(name) + "</code></h3>\n";
@@ -159,16 +172,17 @@ std::string sensitivity_html(const json& s) {
 }
 
 std::string convergence_html(const json& c) {
-  std::string h = "<h2>How many samples each figure needed</h2>\n<p>" + std::to_string(c["samples"].get<std::size_t>()) +
-                  " samples; intervals from " + c["intervals"].get<std::string>() +
+  std::string h = "<h2>How many samples each figure needed</h2>\n<p>" +
+                  std::to_string(c["samples"].get<std::size_t>()) + " samples; intervals from " +
+                  c["intervals"].get<std::string>() +
                   ". For each figure: its 95% interval's half-width relative to it, and the samples a &plusmn;1% and "
                   "a &plusmn;5% interval would need (half-width ~ 1/&radic;n).</p>\n";
   if (!c["until"].is_null()) {
     const json& u = c["until"];
     h += "<p><b>--until " + html_escape(u["target"].get<std::string>()) + "</b>: " +
          (u["met"].get<bool>() ? "met at " + std::to_string(u["met_at_samples"].get<std::size_t>()) + " samples"
-                               : std::string("not met within the cap of ") + std::to_string(u["cap_samples"].get<std::size_t>()) +
-                                     " samples") +
+                               : std::string("not met within the cap of ") +
+                                     std::to_string(u["cap_samples"].get<std::size_t>()) + " samples") +
          " (" + std::to_string(u["checks"].size()) + " checks).</p>\n";
   }
   h += "<table><tr><th class='l'>output</th><th class='l'>figure</th><th>value</th><th>rel. half-width</th>"
@@ -178,7 +192,8 @@ std::string convergence_html(const json& c) {
     for (const auto& [stat, f] : o.items()) {
       h += "<tr><td class='l'><code>" + html_escape(name) + "</code></td><td class='l'>" + stat + "</td><td>" +
            fmt(f["value"].get<double>()) + "</td><td>" +
-           (f["relative_half_width"].is_null() ? std::string("&ndash;") : fmt(100 * f["relative_half_width"].get<double>()) + "%") +
+           (f["relative_half_width"].is_null() ? std::string("&ndash;")
+                                               : fmt(100 * f["relative_half_width"].get<double>()) + "%") +
            "</td><td>" + cell(f["samples_for_5pct"]) + "</td><td>" + cell(f["samples_for_1pct"]) + "</td></tr>\n";
     }
   }
@@ -201,19 +216,24 @@ std::string convergence_html(const json& c) {
     for (const auto& n : names) list += (list.empty() ? "" : ", ") + std::string("<code>") + html_escape(n) + "</code>";
     notes += "<li>" + html_escape(key) + " <small>(" + list + ")</small></li>\n";
   }
-  if (!notes.empty()) h += "<p>Intervals to read with care (an end shown as &ndash; does not exist):</p>\n<ul>\n" + notes + "</ul>\n";
+  if (!notes.empty())
+    h += "<p>Intervals to read with care (an end shown as &ndash; does not exist):</p>\n<ul>\n" + notes + "</ul>\n";
   return h;
 }
 
-std::string contributions_html(const json& contributions, const json& requirements, const std::vector<OutputSpec>& outputs,
-                               const std::filesystem::path& plots_dir, bool plots) {
+std::string contributions_html(const json& contributions, const json& requirements,
+                               const std::vector<OutputSpec>& outputs, const std::filesystem::path& plots_dir,
+                               bool plots) {
   if (!contributions.is_array() || contributions.empty() || !contributions[0].contains("outputs")) return "";
   // The statistics shown: those the requirements name, else p95 of the first output.
   const auto shown = shown_statistics(requirements, outputs, 1);
   const json& all = contributions[0];
-  std::string h = "<h2>Which tolerance drives the error</h2>\n<p>The study re-run with one tolerance set to zero "
-                  "at a time (" + std::to_string(all["samples"].get<std::size_t>()) + " samples each, the same random "
-                  "numbers): the drop of a statistic is that tolerance's share of it.</p>\n";
+  std::string h =
+      "<h2>Which tolerance drives the error</h2>\n<p>The study re-run with one tolerance set to zero "
+      "at a time (" +
+      std::to_string(all["samples"].get<std::size_t>()) +
+      " samples each, the same random "
+      "numbers): the drop of a statistic is that tolerance's share of it.</p>\n";
   std::vector<std::string> figures;
   for (const auto& [name, stat] : shown) {
     if (!all["outputs"].contains(name) || !all["outputs"][name].contains(stat)) continue;
@@ -235,21 +255,24 @@ std::string contributions_html(const json& contributions, const json& requiremen
       if (&c != &all) bars.emplace_back(without, base - v);
     }
     h += "</table>\n";
-    std::sort(bars.begin(), bars.end(), [](const auto& a, const auto& b) { return std::abs(a.second) > std::abs(b.second); });
+    std::sort(bars.begin(), bars.end(),
+              [](const auto& a, const auto& b) { return std::abs(a.second) > std::abs(b.second); });
     std::string why;
     if (plots) {
-      tornado_figure(plots_dir, "contributions_" + name + "_" + stat, "Drop of " + stat + " of " + name + " without each tolerance",
-                     "drop [" + unit + "]", bars, figures, why);
+      tornado_figure(plots_dir, "contributions_" + name + "_" + stat,
+                     "Drop of " + stat + " of " + name + " without each tolerance", "drop [" + unit + "]", bars,
+                     figures, why);
     }
   }
   return h + figures_html(plots_dir, figures);
 }
 
-std::string sweeps_html(const json& sweeps, const std::vector<OutputSpec>& outputs, const std::filesystem::path& plots_dir,
-                        bool plots) {
+std::string sweeps_html(const json& sweeps, const std::vector<OutputSpec>& outputs,
+                        const std::filesystem::path& plots_dir, bool plots) {
   if (!sweeps.is_array() || sweeps.empty()) return "";
-  std::string h = "<h2>Sweeps</h2>\n<p>Each value runs the same samples (common random numbers): the differences "
-                  "between values are the design's, not the sampling's. Intervals are 95%.</p>\n";
+  std::string h =
+      "<h2>Sweeps</h2>\n<p>Each value runs the same samples (common random numbers): the differences "
+      "between values are the design's, not the sampling's. Intervals are 95%.</p>\n";
   for (std::size_t s = 0; s < sweeps.size(); ++s) {
     const json& sw = sweeps[s];
     const std::string param = sw["parameter"].get<std::string>();
@@ -275,7 +298,8 @@ std::string sweeps_html(const json& sweeps, const std::vector<OutputSpec>& outpu
           if (!t.lo.empty() && !t.hi.empty()) cell += " <small>[" + t.lo + ", " + t.hi + "]</small>";
         }
         for (const auto& r : p["requirements"]) {
-          if (r["output"] == name && r["statistic"] == stat) cell += " <b>" + html_escape(r["verdict"].get<std::string>()) + "</b>";
+          if (r["output"] == name && r["statistic"] == stat)
+            cell += " <b>" + html_escape(r["verdict"].get<std::string>()) + "</b>";
         }
         h += "<td>" + cell + "</td>";
       }

@@ -7,8 +7,8 @@
 
 #include "core/number_text.h"
 #include "engine/report/driver_scatter.h"
-#include "engine/report/report_figures.h"
 #include "engine/report/report_contents.h"
+#include "engine/report/report_figures.h"
 #include "engine/report/report_plot.h"
 #include "engine/report/result_sections.h"
 #include "engine/results/references.h"
@@ -36,14 +36,15 @@ std::string distribution_plots(const json& s, const FinishedRun& f, const std::f
     for (const auto& r : s["requirements"]) {
       if (r["output"] == name) {
         lines.push_back({r["limit"]["value"].get<double>(),
-                         "requirement: " + r["statistic"].get<std::string>() + (r["at_most"].get<bool>() ? " <= " : " >= ") +
-                             r["limit"]["as_written"].get<std::string>(),
+                         "requirement: " + r["statistic"].get<std::string>() +
+                             (r["at_most"].get<bool>() ? " <= " : " >= ") + r["limit"]["as_written"].get<std::string>(),
                          "#cc3311"});
       }
     }
     for (const auto& c : s["references"]) {
-      if (c["output"] == name) lines.push_back({c["reference"].get<double>(), c["name"].get<std::string>(),
-                                                c["role"] == "validation" ? "#228833" : "#999999"});
+      if (c["output"] == name)
+        lines.push_back({c["reference"].get<double>(), c["name"].get<std::string>(),
+                         c["role"] == "validation" ? "#228833" : "#999999"});
     }
     std::string why;
     if (!distribution_figures(pdir, name, f.study.outputs()[k].unit, f.study.outputs()[k].description, f.mc.values[k],
@@ -57,8 +58,8 @@ std::string distribution_plots(const json& s, const FinishedRun& f, const std::f
   if (!shown.empty()) {
     const auto k = static_cast<std::size_t>(std::find(names.begin(), names.end(), shown.front()) - names.begin());
     std::string why;
-    if (k < f.study.outputs().size() &&
-        !driver_scatter(pdir, pdir.parent_path() / "samples.csv", f.study.input_names(), f.study.outputs()[k], figures, why)) {
+    if (k < f.study.outputs().size() && !driver_scatter(pdir, pdir.parent_path() / "samples.csv", f.study.input_names(),
+                                                        f.study.outputs()[k], figures, why)) {
       note = why;
     }
   }
@@ -67,7 +68,9 @@ std::string distribution_plots(const json& s, const FinishedRun& f, const std::f
 
 // A statistic with its interval, at the decimal place the interval supports (core/number_text.h).
 std::string statistic_cell(const json& e) {
-  auto end = [&](int k) { return e["ci95"][k].is_number() ? std::optional<double>(e["ci95"][k].get<double>()) : std::nullopt; };
+  auto end = [&](int k) {
+    return e["ci95"][k].is_number() ? std::optional<double>(e["ci95"][k].get<double>()) : std::nullopt;
+  };
   const IntervalText t = interval_text(e["value"].get<double>(), end(0), end(1));
   return t.value + " <small>[" + (t.lo.empty() ? std::string("&ndash;") : t.lo) + ", " +
          (t.hi.empty() ? std::string("&ndash;") : t.hi) + "]</small>";
@@ -88,9 +91,9 @@ std::string run_report_html(const json& s, const FinishedRun& f, const std::file
     << "). " << f.ran << " simulated samples (" << sampling::to_string(cfg.method) << ", seed " << f.plan.seed << "), "
     << f.mc.failures << " failed.</p>\n";
   if (f.status != "complete") {
-    h << "<p><b>This run is " << f.status << "</b>: "
-      << html_escape(f.mc.stop_reason.empty() ? "stopped by a signal" : f.mc.stop_reason) << ". The figures below cover the "
-      << f.ran << " samples that ran.</p>\n";
+    h << "<p><b>This run is " << f.status
+      << "</b>: " << html_escape(f.mc.stop_reason.empty() ? "stopped by a signal" : f.mc.stop_reason)
+      << ". The figures below cover the " << f.ran << " samples that ran.</p>\n";
   }
   if (s.contains("sensitivity")) h << sensitivity_html(s["sensitivity"]);
   h << references_html(s["references"]);
@@ -101,8 +104,8 @@ std::string run_report_html(const json& s, const FinishedRun& f, const std::file
     h << "<tr><td class='l'><code>" << html_escape(name) << "</code> " << html_escape(o["unit"].get<std::string>());
     if (o.contains("description")) h << "<br><small>" << html_escape(o["description"].get<std::string>()) << "</small>";
     h << "</td><td>" << statistic_cell(o["mean"]) << "</td><td>" << statistic_cell(o["std"]) << "</td><td>"
-      << statistic_cell(o["p50"]) << "</td><td>" << statistic_cell(o["p95"]) << "</td><td>" << statistic_cell(o["p99_73"])
-      << "</td><td>" << statistic_cell(o["max"]) << "</td></tr>\n";
+      << statistic_cell(o["p50"]) << "</td><td>" << statistic_cell(o["p95"]) << "</td><td>"
+      << statistic_cell(o["p99_73"]) << "</td><td>" << statistic_cell(o["max"]) << "</td></tr>\n";
   }
   h << "</table>\n";
   if (s.contains("sweeps")) h << sweeps_html(s["sweeps"], f.study.outputs(), pdir, plots);
@@ -120,10 +123,10 @@ std::string run_report_html(const json& s, const FinishedRun& f, const std::file
   for (const char* file : {"samples.csv", "samples.h5"}) {
     if (std::filesystem::exists(pdir.parent_path() / file)) h << "<a href='" << file << "'>" << file << "</a>, ";
   }
-  h << "<a href='run.json'>run.json</a>, <a href='plots/'>plots/</a> (each figure's data and gnuplot script).</small></p>\n"
+  h << "<a href='run.json'>run.json</a>, <a href='plots/'>plots/</a> (each figure's data and gnuplot "
+       "script).</small></p>\n"
        "</body></html>\n";
   return with_contents(h.str());
 }
-
 
 }  // namespace poise::engine

@@ -10,9 +10,9 @@
 #include <nlohmann/json.hpp>
 
 #include "engine/kind_interface/procedure_study.h"
-#include "engine/run/run_plan.h"
-#include "engine/results/sensitivity_output.h"
 #include "engine/results/requirements.h"
+#include "engine/results/sensitivity_output.h"
+#include "engine/run/run_plan.h"
 
 namespace poise::engine {
 
@@ -30,7 +30,7 @@ struct FinishedRun {
 };
 
 /// The page, with its figures written into `plots_dir` (gnuplot; `plots` false: none).
-std::string run_report_html(const nlohmann::json& summary, const FinishedRun& run, const std::filesystem::path& plots_dir,
-                            bool plots);
+std::string run_report_html(const nlohmann::json& summary, const FinishedRun& run,
+                            const std::filesystem::path& plots_dir, bool plots);
 
 }  // namespace poise::engine

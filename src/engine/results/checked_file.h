@@ -30,7 +30,7 @@ class WriteError : public Error {
 /// reaches the system before write() returns (no user-space buffer to lose).
 class CheckedFile {
  public:
-  CheckedFile() = default;  ///< closed: writes nothing (MPI ranks other than 0)
+  CheckedFile() = default;                     ///< closed: writes nothing (MPI ranks other than 0)
   CheckedFile(std::string path, bool append);  ///< throws WriteError if it cannot be opened
   CheckedFile(CheckedFile&& other) noexcept;
   CheckedFile& operator=(CheckedFile&& other) noexcept;

@@ -143,8 +143,9 @@ void decode_chunk(std::string_view stored, std::uint32_t filter_mask, std::span<
                   std::to_string(rc) + "): the file is damaged");
     }
   } else {
-    if (stored.size() != bytes) throw Error(what + ": a stored chunk has " + std::to_string(stored.size()) +
-                                            " bytes, expected " + std::to_string(bytes));
+    if (stored.size() != bytes)
+      throw Error(what + ": a stored chunk has " + std::to_string(stored.size()) + " bytes, expected " +
+                  std::to_string(bytes));
     std::memcpy(plain.data(), stored.data(), bytes);
   }
   if (shuffled) {

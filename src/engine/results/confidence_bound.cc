@@ -59,7 +59,9 @@ std::optional<double> order_statistic_bound(std::vector<double> v, double q, boo
 
 double t_quantile(double dof, double c) { return boost::math::quantile(boost::math::students_t(dof), c); }
 
-double mean_of(const std::vector<double>& v) { return std::accumulate(v.begin(), v.end(), 0.0) / static_cast<double>(v.size()); }
+double mean_of(const std::vector<double>& v) {
+  return std::accumulate(v.begin(), v.end(), 0.0) / static_cast<double>(v.size());
+}
 
 double sd_of(const std::vector<double>& v) {
   const double m = mean_of(v);
@@ -108,7 +110,8 @@ BoundSpec parse_bound(const std::string& text) {
     used = 0;
   }
   if (b.side == BoundSide::kNone || used == 0 || used != rest.size() || !(c > 50.0 && c < 100.0)) {
-    throw Error("\"" + text + "\" is not a bound; expected \"value\", \"upper<c>\" or \"lower<c>\" with the "
+    throw Error("\"" + text +
+                "\" is not a bound; expected \"value\", \"upper<c>\" or \"lower<c>\" with the "
                 "one-sided confidence c in percent, 50 < c < 100 (e.g. \"upper95\")");
   }
   b.confidence = c / 100.0;
@@ -125,7 +128,8 @@ std::string to_string(const BoundSpec& b) {
 std::string describe(const BoundSpec& b) {
   if (b.side == BoundSide::kNone) return "point value";
   char buf[48];
-  std::snprintf(buf, sizeof buf, "%s %g%% bound", b.side == BoundSide::kUpper ? "upper" : "lower", 100.0 * b.confidence);
+  std::snprintf(buf, sizeof buf, "%s %g%% bound", b.side == BoundSide::kUpper ? "upper" : "lower",
+                100.0 * b.confidence);
   return buf;
 }
 
@@ -166,8 +170,8 @@ std::optional<double> one_sided_bound(const SampleSet& s, const std::string& sta
     }
     const std::vector<double> per = per_replicate(s, stat);
     if (per.size() < 2) return std::nullopt;
-    const double half = t_quantile(static_cast<double>(per.size() - 1), c) * sd_of(per) /
-                        std::sqrt(static_cast<double>(per.size()));
+    const double half =
+        t_quantile(static_cast<double>(per.size() - 1), c) * sd_of(per) / std::sqrt(static_cast<double>(per.size()));
     const double pooled = statistic(s.values, stat);
     return upper ? pooled + half : pooled - half;
   }

@@ -23,9 +23,7 @@ std::uint32_t key_of(float f) {
   const auto bits = std::bit_cast<std::uint32_t>(f);
   return (bits & 0x80000000u) ? ~bits : (bits | 0x80000000u);
 }
-float float_of(std::uint32_t key) {
-  return std::bit_cast<float>((key & 0x80000000u) ? (key & 0x7fffffffu) : ~key);
-}
+float float_of(std::uint32_t key) { return std::bit_cast<float>((key & 0x80000000u) ? (key & 0x7fffffffu) : ~key); }
 
 // Sorts order-preserving keys ascending: least-significant-digit radix sort, three digits of
 // 11, 11 and 10 bits (counts of 2048 entries, in L1; 40% faster than four 8-bit passes on the
@@ -97,8 +95,8 @@ struct Pass1Totals {
 
 // Pass 1: per-point quantiles (into out.per_point), sums and counts, the upper-16-bit counts
 // of every value.
-Pass1Totals pass_1(std::size_t columns, const FieldColumnSource& column, std::span<const double> quantiles,
-                   int threads, FieldStatistics& out) {
+Pass1Totals pass_1(std::size_t columns, const FieldColumnSource& column, std::span<const double> quantiles, int threads,
+                   FieldStatistics& out) {
   std::vector<PointPass1> pass1(columns);
   struct Local {
     std::vector<float> column;
@@ -111,33 +109,36 @@ Pass1Totals pass_1(std::size_t columns, const FieldColumnSource& column, std::sp
     return l;
   });
   run_on_threads(threads, [&] {
-    tbb::parallel_for(std::size_t{0}, columns, [&](std::size_t p) {
-      Local& l = locals.local();
-      const std::span<const float> values = column(p, l.column);
-      l.keys.resize(values.size());
-      std::size_t kept = 0;
-      for (float f : values) {
-        if (!std::isnan(f)) l.keys[kept++] = key_of(f);
-      }
-      l.keys.resize(kept);
-      pass1[p].sum = lane_sum(values, [](double v) { return v; });
-      pass1[p].n = kept;
-      if (kept == 0) return;
-      // One sort serves every quantile (three selections cost about twice as much), and the
-      // upper-16-bit counts by runs of equal bins.
-      radix_sort(l.keys, l.scratch);
-      for (std::size_t i = 0; i < kept;) {
-        const std::uint32_t bin = l.keys[i] >> 16;
-        std::size_t j = i + 1;
-        while (j < kept && (l.keys[j] >> 16) == bin) ++j;
-        l.bins[bin] += j - i;
-        i = j;
-      }
-      const auto sorted_at = [&](std::size_t k) { return static_cast<double>(float_of(l.keys[k])); };
-      for (std::size_t q = 0; q < quantiles.size(); ++q) {
-        out.per_point[q][p] = sampling::quantile_value_sorted(l.keys.size(), quantiles[q], sorted_at);
-      }
-    }, tbb::simple_partitioner());  // one point per task: no thread left with a long last share
+    tbb::parallel_for(
+        std::size_t{0}, columns,
+        [&](std::size_t p) {
+          Local& l = locals.local();
+          const std::span<const float> values = column(p, l.column);
+          l.keys.resize(values.size());
+          std::size_t kept = 0;
+          for (float f : values) {
+            if (!std::isnan(f)) l.keys[kept++] = key_of(f);
+          }
+          l.keys.resize(kept);
+          pass1[p].sum = lane_sum(values, [](double v) { return v; });
+          pass1[p].n = kept;
+          if (kept == 0) return;
+          // One sort serves every quantile (three selections cost about twice as much), and the
+          // upper-16-bit counts by runs of equal bins.
+          radix_sort(l.keys, l.scratch);
+          for (std::size_t i = 0; i < kept;) {
+            const std::uint32_t bin = l.keys[i] >> 16;
+            std::size_t j = i + 1;
+            while (j < kept && (l.keys[j] >> 16) == bin) ++j;
+            l.bins[bin] += j - i;
+            i = j;
+          }
+          const auto sorted_at = [&](std::size_t k) { return static_cast<double>(float_of(l.keys[k])); };
+          for (std::size_t q = 0; q < quantiles.size(); ++q) {
+            out.per_point[q][p] = sampling::quantile_value_sorted(l.keys.size(), quantiles[q], sorted_at);
+          }
+        },
+        tbb::simple_partitioner());  // one point per task: no thread left with a long last share
   });
   Pass1Totals t;
   sampling::SummaryMoments& m = t.m;
@@ -206,28 +207,31 @@ void pass_2(std::size_t columns, const FieldColumnSource& column, int threads, c
   tbb::enumerable_thread_specific<std::vector<std::uint64_t>>& fine = wanted_values.fine;
   tbb::enumerable_thread_specific<std::vector<float>> columns_2;
   run_on_threads(threads, [&] {
-    tbb::parallel_for(std::size_t{0}, columns, [&](std::size_t p) {
-      const std::span<const float> values = column(p, columns_2.local());
-      const double mean = m.mean;
-      m2[p] = lane_sum(values, [mean](double v) { return (v - mean) * (v - mean); });
-      m4[p] = lane_sum(values, [mean](double v) {
-        const double d = (v - mean) * (v - mean);
-        return d * d;
-      });
-      std::vector<std::uint32_t>& keys = picked.local();
-      std::vector<std::uint64_t>& counts = fine.local();
-      for (float f : values) {
-        if (std::isnan(f)) continue;
-        const std::uint32_t key = key_of(f);
-        const int slot = slot_of_bin[key >> 16];
-        if (slot < 0) continue;
-        if (collect) {
-          keys.push_back(key);
-        } else {
-          ++counts[static_cast<std::size_t>(slot) * kBins + (key & 0xffffu)];
-        }
-      }
-    }, tbb::simple_partitioner());  // one point per task: no thread left with a long last share
+    tbb::parallel_for(
+        std::size_t{0}, columns,
+        [&](std::size_t p) {
+          const std::span<const float> values = column(p, columns_2.local());
+          const double mean = m.mean;
+          m2[p] = lane_sum(values, [mean](double v) { return (v - mean) * (v - mean); });
+          m4[p] = lane_sum(values, [mean](double v) {
+            const double d = (v - mean) * (v - mean);
+            return d * d;
+          });
+          std::vector<std::uint32_t>& keys = picked.local();
+          std::vector<std::uint64_t>& counts = fine.local();
+          for (float f : values) {
+            if (std::isnan(f)) continue;
+            const std::uint32_t key = key_of(f);
+            const int slot = slot_of_bin[key >> 16];
+            if (slot < 0) continue;
+            if (collect) {
+              keys.push_back(key);
+            } else {
+              ++counts[static_cast<std::size_t>(slot) * kBins + (key & 0xffffu)];
+            }
+          }
+        },
+        tbb::simple_partitioner());  // one point per task: no thread left with a long last share
   });
   for (std::size_t p = 0; p < columns; ++p) {
     m.m2 += m2[p];
@@ -245,7 +249,8 @@ std::vector<double> values_at_ranks(const WantedBins& w, bool collect, const Pas
     require(all.size() == w.in_wanted, "field statistics: the values of pass 1 and pass 2 differ in number");
     radix_sort(all, scratch);  // the wanted bins in ascending order, each bin's values sorted
     for (std::size_t i = 0; i < w.wanted.size(); ++i) {
-      value_at_rank[i] = static_cast<double>(float_of(all[w.first_of_slot[w.wanted[i].slot] + w.wanted[i].rank_in_bin]));
+      value_at_rank[i] =
+          static_cast<double>(float_of(all[w.first_of_slot[w.wanted[i].slot] + w.wanted[i].rank_in_bin]));
     }
   } else {
     std::vector<std::uint64_t> counts(w.slots * kBins, 0);
@@ -276,8 +281,9 @@ FieldStatistics field_statistics(std::size_t columns, const FieldColumnSource& c
   // Collected and sorted when the wanted bins' values are few (pass 1 counted them), else
   // their lower 16 bits counted.
   const bool collect = w.in_wanted <= collect_limit;
-  Pass2Values v{{}, tbb::enumerable_thread_specific<std::vector<std::uint64_t>>(
-                        [&] { return std::vector<std::uint64_t>(collect ? 0 : w.slots * kBins, 0); })};
+  Pass2Values v{{}, tbb::enumerable_thread_specific<std::vector<std::uint64_t>>([&] {
+                  return std::vector<std::uint64_t>(collect ? 0 : w.slots * kBins, 0);
+                })};
   pass_2(columns, column, threads, w, collect, m, v);
   const std::vector<double> value_at_rank = values_at_ranks(w, collect, v);
   const std::vector<std::size_t>& ranks = w.ranks;

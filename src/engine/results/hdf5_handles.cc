@@ -19,17 +19,20 @@ void quiet() {
 
 std::string system_reason() {
   std::string reason;
-  H5Ewalk2(H5E_DEFAULT, H5E_WALK_DOWNWARD, [](unsigned, const H5E_error2_t* e, void* data) -> herr_t {
-    auto& out = *static_cast<std::string*>(data);
-    if (!out.empty() || e == nullptr || e->desc == nullptr) return 0;
-    const std::string desc = e->desc;
-    const std::string key = "error message = '";
-    if (const auto at = desc.find(key); at != std::string::npos) {
-      const auto end = desc.find('\'', at + key.size());
-      out = desc.substr(at + key.size(), end == std::string::npos ? std::string::npos : end - at - key.size());
-    }
-    return 0;
-  }, &reason);
+  H5Ewalk2(
+      H5E_DEFAULT, H5E_WALK_DOWNWARD,
+      [](unsigned, const H5E_error2_t* e, void* data) -> herr_t {
+        auto& out = *static_cast<std::string*>(data);
+        if (!out.empty() || e == nullptr || e->desc == nullptr) return 0;
+        const std::string desc = e->desc;
+        const std::string key = "error message = '";
+        if (const auto at = desc.find(key); at != std::string::npos) {
+          const auto end = desc.find('\'', at + key.size());
+          out = desc.substr(at + key.size(), end == std::string::npos ? std::string::npos : end - at - key.size());
+        }
+        return 0;
+      },
+      &reason);
   return reason;
 }
 

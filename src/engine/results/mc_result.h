@@ -32,9 +32,9 @@ struct SampleResult {
 /// The figures of a per-sample field over a run's ok samples (a study that has one).
 struct FieldFigures {
   bool present = false;
-  sampling::Summary pooled;                  ///< over every (ok sample, field point)
-  std::vector<double> p50, p95, p99_73;      ///< per field point, over the ok samples
-  nlohmann::json file;                       ///< samples.h5's field (WideColumnsWriter::close), rank 0
+  sampling::Summary pooled;              ///< over every (ok sample, field point)
+  std::vector<double> p50, p95, p99_73;  ///< per field point, over the ok samples
+  nlohmann::json file;                   ///< samples.h5's field (WideColumnsWriter::close), rank 0
 };
 
 struct McResult {
@@ -47,12 +47,12 @@ struct McResult {
   std::vector<std::size_t> ok_index;        ///< sample index of each ok sample (values' order)
   double wall_seconds = 0.0;
   long solver_steps = 0, rhs_evals = 0;
-  std::size_t completed = 0;                ///< samples [0, completed) ran (n unless stopped)
-  bool interrupted = false;                 ///< stopped by SIGINT / SIGTERM
+  std::size_t completed = 0;  ///< samples [0, completed) ran (n unless stopped)
+  bool interrupted = false;   ///< stopped by SIGINT / SIGTERM
   int signal = 0;
-  std::string stop_reason;                  ///< why the run stopped before n ("" = it did not)
-  std::size_t replicate_size = 0;           ///< summaries by replicate (design.h) when > 0
-  FieldFigures field;                       ///< a study with a per-sample field, when asked for
+  std::string stop_reason;         ///< why the run stopped before n ("" = it did not)
+  std::size_t replicate_size = 0;  ///< summaries by replicate (design.h) when > 0
+  FieldFigures field;              ///< a study with a per-sample field, when asked for
   /// The output names (an in-memory evaluation sets them: StudyKind::evaluate, the optimizer).
   std::vector<std::string> names;
 

@@ -5,19 +5,19 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <oneapi/tbb/version.h>
+#include <toml++/toml.h>
 #include <Eigen/Core>
 #include <boost/uuid/detail/sha1.hpp>
 #include <boost/version.hpp>
-#include <chrono>
 #include <cerrno>
+#include <chrono>
 #include <cstdio>
 #include <ctime>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
 #include <vector>
-#include <oneapi/tbb/version.h>
-#include <toml++/toml.h>
 
 #include "core/error.h"
 #include "core/version.h"
@@ -94,16 +94,15 @@ nlohmann::json library_versions(bool plots) {
   nlohmann::json j;
   j["poise"] = kVersion;
   j["compiler"] = std::string("g++ ") + __VERSION__;
-  j["eigen"] = std::to_string(EIGEN_WORLD_VERSION) + "." + std::to_string(EIGEN_MAJOR_VERSION) +
-               "." + std::to_string(EIGEN_MINOR_VERSION);
+  j["eigen"] = std::to_string(EIGEN_WORLD_VERSION) + "." + std::to_string(EIGEN_MAJOR_VERSION) + "." +
+               std::to_string(EIGEN_MINOR_VERSION);
   j["onetbb"] = TBB_VERSION_STRING;
-  j["boost"] = std::to_string(BOOST_VERSION / 100000) + "." + std::to_string(BOOST_VERSION / 100 % 1000) +
-               "." + std::to_string(BOOST_VERSION % 100);
-  j["tomlplusplus"] = std::to_string(TOML_LIB_MAJOR) + "." + std::to_string(TOML_LIB_MINOR) + "." +
-                      std::to_string(TOML_LIB_PATCH);
-  j["nlohmann_json"] = std::to_string(NLOHMANN_JSON_VERSION_MAJOR) + "." +
-                       std::to_string(NLOHMANN_JSON_VERSION_MINOR) + "." +
-                       std::to_string(NLOHMANN_JSON_VERSION_PATCH);
+  j["boost"] = std::to_string(BOOST_VERSION / 100000) + "." + std::to_string(BOOST_VERSION / 100 % 1000) + "." +
+               std::to_string(BOOST_VERSION % 100);
+  j["tomlplusplus"] =
+      std::to_string(TOML_LIB_MAJOR) + "." + std::to_string(TOML_LIB_MINOR) + "." + std::to_string(TOML_LIB_PATCH);
+  j["nlohmann_json"] = std::to_string(NLOHMANN_JSON_VERSION_MAJOR) + "." + std::to_string(NLOHMANN_JSON_VERSION_MINOR) +
+                       "." + std::to_string(NLOHMANN_JSON_VERSION_PATCH);
   j["random123"] = "Philox4x64-10 (Random123, Debian librandom123-dev)";
   if (plots) {
     const std::string gp = program_output({"gnuplot", "--version"});
@@ -123,8 +122,7 @@ std::string now_iso8601() {
   return buf;
 }
 
-std::string make_run_folder(const std::string& results_root, const std::string& study_name,
-                            const std::string& out) {
+std::string make_run_folder(const std::string& results_root, const std::string& study_name, const std::string& out) {
   std::error_code ec;
   if (!out.empty()) {
     if (fs::exists(fs::path(out) / "samples.csv")) {

@@ -15,8 +15,7 @@ std::string git_commit();
 nlohmann::json library_versions(bool plots);
 /// Creates a fresh run folder: `out` if given (refused if it holds a samples.csv), else
 /// results/<study>/<YYYYmmdd-HHMMSS>[-k] under `results_root`. Never overwrites a run.
-std::string make_run_folder(const std::string& results_root, const std::string& study_name,
-                            const std::string& out);
+std::string make_run_folder(const std::string& results_root, const std::string& study_name, const std::string& out);
 /// Local time as ISO 8601.
 std::string now_iso8601();
 

@@ -9,9 +9,9 @@
 #include <sstream>
 
 #include "core/units.h"
-#include "engine/study_files/model_overrides.h"
-#include "engine/results/result_io.h"
 #include "engine/kind_interface/study_kind.h"
+#include "engine/results/result_io.h"
+#include "engine/study_files/model_overrides.h"
 #include "engine/study_files/toml_reader.h"
 
 namespace poise::engine {
@@ -90,7 +90,8 @@ std::vector<ReferenceFigure> declared_references(const StudyConfig& cfg, const s
   }
   std::vector<InputError> errors;
   for (const auto& r : refs) {
-    const auto it = std::find_if(outputs.begin(), outputs.end(), [&](const OutputSpec& o) { return o.name == r.output; });
+    const auto it =
+        std::find_if(outputs.begin(), outputs.end(), [&](const OutputSpec& o) { return o.name == r.output; });
     if (it == outputs.end()) {
       std::string names;
       for (const auto& o : outputs) names += (names.empty() ? "" : ", ") + o.name;
@@ -118,12 +119,13 @@ json compare_references(const std::vector<ReferenceFigure>& refs, const std::vec
                         const std::function<const std::vector<double>*(const std::string&)>& values) {
   json out = json::array();
   for (const auto& r : refs) {
-    const auto it = std::find_if(outputs.begin(), outputs.end(), [&](const OutputSpec& o) { return o.name == r.output; });
+    const auto it =
+        std::find_if(outputs.begin(), outputs.end(), [&](const OutputSpec& o) { return o.name == r.output; });
     if (it == outputs.end() || !outputs_json.contains(r.output)) continue;
     const double in_unit = r.value_si / unit_quantity(it->unit).value;
-    json c{{"name", r.name}, {"output", r.output}, {"statistic", r.statistic}, {"unit", it->unit},
-           {"reference", in_unit}, {"reference_as_written", r.value_text}, {"source", r.source},
-           {"role", r.role}, {"declared_in", r.file + ":" + std::to_string(r.line)}};
+    json c{{"name", r.name},     {"output", r.output},   {"statistic", r.statistic},
+           {"unit", it->unit},   {"reference", in_unit}, {"reference_as_written", r.value_text},
+           {"source", r.source}, {"role", r.role},       {"declared_in", r.file + ":" + std::to_string(r.line)}};
     if (!r.follows_from.empty()) c["follows_from"] = r.follows_from;
     const json& o = outputs_json[r.output];
     bool agrees = false;
@@ -147,7 +149,8 @@ json compare_references(const std::vector<ReferenceFigure>& refs, const std::vec
       const json& e = o[r.statistic];
       c["simulated"] = e;
       const double val = e["value"].is_number() ? e["value"].get<double>() : NAN;
-      const double lo = e["ci95"][0].is_number() ? e["ci95"][0].get<double>() : -std::numeric_limits<double>::infinity();
+      const double lo =
+          e["ci95"][0].is_number() ? e["ci95"][0].get<double>() : -std::numeric_limits<double>::infinity();
       const double hi = e["ci95"][1].is_number() ? e["ci95"][1].get<double>() : std::numeric_limits<double>::infinity();
       agrees = (in_unit >= lo && in_unit <= hi) ||
                (r.tolerance_relative > 0 && std::abs(val - in_unit) <= r.tolerance_relative * std::abs(in_unit));
@@ -161,6 +164,5 @@ json compare_references(const std::vector<ReferenceFigure>& refs, const std::vec
   }
   return out;
 }
-
 
 }  // namespace poise::engine

@@ -53,5 +53,4 @@ nlohmann::json compare_references(const std::vector<ReferenceFigure>& refs, cons
                                   const nlohmann::json& outputs_json,
                                   const std::function<const std::vector<double>*(const std::string&)>& values);
 
-
 }  // namespace poise::engine

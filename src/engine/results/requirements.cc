@@ -7,9 +7,9 @@
 #include <functional>
 
 #include "core/units.h"
+#include "engine/kind_interface/study_kind.h"
 #include "engine/results/confidence_bound.h"
 #include "engine/results/result_io.h"
-#include "engine/kind_interface/study_kind.h"
 #include "engine/study_files/toml_reader.h"
 
 namespace poise::engine {
@@ -20,9 +20,6 @@ const OutputSpec* find_output(const std::vector<OutputSpec>& outputs, const std:
   const auto it = std::find_if(outputs.begin(), outputs.end(), [&](const OutputSpec& o) { return o.name == name; });
   return it == outputs.end() ? nullptr : &*it;
 }
-
-
-
 
 struct Judged {
   std::string verdict;          // met | not met | undecided | no samples
@@ -51,8 +48,9 @@ Judged judge(const Requirement& r, const OutputValues& ov, double limit, double 
     return j;
   }
   if (!ov.independent && ov.replicate_size == 0) {
-    j.design_note = "the bounds assume independent samples; this lhs or sobol design without [sampling] "
-                    "replicate_size does not guarantee them (set replicate_size, or method = \"monte_carlo\")";
+    j.design_note =
+        "the bounds assume independent samples; this lhs or sobol design without [sampling] "
+        "replicate_size does not guarantee them (set replicate_size, or method = \"monte_carlo\")";
   }
   const BoundSpec up{BoundSide::kUpper, r.confidence}, down{BoundSide::kLower, r.confidence};
   j.bound = one_sided_bound(set, r.statistic, r.at_most ? up : down);
@@ -121,7 +119,8 @@ std::vector<Requirement> read_requirements(TomlReader& root) {
       t.ask("at_most", "a value with the output's unit, e.g. \"1.5 mN*m\" (or at_least)", "", false);
       t.ask("at_least", "a value with the output's unit (or at_most)", "", false);
     }
-    r.limit_text = t.string(r.at_most ? "at_most" : "at_least", t.schema_only() ? std::optional<std::string>("") : std::nullopt);
+    r.limit_text =
+        t.string(r.at_most ? "at_most" : "at_least", t.schema_only() ? std::optional<std::string>("") : std::nullopt);
     if (!r.limit_text.empty()) {
       try {
         units::parse_quantity(r.limit_text);
@@ -132,7 +131,9 @@ std::vector<Requirement> read_requirements(TomlReader& root) {
     }
     r.confidence = t.number(
         "confidence",
-        [](double c) { return c >= 0.5 && c < 1.0 ? std::string() : std::string("a one-sided confidence, 0.5 <= c < 1, e.g. 0.95"); },
+        [](double c) {
+          return c >= 0.5 && c < 1.0 ? std::string() : std::string("a one-sided confidence, 0.5 <= c < 1, e.g. 0.95");
+        },
         0.95);
     t.string("notes", "");
     out.push_back(r);
@@ -157,7 +158,8 @@ void check_requirements(const std::vector<Requirement>& requirements, const std:
       if (!(u.dim == v.dim)) {
         errors.emplace_back(at, r.at_most ? "requirement.at_most" : "requirement.at_least", quote_value(r.limit_text),
                             "a value in a unit of " + units::dimension_name(u.dim) + " (the output " + r.output +
-                                " is in " + (o->unit.empty() || o->unit == "1" ? std::string("no unit") : o->unit) + ")");
+                                " is in " + (o->unit.empty() || o->unit == "1" ? std::string("no unit") : o->unit) +
+                                ")");
       }
     } catch (const Error&) {
       // An unparsable limit was reported when the file was read.
@@ -173,8 +175,8 @@ nlohmann::json judge_requirements(const std::vector<Requirement>& requirements, 
     const OutputSpec* o = find_output(outputs, r.output);
     if (!o) continue;  // check_requirements refused it before the run
     const double limit = units::parse_quantity(r.limit_text).value / unit_quantity(o->unit).value;
-    json v{{"output", r.output}, {"statistic", r.statistic}, {"at_most", r.at_most},
-           {"limit", {{"value", limit}, {"unit", o->unit}, {"as_written", r.limit_text}}},
+    json v{{"output", r.output},         {"statistic", r.statistic},
+           {"at_most", r.at_most},       {"limit", {{"value", limit}, {"unit", o->unit}, {"as_written", r.limit_text}}},
            {"confidence", r.confidence}, {"declared_in", r.origin}};
     const OutputValues ov = values_of(r.output);
     if (!ov.values || ov.values->empty()) {
@@ -243,10 +245,12 @@ void add_clause(const json& v, VerdictClauses& c) {
   const json& bound = v[other ? "other_bound" : "bound"];
   const std::string bound_side = other ? (side == "upper" ? "lower" : "upper") : side;
   std::string figures = "is " + with_unit(value, unit);
-  if (bound.is_number()) figures += " (" + bound_side + " " + pct + " bound " + format_significant(bound.get<double>(), 4) + ")";
+  if (bound.is_number())
+    figures += " (" + bound_side + " " + pct + " bound " + format_significant(bound.get<double>(), 4) + ")";
   if (verdict == "met") {
     c.met.push_back(statistic_label(v["statistic"].get<std::string>()) + " of " + v["output"].get<std::string>() + " " +
-                    figures + (v["at_most"].get<bool>() ? " <= " : " >= ") + v["limit"]["as_written"].get<std::string>());
+                    figures + (v["at_most"].get<bool>() ? " <= " : " >= ") +
+                    v["limit"]["as_written"].get<std::string>());
   } else if (verdict == "not met") {
     const double over = std::abs(value - limit);
     std::string by = with_unit(over, unit);
@@ -283,7 +287,8 @@ std::string verdicts_sentence(const VerdictClauses& c, std::size_t n_verdicts, c
     s = "Undecided" + partial + ": " + join(c.undecided);
     if (!c.met.empty()) s += "; met: " + join(c.met);
   } else {
-    s = (n_verdicts == 1 ? std::string("The requirement is met") : "Every requirement is met (" + count + " of " + count + ")") +
+    s = (n_verdicts == 1 ? std::string("The requirement is met")
+                         : "Every requirement is met (" + count + " of " + count + ")") +
         partial + ": " + join(c.met);
   }
   return s;
@@ -312,19 +317,21 @@ void add_answer(json& summary, const std::vector<Requirement>& requirements, con
                 std::size_t samples, bool saltelli_layout) {
   if (saltelli_layout) {
     summary["requirements"] = json::array();
-    summary["answer"] = requirements.empty()
-                            ? std::string("A sensitivity run: Sobol indices of every output (no requirement is declared).")
-                            : "A sensitivity run: its samples follow the Saltelli layout, not independent draws, so it "
-                              "states no verdict; `poise run` decides the " + std::to_string(requirements.size()) +
-                                  " requirement(s).";
+    summary["answer"] =
+        requirements.empty()
+            ? std::string("A sensitivity run: Sobol indices of every output (no requirement is declared).")
+            : "A sensitivity run: its samples follow the Saltelli layout, not independent draws, so it "
+              "states no verdict; `poise run` decides the " +
+                  std::to_string(requirements.size()) + " requirement(s).";
     return;
   }
   summary["requirements"] = judge_requirements(requirements, outputs, values_of);
-  summary["answer"] = answer_sentence(summary["requirements"], summary.value("outputs", json::object()), outputs, status,
-                                      samples);
+  summary["answer"] =
+      answer_sentence(summary["requirements"], summary.value("outputs", json::object()), outputs, status, samples);
 }
 
-std::vector<std::pair<std::string, std::string>> shown_statistics(const json& verdicts, const std::vector<OutputSpec>& outputs,
+std::vector<std::pair<std::string, std::string>> shown_statistics(const json& verdicts,
+                                                                  const std::vector<OutputSpec>& outputs,
                                                                   std::size_t fallback) {
   std::vector<std::pair<std::string, std::string>> shown;
   for (const auto& v : verdicts) {
@@ -336,7 +343,6 @@ std::vector<std::pair<std::string, std::string>> shown_statistics(const json& ve
   }
   return shown;
 }
-
 
 std::optional<bool> requirements_met(const json& summary) {
   const auto it = summary.find("requirements");

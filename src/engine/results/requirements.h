@@ -34,8 +34,8 @@
 
 namespace poise::engine {
 
-class TomlReader;       // engine/study_files/toml_reader.h
-struct OutputSpec;      // engine/kind_interface/study_kind.h
+class TomlReader;   // engine/study_files/toml_reader.h
+struct OutputSpec;  // engine/kind_interface/study_kind.h
 
 /// One [[requirement]] of a study file (or a kind's shorthand for one).
 struct Requirement {
@@ -97,7 +97,6 @@ void add_answer(nlohmann::json& summary, const std::vector<Requirement>& require
 std::vector<std::pair<std::string, std::string>> shown_statistics(const nlohmann::json& verdicts,
                                                                   const std::vector<OutputSpec>& outputs,
                                                                   std::size_t fallback);
-
 
 /// Whether every requirement of a summary.json is met (false if one is not met or
 /// undecided); nullopt when it declares none.

@@ -104,7 +104,9 @@ nlohmann::json write_sample_columns_h5(const std::string& csv_path, const std::s
   std::error_code ec;
   std::filesystem::rename(tmp, h5_path, ec);
   if (ec) throw WriteError(h5_path, ec.message());
-  return {{"file", std::filesystem::path(h5_path).filename().string()}, {"rows", sample.size()}, {"inputs", n_in},
+  return {{"file", std::filesystem::path(h5_path).filename().string()},
+          {"rows", sample.size()},
+          {"inputs", n_in},
           {"outputs", n_out}};
 }
 

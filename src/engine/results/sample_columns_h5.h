@@ -21,8 +21,9 @@
 namespace poise::engine {
 
 /// Reads `csv_path` (header: sample,status,<inputs>,<outputs>,... as `input_names` and
-/// `outputs` say; no input names: the header's columns before the first output) and writes `h5_path`. Returns {"file" (its name in the run folder), "rows",
-/// "inputs", "outputs"} for summary.json. Throws WriteError when the file cannot be written.
+/// `outputs` say; no input names: the header's columns before the first output) and writes `h5_path`. Returns {"file"
+/// (its name in the run folder), "rows", "inputs", "outputs"} for summary.json. Throws WriteError when the file cannot
+/// be written.
 nlohmann::json write_sample_columns_h5(const std::string& csv_path, const std::string& h5_path,
                                        const std::vector<std::string>& input_names,
                                        const std::vector<OutputSpec>& outputs,

@@ -6,8 +6,8 @@
 #include <span>
 
 #include "core/error.h"
-#include "sampling/sensitivity.h"
 #include "engine/results/result_io.h"
+#include "sampling/sensitivity.h"
 
 namespace poise::engine {
 using nlohmann::json;
@@ -53,10 +53,12 @@ json sensitivity_json(const std::vector<std::string>& outputs, const std::vector
   json out{{"base_rows", base},
            {"groups", groups},
            {"evaluations", base * (k_all + 2)},
-           {"method", "Saltelli 2010 radial layout; first order S (Saltelli 2010), total ST (Jansen 1999); 95% "
-                      "percentile bootstrap over base rows (1000 resamples)"},
-           {"reading", "S: share of the output's variance due to the input alone; ST: share including its "
-                       "interactions; ST - S large means interactions; sum of S < 1 means interactions too"},
+           {"method",
+            "Saltelli 2010 radial layout; first order S (Saltelli 2010), total ST (Jansen 1999); 95% "
+            "percentile bootstrap over base rows (1000 resamples)"},
+           {"reading",
+            "S: share of the output's variance due to the input alone; ST: share including its "
+            "interactions; ST - S large means interactions; sum of S < 1 means interactions too"},
            {"outputs", json::object()}};
   for (std::size_t o = 0; o < outputs.size() && o < values.size(); ++o) {
     const std::vector<double>& v = values[o];
@@ -66,14 +68,19 @@ json sensitivity_json(const std::vector<std::string>& outputs, const std::vector
     for (std::size_t g = 0; g < k; ++g) ab.push_back(all.subspan((2 + g) * base, base));
     const sampling::SobolResult r = sampling::sobol_indices(all.subspan(0, base), all.subspan(base, base), ab, seed);
     auto entry = [](const std::string& name, const sampling::SobolIndex& x) {
-      return json{{"group", name}, {"first", estimate_json(x.first)}, {"total", estimate_json(x.total)},
+      return json{{"group", name},
+                  {"first", estimate_json(x.first)},
+                  {"total", estimate_json(x.total)},
                   {"rows_used", x.rows_used}};
     };
     json idx = json::array();
     for (std::size_t g = 0; g < k; ++g) idx.push_back(entry(groups[g], r.groups[g]));
     sort_by_total(idx);
-    out["outputs"][outputs[o]] = {{"variance", r.variance}, {"rows", r.n}, {"first_sum", estimate_json(r.first_sum)},
-                                  {"indices", idx}, {"note", r.note}};
+    out["outputs"][outputs[o]] = {{"variance", r.variance},
+                                  {"rows", r.n},
+                                  {"first_sum", estimate_json(r.first_sum)},
+                                  {"indices", idx},
+                                  {"note", r.note}};
     if (tolerances.names.empty()) continue;
     // Per tolerance: the closed group of its columns (their AB rows), or its one column's; a
     // group that is no design dimension (the within-sample randomness) stays a source of its own.
@@ -97,7 +104,8 @@ json sensitivity_json(const std::vector<std::string>& outputs, const std::vector
         columns.push_back(0);
       }
     }
-    const sampling::SobolResult rt = sampling::sobol_indices(all.subspan(0, base), all.subspan(base, base), ab_tol, seed);
+    const sampling::SobolResult rt =
+        sampling::sobol_indices(all.subspan(0, base), all.subspan(base, base), ab_tol, seed);
     json tol = json::array();
     for (std::size_t t = 0; t < names.size(); ++t) {
       tol.push_back(entry(names[t], rt.groups[t]));
@@ -109,6 +117,5 @@ json sensitivity_json(const std::vector<std::string>& outputs, const std::vector
   }
   return out;
 }
-
 
 }  // namespace poise::engine

@@ -14,8 +14,8 @@ namespace poise::engine {
 /// The model's tolerances over the design dimensions, from the tolerance key of each
 /// (InputColumn::tolerance; "" = the dimension is a tolerance of its own, named by `names`).
 struct ToleranceGroups {
-  std::vector<std::string> names;               ///< tolerance keys, in order of first dimension
-  std::vector<std::vector<std::size_t>> dims;   ///< the dimensions of each
+  std::vector<std::string> names;              ///< tolerance keys, in order of first dimension
+  std::vector<std::vector<std::size_t>> dims;  ///< the dimensions of each
   /// The groups of more than one dimension: the Saltelli layout's extra groups.
   std::vector<std::vector<std::size_t>> closed_groups() const;
 };
@@ -32,6 +32,5 @@ ToleranceGroups tolerance_groups(const std::vector<std::string>& dimension_names
 nlohmann::json sensitivity_json(const std::vector<std::string>& outputs, const std::vector<std::string>& groups,
                                 std::size_t base, const std::vector<std::vector<double>>& values, std::uint64_t seed,
                                 const ToleranceGroups& tolerances = {});
-
 
 }  // namespace poise::engine

@@ -42,8 +42,8 @@ struct ColumnCoordinate {
 };
 
 struct WideColumnsSpec {
-  std::string dataset;      ///< e.g. "grid_total_arcsec"
-  std::string unit;         ///< e.g. "arcsec"
+  std::string dataset;  ///< e.g. "grid_total_arcsec"
+  std::string unit;     ///< e.g. "arcsec"
   std::string description;
   std::size_t columns = 0;
   std::vector<ColumnCoordinate> coordinates;

@@ -15,8 +15,8 @@
 #include "engine/results/checked_file.h"
 #include "engine/results/chunk_codec.h"
 #include "engine/results/hdf5_handles.h"
-#include "engine/run/thread_arena.h"
 #include "engine/results/wide_columns.h"
+#include "engine/run/thread_arena.h"
 
 namespace poise::engine {
 namespace {
@@ -176,8 +176,8 @@ void WideColumnsWriter::append(std::size_t sample, bool ok, std::span<const floa
 // One flush's blocks of columns: the rows, the encoded chunks, the per-thread buffers and
 // the first failed chunk write (the blocks after it are dropped).
 struct WideColumnsWriter::FlushBlocks {
-  std::size_t r = 0;     // rows in the chunk
-  hsize_t first = 0;     // the chunk's first row in the dataset
+  std::size_t r = 0;                                                  // rows in the chunk
+  hsize_t first = 0;                                                  // the chunk's first row in the dataset
   std::vector<std::string> encoded;                                   // per column
   tbb::enumerable_thread_specific<std::vector<float>> block_columns;  // one block's columns per thread
   tbb::enumerable_thread_specific<std::vector<float>> padded;         // a kept partial column, padded
@@ -208,8 +208,8 @@ void WideColumnsWriter::encode_block(std::size_t b, FlushBlocks& f) {
   for (std::size_t k = 0; k < width; ++k) {
     const std::size_t p = p0 + k;
     float* values = base + k * stride;
-    crc_[p] = static_cast<std::uint32_t>(crc32(crc_[p], reinterpret_cast<const Bytef*>(values),
-                                               static_cast<uInt>(r * sizeof(float))));
+    crc_[p] = static_cast<std::uint32_t>(
+        crc32(crc_[p], reinterpret_cast<const Bytef*>(values), static_cast<uInt>(r * sizeof(float))));
     if (!h_) continue;
     if (r < chunk_rows_ && keeps()) {  // the kept rows end at r: pad a copy
       std::vector<float>& pad = f.padded.local();
@@ -236,8 +236,7 @@ void WideColumnsWriter::write_block(std::size_t b, FlushBlocks& f) const {
   for (std::size_t p = p0; p < p0 + width && f.write_error.empty(); ++p) {
     const hsize_t offset[2] = {f.first, p};
     const std::uint32_t skipped = spec_.compress ? 0u : 3u;  // bit 0 shuffle, bit 1 deflate
-    if (H5Dwrite_chunk(h_->values.get(), H5P_DEFAULT, skipped, offset, f.encoded[p].size(),
-                       f.encoded[p].data()) < 0) {
+    if (H5Dwrite_chunk(h_->values.get(), H5P_DEFAULT, skipped, offset, f.encoded[p].size(), f.encoded[p].data()) < 0) {
       f.write_error = hdf5::failed("cannot write a chunk of /" + spec_.dataset);
     }
     std::string().swap(f.encoded[p]);  // written: its memory goes back at once
@@ -265,19 +264,19 @@ void WideColumnsWriter::flush() {
   f.encoded.resize(g);
   std::size_t next_block = 0;
   run_on_threads(threads_, [&] {
-    tbb::parallel_pipeline(
-        2 * static_cast<std::size_t>(threads_) + 1,
-        tbb::make_filter<void, std::size_t>(tbb::filter_mode::serial_in_order,
-                                            [&](tbb::flow_control& fc) -> std::size_t {
-                                              if (next_block == blocks) fc.stop();
-                                              return next_block++;
-                                            }) &
-            tbb::make_filter<std::size_t, std::size_t>(tbb::filter_mode::parallel, [&](std::size_t b) {
-              encode_block(b, f);
-              return b;
-            }) &
-            tbb::make_filter<std::size_t, void>(tbb::filter_mode::serial_in_order,
-                                                [&](std::size_t b) { write_block(b, f); }));
+    tbb::parallel_pipeline(2 * static_cast<std::size_t>(threads_) + 1,
+                           tbb::make_filter<void, std::size_t>(tbb::filter_mode::serial_in_order,
+                                                               [&](tbb::flow_control& fc) -> std::size_t {
+                                                                 if (next_block == blocks) fc.stop();
+                                                                 return next_block++;
+                                                               }) &
+                               tbb::make_filter<std::size_t, std::size_t>(tbb::filter_mode::parallel,
+                                                                          [&](std::size_t b) {
+                                                                            encode_block(b, f);
+                                                                            return b;
+                                                                          }) &
+                               tbb::make_filter<std::size_t, void>(tbb::filter_mode::serial_in_order,
+                                                                   [&](std::size_t b) { write_block(b, f); }));
   });
   if (!f.write_error.empty()) throw WriteError(path_, f.write_error);
   if (h_) {
@@ -311,8 +310,12 @@ nlohmann::json WideColumnsWriter::close() {
   if (!datasets_closed || H5Fflush(h_->file.get(), H5F_SCOPE_GLOBAL) < 0 || h_->file.reset() < 0) {
     throw WriteError(path_, hdf5::failed("HDF5 could not flush and close the file"));
   }
-  return {{"file", std::filesystem::path(path_).filename().string()}, {"dataset", spec_.dataset},
-          {"rows", rows_written_}, {"columns", spec_.columns}, {"unit", spec_.unit}, {"values_digest", hex(total)},
+  return {{"file", std::filesystem::path(path_).filename().string()},
+          {"dataset", spec_.dataset},
+          {"rows", rows_written_},
+          {"columns", spec_.columns},
+          {"unit", spec_.unit},
+          {"values_digest", hex(total)},
           {"values_digest_is", "SHA-1 of the CRC-32s of each column's little-endian float32 values, in column order"}};
 }
 

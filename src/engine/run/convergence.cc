@@ -35,9 +35,11 @@ UntilTarget parse_until(const std::string& text, const std::vector<std::string>&
     return s;
   };
   if (op == std::string::npos || dot == std::string::npos) {
-    throw UsageError("--until \"" + text + "\": expected OUTPUT.STAT<=WIDTH, e.g. \"los_max_arcsec.p99_73<=0.5\" or "
-                "\"los_max_arcsec.p95<=1%\" (STAT: mean, std, p50, p95, p99_73; WIDTH: the 95% interval's full width "
-                "in the output's unit, or a percentage of the figure)");
+    throw UsageError(
+        "--until \"" + text +
+        "\": expected OUTPUT.STAT<=WIDTH, e.g. \"los_max_arcsec.p99_73<=0.5\" or "
+        "\"los_max_arcsec.p95<=1%\" (STAT: mean, std, p50, p95, p99_73; WIDTH: the 95% interval's full width "
+        "in the output's unit, or a percentage of the figure)");
   }
   t.output = text.substr(0, dot);
   t.statistic = text.substr(dot + 1, op - dot - 1);
@@ -48,10 +50,12 @@ UntilTarget parse_until(const std::string& text, const std::vector<std::string>&
     w.pop_back();
   }
   if (std::find(outputs.begin(), outputs.end(), t.output) == outputs.end()) {
-    throw UsageError("--until \"" + text + "\": no output \"" + t.output + "\" in this study; its outputs are " + listing());
+    throw UsageError("--until \"" + text + "\": no output \"" + t.output + "\" in this study; its outputs are " +
+                     listing());
   }
   if (std::find(std::begin(kStatistics), std::end(kStatistics), t.statistic) == std::end(kStatistics)) {
-    throw UsageError("--until \"" + text + "\": statistic \"" + t.statistic + "\" is not one of mean, std, p50, p95, p99_73");
+    throw UsageError("--until \"" + text + "\": statistic \"" + t.statistic +
+                     "\" is not one of mean, std, p50, p95, p99_73");
   }
   try {
     std::size_t used = 0;
@@ -60,7 +64,8 @@ UntilTarget parse_until(const std::string& text, const std::vector<std::string>&
   } catch (...) {
     throw UsageError("--until \"" + text + "\": width \"" + w + "\" is not a number");
   }
-  if (!(t.width > 0) || !std::isfinite(t.width)) throw UsageError("--until \"" + text + "\": the width must be positive");
+  if (!(t.width > 0) || !std::isfinite(t.width))
+    throw UsageError("--until \"" + text + "\": the width must be positive");
   if (t.relative) t.width /= 100.0;
   return t;
 }
@@ -74,9 +79,11 @@ void check_until_design(const UntilTarget& target, std::size_t replicate_size) {
   throw UsageError("--until \"" + target.text + "\": replicates of " + std::to_string(replicate_size) +
                    " samples cannot support an interval on " + target.statistic + ": each holds about " + fmt(tail) +
                    " samples beyond it (replicate_size x " + (p > 0.5 ? "(1 - p)" : "p") + " < " +
-                   fmt(sampling::kMinTailPerReplicate) + "), so the spread of the replicates is a spread of a few "
+                   fmt(sampling::kMinTailPerReplicate) +
+                   "), so the spread of the replicates is a spread of a few "
                    "counts and a run that stops at its first narrow interval would stop on replicates that agree by "
-                   "chance. Set [sampling] replicate_size to at least " + std::to_string(needed) +
+                   "chance. Set [sampling] replicate_size to at least " +
+                   std::to_string(needed) +
                    ", use method = \"monte_carlo\", or put --until on a less extreme figure (p95 needs replicates of "
                    "200, p50 of 20)");
 }
@@ -114,8 +121,9 @@ StopRule::StopRule(std::vector<std::string> outputs, std::size_t planned, double
       verbose_(verbose),
       next_check_(replicate_size > 0 ? 2 * replicate_size : 100) {}
 
-std::string StopRule::operator()(const std::vector<std::vector<double>>& values, const std::vector<std::size_t>& ok_index,
-                                 std::size_t failures, std::size_t completed) {
+std::string StopRule::operator()(const std::vector<std::vector<double>>& values,
+                                 const std::vector<std::size_t>& ok_index, std::size_t failures,
+                                 std::size_t completed) {
   const double limit = max_failure_share_ * static_cast<double>(planned_);
   const sampling::Estimate share = sampling::fraction_wilson(failures, std::max<std::size_t>(completed, 1));
   if (static_cast<double>(failures) > limit || (completed >= 50 && share.lo && *share.lo > max_failure_share_)) {
@@ -131,13 +139,17 @@ std::string StopRule::operator()(const std::vector<std::vector<double>>& values,
   if (!until_ || completed < next_check_) return "";
   if (replicate_size_ > 0 && completed % replicate_size_ != 0) return "";
   next_check_ = std::max(completed + 1, static_cast<std::size_t>(std::ceil(1.1 * static_cast<double>(completed))));
-  const auto k = static_cast<std::size_t>(std::find(outputs_.begin(), outputs_.end(), until_->output) - outputs_.begin());
+  const auto k =
+      static_cast<std::size_t>(std::find(outputs_.begin(), outputs_.end(), until_->output) - outputs_.begin());
   if (k >= values.size() || values[k].size() < 2) return "";
   const sampling::Summary s = summarize_output(values[k], ok_index, replicate_size_);
   const sampling::Estimate& e = statistic_of(s, until_->statistic);
   const double width = interval_width(e);
   const double target = until_->relative ? until_->width * std::abs(e.value) : until_->width;
-  checks_.push_back({{"samples", completed}, {"value", e.value}, {"ci95", estimate_json(e)["ci95"]}, {"width", width},
+  checks_.push_back({{"samples", completed},
+                     {"value", e.value},
+                     {"ci95", estimate_json(e)["ci95"]},
+                     {"width", width},
                      {"target_width", target}});
   if (verbose_) {
     diagnostics::progress("\n  until: " + until_->output + "." + until_->statistic + " = " + fmt(e.value) +
@@ -154,9 +166,15 @@ std::string StopRule::operator()(const std::vector<std::vector<double>>& values,
 
 json StopRule::until_json() const {
   if (!until_) return nullptr;
-  return {{"target", until_->text}, {"output", until_->output}, {"statistic", until_->statistic},
-          {"width", until_->width}, {"relative", until_->relative}, {"met", met_at_.has_value()},
-          {"met_at_samples", met_at_ ? json(*met_at_) : json(nullptr)}, {"cap_samples", planned_}, {"checks", checks_}};
+  return {{"target", until_->text},
+          {"output", until_->output},
+          {"statistic", until_->statistic},
+          {"width", until_->width},
+          {"relative", until_->relative},
+          {"met", met_at_.has_value()},
+          {"met_at_samples", met_at_ ? json(*met_at_) : json(nullptr)},
+          {"cap_samples", planned_},
+          {"checks", checks_}};
 }
 
 json convergence_json(const std::vector<std::string>& outputs, const std::vector<sampling::Summary>& summaries,
@@ -183,8 +201,9 @@ json convergence_json(const std::vector<std::string>& outputs, const std::vector
   return {{"samples", samples},
           {"intervals", replicate_size > 0 ? "by replicate (" + std::to_string(replicate_size) + " samples each)"
                                            : std::string("independent samples")},
-          {"note", "samples_for_Xpct: samples a 95% interval of +-X% of the figure would need, from this run's "
-                   "interval (half-width ~ 1/sqrt(n)); null where the interval has no end"},
+          {"note",
+           "samples_for_Xpct: samples a 95% interval of +-X% of the figure would need, from this run's "
+           "interval (half-width ~ 1/sqrt(n)); null where the interval has no end"},
           {"figures", figures},
           {"until", until}};
 }
@@ -195,7 +214,9 @@ json failures_json(std::size_t count, std::size_t ran, const std::vector<std::pa
          {"share", ran > 0 ? static_cast<double>(count) / static_cast<double>(ran) : 0.0},
          {"first", json::array()}};
   for (const auto& [i, why] : first) {
-    j["first"].push_back({{"sample", i}, {"seed", seed}, {"reason", why},
+    j["first"].push_back({{"sample", i},
+                          {"seed", seed},
+                          {"reason", why},
                           {"replay", "poise replay " + study_file + " --sample " + std::to_string(i) + " --seed " +
                                          std::to_string(seed)}});
   }
@@ -203,13 +224,16 @@ json failures_json(std::size_t count, std::size_t ran, const std::vector<std::pa
 }
 
 void finish_run_status(const std::string& status, const std::string& reason, int signal, std::size_t ran,
-                       std::size_t planned, std::size_t failures, const std::string& dir, const std::string& study_file) {
+                       std::size_t planned, std::size_t failures, const std::string& dir,
+                       const std::string& study_file) {
   if (status == "interrupted") {
-    throw Interrupted(std::string(signal == 2 ? "SIGINT" : signal == 15 ? "SIGTERM" : "a signal") + ": stopped after " +
-                          std::to_string(ran) + " of " + std::to_string(planned) + " samples (" +
+    throw Interrupted(std::string(signal == 2    ? "SIGINT"
+                                  : signal == 15 ? "SIGTERM"
+                                                 : "a signal") +
+                          ": stopped after " + std::to_string(ran) + " of " + std::to_string(planned) + " samples (" +
                           std::to_string(failures) + " failed). Every finished sample is in " + dir +
-                          "/samples.csv and summary.json covers them. Complete the run with:\n  poise run " + study_file +
-                          " --resume " + dir,
+                          "/samples.csv and summary.json covers them. Complete the run with:\n  poise run " +
+                          study_file + " --resume " + dir,
                       signal);
   }
   if (status == "failed") {
@@ -221,12 +245,13 @@ void finish_run_status(const std::string& status, const std::string& reason, int
   // are whole, but the stop asked for is honoured in the exit status.
   if (sampling::interrupt_requested()) {
     const int sig = sampling::interrupt_signal();
-    throw Interrupted(std::string(sig == 2 ? "SIGINT" : sig == 15 ? "SIGTERM" : "a signal") +
+    throw Interrupted(std::string(sig == 2    ? "SIGINT"
+                                  : sig == 15 ? "SIGTERM"
+                                              : "a signal") +
                           " while the results were written: the run is complete (" + std::to_string(ran) +
                           " samples); " + dir + " holds samples.csv, summary.json and report.html",
                       sig);
   }
 }
-
 
 }  // namespace poise::engine

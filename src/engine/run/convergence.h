@@ -14,10 +14,10 @@
 /// design has replicates, else as independent samples (sampling::summarize).
 #include <cstddef>
 #include <cstdint>
-#include <utility>
 #include <memory>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <nlohmann/json.hpp>
@@ -82,8 +82,9 @@ class StopRule {
 /// summary.json "sample_convergence": per output and figure, its interval's relative half-width
 /// and the samples a +-1% and a +-5% interval would need (half-width ~ 1/sqrt(n)), so that
 /// a reader sees how many samples each figure needed; plus the --until record.
-nlohmann::json convergence_json(const std::vector<std::string>& outputs, const std::vector<sampling::Summary>& summaries,
-                                std::size_t samples, std::size_t replicate_size, const nlohmann::json& until);
+nlohmann::json convergence_json(const std::vector<std::string>& outputs,
+                                const std::vector<sampling::Summary>& summaries, std::size_t samples,
+                                std::size_t replicate_size, const nlohmann::json& until);
 
 /// summary.json "failures": count, share, and the first failed samples with their seed,
 /// reason and the command that replays each alone.
@@ -94,7 +95,7 @@ nlohmann::json failures_json(std::size_t count, std::size_t ran,
 /// After the result folder is written: throws Interrupted (status "interrupted", with what was
 /// done and how to resume) or Error (status "failed", the failure share exceeded).
 void finish_run_status(const std::string& status, const std::string& reason, int signal, std::size_t ran,
-                       std::size_t planned, std::size_t failures, const std::string& dir, const std::string& study_file);
-
+                       std::size_t planned, std::size_t failures, const std::string& dir,
+                       const std::string& study_file);
 
 }  // namespace poise::engine

@@ -35,8 +35,9 @@ std::optional<std::string> zero_of(const StudyConfig& cfg, const toml::table& mo
   return zero;
 }
 
-json run_without(const StudyConfig& cfg, const StudyFactory& make_study, const std::map<std::string, std::string>& extra,
-                 std::size_t samples, std::uint64_t seed, int threads, const std::vector<OutputSpec>& outputs) {
+json run_without(const StudyConfig& cfg, const StudyFactory& make_study,
+                 const std::map<std::string, std::string>& extra, std::size_t samples, std::uint64_t seed, int threads,
+                 const std::vector<OutputSpec>& outputs) {
   StudyConfig c = cfg;
   auto overrides = c.overrides;
   for (const auto& [k, v] : extra) overrides[k] = v;
@@ -48,8 +49,9 @@ json run_without(const StudyConfig& cfg, const StudyFactory& make_study, const s
 }  // namespace
 
 json run_procedure_contributions(const StudyConfig& cfg, const StudyFactory& make_study,
-                                 const std::vector<std::string>& tolerance_keys, std::size_t samples, std::uint64_t seed,
-                                 int threads, bool progress, const std::vector<OutputSpec>& outputs) {
+                                 const std::vector<std::string>& tolerance_keys, std::size_t samples,
+                                 std::uint64_t seed, int threads, bool progress,
+                                 const std::vector<OutputSpec>& outputs) {
   json out = json::array();
   const toml::table model = parse_toml_file(cfg.model_path);
   std::vector<std::string> keys;
@@ -57,8 +59,8 @@ json run_procedure_contributions(const StudyConfig& cfg, const StudyFactory& mak
     if (!k.empty() && std::find(keys.begin(), keys.end(), k) == keys.end()) keys.push_back(k);
   }
   if (progress) {
-    diagnostics::progress("  contributions: " + std::to_string(keys.size() + 1) + " runs of " + std::to_string(samples) +
-                          " samples");
+    diagnostics::progress("  contributions: " + std::to_string(keys.size() + 1) + " runs of " +
+                          std::to_string(samples) + " samples");
   }
   json all = run_without(cfg, make_study, {}, samples, seed, threads, outputs);
   all["without"] = "(nothing: all tolerances)";
@@ -79,6 +81,5 @@ json run_procedure_contributions(const StudyConfig& cfg, const StudyFactory& mak
   }
   return out;
 }
-
 
 }  // namespace poise::engine

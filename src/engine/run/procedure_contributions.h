@@ -28,5 +28,4 @@ nlohmann::json run_procedure_contributions(const StudyConfig& cfg, const StudyFa
                                            std::uint64_t seed, int threads, bool progress,
                                            const std::vector<OutputSpec>& outputs);
 
-
 }  // namespace poise::engine

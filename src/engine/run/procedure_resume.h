@@ -15,7 +15,7 @@ namespace poise::engine {
 /// and failure reasons): complete lines only, in order from 0; a partial last line is cut off
 /// the file. Throws if the header is not this study's.
 std::vector<SampleResult> read_done_samples(const std::string& csv_path, const std::string& header,
-                                           std::size_t n_inputs, std::size_t n_outputs, bool solver_steps);
+                                            std::size_t n_inputs, std::size_t n_outputs, bool solver_steps);
 
 /// A resumed run's samples come back from samples.csv with their solver steps but not their
 /// right-hand-side evaluations: those the interrupted part recorded in run.json are added to

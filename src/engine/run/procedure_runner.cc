@@ -1,16 +1,16 @@
 #include "engine/run/procedure_runner.h"
 #include "core/diagnostics.h"
 
+#include "engine/kind_interface/study_kind.h"
+#include "engine/report/report_figures.h"
+#include "engine/report/run_report.h"
 #include "engine/results/references.h"
+#include "engine/results/requirements.h"
+#include "engine/results/sample_columns_h5.h"
 #include "engine/run/procedure_contributions.h"
 #include "engine/run/procedure_resume.h"
 #include "engine/run/procedure_sweeps.h"
-#include "engine/report/report_figures.h"
-#include "engine/results/requirements.h"
-#include "engine/results/sample_columns_h5.h"
 #include "engine/run/sample_rows.h"
-#include "engine/report/run_report.h"
-#include "engine/kind_interface/study_kind.h"
 
 #include <algorithm>
 #include <cmath>
@@ -23,13 +23,13 @@
 
 #include "core/units.h"
 #include "core/version.h"
-#include "sampling/interrupt.h"
-#include "engine/run/convergence.h"
-#include "engine/results/provenance.h"
-#include "engine/run/run_plan.h"
-#include "engine/results/sensitivity_output.h"
 #include "engine/report/report_plot.h"
+#include "engine/results/provenance.h"
 #include "engine/results/result_io.h"
+#include "engine/results/sensitivity_output.h"
+#include "engine/run/convergence.h"
+#include "engine/run/run_plan.h"
+#include "sampling/interrupt.h"
 
 namespace poise::engine {
 namespace fs = std::filesystem;
@@ -55,16 +55,15 @@ std::string csv_header(const ProcedureStudy& study) {
   return header + (study.has_solver() ? ",solver_steps,message" : ",message");
 }
 
-
 // summary.json's statistics: outputs with their declared units, references, failures,
 // convergence and (poise sensitivity) Sobol indices.
 void add_statistics(json& s, const FinishedRun& f, const StopRule& rule) {
   const auto& names = f.study.output_names();
   const auto& specs = f.study.outputs();
   s["outputs"] = outputs_json(f.mc, specs, true);
-  s["references"] = compare_references(declared_references(f.cfg, specs), specs, s["outputs"], [&](const std::string& name) {
-    return requirement_values(f.mc, specs, f.cfg)(name).values;
-  });
+  s["references"] =
+      compare_references(declared_references(f.cfg, specs), specs, s["outputs"],
+                         [&](const std::string& name) { return requirement_values(f.mc, specs, f.cfg)(name).values; });
   s["failures"] = failures_json(f.mc.failures, f.ran, f.mc.failed, f.plan.seed, f.cfg.file);
   s["failures"]["by_reason"] = f.mc.failure_reasons;
   s["sample_convergence"] = convergence_json(names, f.mc.outputs, f.ran, f.cfg.replicate_size, rule.until_json());
@@ -87,12 +86,23 @@ json summary_of(const FinishedRun& f, const StopRule& rule, const RunOptions& op
   json s;
   s["status"] = f.status;
   if (!f.mc.stop_reason.empty()) s["stop_reason"] = f.mc.stop_reason;
-  s["study"] = {{"name", cfg.name}, {"title", cfg.title}, {"kind", cfg.kind}, {"file", cfg.file},
-                {"model_file", cfg.model_path}, {"model_name", f.study.model_name()},
-                {"model_source", f.study.model_source()}, {"notes", cfg.notes}, {"overrides", cfg.overrides}};
-  s["sampling"] = {{"method", sampling::to_string(cfg.method)}, {"samples", f.ran}, {"planned_samples", f.plan.samples},
-                   {"seed", f.plan.seed}, {"threads", f.plan.threads}, {"mpi_ranks", sampling::Cluster::size()},
-                   {"replicate_size", cfg.replicate_size}, {"max_failure_share", cfg.max_failure_share},
+  s["study"] = {{"name", cfg.name},
+                {"title", cfg.title},
+                {"kind", cfg.kind},
+                {"file", cfg.file},
+                {"model_file", cfg.model_path},
+                {"model_name", f.study.model_name()},
+                {"model_source", f.study.model_source()},
+                {"notes", cfg.notes},
+                {"overrides", cfg.overrides}};
+  s["sampling"] = {{"method", sampling::to_string(cfg.method)},
+                   {"samples", f.ran},
+                   {"planned_samples", f.plan.samples},
+                   {"seed", f.plan.seed},
+                   {"threads", f.plan.threads},
+                   {"mpi_ranks", sampling::Cluster::size()},
+                   {"replicate_size", cfg.replicate_size},
+                   {"max_failure_share", cfg.max_failure_share},
                    {"inputs", f.study.input_names()},
                    {"ci_note", cfg.replicate_size > 0
                                    ? "95% intervals from the spread of the independent randomized replicates"
@@ -101,8 +111,8 @@ json summary_of(const FinishedRun& f, const StopRule& rule, const RunOptions& op
                                      "LOS study: replicate p99.73 interval wider than this one); [sampling] "
                                      "replicate_size gives honest intervals"}};
   add_statistics(s, f, rule);
-  add_answer(s, f.requirements, f.study.outputs(), requirement_values(f.mc, f.study.outputs(), cfg), f.status,
-             f.ran, f.plan.sensitivity_base > 0);
+  add_answer(s, f.requirements, f.study.outputs(), requirement_values(f.mc, f.study.outputs(), cfg), f.status, f.ran,
+             f.plan.sensitivity_base > 0);
   if (const json solver = f.study.solver_json(f.mc); !solver.is_null()) {
     s["solver"] = solver;
     if (f.rhs_uncounted > 0) {
@@ -112,11 +122,17 @@ json summary_of(const FinishedRun& f, const StopRule& rule, const RunOptions& op
     }
   }
   if (const json d = f.study.details(f.mc); !d.is_null()) s["details"] = d;
-  s["provenance"] = {{"poise_version", kVersion}, {"git_commit", git_commit()},
-                     {"study_file_sha1", file_sha1(cfg.file)}, {"model_file_sha1", file_sha1(cfg.model_path)},
-                     {"seed", f.plan.seed}, {"samples", f.ran}, {"threads", f.plan.threads},
-                     {"mpi_ranks", sampling::Cluster::size()}, {"wall_time_s", f.mc.wall_seconds},
-                     {"started", f.plan.started}, {"finished", now_iso8601()},
+  s["provenance"] = {{"poise_version", kVersion},
+                     {"git_commit", git_commit()},
+                     {"study_file_sha1", file_sha1(cfg.file)},
+                     {"model_file_sha1", file_sha1(cfg.model_path)},
+                     {"seed", f.plan.seed},
+                     {"samples", f.ran},
+                     {"threads", f.plan.threads},
+                     {"mpi_ranks", sampling::Cluster::size()},
+                     {"wall_time_s", f.mc.wall_seconds},
+                     {"started", f.plan.started},
+                     {"finished", now_iso8601()},
                      {"libraries", library_versions(options.plots && cfg.plots)},
                      {"resumed_after_sample", options.resume.empty() ? json(nullptr) : json(f.resumed)}};
   return s;
@@ -152,7 +168,9 @@ RunControl run_control(const StudyConfig& cfg, const std::shared_ptr<StopRule>& 
                        const std::map<std::string, std::uint64_t>& h5_numbers) {
   RunControl control;
   control.distributed = true;
-  control.stop = [rule](const McResult& r) { return (*rule)(r.values, r.ok_index, r.failures, r.ok_index.size() + r.failures); };
+  control.stop = [rule](const McResult& r) {
+    return (*rule)(r.values, r.ok_index, r.failures, r.ok_index.size() + r.failures);
+  };
   control.field_figures = cfg.maps || cfg.grid_values;
   control.field_file = cfg.grid_values ? h5_path : std::string();
   control.field_maps = cfg.maps;
@@ -186,9 +204,9 @@ std::string run_procedure_study(const StudyConfig& cfg_in, const StudyFactory& m
   const DesignProbe probe = probe_design(cfg, make_study);
   const ToleranceGroups& tolerances = probe.tolerances;
   const std::vector<std::string>& sources = probe.sources;
-  RunPlan plan = plan_run(cfg, options, [&] {
-    return std::make_pair(probe.dimensions, probe.own_randomness);
-  }, [&] { return probe.output_names; });
+  RunPlan plan = plan_run(
+      cfg, options, [&] { return std::make_pair(probe.dimensions, probe.own_randomness); },
+      [&] { return probe.output_names; });
   const std::size_t n = plan.samples;
   const std::unique_ptr<ProcedureStudy> owned = make_study(cfg, n, plan.seed);
   const ProcedureStudy& study = *owned;
@@ -214,15 +232,21 @@ std::string run_procedure_study(const StudyConfig& cfg_in, const StudyFactory& m
   auto rule = std::make_shared<StopRule>(study.output_names(), n, cfg.max_failure_share, until, cfg.replicate_size,
                                          options.progress && root);
   const std::string h5_path = (fs::path(plan.dir) / "samples.h5").string();
-  const std::map<std::string, std::string> h5_text{{"study", cfg.name}, {"kind", cfg.kind}, {"study_file", cfg.file},
-                                                   {"method", sampling::to_string(cfg.method)}, {"poise_version", kVersion}};
+  const std::map<std::string, std::string> h5_text{{"study", cfg.name},
+                                                   {"kind", cfg.kind},
+                                                   {"study_file", cfg.file},
+                                                   {"method", sampling::to_string(cfg.method)},
+                                                   {"poise_version", kVersion}};
   const std::map<std::string, std::uint64_t> h5_numbers{{"seed", plan.seed}, {"planned_samples", n}};
   const RunControl control = run_control(cfg, rule, h5_path, h5_text, h5_numbers);
   // Rows on disk are not written again (a study may recompute them: a resumed LOS run).
   SampleRowWriter rows(csv, plan.threads, done.size(), study.has_solver());
-  McResult mc = study.run(plan.threads, options.progress, [&](std::span<const SampleResult> block) {
-    if (cfg.samples_csv) rows(block);
-  }, done, control);
+  McResult mc = study.run(
+      plan.threads, options.progress,
+      [&](std::span<const SampleResult> block) {
+        if (cfg.samples_csv) rows(block);
+      },
+      done, control);
   if (!root) return "";  // rank 0 writes the folder
   csv.close();
   const std::size_t ran = mc.completed;
@@ -236,15 +260,17 @@ std::string run_procedure_study(const StudyConfig& cfg_in, const StudyFactory& m
   json s = summary_of(f, *rule, options);
   // samples.h5: the field of a study that has one (written during the run); else the inputs
   // and outputs as named columns, from the finished samples.csv.
-  s["samples_h5"] = !mc.field.file.is_null() ? mc.field.file
-                    : cfg.samples_csv && !mc.field.present
-                        ? write_sample_columns_h5(csv_path, h5_path, study.input_names(), study.outputs(), h5_text, h5_numbers)
-                        : json(nullptr);
+  s["samples_h5"] =
+      !mc.field.file.is_null() ? mc.field.file
+      : cfg.samples_csv && !mc.field.present
+          ? write_sample_columns_h5(csv_path, h5_path, study.input_names(), study.outputs(), h5_text, h5_numbers)
+          : json(nullptr);
   if (status == "complete" && plan.sensitivity_base == 0) add_sweeps_and_contributions(s, f, make_study, options);
   write_file_atomic((fs::path(plan.dir) / "summary.json").string(), s.dump(2) + "\n");
   const fs::path pdir = fs::path(plan.dir) / "plots";
   fs::create_directories(pdir);
-  write_file_atomic((fs::path(plan.dir) / "report.html").string(), run_report_html(s, f, pdir, options.plots && cfg.plots));
+  write_file_atomic((fs::path(plan.dir) / "report.html").string(),
+                    run_report_html(s, f, pdir, options.plots && cfg.plots));
   finish_run_status(status, mc.stop_reason, mc.signal, ran, n, mc.failures, plan.dir, cfg.file);
   return plan.dir;
 }

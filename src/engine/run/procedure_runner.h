@@ -9,10 +9,10 @@
 #include <nlohmann/json.hpp>
 
 #include "engine/kind_interface/procedure_study.h"
-#include "engine/run/procedure_sweeps.h"
 #include "engine/results/requirements.h"
-#include "engine/study_files/study_config.h"
+#include "engine/run/procedure_sweeps.h"
 #include "engine/run/study_runner.h"
+#include "engine/study_files/study_config.h"
 
 namespace poise::engine {
 

@@ -4,11 +4,11 @@
 #include <sstream>
 
 #include "core/error.h"
+#include "engine/kind_interface/study_evaluation.h"
+#include "engine/results/result_io.h"
 #include "engine/run/convergence.h"
 #include "engine/run/procedure_resume.h"
 #include "engine/run/run_plan.h"
-#include "engine/kind_interface/study_evaluation.h"
-#include "engine/results/result_io.h"
 
 namespace poise::engine {
 using nlohmann::json;
@@ -83,7 +83,7 @@ void decode_result(ByteReader& rd, SampleResult& r) {
 }
 
 std::vector<SampleResult> read_done_samples(const std::string& csv_path, const std::string& header,
-                                           std::size_t n_inputs, std::size_t n_outputs, bool solver_steps) {
+                                            std::size_t n_inputs, std::size_t n_outputs, bool solver_steps) {
   const std::size_t n_cells = 2 + n_inputs + n_outputs + (solver_steps ? 2 : 1);
   std::vector<SampleResult> done;
   std::istringstream lines(read_complete_rows(csv_path, header));

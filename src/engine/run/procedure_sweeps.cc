@@ -13,7 +13,6 @@ namespace poise::engine {
 namespace {
 using nlohmann::json;
 
-
 }  // namespace
 
 json run_procedure_sweeps(const StudyConfig& cfg, const StudyFactory& make_study, std::size_t run_samples,
@@ -24,14 +23,17 @@ json run_procedure_sweeps(const StudyConfig& cfg, const StudyFactory& make_study
     const std::size_t n = sweep_samples(sw, run_samples);
     json js{{"parameter", sw.parameter}, {"samples", n}, {"points", json::array()}};
     for (const auto& v : sw.values) {
-      if (progress) diagnostics::progress("  sweep " + sw.parameter + " = " + v + ": " + std::to_string(n) + " samples");
+      if (progress)
+        diagnostics::progress("  sweep " + sw.parameter + " = " + v + ": " + std::to_string(n) + " samples");
       StudyConfig c = cfg;
       auto overrides = c.overrides;
       overrides[sw.parameter] = v;
       c.overrides = apply_study_overrides(c, overrides);
       const std::unique_ptr<ProcedureStudy> study = make_study(c, n, seed);
       const McResult mc = study->run(threads, false, nullptr, {});
-      json p{{"value", v}, {"value_si", units::parse_quantity(v).value}, {"samples", mc.completed},
+      json p{{"value", v},
+             {"value_si", units::parse_quantity(v).value},
+             {"samples", mc.completed},
              {"failures", mc.failures}};
       p["outputs"] = outputs_json(mc, outputs, false);
       p["requirements"] = judge_requirements(requirements, outputs, requirement_values(mc, outputs, cfg));
@@ -41,7 +43,6 @@ json run_procedure_sweeps(const StudyConfig& cfg, const StudyFactory& make_study
   }
   return sweeps;
 }
-
 
 // The number and unit of a value as written ("70 mm" -> 70, "mm"): sweep axes in the
 // user's own unit, not SI.

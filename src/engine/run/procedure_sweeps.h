@@ -23,14 +23,15 @@
 
 namespace poise::engine {
 
-using StudyFactory = std::function<std::unique_ptr<ProcedureStudy>(const StudyConfig& cfg, std::size_t samples, std::uint64_t seed)>;
+using StudyFactory =
+    std::function<std::unique_ptr<ProcedureStudy>(const StudyConfig& cfg, std::size_t samples, std::uint64_t seed)>;
 
 /// Runs every sweep of `cfg` and returns summary.json's "sweeps".
 /// `run_samples`: the run's sample count (a sweep without its own samples takes it).
 nlohmann::json run_procedure_sweeps(const StudyConfig& cfg, const StudyFactory& make_study, std::size_t run_samples,
-                                    std::uint64_t seed, int threads, bool progress, const std::vector<Requirement>& requirements,
+                                    std::uint64_t seed, int threads, bool progress,
+                                    const std::vector<Requirement>& requirements,
                                     const std::vector<OutputSpec>& outputs);
-
 
 /// The number and unit of a value as written ("70 mm" -> 70, "mm"; NaN when it is not a
 /// number): sweep axes in the user's own unit, not SI.

@@ -10,9 +10,9 @@
 
 #include "core/error.h"
 #include "core/version.h"
-#include "sampling/distributed.h"
 #include "engine/results/provenance.h"
 #include "engine/results/result_io.h"
+#include "sampling/distributed.h"
 
 namespace poise::engine {
 namespace fs = std::filesystem;
@@ -60,11 +60,13 @@ RunPlan plan_run(StudyConfig& cfg, const RunOptions& options,
     cfg.saltelli_groups.clear();
   }
   if (!p.until_text.empty()) {
-    if (p.sensitivity_base > 0) throw UsageError("--until does not apply to a sensitivity run (its size is set by --base)");
+    if (p.sensitivity_base > 0)
+      throw UsageError("--until does not apply to a sensitivity run (its size is set by --base)");
     if (cfg.method != sampling::SamplingMethod::kMonteCarlo && cfg.replicate_size == 0) {
-      throw UsageError("--until needs samples that can grow: method = \"monte_carlo\", or lhs/sobol with [sampling] "
-                  "replicate_size (independent randomized replicates; an lhs or sobol design of N points is not "
-                  "the first N points of a larger one)");
+      throw UsageError(
+          "--until needs samples that can grow: method = \"monte_carlo\", or lhs/sobol with [sampling] "
+          "replicate_size (independent randomized replicates; an lhs or sobol design of N points is not "
+          "the first N points of a larger one)");
     }
     if (options.resume.empty()) p.samples = options.max_samples.value_or(100 * cfg.samples);
     if (cfg.replicate_size > 0) {
@@ -76,12 +78,19 @@ RunPlan plan_run(StudyConfig& cfg, const RunOptions& options,
   if (!p.until_text.empty()) check_until_design(parse_until(p.until_text, output_names()), cfg.replicate_size);
   if (options.resume.empty()) {
     if (root) p.dir = make_run_folder(options.results_root, cfg.name, options.out);
-    p.manifest = {{"kind", cfg.kind}, {"study_file", fs::absolute(cfg.file).string()},
+    p.manifest = {{"kind", cfg.kind},
+                  {"study_file", fs::absolute(cfg.file).string()},
                   {"study_file_sha1", file_sha1(cfg.file)},
-                  {"model_file_sha1", file_sha1(cfg.model_path)}, {"samples", p.samples}, {"seed", p.seed},
-                  {"method", sampling::to_string(cfg.method)}, {"replicate_size", cfg.replicate_size},
-                  {"until", p.until_text}, {"sensitivity_base", p.sensitivity_base},
-                  {"poise_version", kVersion}, {"started", now_iso8601()}, {"status", "running"}};
+                  {"model_file_sha1", file_sha1(cfg.model_path)},
+                  {"samples", p.samples},
+                  {"seed", p.seed},
+                  {"method", sampling::to_string(cfg.method)},
+                  {"replicate_size", cfg.replicate_size},
+                  {"until", p.until_text},
+                  {"sensitivity_base", p.sensitivity_base},
+                  {"poise_version", kVersion},
+                  {"started", now_iso8601()},
+                  {"status", "running"}};
     if (root) write_file_atomic((fs::path(p.dir) / "run.json").string(), p.manifest.dump(2) + "\n");
   }
   p.started = p.manifest.value("started", now_iso8601());
@@ -96,8 +105,10 @@ std::string study_file_of_run(const std::string& dir) {
   if (manifest.is_discarded() || !manifest.is_object()) throw UsageError(path + ": not valid JSON");
   const auto it = manifest.find("study_file");
   if (it == manifest.end() || !it->is_string()) {
-    throw UsageError(path + " names no study file (a run begun by an older Poise): give it, "
-                     "`poise run STUDY --resume " + dir + "`");
+    throw UsageError(path +
+                     " names no study file (a run begun by an older Poise): give it, "
+                     "`poise run STUDY --resume " +
+                     dir + "`");
   }
   return it->get<std::string>();
 }
@@ -110,12 +121,12 @@ std::optional<UntilTarget> plan_until(const RunPlan& plan, const std::vector<std
 void announce_run(const StudyConfig& cfg, const RunPlan& plan, const std::optional<UntilTarget>& until, bool progress) {
   if (!progress || !sampling::Cluster::root()) return;
   const int ranks = sampling::Cluster::size();
-  diagnostics::progress("poise: study " + cfg.name + " -> " + plan.dir + "\n  " + std::to_string(plan.samples) +
-                        " samples" + (until ? " at most, until " + until->text : std::string()) + " (" +
-                        sampling::to_string(cfg.method) +
-                        (cfg.replicate_size > 0 ? ", replicates of " + std::to_string(cfg.replicate_size) : std::string()) +
-                        ", seed " + std::to_string(plan.seed) + ") on " + std::to_string(plan.threads) + " thread(s)" +
-                        (ranks > 1 ? " x " + std::to_string(ranks) + " MPI ranks" : std::string()));
+  diagnostics::progress(
+      "poise: study " + cfg.name + " -> " + plan.dir + "\n  " + std::to_string(plan.samples) + " samples" +
+      (until ? " at most, until " + until->text : std::string()) + " (" + sampling::to_string(cfg.method) +
+      (cfg.replicate_size > 0 ? ", replicates of " + std::to_string(cfg.replicate_size) : std::string()) + ", seed " +
+      std::to_string(plan.seed) + ") on " + std::to_string(plan.threads) + " thread(s)" +
+      (ranks > 1 ? " x " + std::to_string(ranks) + " MPI ranks" : std::string()));
 }
 
 std::string read_complete_rows(const std::string& csv_path, const std::string& header) {

@@ -14,8 +14,8 @@
 
 #include "engine/results/checked_file.h"
 #include "engine/run/convergence.h"
-#include "engine/study_files/study_config.h"
 #include "engine/run/study_runner.h"
+#include "engine/study_files/study_config.h"
 
 namespace poise::engine {
 

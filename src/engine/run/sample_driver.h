@@ -30,8 +30,8 @@
 namespace poise::engine {
 
 struct DriveSpec {
-  std::size_t first = 0;   ///< samples before this are done (resume)
-  std::size_t total = 0;   ///< samples planned (the cap under --until)
+  std::size_t first = 0;  ///< samples before this are done (resume)
+  std::size_t total = 0;  ///< samples planned (the cap under --until)
   std::size_t chunk = 1024;
   std::size_t grain = 16;  ///< samples per parallel task
   int threads = 1;
@@ -43,7 +43,7 @@ struct DriveOutcome {
   std::size_t completed = 0;  ///< samples [0, completed) are done and were sunk
   bool interrupted = false;   ///< a signal stopped the run
   int signal = 0;
-  std::string stop_reason;    ///< why the stop callback ended the run ("" = it did not)
+  std::string stop_reason;  ///< why the stop callback ended the run ("" = it did not)
 };
 
 /// Bytes of a result, for the trip from a rank to rank 0 (plain fields only).
@@ -177,9 +177,8 @@ DriveOutcome drive_samples(const DriveSpec& spec, MakeWorkspace make_workspace, 
       const bool pipelined = next < spec.total;
       if (pipelined) {
         ahead_results.resize(local.size());
-        arena.execute([&] {
-          ahead.run([&, next] { compute_chunk(next, std::min(chunk, spec.total - next), ahead_results); });
-        });
+        arena.execute(
+            [&] { ahead.run([&, next] { compute_chunk(next, std::min(chunk, spec.total - next), ahead_results); }); });
       }
       try {
         take_chunk(my_start, std::span<const Result>(local.data(), my_n));
@@ -211,7 +210,8 @@ DriveOutcome drive_samples(const DriveSpec& spec, MakeWorkspace make_workspace, 
     }
     // Every rank learns rank 0's decision (and any rank's signal).
     const bool any_signal = ranks > 1 ? sampling::Cluster::any(sampling::interrupt_requested()) : false;
-    const bool end = ranks > 1 ? sampling::Cluster::any(root && (stop_now || out.interrupted)) : (stop_now || out.interrupted);
+    const bool end =
+        ranks > 1 ? sampling::Cluster::any(root && (stop_now || out.interrupted)) : (stop_now || out.interrupted);
     if (any_signal && root && !out.interrupted && !stop_now) {
       out.interrupted = true;
       out.signal = 15;

@@ -21,9 +21,8 @@ void SampleRowWriter::operator()(std::span<const SampleResult> block) {
   if (n_pieces == 1) {
     format_piece(block, 0);  // a procedure's small block: no task to hand out
   } else {
-    arena_.execute([&] {
-      tbb::parallel_for(std::size_t{0}, n_pieces, [&](std::size_t piece) { format_piece(block, piece); });
-    });
+    arena_.execute(
+        [&] { tbb::parallel_for(std::size_t{0}, n_pieces, [&](std::size_t piece) { format_piece(block, piece); }); });
   }
   for (std::size_t piece = 0; piece < n_pieces; ++piece) {
     if (!pieces_[piece].empty()) csv_.write(pieces_[piece]);

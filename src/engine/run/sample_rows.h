@@ -11,8 +11,8 @@
 
 #include <tbb/task_arena.h>
 
-#include "engine/results/checked_file.h"
 #include "engine/kind_interface/procedure_study.h"
+#include "engine/results/checked_file.h"
 
 namespace poise::engine {
 

@@ -1,14 +1,14 @@
-#include "engine/study_files/model_overrides.h"
 #include "engine/run/study_runner.h"
+#include "engine/study_files/model_overrides.h"
 
 #include <filesystem>
 #include <fstream>
 
+#include "engine/kind_interface/study_kind.h"
 #include "engine/results/checked_file.h"
 #include "engine/results/references.h"
 #include "engine/results/requirements.h"
 #include "engine/run/run_plan.h"
-#include "engine/kind_interface/study_kind.h"
 #include "sampling/distributed.h"
 
 namespace poise::engine {
@@ -73,7 +73,8 @@ std::string validate_study(const std::string& study_path) {
   const StudyConfig cfg = load_study(study_path);
   const CheckedStudy c = check_study(cfg, study_kind(cfg.kind));
   std::string summary = c.summary;
-  if (!c.requirements.empty()) summary.append(" ").append(std::to_string(c.requirements.size())).append(" requirement(s).");
+  if (!c.requirements.empty())
+    summary.append(" ").append(std::to_string(c.requirements.size())).append(" requirement(s).");
   // What a requirement, a reference or a sweep's figure may name: each output with its unit.
   summary.append("\nOutputs per sample (name [unit]: what it is):");
   for (const auto& o : c.outputs) {
@@ -98,7 +99,8 @@ std::string run_study(const std::string& study_path, const RunOptions& options) 
   const StudyKind& kind = study_kind(cfg.kind);
   const CheckedStudy checked = check_study(cfg, kind);  // nothing runs until everything validates
   if (options.require && checked.requirements.empty()) {
-    throw UsageError("--require: " + cfg.file + " states no requirement; add a [[requirement]] table (output, "
+    throw UsageError("--require: " + cfg.file +
+                     " states no requirement; add a [[requirement]] table (output, "
                      "statistic, at_most or at_least, confidence) or leave --require out");
   }
   try {

@@ -16,13 +16,13 @@
 namespace poise::engine {
 
 struct RunOptions {
-  std::optional<std::size_t> samples;   ///< overrides [sampling] samples
-  std::optional<std::uint64_t> seed;    ///< overrides [sampling] seed
-  int threads = 0;                      ///< 0 = all hardware threads
-  std::string out;                      ///< result folder; "" = results/<study>/<run id>
+  std::optional<std::size_t> samples;  ///< overrides [sampling] samples
+  std::optional<std::uint64_t> seed;   ///< overrides [sampling] seed
+  int threads = 0;                     ///< 0 = all hardware threads
+  std::string out;                     ///< result folder; "" = results/<study>/<run id>
   std::string results_root = "results";
   bool progress = true;
-  bool plots = true;                    ///< false skips gnuplot (tests)
+  bool plots = true;  ///< false skips gnuplot (tests)
   /// Continue an interrupted run in this folder (gimbal studies): the samples already in
   /// its samples.csv are kept, the rest computed and appended. The study and model files
   /// must be unchanged (run.json holds their SHA-1); seed and sample count are the run's.
@@ -69,7 +69,6 @@ std::string validate_study(const std::string& study_path);
 
 /// Recomputes sample `index` alone and returns it as JSON (inputs, outputs, and the
 /// pointing error at every grid point).
-nlohmann::json replay_sample(const std::string& study_path, std::size_t index,
-                             const RunOptions& options);
+nlohmann::json replay_sample(const std::string& study_path, std::size_t index, const RunOptions& options);
 
 }  // namespace poise::engine

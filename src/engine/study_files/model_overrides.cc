@@ -8,8 +8,7 @@ namespace poise::engine {
 namespace {
 
 // Replaces root[a][b]...[key] by the override text, keeping numbers numbers.
-void apply_one(toml::table& root, const std::string& dotted, const std::string& text,
-                    ReadContext& ctx) {
+void apply_one(toml::table& root, const std::string& dotted, const std::string& text, ReadContext& ctx) {
   toml::table* t = &root;
   std::size_t pos = 0;
   while (true) {
@@ -20,10 +19,10 @@ void apply_one(toml::table& root, const std::string& dotted, const std::string& 
       std::vector<std::string> here;  // the keys at this level, for "did you mean"
       for (const auto& [k, v] : *t) here.emplace_back(k.str());
       const std::string near = nearest_name(part, here);
-      ctx.errors.emplace_back(SourceLocation{ctx.file, 0, 0}, dotted, quote_value(text),
-                              std::string(kUnknownModelKey) +
-                                  (near.empty() ? std::string()
-                                                : "; did you mean '" + dotted.substr(0, pos) + near + "'?"));
+      ctx.errors.emplace_back(
+          SourceLocation{ctx.file, 0, 0}, dotted, quote_value(text),
+          std::string(kUnknownModelKey) +
+              (near.empty() ? std::string() : "; did you mean '" + dotted.substr(0, pos) + near + "'?"));
       return;
     }
     if (dot == std::string::npos) {
@@ -61,8 +60,7 @@ void apply_one(toml::table& root, const std::string& dotted, const std::string& 
 
 }  // namespace
 
-void apply_overrides(toml::table& root, const std::map<std::string, std::string>& overrides,
-                     ReadContext& ctx) {
+void apply_overrides(toml::table& root, const std::map<std::string, std::string>& overrides, ReadContext& ctx) {
   for (const auto& [k, v] : overrides) apply_one(root, k, v, ctx);
 }
 

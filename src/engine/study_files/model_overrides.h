@@ -15,8 +15,7 @@ namespace poise::engine {
 /// of one key (a sweep) recognise it by this, to say it once for the key.
 inline constexpr const char* kUnknownModelKey = "an override of a key that exists in the model file";
 
-void apply_overrides(toml::table& root, const std::map<std::string, std::string>& overrides,
-                     ReadContext& ctx);
+void apply_overrides(toml::table& root, const std::map<std::string, std::string>& overrides, ReadContext& ctx);
 
 /// A model file parsed, with the overrides applied and its reading context.
 struct ModelDocument {

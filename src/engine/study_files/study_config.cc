@@ -4,9 +4,9 @@
 #include <cctype>
 #include <filesystem>
 
+#include "engine/kind_interface/study_kind.h"
 #include "engine/results/references.h"
 #include "engine/results/requirements.h"
-#include "engine/kind_interface/study_kind.h"
 #include "engine/study_files/toml_reader.h"
 
 namespace poise::engine {
@@ -44,7 +44,9 @@ const StudyKind* read_study_table(TomlReader& root, const std::string& path, Stu
   if (t.has("name") && t.raw()["name"].is_string()) {
     bool ok = !c.name.empty() && c.name.size() <= 100;
     for (char ch : c.name) ok = ok && (std::isalnum(static_cast<unsigned char>(ch)) || ch == '_' || ch == '-');
-    if (!ok) t.error("name", quote_value(c.name), "a name of 1 to 100 letters, digits, '_' and '-' (it names the results folder)");
+    if (!ok)
+      t.error("name", quote_value(c.name),
+              "a name of 1 to 100 letters, digits, '_' and '-' (it names the results folder)");
   }
   const std::vector<std::string> kinds = study_kind_names();
   c.kind = t.choice("kind", kinds);
@@ -82,7 +84,9 @@ void read_sampling_table(TomlReader& root, StudyConfig& c) {
   if (t.has_or_schema("max_failure_share")) {
     c.max_failure_share = t.number(
         "max_failure_share",
-        [](double v) { return v >= 0.0 && v <= 1.0 ? std::string() : std::string("a share between 0 and 1, e.g. 0.05"); },
+        [](double v) {
+          return v >= 0.0 && v <= 1.0 ? std::string() : std::string("a share between 0 and 1, e.g. 0.05");
+        },
         0.05);
   }
 }
@@ -109,7 +113,7 @@ void read_sweeps(TomlReader& root, StudyConfig& c) {
     sw.values = t.string_array("values");
     if (sw.values.empty() && t.has("values")) t.error("values", "[]", "at least one value, with its unit");
     t.ask("samples", "an integer from 1 to 1000000000", "the run's sample count", false);  // its schema's default
-    sw.samples = static_cast<std::size_t>(t.integer("samples", 1, 1'000'000'000, 0));  // 0: the run's
+    sw.samples = static_cast<std::size_t>(t.integer("samples", 1, 1'000'000'000, 0));      // 0: the run's
     c.sweeps.push_back(sw);
   }
 }

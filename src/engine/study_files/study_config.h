@@ -68,17 +68,17 @@ class KindSectionsPtr {
 /// A reference figure declared in a study or model file ([[reference]]): a paper's or a
 /// customer's figure to set beside the study's own. Only declared figures are compared.
 struct ReferenceFigure {
-  std::string name;       ///< what the figure is ("C_A loading tests: RMSE of MT_s")
-  std::string output;     ///< the study output it compares with
-  std::string statistic;  ///< "sample" (one realisation: where it falls in the simulated
-                          ///< distribution) or mean | std | p50 | p95 | p99_73 | max
-  std::string value_text; ///< as written ("0.78 mN*m")
+  std::string name;        ///< what the figure is ("C_A loading tests: RMSE of MT_s")
+  std::string output;      ///< the study output it compares with
+  std::string statistic;   ///< "sample" (one realisation: where it falls in the simulated
+                           ///< distribution) or mean | std | p50 | p95 | p99_73 | max
+  std::string value_text;  ///< as written ("0.78 mN*m")
   double value_si = 0.0;
   std::string source;
-  std::string role;       ///< "validation" | "calibration_target"
-  std::string follows_from;  ///< calibration target: what was calibrated to it
+  std::string role;                 ///< "validation" | "calibration_target"
+  std::string follows_from;         ///< calibration target: what was calibrated to it
   double tolerance_relative = 0.0;  ///< validation: also agrees within this share (0 = interval only)
-  std::string file;       ///< declared in (study or model file)
+  std::string file;                 ///< declared in (study or model file)
   int line = 0;
 };
 
@@ -97,7 +97,7 @@ inline std::size_t sweep_samples(const SweepSpec& sw, std::size_t run_samples) {
 }
 
 struct StudyConfig {
-  std::string file;        ///< path of the study file
+  std::string file;  ///< path of the study file
   std::string name, kind, title, notes;
   std::string model_path;  ///< resolved against the study file's folder
   sampling::SamplingMethod method = sampling::SamplingMethod::kSobol;

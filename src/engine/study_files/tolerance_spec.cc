@@ -10,16 +10,15 @@ ToleranceSpec read_tolerance(TomlReader& parent, const std::string& key, const u
   TomlReader t = parent.table(key);
   const std::size_t errors_before = t.context().errors.size();
   spec.source = t.string("source", "");
-  const std::string kind_name = t.choice(
-      "distribution", {"normal", "uniform", "arcsine", "truncated_normal", "fixed"});
+  const std::string kind_name = t.choice("distribution", {"normal", "uniform", "arcsine", "truncated_normal", "fixed"});
   const auto kind = sampling::parse_distribution_kind(kind_name);
   const bool dimensionless = dim == units::kDimensionless;
   double nominal = 0.0, tol = 0.0;
   auto convention = sampling::ToleranceConvention::kBounds;
   if (t.schema_only()) {  // `poise keys`: both forms of a tolerance, neither required alone
-    const std::string value = dimensionless ? std::string("a plain number (no unit)")
-                                            : units::dimension_name(dim) + " with its unit, e.g. \"1 " +
-                                                  units::example_unit(dim) + "\"";
+    const std::string value =
+        dimensionless ? std::string("a plain number (no unit)")
+                      : units::dimension_name(dim) + " with its unit, e.g. \"1 " + units::example_unit(dim) + "\"";
     t.ask("tolerance", value + "; a deviation from the value, with tolerance_is (or give min and max instead)",
           "(optional)", false);
     t.ask("tolerance_is", "one of \"bounds\" | \"1sigma\" | \"2sigma\" | \"3sigma\" (with tolerance)", "(optional)",
@@ -45,8 +44,7 @@ ToleranceSpec read_tolerance(TomlReader& parent, const std::string& key, const u
     nominal = 0.5 * (lo + hi);
     tol = 0.5 * (hi - lo);
   } else {
-    tol = dimensionless ? t.number("tolerance", non_negative)
-                        : t.quantity("tolerance", dim, non_negative);
+    tol = dimensionless ? t.number("tolerance", non_negative) : t.quantity("tolerance", dim, non_negative);
     const std::string conv = t.choice("tolerance_is", {"bounds", "1sigma", "2sigma", "3sigma"});
     convention = sampling::parse_convention(conv);
   }
@@ -57,8 +55,7 @@ ToleranceSpec read_tolerance(TomlReader& parent, const std::string& key, const u
   try {
     spec.dist = sampling::Distribution(kind, nominal, tol, convention);
   } catch (const Error& e) {
-    t.error("distribution", "\"" + kind_name + "\" with tolerance_is \"" +
-                                sampling::to_string(convention) + "\"",
+    t.error("distribution", "\"" + kind_name + "\" with tolerance_is \"" + sampling::to_string(convention) + "\"",
             e.what());
   }
   return spec;

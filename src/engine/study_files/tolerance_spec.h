@@ -12,14 +12,13 @@
 #include <string>
 
 #include "core/units.h"
-#include "sampling/distribution.h"
 #include "engine/study_files/toml_reader.h"
+#include "sampling/distribution.h"
 
 namespace poise::engine {
 
 struct ToleranceSpec {
-  sampling::Distribution dist{sampling::DistributionKind::kFixed, 0.0, 0.0,
-                              sampling::ToleranceConvention::kBounds};
+  sampling::Distribution dist{sampling::DistributionKind::kFixed, 0.0, 0.0, sampling::ToleranceConvention::kBounds};
   double tolerance = 0.0;  ///< t as written (SI), for the analytic budget
   std::string source;
   std::string display_unit;  ///< unit for reports ("mm", "arcsec", "")

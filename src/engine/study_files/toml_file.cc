@@ -17,8 +17,7 @@
 namespace poise::engine {
 namespace {
 std::string join_errors(const std::vector<InputError>& errors) {
-  std::string out = std::to_string(errors.size()) + (errors.size() == 1 ? " error" : " errors") +
-                    " in the input:";
+  std::string out = std::to_string(errors.size()) + (errors.size() == 1 ? " error" : " errors") + " in the input:";
   constexpr std::size_t kMaxListed = 20;  // a message a person reads, not a dump
   for (std::size_t k = 0; k < errors.size() && k < kMaxListed; ++k) out += "\n  " + std::string(errors[k].what());
   if (errors.size() > kMaxListed) out += "\n  and " + std::to_string(errors.size() - kMaxListed) + " more";
@@ -59,8 +58,8 @@ std::string describe_node(const toml::node& n) {
   std::ostringstream os;
   n.visit([&os](const auto& v) {
     if constexpr (toml::is_integer<decltype(v)> || toml::is_floating_point<decltype(v)> ||
-                  toml::is_boolean<decltype(v)> || toml::is_date<decltype(v)> ||
-                  toml::is_time<decltype(v)> || toml::is_date_time<decltype(v)>) {
+                  toml::is_boolean<decltype(v)> || toml::is_date<decltype(v)> || toml::is_time<decltype(v)> ||
+                  toml::is_date_time<decltype(v)>) {
       os << v.get();
     } else {
       os << "(value)";
@@ -121,14 +120,14 @@ toml::table parse_toml_file(const std::string& path) {
     problem = std::to_string(size) + " bytes";
   }
   if (!problem.empty()) {
-    throw ValidationError({InputError(SourceLocation{path, 0, 0}, "(file)", problem,
-                                      "a readable TOML file (a regular file of at most " +
-                                          std::to_string(kMaxInputFileBytes >> 20) + " MiB)")});
+    throw ValidationError({InputError(
+        SourceLocation{path, 0, 0}, "(file)", problem,
+        "a readable TOML file (a regular file of at most " + std::to_string(kMaxInputFileBytes >> 20) + " MiB)")});
   }
   std::ifstream in(path, std::ios::binary);
   if (!in) {
-    throw ValidationError({InputError(SourceLocation{path, 0, 0}, "(file)", "cannot be opened",
-                                      "a readable TOML file")});
+    throw ValidationError(
+        {InputError(SourceLocation{path, 0, 0}, "(file)", "cannot be opened", "a readable TOML file")});
   }
   std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   if (auto parsed = parsed_before(path, text)) return std::move(*parsed);
@@ -145,14 +144,11 @@ toml::table parse_toml_file(const std::string& path) {
     remember_parsed(path, std::move(text), table);
     return table;
   } catch (const toml::parse_error& e) {
-    SourceLocation loc{path, static_cast<int>(e.source().begin.line),
-                       static_cast<int>(e.source().begin.column)};
+    SourceLocation loc{path, static_cast<int>(e.source().begin.line), static_cast<int>(e.source().begin.column)};
     if (e.source().begin.line == 0) {
-      throw ValidationError({InputError(loc, "(file)", "", "a readable TOML file: " +
-                                                              std::string(e.description()))});
+      throw ValidationError({InputError(loc, "(file)", "", "a readable TOML file: " + std::string(e.description()))});
     }
-    throw ValidationError(
-        {InputError(loc, "(syntax)", "", "valid TOML: " + std::string(e.description()))});
+    throw ValidationError({InputError(loc, "(syntax)", "", "valid TOML: " + std::string(e.description()))});
   }
 }
 

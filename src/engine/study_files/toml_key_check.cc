@@ -96,9 +96,8 @@ void finish(const toml::table& root, ReadContext& ctx) {
   }
   walk_unknown(root, "", ctx);
   if (!ctx.errors.empty()) {
-    std::stable_sort(ctx.errors.begin(), ctx.errors.end(), [](const InputError& a, const InputError& b) {
-      return a.where().line < b.where().line;
-    });
+    std::stable_sort(ctx.errors.begin(), ctx.errors.end(),
+                     [](const InputError& a, const InputError& b) { return a.where().line < b.where().line; });
     throw ValidationError(ctx.errors);
   }
 }

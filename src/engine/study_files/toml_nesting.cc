@@ -11,11 +11,11 @@ struct NestingScan {
   int limit = 0;
   int line = 1;
   std::size_t line_start = 0;
-  int header_depth = 0;    // levels of the current [table] / [[array.of.tables]] header
-  std::string open;        // open arrays ('a') and inline tables ('t') of the current value
-  bool in_key = true;      // reading a key (line start, after '{' or ',' in an inline table)
+  int header_depth = 0;  // levels of the current [table] / [[array.of.tables]] header
+  std::string open;      // open arrays ('a') and inline tables ('t') of the current value
+  bool in_key = true;    // reading a key (line start, after '{' or ',' in an inline table)
   bool at_line_start = true;
-  int key_depth = 0;       // levels of the dotted key being read
+  int key_depth = 0;  // levels of the dotted key being read
 
   NestingScan(std::string_view t, int max_depth) : text(t), limit(max_depth) {}
 

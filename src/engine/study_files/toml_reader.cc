@@ -25,13 +25,10 @@ std::string describe_number(double v) {
 }
 }  // namespace
 
-TomlReader::TomlReader(const toml::table& table, std::shared_ptr<ReadContext> ctx,
-                       std::string prefix)
+TomlReader::TomlReader(const toml::table& table, std::shared_ptr<ReadContext> ctx, std::string prefix)
     : table_(&table), ctx_(std::move(ctx)), prefix_(std::move(prefix)) {}
 
-std::string TomlReader::path(const std::string& key) const {
-  return prefix_.empty() ? key : prefix_ + "." + key;
-}
+std::string TomlReader::path(const std::string& key) const { return prefix_.empty() ? key : prefix_ + "." + key; }
 
 bool TomlReader::has(const std::string& key) const { return table_->contains(key); }
 
@@ -54,8 +51,7 @@ const toml::node* TomlReader::node(const std::string& key) {
   return n;
 }
 
-void TomlReader::error(const std::string& key, const std::string& value,
-                       const std::string& expected) {
+void TomlReader::error(const std::string& key, const std::string& value, const std::string& expected) {
   if (schema_only()) return;
   const toml::node* n = table_->get(key);
   SourceLocation loc = location_of(ctx_->file, n);
@@ -152,8 +148,7 @@ std::string TomlReader::choice(const std::string& key, const std::vector<std::st
 }
 
 double TomlReader::quantity(const std::string& key, const units::Dimension& dim,
-                            const std::function<std::string(double)>& check,
-                            std::optional<double> fallback) {
+                            const std::function<std::string(double)>& check, std::optional<double> fallback) {
   const std::string example = units::example_unit(dim);
   ask(key, units::dimension_name(dim) + " with its unit, e.g. \"1 " + example + "\"",
       fallback ? units::format(*fallback, example) : "", !fallback);
@@ -168,19 +163,18 @@ double TomlReader::quantity(const std::string& key, const units::Dimension& dim,
   const toml::node* n = node(key);
   if (!n) {
     if (!fallback) {
-      error(key, "", units::dimension_name(dim) + " with its unit, e.g. \"1 " + example +
-                         "\" (missing)");
+      error(key, "", units::dimension_name(dim) + " with its unit, e.g. \"1 " + example + "\" (missing)");
     }
     return fallback.value_or(0.0);
   }
   const auto* s = n->as_string();
   if (!s) {
     if (n->is_number() && !(dim == units::kDimensionless)) {
-      error(key, describe_node(*n), units::dimension_name(dim) + " with its unit in quotes, e.g. \"" +
-                                        describe_node(*n) + " " + example + "\" (missing unit)");
+      error(key, describe_node(*n),
+            units::dimension_name(dim) + " with its unit in quotes, e.g. \"" + describe_node(*n) + " " + example +
+                "\" (missing unit)");
     } else {
-      error(key, describe_node(*n), units::dimension_name(dim) + " as a string, e.g. \"1 " +
-                                        example + "\"");
+      error(key, describe_node(*n), units::dimension_name(dim) + " as a string, e.g. \"1 " + example + "\"");
     }
     return fallback.value_or(0.0);
   }

@@ -103,8 +103,7 @@ class TomlReader {
   /// A quantity "<number> <unit>" of the given dimension, in SI. check(value) returns an
   /// empty string if the value is acceptable, else what was expected ("a positive length").
   double quantity(const std::string& key, const units::Dimension& dim,
-                  const std::function<std::string(double)>& check = {},
-                  std::optional<double> fallback = std::nullopt);
+                  const std::function<std::string(double)>& check = {}, std::optional<double> fallback = std::nullopt);
   /// A plain number (dimensionless; a TOML integer or float, or a string "0.4").
   double number(const std::string& key, const std::function<std::string(double)>& check = {},
                 std::optional<double> fallback = std::nullopt);

@@ -7,10 +7,10 @@
 #include <utility>
 
 #include "core/units.h"
+#include "engine/study_files/model_overrides.h"
 #include "geometry/mass_properties.h"
 #include "geometry/mesh_check.h"
 #include "geometry/mesh_io.h"
-#include "engine/study_files/model_overrides.h"
 
 namespace poise::engine {
 namespace {
@@ -78,8 +78,10 @@ UserParts read_user_parts(TomlReader& table, const std::string& base_dir) {
     p.part.placement.translation() = translation;
     if (t.has_or_schema("tolerances")) {  // gated so that `poise keys` lists the tolerances
       TomlReader tol = t.table("tolerances");
-      if ((p.has_density = tol.has_or_schema("density"))) p.density = read_tolerance(tol, "density", kDensity, "kg/m^3");
-      if ((p.has_position = tol.has_or_schema("position"))) p.position = read_tolerance(tol, "position", units::kLength, "mm");
+      if ((p.has_density = tol.has_or_schema("density")))
+        p.density = read_tolerance(tol, "density", kDensity, "kg/m^3");
+      if ((p.has_position = tol.has_or_schema("position")))
+        p.position = read_tolerance(tol, "position", units::kLength, "mm");
       if ((p.has_angle = tol.has_or_schema("angle"))) p.angle = read_tolerance(tol, "angle", units::kAngle, "deg");
       if ((p.has_scale = tol.has_or_schema("scale"))) p.scale = read_tolerance(tol, "scale", units::kDimensionless, "");
     }

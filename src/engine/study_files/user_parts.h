@@ -21,10 +21,10 @@
 #include <string>
 #include <vector>
 
-#include "geometry/part_assembly.h"
 #include "engine/study_files/input_column.h"
 #include "engine/study_files/tolerance_spec.h"
 #include "engine/study_files/toml_reader.h"
+#include "geometry/part_assembly.h"
 
 namespace poise::engine {
 

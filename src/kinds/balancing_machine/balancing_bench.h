@@ -108,18 +108,24 @@ std::vector<PlaneMass> with(std::vector<PlaneMass> base, std::initializer_list<P
 cd unbalance_of(const PlaneMass& m);
 double rel_error(cd estimate, cd truth);
 
-/// separation: the sensors' response to a test mass in each surface's holes; its spread and the sensor-2 line against height.
-void separation_test(Bench& bench, const BalancingExperiment& x, const RotorR& r, std::vector<double>& out, std::size_t& o);
+/// separation: the sensors' response to a test mass in each surface's holes; its spread and the sensor-2 line against
+/// height.
+void separation_test(Bench& bench, const BalancingExperiment& x, const RotorR& r, std::vector<double>& out,
+                     std::size_t& o);
 /// umar: the indicated unbalance of a test mass stepped round each plane (minimum achievable residual unbalance).
 void umar_test(Bench& bench, const BalancingExperiment& x, const RotorR& r, std::vector<double>& out, std::size_t& o);
 /// stability: readings of a test mass stepped round one surface, optionally after balancing first.
-void stability_test(Bench& bench, const BalancingExperiment& x, const RotorR& r, std::vector<double>& out, std::size_t& o);
+void stability_test(Bench& bench, const BalancingExperiment& x, const RotorR& r, std::vector<double>& out,
+                    std::size_t& o);
 /// urr: unbalance reduction ratio, one correction run and the ISO 21940-21 indication of known test masses.
 void urr_test(Bench& bench, const BalancingExperiment& x, const RotorR& r, std::vector<double>& out, std::size_t& o);
 /// umar_iso: the ISO 21940-21 two-plane minimum achievable residual unbalance.
-void umar_iso_test(Bench& bench, const BalancingExperiment& x, const RotorR& r, std::vector<double>& out, std::size_t& o);
-/// accuracy: a test piece with plane unbalances at random angles, by influence coefficients and closed form; couple interference and the plates' motion.
-void accuracy_test(Bench& bench, const BalancingExperiment& x, const RotorR& r, std::vector<double>& out, std::size_t& o);
+void umar_iso_test(Bench& bench, const BalancingExperiment& x, const RotorR& r, std::vector<double>& out,
+                   std::size_t& o);
+/// accuracy: a test piece with plane unbalances at random angles, by influence coefficients and closed form; couple
+/// interference and the plates' motion.
+void accuracy_test(Bench& bench, const BalancingExperiment& x, const RotorR& r, std::vector<double>& out,
+                   std::size_t& o);
 
 }  // namespace detail
 }  // namespace poise::kinds::balancing_machine

@@ -31,8 +31,8 @@ double rel_error(cd estimate, cd truth) { return std::abs(estimate - truth) / st
 
 /// separation: the sensors' response to a test mass in each surface's holes; its spread and the
 /// sensor-2 line against height.
-void separation_test(Bench& bench, const BalancingExperiment& x,
-                     const RotorR& r, std::vector<double>& out, std::size_t& o) {
+void separation_test(Bench& bench, const BalancingExperiment& x, const RotorR& r, std::vector<double>& out,
+                     std::size_t& o) {
   const double pos = x.positions;
   const Eigen::Vector2cd bare = bench.measure(bench.machine_r, r.masses);
   std::vector<double> h, s1, s2;
@@ -93,16 +93,16 @@ void umar_test(Bench& bench, const BalancingExperiment& x, const RotorR& r, std:
     }
     umar[p] = (xmax[p] - xmin[p]) * x.radius / 2.0;
   }
-  for (double v : {umar[0], umar[1], umar[0] + umar[1], xmax[0] * 1e3, xmin[0] * 1e3, xmax[1] * 1e3,
-                   xmin[1] * 1e3, std::abs(r.residual[0]), std::abs(r.residual[1]), worst * 1e3}) {
+  for (double v : {umar[0], umar[1], umar[0] + umar[1], xmax[0] * 1e3, xmin[0] * 1e3, xmax[1] * 1e3, xmin[1] * 1e3,
+                   std::abs(r.residual[0]), std::abs(r.residual[1]), worst * 1e3}) {
     out[o++] = v;
   }
   for (double v : readings) out[o++] = v;
 }
 
 /// stability: readings of a test mass stepped round one surface, optionally after balancing first.
-void stability_test(Bench& bench, const BalancingExperiment& x,
-                    const RotorR& r, std::vector<double>& out, std::size_t& o) {
+void stability_test(Bench& bench, const BalancingExperiment& x, const RotorR& r, std::vector<double>& out,
+                    std::size_t& o) {
   const double pos = x.positions;
   std::vector<PlaneMass> rotor = r.masses;
   if (x.balance_first) {
@@ -168,8 +168,8 @@ void urr_test(Bench& bench, const BalancingExperiment& x, const RotorR& r, std::
 }
 
 /// umar_iso: the ISO 21940-21 two-plane minimum achievable residual unbalance.
-void umar_iso_test(Bench& bench, const BalancingExperiment& x,
-                   const RotorR& r, std::vector<double>& out, std::size_t& o) {
+void umar_iso_test(Bench& bench, const BalancingExperiment& x, const RotorR& r, std::vector<double>& out,
+                   std::size_t& o) {
   IsoBench iso = iso_bench(bench, r.z1, r.z2);
   const TwoPlaneUmar t = two_plane_umar(iso, r.masses, x.mass, x.radius, x.positions, x.plane_2_offset, x.claim);
   for (double v : {t.umar[0], t.umar[1], t.max_deviation[0] * 1e3, t.max_deviation[1] * 1e3, t.mean[0] * 1e3,
@@ -183,8 +183,8 @@ void umar_iso_test(Bench& bench, const BalancingExperiment& x,
 
 /// accuracy: a test piece with plane unbalances at random angles, by influence coefficients and closed
 /// form; couple interference and the plates' motion.
-void accuracy_test(Bench& bench, const BalancingExperiment& x,
-                   const RotorR& r, std::vector<double>& out, std::size_t& o) {
+void accuracy_test(Bench& bench, const BalancingExperiment& x, const RotorR& r, std::vector<double>& out,
+                   std::size_t& o) {
   // A test piece (mass centre offset from rotor R's) with plane unbalances of the given
   // size at random angles, measured on the machine calibrated with R.
   const double a1 = 2 * kPi * bench.draws.stream().uniform(), a2 = 2 * kPi * bench.draws.stream().uniform();
@@ -212,7 +212,7 @@ void accuracy_test(Bench& bench, const BalancingExperiment& x,
   // How far the horizontal plates move for a static unbalance of piece_unbalance (a
   // displacement pickup must resolve it): the piece's motion scaled by piece_unbalance / |U|.
   out[o++] = std::abs(a(0)) / (1.0 + bench.draws.value[kGain1]) / bench.machine_piece.sensor_1_plate_stiffness *
-                     x.piece_unbalance / std::abs(u_true) * 1e6;
+             x.piece_unbalance / std::abs(u_true) * 1e6;
 }
 
 }  // namespace poise::kinds::balancing_machine::detail

@@ -9,8 +9,8 @@
 
 #include "engine/kind_interface/procedure_kind.h"
 #include "kinds/balancing_machine/balancing_model.h"
-#include "kinds/balancing_machine/balancing_study.h"
 #include "kinds/balancing_machine/balancing_sections.h"
+#include "kinds/balancing_machine/balancing_study.h"
 
 namespace poise::kinds::balancing_machine {
 using namespace poise::engine;

@@ -111,7 +111,8 @@ void read_run(TomlReader& root, BalancingModel& m) {
     r.settle_time_constants = t.number("settle_time_constants", [](double v) { return v >= 0 ? "" : "a count >= 0"; });
     r.min_settle_revolutions = static_cast<int>(t.integer("min_settle_revolutions", 0, 100000, 2));
     m.speed_compensation = t.boolean("speed_compensation", true);
-    m.hard_bearing_factor = t.number("hard_bearing_factor", [](double v) { return v > 1 ? "" : "a factor > 1"; }, 3.0);
+    m.hard_bearing_factor = t.number(
+        "hard_bearing_factor", [](double v) { return v > 1 ? "" : "a factor > 1"; }, 3.0);
     t.accept_notes();
   }
   {
@@ -160,7 +161,8 @@ void check_physical_machine(const std::string& path, const BalancingModel& m) {
     const models::SpringPlateMachineParams p = machine_params(m, nominal_as_built(m), m.rotor);
     models::validate(p);
   } catch (const Error& e) {
-    throw ValidationError({InputError(SourceLocation{path, 0, 0}, "frame", "", std::string("a physical machine: ") + e.what())});
+    throw ValidationError(
+        {InputError(SourceLocation{path, 0, 0}, "frame", "", std::string("a physical machine: ") + e.what())});
   }
 }
 
@@ -229,20 +231,22 @@ BalancingStatics machine_statics(const BalancingModel& m, const BalancingAsBuilt
   BalancingStatics s;
   const double load = 0.5 * p.total_mass * g;
   s.buckling_factor = std::min(models::guided_column_buckling_load(b.horizontal_1),
-                               models::guided_column_buckling_load(b.horizontal_2)) / load;
+                               models::guided_column_buckling_load(b.horizontal_2)) /
+                      load;
   s.axial_stress = std::max(load / (b.horizontal_1.width * b.horizontal_1.thickness),
                             load / (b.horizontal_2.width * b.horizontal_2.thickness));
-  s.stiffness_loss = 1.0 - (models::guided_column_lateral_stiffness(b.horizontal_1, load) +
-                            models::guided_column_lateral_stiffness(b.horizontal_2, load)) /
-                               (models::guided_plate_stiffness(b.horizontal_1) + models::guided_plate_stiffness(b.horizontal_2));
+  s.stiffness_loss =
+      1.0 - (models::guided_column_lateral_stiffness(b.horizontal_1, load) +
+             models::guided_column_lateral_stiffness(b.horizontal_2, load)) /
+                (models::guided_plate_stiffness(b.horizontal_1) + models::guided_plate_stiffness(b.horizontal_2));
   const double k6 = models::guided_plate_stiffness(b.torsional);
   const double k_rot = p.torsion_split.rotation_factor * models::rotational_stiffness(k6, b.lever);
   const double topple = p.rotating_mass * g * p.mass_centre_height;
   s.pendulum_margin = topple > 0.0 ? k_rot / topple : INFINITY;
   s.tilt = rotor.mass * g * m.centre_offset / (k_rot - std::max(topple, 0.0));
   const double t = b.torsional.thickness;
-  s.torsional_stress =
-      6.0 * models::torsion_plate_max_moment(b.torsional, m.torsional_end, b.lever, s.tilt) / (b.torsional.width * t * t);
+  s.torsional_stress = 6.0 * models::torsion_plate_max_moment(b.torsional, m.torsional_end, b.lever, s.tilt) /
+                       (b.torsional.width * t * t);
   return s;
 }
 

@@ -15,10 +15,10 @@
 #include <string>
 #include <vector>
 
+#include "engine/study_files/model_overrides.h"
+#include "engine/study_files/tolerance_spec.h"
 #include "models/spring_plate_machine.h"
 #include "procedures/balancing_measurement.h"
-#include "engine/study_files/tolerance_spec.h"
-#include "engine/study_files/model_overrides.h"
 
 namespace poise::kinds::balancing_machine {
 using namespace poise::engine;
@@ -32,7 +32,7 @@ struct BalancingRotor {
   double surface_1_height = 0.0;  ///< m, testing surface 1 above the torsion shaft axis
   double surface_spacing = 0.0;   ///< m between neighbouring surfaces
   int surfaces = 0;
-  int holes = 8;                  ///< testing holes per surface, evenly spaced from 0 deg
+  int holes = 8;  ///< testing holes per surface, evenly spaced from 0 deg
 
   double surface_height(int surface) const { return surface_1_height + (surface - 1) * surface_spacing; }
   double centre_height() const { return base_height + 0.5 * height; }
@@ -45,42 +45,41 @@ struct BalancingAsBuilt {
   double piece_centre_offset = 0.0;  ///< test piece's mass centre above the calibration rotor's (m)
 };
 
-struct BalancingModel : ModelHeader {  ///< file, name, title, source of the model file
+struct BalancingModel : ModelHeader {    ///< file, name, title, source of the model file
   models::SpringPlate horizontal_plate;  ///< each of the two (k5 each)
   models::SpringPlate torsional_plate;   ///< k6, acting at the lever
   /// [torsional_plate] end_condition: how the plate's end attaches to the swinging support
   /// (models/spring_plate_machine.h: the rotational stiffness and sensor 2's share).
   models::TorsionPlateEnd torsional_end = models::TorsionPlateEnd::kGuided;
-  double lever = 0.0;                    ///< l (m)
-  double board_mass = 0.0;               ///< translating only (M - m)
+  double lever = 0.0;       ///< l (m)
+  double board_mass = 0.0;  ///< translating only (M - m)
   double spindle_mass = 0.0, spindle_centre_height = 0.0, spindle_inertia = 0.0;
   double damping_ratio_x = 0.0, damping_ratio_theta = 0.0;
-  double gravity = 0.0;                  ///< 0 = Eq. 8 as printed (pendulum term off)
-  BalancingRotor rotor;                  ///< the standard (calibration) rotor R
-  procedures::SensorConfig sensors;      ///< nominal; gain errors come from the tolerances
+  double gravity = 0.0;              ///< 0 = Eq. 8 as printed (pendulum term off)
+  BalancingRotor rotor;              ///< the standard (calibration) rotor R
+  procedures::SensorConfig sensors;  ///< nominal; gain errors come from the tolerances
   procedures::BalancingRunConfig run;
-  bool speed_compensation = true;        ///< estimates use the encoder's speed (w^2 scaling)
-  double hard_bearing_factor = 3.0;      ///< omega_1 >= factor * omega
-  double centre_offset = 0.0;            ///< [statics] rotor mass centre off the spindle axis (m)
+  bool speed_compensation = true;    ///< estimates use the encoder's speed (w^2 scaling)
+  double hard_bearing_factor = 3.0;  ///< omega_1 >= factor * omega
+  double centre_offset = 0.0;        ///< [statics] rotor mass centre off the spindle axis (m)
   // Tolerances (SI).
   ScopedTolerance plate_thickness, plate_width, plate_length;  ///< each plate drawn separately (m)
-  ScopedTolerance youngs_modulus;        ///< relative, all plates alike (one strip)
-  ScopedTolerance lever_error;           ///< m
-  ScopedTolerance sensor_1_offset;       ///< m, sensor 1's height error about the shaft axis
-  ScopedTolerance piece_centre_height;   ///< m, test piece vs calibration rotor
-  ScopedTolerance speed;                 ///< relative deviation of the run's speed
-  ScopedTolerance gain_error_1, gain_error_2;  ///< relative
-  ScopedTolerance test_mass;             ///< relative error of a calibration/test mass
-  ScopedTolerance hole_radius;           ///< m
-  ScopedTolerance hole_angle;            ///< rad
-  ScopedTolerance correction_mass;       ///< relative error of a placed correction mass
-  ScopedTolerance correction_angle;      ///< rad
-  ScopedTolerance rotor_residual_1, rotor_residual_2;  ///< kg m, magnitudes; angles uniform
+  ScopedTolerance youngs_modulus;                              ///< relative, all plates alike (one strip)
+  ScopedTolerance lever_error;                                 ///< m
+  ScopedTolerance sensor_1_offset;                             ///< m, sensor 1's height error about the shaft axis
+  ScopedTolerance piece_centre_height;                         ///< m, test piece vs calibration rotor
+  ScopedTolerance speed;                                       ///< relative deviation of the run's speed
+  ScopedTolerance gain_error_1, gain_error_2;                  ///< relative
+  ScopedTolerance test_mass;                                   ///< relative error of a calibration/test mass
+  ScopedTolerance hole_radius;                                 ///< m
+  ScopedTolerance hole_angle;                                  ///< rad
+  ScopedTolerance correction_mass;                             ///< relative error of a placed correction mass
+  ScopedTolerance correction_angle;                            ///< rad
+  ScopedTolerance rotor_residual_1, rotor_residual_2;          ///< kg m, magnitudes; angles uniform
 };
 
 /// Loads and validates; `overrides` replace values by dotted key. Throws ValidationError.
-BalancingModel load_balancing_model(const std::string& path,
-                                    const std::map<std::string, std::string>& overrides = {});
+BalancingModel load_balancing_model(const std::string& path, const std::map<std::string, std::string>& overrides = {});
 
 /// The nominal machine as built (no tolerances): plates and lever of the model.
 BalancingAsBuilt nominal_as_built(const BalancingModel& m);
@@ -100,12 +99,12 @@ double horizontal_stiffness(const BalancingAsBuilt& b);
 ///     6 M_max / (w t^2), M_max the plate's largest moment (torsion_plate_max_moment);
 ///   pendulum margin K_rot / (m g H): below 1 the swinging part topples.
 struct BalancingStatics {
-  double buckling_factor = 0.0;      ///< min over the two horizontal plates
-  double axial_stress = 0.0;         ///< Pa, horizontal plates (largest)
-  double stiffness_loss = 0.0;       ///< fraction of k5 lost to the weight
-  double tilt = 0.0;                 ///< rad
-  double torsional_stress = 0.0;     ///< Pa
-  double pendulum_margin = 0.0;      ///< k6 l^2 / (m g H); infinite if H <= 0
+  double buckling_factor = 0.0;   ///< min over the two horizontal plates
+  double axial_stress = 0.0;      ///< Pa, horizontal plates (largest)
+  double stiffness_loss = 0.0;    ///< fraction of k5 lost to the weight
+  double tilt = 0.0;              ///< rad
+  double torsional_stress = 0.0;  ///< Pa
+  double pendulum_margin = 0.0;   ///< k6 l^2 / (m g H); infinite if H <= 0
 };
 BalancingStatics machine_statics(const BalancingModel& m, const BalancingAsBuilt& b, const BalancingRotor& rotor);
 

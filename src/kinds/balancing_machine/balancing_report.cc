@@ -7,9 +7,9 @@
 #include <fstream>
 
 #include "core/units.h"
-#include "engine/run/procedure_runner.h"
 #include "engine/report/report_plot.h"
 #include "engine/results/result_io.h"
+#include "engine/run/procedure_runner.h"
 #include "kinds/balancing_machine/balancing_sections.h"
 
 namespace poise::kinds::balancing_machine {
@@ -49,22 +49,25 @@ void machine_table(const json& d, const std::vector<std::string>& warnings, std:
   const json& nm = d["nominal_machine"];
   const json& hb = d["hard_bearing"];
   h << "<h2>The machine (nominal)</h2>\n<table>"
-    << "<tr><th class='l'>horizontal plates k5 (each)</th><td>" << fmt(nm["k5_N_per_m"].get<double>()) << " N/m</td></tr>"
-    << "<tr><th class='l'>torsional plate k6, lever l, k6 l&sup2;</th><td>" << fmt(nm["k6_N_per_m"].get<double>()) << " N/m, "
-    << fmt(nm["lever_m"].get<double>() * 1e3) << " mm, " << fmt(nm["k6_l2_N_m_per_rad"].get<double>()) << " N m/rad</td></tr>"
+    << "<tr><th class='l'>horizontal plates k5 (each)</th><td>" << fmt(nm["k5_N_per_m"].get<double>())
+    << " N/m</td></tr>"
+    << "<tr><th class='l'>torsional plate k6, lever l, k6 l&sup2;</th><td>" << fmt(nm["k6_N_per_m"].get<double>())
+    << " N/m, " << fmt(nm["lever_m"].get<double>() * 1e3) << " mm, " << fmt(nm["k6_l2_N_m_per_rad"].get<double>())
+    << " N m/rad</td></tr>"
     << "<tr><th class='l'>M, m, H, J (rotor R on)</th><td>" << fmt(nm["total_mass_kg"].get<double>()) << " kg, "
     << fmt(nm["rotating_mass_kg"].get<double>()) << " kg, " << fmt(nm["mass_centre_height_m"].get<double>() * 1e3)
     << " mm, " << fmt(nm["inertia_about_centre_kg_m2"].get<double>()) << " kg m&sup2;</td></tr>"
     << "<tr><th class='l'>natural frequencies (coupled)</th><td>" << fmt(nm["omega_1_Hz"].get<double>()) << " Hz, "
-    << fmt(nm["omega_2_Hz"].get<double>()) << " Hz (uncoupled " << fmt(nm["omega_x_uncoupled_Hz"].get<double>())
-    << ", " << fmt(nm["omega_theta_uncoupled_Hz"].get<double>()) << " Hz)</td></tr>"
-    << "<tr><th class='l'>speed</th><td>" << fmt(nm["speed_rpm"].get<double>()) << " r/min = "
-    << fmt(nm["speed_Hz"].get<double>()) << " Hz</td></tr>"
-    << "<tr><th class='l'>torsional plate end condition</th><td>" << d["torsional_plate"]["end_condition"].get<std::string>()
-    << ": K<sub>rot</sub> = " << fmt(d["torsional_plate"]["rotation_factor"].get<double>()) << " k6 l&sup2;, sensor 2 reads "
-    << fmt(d["torsional_plate"]["sensor_2_force_factor"].get<double>()) << " k6 l &theta;, clamp moment "
-    << fmt(100 * d["torsional_plate"]["clamp_moment_share"].get<double>(), 3) << "% of F l (L/l = "
-    << fmt(d["torsional_plate"]["length_over_lever"].get<double>(), 3) << ")</td></tr>"
+    << fmt(nm["omega_2_Hz"].get<double>()) << " Hz (uncoupled " << fmt(nm["omega_x_uncoupled_Hz"].get<double>()) << ", "
+    << fmt(nm["omega_theta_uncoupled_Hz"].get<double>()) << " Hz)</td></tr>"
+    << "<tr><th class='l'>speed</th><td>" << fmt(nm["speed_rpm"].get<double>())
+    << " r/min = " << fmt(nm["speed_Hz"].get<double>()) << " Hz</td></tr>"
+    << "<tr><th class='l'>torsional plate end condition</th><td>"
+    << d["torsional_plate"]["end_condition"].get<std::string>()
+    << ": K<sub>rot</sub> = " << fmt(d["torsional_plate"]["rotation_factor"].get<double>())
+    << " k6 l&sup2;, sensor 2 reads " << fmt(d["torsional_plate"]["sensor_2_force_factor"].get<double>())
+    << " k6 l &theta;, clamp moment " << fmt(100 * d["torsional_plate"]["clamp_moment_share"].get<double>(), 3)
+    << "% of F l (L/l = " << fmt(d["torsional_plate"]["length_over_lever"].get<double>(), 3) << ")</td></tr>"
     << "<tr><th class='l'>hard-bearing check</th><td>" << (hb["ok"].get<bool>() ? "passes" : "FAILS") << ": "
     << html_escape(hb["message"].get<std::string>()) << "</td></tr></table>\n";
   for (const auto& w : warnings) h << "<p><b>Warning</b>: " << html_escape(w) << "</p>\n";
@@ -113,25 +116,31 @@ void separation_section(const SectionPage& page, const BalancingExperiment& x, c
     << x.positions << " holes, " << fmt(model.run.speed_rpm) << " r/min; effect on each sensor "
     << "(|A - A<sub>bare</sub>|, mean over the holes), median and 5-95% over the machines as built. "
     << "Sensor 1 should stay flat, sensor 2 grow in proportion to the height (the separation of the "
-    << "model's Eq. 17, spring_plate_machine.h).</p>\n<table><tr><th>surface</th><th>height (mm)</th><th>sensor 1 (mN)</th><th>sensor 2 (mN)</th></tr>\n";
+    << "model's Eq. 17, spring_plate_machine.h).</p>\n<table><tr><th>surface</th><th>height (mm)</th><th>sensor 1 "
+       "(mN)</th><th>sensor 2 (mN)</th></tr>\n";
   std::ostringstream dat;
   for (int s = 1; s <= model.rotor.surfaces; ++s) {
     const std::string base = x.name + "_s" + std::to_string(s);
     const Band b1 = band_of(page.values(base + "_sensor1_mN")), b2 = band_of(page.values(base + "_sensor2_mN"));
     const double z = model.rotor.surface_height(s) * 1e3;
-    h << "<tr><td>" << s << "</td><td>" << fmt(z) << "</td><td>" << fmt(b1.p50) << " <small>[" << fmt(b1.p05)
-      << ", " << fmt(b1.p95) << "]</small></td><td>" << fmt(b2.p50) << " <small>[" << fmt(b2.p05) << ", "
-      << fmt(b2.p95) << "]</small></td></tr>\n";
-    dat << z << ' ' << b1.p50 << ' ' << b1.p05 << ' ' << b1.p95 << ' ' << b2.p50 << ' ' << b2.p05 << ' ' << b2.p95 << '\n';
+    h << "<tr><td>" << s << "</td><td>" << fmt(z) << "</td><td>" << fmt(b1.p50) << " <small>[" << fmt(b1.p05) << ", "
+      << fmt(b1.p95) << "]</small></td><td>" << fmt(b2.p50) << " <small>[" << fmt(b2.p05) << ", " << fmt(b2.p95)
+      << "]</small></td></tr>\n";
+    dat << z << ' ' << b1.p50 << ' ' << b1.p05 << ' ' << b1.p95 << ' ' << b2.p50 << ' ' << b2.p05 << ' ' << b2.p95
+        << '\n';
   }
   h << "</table>\n";
   if (page.plots) {
     write_file_atomic((page.dir / (x.name + "_sensors.dat")).string(), dat.str());
     svg_plot(page.dir, x.name + "_sensors",
-         "set title 'Sensor signals against the height of the test mass'\nset xlabel 'height of the testing surface above the torsion shaft (mm)'\n"
-         "set ylabel 'sensor amplitude (mN)'\nset key top left\nset xrange [0:*]\nset yrange [0:*]\n"
-         "plot '" + x.name + "_sensors.dat' u 1:2:3:4 w yerrorlines lw 2 pt 7 title 'sensor 1 (horizontal)', '' u 1:5:6:7 w yerrorlines lw 2 pt 5 title 'sensor 2 (torsional)'\n",
-         page.figures, h);
+             "set title 'Sensor signals against the height of the test mass'\nset xlabel 'height of the testing "
+             "surface above the torsion shaft (mm)'\n"
+             "set ylabel 'sensor amplitude (mN)'\nset key top left\nset xrange [0:*]\nset yrange [0:*]\n"
+             "plot '" +
+                 x.name +
+                 "_sensors.dat' u 1:2:3:4 w yerrorlines lw 2 pt 7 title 'sensor 1 (horizontal)', '' u 1:5:6:7 w "
+                 "yerrorlines lw 2 pt 5 title 'sensor 2 (torsional)'\n",
+             page.figures, h);
   }
 }
 
@@ -141,31 +150,38 @@ void umar_section(const SectionPage& page, const BalancingExperiment& x, const B
   h << "<h2>Minimum achievable residual unbalance U<sub>mar</sub> (" << html_escape(x.name) << ")</h2>\n<p>"
     << fmt(x.mass * 1e3) << " g at r = " << fmt(x.radius * 1e3) << " mm in " << x.positions
     << " angular positions of each correction plane (surfaces " << sections.plane_1_surface << " and "
-    << sections.plane_2_surface << "); U<sub>mar,p</sub> = (X<sub>max</sub> - X<sub>min</sub>) r / 2, U<sub>mar</sub> = "
-       "U<sub>mar1</sub> + U<sub>mar2</sub> (Eq. 18: e = U<sub>mar1</sub>/M<sub>1</sub> = U<sub>mar2</sub>/M<sub>2</sub>, "
-       "M<sub>1</sub> + M<sub>2</sub> = M<sub>R</sub>). The spread X<sub>max</sub> - X<sub>min</sub> is twice the rotor's own "
+    << sections.plane_2_surface
+    << "); U<sub>mar,p</sub> = (X<sub>max</sub> - X<sub>min</sub>) r / 2, U<sub>mar</sub> = "
+       "U<sub>mar1</sub> + U<sub>mar2</sub> (Eq. 18: e = U<sub>mar1</sub>/M<sub>1</sub> = "
+       "U<sub>mar2</sub>/M<sub>2</sub>, "
+       "M<sub>1</sub> + M<sub>2</sub> = M<sub>R</sub>). The spread X<sub>max</sub> - X<sub>min</sub> is twice the "
+       "rotor's own "
        "residual in that plane plus what the machine adds: compare U<sub>mar,p</sub> with the true residual.</p>\n";
   if (page.plots) {
     write_file_atomic((page.dir / (x.name + "_readings.dat")).string(),
                       position_bands(page, x, "_g", [&](int k) { return 360.0 * k / x.positions; }));
     svg_plot(page.dir, x.name + "_readings",
-         "set title 'U_mar test: readings against the test mass position'\nset xlabel 'angular position of the test mass (deg)'\n"
-         "set ylabel 'reading (g at the test radius)'\nset xtics 45\nset key outside bottom center horizontal\n"
-         "plot '" + x.name + "_readings.dat' u 1:2:3:4 w yerrorlines lw 2 pt 7 title 'correction plane 1', '' u 1:5:6:7 w yerrorlines lw 2 pt 5 title 'correction plane 2'\n",
-         page.figures, h);
+             "set title 'U_mar test: readings against the test mass position'\nset xlabel 'angular position of the "
+             "test mass (deg)'\n"
+             "set ylabel 'reading (g at the test radius)'\nset xtics 45\nset key outside bottom center horizontal\n"
+             "plot '" +
+                 x.name +
+                 "_readings.dat' u 1:2:3:4 w yerrorlines lw 2 pt 7 title 'correction plane 1', '' u 1:5:6:7 w "
+                 "yerrorlines lw 2 pt 5 title 'correction plane 2'\n",
+             page.figures, h);
   }
 }
 
 // Stability of the readings: each plane's readings over their mean.
 void stability_section(const SectionPage& page, const BalancingExperiment& x, const BalancingSections& sections) {
   std::ostringstream& h = page.h;
-  const Band b1 = band_of(page.values(x.name + "_plane1_max_dev_pct")), b2 = band_of(page.values(x.name + "_plane2_max_dev_pct"));
+  const Band b1 = band_of(page.values(x.name + "_plane1_max_dev_pct")),
+             b2 = band_of(page.values(x.name + "_plane2_max_dev_pct"));
   const double pass = pass_share(page.values(x.name + "_pass_ratio"));
   h << "<h2>Stability of the readings (" << html_escape(x.name) << "): "
     << (x.variant == "wang2014" ? "the test as Wang 2014 Sec. 5.2.2 prints it" : "Poise's variant, not in the paper")
-    << "</h2>\n<p>" << fmt(x.mass * 1e3) << " g at r = "
-    << fmt(x.radius * 1e3) << " mm on surface " << x.surface << " in " << x.positions << " holes"
-    << (x.balance_first ? ", the rotor first balanced with the machine" : "")
+    << "</h2>\n<p>" << fmt(x.mass * 1e3) << " g at r = " << fmt(x.radius * 1e3) << " mm on surface " << x.surface
+    << " in " << x.positions << " holes" << (x.balance_first ? ", the rotor first balanced with the machine" : "")
     << "; each plane's readings divided by their mean must lie within &plusmn;" << fmt(x.band * 100) << "%. "
     << "Largest deviation: plane 1 " << fmt(b1.p50) << "% (p95 " << fmt(b1.p95) << "%), plane 2 " << fmt(b2.p50)
     << "% (p95 " << fmt(b2.p95) << "%); " << fmt(pass * 100, 3) << "% of the machines pass.</p>\n";
@@ -178,12 +194,18 @@ void stability_section(const SectionPage& page, const BalancingExperiment& x, co
     write_file_atomic((page.dir / (x.name + "_ratios.dat")).string(),
                       position_bands(page, x, "_ratio", [](int k) { return k + 1.0; }));
     svg_plot(page.dir, x.name + "_ratios",
-         "set title 'Stability test: reading / mean of the plane'\nset xlabel 'hole'\nset ylabel 'reading / mean'\n"
-         "set xrange [0.5:" + std::to_string(x.positions) + ".5]\nset key outside bottom center horizontal\n"
-         "lo = " + fmt(1 - x.band) + "\nhi = " + fmt(1 + x.band) + "\n"
-         "plot lo w l dt 2 lc rgb 'red' title 'band', hi w l dt 2 lc rgb 'red' notitle, '" + x.name +
-             "_ratios.dat' u 1:2:3:4 w yerrorlines lw 2 pt 7 title 'plane 1', '' u 1:5:6:7 w yerrorlines lw 2 pt 5 title 'plane 2'\n",
-         page.figures, h);
+             "set title 'Stability test: reading / mean of the plane'\nset xlabel 'hole'\nset ylabel 'reading / mean'\n"
+             "set xrange [0.5:" +
+                 std::to_string(x.positions) +
+                 ".5]\nset key outside bottom center horizontal\n"
+                 "lo = " +
+                 fmt(1 - x.band) + "\nhi = " + fmt(1 + x.band) +
+                 "\n"
+                 "plot lo w l dt 2 lc rgb 'red' title 'band', hi w l dt 2 lc rgb 'red' notitle, '" +
+                 x.name +
+                 "_ratios.dat' u 1:2:3:4 w yerrorlines lw 2 pt 7 title 'plane 1', '' u 1:5:6:7 w yerrorlines lw 2 pt 5 "
+                 "title 'plane 2'\n",
+             page.figures, h);
   }
 }
 
@@ -201,9 +223,11 @@ void urr_section(const SectionPage& page, const BalancingExperiment& x) {
   const Band bi = band_of(page.values(x.name + "_iso_min_pct"));
   const double pass_iso = pass_share(page.values(x.name + "_iso_pass_ratio"));
   h << "<p><b>ISO 21940-21's figure</b>: the indicated test unbalances (reading with the test masses minus the bare "
-       "reading) against the known test masses, no correction: URR<sub>iso</sub> = 1 - |D - T| / |T|, the smaller plane: "
-       "median " << fmt(bi.p50) << "%, 5% quantile " << fmt(bi.p05) << "%; " << fmt(pass_iso * 100, 3)
-    << "% of the machines reach " << fmt(x.requirement * 100) << "%.</p>\n";
+       "reading) against the known test masses, no correction: URR<sub>iso</sub> = 1 - |D - T| / |T|, the smaller "
+       "plane: "
+       "median "
+    << fmt(bi.p50) << "%, 5% quantile " << fmt(bi.p05) << "%; " << fmt(pass_iso * 100, 3) << "% of the machines reach "
+    << fmt(x.requirement * 100) << "%.</p>\n";
 }
 
 // Two-plane U_mar test, ISO 21940-21 style.
@@ -232,8 +256,9 @@ void accuracy_section(const SectionPage& page, const BalancingExperiment& x, con
        "unbalance (1/mm), from a pure couple of "
     << fmt(x.mass * 1e3) << " g at " << fmt(x.radius * 1e3) << " mm in the two planes.</p>\n";
   if (page.plots) {
-    for (const std::string o : {"_u_error_ic_gmm", "_u_error_cf_gmm", "_v_error_ic_gmm", "_v_error_cf_gmm", "_plane_error_ic_pct", "_plane_error_cf_pct",
-                                "_interference_ic_per_mm", "_interference_cf_per_mm"}) {
+    for (const std::string o :
+         {"_u_error_ic_gmm", "_u_error_cf_gmm", "_v_error_ic_gmm", "_v_error_cf_gmm", "_plane_error_ic_pct",
+          "_plane_error_cf_pct", "_interference_ic_per_mm", "_interference_cf_per_mm"}) {
       const std::string n = x.name + o;
       {
         std::ostringstream dd;
@@ -245,14 +270,14 @@ void accuracy_section(const SectionPage& page, const BalancingExperiment& x, con
         if (spec.name == n) unit = spec.unit;
       }
       svg_plot(page.dir, n,
-           "set title '" + n + "'\nset xlabel '" + unit + "'\nset ylabel 'machines'\nstats '" + n +
-               ".dat' u 1 nooutput\nnb = ceil(sqrt(STATS_records)); nb = (nb < 5 ? 5 : (nb > 25 ? 25 : nb))\n"
-               "bw = (STATS_max - STATS_min) / nb\nif (bw <= 0) bw = 1e-9\n"
-               "bin(x) = bw * floor(x / bw) + bw / 2\nset boxwidth bw absolute\nset yrange [0:*]\n"
-               "if (STATS_records <= 10) set ytics 1\n"  // whole machines, not 0.5
-               "set style fill solid 0.6\nplot '" + n +
-               ".dat' u (bin($1)):(1.0) smooth freq with boxes lc rgb '#4477aa' notitle\n",
-           page.figures, h);
+               "set title '" + n + "'\nset xlabel '" + unit + "'\nset ylabel 'machines'\nstats '" + n +
+                   ".dat' u 1 nooutput\nnb = ceil(sqrt(STATS_records)); nb = (nb < 5 ? 5 : (nb > 25 ? 25 : nb))\n"
+                   "bw = (STATS_max - STATS_min) / nb\nif (bw <= 0) bw = 1e-9\n"
+                   "bin(x) = bw * floor(x / bw) + bw / 2\nset boxwidth bw absolute\nset yrange [0:*]\n"
+                   "if (STATS_records <= 10) set ytics 1\n"  // whole machines, not 0.5
+                   "set style fill solid 0.6\nplot '" +
+                   n + ".dat' u (bin($1)):(1.0) smooth freq with boxes lc rgb '#4477aa' notitle\n",
+               page.figures, h);
     }
   }
 }
@@ -267,30 +292,43 @@ json BalancingStudy::details(const McResult&) const {
   const models::HardBearingCheck hb = models::check_hard_bearing(p, omega, model_.hard_bearing_factor);
   const double weight = model_.rotor.mass * 9.80665;
   return {{"nominal_machine",
-           {{"k5_N_per_m", p.horizontal_plate_stiffness}, {"k6_N_per_m", p.torsional_plate_stiffness},
-            {"k6_l2_N_m_per_rad", p.torsional_plate_stiffness * p.lever * p.lever}, {"lever_m", p.lever},
-            {"total_mass_kg", p.total_mass}, {"rotating_mass_kg", p.rotating_mass},
-            {"mass_centre_height_m", p.mass_centre_height}, {"inertia_about_centre_kg_m2", p.inertia},
-            {"damping_x_N_s_per_m", p.damping_x}, {"damping_theta_N_m_s_per_rad", p.damping_theta},
-            {"omega_1_Hz", nf.omega_1 / (2 * units::kPi)}, {"omega_2_Hz", nf.omega_2 / (2 * units::kPi)},
+           {{"k5_N_per_m", p.horizontal_plate_stiffness},
+            {"k6_N_per_m", p.torsional_plate_stiffness},
+            {"k6_l2_N_m_per_rad", p.torsional_plate_stiffness * p.lever * p.lever},
+            {"lever_m", p.lever},
+            {"total_mass_kg", p.total_mass},
+            {"rotating_mass_kg", p.rotating_mass},
+            {"mass_centre_height_m", p.mass_centre_height},
+            {"inertia_about_centre_kg_m2", p.inertia},
+            {"damping_x_N_s_per_m", p.damping_x},
+            {"damping_theta_N_m_s_per_rad", p.damping_theta},
+            {"omega_1_Hz", nf.omega_1 / (2 * units::kPi)},
+            {"omega_2_Hz", nf.omega_2 / (2 * units::kPi)},
             {"omega_x_uncoupled_Hz", nf.omega_x / (2 * units::kPi)},
             {"omega_theta_uncoupled_Hz", nf.omega_theta / (2 * units::kPi)},
-            {"speed_rpm", model_.run.speed_rpm}, {"speed_Hz", omega / (2 * units::kPi)},
+            {"speed_rpm", model_.run.speed_rpm},
+            {"speed_Hz", omega / (2 * units::kPi)},
             {"horizontal_plate_stress_per_N_Pa", models::guided_plate_max_stress(b.horizontal_1, 1.0)},
             {"rotor_weight_N", weight}}},
           {"hard_bearing",
-           {{"ok", hb.ok}, {"factor", model_.hard_bearing_factor}, {"omega_1_over_omega", hb.ratio},
-            {"deviation_from_limit", hb.deviation}, {"message", hb.message}}},
+           {{"ok", hb.ok},
+            {"factor", model_.hard_bearing_factor},
+            {"omega_1_over_omega", hb.ratio},
+            {"deviation_from_limit", hb.deviation},
+            {"message", hb.message}}},
           {"estimator_displayed", balancing_sections(config_).estimator},
           {"warnings", warnings_},
           {"torsional_plate",
            {{"end_condition", models::torsion_plate_end_name(model_.torsional_end)},
-            {"rotation_factor", p.torsion_split.rotation_factor}, {"sensor_2_force_factor", p.torsion_split.force_factor},
+            {"rotation_factor", p.torsion_split.rotation_factor},
+            {"sensor_2_force_factor", p.torsion_split.force_factor},
             {"clamp_moment_share", p.torsion_split.moment_share},
             {"length_over_lever", b.torsional.length / b.lever}}},
           {"correction_planes",
-           {{"plane_1_surface", balancing_sections(config_).plane_1_surface}, {"plane_1_height_m", model_.rotor.surface_height(balancing_sections(config_).plane_1_surface)},
-            {"plane_2_surface", balancing_sections(config_).plane_2_surface}, {"plane_2_height_m", model_.rotor.surface_height(balancing_sections(config_).plane_2_surface)}}}};
+           {{"plane_1_surface", balancing_sections(config_).plane_1_surface},
+            {"plane_1_height_m", model_.rotor.surface_height(balancing_sections(config_).plane_1_surface)},
+            {"plane_2_surface", balancing_sections(config_).plane_2_surface},
+            {"plane_2_height_m", model_.rotor.surface_height(balancing_sections(config_).plane_2_surface)}}}};
 }
 
 void BalancingStudy::report_sections(const McResult& mc, const std::string& plots_dir, bool plots,

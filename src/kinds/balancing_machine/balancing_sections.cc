@@ -36,7 +36,8 @@ std::unique_ptr<KindSections> read_balancing_sections(TomlReader& root, const St
     }
     if (schema || x.type == "stability") {
       x.surface = static_cast<int>(e.integer("surface", 1, 1000));
-      x.band = e.number("band", [](double v) { return v > 0 && v < 1 ? "" : "a fraction in (0, 1), e.g. 0.12"; }, 0.12);
+      x.band = e.number(
+          "band", [](double v) { return v > 0 && v < 1 ? "" : "a fraction in (0, 1), e.g. 0.12"; }, 0.12);
       x.balance_first = e.boolean("balance_first", true);
       x.variant = e.choice("variant", {"wang2014", "poise"}, "poise");
     }
@@ -46,7 +47,8 @@ std::unique_ptr<KindSections> read_balancing_sections(TomlReader& root, const St
     }
     if (schema || x.type == "accuracy") x.piece_unbalance = e.quantity("piece_unbalance", unbalance, positive);
     if (schema || x.type == "urr") {
-      x.requirement = e.number("requirement", [](double v) { return v > 0 && v < 1 ? "" : "a fraction in (0, 1), e.g. 0.9"; });
+      x.requirement =
+          e.number("requirement", [](double v) { return v > 0 && v < 1 ? "" : "a fraction in (0, 1), e.g. 0.9"; });
     }
     e.string("notes", "");
     c->experiments.push_back(x);

@@ -19,21 +19,21 @@ using namespace poise::engine;
 
 /// One experiment of a balancing-machine study (Wang 2014 Sec. 5, ISO 21940-21 tests).
 struct BalancingExperiment {
-  std::string name;            ///< output prefix
-  std::string type;            ///< separation | umar | umar_iso | stability | urr | accuracy
-  double mass = 0.0;           ///< test mass (kg)
-  double radius = 0.0;         ///< its radius (m)
-  int surface = 0;             ///< stability: surface carrying the test mass
-  int positions = 8;           ///< angular positions (holes) used, evenly spaced from 0 deg
-  double band = 0.12;          ///< stability: readings within +-band of their mean
-  bool balance_first = true;   ///< stability: correct the rotor with the machine first
+  std::string name;           ///< output prefix
+  std::string type;           ///< separation | umar | umar_iso | stability | urr | accuracy
+  double mass = 0.0;          ///< test mass (kg)
+  double radius = 0.0;        ///< its radius (m)
+  int surface = 0;            ///< stability: surface carrying the test mass
+  int positions = 8;          ///< angular positions (holes) used, evenly spaced from 0 deg
+  double band = 0.12;         ///< stability: readings within +-band of their mean
+  bool balance_first = true;  ///< stability: correct the rotor with the machine first
   /// stability: "wang2014" (the test as the paper prints it) or "poise" (a set-up of Poise's
   /// own, not in the paper): a label the report and outputs carry, nothing else.
   std::string variant = "poise";
-  double plane_2_offset = 0.0; ///< umar_iso: plane 2's test mass angle from plane 1's (rad)
-  double claim = 0.0;          ///< umar_iso: claimed U_mar per plane (kg m), the pass band
-  double piece_unbalance = 0;  ///< accuracy: plane unbalance of the test piece (kg m), random angles
-  double requirement = 0.0;    ///< urr: required reduction ratio (fraction)
+  double plane_2_offset = 0.0;  ///< umar_iso: plane 2's test mass angle from plane 1's (rad)
+  double claim = 0.0;           ///< umar_iso: claimed U_mar per plane (kg m), the pass band
+  double piece_unbalance = 0;   ///< accuracy: plane unbalance of the test piece (kg m), random angles
+  double requirement = 0.0;     ///< urr: required reduction ratio (fraction)
 };
 
 struct BalancingSections : KindSectionsOf<BalancingSections> {
@@ -45,6 +45,8 @@ struct BalancingSections : KindSectionsOf<BalancingSections> {
 
 std::unique_ptr<KindSections> read_balancing_sections(TomlReader& root, const StudyConfig& cfg);
 
-inline const BalancingSections& balancing_sections(const StudyConfig& cfg) { return sections_of<BalancingSections>(cfg); }
+inline const BalancingSections& balancing_sections(const StudyConfig& cfg) {
+  return sections_of<BalancingSections>(cfg);
+}
 
 }  // namespace poise::kinds::balancing_machine

@@ -11,17 +11,38 @@
 namespace poise::kinds::balancing_machine::detail {
 
 enum Slot : std::size_t {
-  kThicknessH1, kThicknessH2, kThicknessT, kWidthH1, kWidthH2, kWidthT, kLengthH1, kLengthH2, kLengthT,
-  kYoungs, kLever, kSensor1, kPiece, kGain1, kGain2, kResidual1, kResidual2,
-  kSpeed, kTestMass, kHoleRadius, kHoleAngle, kCorrMass, kCorrAngle, kSlotCount
+  kThicknessH1,
+  kThicknessH2,
+  kThicknessT,
+  kWidthH1,
+  kWidthH2,
+  kWidthT,
+  kLengthH1,
+  kLengthH2,
+  kLengthT,
+  kYoungs,
+  kLever,
+  kSensor1,
+  kPiece,
+  kGain1,
+  kGain2,
+  kResidual1,
+  kResidual2,
+  kSpeed,
+  kTestMass,
+  kHoleRadius,
+  kHoleAngle,
+  kCorrMass,
+  kCorrAngle,
+  kSlotCount
 };
 
 struct SlotSpec {
-  const char* name;    // input column
-  const char* key;     // tolerance key in the model file
+  const char* name;  // input column
+  const char* key;   // tolerance key in the model file
   const ScopedTolerance BalancingModel::*tol;
-  bool magnitude;      // a magnitude with a uniform angle (two design dimensions)
-  bool hardware;       // must be scope "unit" (a property of the machine as built)
+  bool magnitude;  // a magnitude with a uniform angle (two design dimensions)
+  bool hardware;   // must be scope "unit" (a property of the machine as built)
 };
 
 inline const SlotSpec kSlots[kSlotCount] = {

@@ -6,13 +6,13 @@
 #include <fstream>
 
 #include "core/units.h"
-#include "sampling/random_stream.h"
 #include "engine/report/report_plot.h"
 #include "engine/results/result_io.h"
 #include "kinds/balancing_machine/balancing_bench.h"
 #include "kinds/balancing_machine/balancing_iso_tests.h"
 #include "kinds/balancing_machine/balancing_sections.h"
 #include "kinds/balancing_machine/balancing_slots.h"
+#include "sampling/random_stream.h"
 
 namespace poise::kinds::balancing_machine {
 using namespace poise::engine;

@@ -50,9 +50,9 @@
 #include <string>
 #include <vector>
 
-#include "sampling/design.h"
-#include "kinds/balancing_machine/balancing_model.h"
 #include "engine/kind_interface/procedure_study.h"
+#include "kinds/balancing_machine/balancing_model.h"
+#include "sampling/design.h"
 
 namespace poise::sampling {
 class RandomStream;
@@ -95,8 +95,8 @@ class BalancingStudy : public ProcedureStudyBase<BalancingStudy> {
   nlohmann::json solver_json(const McResult& mc) const override;
   /// The nominal machine: stiffnesses, masses, natural frequencies, hard-bearing check.
   nlohmann::json details(const McResult& mc) const override;
-  void report_sections(const McResult& mc, const std::string& plots_dir, bool plots,
-                       std::vector<std::string>& figures, std::ostringstream& html) const override;
+  void report_sections(const McResult& mc, const std::string& plots_dir, bool plots, std::vector<std::string>& figures,
+                       std::ostringstream& html) const override;
 
   /// Runs per sample (for the progress estimate and the validate summary).
   std::size_t runs_per_sample() const;

@@ -15,7 +15,8 @@ class GeometryMassPropertiesKind final : public ProcedureKind {
   std::string summary() const override {
     return "mass, centre of mass and inertia of a part as built (the simulator disk of Yang 2015: hole position, "
            "clump mass, thickness and wedge tolerances) by Embree ray casting, checked against the divergence "
-           "theorem; the eccentricity and couple unbalance that follow (model: e.g. models/simulator_disk_yang2015.toml)";
+           "theorem; the eccentricity and couple unbalance that follow (model: e.g. "
+           "models/simulator_disk_yang2015.toml)";
   }
   std::unique_ptr<KindSections> read_sections(TomlReader& root, const StudyConfig&) const override {
     auto s = std::make_unique<GeometrySections>();
@@ -31,6 +32,8 @@ class GeometryMassPropertiesKind final : public ProcedureKind {
 
 }  // namespace
 
-std::unique_ptr<StudyKind> make_geometry_mass_properties_kind() { return std::make_unique<GeometryMassPropertiesKind>(); }
+std::unique_ptr<StudyKind> make_geometry_mass_properties_kind() {
+  return std::make_unique<GeometryMassPropertiesKind>();
+}
 
 }  // namespace poise::kinds::geometry_mass_properties

@@ -1,28 +1,28 @@
 #include "kinds/geometry_mass_properties/geometry_mass_study.h"
 
-#include <Eigen/Eigenvalues>
 #include <tbb/task_arena.h>
+#include <Eigen/Eigenvalues>
 
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <numbers>
-#include <sstream>
 #include <span>
+#include <sstream>
 #include <utility>
 
 #include "core/units.h"
-#include "geometry/mass_properties.h"
-#include "geometry/mesh_io.h"
-#include "sampling/design.h"
-#include "model_files/disk_geometry_model.h"
-#include "geometry_studies/geometry_plots.h"
-#include "geometry_studies/sampled_model_study.h"
-#include "engine/results/result_io.h"
 #include "engine/kind_interface/output_spec.h"
 #include "engine/kind_interface/procedure_study.h"
+#include "engine/results/result_io.h"
+#include "geometry/mass_properties.h"
+#include "geometry/mesh_io.h"
+#include "geometry_studies/geometry_plots.h"
 #include "geometry_studies/geometry_study.h"
+#include "geometry_studies/sampled_model_study.h"
+#include "model_files/disk_geometry_model.h"
+#include "sampling/design.h"
 
 namespace poise::kinds::geometry_mass_properties {
 using namespace poise::engine;
@@ -30,8 +30,8 @@ using namespace poise::model_files;
 using namespace poise::geometry_studies;
 namespace {
 namespace fs = std::filesystem;
-using nlohmann::json;
 using geometry::MassProperties;
+using nlohmann::json;
 
 constexpr OutputDeclaration kOutputs[] = {
     {"mass_g", "g", "mass of the disk with its clump weights (ray cast)"},
@@ -60,7 +60,10 @@ double axis_tilt(const Eigen::Matrix3d& inertia) {
 class MassStudy final : public SampledModelStudy<MassStudy> {
  public:
   MassStudy(StudyConfig cfg, DiskGeometryModel model, std::size_t n, std::uint64_t seed)
-      : cfg_(std::move(cfg)), model_(std::move(model)), sampler_(model_), samples_(n),
+      : cfg_(std::move(cfg)),
+        model_(std::move(model)),
+        sampler_(model_),
+        samples_(n),
         design_(make_design(cfg_, seed, n, sampler_.dimension())) {
     for (const auto& c : sampler_.columns()) input_names_.push_back(c.name);
     std::vector<OutputSpec> outputs;
@@ -151,10 +154,15 @@ json closed_form_check(const DiskGeometryModel& m, const MassProperties& exact, 
   const Eigen::Vector3d com = first / mass;
   const double e = std::hypot(com.x(), com.y());
   const double jz_com = jz - mass * (com.x() * com.x() + com.y() * com.y());
-  auto row = [](double closed, double v) { return json{{"closed_form", closed}, {"value", v}, {"relative_error", v / closed - 1}}; };
-  return {{"mass_kg", {{"exact_mesh", row(mass, exact.mass)}, {"ray_cast", row(mass, ray.mass)}}},
-          {"e_m", {{"exact_mesh", row(e, std::hypot(exact.com.x(), exact.com.y()))}, {"ray_cast", row(e, std::hypot(ray.com.x(), ray.com.y()))}}},
-          {"Jzz_kgm2", {{"exact_mesh", row(jz_com, exact.inertia(2, 2))}, {"ray_cast", row(jz_com, ray.inertia(2, 2))}}}};
+  auto row = [](double closed, double v) {
+    return json{{"closed_form", closed}, {"value", v}, {"relative_error", v / closed - 1}};
+  };
+  return {
+      {"mass_kg", {{"exact_mesh", row(mass, exact.mass)}, {"ray_cast", row(mass, ray.mass)}}},
+      {"e_m",
+       {{"exact_mesh", row(e, std::hypot(exact.com.x(), exact.com.y()))},
+        {"ray_cast", row(e, std::hypot(ray.com.x(), ray.com.y()))}}},
+      {"Jzz_kgm2", {{"exact_mesh", row(jz_com, exact.inertia(2, 2))}, {"ray_cast", row(jz_com, ray.inertia(2, 2))}}}};
 }
 
 const json& MassStudy::nominal_check() const {
@@ -178,19 +186,27 @@ const json& MassStudy::nominal_check() const {
     const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - c0).count();
     const double em = std::abs(p.mass / exact.mass - 1), ej = std::abs(p.inertia(2, 2) / exact.inertia(2, 2) - 1);
     const double ee = e_exact > 0 ? std::abs(std::hypot(p.com.x(), p.com.y()) / e_exact - 1) : 0.0;
-    convergence.push_back({{"rays_per_side", k}, {"rays", st.rays}, {"mass_rel_error", em}, {"Jzz_rel_error", ej},
-                           {"e_rel_error", ee}, {"seconds", secs}, {"threads", threads}});
+    convergence.push_back({{"rays_per_side", k},
+                           {"rays", st.rays},
+                           {"mass_rel_error", em},
+                           {"Jzz_rel_error", ej},
+                           {"e_rel_error", ee},
+                           {"seconds", secs},
+                           {"threads", threads}});
   }
   nominal_check_ = {
-      {"method", {{"rays_per_side", g.rays_per_side},
-                  {"grid", g.per_part ? "per_part" : "one_scene"},
-                  {"integration", "Embree all-hit ray casting, winding-weighted segments integrated analytically"}}},
-      {"nominal", {{"mass_kg", exact.mass},
-                   {"com_m", {exact.com.x(), exact.com.y(), exact.com.z()}},
-                   {"inertia_kgm2", {{exact.inertia(0, 0), exact.inertia(0, 1), exact.inertia(0, 2)},
-                                     {exact.inertia(1, 0), exact.inertia(1, 1), exact.inertia(1, 2)},
-                                     {exact.inertia(2, 0), exact.inertia(2, 1), exact.inertia(2, 2)}}},
-                   {"closed_form_check", closed_form_check(model_, exact, ray_nominal)}}},
+      {"method",
+       {{"rays_per_side", g.rays_per_side},
+        {"grid", g.per_part ? "per_part" : "one_scene"},
+        {"integration", "Embree all-hit ray casting, winding-weighted segments integrated analytically"}}},
+      {"nominal",
+       {{"mass_kg", exact.mass},
+        {"com_m", {exact.com.x(), exact.com.y(), exact.com.z()}},
+        {"inertia_kgm2",
+         {{exact.inertia(0, 0), exact.inertia(0, 1), exact.inertia(0, 2)},
+          {exact.inertia(1, 0), exact.inertia(1, 1), exact.inertia(1, 2)},
+          {exact.inertia(2, 0), exact.inertia(2, 1), exact.inertia(2, 2)}}},
+        {"closed_form_check", closed_form_check(model_, exact, ray_nominal)}}},
       {"convergence", convergence}};
   return nominal_check_;
 }
@@ -207,9 +223,10 @@ void MassStudy::report_sections(const McResult& mc, const std::string& plots_dir
     << "<th>divergence theorem (mesh)</th><th>rel. error</th><th>ray cast (" << g.rays_per_side
     << " per side)</th><th>rel. error</th></tr>\n";
   for (const auto& [name, q] : check["nominal"]["closed_form_check"].items()) {
-    h << "<tr><td class='l'>" << name << "</td><td>" << fmt_g(q["exact_mesh"]["closed_form"].get<double>(), 7) << "</td><td>"
-      << fmt_g(q["exact_mesh"]["value"].get<double>(), 7) << "</td><td>" << fmt_g(q["exact_mesh"]["relative_error"].get<double>(), 3)
-      << "</td><td>" << fmt_g(q["ray_cast"]["value"].get<double>(), 7) << "</td><td>"
+    h << "<tr><td class='l'>" << name << "</td><td>" << fmt_g(q["exact_mesh"]["closed_form"].get<double>(), 7)
+      << "</td><td>" << fmt_g(q["exact_mesh"]["value"].get<double>(), 7) << "</td><td>"
+      << fmt_g(q["exact_mesh"]["relative_error"].get<double>(), 3) << "</td><td>"
+      << fmt_g(q["ray_cast"]["value"].get<double>(), 7) << "</td><td>"
       << fmt_g(q["ray_cast"]["relative_error"].get<double>(), 3) << "</td></tr>\n";
   }
   h << "</table>\n<p><small>The mesh's circles are polygons of equal area, so the mesh's mass equals the drawing's; "
@@ -244,18 +261,21 @@ void MassStudy::report_sections(const McResult& mc, const std::string& plots_dir
                << mc.values[9][m] << '\n';
   }
   std::vector<GeometryPlot> figures;
-  figures.push_back({"convergence", conv_dat.str(),
-                     "set title 'Ray-cast integration against the divergence theorem, nominal disk'\n"
-                     "set xlabel 'rays per side'\nset ylabel 'relative error'\nset logscale xy\nset key top right\n"
-                     "plot 'convergence.dat' u 1:2 w lp lw 2 t 'mass', '' u 1:3 w lp lw 2 t 'J_zz', '' u 1:4 w lp lw 2 t 'e', "
-                     "1e-3 w l dt 2 lc rgb 'red' t '0.1%'\n",
-                     "Relative error of the ray-cast mass, J_zz and eccentricity against the exact mesh values"});
-  figures.push_back({"hist_e", sample_dat.str(), histogram_script("hist_e.dat", 1, "Eccentricity of the as-built disk", "e [um]"),
+  figures.push_back(
+      {"convergence", conv_dat.str(),
+       "set title 'Ray-cast integration against the divergence theorem, nominal disk'\n"
+       "set xlabel 'rays per side'\nset ylabel 'relative error'\nset logscale xy\nset key top right\n"
+       "plot 'convergence.dat' u 1:2 w lp lw 2 t 'mass', '' u 1:3 w lp lw 2 t 'J_zz', '' u 1:4 w lp lw 2 t 'e', "
+       "1e-3 w l dt 2 lc rgb 'red' t '0.1%'\n",
+       "Relative error of the ray-cast mass, J_zz and eccentricity against the exact mesh values"});
+  figures.push_back({"hist_e", sample_dat.str(),
+                     histogram_script("hist_e.dat", 1, "Eccentricity of the as-built disk", "e [um]"),
                      "Eccentricity e of the as-built disk over the samples"});
-  figures.push_back({"polar_e", sample_dat.str(),
-                     "set title 'Centre of mass of the as-built disks (disk frame)'\nset xlabel 'x [um]'\nset ylabel 'y [um]'\n"
-                     "set size ratio -1\nplot 'polar_e.dat' u ($1*cos($2*pi/180)):($1*sin($2*pi/180)) w p pt 7 ps 0.4 notitle\n",
-                     "Centre of mass in the disk plane, one point per sample"});
+  figures.push_back(
+      {"polar_e", sample_dat.str(),
+       "set title 'Centre of mass of the as-built disks (disk frame)'\nset xlabel 'x [um]'\nset ylabel 'y [um]'\n"
+       "set size ratio -1\nplot 'polar_e.dat' u ($1*cos($2*pi/180)):($1*sin($2*pi/180)) w p pt 7 ps 0.4 notitle\n",
+       "Centre of mass in the disk plane, one point per sample"});
   figures.push_back({"hist_jzz", sample_dat.str(),
                      histogram_script("hist_jzz.dat", 3, "J_zz about the centre of mass", "J_zz [kg m^2]"),
                      "Moment of inertia about the disk axis over the samples"});
@@ -277,12 +297,12 @@ std::string validate_geometry_mass_study(const StudyConfig& cfg) {
   const MassStudy study(cfg, load_disk_geometry_model(cfg.model_path, cfg.overrides), cfg.samples, cfg.seed);
   const auto& s = study.model().nominal;
   const GeometryStudySpec& g = geometry_sections(cfg).geometry;
-  return cfg.file + ": valid. Study '" + cfg.name + "' (" + cfg.kind + ") on model '" + study.model().name + "': disk " +
-         fmt_g(2e3 * s.radius) + " mm x " + fmt_g(1e3 * s.thickness) + " mm, " + std::to_string(s.holes.size()) +
-         " holes, " + std::to_string(s.clumps.size()) + " clump weight(s); " + std::to_string(study.sampler().dimension()) +
-         " random inputs, " + sampling::to_string(cfg.method) + " design, " + std::to_string(cfg.samples) + " samples, seed " +
-         std::to_string(cfg.seed) + "; rays " + std::to_string(g.rays_per_side) + " per side (" +
-         (g.per_part ? "one grid per part" : "one scene") + ").";
+  return cfg.file + ": valid. Study '" + cfg.name + "' (" + cfg.kind + ") on model '" + study.model().name +
+         "': disk " + fmt_g(2e3 * s.radius) + " mm x " + fmt_g(1e3 * s.thickness) + " mm, " +
+         std::to_string(s.holes.size()) + " holes, " + std::to_string(s.clumps.size()) + " clump weight(s); " +
+         std::to_string(study.sampler().dimension()) + " random inputs, " + sampling::to_string(cfg.method) +
+         " design, " + std::to_string(cfg.samples) + " samples, seed " + std::to_string(cfg.seed) + "; rays " +
+         std::to_string(g.rays_per_side) + " per side (" + (g.per_part ? "one grid per part" : "one scene") + ").";
 }
 
 }  // namespace poise::kinds::geometry_mass_properties

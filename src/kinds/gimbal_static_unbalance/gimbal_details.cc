@@ -16,7 +16,9 @@ nlohmann::json share_json(std::size_t count, std::size_t ran) {
   return {{"count", count},
           {"samples", ran},
           {"share", ran > 0 ? e.value : 0.0},
-          {"ci95", {e.lo ? nlohmann::json(*e.lo) : nlohmann::json(nullptr), e.hi ? nlohmann::json(*e.hi) : nlohmann::json(nullptr)}},
+          {"ci95",
+           {e.lo ? nlohmann::json(*e.lo) : nlohmann::json(nullptr),
+            e.hi ? nlohmann::json(*e.hi) : nlohmann::json(nullptr)}},
           {"unit", "share of the samples (1 = all)"}};
 }
 
@@ -30,7 +32,8 @@ std::size_t count_of(const McResult& mc, const char* reason) {
 nlohmann::json GimbalStudy::details(const McResult& mc) const {
   nlohmann::json placements = nlohmann::json::object();
   for (const auto& g : gimbal_sections(config_).groups) {
-    placements[g.name] = g.counterweight_placement == "model" ? model_.counterweight_placement : g.counterweight_placement;
+    placements[g.name] =
+        g.counterweight_placement == "model" ? model_.counterweight_placement : g.counterweight_placement;
   }
   return {{"saturated_share", share_json(count_of(mc, "drive saturated"), mc.completed)},
           {"swing_out_of_range_share", share_json(count_of(mc, "swing out of range"), mc.completed)},
@@ -51,8 +54,8 @@ void GimbalStudy::report_sections(const McResult& mc, const std::string&, bool, 
                 "leaves the test's stated range (+-%.4g deg) fails its sample with the reason. Saturated: %zu of %zu "
                 "samples (share %.3g); swing out of range: %zu.</p>\n",
                 d["drive_limit_mNm"].get<double>(), d["swing_range_deg"].get<double>(),
-                d["saturated_share"]["count"].get<std::size_t>(), mc.completed, d["saturated_share"]["share"].get<double>(),
-                d["swing_out_of_range_share"]["count"].get<std::size_t>());
+                d["saturated_share"]["count"].get<std::size_t>(), mc.completed,
+                d["saturated_share"]["share"].get<double>(), d["swing_out_of_range_share"]["count"].get<std::size_t>());
   h << b;
   h << "<h2>Per-test error mechanism and counterweight placement</h2>\n<p>Mechanism: <code>"
     << html_escape(model_.error_mechanism) << "</code>. Counterweight placement per group:";
@@ -61,7 +64,8 @@ void GimbalStudy::report_sections(const McResult& mc, const std::string&, bool, 
   }
   h << " residuals are taken about the bearing axis, the run-out's m r included.</p>\n";
   if (!d["plausibility_warnings"].empty()) {
-    h << "<p><b>Warning: calibrated tolerances past their physically plausible range</b> ([plausibility] of the model):</p>\n<ul>\n";
+    h << "<p><b>Warning: calibrated tolerances past their physically plausible range</b> ([plausibility] of the "
+         "model):</p>\n<ul>\n";
     for (const auto& w : d["plausibility_warnings"]) h << "<li>" << html_escape(w.get<std::string>()) << "</li>\n";
     h << "</ul>\n";
   }

@@ -3,9 +3,9 @@
 #include <cstdio>
 
 #include "engine/kind_interface/procedure_kind.h"
-#include "model_files/gimbal_model.h"
 #include "kinds/gimbal_static_unbalance/gimbal_sections.h"
 #include "kinds/gimbal_static_unbalance/gimbal_study.h"
+#include "model_files/gimbal_model.h"
 
 namespace poise::kinds::gimbal_static_unbalance {
 using namespace poise::engine;
@@ -70,8 +70,6 @@ class GimbalStaticUnbalanceKind final : public ProcedureKind {
 
 }  // namespace
 
-std::unique_ptr<StudyKind> make_gimbal_static_unbalance_kind() {
-  return std::make_unique<GimbalStaticUnbalanceKind>();
-}
+std::unique_ptr<StudyKind> make_gimbal_static_unbalance_kind() { return std::make_unique<GimbalStaticUnbalanceKind>(); }
 
 }  // namespace poise::kinds::gimbal_static_unbalance

@@ -31,7 +31,7 @@ std::unique_ptr<KindSections> read_gimbal_sections(TomlReader& root, const Study
 }
 
 std::map<std::string, std::string> apply_gimbal_study_overrides(StudyConfig& cfg,
-                                                         const std::map<std::string, std::string>& overrides) {
+                                                                const std::map<std::string, std::string>& overrides) {
   std::map<std::string, std::string> model_keys;
   std::vector<InputError> errors;
   const SourceLocation where{cfg.file, 0, 0};
@@ -77,7 +77,8 @@ std::map<std::string, std::string> apply_gimbal_study_overrides(StudyConfig& cfg
         g.counterweight_placement = value;
       } else if (rest == "placement") {
         if (value != "sequential" && value != "interleaved" && value != "back_and_forth") {
-          errors.emplace_back(where, key, "\"" + value + "\"", "one of \"sequential\", \"interleaved\", \"back_and_forth\"");
+          errors.emplace_back(where, key, "\"" + value + "\"",
+                              "one of \"sequential\", \"interleaved\", \"back_and_forth\"");
           break;
         }
         g.placement = value;
@@ -89,7 +90,8 @@ std::map<std::string, std::string> apply_gimbal_study_overrides(StudyConfig& cfg
     }
     if (!found) {
       std::string names;
-      for (const auto& g : mutable_sections_of<GimbalSections>(cfg).groups) names += (names.empty() ? "" : ", ") + g.name;
+      for (const auto& g : mutable_sections_of<GimbalSections>(cfg).groups)
+        names += (names.empty() ? "" : ", ") + g.name;
       errors.emplace_back(where, key, "\"" + value + "\"", "the name of a [[group]]: " + names);
     }
   }

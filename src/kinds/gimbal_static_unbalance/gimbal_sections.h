@@ -28,7 +28,7 @@ struct GimbalLoad {
 /// runs of each load; statistics (RMSE against the loads) are taken per group.
 struct GimbalGroup {
   std::string name;
-  std::size_t positions = 36;   ///< evenly spaced over 360 deg, from 0
+  std::size_t positions = 36;  ///< evenly spaced over 360 deg, from 0
   /// Order in which the turntable visits them: "sequential" (0, 10, 20, ... deg),
   /// "interleaved" (van der Corput order: 0, 180, 90, 270, ... deg, so that a drift in time
   /// does not follow the angle) or "back_and_forth" (the even positions going up, the odd

@@ -2,18 +2,18 @@
 
 #include <cmath>
 
-#include "core/angles.h"
-#include "core/units.h"
-#include "geometry/generators.h"
-#include "geometry/mass_properties.h"
-#include "sampling/random_stream.h"
-#include "kinds/gimbal_static_unbalance/counterweight_residual.h"
-#include "kinds/gimbal_static_unbalance/gimbal_sections.h"
-#include "sampling/normal_stream.h"
-#include "core/error.h"
 #include <algorithm>
 #include <array>
 #include <cstdio>
+#include "core/angles.h"
+#include "core/error.h"
+#include "core/units.h"
+#include "geometry/generators.h"
+#include "geometry/mass_properties.h"
+#include "kinds/gimbal_static_unbalance/counterweight_residual.h"
+#include "kinds/gimbal_static_unbalance/gimbal_sections.h"
+#include "sampling/normal_stream.h"
+#include "sampling/random_stream.h"
 
 namespace poise::kinds::gimbal_static_unbalance {
 
@@ -41,7 +41,8 @@ struct Slot {
 };
 
 const Slot kSlots[] = {
-    {"residual_unbalance", &GimbalModel::residual_unbalance, &UnitDraws::residual_unbalance, &UnitDraws::residual_angle, true},
+    {"residual_unbalance", &GimbalModel::residual_unbalance, &UnitDraws::residual_unbalance, &UnitDraws::residual_angle,
+     true},
     {"runout", &GimbalModel::runout, &UnitDraws::runout, &UnitDraws::runout_angle, true},
     {"clump_mass", &GimbalModel::clump_mass, &UnitDraws::clump_mass, nullptr, false},
     {"hole_radius", &GimbalModel::hole_radius, &UnitDraws::hole_radius, nullptr, false},
@@ -122,7 +123,8 @@ double counterweight_residual(const GimbalModel& model, const std::string& place
   const double m_cw = procedures::counterweight_mass(e.amplitude, model.counterweight_radius, g0) * (1.0 + d.cw_mass);
   const double r_cw = model.counterweight_radius + d.cw_radius;
   const double turn_back = placement == "turntable" ? model.plan.positioning_error * normal.next() : 0.0;
-  const double a_cw = counterweight_disk_angle(placement, e.phase, d.gimbal_zero + d.turntable_zero, d.cw_angle + turn_back);
+  const double a_cw =
+      counterweight_disk_angle(placement, e.phase, d.gimbal_zero + d.turntable_zero, d.cw_angle + turn_back);
   const std::array<double, 2> runout{d.runout * std::cos(d.runout_angle), d.runout * std::sin(d.runout_angle)};
   const auto res = residual_about_bearing_axis({rig.dx, rig.dy}, runout, m_cw, r_cw, a_cw);
   return std::hypot(res[0], res[1]);
@@ -140,9 +142,17 @@ struct GroupErrors {
     const double sd_t = n > 1 ? std::sqrt(std::max(0.0, (se_t - nn * mean_t * mean_t) / (nn - 1))) : 0.0;
     const double sd_a = n > 1 ? std::sqrt(std::max(0.0, (se_a - nn * mean_a * mean_a) / (nn - 1))) : 0.0;
     const double deg = units::kRadPerDeg;
-    const double values[] = {std::sqrt(se_t / nn) * 1e3, std::sqrt(se_a / nn) / deg, mean_t * 1e3, mean_a / deg,
-                             sd_t * 1e3, sd_a / deg, sum_mk / nn * 1e3, max_res * 1e6, max_phi / deg,
-                             sum_fit_rmse / nn * 1e3, procedures::test_duration(plan) / 60.0};
+    const double values[] = {std::sqrt(se_t / nn) * 1e3,
+                             std::sqrt(se_a / nn) / deg,
+                             mean_t * 1e3,
+                             mean_a / deg,
+                             sd_t * 1e3,
+                             sd_a / deg,
+                             sum_mk / nn * 1e3,
+                             max_res * 1e6,
+                             max_phi / deg,
+                             sum_fit_rmse / nn * 1e3,
+                             procedures::test_duration(plan) / 60.0};
     for (double v : values) out.outputs[o++] = v;
   }
 };
@@ -220,11 +230,12 @@ void GimbalStudy::check_positions(const procedures::MeasurementResult& m, const 
                   group.c_str(), test, load_torque * 1e3, load_angle / deg, p.theta_nominal / deg);
     if (p.saturated) {
       char b[600];
-      std::snprintf(b, sizeof b,
-                    "drive saturated: %s: the drive current reached its limit (%.4g A, %.4g mN*m at the nominal K_T) in "
-                    "the integration window, so Eq. 21's mean current is clipped and MT_s would come out low; the test "
-                    "needs a motor of more torque or a smaller load",
-                    where, model_.plan.servo.current_limit, model_.plan.servo.current_limit * model_.plan.servo.kt_nominal * 1e3);
+      std::snprintf(
+          b, sizeof b,
+          "drive saturated: %s: the drive current reached its limit (%.4g A, %.4g mN*m at the nominal K_T) in "
+          "the integration window, so Eq. 21's mean current is clipped and MT_s would come out low; the test "
+          "needs a motor of more torque or a smaller load",
+          where, model_.plan.servo.current_limit, model_.plan.servo.current_limit * model_.plan.servo.kt_nominal * 1e3);
       throw Error(b);
     }
     if (std::abs(o.centre) + p.max_abs_phi > o.swing_range + 1e-12) {
@@ -267,7 +278,8 @@ void GimbalStudy::compute(std::size_t i, Workspace& ws, SampleResult& out) const
     double& disk_dj = unit.disk_dj;
     if (disk_) {
       std::vector<double> shown(disk_->dimension());
-      const geometry::DiskSpec spec = disk_->draw(std::span<const double>(u).subspan(dimension_, disk_->dimension()), shown);
+      const geometry::DiskSpec spec =
+          disk_->draw(std::span<const double>(u).subspan(dimension_, disk_->dimension()), shown);
       for (double v : shown) out.inputs[col++] = v;
       const geometry::Moments mo = geometry::exact_moments(geometry::simulator_disk(spec));
       disk_ux = mo.first.x();
@@ -379,7 +391,9 @@ void GimbalStudy::evaluate_point(std::size_t k, std::span<const double> inputs, 
 }
 
 nlohmann::json GimbalStudy::solver_json(const McResult& mc) const {
-  return {{"steps", mc.solver_steps}, {"rhs_evals", mc.rhs_evals}, {"rtol", model_.plan.solver.rtol},
+  return {{"steps", mc.solver_steps},
+          {"rhs_evals", mc.rhs_evals},
+          {"rtol", model_.plan.solver.rtol},
           {"max_order", model_.plan.solver.max_order}};
 }
 

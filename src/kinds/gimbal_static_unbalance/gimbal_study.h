@@ -25,11 +25,11 @@
 #include <string>
 #include <vector>
 
-#include "sampling/design.h"
-#include "sampling/statistics.h"
-#include "model_files/gimbal_model.h"
 #include "engine/kind_interface/procedure_study.h"
 #include "engine/study_files/study_config.h"
+#include "model_files/gimbal_model.h"
+#include "sampling/design.h"
+#include "sampling/statistics.h"
 
 namespace poise::kinds::gimbal_static_unbalance {
 using namespace poise::engine;
@@ -80,7 +80,7 @@ class GimbalStudy : public ProcedureStudyBase<GimbalStudy> {
   std::size_t samples_;
   std::uint64_t seed_;
   std::size_t dimension_ = 0;
-  std::optional<DiskSampler> disk_;  ///< the disk as built ([geometry]), after the tolerances' dimensions
+  std::optional<DiskSampler> disk_;        ///< the disk as built ([geometry]), after the tolerances' dimensions
   std::optional<UserPartsSampler> parts_;  ///< or the rotor's parts as built ([[geometry.part]])
   /// Fails the sample (throws poise::Error, "drive saturated: ..." or "swing out of range: ...")
   /// when a position of test `test` saturated its drive or swung past [oscillation] swing_range.

@@ -1,8 +1,8 @@
 #include "kinds/los_obstruction/obstruction_kind.h"
 
 #include "engine/kind_interface/procedure_kind.h"
-#include "kinds/los_obstruction/obstruction_study.h"
 #include "geometry_studies/geometry_study.h"
+#include "kinds/los_obstruction/obstruction_study.h"
 
 namespace poise::kinds::los_obstruction {
 using namespace poise::engine;

@@ -4,29 +4,29 @@
 #include <cmath>
 #include <cstdio>
 #include <memory>
-#include <sstream>
 #include <span>
+#include <sstream>
 #include <utility>
 
 #include "core/units.h"
-#include "geometry/obstruction.h"
-#include "sampling/design.h"
-#include "geometry_studies/geometry_plots.h"
-#include "geometry_studies/sampled_model_study.h"
 #include "engine/kind_interface/output_spec.h"
 #include "engine/kind_interface/procedure_study.h"
 #include "engine/report/report_plot.h"
+#include "geometry/obstruction.h"
+#include "geometry_studies/geometry_plots.h"
+#include "geometry_studies/geometry_study.h"
+#include "geometry_studies/sampled_model_study.h"
 #include "model_files/seeker_geometry.h"
 #include "model_files/seeker_model.h"
-#include "geometry_studies/geometry_study.h"
+#include "sampling/design.h"
 
 namespace poise::kinds::los_obstruction {
 using namespace poise::engine;
 using namespace poise::model_files;
 using namespace poise::geometry_studies;
 namespace {
-using nlohmann::json;
 using geometry::SeekerScenes;
+using nlohmann::json;
 
 constexpr OutputDeclaration kOutputs[] = {
     {"min_fraction_pct", "%", "least unobstructed share of the beam over the field of regard"},
@@ -42,8 +42,8 @@ constexpr OutputDeclaration kOutputs[] = {
 constexpr std::size_t kNumOutputs = std::size(kOutputs);
 
 struct FieldResult {
-  std::vector<double> fraction;                      // per grid point
-  std::vector<SeekerScenes::Clearance> clearance;    // per grid point (empty if not computed)
+  std::vector<double> fraction;                    // per grid point
+  std::vector<SeekerScenes::Clearance> clearance;  // per grid point (empty if not computed)
 };
 
 // Sample i: the design point -> the seeker's error realization (SeekerSampler) -> the beam
@@ -52,7 +52,10 @@ struct FieldResult {
 class ObstructionStudy final : public SampledModelStudy<ObstructionStudy> {
  public:
   ObstructionStudy(StudyConfig cfg, SeekerModel model, std::size_t n, std::uint64_t seed)
-      : cfg_(std::move(cfg)), model_(std::move(model)), sampler_(model_), samples_(n),
+      : cfg_(std::move(cfg)),
+        model_(std::move(model)),
+        sampler_(model_),
+        samples_(n),
         design_(make_design(cfg_, seed, n, sampler_.dimension())) {
     if (!model_.geometry) {
       throw ValidationError({InputError(SourceLocation{cfg_.file, 0, 0}, "study.model", "\"" + cfg_.model_path + "\"",
@@ -109,10 +112,12 @@ class ObstructionStudy final : public SampledModelStudy<ObstructionStudy> {
     for (double v : f.fraction) mean += v, full += v == 1.0 ? 1 : 0;
     mean /= static_cast<double>(f.fraction.size());
     double rh = INFINITY, bh = INFINITY, br = INFINITY;
-    for (const auto& c : f.clearance) rh = std::min(rh, c.ring_housing), bh = std::min(bh, c.barrel_housing), br = std::min(br, c.barrel_ring);
+    for (const auto& c : f.clearance)
+      rh = std::min(rh, c.ring_housing), bh = std::min(bh, c.barrel_housing), br = std::min(br, c.barrel_ring);
     const double cmin = std::min({rh, bh, br});
-    return {100 * fmin, 100 * mean, 100.0 * static_cast<double>(full) / static_cast<double>(f.fraction.size()), 0.0,
-            1e3 * cmin, 1e3 * rh, 1e3 * bh, 1e3 * br, 0.0};
+    return {100 * fmin, 100 * mean, 100.0 * static_cast<double>(full) / static_cast<double>(f.fraction.size()),
+            0.0,        1e3 * cmin, 1e3 * rh,
+            1e3 * bh,   1e3 * br,   0.0};
   }
 
   /// The outputs of one error realization, with the shifts from the nominal design's.
@@ -151,19 +156,28 @@ json ObstructionStudy::details(const McResult&) const {
     for (std::size_t ib = 0; ib < pitch_.size(); ++ib) {
       const std::size_t k = ia * pitch_.size() + ib;
       const auto& c = nominal_field_.clearance[k];
-      map.push_back({{"yaw_deg", yaw_[ia] / units::kRadPerDeg}, {"pitch_deg", pitch_[ib] / units::kRadPerDeg},
-                     {"fraction", nominal_field_.fraction[k]}, {"ring_housing_mm", 1e3 * c.ring_housing},
-                     {"barrel_housing_mm", 1e3 * c.barrel_housing}, {"barrel_ring_mm", 1e3 * c.barrel_ring}});
+      map.push_back({{"yaw_deg", yaw_[ia] / units::kRadPerDeg},
+                     {"pitch_deg", pitch_[ib] / units::kRadPerDeg},
+                     {"fraction", nominal_field_.fraction[k]},
+                     {"ring_housing_mm", 1e3 * c.ring_housing},
+                     {"barrel_housing_mm", 1e3 * c.barrel_housing},
+                     {"barrel_ring_mm", 1e3 * c.barrel_ring}});
     }
   }
   return {{"grid", {{"yaw_points", gs.yaw_points}, {"pitch_points", gs.pitch_points}}},
           {"beam_rays", gs.beam_rays},
           {"clearance_per_sample", gs.clearance_per_sample},
-          {"nominal", {{"outputs", nom}, {"grid", map},
-                       {"geometry_mm", {{"yaw_span", 1e3 * g.yaw_span}, {"pitch_span", 1e3 * g.pitch_span},
-                                        {"housing_radius", 1e3 * g.housing_radius}, {"window_radius", 1e3 * g.window_radius},
-                                        {"aperture_radius", 1e3 * g.aperture_radius}, {"front_x", 1e3 * g.front_x}}},
-                       {"clearance_below_warning", nominal_[4] < 1e3 * gs.clearance_warn}}}};
+          {"nominal",
+           {{"outputs", nom},
+            {"grid", map},
+            {"geometry_mm",
+             {{"yaw_span", 1e3 * g.yaw_span},
+              {"pitch_span", 1e3 * g.pitch_span},
+              {"housing_radius", 1e3 * g.housing_radius},
+              {"window_radius", 1e3 * g.window_radius},
+              {"aperture_radius", 1e3 * g.aperture_radius},
+              {"front_x", 1e3 * g.front_x}}},
+            {"clearance_below_warning", nominal_[4] < 1e3 * gs.clearance_warn}}}};
 }
 
 // The report's own sections: the nominal design with its maps over the field, the clearance
@@ -172,9 +186,10 @@ void ObstructionStudy::report_sections(const McResult& mc, const std::string& pl
                                        std::vector<std::string>&, std::ostringstream& h) const {
   const GeometryStudySpec& gs = geometry_sections(cfg_).geometry;
   const auto& g = *model_.geometry;
-  h << "<h2>Nominal design</h2>\n<p>Yaw span " << fmt_g(1e3 * g.yaw_span) << " mm, pitch span " << fmt_g(1e3 * g.pitch_span)
-    << " mm; housing radius " << fmt_g(1e3 * g.housing_radius) << " mm, window opening radius " << fmt_g(1e3 * g.window_radius)
-    << " mm, clear aperture radius " << fmt_g(1e3 * g.aperture_radius) << " mm, " << gs.beam_rays
+  h << "<h2>Nominal design</h2>\n<p>Yaw span " << fmt_g(1e3 * g.yaw_span) << " mm, pitch span "
+    << fmt_g(1e3 * g.pitch_span) << " mm; housing radius " << fmt_g(1e3 * g.housing_radius)
+    << " mm, window opening radius " << fmt_g(1e3 * g.window_radius) << " mm, clear aperture radius "
+    << fmt_g(1e3 * g.aperture_radius) << " mm, " << gs.beam_rays
     << " beam rays.</p>\n<table><tr><th class='l'>output</th><th>nominal</th></tr>\n";
   for (std::size_t k = 0; k < kNumOutputs; ++k) {
     if (k == 3 || k == 8) continue;  // the shifts: zero for the nominal design
@@ -211,38 +226,46 @@ void ObstructionStudy::report_sections(const McResult& mc, const std::string& pl
   std::vector<GeometryPlot> figures;
   figures.push_back({"map_fraction", map_dat.str(),
                      "set title 'Unobstructed share of the beam, nominal design [%]'\nset xlabel 'yaw [deg]'\n"
-                     "set ylabel 'pitch [deg]'\n" + std::string(kViridisPalette) + "set cblabel '%'\n"
-                     "plot 'map_fraction.dat' u 1:2:3 with image notitle, '' u 1:2:(sprintf(\"yaw %g deg, pitch "
-                     "%g deg: %.4g %% unobstructed, least clearance %.3g mm\", $1, $2, $3, $4)) with labels "
-                     "hypertext point pt 7 ps 0.3 lc rgb '#ffffff' notitle\n",
+                     "set ylabel 'pitch [deg]'\n" +
+                         std::string(kViridisPalette) +
+                         "set cblabel '%'\n"
+                         "plot 'map_fraction.dat' u 1:2:3 with image notitle, '' u 1:2:(sprintf(\"yaw %g deg, pitch "
+                         "%g deg: %.4g %% unobstructed, least clearance %.3g mm\", $1, $2, $3, $4)) with labels "
+                         "hypertext point pt 7 ps 0.3 lc rgb '#ffffff' notitle\n",
                      "Unobstructed share of the beam over the field of regard (nominal)"});
   figures.push_back({"map_clearance", map_dat.str(),
                      "set title 'Least clearance of the moving frames, nominal design [mm]'\nset xlabel 'yaw [deg]'\n"
-                     "set ylabel 'pitch [deg]'\n" + std::string(kViridisPalette) + "set cblabel 'mm'\n"
-                     "plot 'map_clearance.dat' u 1:2:4 with image notitle, '' u 1:2:(sprintf(\"yaw %g deg, pitch "
-                     "%g deg: least clearance %.3g mm, %.4g %% unobstructed\", $1, $2, $4, $3)) with labels "
-                     "hypertext point pt 7 ps 0.3 lc rgb '#ffffff' notitle\n",
+                     "set ylabel 'pitch [deg]'\n" +
+                         std::string(kViridisPalette) +
+                         "set cblabel 'mm'\n"
+                         "plot 'map_clearance.dat' u 1:2:4 with image notitle, '' u 1:2:(sprintf(\"yaw %g deg, pitch "
+                         "%g deg: least clearance %.3g mm, %.4g %% unobstructed\", $1, $2, $4, $3)) with labels "
+                         "hypertext point pt 7 ps 0.3 lc rgb '#ffffff' notitle\n",
                      "Least clearance (ring-housing, barrel-housing, barrel-ring) over the field (nominal)"});
-  figures.push_back({"clearance_vs_pitch", sweep_dat.str(),
-                     "set title 'Clearance against pitch, nominal design'\nset xlabel 'pitch [deg]'\nset ylabel 'mm'\n"
-                     "set key outside right\n"
-                     "plot 'clearance_vs_pitch.dat' u 1:2 w l lw 2 t 'ring-housing, yaw 0', '' u 1:3 w l lw 2 t "
-                     "'barrel-housing, yaw 0', '' u 1:4 w l lw 2 t 'barrel-ring, yaw 0', '' u 1:5 w l dt 2 lw 2 t "
-                     "'ring-housing, yaw max', '' u 1:6 w l dt 2 lw 2 t 'barrel-housing, yaw max', '' u 1:7 w l dt 2 lw 2 t "
-                     "'barrel-ring, yaw max'\n",
-                     "Clearances of the moving frames against pitch at yaw 0 and at the yaw limit"});
+  figures.push_back(
+      {"clearance_vs_pitch", sweep_dat.str(),
+       "set title 'Clearance against pitch, nominal design'\nset xlabel 'pitch [deg]'\nset ylabel 'mm'\n"
+       "set key outside right\n"
+       "plot 'clearance_vs_pitch.dat' u 1:2 w l lw 2 t 'ring-housing, yaw 0', '' u 1:3 w l lw 2 t "
+       "'barrel-housing, yaw 0', '' u 1:4 w l lw 2 t 'barrel-ring, yaw 0', '' u 1:5 w l dt 2 lw 2 t "
+       "'ring-housing, yaw max', '' u 1:6 w l dt 2 lw 2 t 'barrel-housing, yaw max', '' u 1:7 w l dt 2 lw 2 t "
+       "'barrel-ring, yaw max'\n",
+       "Clearances of the moving frames against pitch at yaw 0 and at the yaw limit"});
   if (!mc.ok_index.empty()) {
     std::ostringstream sample_dat;
     sample_dat << "# min_fraction_pct min_fraction_shift_ppm min_clearance_mm clearance_shift_um\n";
     for (std::size_t m = 0; m < mc.ok_index.size(); ++m) {
-      sample_dat << mc.values[0][m] << ' ' << mc.values[3][m] << ' ' << mc.values[4][m] << ' ' << mc.values[8][m] << '\n';
+      sample_dat << mc.values[0][m] << ' ' << mc.values[3][m] << ' ' << mc.values[4][m] << ' ' << mc.values[8][m]
+                 << '\n';
     }
-    figures.push_back({"hist_min_fraction", sample_dat.str(),
-                       histogram_script("hist_min_fraction.dat", 2, "Least beam share minus nominal, per sample", "shift [ppm]"),
-                       "Change of the least unobstructed share by the shafting tolerances"});
-    figures.push_back({"hist_clearance", sample_dat.str(),
-                       histogram_script("hist_clearance.dat", 4, "Least clearance minus nominal, per sample", "shift [um]"),
-                       "Change of the least clearance by the shafting tolerances"});
+    figures.push_back(
+        {"hist_min_fraction", sample_dat.str(),
+         histogram_script("hist_min_fraction.dat", 2, "Least beam share minus nominal, per sample", "shift [ppm]"),
+         "Change of the least unobstructed share by the shafting tolerances"});
+    figures.push_back(
+        {"hist_clearance", sample_dat.str(),
+         histogram_script("hist_clearance.dat", 4, "Least clearance minus nominal, per sample", "shift [um]"),
+         "Change of the least clearance by the shafting tolerances"});
   }
   h << "<h2>Field of regard, nominal and as built</h2>\n" << geometry_figures_html(plots_dir, figures);
 }
@@ -265,7 +288,8 @@ std::string validate_obstruction_study(const StudyConfig& cfg) {
                 cfg.file.c_str(), cfg.name.c_str(), cfg.kind.c_str(), study.model().name.c_str(), 1e3 * g.yaw_span,
                 1e3 * g.pitch_span, 1e3 * g.housing_radius, 1e3 * g.window_radius, study.sampler().dimension(),
                 sampling::to_string(cfg.method).c_str(), cfg.samples, static_cast<unsigned long long>(cfg.seed),
-                geometry_sections(cfg).geometry.yaw_points, geometry_sections(cfg).geometry.pitch_points, geometry_sections(cfg).geometry.beam_rays,
+                geometry_sections(cfg).geometry.yaw_points, geometry_sections(cfg).geometry.pitch_points,
+                geometry_sections(cfg).geometry.beam_rays,
                 geometry_sections(cfg).geometry.clearance_per_sample ? "per sample" : "nominal only");
   return buf;
 }

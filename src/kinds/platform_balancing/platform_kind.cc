@@ -3,15 +3,15 @@
 
 #include <cstdio>
 
-#include "engine/kind_interface/procedure_kind.h"
-#include "kinds/platform_balancing/platform_model.h"
-#include "kinds/platform_balancing/platform_study.h"
-#include "kinds/platform_balancing/platform_report.h"
-#include "kinds/platform_balancing/platform_study_config.h"
-#include "engine/run/procedure_runner.h"
-#include "model_files/seeker_model.h"
 #include <algorithm>
 #include <thread>
+#include "engine/kind_interface/procedure_kind.h"
+#include "engine/run/procedure_runner.h"
+#include "kinds/platform_balancing/platform_model.h"
+#include "kinds/platform_balancing/platform_report.h"
+#include "kinds/platform_balancing/platform_study.h"
+#include "kinds/platform_balancing/platform_study_config.h"
+#include "model_files/seeker_model.h"
 
 namespace poise::kinds::platform_balancing {
 using namespace poise::engine;
@@ -61,18 +61,20 @@ class PlatformBalancingKind final : public ProcedureKind {
     if (!platform_sections(cfg).platform.shafting_study.empty()) {
       const StudyConfig sc = load_study(platform_sections(cfg).platform.shafting_study);
       if (sc.kind != "seeker_los") {
-        throw Error(cfg.file + ": [platform.shafting] study " + sc.file + " is of kind '" + sc.kind + "', expected 'seeker_los'");
+        throw Error(cfg.file + ": [platform.shafting] study " + sc.file + " is of kind '" + sc.kind +
+                    "', expected 'seeker_los'");
       }
       load_seeker_model(sc.model_path, sc.overrides);
     }
     PlatformStudy study(cfg, model, cfg.samples, cfg.seed);
     char buf[512];
-    std::snprintf(buf, sizeof buf,
-                  "%s: valid. Study '%s' (%s) on model '%s': %zu unit-scope random inputs, %s design, %zu samples, seed "
-                  "%llu; per sample %zu test order(s) x 3 axis tests of %zu turntable positions.",
-                  cfg.file.c_str(), cfg.name.c_str(), cfg.kind.c_str(), model.name.c_str(), study.input_names().size(),
-                  sampling::to_string(cfg.method).c_str(), cfg.samples, static_cast<unsigned long long>(cfg.seed),
-                  platform_sections(cfg).platform.orders.size(), platform_sections(cfg).platform.positions);
+    std::snprintf(
+        buf, sizeof buf,
+        "%s: valid. Study '%s' (%s) on model '%s': %zu unit-scope random inputs, %s design, %zu samples, seed "
+        "%llu; per sample %zu test order(s) x 3 axis tests of %zu turntable positions.",
+        cfg.file.c_str(), cfg.name.c_str(), cfg.kind.c_str(), model.name.c_str(), study.input_names().size(),
+        sampling::to_string(cfg.method).c_str(), cfg.samples, static_cast<unsigned long long>(cfg.seed),
+        platform_sections(cfg).platform.orders.size(), platform_sections(cfg).platform.positions);
     return buf;
   }
 };

@@ -3,8 +3,8 @@
 #include <cmath>
 
 #include "core/units.h"
-#include "model_files/gimbal_model.h"
 #include "engine/study_files/model_overrides.h"
+#include "model_files/gimbal_model.h"
 
 namespace poise::kinds::platform_balancing {
 using namespace poise::engine;
@@ -89,11 +89,15 @@ PlatformModel load_platform_model(const std::string& path, const std::map<std::s
     const std::string loop = t.choice("loop", {"position_pid", "rate_pi"}, "position_pid");
     s.type = loop == "rate_pi" ? models::LoopType::kRatePi : models::LoopType::kPositionPid;
     if (t.schema_only()) {  // `poise keys`: each loop's own keys are required with that loop only
-      t.ask("natural_frequency", "a frequency with its unit, e.g. \"40 Hz\": the PD part's natural frequency w_n "
-            "(K_p = J w_n^2); required with loop = \"position_pid\" (the default)", "", false);
+      t.ask("natural_frequency",
+            "a frequency with its unit, e.g. \"40 Hz\": the PD part's natural frequency w_n "
+            "(K_p = J w_n^2); required with loop = \"position_pid\" (the default)",
+            "", false);
       t.ask("damping", "a positive damping ratio; required with loop = \"position_pid\" (the default)", "", false);
-      t.ask("crossover", "a frequency with its unit, e.g. \"40 Hz\": the rate loop's open-loop crossover; "
-            "required with loop = \"rate_pi\"", "", false);
+      t.ask("crossover",
+            "a frequency with its unit, e.g. \"40 Hz\": the rate loop's open-loop crossover; "
+            "required with loop = \"rate_pi\"",
+            "", false);
     }
     if (t.schema_only() || s.type == models::LoopType::kPositionPid) {
       s.frequency_hz = t.quantity("natural_frequency", units::kFrequency, positive);
@@ -104,7 +108,8 @@ PlatformModel load_platform_model(const std::string& path, const std::map<std::s
     }
     s.integral_ratio = t.number("integral_ratio", [](double v) { return v >= 0 ? "" : "a ratio >= 0"; });
     if (s.type == models::LoopType::kRatePi && !(s.integral_ratio > 0)) {
-      t.error("integral_ratio", "0", "a ratio > 0 for loop = \"rate_pi\" (w_i = rho w_c; 0 leaves no position stiffness)");
+      t.error("integral_ratio", "0",
+              "a ratio > 0 for loop = \"rate_pi\" (w_i = rho w_c; 0 leaves no position stiffness)");
     }
     t.accept_notes();
   }

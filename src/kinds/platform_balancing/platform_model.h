@@ -33,11 +33,11 @@
 #include <map>
 #include <string>
 
+#include "engine/study_files/model_overrides.h"
+#include "engine/study_files/tolerance_spec.h"
 #include "models/platform_statics.h"
 #include "models/stabilization_loop.h"
 #include "procedures/static_unbalance_procedure.h"
-#include "engine/study_files/tolerance_spec.h"
-#include "engine/study_files/model_overrides.h"
 
 namespace poise::kinds::platform_balancing {
 using namespace poise::engine;
@@ -45,33 +45,33 @@ using namespace poise::engine;
 /// One gimbal: mass properties, its motor and bearings (the disk-rotor parameters of its
 /// test), its correction plane and where it is locked while the others are tested.
 struct PlatformGimbal {
-  double mass = 0.0;                                       ///< kg, with what it carries alone
-  Eigen::Vector3d inertia = Eigen::Vector3d::Zero();       ///< principal, about the centre (kg m^2)
-  Eigen::Vector3d centroid = Eigen::Vector3d::Zero();      ///< design centroid (m), own frame
-  models::DiskRotorParams bearing;   ///< friction, cable, support; mass / inertia / e set per test
-  double kt_nominal = 0.0;           ///< N m/A
-  double current_limit = 0.0;        ///< A
-  double counterweight_radius = 0.0; ///< R of Eq. 23 (m)
-  double counterweight_plane = 0.0;  ///< h, axial position of the correction plane (m)
-  double lock_angle = 0.0;           ///< rad, while another axis is tested
+  double mass = 0.0;                                   ///< kg, with what it carries alone
+  Eigen::Vector3d inertia = Eigen::Vector3d::Zero();   ///< principal, about the centre (kg m^2)
+  Eigen::Vector3d centroid = Eigen::Vector3d::Zero();  ///< design centroid (m), own frame
+  models::DiskRotorParams bearing;                     ///< friction, cable, support; mass / inertia / e set per test
+  double kt_nominal = 0.0;                             ///< N m/A
+  double current_limit = 0.0;                          ///< A
+  double counterweight_radius = 0.0;                   ///< R of Eq. 23 (m)
+  double counterweight_plane = 0.0;                    ///< h, axial position of the correction plane (m)
+  double lock_angle = 0.0;                             ///< rad, while another axis is tested
 };
 
-struct PlatformModel : ModelHeader {  ///< file, name, title, source of the model file
-  std::array<PlatformGimbal, 3> gimbals;  ///< indexed by models::Axis (inner, middle, outer)
-  procedures::TestPlan plan;              ///< servo gains, oscillation, acquisition, turntable, solver
+struct PlatformModel : ModelHeader {        ///< file, name, title, source of the model file
+  std::array<PlatformGimbal, 3> gimbals;    ///< indexed by models::Axis (inner, middle, outer)
+  procedures::TestPlan plan;                ///< servo gains, oscillation, acquisition, turntable, solver
   models::StabilizationLoop stabilization;  ///< inertia set per axis
   // Tolerances (SI). Centroids: each component of each gimbal's centroid offset.
   std::array<ScopedTolerance, 3> centroid;  ///< indexed by Axis
-  ScopedTolerance kt_calibration;   ///< K_T true / nominal - 1, each motor
-  ScopedTolerance kt_drift;         ///< further K_T change by the test
-  ScopedTolerance lock_error;       ///< each locked gimbal in each test (rad)
-  ScopedTolerance fixture_tilt;     ///< tested axis vs turntable axis (rad), random azimuth
-  ScopedTolerance turntable_zero;   ///< rad
-  ScopedTolerance gimbal_zero;      ///< registration of the tested gimbal's zero (rad)
-  ScopedTolerance counterweight_mass;    ///< relative
-  ScopedTolerance counterweight_radius;  ///< m
-  ScopedTolerance counterweight_angle;   ///< rad
-  ScopedTolerance counterweight_plane;   ///< axial placement (m)
+  ScopedTolerance kt_calibration;           ///< K_T true / nominal - 1, each motor
+  ScopedTolerance kt_drift;                 ///< further K_T change by the test
+  ScopedTolerance lock_error;               ///< each locked gimbal in each test (rad)
+  ScopedTolerance fixture_tilt;             ///< tested axis vs turntable axis (rad), random azimuth
+  ScopedTolerance turntable_zero;           ///< rad
+  ScopedTolerance gimbal_zero;              ///< registration of the tested gimbal's zero (rad)
+  ScopedTolerance counterweight_mass;       ///< relative
+  ScopedTolerance counterweight_radius;     ///< m
+  ScopedTolerance counterweight_angle;      ///< rad
+  ScopedTolerance counterweight_plane;      ///< axial placement (m)
 
   const PlatformGimbal& gimbal(models::Axis a) const { return gimbals[static_cast<std::size_t>(a)]; }
   /// The platform as designed (centroids at their design values, no counterweights).

@@ -5,8 +5,8 @@
 
 #include "core/error.h"
 #include "core/units.h"
-#include "models/seeker_los_chain.h"
 #include "kinds/platform_balancing/platform_study_config.h"
+#include "models/seeker_los_chain.h"
 
 namespace poise::kinds::platform_balancing {
 namespace {
@@ -39,10 +39,10 @@ const ScopedTolerance& tolerance_of(const PlatformModel& m, int slot) {
 }
 
 const char* slot_name(int slot) {
-  static const char* kNames[] = {"inner_centroid", "middle_centroid", "outer_centroid", "kt_calibration",
-                                 "kt_drift", "lock_error", "fixture_tilt", "turntable_zero", "gimbal_zero",
-                                 "counterweight_mass", "counterweight_radius", "counterweight_angle",
-                                 "counterweight_plane"};
+  static const char* kNames[] = {
+      "inner_centroid",       "middle_centroid",     "outer_centroid",     "kt_calibration", "kt_drift",
+      "lock_error",           "fixture_tilt",        "turntable_zero",     "gimbal_zero",    "counterweight_mass",
+      "counterweight_radius", "counterweight_angle", "counterweight_plane"};
   return kNames[slot];
 }
 
@@ -67,9 +67,7 @@ std::string instance_label(int slot, int k) {
   return models::axis_name(static_cast<Axis>(k));
 }
 
-double& angle_of(models::GimbalAngles& q, int axis) {
-  return axis == 0 ? q.gamma : (axis == 1 ? q.beta : q.alpha);
-}
+double& angle_of(models::GimbalAngles& q, int axis) { return axis == 0 ? q.gamma : (axis == 1 ? q.beta : q.alpha); }
 
 std::string unit_suffix(const ScopedTolerance& t) {
   std::string u = t.spec.display_unit;
@@ -113,32 +111,38 @@ PlatformStudy::PlatformStudy(StudyConfig config, PlatformModel model, std::size_
   for (const auto& [s, k] : unit_slots_) {
     const ScopedTolerance& t = tolerance_of(model_, s);
     input_names_.push_back(std::string(slot_name(s)) + "_" + instance_label(s, k) + unit_suffix(t));
-    if (s == Slot::kFixtureTilt) input_names_.push_back(std::string(slot_name(s)) + "_" + instance_label(s, k) + "_azimuth_deg");
+    if (s == Slot::kFixtureTilt)
+      input_names_.push_back(std::string(slot_name(s)) + "_" + instance_label(s, k) + "_azimuth_deg");
     input_tolerances_.resize(input_names_.size(), std::string("tolerances.") + slot_name(s));
   }
   std::vector<OutputSpec> outputs;
   outputs.reserve(models::kAllAxes.size());
   for (Axis a : models::kAllAxes) {
     outputs.push_back({std::string("initial_") + models::axis_name(a) + "_torque_max_mNm", "mN*m",
-                        std::string("largest unbalance torque on the ") + models::axis_name(a) +
-                            " axis before balancing, over the gimbal-angle grid"});
+                       std::string("largest unbalance torque on the ") + models::axis_name(a) +
+                           " axis before balancing, over the gimbal-angle grid"});
   }
   static constexpr OutputDeclaration kAxisOutputs[] = {
       {"measured_mNm", "mN*m", "MT_s measured in the axis test"},
-      {"residual_gmm", "g*mm", "residual first moment perpendicular to the axis after the campaign, at the lock angles"},
+      {"residual_gmm", "g*mm",
+       "residual first moment perpendicular to the axis after the campaign, at the lock angles"},
       {"residual_grid_max_gmm", "g*mm", "the same, greatest over the gimbal-angle grid"},
       {"torque_max_mNm", "mN*m", "largest residual unbalance torque over the grid, under gravity"},
       {"torque_rms_mNm", "mN*m", "RMS residual unbalance torque over the grid, under gravity"},
-      {"torque_max_acc_mNm", "mN*m", "largest residual unbalance torque over the grid, under gravity plus the stated carrier acceleration"},
-      {"torque_rms_acc_mNm", "mN*m", "RMS residual unbalance torque over the grid, under gravity plus the stated carrier acceleration"},
+      {"torque_max_acc_mNm", "mN*m",
+       "largest residual unbalance torque over the grid, under gravity plus the stated carrier acceleration"},
+      {"torque_rms_acc_mNm", "mN*m",
+       "RMS residual unbalance torque over the grid, under gravity plus the stated carrier acceleration"},
   };
   for (const auto& label : platform_sections(config_).platform.order_labels) {
     for (Axis a : models::kAllAxes) {
       append_outputs(outputs, label + "_" + models::axis_name(a) + "_", kAxisOutputs,
                      "order " + label + ", " + models::axis_name(a) + " axis: ");
     }
-    outputs.push_back({label + "_los_max_arcsec", "arcsec", "order " + label + ": peak LOS error over the carrier profile, worst grid point"});
-    outputs.push_back({label + "_los_rms_arcsec", "arcsec", "order " + label + ": RMS LOS error over the carrier profile, worst grid point"});
+    outputs.push_back({label + "_los_max_arcsec", "arcsec",
+                       "order " + label + ": peak LOS error over the carrier profile, worst grid point"});
+    outputs.push_back({label + "_los_rms_arcsec", "arcsec",
+                       "order " + label + ": RMS LOS error over the carrier profile, worst grid point"});
   }
   declare_outputs(std::move(outputs));
   // Grid of gimbal angles.
@@ -165,7 +169,8 @@ PlatformStudy::PlatformStudy(StudyConfig config, PlatformModel model, std::size_
   prof.manoeuvre = {ps.manoeuvre[0], ps.manoeuvre[1], ps.manoeuvre[2]};
   prof.onset = ps.onset;
   prof.rise_time = ps.rise_time;
-  for (const auto& v : ps.vibration) prof.vibration.push_back({{v.amplitude[0], v.amplitude[1], v.amplitude[2]}, v.frequency});
+  for (const auto& v : ps.vibration)
+    prof.vibration.push_back({{v.amplitude[0], v.amplitude[1], v.amplitude[2]}, v.frequency});
   const std::size_t n = prof.steps();
   profile_time_.resize(n);
   for (std::size_t t = 0; t < n; ++t) profile_time_[t] = static_cast<double>(t) * prof.time_step;
@@ -194,7 +199,8 @@ PlatformDraws PlatformStudy::draws(std::size_t i) const {
       const double v = t.per_test ? rs.uniform() : u[k++];
       d.value[static_cast<std::size_t>(s)][static_cast<std::size_t>(j)] =
           s == Slot::kFixtureTilt ? t.spec.dist.magnitude_quantile(v) : t.spec.dist.quantile(v);
-      if (s == Slot::kFixtureTilt) d.tilt_azimuth[static_cast<std::size_t>(j)] = 2.0 * kPi * (t.per_test ? rs.uniform() : u[k++]);
+      if (s == Slot::kFixtureTilt)
+        d.tilt_azimuth[static_cast<std::size_t>(j)] = 2.0 * kPi * (t.per_test ? rs.uniform() : u[k++]);
     }
   }
   return d;
@@ -205,7 +211,8 @@ models::Platform PlatformStudy::as_built(const PlatformDraws& d) const {
   for (Axis a : models::kAllAxes) {
     const auto ia = static_cast<std::size_t>(a);
     const auto& off = d.value[Slot::kInnerCentroid + ia];
-    p.body(a).first_moment = model_.gimbal(a).mass * (model_.gimbal(a).centroid + Eigen::Vector3d(off[0], off[1], off[2]));
+    p.body(a).first_moment =
+        model_.gimbal(a).mass * (model_.gimbal(a).centroid + Eigen::Vector3d(off[0], off[1], off[2]));
   }
   return p;
 }
@@ -249,13 +256,15 @@ CampaignResult PlatformStudy::run_campaign(std::size_t i, const models::Platform
     procedures::TestPlan plan = model_.plan;
     plan.positions.clear();
     for (std::size_t p = 0; p < platform_sections(config_).platform.positions; ++p) {
-      plan.positions.push_back(2.0 * kPi * static_cast<double>(p) / static_cast<double>(platform_sections(config_).platform.positions));
+      plan.positions.push_back(2.0 * kPi * static_cast<double>(p) /
+                               static_cast<double>(platform_sections(config_).platform.positions));
     }
     plan.servo.kt_nominal = gim.kt_nominal;
     plan.servo.current_limit = gim.current_limit;
     plan.servo.inertia_estimate = axis_inertia_[ia];
     plan.oscillation.centre = d.value[Slot::kGimbalZero][ia];
-    sampling::RandomStream noise(seed_, static_cast<sampling::StreamId>(kAxisNoiseStream + ia), design_.stream_index(i, 1));
+    sampling::RandomStream noise(seed_, static_cast<sampling::StreamId>(kAxisNoiseStream + ia),
+                                 design_.stream_index(i, 1));
     const procedures::MeasurementResult m = procedures::run_static_unbalance_procedure(plan, truth, noise, ws);
     r.solver_steps += m.solver.steps;
     r.rhs_evals += m.solver.rhs_evals;
@@ -371,8 +380,8 @@ void PlatformStudy::compute(std::size_t i, Workspace& ws, SampleResult& out) con
       const Residual r = residual(c.platform);
       for (std::size_t k = 0; k < 3; ++k) {
         const double values[] = {c.tests[k].measured * 1e3, r.perpendicular[k] * 1e6, r.perpendicular_grid_max[k] * 1e6,
-                                 r.max_g[k] * 1e3,
-                                 r.rms_g[k] * 1e3,          r.max_acc[k] * 1e3,     r.rms_acc[k] * 1e3};
+                                 r.max_g[k] * 1e3,          r.rms_g[k] * 1e3,         r.max_acc[k] * 1e3,
+                                 r.rms_acc[k] * 1e3};
         for (double v : values) out.outputs[o++] = v;
       }
       out.outputs[o++] = r.los_max * units::kArcsecPerRad;
@@ -393,7 +402,9 @@ std::vector<std::string> PlatformStudy::tolerance_keys() const {
 }
 
 nlohmann::json PlatformStudy::solver_json(const McResult& mc) const {
-  return {{"steps", mc.solver_steps}, {"rhs_evals", mc.rhs_evals}, {"rtol", model_.plan.solver.rtol},
+  return {{"steps", mc.solver_steps},
+          {"rhs_evals", mc.rhs_evals},
+          {"rtol", model_.plan.solver.rtol},
           {"max_order", model_.plan.solver.max_order}};
 }
 

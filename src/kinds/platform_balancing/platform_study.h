@@ -37,11 +37,11 @@
 #include <string>
 #include <vector>
 
-#include "sampling/design.h"
-#include "sampling/random_stream.h"
-#include "kinds/platform_balancing/platform_model.h"
 #include "engine/kind_interface/procedure_study.h"
 #include "engine/study_files/study_config.h"
+#include "kinds/platform_balancing/platform_model.h"
+#include "sampling/design.h"
+#include "sampling/random_stream.h"
 
 namespace poise::kinds::platform_balancing {
 using namespace poise::engine;
@@ -50,9 +50,20 @@ using namespace poise::engine;
 /// motor by models::Axis; lock errors 2 per test: the two locked gimbals in axis order).
 struct PlatformDraws {
   enum Slot {
-    kInnerCentroid, kMiddleCentroid, kOuterCentroid, kKtCalibration, kKtDrift, kLockError, kFixtureTilt,
-    kTurntableZero, kGimbalZero, kCounterweightMass, kCounterweightRadius, kCounterweightAngle,
-    kCounterweightPlane, kNumSlots
+    kInnerCentroid,
+    kMiddleCentroid,
+    kOuterCentroid,
+    kKtCalibration,
+    kKtDrift,
+    kLockError,
+    kFixtureTilt,
+    kTurntableZero,
+    kGimbalZero,
+    kCounterweightMass,
+    kCounterweightRadius,
+    kCounterweightAngle,
+    kCounterweightPlane,
+    kNumSlots
   };
   std::array<std::array<double, 6>, kNumSlots> value{};
   std::array<double, 3> tilt_azimuth{};  ///< rad, per axis test
@@ -60,17 +71,17 @@ struct PlatformDraws {
 
 /// One axis test of a campaign.
 struct AxisTestRecord {
-  double true_unbalance = 0.0;    ///< |S perpendicular| of the assembly when tested (kg m)
-  double measured = 0.0;          ///< MT_s (N m)
-  double phase = 0.0;             ///< b (rad)
+  double true_unbalance = 0.0;      ///< |S perpendicular| of the assembly when tested (kg m)
+  double measured = 0.0;            ///< MT_s (N m)
+  double phase = 0.0;               ///< b (rad)
   double counterweight_mass = 0.0;  ///< kg, as placed
-  double max_swing = 0.0;         ///< rad
+  double max_swing = 0.0;           ///< rad
   bool saturated = false;
 };
 
 struct CampaignResult {
-  models::Platform platform;               ///< after the campaign, counterweights included
-  std::array<AxisTestRecord, 3> tests;     ///< by models::Axis
+  models::Platform platform;            ///< after the campaign, counterweights included
+  std::array<AxisTestRecord, 3> tests;  ///< by models::Axis
   long solver_steps = 0, rhs_evals = 0;
 };
 
@@ -113,7 +124,7 @@ class PlatformStudy : public ProcedureStudyBase<PlatformStudy> {
   struct Residual {
     std::array<double, 3> perpendicular{}, max_g{}, rms_g{}, max_acc{}, rms_acc{};  ///< kg m, N m
     std::array<double, 3> perpendicular_grid_max{};  ///< kg m, greatest over the angle grid
-    double los_max = 0.0, los_rms = 0.0;  ///< rad
+    double los_max = 0.0, los_rms = 0.0;             ///< rad
   };
   /// Residual torques over the grid and the LOS error under the profile.
   Residual residual(const models::Platform& p) const;

@@ -44,7 +44,8 @@ void read_platform_section(TomlReader& root, const std::string& study_path, Plat
     bool ok = false;
     const auto order = parse_order(text, &ok);
     if (!ok) {
-      t.error("orders", quote_value(text), "each of inner, middle, outer once, comma-separated, e.g. \"inner,middle,outer\"");
+      t.error("orders", quote_value(text),
+              "each of inner, middle, outer once, comma-separated, e.g. \"inner,middle,outer\"");
       continue;
     }
     std::string label;
@@ -65,14 +66,16 @@ void read_platform_section(TomlReader& root, const std::string& study_path, Plat
   range("outer", c.outer_min, c.outer_max, c.outer_points);
   range("middle", c.middle_min, c.middle_max, c.middle_points);
   range("inner", c.inner_min, c.inner_max, c.inner_points);
-  c.acceleration = {t.quantity("acceleration_x", units::kAcceleration), t.quantity("acceleration_y", units::kAcceleration),
+  c.acceleration = {t.quantity("acceleration_x", units::kAcceleration),
+                    t.quantity("acceleration_y", units::kAcceleration),
                     t.quantity("acceleration_z", units::kAcceleration)};
   t.string("notes", "");
   {
     TomlReader p = t.table("profile");
     c.duration = p.quantity("duration", units::kTime, positive);
     c.time_step = p.quantity("time_step", units::kTime, positive);
-    if (c.time_step > 0 && c.duration / c.time_step > 2e6) p.error("time_step", "", "at most 2e6 steps over the duration");
+    if (c.time_step > 0 && c.duration / c.time_step > 2e6)
+      p.error("time_step", "", "at most 2e6 steps over the duration");
     c.manoeuvre = {p.quantity("manoeuvre_x", units::kAcceleration), p.quantity("manoeuvre_y", units::kAcceleration),
                    p.quantity("manoeuvre_z", units::kAcceleration)};
     c.onset = p.quantity("onset", units::kTime, non_negative);
@@ -80,7 +83,8 @@ void read_platform_section(TomlReader& root, const std::string& study_path, Plat
     p.string("notes", "");
     for (auto& v : p.table_array("vibration")) {
       PlatformVibration line;
-      line.amplitude = {v.quantity("amplitude_x", units::kAcceleration), v.quantity("amplitude_y", units::kAcceleration),
+      line.amplitude = {v.quantity("amplitude_x", units::kAcceleration),
+                        v.quantity("amplitude_y", units::kAcceleration),
                         v.quantity("amplitude_z", units::kAcceleration)};
       line.frequency = v.quantity("frequency", units::kFrequency, positive);
       if (c.time_step > 0 && line.frequency * c.time_step > 0.1) {

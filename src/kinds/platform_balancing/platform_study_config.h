@@ -28,24 +28,23 @@ class TomlReader;  // engine/study_files/toml_reader.h
 namespace poise::kinds::platform_balancing {
 using namespace poise::engine;
 
-
 struct PlatformVibration {
   std::array<double, 3> amplitude{};  ///< m/s^2, base frame
   double frequency = 0.0;             ///< Hz
 };
 
 struct PlatformStudySection {
-  std::vector<std::array<int, 3>> orders;   ///< axis indices (0 inner, 1 middle, 2 outer)
-  std::vector<std::string> order_labels;    ///< "imo", "omi", ... (output prefixes)
-  std::vector<std::string> order_texts;     ///< as written
+  std::vector<std::array<int, 3>> orders;  ///< axis indices (0 inner, 1 middle, 2 outer)
+  std::vector<std::string> order_labels;   ///< "imo", "omi", ... (output prefixes)
+  std::vector<std::string> order_texts;    ///< as written
   std::size_t positions = 36;
   double outer_min = 0, outer_max = 0, middle_min = 0, middle_max = 0, inner_min = 0, inner_max = 0;  ///< rad
   std::size_t outer_points = 1, middle_points = 1, inner_points = 1;
-  std::array<double, 3> acceleration{};     ///< m/s^2, base frame
+  std::array<double, 3> acceleration{};                                   ///< m/s^2, base frame
   double duration = 1.0, time_step = 1e-3, onset = 0.0, rise_time = 0.0;  ///< s
-  std::array<double, 3> manoeuvre{};        ///< m/s^2, base frame
+  std::array<double, 3> manoeuvre{};                                      ///< m/s^2, base frame
   std::vector<PlatformVibration> vibration;
-  std::string shafting_study;               ///< resolved path, "" = none
+  std::string shafting_study;  ///< resolved path, "" = none
   std::size_t shafting_samples = 4096;
 };
 

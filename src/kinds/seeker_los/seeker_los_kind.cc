@@ -7,8 +7,8 @@
 #include "kinds/seeker_los/seeker_input_evaluator.h"
 #include "kinds/seeker_los/seeker_los_sections.h"
 #include "kinds/seeker_los/seeker_los_study.h"
-#include "model_files/seeker_model.h"
 #include "kinds/seeker_los/seeker_runner.h"
+#include "model_files/seeker_model.h"
 
 namespace poise::kinds::seeker_los {
 using namespace poise::engine;
@@ -33,9 +33,9 @@ class SeekerLosKind final : public ProcedureKind {
     const SeekerModel model = load_seeker_model(cfg.model_path, cfg.overrides);  // validates the overrides
     if (seeker_sections(cfg).geometry.clearance_output) {
       if (!model.geometry) {
-        throw ValidationError({InputError(SourceLocation{cfg.file, 0, 0}, "clearance.output", "true",
-                                          "a seeker model with a [geometry] section (" + cfg.model_path +
-                                              " has none)")});
+        throw ValidationError(
+            {InputError(SourceLocation{cfg.file, 0, 0}, "clearance.output", "true",
+                        "a seeker model with a [geometry] section (" + cfg.model_path + " has none)")});
       }
       out.push_back({"min_clearance_mm", "mm", "least clearance of the nominal frames to the housing"});
     }
@@ -54,8 +54,8 @@ class SeekerLosKind final : public ProcedureKind {
       r.limit_text = sec.requirement_text;
       r.confidence = 0.95;
       r.file = cfg.file;
-      r.origin = cfg.file + ": [requirement] los_error = \"" + sec.requirement_text +
-                 "\" (read as p99.73 of " + r.output + " at most " + sec.requirement_text + ", 95% confidence)";
+      r.origin = cfg.file + ": [requirement] los_error = \"" + sec.requirement_text + "\" (read as p99.73 of " +
+                 r.output + " at most " + sec.requirement_text + ", 95% confidence)";
       out.push_back(r);
     }
     return out;
@@ -72,7 +72,7 @@ class SeekerLosKind final : public ProcedureKind {
     cfg.method = sampling::SamplingMethod::kMonteCarlo;
     cfg.plots = false;
     auto sections = std::make_unique<SeekerLosSections>();  // a 13 x 13 grid
-    sections->requirement = 1.0;  // 1 px: only the field_ok_fraction output depends on it
+    sections->requirement = 1.0;                            // 1 px: only the field_ok_fraction output depends on it
     sections->requirement_in_pixels = true;
     sections->requirement_shorthand = false;
     sections->contribution_samples = 0;
@@ -106,7 +106,7 @@ class SeekerLosKind final : public ProcedureKind {
   }
   /// The engine's in-memory run, and the nominal clearance as one more output when asked for.
   McResult evaluate(const StudyConfig& cfg, const std::map<std::string, std::string>& model_overrides,
-                           std::size_t samples, std::uint64_t seed, int threads) const override {
+                    std::size_t samples, std::uint64_t seed, int threads) const override {
     const SeekerLosStudy study(cfg, load_seeker_model(cfg.model_path, model_overrides), samples, seed);
     McResult e = evaluate_procedure(study, threads);
     const GeometryStudySpec& g = seeker_sections(cfg).geometry;

@@ -53,14 +53,15 @@ std::unique_ptr<KindSections> read_seeker_los_sections(TomlReader& root, const S
       }
     }
   } else {
-    root.error("requirement", "[[requirement]] tables",
-               "an LOS limit: [requirement] los_error = \"1 px\", or a [[requirement]] on los_max_arcsec or los_max_px");
+    root.error(
+        "requirement", "[[requirement]] tables",
+        "an LOS limit: [requirement] los_error = \"1 px\", or a [[requirement]] on los_max_arcsec or los_max_px");
   }
   if (root.has_or_schema("output")) {
     TomlReader t = root.table("output");
     c->contribution_samples = static_cast<std::size_t>(t.integer("contribution_samples", 0, 1'000'000'000, 4096));
-    c->grid_values_in_memory_mb = static_cast<std::size_t>(t.integer(
-        "grid_values_in_memory_mb", 0, 1'000'000, static_cast<std::int64_t>(kKeepColumnsBytes >> 20)));
+    c->grid_values_in_memory_mb = static_cast<std::size_t>(
+        t.integer("grid_values_in_memory_mb", 0, 1'000'000, static_cast<std::int64_t>(kKeepColumnsBytes >> 20)));
   }
   return c;
 }

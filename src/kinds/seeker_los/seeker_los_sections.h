@@ -15,8 +15,8 @@
 #include <string>
 #include <vector>
 
-#include "engine/study_files/study_config.h"
 #include "engine/results/wide_columns.h"
+#include "engine/study_files/study_config.h"
 #include "geometry_studies/geometry_study.h"
 
 namespace poise::kinds::seeker_los {

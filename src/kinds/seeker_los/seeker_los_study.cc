@@ -9,17 +9,17 @@
 #include <memory>
 #include <optional>
 
-#include "core/units.h"
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_invoke.h>
 #include <tbb/task_arena.h>
+#include "core/units.h"
 
-#include "engine/run/convergence.h"
 #include "engine/results/field_statistics.h"
+#include "engine/run/convergence.h"
 #include "engine/run/sample_driver.h"
+#include "kinds/seeker_los/seeker_los_sections.h"
 #include "sampling/distributed.h"
 #include "sampling/progress.h"
-#include "kinds/seeker_los/seeker_los_sections.h"
 
 namespace poise::kinds::seeker_los {
 using namespace poise::engine;
@@ -27,8 +27,7 @@ namespace {
 constexpr double kArcsec = units::kArcsecPerRad;
 }  // namespace
 
-SeekerLosStudy::SeekerLosStudy(StudyConfig config, SeekerModel model, std::size_t samples,
-                               std::uint64_t seed)
+SeekerLosStudy::SeekerLosStudy(StudyConfig config, SeekerModel model, std::size_t samples, std::uint64_t seed)
     : config_(std::move(config)),
       model_(std::move(model)),
       sampler_(model_),
@@ -37,8 +36,9 @@ SeekerLosStudy::SeekerLosStudy(StudyConfig config, SeekerModel model, std::size_
       design_(make_design(config_, seed, samples, sampler_.dimension())),
       grid_(models::linspace(model_.yaw_min, model_.yaw_max, seeker_sections(config_).yaw_points),
             models::linspace(model_.pitch_min, model_.pitch_max, seeker_sections(config_).pitch_points)),
-      requirement_rad_(seeker_sections(config_).requirement_in_pixels ? seeker_sections(config_).requirement * model_.pixel_ifov
-                                                     : seeker_sections(config_).requirement) {
+      requirement_rad_(seeker_sections(config_).requirement_in_pixels
+                           ? seeker_sections(config_).requirement * model_.pixel_ifov
+                           : seeker_sections(config_).requirement) {
   for (const auto& c : sampler_.columns()) input_names_.push_back(c.name);
   append_outputs(outputs_, "", kSeekerOutputs);
   output_names_ = output_names_of(outputs_);
@@ -86,14 +86,10 @@ void SeekerLosStudy::evaluate_state(const models::SeekerErrorState& state, Works
     if (!grid_total_arcsec.empty()) grid_total_arcsec[g] = static_cast<float>(e.total * kArcsec);
   }
   const double n = static_cast<double>(ws.errors.size());
-  const double values[kNumSeekerOutputs] = {max_total * kArcsec,
-                                            std::sqrt(sum_sq / n) * kArcsec,
-                                            max_yaw * kArcsec,
-                                            max_pitch * kArcsec,
-                                            max_total / model_.pixel_ifov,
-                                            static_cast<double>(ok_points) / n,
-                                            max_yaw / model_.pixel_ifov,
-                                            max_pitch / model_.pixel_ifov};
+  const double values[kNumSeekerOutputs] = {
+      max_total * kArcsec,         std::sqrt(sum_sq / n) * kArcsec, max_yaw * kArcsec,
+      max_pitch * kArcsec,         max_total / model_.pixel_ifov,   static_cast<double>(ok_points) / n,
+      max_yaw / model_.pixel_ifov, max_pitch / model_.pixel_ifov};
   std::copy(std::begin(values), std::end(values), outputs.begin());
 }
 
@@ -106,8 +102,11 @@ std::vector<models::PointingError> SeekerLosStudy::grid_errors(std::size_t i) co
 }
 
 WideColumnsSpec SeekerLosStudy::field_spec() const {
-  WideColumnsSpec spec{"grid_total_arcsec", "arcsec",
-                       "total LOS pointing error of each sample (row) at each grid point (column)", grid_.size(), {}};
+  WideColumnsSpec spec{"grid_total_arcsec",
+                       "arcsec",
+                       "total LOS pointing error of each sample (row) at each grid point (column)",
+                       grid_.size(),
+                       {}};
   ColumnCoordinate yaw{"grid_yaw_deg", "deg", "yaw gimbal angle of each column", {}};
   ColumnCoordinate pitch{"grid_pitch_deg", "deg", "pitch gimbal angle of each column", {}};
   for (std::size_t ia = 0; ia < grid_.alpha().size(); ++ia) {
@@ -231,9 +230,10 @@ McResult SeekerLosStudy::run(int threads, bool progress, const SampleSink& sink,
         [&] {
           if (n_ok == 0) return;
           r.outputs.resize(kNumSeekerOutputs);
-          tbb::parallel_for(std::size_t{0}, kNumSeekerOutputs, [&](std::size_t k) {
-            r.outputs[k] = summarize_output(r.values[k], r.ok_index, config_.replicate_size);
-          }, tbb::simple_partitioner());
+          tbb::parallel_for(
+              std::size_t{0}, kNumSeekerOutputs,
+              [&](std::size_t k) { r.outputs[k] = summarize_output(r.values[k], r.ok_index, config_.replicate_size); },
+              tbb::simple_partitioner());
         });
   });
   r.wall_seconds = bar.elapsed_seconds();

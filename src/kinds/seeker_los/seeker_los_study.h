@@ -22,15 +22,15 @@
 #include <string>
 #include <vector>
 
+#include "engine/kind_interface/output_spec.h"
+#include "engine/kind_interface/procedure_study.h"
+#include "engine/results/wide_columns.h"
+#include "engine/study_files/study_config.h"
+#include "model_files/seeker_model.h"
 #include "models/seeker_los_budget.h"
 #include "models/seeker_los_chain.h"
 #include "sampling/design.h"
 #include "sampling/statistics.h"
-#include "model_files/seeker_model.h"
-#include "engine/kind_interface/output_spec.h"
-#include "engine/kind_interface/procedure_study.h"
-#include "engine/study_files/study_config.h"
-#include "engine/results/wide_columns.h"
 
 namespace poise::kinds::seeker_los {
 using namespace poise::engine;

@@ -25,7 +25,6 @@ std::string num(double v, int prec = 4) {
   return format_significant(v, prec);
 }
 
-
 json summary_with_unit(const sampling::Summary& s, const std::string& unit, const std::string& description) {
   json j = summary_json(s);
   j["unit"] = unit;
@@ -36,13 +35,15 @@ json summary_with_unit(const sampling::Summary& s, const std::string& unit, cons
 // Each tolerance sampled, with its distribution and source.
 json seeker_inputs_json(const SeekerModel& model) {
   json inputs = json::array();
-  inputs.push_back({{"name", "load_deformation (k')"}, {"distribution", model.load_deformation.dist.describe(1.0, "")},
+  inputs.push_back({{"name", "load_deformation (k')"},
+                    {"distribution", model.load_deformation.dist.describe(1.0, "")},
                     {"source", model.load_deformation.source}});
   auto tol_json = [&](const std::string& name, const ToleranceSpec& t) {
-    inputs.push_back({{"name", name}, {"distribution", t.dist.describe(t.display_factor, t.display_unit)},
-                      {"source", t.source}});
+    inputs.push_back(
+        {{"name", name}, {"distribution", t.dist.describe(t.display_factor, t.display_unit)}, {"source", t.source}});
   };
-  tol_json("yaw.perpendicularity (over " + units::format(model.yaw.span, "mm") + "; " + model.yaw.tilt_reading.describe() + ")",
+  tol_json("yaw.perpendicularity (over " + units::format(model.yaw.span, "mm") + "; " +
+               model.yaw.tilt_reading.describe() + ")",
            model.yaw.perpendicularity);
   tol_json("pitch.perpendicularity (over " + units::format(model.pitch.span, "mm") + ")", model.pitch.perpendicularity);
   tol_json("optics.axis_error (over " + units::format(model.barrel_length, "mm") + ")", model.optical_axis);
@@ -61,16 +62,19 @@ json seeker_inputs_json(const SeekerModel& model) {
 json SeekerLosStudy::details(const McResult& mc) const {
   const SeekerLosSections& sec = seeker_sections(config_);
   json d;
-  d["requirement"] = {{"as_written", sec.requirement_text}, {"arcsec", requirement_rad_ * units::kArcsecPerRad},
+  d["requirement"] = {{"as_written", sec.requirement_text},
+                      {"arcsec", requirement_rad_ * units::kArcsecPerRad},
                       {"px", requirement_rad_ / model_.pixel_ifov},
                       {"pixel_ifov_arcsec", model_.pixel_ifov * units::kArcsecPerRad},
                       {"pixel_ifov_source", model_.pixel_ifov_source}};
-  d["grid"] = {{"yaw_points", sec.yaw_points}, {"pitch_points", sec.pitch_points},
+  d["grid"] = {{"yaw_points", sec.yaw_points},
+               {"pitch_points", sec.pitch_points},
                {"yaw_deg", {model_.yaw_min / units::kRadPerDeg, model_.yaw_max / units::kRadPerDeg}},
                {"pitch_deg", {model_.pitch_min / units::kRadPerDeg, model_.pitch_max / units::kRadPerDeg}}};
   d["inputs"] = seeker_inputs_json(model_);
   if (mc.field.present && !mc.ok_index.empty()) {
-    d["pooled_field_arcsec"] = summary_with_unit(mc.field.pooled, "arcsec", "total LOS error over every (sample, grid point)");
+    d["pooled_field_arcsec"] =
+        summary_with_unit(mc.field.pooled, "arcsec", "total LOS error over every (sample, grid point)");
   }
   if (mc.outputs.size() == kNumSeekerOutputs) {
     std::size_t meeting = 0;
@@ -88,24 +92,28 @@ void SeekerLosStudy::report_sections(const McResult& mc, const std::string& plot
   const json d = details(mc);
   const json& req = d["requirement"];
   h << "<h2>Units and field within the LOS limit</h2>\n";
-  h << "<p>LOS limit: error &le; <b>" << html_escape(req["as_written"].get<std::string>()) << "</b> = "
-    << num(req["arcsec"].get<double>()) << " arcsec (pixel IFOV " << num(req["pixel_ifov_arcsec"].get<double>())
-    << " arcsec; " << html_escape(req["pixel_ifov_source"].get<std::string>()) << ").</p>\n";
+  h << "<p>LOS limit: error &le; <b>" << html_escape(req["as_written"].get<std::string>())
+    << "</b> = " << num(req["arcsec"].get<double>()) << " arcsec (pixel IFOV "
+    << num(req["pixel_ifov_arcsec"].get<double>()) << " arcsec; "
+    << html_escape(req["pixel_ifov_source"].get<std::string>()) << ").</p>\n";
   if (d.contains("fraction_samples_meeting")) {
     const json& fs_ = d["fraction_samples_meeting"];
     const json& ff = d["fraction_field_meeting"];
     auto pct = [](const json& e) { return e.is_number() ? num(100 * e.get<double>(), 4) : std::string("&ndash;"); };
-    h << "<ul><li>Units that meet it over the <i>whole</i> field of regard: <b>" << pct(fs_["value"]) << "%</b> <small>(95% "
+    h << "<ul><li>Units that meet it over the <i>whole</i> field of regard: <b>" << pct(fs_["value"])
+      << "%</b> <small>(95% "
       << "interval " << pct(fs_["ci95"][0]) << "&ndash;" << pct(fs_["ci95"][1]) << "%)</small></li>"
       << "<li>Share of the field of regard that meets it, averaged over units: <b>" << pct(ff["value"])
-      << "%</b> <small>(95% interval " << pct(ff["ci95"][0]) << "&ndash;" << pct(ff["ci95"][1]) << "%)</small></li></ul>\n";
+      << "%</b> <small>(95% interval " << pct(ff["ci95"][0]) << "&ndash;" << pct(ff["ci95"][1])
+      << "%)</small></li></ul>\n";
   }
   if (d.contains("pooled_field_arcsec") && mc.outputs.size() == kNumSeekerOutputs) {
     const double ifov = req["pixel_ifov_arcsec"].get<double>();
     auto row = [&](const std::string& what, double v) {
       h << "<tr><td class='l'>" << what << "</td><td>" << num(v) << "</td><td>" << num(v / ifov, 3) << "</td></tr>\n";
     };
-    h << "<h2>The error over the field of regard</h2>\n<table><tr><th class='l'>figure</th><th>arcsec</th><th>px</th></tr>\n";
+    h << "<h2>The error over the field of regard</h2>\n<table><tr><th "
+         "class='l'>figure</th><th>arcsec</th><th>px</th></tr>\n";
     const json& p = d["pooled_field_arcsec"];
     row("error at a random gimbal angle of a random unit: p50", p["p50"]["value"].get<double>());
     row("error at a random gimbal angle of a random unit: p95", p["p95"]["value"].get<double>());
@@ -142,8 +150,8 @@ void SeekerLosStudy::report_sections(const McResult& mc, const std::string& plot
        "<th class='l'>source</th></tr>\n";
   for (const auto& i : d["inputs"]) {
     h << "<tr><td class='l'>" << html_escape(i["name"].get<std::string>()) << "</td><td class='l'>"
-      << html_escape(i["distribution"].get<std::string>()) << "</td><td class='l'>" << html_escape(i["source"].get<std::string>())
-      << "</td></tr>\n";
+      << html_escape(i["distribution"].get<std::string>()) << "</td><td class='l'>"
+      << html_escape(i["source"].get<std::string>()) << "</td></tr>\n";
   }
   h << "</table>\n";
 }

@@ -1,6 +1,5 @@
 #include "kinds/seeker_los/seeker_runner.h"
 
-
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -11,12 +10,12 @@
 #include <thread>
 
 #include "core/units.h"
-#include "sampling/distributed.h"
 #include "engine/kind_interface/study_kind.h"
 #include "engine/results/result_io.h"
 #include "engine/study_files/toml_reader.h"
 #include "kinds/seeker_los/seeker_los_sections.h"
 #include "kinds/seeker_los/seeker_los_study.h"
+#include "sampling/distributed.h"
 
 namespace poise::kinds::seeker_los {
 using namespace poise::engine;
@@ -38,12 +37,11 @@ std::string validate_seeker_study(const StudyConfig& cfg) {
                 "%s: valid. Study '%s' (%s) on model '%s': %zu random inputs, %s design, %zu "
                 "samples, seed %llu, grid %zu x %zu over yaw [%g, %g] deg, pitch [%g, %g] deg, "
                 "requirement %s, %zu sweep(s).",
-                cfg.file.c_str(), cfg.name.c_str(), cfg.kind.c_str(), model.name.c_str(),
-                sampler.dimension(), sampling::to_string(cfg.method).c_str(), cfg.samples,
-                static_cast<unsigned long long>(cfg.seed), sec.yaw_points, sec.pitch_points,
-                model.yaw_min / units::kRadPerDeg, model.yaw_max / units::kRadPerDeg,
-                model.pitch_min / units::kRadPerDeg, model.pitch_max / units::kRadPerDeg,
-                sec.requirement_text.c_str(), cfg.sweeps.size());
+                cfg.file.c_str(), cfg.name.c_str(), cfg.kind.c_str(), model.name.c_str(), sampler.dimension(),
+                sampling::to_string(cfg.method).c_str(), cfg.samples, static_cast<unsigned long long>(cfg.seed),
+                sec.yaw_points, sec.pitch_points, model.yaw_min / units::kRadPerDeg, model.yaw_max / units::kRadPerDeg,
+                model.pitch_min / units::kRadPerDeg, model.pitch_max / units::kRadPerDeg, sec.requirement_text.c_str(),
+                cfg.sweeps.size());
   return buf;
 }
 

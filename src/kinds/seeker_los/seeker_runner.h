@@ -8,8 +8,8 @@
 
 #include <nlohmann/json.hpp>
 
-#include "engine/study_files/study_config.h"
 #include "engine/run/study_runner.h"
+#include "engine/study_files/study_config.h"
 
 namespace poise::kinds::seeker_los {
 using namespace poise::engine;
