@@ -211,15 +211,17 @@ Search search(const SearchInputs& in, const Model& start, bool ar_last) {
 
 }  // namespace
 
-DiagnosisResult diagnose_residuals(const TorqueTable& table, const DiagnosisOptions& options) {
-  check(table, options);
-  const SineFitResult base = fit_sine(table.theta_rad, table.torque);
+namespace {
+
+// The table as the fits use it: the torque, its time order, and the times about their mean
+// (the row index when the table has no times).
+Data data_of_table(const TorqueTable& table, std::vector<double>& t) {
   const std::size_t n = table.size();
   Data d;
   d.n = static_cast<Index>(n);
   d.y = Eigen::Map<const VectorXd>(table.torque.data(), d.n);
   d.rss_floor = 1e-28 * std::max(d.y.squaredNorm(), 1e-300);
-  std::vector<double> t(n);
+  t.resize(n);
   if (table.time_s.empty()) {
     std::iota(t.begin(), t.end(), 0.0);
   } else {
@@ -231,43 +233,45 @@ DiagnosisResult diagnose_residuals(const TorqueTable& table, const DiagnosisOpti
   const double t_mean = std::accumulate(t.begin(), t.end(), 0.0) / static_cast<double>(n);
   for (double& v : t) v -= t_mean;
   d.t_start = t[d.order[0]];
+  return d;
+}
 
-  DiagnosisResult res;
-  res.max_harmonic = std::max(1, std::min(options.max_harmonic, (static_cast<int>(n) - 6) / 2));
-  Model start;
-  start.x.resize(d.n, 3);
-  for (Index i = 0; i < d.n; ++i) {
-    const double th = table.theta_rad[static_cast<std::size_t>(i)];
-    start.x(i, 0) = std::sin(th), start.x(i, 1) = std::cos(th), start.x(i, 2) = 1.0;
-  }
-  const SearchInputs in{d, table, t, options, res.max_harmonic};
-  Search s = search(in, start, false);
+// The search's model, and where the two searches (AR(1) allowed in any round, AR(1) deferred)
+// ended in different models, the other one.
+struct ModelSelection {
+  Search selected;
+  bool other = false;
   Model other_model;
   std::string other_summary;
-  bool other = false;
-  if (options.autocorrelation) {
-    Search a = search(in, start, true);
-    if (a.found != s.found) {
-      const bool keep_a = a.bic < s.bic;
-      other = true;
-      other_model = keep_a ? s.m : a.m;
-      other_summary = keep_a ? s.summary : a.summary;
-      char buf[400];
-      std::snprintf(buf, sizeof buf,
-                    "The search with AR(1) allowed in any round found %s (BIC %.2f); with AR(1) "
-                    "deferred until no column effect qualifies it found %s (BIC %.2f). The "
-                    "lower BIC is kept: %s.",
-                    s.summary.c_str(), s.bic, a.summary.c_str(), a.bic, keep_a ? "the second" : "the first");
-      if (keep_a) s = std::move(a);
-      s.notes.emplace_back(buf);
-    }
-  }
-  const Model& m = s.m;
-  const std::string selected_summary = s.summary;
-  res.rounds = s.rounds;
-  res.tested = std::move(s.tested);
-  res.notes = std::move(s.notes);
+};
 
+ModelSelection select_model(const SearchInputs& in, const Model& start) {
+  ModelSelection out;
+  out.selected = search(in, start, false);
+  if (!in.options.autocorrelation) return out;
+  Search& s = out.selected;
+  Search a = search(in, start, true);
+  if (a.found == s.found) return out;
+  const bool keep_a = a.bic < s.bic;
+  out.other = true;
+  out.other_model = keep_a ? s.m : a.m;
+  out.other_summary = keep_a ? s.summary : a.summary;
+  char buf[400];
+  std::snprintf(buf, sizeof buf,
+                "The search with AR(1) allowed in any round found %s (BIC %.2f); with AR(1) "
+                "deferred until no column effect qualifies it found %s (BIC %.2f). The "
+                "lower BIC is kept: %s.",
+                s.summary.c_str(), s.bic, a.summary.c_str(), a.bic, keep_a ? "the second" : "the first");
+  if (keep_a) s = std::move(a);
+  s.notes.emplace_back(buf);
+  return out;
+}
+
+// The first harmonic alone (before) and the selected model (after): effects, RMSE, estimates,
+// fitted values and residuals per row.
+void fill_fits(const TorqueTable& table, const Data& d, const Model& m, DiagnosisResult& res) {
+  const std::size_t n = table.size();
+  const SineFitResult base = fit_sine(table.theta_rad, table.torque);
   const LinearFit f = fit_linear(m.x, d, m.ar, m.rho.rho);
   for (const Term& term : m.terms) res.effects.push_back(to_effect(term, m, f, table));
   res.rmse_before = base.rmse;
@@ -281,14 +285,13 @@ DiagnosisResult diagnose_residuals(const TorqueTable& table, const DiagnosisOpti
     res.residual_after.push_back(f.resid(k));
     res.fitted_after.push_back(table.torque[i] - f.resid(k));
   }
+}
 
-  // The plan as the data show it.
-  const bool monotone = detail::monotone_plan(table, d.order);
-  res.plan = detail::describe_plan(table, d.order, monotone);
-  const detail::CandidatePool pool = make_pool(in);
-  res.collinearity = detail::plan_collinearity(start, d, pool);
-
-  // Omnibus check of the final residual, then what the estimate takes.
+// The omnibus check of the final residual; true when its whiteness tests (Ljung-Box, runs)
+// reject at alpha.
+bool check_final_residual(const TorqueTable& table, const Data& d, const Model& m, const DiagnosisOptions& options,
+                          DiagnosisResult& res) {
+  const std::size_t n = table.size();
   OmnibusInput oi;
   oi.residual = res.residual_after;
   oi.order = d.order;
@@ -311,21 +314,10 @@ DiagnosisResult diagnose_residuals(const TorqueTable& table, const DiagnosisOpti
       correlated = true;
     }
   }
-  detail::AssessmentInputs ai(d, pool);
-  ai.monotone_plan = monotone;
-  ai.residual_correlated = correlated;
-  if (other) {
-    ai.other_search = &other_model;
-    ai.selected_summary = selected_summary;
-    ai.other_summary = other_summary;
-  }
-  detail::GuardInputs gi(d, pool);
-  gi.alpha = options.alpha;
-  gi.monotone_plan = monotone;
-  const detail::GuardResult guard = detail::guard_estimate(m, gi, res);
-  ai.guarded = &guard.allowance;
-  detail::assess(m, ai, res);
-  detail::name_families(m, d, pool, guard, res);
+  return correlated;
+}
+
+void add_not_identifiable_scales(DiagnosisResult& res) {
   res.not_identifiable.emplace_back(
       "turntable_angle_scale",
       "a scale error of the turntable angle (or an error of its zero) changes the first harmonic "
@@ -335,6 +327,56 @@ DiagnosisResult diagnose_residuals(const TorqueTable& table, const DiagnosisOpti
   res.not_identifiable.emplace_back("kt_scale",
                                     "a constant error of K_T scales the whole torque: it needs a calibration with a "
                                     "known load (--load-torque), not a residual");
+}
+
+}  // namespace
+
+DiagnosisResult diagnose_residuals(const TorqueTable& table, const DiagnosisOptions& options) {
+  check(table, options);
+  const std::size_t n = table.size();
+  std::vector<double> t;
+  const Data d = data_of_table(table, t);
+
+  DiagnosisResult res;
+  res.max_harmonic = std::max(1, std::min(options.max_harmonic, (static_cast<int>(n) - 6) / 2));
+  Model start;
+  start.x.resize(d.n, 3);
+  for (Index i = 0; i < d.n; ++i) {
+    const double th = table.theta_rad[static_cast<std::size_t>(i)];
+    start.x(i, 0) = std::sin(th), start.x(i, 1) = std::cos(th), start.x(i, 2) = 1.0;
+  }
+  const SearchInputs in{d, table, t, options, res.max_harmonic};
+  ModelSelection sel = select_model(in, start);
+  const Model& m = sel.selected.m;
+  res.rounds = sel.selected.rounds;
+  res.tested = std::move(sel.selected.tested);
+  res.notes = std::move(sel.selected.notes);
+  fill_fits(table, d, m, res);
+
+  // The plan as the data show it.
+  const bool monotone = detail::monotone_plan(table, d.order);
+  res.plan = detail::describe_plan(table, d.order, monotone);
+  const detail::CandidatePool pool = make_pool(in);
+  res.collinearity = detail::plan_collinearity(start, d, pool);
+
+  // Omnibus check of the final residual, then what the estimate takes: the guard, the
+  // assessment of each effect, the families.
+  detail::AssessmentInputs ai(d, pool);
+  ai.monotone_plan = monotone;
+  ai.residual_correlated = check_final_residual(table, d, m, options, res);
+  if (sel.other) {
+    ai.other_search = &sel.other_model;
+    ai.selected_summary = sel.selected.summary;
+    ai.other_summary = sel.other_summary;
+  }
+  detail::GuardInputs gi(d, pool);
+  gi.alpha = options.alpha;
+  gi.monotone_plan = monotone;
+  const detail::GuardResult guard = detail::guard_estimate(m, gi, res);
+  ai.guarded = &guard.allowance;
+  detail::assess(m, ai, res);
+  detail::name_families(m, d, pool, guard, res);
+  add_not_identifiable_scales(res);
   return res;
 }
 

@@ -73,8 +73,8 @@
 /// Gaussian errors, conservative Bonferroni for outliers, REML LR slightly conservative).
 /// Measured (with the step, settling and K_T drift candidates): 13 of 400 white-noise records
 /// (3.25 %) of 36 points with time_s and an alternating sweep got an effect at alpha = 0.05
-/// (tests/residual_diagnosis_test.cc); on the independent generator's clean tables 29 of 800
-/// (3.6 %) over four plans (tests/independent_data_diagnosis_test.cc).
+/// (tests/estimators/residual_diagnosis_test.cc); on the independent generator's clean tables 29 of 800
+/// (3.6 %) over four plans (tests/estimators/independent_data_diagnosis_test.cc).
 ///
 /// Time shapes. After the search, the time-shaped effects it added (drift, quadratic drift,
 /// step, exponential settling, K_T drift) are compared as a group with each single shape
@@ -120,7 +120,7 @@
 /// repeat or shuffle the sweep; a second load). Measured: a 2nd harmonic from anisotropic sag
 /// taken as a step, 0.028 -> 0.346 mN*m (7 SE worse), now kept at 0.028; AR(1) noise of rho
 /// 0.8-0.85 on a one-direction sweep, 3 and 5 of 100 worse beyond 2 SE before, 0 and 0 now
-/// (tests/diagnosis_round3_test.cc).
+/// (tests/estimators/diagnosis_round3_test.cc).
 ///
 /// Families (Effect::family, Effect::shape): a smooth drift in time is reported as family
 /// time_drift with shape "linear" (name time_drift) or "exponential" (name

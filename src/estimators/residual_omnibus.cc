@@ -229,22 +229,16 @@ double brownian_bridge_sup_tail(double x) {
   return std::clamp(s, 0.0, 1.0);
 }
 
-OmnibusResult omnibus_check(const OmnibusInput& in) {
-  OmnibusResult out;
-  const std::size_t n = in.residual.size();
-  std::vector<double> ordered(n);
-  for (std::size_t k = 0; k < n; ++k) ordered[k] = in.residual[in.order[k]];
-  double rss = 0.0;
-  for (double v : in.residual) rss += v * v;
-  const double dof = static_cast<double>(n) - static_cast<double>(in.parameters);
+namespace {
 
-  out.tests.push_back(lack_of_fit(in, rss));
-  out.tests.push_back(declared_noise(in, rss));
-  out.tests.push_back(ljung_box(ordered, in.ar));
-  out.tests.push_back(runs(ordered));
+// The largest cumulative sum of the residual in measurement order against the Brownian
+// bridge; shift_k is the position (in order) after which the level shifts most.
+StructureTest cusum_step(const OmnibusInput& in, const std::vector<double>& ordered, double rss, double dof,
+                         std::size_t& shift_k) {
+  const std::size_t n = ordered.size();
   StructureTest cusum;
   cusum.name = "cusum_step";
-  std::size_t shift_k = 0;
+  shift_k = 0;
   if (dof >= 1.0 && rss > 0.0 && n >= 8) {
     const double s = std::sqrt(rss / dof);
     double sum = 0.0, best = 0.0;
@@ -259,11 +253,79 @@ OmnibusResult omnibus_check(const OmnibusInput& in) {
   } else {
     cusum.note = "not examined: fewer than 8 points or no residual";
   }
-  out.tests.push_back(cusum);
+  return cusum;
+}
+
+// Where a failing test points in the table.
+std::string where_test_points(const OmnibusInput& in, const std::vector<double>& ordered, std::size_t shift_k,
+                              const StructureTest& t) {
+  const std::size_t n = ordered.size();
+  if (t.name == "cusum_step") {
+    const std::size_t a = in.order[shift_k], b = in.order[std::min(shift_k + 1, n - 1)];
+    return "a level shift between " + at_row(in, a) + " and " + at_row(in, b);
+  }
+  if (t.name == "ljung_box" || t.name == "runs") {
+    std::size_t best_a = 0, best_len = 0, a = 0;  // the longest run of one sign
+    for (std::size_t k = 1; k <= n; ++k) {
+      if (k == n || (ordered[k] > 0.0) != (ordered[a] > 0.0)) {
+        if (k - a > best_len) best_len = k - a, best_a = a;
+        a = k;
+      }
+    }
+    return "correlated residuals in measurement order (" + t.name +
+           "); longest run of one sign: " + std::to_string(best_len) + " points from " + at_row(in, in.order[best_a]) +
+           " to " + at_row(in, in.order[best_a + best_len - 1]);
+  }
+  if (t.name == "lack_of_fit") {
+    return "repeated positions disagree with the model more than with each other";
+  }
+  return "the residual scatter exceeds the declared noise (" + t.note + ")";
+}
+
+// Where the structure is: by every test that fails at the family's level (m tests), then the
+// three largest residuals.
+std::string where_structure_is(const OmnibusInput& in, const std::vector<double>& ordered, std::size_t shift_k,
+                               const std::vector<StructureTest>& tests, int m) {
+  const std::size_t n = ordered.size();
+  std::string where;
+  for (const StructureTest& t : tests) {
+    if (!t.examined || !(t.p_value * m < in.alpha)) continue;
+    if (t.name == "runs" && where.find("correlated residuals") != std::string::npos) continue;
+    where += (where.empty() ? "" : "; ") + where_test_points(in, ordered, shift_k, t);
+  }
+  std::vector<std::size_t> idx(n);
+  std::iota(idx.begin(), idx.end(), std::size_t{0});
+  std::sort(idx.begin(), idx.end(),
+            [&](auto x, auto y) { return std::abs(in.residual[x]) > std::abs(in.residual[y]); });
+  where += "; largest residuals at";
+  for (std::size_t k = 0; k < std::min<std::size_t>(3, n); ++k) {
+    where += (k ? ", " : " ") + at_row(in, idx[k]) + fmt(" %+.3g", in.residual[idx[k]]);
+  }
+  return where;
+}
+
+}  // namespace
+
+OmnibusResult omnibus_check(const OmnibusInput& in) {
+  OmnibusResult out;
+  const std::size_t n = in.residual.size();
+  std::vector<double> ordered(n);
+  for (std::size_t k = 0; k < n; ++k) ordered[k] = in.residual[in.order[k]];
+  double rss = 0.0;
+  for (double v : in.residual) rss += v * v;
+  const double dof = static_cast<double>(n) - static_cast<double>(in.parameters);
+
+  out.tests.push_back(lack_of_fit(in, rss));
+  out.tests.push_back(declared_noise(in, rss));
+  out.tests.push_back(ljung_box(ordered, in.ar));
+  out.tests.push_back(runs(ordered));
+  std::size_t shift_k = 0;
+  out.tests.push_back(cusum_step(in, ordered, rss, dof, shift_k));
   if (in.design.rows() == static_cast<Eigen::Index>(n) && in.design.cols() > 0 && !in.ar) {
     monte_carlo(in, out.tests);
   }
 
+  // Bonferroni over the tests examined.
   int m = 0;
   const StructureTest* worst = nullptr;
   for (const StructureTest& t : out.tests) {
@@ -284,42 +346,7 @@ OmnibusResult omnibus_check(const OmnibusInput& in) {
             out.p_value, m, in.alpha);
     return out;
   }
-  // Where: by every test that fails at the family's level, then the largest residuals.
-  const auto where_of = [&](const StructureTest& t) -> std::string {
-    if (t.name == "cusum_step") {
-      const std::size_t a = in.order[shift_k], b = in.order[std::min(shift_k + 1, n - 1)];
-      return "a level shift between " + at_row(in, a) + " and " + at_row(in, b);
-    }
-    if (t.name == "ljung_box" || t.name == "runs") {
-      std::size_t best_a = 0, best_len = 0, a = 0;  // the longest run of one sign
-      for (std::size_t k = 1; k <= n; ++k) {
-        if (k == n || (ordered[k] > 0.0) != (ordered[a] > 0.0)) {
-          if (k - a > best_len) best_len = k - a, best_a = a;
-          a = k;
-        }
-      }
-      return "correlated residuals in measurement order (" + t.name +
-             "); longest run of one sign: " + std::to_string(best_len) + " points from " +
-             at_row(in, in.order[best_a]) + " to " + at_row(in, in.order[best_a + best_len - 1]);
-    }
-    if (t.name == "lack_of_fit") {
-      return "repeated positions disagree with the model more than with each other";
-    }
-    return "the residual scatter exceeds the declared noise (" + t.note + ")";
-  };
-  for (const StructureTest& t : out.tests) {
-    if (!t.examined || !(t.p_value * m < in.alpha)) continue;
-    if (t.name == "runs" && out.where.find("correlated residuals") != std::string::npos) continue;
-    out.where += (out.where.empty() ? "" : "; ") + where_of(t);
-  }
-  std::vector<std::size_t> idx(n);
-  std::iota(idx.begin(), idx.end(), std::size_t{0});
-  std::sort(idx.begin(), idx.end(),
-            [&](auto x, auto y) { return std::abs(in.residual[x]) > std::abs(in.residual[y]); });
-  out.where += "; largest residuals at";
-  for (std::size_t k = 0; k < std::min<std::size_t>(3, n); ++k) {
-    out.where += (k ? ", " : " ") + at_row(in, idx[k]) + fmt(" %+.3g", in.residual[idx[k]]);
-  }
+  out.where = where_structure_is(in, ordered, shift_k, out.tests, m);
   out.message = "Unexplained structure: " + worst->name +
                 fmt(" p = %.3g (omnibus p = %.3g)", worst->p_value, out.p_value) + " - " + out.where +
                 ". No candidate effect explains it; the unbalance estimate carries it and its "

@@ -23,7 +23,7 @@
 /// residual of 0.93 mN*m: Eq. 24 is not the least-squares fit of the printed table (the same
 /// table in both OCRs of the paper; dropping any one point moves the fit by < 0.05 mN*m and
 /// < 0.1 deg). The fit was confirmed by an independent normal-equation solution
-/// (tests/sine_fit_test.cc).
+/// (tests/estimators/sine_fit_test.cc).
 ///
 /// Method: Householder QR with column pivoting (Eigen::ColPivHouseholderQR) of the n x 3 design
 /// matrix X = [sin theta, cos theta, 1]. Why not the normal equations: X^T X squares the

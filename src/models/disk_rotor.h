@@ -28,7 +28,7 @@
 ///   z'' = (F_z - m e cos p phi'') / m,
 /// with F_y, F_z the right-hand sides of the y, z equations and Q_phi that of the phi one.
 ///
-/// Corrections to the printed equations (each checked in tests/disk_rotor_test.cc):
+/// Corrections to the printed equations (each checked in tests/solvers/disk_rotor_test.cc):
 ///   * Eq. 13 counts m e^2 phidot^2 twice (once in the translation of C, once in
 ///     "J + m e^2"), hence the printed (J + 2 m e^2): with J about C it is J + m e^2.
 ///   * Eq. 17 carries m e (ydot sin phi - zdot cos phi) (velocities) where Lagrange gives
@@ -57,7 +57,7 @@
 /// supports, 20 Hz servo); the supports' own transients (started from the static
 /// deflection, so excited only through that coupling) go with it, and with them the
 /// 7-state model's stiff 411 Hz mode, so the solver steps with the motion. Checked against
-/// the full model in tests/disk_rotor_quasi_static_test.cc (36-point torque estimate).
+/// the full model in tests/model_files/disk_rotor_quasi_static_test.cc (36-point torque estimate).
 #include <array>
 
 namespace poise::models {

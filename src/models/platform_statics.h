@@ -26,7 +26,7 @@
 /// axis: inner y, middle z, outer x. The paper writes M = m [g~] r = f x S = -tau (Eqs. 4, 7,
 /// 10): the torque the motor must apply to hold the gimbal. Both are returned.
 ///
-/// Checks against the printed expansions (tests/platform_statics_test.cc, random angles and
+/// Checks against the printed expansions (tests/models/platform_statics_test.cc, random angles and
 /// centroids, to 1e-12): Eqs. 1-3 agree with the rotation matrices. Eqs. 4, 7, 10, 11 agree
 /// term by term with f x S except where the two OCR transcriptions of the paper differ:
 ///   * Eq. 7, M_my: OCR 001 prints "-m_p g y_p sin a sin b sin c"; the derivation (and OCR

@@ -5,7 +5,7 @@
 /// precision of shafting in stabilization mechanism", Infrared and Laser Engineering
 /// 40(11):2265-2269 (../shared/seeds/003). The paper propagates its error terms with
 /// first-order formulas (Sec. 3); here the chain is composed exactly and the paper's
-/// formulas serve as the first-order check (tests/seeker_los_chain_test.cc).
+/// formulas serve as the first-order check (tests/models/seeker_los_chain_test.cc).
 ///
 /// Frames (right-handed): base B with x along the LOS at zero, z along the nominal yaw
 /// axis. Yaw frame Y = O1(alpha) in B, pitch frame P = O2(beta) in Y, optical axis l in P:
@@ -101,7 +101,7 @@ PointingError pointing_error(const Eigen::Vector3d& d, double alpha, double beta
 /// orders come from the model): each thread's Workspace computes a table the first time
 /// it meets an order, directly (sincos of n phi_k), so nothing accumulates along the grid
 /// (no recurrence drift, any spacing, any real order). Checked against the direct form
-/// AxisErrorState::tilt to 1e-12 relative in tests/seeker_los_harmonics_test.cc. The row of
+/// AxisErrorState::tilt to 1e-12 relative in tests/kinds/seeker_los_harmonics_test.cc. The row of
 /// errors over beta is branch-free and vectorized (SSE2, AVX2 where the CPU has it).
 class LosGrid {
  public:

@@ -39,7 +39,7 @@
 ///     At the Wang 2014 model's rho = 0.32 the clamped ends give 0.714 and 1.354 times k6 l^2,
 ///     and the clamp moment carries -15% and +17% of sensor 2's load F l: F l is then not the
 ///     moment the closed form assumes (torsion_plate_split; tested against an independent
-///     solution of E I w^(4) = 0 with these end conditions, tests/torsion_plate_test.cc).
+///     solution of E I w^(4) = 0 with these end conditions, tests/models/torsion_plate_test.cc).
 ///     The guided end is exact only for L << l.
 ///   * Sensor 1 is a force sensor in ONE horizontal plate: the pair carries F = (k5,1 + k5,2) x,
 ///     sensor 1 reads k5,1 x = k5,1 / (k5,1 + k5,2) F. With as-built plates of unequal
@@ -67,7 +67,7 @@
 /// This agrees with the derivation above (gravity and damping off) provided J is about the
 /// mass centre O4: m H x'' belongs in both rows (the mass matrix is symmetric), and m H^2 is
 /// the parallel-axis term. Corrections and readings (checked in
-/// tests/spring_plate_machine_test.cc):
+/// tests/models/spring_plate_machine_test.cc):
 ///   * Eq. 8's text calls J the inertia "about the rotation center"; read as the torsion axis,
 ///     m H^2 would be counted twice. J here is about O4; J + m H^2 is about the shaft.
 ///   * Eq. 8 drops gravity: the swinging part is an inverted pendulum (mass centre above the

@@ -14,7 +14,7 @@
 ///     the open loop L = (K_d s^2 + K_p s + K_i) / (J s^3) crosses |L| = 1 at 1.47 w_n
 ///     (59 Hz at 40 Hz: x = (w / w_n)^2 solves x^3 - 4 zeta^2 x^2 - (1 - 4 zeta rho) x - rho^2 = 0).
 ///     Computed by closed_loop_poles() and crossover_hz(), tested against an independent
-///     bisection in tests/stabilization_loop_test.cc.
+///     bisection in tests/models/stabilization_loop_test.cc.
 ///   * "rate_pi": a PI loop on the rate th' with a true open-loop crossover f_c (key crossover):
 ///       J th'' = T(t) - K_v (th' + w_i th),  w_i = rho w_c,  K_v = J w_c / sqrt(1 + rho^2),
 ///     so that |L(j w_c)| = |K_v (1 + w_i / (j w_c)) / (j w_c J)| = 1 exactly. It is the same

@@ -65,7 +65,7 @@ struct SensorConfig {
 ///                 sampled at the same instants with the same gains and the same noise draws
 ///                 in the same order. It leaves out what the settling leaves of the start
 ///                 transient (below exp(-settle_time_constants) of it) and the solver's error;
-///                 nothing else differs (tests/balancing_measurement_test.cc compares both).
+///                 nothing else differs (tests/procedures/balancing_measurement_test.cc compares both).
 enum class BalancingResponse { kIntegrated, kSteadyState };
 
 struct BalancingRunConfig {

@@ -79,7 +79,7 @@ enum class Supports {
 ///                that would saturate the drive, must be sampled (ADC coarser than the noise,
 ///                near full scale) or whose record is kept is integrated as in kIntegrated.
 ///                rms_tracking is 0 and max_abs_phi the reference's swing a on the other
-///                positions. Compared with the full model in tests/static_unbalance_procedure_test.cc.
+///                positions. Compared with the full model in tests/procedures/static_unbalance_procedure_test.cc.
 enum class PositionModel { kIntegrated, kPeriodMean };
 
 struct TestPlan {

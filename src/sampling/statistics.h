@@ -8,7 +8,7 @@
 ///            unbiased for any continuous distribution, so that P(estimate < true quantile) is
 ///            about 1/2 even far in the tail. (Definition 7, h = (n - 1) p + 1, the common default,
 ///            runs low in the tail: at n = 1024 its p99.73 lies below the true value in about 65%
-///            of runs; tests/statistics_test.cc measures both.)
+///            of runs; tests/sampling/statistics_test.cc measures both.)
 ///            Interval: order statistics from the exact binomial(n, p) distribution, distribution-
 ///            free. An end that needs more samples than n is missing (null) and `note` says so:
 ///            the upper end of pXX needs n >= ln(0.025) / ln(p) (1365 for p99.73, 72 for p95).

@@ -148,6 +148,40 @@ SampleResult SeekerLosStudy::replay(std::size_t i) const {
   return r;
 }
 
+namespace {
+
+// Closes the grid values' file and, for the field maps, reads it back point by point into the
+// p50, p95 and p99.73 maps and the pooled statistics; a scratch file (temporary) is removed.
+void close_field_file(WideColumnsWriter& field, const WideColumnsSpec& layout, const std::string& field_path,
+                      bool temporary, std::size_t points, std::size_t n_ok, bool maps, int threads, McResult& r) {
+  r.field.present = maps;
+  r.field.file = field.close();
+  if (n_ok > 0 && maps) {
+    std::optional<WideColumnsReader> reader;
+    if (!field.keeps()) reader.emplace(field_path, layout.dataset);
+    const double quantiles[] = {0.5, 0.95, 0.9973};
+    FieldStatistics fs = field_statistics(
+        points,
+        [&](std::size_t p, std::vector<float>& column) -> std::span<const float> {
+          if (!reader) return field.kept_column(p);
+          reader->read_column(p, column);
+          return column;
+        },
+        quantiles, threads);
+    r.field.p50 = std::move(fs.per_point[0]);
+    r.field.p95 = std::move(fs.per_point[1]);
+    r.field.p99_73 = std::move(fs.per_point[2]);
+    r.field.pooled = fs.pooled;
+  }
+  if (temporary) {
+    r.field.file = nullptr;  // a scratch file, not the run's
+    std::error_code ec;
+    std::filesystem::remove(field_path, ec);  // here, beside the summaries; `scratch` if a step throws
+  }
+}
+
+}  // namespace
+
 McResult SeekerLosStudy::run(int threads, bool progress, const SampleSink& sink, std::span<const SampleResult>,
                              const RunControl& control) const {
   McResult r;
@@ -201,31 +235,7 @@ McResult SeekerLosStudy::run(int threads, bool progress, const SampleSink& sink,
   arena.execute([&] {
     tbb::parallel_invoke(
         [&] {
-          if (!field) return;
-          r.field.present = control.field_maps;
-          r.field.file = field->close();
-          if (n_ok > 0 && control.field_maps) {
-            std::optional<WideColumnsReader> reader;
-            if (!field->keeps()) reader.emplace(field_path, layout.dataset);
-            const double quantiles[] = {0.5, 0.95, 0.9973};
-            FieldStatistics fs = field_statistics(
-                g,
-                [&](std::size_t p, std::vector<float>& column) -> std::span<const float> {
-                  if (!reader) return field->kept_column(p);
-                  reader->read_column(p, column);
-                  return column;
-                },
-                quantiles, threads);
-            r.field.p50 = std::move(fs.per_point[0]);
-            r.field.p95 = std::move(fs.per_point[1]);
-            r.field.p99_73 = std::move(fs.per_point[2]);
-            r.field.pooled = fs.pooled;
-          }
-          if (temporary) {
-            r.field.file = nullptr;  // a scratch file, not the run's
-            std::error_code ec;
-            std::filesystem::remove(field_path, ec);  // here, beside the summaries; `scratch` if a step throws
-          }
+          if (field) close_field_file(*field, layout, field_path, temporary, g, n_ok, control.field_maps, threads, r);
         },
         [&] {
           if (n_ok == 0) return;

@@ -14,7 +14,7 @@
 /// The optics tilt with the shaft at the load point; the LOS turns by k theta, with k the
 /// optics' lever (1 for a lens or camera riding on the shaft, 2 for a mirror: the reflected
 /// ray turns twice). The shaft's own weight is left out (it is a model key away if wanted).
-/// Checked in tests/shaft_sag_test.cc against a numerical double integration of M(x) / (E I)
+/// Checked in tests/cli/shaft_sag_test.cc against a numerical double integration of M(x) / (E I)
 /// with the supports' conditions, and by symmetry and mid-span limits.
 #include <cmath>
 

@@ -1,4 +1,4 @@
-// The residual diagnosis on data Poise did not make (tests/independent_gimbal_data.h: its own
+// The residual diagnosis on data Poise did not make (tests/support/independent_gimbal_data.h: its own
 // gimbal equation, servo, RK4, ADC and encoder, turntable plans). Measured here: detection of
 // planted effects, the false-positive rate over many noise realisations, "never worse beyond
 // its uncertainty", confounded plans reported as ambiguous rather than resolved silently, and

@@ -1,5 +1,6 @@
 #pragma once
-// Helpers shared by the tests: temporary files and reading the repository's files.
+// Helpers shared by the tests of every layer: temporary files, reading the repository's files,
+// running the built poise. Layer-free (no Poise header); study run options: study_run_options.h.
 #include <gtest/gtest.h>
 
 #include <sys/wait.h>
@@ -10,8 +11,6 @@
 #include <sstream>
 #include <cstdlib>
 #include <string>
-
-#include "engine/run/study_runner.h"
 
 namespace poise::test {
 
@@ -75,16 +74,6 @@ inline RunResult run_poise(const TempDir& dir, const std::string& args) {
   r.out = read_text(out);
   r.err = read_text(err);
   return r;
-}
-
-/// Run options for tests: a given folder and thread count, no progress, no plots.
-inline engine::RunOptions quiet_run_options(const std::string& out, int threads) {
-  engine::RunOptions o;
-  o.out = out;
-  o.threads = threads;
-  o.progress = false;
-  o.plots = false;
-  return o;
 }
 
 }  // namespace poise::test

@@ -11,6 +11,7 @@
 #include "optimize/optimization_study.h"
 #include "engine/kind_interface/study_evaluation.h"
 #include "engine/study_files/toml_reader.h"
+#include "study_run_options.h"
 #include "test_util.h"
 
 namespace poise::optimize {

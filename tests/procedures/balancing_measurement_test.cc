@@ -22,7 +22,7 @@ using cd = std::complex<double>;
 using models::PlaneMass;
 using models::SpringPlateMachineParams;
 
-// The machine of tests/spring_plate_machine_test.cc (plausible Wang 2014 values).
+// The machine of tests/models/spring_plate_machine_test.cc (plausible Wang 2014 values).
 SpringPlateMachineParams wang2014(double zeta) {
   const models::SpringPlate horizontal{0.100, 0.150, 0.004, 206e9};
   const models::SpringPlate torsional{0.080, 0.100, 0.005, 206e9};

@@ -10,6 +10,7 @@
 #include "engine/results/result_io.h"
 #include "engine/kind_interface/study_evaluation.h"
 #include "engine/run/study_runner.h"
+#include "study_run_options.h"
 #include "test_util.h"
 
 using namespace poise::model_files;  // the kinds' and model files' own namespaces

@@ -1,4 +1,4 @@
-// Round 3 of the residual diagnosis on data Poise did not make (tests/independent_gimbal_data.h).
+// Round 3 of the residual diagnosis on data Poise did not make (tests/support/independent_gimbal_data.h).
 #include <gtest/gtest.h>
 
 #include <cmath>

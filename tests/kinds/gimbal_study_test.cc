@@ -15,6 +15,7 @@
 #include "engine/run/study_runner.h"
 #include "engine/study_files/toml_reader.h"
 #include "kinds/gimbal_static_unbalance/gimbal_sections.h"
+#include "study_run_options.h"
 #include "test_util.h"
 
 using namespace poise::kinds::gimbal_static_unbalance;  // the kinds' and model files' own namespaces

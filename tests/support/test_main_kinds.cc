@@ -1,5 +1,5 @@
-// The tests' main: the study kinds are registered with the engine (as the CLI does), then
-// GoogleTest runs.
+// The main of the tests of the study kinds and above: the kinds are registered with the engine
+// (as the CLI does), then GoogleTest runs.
 #include <gtest/gtest.h>
 
 #include "kinds/registry.h"

@@ -1,6 +1,6 @@
 #pragma once
 // Test helper shared by the diagnosis tests on independently generated data
-// (tests/independent_gimbal_data.h): a generated table as the TorqueTable Poise reads.
+// (tests/support/independent_gimbal_data.h): a generated table as the TorqueTable Poise reads.
 #include <cstddef>
 #include <numbers>
 

@@ -12,6 +12,7 @@
 
 #include "engine/run/study_runner.h"
 #include "engine/study_files/toml_reader.h"
+#include "study_run_options.h"
 #include "test_util.h"
 
 namespace poise::engine {

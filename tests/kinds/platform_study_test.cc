@@ -14,6 +14,7 @@
 #include "engine/results/result_io.h"
 #include "engine/run/study_runner.h"
 #include "engine/study_files/toml_reader.h"
+#include "study_run_options.h"
 #include "test_util.h"
 
 using namespace poise::kinds::platform_balancing;  // the kinds' and model files' own namespaces

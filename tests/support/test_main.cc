@@ -1,0 +1,7 @@
+// The main of the tests below the study kinds: GoogleTest alone (no kind is linked).
+#include <gtest/gtest.h>
+
+int main(int argc, char** argv) {
+  ::testing::InitGoogleTest(&argc, argv);
+  return RUN_ALL_TESTS();
+}
