@@ -160,4 +160,9 @@ ChoiceResult search_choice(const OptimizationSpec& spec, const std::map<std::str
   return cr;
 }
 
+double planned_search_samples(const OptimizationSpec& spec, bool pareto) {
+  return static_cast<double>(spec.max_evaluations) * static_cast<double>(spec.samples) *
+         (pareto && spec.pareto ? 2.0 + spec.pareto->points : 1.0);
+}
+
 }  // namespace poise::optimize

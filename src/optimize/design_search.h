@@ -53,6 +53,10 @@ struct ScoredDesign {
   double failure_share = 0;  ///< failed samples / samples
 };
 
+/// Samples one search plans to draw: its evaluations times the samples per evaluation (a
+/// Pareto study's front adds its points and the two ends when pareto is set).
+double planned_search_samples(const OptimizationSpec& spec, bool pareto);
+
 /// One evaluated design against the spec: failure share, objective, constraints (the
 /// statistic or its stated confidence bound, minus the limit).
 ScoredDesign score_design(const OptimizationSpec& spec, const std::vector<double>& x, const engine::McResult& e);
