@@ -8,6 +8,7 @@ PKGS=(
   libeigen3-dev libsundials-dev libnlopt-cxx-dev libembree-dev libtbb-dev
   libcli11-dev libtomlplusplus-dev nlohmann-json3-dev librandom123-dev libboost-dev
   libmuparser-dev  # expressions of budget gains (poise budget)
+  libfmt-dev  # core/format.h: every number and sentence formatted (fmt::format)
   libhdf5-dev zlib1g-dev  # samples.h5: per-sample grid values of a run (HDF5, deflated chunks)
   time  # bench/los_scale: peak memory of a run (GNU time)
   python3-h5py  # samples_h5_test: samples.h5 read as results/README.md shows (h5py)

@@ -5,6 +5,7 @@
 #include "core/error.h"
 #include "engine/kind_interface/study_kind.h"
 #include "engine/study_files/toml_reader.h"
+#include "sampling/distributed.h"
 
 namespace poise::cli {
 namespace {
@@ -13,7 +14,7 @@ namespace {
 // model_study and evaluate): the output's values of every sample that did not fail.
 MonteCarloValues run_kind(const engine::StudyKind& kind, const std::string& model_path, const std::string& output,
                           std::size_t samples, std::uint64_t seed) {
-  const int threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  const int threads = sampling::Cluster::default_threads();
   const engine::McResult e = kind.evaluate(kind.model_study(model_path), {}, samples, seed, threads);
   MonteCarloValues v;
   v.samples = e.n;

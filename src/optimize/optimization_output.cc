@@ -16,6 +16,7 @@
 #include "engine/results/provenance.h"
 #include "engine/results/result_io.h"
 #include "optimize/optimization_plots.h"
+#include "sampling/distributed.h"
 
 namespace poise::optimize {
 namespace {
@@ -190,8 +191,7 @@ json optimization_summary(const OptimizationSpec& spec, const OptimizationOutcom
 }  // namespace
 
 OptimizationRun write_optimization(const OptimizationSpec& spec, const engine::RunOptions& options) {
-  const int threads =
-      options.threads > 0 ? options.threads : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  const int threads = options.threads > 0 ? options.threads : sampling::Cluster::default_threads();
   const std::string dir = engine::make_run_folder(options.results_root, spec.name, options.out);
   if (options.progress) {
     diagnostics::progress("poise: optimization " + spec.name + " -> " + dir + "\n  " + to_string(spec.algorithm) +

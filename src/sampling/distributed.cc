@@ -1,7 +1,11 @@
 #include "sampling/distributed.h"
 
+#include <sched.h>
+
+#include <algorithm>
 #include <cstdlib>
 #include <stdexcept>
+#include <thread>
 
 #ifdef POISE_WITH_MPI
 #include <mpi.h>
@@ -27,7 +31,14 @@ void Cluster::init([[maybe_unused]] int* argc, [[maybe_unused]] char*** argv) {
   g_mpi = true;
   MPI_Comm_rank(MPI_COMM_WORLD, &g_rank);
   MPI_Comm_size(MPI_COMM_WORLD, &g_size);
-  g_local = env_int("OMPI_COMM_WORLD_LOCAL_SIZE", g_size);
+  MPI_Comm node = MPI_COMM_NULL;
+  if (MPI_Comm_split_type(MPI_COMM_WORLD, MPI_COMM_TYPE_SHARED, g_rank, MPI_INFO_NULL, &node) == MPI_SUCCESS &&
+      node != MPI_COMM_NULL) {
+    MPI_Comm_size(node, &g_local);
+    MPI_Comm_free(&node);
+  } else {
+    g_local = env_int("OMPI_COMM_WORLD_LOCAL_SIZE", g_size);
+  }
 #else
   if (env_int("OMPI_COMM_WORLD_SIZE", 1) > 1) {
     throw std::runtime_error(
@@ -54,6 +65,15 @@ void Cluster::abort(int status) {
 int Cluster::rank() { return g_rank; }
 int Cluster::size() { return g_size; }
 int Cluster::local_size() { return g_local; }
+
+int Cluster::default_threads() {
+  const int machine = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  int share = std::max(1, machine / std::max(1, g_local));
+  cpu_set_t allowed;
+  CPU_ZERO(&allowed);
+  if (sched_getaffinity(0, sizeof allowed, &allowed) == 0) share = std::min(share, std::max(1, CPU_COUNT(&allowed)));
+  return share;
+}
 
 std::vector<std::string> Cluster::gather(const std::string& local) {
   if (g_size == 1) return {local};

@@ -24,8 +24,13 @@ class Cluster {
   static int rank();
   static int size();
   static bool root() { return rank() == 0; }
-  /// Ranks on this machine (to share its cores between them).
+  /// Ranks on this machine (to share its cores between them): MPI's shared-memory split of
+  /// the ranks, so it holds under mpirun and under a batch system's launcher (srun) alike.
   static int local_size();
+  /// The threads a run uses when none are asked for: the cores this process may run on (its
+  /// CPU affinity, which mpirun's binding and a batch system's allocation, e.g. SLURM's
+  /// --cpus-per-task, set), and no more than this machine's cores shared among its ranks.
+  static int default_threads();
   /// Each rank's bytes, gathered at rank 0 in rank order; other ranks get an empty vector.
   static std::vector<std::string> gather(const std::string& local);
   /// Each rank's bytes handed to `take(rank, bytes)` on rank 0, one rank at a time in rank

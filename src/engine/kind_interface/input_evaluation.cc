@@ -10,6 +10,7 @@
 #include <thread>
 
 #include "core/error.h"
+#include "sampling/distributed.h"
 
 namespace poise::engine {
 
@@ -29,7 +30,7 @@ InputEvaluationFailures evaluate_inputs(const InputEvaluator& evaluator, const I
     throw Error("evaluate: " + std::to_string(points) + " points need " + std::to_string(ni) +
                 " input columns and room for " + std::to_string(points * no) + " outputs");
   }
-  const int n_threads = threads > 0 ? threads : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  const int n_threads = threads > 0 ? threads : sampling::Cluster::default_threads();
   std::vector<std::pair<std::size_t, std::string>> failed;
   std::mutex failed_mutex;
   tbb::task_arena arena(n_threads);

@@ -27,9 +27,7 @@ RunPlan plan_run(StudyConfig& cfg, const RunOptions& options,
   p.seed = options.seed.value_or(cfg.seed);
   p.until_text = options.until;
   p.sensitivity_base = options.sensitivity_base;
-  p.threads = options.threads > 0 ? options.threads
-                                  : std::max(1, static_cast<int>(std::max(1u, std::thread::hardware_concurrency())) /
-                                                    std::max(1, sampling::Cluster::local_size()));
+  p.threads = options.threads > 0 ? options.threads : sampling::Cluster::default_threads();
   if (p.samples == 0) throw UsageError("--samples must be at least 1");
   if (!options.resume.empty()) {
     p.dir = options.resume;

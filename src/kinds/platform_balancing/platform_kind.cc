@@ -12,6 +12,7 @@
 #include "kinds/platform_balancing/platform_study.h"
 #include "kinds/platform_balancing/platform_study_config.h"
 #include "model_files/seeker_model.h"
+#include "sampling/distributed.h"
 
 namespace poise::kinds::platform_balancing {
 using namespace poise::engine;
@@ -38,8 +39,7 @@ class PlatformBalancingKind final : public ProcedureKind {
   // study), which every sample combines with its balancing residual.
   std::string run(const StudyConfig& cfg, const RunOptions& options) const override {
     const PlatformModel model = load_platform_model(cfg.model_path, cfg.overrides);
-    const int threads =
-        options.threads > 0 ? options.threads : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+    const int threads = options.threads > 0 ? options.threads : sampling::Cluster::default_threads();
     const PlatformStudySection& ps = platform_sections(cfg).platform;
     if (options.progress && !ps.shafting_study.empty()) {
       diagnostics::progress("poise: shafting LOS line from " + ps.shafting_study + " (" +
