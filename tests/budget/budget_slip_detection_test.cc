@@ -2,6 +2,7 @@
 // disagree with its inputs, named when it reproduces the declared value.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <string>
 
 #include "budget/budget_check.h"

@@ -14,6 +14,7 @@
 #include <nlohmann/json.hpp>
 
 #include "engine/run/convergence.h"
+#include "engine/run/study_runner.h"
 #include "sampling/interrupt.h"
 #include "test_util.h"
 
