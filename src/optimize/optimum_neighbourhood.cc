@@ -97,91 +97,109 @@ void constraints_at_optimum(const OptimizationSpec& spec, OptimizationOutcome& o
   }
 }
 
+namespace {
+
+// Each constraint the last check did not pass, tightened by its excess over the limit (at the
+// interval's far end) plus 1% of the limit.
+void tighten_failed_limits(const OptimizationSpec& spec, const FreshCheck& last, OptimizationSpec& tight) {
+  for (std::size_t k = 0; k < tight.constraints.size(); ++k) {
+    const ConstraintCheck& c = last.constraints[k];
+    if (c.verdict == Verdict::kPasses) continue;
+    Requirement& r = tight.constraints[k];
+    const Requirement& orig = spec.constraints[k];
+    const bool upper = r.at_most.has_value();
+    const std::optional<double> far = c.bound ? c.bound : (upper ? c.interval.hi : c.interval.lo);
+    const double end = far ? *far : c.interval.value;
+    double excess = upper ? end - orig.limit() : orig.limit() - end;
+    excess = std::max(excess, 0.0) + 0.01 * std::max(std::fabs(orig.limit()), 1e-12);
+    if (upper) {
+      *r.at_most -= excess;
+    } else {
+      *r.at_least += excess;
+    }
+  }
+}
+
+// A design that passed its check, checked again on the re-check's fresh samples; true (and
+// out.nearest set) when it passes there too.
+bool recheck_nearest(const OptimizationSpec& spec, OptimizationOutcome& out, const ChoiceResult& best,
+                     const std::vector<double>& x, int round, int threads, RunProgress& progress, FreshCheck& last,
+                     json& rj, json& rounds) {
+  const auto design = overrides_of(spec, x, best.choice);
+  const auto e2 = engine::evaluate_study(spec.base, design, spec.verification_samples, spec.recheck_seed(), threads);
+  const FreshCheck again = check_design(spec, x, e2, spec.recheck_seed());
+  progress.step(static_cast<double>(spec.verification_samples),
+                "[nearest, round " + std::to_string(round) + "] re-check: " + to_string(again.verdict));
+  rj["recheck"] = again.to_json();
+  if (again.verdict != Verdict::kPasses) {
+    last = again;
+    return false;
+  }
+  rounds.push_back(rj);
+  json design_json;
+  for (std::size_t i = 0; i < spec.variables.size(); ++i) {
+    design_json[spec.variables[i].parameter] = value_text(x[i], spec.variables[i].unit);
+  }
+  out.nearest = {{"found", true},
+                 {"design", design_json},
+                 {"overrides", design},
+                 {"x", x},
+                 {"objective", again.objective_value},
+                 {"check", last.to_json()},
+                 {"recheck", again.to_json()},
+                 {"rounds", rounds}};
+  return true;
+}
+
+}  // namespace
+
 /// Not verified: the nearest design that passes, by tightening what failed by its excess.
 void find_nearest_design(const OptimizationSpec& spec, OptimizationOutcome& out, const ChoiceResult& best, int threads,
                          RunProgress& progress) {
-  if (!out.verified) {
-    json rounds = json::array();
-    OptimizationSpec tight = spec;
-    FreshCheck last = out.check;
-    std::vector<double> x = best.result.x;
-    std::string why_none;
-    if (!last.failures_ok) why_none = "its samples fail beyond max_failure_share, which tighter limits do not cure";
-    for (int round = 1; round <= spec.max_nearest_rounds && why_none.empty(); ++round) {
-      progress.plan(planned_search_samples(spec, false) + 2.0 * static_cast<double>(spec.verification_samples));
-      for (std::size_t k = 0; k < tight.constraints.size(); ++k) {
-        const ConstraintCheck& c = last.constraints[k];
-        if (c.verdict == Verdict::kPasses) continue;
-        Requirement& r = tight.constraints[k];
-        const Requirement& orig = spec.constraints[k];
-        const bool upper = r.at_most.has_value();
-        const std::optional<double> far = c.bound ? c.bound : (upper ? c.interval.hi : c.interval.lo);
-        const double end = far ? *far : c.interval.value;
-        double excess = upper ? end - orig.limit() : orig.limit() - end;
-        excess = std::max(excess, 0.0) + 0.01 * std::max(std::fabs(orig.limit()), 1e-12);
-        if (upper) {
-          *r.at_most -= excess;
-        } else {
-          *r.at_least += excess;
-        }
-      }
-      SearchSetup setup;
-      setup.seed = spec.seed;
-      setup.start = x;
-      setup.label = "nearest, round " + std::to_string(round);
-      const ChoiceResult nr = search_choice(tight, best.choice, setup, threads, progress);
-      json rj{{"round", round}};
-      json limits = json::array();
-      for (const auto& r : tight.constraints) limits.push_back({{"name", r.name}, {"limit", r.limit()}});
-      rj["tightened_limits"] = limits;
-      if (!nr.result.feasible) {
-        rj["feasible"] = false;
-        rounds.push_back(rj);
-        why_none = "no design met the tightened limits (round " + std::to_string(round) + ")";
-        break;
-      }
-      x = nr.result.x;
-      const auto design = overrides_of(spec, x, best.choice);
-      const auto e =
-          engine::evaluate_study(spec.base, design, spec.verification_samples, spec.verification_seed, threads);
-      last = check_design(spec, x, e, spec.verification_seed);
-      progress.step(static_cast<double>(spec.verification_samples),
-                    "[nearest, round " + std::to_string(round) + "] check: " + to_string(last.verdict));
-      rj["x"] = x;
-      rj["objective"] = nr.result.best.objective;
-      rj["check"] = last.to_json();
-      if (last.verdict == Verdict::kPasses) {
-        const auto e2 =
-            engine::evaluate_study(spec.base, design, spec.verification_samples, spec.recheck_seed(), threads);
-        const FreshCheck again = check_design(spec, x, e2, spec.recheck_seed());
-        progress.step(static_cast<double>(spec.verification_samples),
-                      "[nearest, round " + std::to_string(round) + "] re-check: " + to_string(again.verdict));
-        rj["recheck"] = again.to_json();
-        if (again.verdict == Verdict::kPasses) {
-          rounds.push_back(rj);
-          json design_json;
-          for (std::size_t i = 0; i < spec.variables.size(); ++i) {
-            design_json[spec.variables[i].parameter] = value_text(x[i], spec.variables[i].unit);
-          }
-          out.nearest = {{"found", true},
-                         {"design", design_json},
-                         {"overrides", design},
-                         {"x", x},
-                         {"objective", again.objective_value},
-                         {"check", last.to_json()},
-                         {"recheck", again.to_json()},
-                         {"rounds", rounds}};
-          break;
-        }
-        last = again;
-      }
+  if (out.verified) return;
+  json rounds = json::array();
+  OptimizationSpec tight = spec;
+  FreshCheck last = out.check;
+  std::vector<double> x = best.result.x;
+  std::string why_none;
+  if (!last.failures_ok) why_none = "its samples fail beyond max_failure_share, which tighter limits do not cure";
+  for (int round = 1; round <= spec.max_nearest_rounds && why_none.empty(); ++round) {
+    progress.plan(planned_search_samples(spec, false) + 2.0 * static_cast<double>(spec.verification_samples));
+    tighten_failed_limits(spec, last, tight);
+    SearchSetup setup;
+    setup.seed = spec.seed;
+    setup.start = x;
+    setup.label = "nearest, round " + std::to_string(round);
+    const ChoiceResult nr = search_choice(tight, best.choice, setup, threads, progress);
+    json rj{{"round", round}};
+    json limits = json::array();
+    for (const auto& r : tight.constraints) limits.push_back({{"name", r.name}, {"limit", r.limit()}});
+    rj["tightened_limits"] = limits;
+    if (!nr.result.feasible) {
+      rj["feasible"] = false;
       rounds.push_back(rj);
+      why_none = "no design met the tightened limits (round " + std::to_string(round) + ")";
+      break;
     }
-    if (out.nearest.is_null()) {
-      if (why_none.empty())
-        why_none = "none passed in " + std::to_string(spec.max_nearest_rounds) + " tightening rounds";
-      out.nearest = {{"found", false}, {"why", why_none}, {"rounds", rounds}};
+    x = nr.result.x;
+    const auto design = overrides_of(spec, x, best.choice);
+    const auto e =
+        engine::evaluate_study(spec.base, design, spec.verification_samples, spec.verification_seed, threads);
+    last = check_design(spec, x, e, spec.verification_seed);
+    progress.step(static_cast<double>(spec.verification_samples),
+                  "[nearest, round " + std::to_string(round) + "] check: " + to_string(last.verdict));
+    rj["x"] = x;
+    rj["objective"] = nr.result.best.objective;
+    rj["check"] = last.to_json();
+    if (last.verdict == Verdict::kPasses &&
+        recheck_nearest(spec, out, best, x, round, threads, progress, last, rj, rounds)) {
+      break;
     }
+    rounds.push_back(rj);
+  }
+  if (out.nearest.is_null()) {
+    if (why_none.empty()) why_none = "none passed in " + std::to_string(spec.max_nearest_rounds) + " tightening rounds";
+    out.nearest = {{"found", false}, {"why", why_none}, {"rounds", rounds}};
   }
 }
 

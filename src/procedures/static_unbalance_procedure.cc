@@ -241,6 +241,37 @@ WindowSums period_mean_window(const ProcedureRun& run, const PositionSensor& s, 
   return sums;
 }
 
+// One position's start: its true angle, the sensor's offset and the window noise drawn (the
+// same five draws per position on either acquisition path), gravity in the gimbal frame and the
+// disturbance torque set in the context. `offset` carries the offset's random walk.
+PositionSensor start_position(const ProcedureRun& run, const GimbalTruth& truth, std::size_t ip, double duration,
+                              double& offset, sampling::NormalStream& normal, sampling::RandomStream& noise,
+                              PositionResult& pr) {
+  const TestPlan& plan = run.plan;
+  const AcquisitionConfig& acq = plan.acquisition;
+  const Disturbances& dist = run.dist;
+  Context& c = run.c;
+  pr.theta_nominal = plan.positions[ip];
+  pr.sweep = plan.sweep.empty() ? 1 : plan.sweep[ip];
+  PositionSensor s;
+  s.t_start = static_cast<double>(ip) * duration + plan.move_time;  // test clock
+  pr.time = s.t_start + 0.5 * (run.w.t1 + run.w.t2);
+  pr.theta_true = pr.theta_nominal + truth.turntable_zero + plan.positioning_error * normal.next();
+  offset += acq.offset_drift * normal.next();
+  s.window_offset = offset + acq.offset_noise * normal.next();
+  s.window_noise = normal.next();    // the white noise's mean, in distribution
+  s.sample_key = noise.next_bits();  // its samples' sub-stream otherwise
+  c.gravity = models::gravity_in_gimbal(plan.gravity, pr.theta_true, truth.axis_tilt, truth.axis_tilt_azimuth);
+  c.disturbance_torque = dist.harmonic2_torque * std::sin(2.0 * pr.theta_true + dist.harmonic2_phase) +
+                         dist.direction_torque * pr.sweep +
+                         (static_cast<int>(ip) == dist.bump_position ? dist.bump_torque : 0.0);
+  // Drift of the offset over the window: linear, so its mean is its value at the samples'
+  // mean time t_start + t1 + (n - 1) dt / 2.
+  s.drift_mean =
+      dist.offset_drift_rate * (s.t_start + run.w.t1 + 0.5 * static_cast<double>(run.w.n_samples - 1) * run.w.dt);
+  return s;
+}
+
 }  // namespace
 
 MeasurementResult run_static_unbalance_procedure(const TestPlan& plan, const GimbalTruth& truth,
@@ -278,25 +309,8 @@ MeasurementResult run_static_unbalance_procedure(const TestPlan& plan, const Gim
   for (std::size_t ip = 0; ip < plan.positions.size(); ++ip) {
     const double theta_nominal = plan.positions[ip];
     PositionResult pr;
-    pr.theta_nominal = theta_nominal;
-    pr.sweep = plan.sweep.empty() ? 1 : plan.sweep[ip];
-    PositionSensor s;
-    s.t_start = static_cast<double>(ip) * duration + plan.move_time;  // test clock
-    pr.time = s.t_start + 0.5 * (t1 + t2);
-    // The main stream: the same five draws per position on either acquisition path.
-    pr.theta_true = theta_nominal + truth.turntable_zero + plan.positioning_error * normal.next();
-    offset += acq.offset_drift * normal.next();
-    s.window_offset = offset + acq.offset_noise * normal.next();
-    s.window_noise = normal.next();    // the white noise's mean, in distribution
-    s.sample_key = noise.next_bits();  // its samples' sub-stream otherwise
-    c.gravity = models::gravity_in_gimbal(plan.gravity, pr.theta_true, truth.axis_tilt, truth.axis_tilt_azimuth);
-    c.disturbance_torque = dist.harmonic2_torque * std::sin(2.0 * pr.theta_true + dist.harmonic2_phase) +
-                           dist.direction_torque * pr.sweep +
-                           (static_cast<int>(ip) == dist.bump_position ? dist.bump_torque : 0.0);
-    // Drift of the offset over the window: linear, so its mean is its value at the samples'
-    // mean time t_start + t1 + (n - 1) dt / 2.
+    const PositionSensor s = start_position(run, truth, ip, duration, offset, normal, noise, pr);
     const long n_samples = run.w.n_samples;
-    s.drift_mean = dist.offset_drift_rate * (s.t_start + t1 + 0.5 * static_cast<double>(n_samples - 1) * run.w.dt);
     const double noise_sigma = acq.noise_rms;
     const bool recorded = record != nullptr && static_cast<int>(ip) == record_position;
     const bool sampled = recorded || noise_sigma < run.w.lsb ||
