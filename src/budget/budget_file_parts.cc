@@ -1,11 +1,11 @@
 #include "budget/budget_file_parts.h"
 
-#include <cstdio>
 #include <functional>
 #include <map>
 
 #include "budget/gain_expression.h"
 #include "core/error.h"
+#include "core/format.h"
 
 namespace poise::budget {
 namespace {
@@ -25,9 +25,7 @@ std::string read_expression(TomlReader& t, const std::string& key, const std::ve
   if (const auto* s = n->as_string()) {
     text = s->get();
   } else if (n->is_number()) {
-    char buf[64];
-    std::snprintf(buf, sizeof buf, "%.17g", n->value<double>().value_or(0.0));
-    text = buf;
+    text = significant(n->value<double>().value_or(0.0), 17);
   } else {
     t.error(key, engine::describe_node(*n),
             "a number or an expression of the [field] variables, e.g. \"1/cos(pitch)\"");

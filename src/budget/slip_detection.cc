@@ -1,10 +1,10 @@
 #include "budget/slip_detection.h"
 
 #include <cmath>
-#include <cstdio>
 #include <numbers>
 
 #include "core/error.h"
+#include "core/format.h"
 #include "core/units.h"
 
 namespace poise::budget {
@@ -201,9 +201,7 @@ std::string ratio_text(double r) {
   for (const auto& n : named) {
     if (std::abs(r - n.v) <= 0.005 * n.v) return n.text;
   }
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.3g", r);
-  return buf;
+  return significant(r, 3);
 }
 
 std::string line_slip(const BudgetEvaluator& ev, std::size_t item, const Declared& d, const Range& r) {

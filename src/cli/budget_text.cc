@@ -1,7 +1,8 @@
 #include "cli/budget_text.h"
 
 #include <cmath>
-#include <cstdio>
+
+#include "core/format.h"
 
 namespace poise::cli {
 namespace {
@@ -10,9 +11,7 @@ using nlohmann::json;
 
 std::string percent(const json& v) {
   if (v.is_null()) return "";
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%+.1f%%", 100.0 * v.get<double>());
-  return buf;
+  return fmt::format("{:+.1f}%", 100.0 * v.get<double>());  // as printed before: a tiny negative is "-0.0%"
 }
 
 void print_item(const json& it, const std::string& unit, std::ostream& out) {
@@ -107,10 +106,9 @@ void print_combined(const json& c, const std::string& unit, std::ostream& out) {
 void print_at_confidence(const json& j, const std::string& unit, std::ostream& out) {
   const json& b = j["budget"];
   const json& a = j["at_confidence"];
-  char mult[32];
-  std::snprintf(mult, sizeof mult, "%.3f", a["multiple"].get<double>());
-  out << "At the confidence " << a["confidence"].get<double>() << " (normal two-sided multiple " << mult
-      << ", random lines x " << budget_number(a["random_scale"]) << "): " << recomputed_text(a, unit) << '\n';
+  out << "At the confidence " << a["confidence"].get<double>() << " (normal two-sided multiple "
+      << fixed(a["multiple"].get<double>(), 3) << ", random lines x " << budget_number(a["random_scale"])
+      << "): " << recomputed_text(a, unit) << '\n';
   if (!j["requirement_met"].is_null()) {
     out << "Requirement " << budget_number(b["requirement"]) << " " << unit << " ("
         << b["requirement_as_written"].get<std::string>()

@@ -1,11 +1,11 @@
 #include "cli/diagnose_loop.h"
 
 #include <cmath>
-#include <cstdio>
 #include <map>
 #include <numeric>
 
 #include "core/error.h"
+#include "core/format.h"
 #include "engine/kind_interface/study_evaluation.h"
 #include "engine/study_files/study_config.h"
 #include "model_files/gimbal_model.h"
@@ -17,11 +17,7 @@ namespace {
 
 namespace est = poise::estimators;
 
-std::string value(double v, const char* unit) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%.9g %s", v, unit);
-  return buf;
-}
+std::string value(double v, const char* unit) { return fmt::format("{:.9g} {}", v, unit); }
 
 double param(const est::Effect& e, const std::string& name) {
   for (const auto& p : e.params) {
@@ -101,27 +97,22 @@ LoopResult close_the_loop(const std::string& study_path, const est::TorqueTable&
   const LoopOutput* err = find("torque_error");
   if (!err && !out.outputs.empty()) err = &out.outputs.front();
   const LoopOutput* fit = find("fit_rmse");
-  char buf[900];
   if (err) {
-    int k = std::snprintf(buf, sizeof buf,
-                          "With these effects in the model the simulated test's %s is %.4g +- %.3g "
-                          "(mean +- sd over %zu samples; %.4g +- %.3g without them)",
-                          err->name.c_str(), err->mean_with, err->sd_with, samples, err->mean_without, err->sd_without);
-    if (fit && k > 0 && static_cast<std::size_t>(k) < sizeof buf) {
-      k += std::snprintf(buf + k, sizeof buf - static_cast<std::size_t>(k),
-                         "; its fit residual %s is %.4g (%.4g without)", fit->name.c_str(), fit->mean_with,
-                         fit->mean_without);
+    out.sentence = fmt::format(
+        "With these effects in the model the simulated test's {} is {:.4g} +- {:.3g} "
+        "(mean +- sd over {} samples; {:.4g} +- {:.3g} without them)",
+        err->name, err->mean_with, err->sd_with, samples, err->mean_without, err->sd_without);
+    if (fit) {
+      out.sentence +=
+          fmt::format("; its fit residual {} is {:.4g} ({:.4g} without)", fit->name, fit->mean_with, fit->mean_without);
     }
-    if (k > 0 && static_cast<std::size_t>(k) < sizeof buf) {
-      std::snprintf(buf + k, sizeof buf - static_cast<std::size_t>(k),
-                    "; the measured table leaves %.4g %s rms about Eq. 22 (%.4g after the "
-                    "diagnosis).",
-                    result.rmse_before, table.unit.c_str(), result.rmse_after);
-    }
+    out.sentence += fmt::format(
+        "; the measured table leaves {:.4g} {} rms about Eq. 22 ({:.4g} after the "
+        "diagnosis).",
+        result.rmse_before, table.unit, result.rmse_after);
   } else {
-    std::snprintf(buf, sizeof buf, "The study has no error output to compare.");
+    out.sentence = "The study has no error output to compare.";
   }
-  out.sentence = buf;
   return out;
 }
 
@@ -149,11 +140,9 @@ std::string loop_text(const LoopResult& r) {
   std::string s = "\nClosing the loop with " + r.study + ":\n";
   for (const auto& [k, v] : r.overrides) s += "  " + k + " = " + v + "\n";
   for (const auto& u : r.unmapped) s += "  " + u + ": no key of the simulation model maps to it\n";
-  char buf[300];
   for (const LoopOutput& o : r.outputs) {
-    std::snprintf(buf, sizeof buf, "  %s: without %.4g +- %.3g, with %.4g +- %.3g\n", o.name.c_str(), o.mean_without,
-                  o.sd_without, o.mean_with, o.sd_with);
-    s += buf;
+    s += fmt::format("  {}: without {:.4g} +- {:.3g}, with {:.4g} +- {:.3g}\n", o.name, o.mean_without, o.sd_without,
+                     o.mean_with, o.sd_with);
   }
   return s + "  " + r.sentence + "\n";
 }

@@ -21,8 +21,7 @@ struct Load {
   double angle_rad = 0.0;
 };
 
-// diagnose_text.cc: formatting shared with the report.
-std::string num(double v, int significant = 4);
+// diagnose_text.cc: formatting shared with the report (numbers: core/format.h).
 std::string params_text(const estimators::Effect& e, const std::string& sep);
 std::string effect_title(const estimators::Effect& e);
 std::string estimate_text(const estimators::UnbalanceEstimate& e, const std::string& u);

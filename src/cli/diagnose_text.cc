@@ -1,21 +1,14 @@
 // `poise diagnose`'s result told as the --json object and as the text report on the
 // terminal, with the number and effect formatting the HTML report shares.
 #include <cmath>
-#include <cstdio>
 #include <string>
 
 #include "cli/diagnose_output.h"
+#include "core/format.h"
 
 namespace poise::cli::diagnose_detail {
 namespace est = poise::estimators;
 using nlohmann::json;
-
-std::string num(double v, int significant) {
-  if (!std::isfinite(v)) return "n/a";
-  char buf[48];
-  std::snprintf(buf, sizeof buf, "%.*g", significant, v);
-  return buf;
-}
 
 namespace {
 
@@ -32,11 +25,13 @@ std::string answer_sentence(const est::TorqueTable& t, const est::DiagnosisResul
   const est::UnbalanceEstimate& a = r.estimate_after;
   std::string s = (found.empty() ? "No effect beyond Eq. 22 was found in the " + std::to_string(t.size()) + " points"
                                  : "Beyond Eq. 22 the " + std::to_string(t.size()) + " points show " + found) +
-                  "; the unbalance estimate is " + num(a.amplitude, 4) + " +- " + num(a.se_amplitude, 2) + " " +
-                  t.unit + " at " + num(a.phase * kDegPerRad, 4) + " +- " + num(a.se_phase * kDegPerRad, 2) + " deg";
+                  "; the unbalance estimate is " + significant_or(a.amplitude, "n/a", 4) + " +- " +
+                  significant_or(a.se_amplitude, "n/a", 2) + " " + t.unit + " at " +
+                  significant_or(a.phase * kDegPerRad, "n/a", 4) + " +- " +
+                  significant_or(a.se_phase * kDegPerRad, "n/a", 2) + " deg";
   if (!found.empty()) {
-    s += " (the base fit alone: " + num(r.estimate_before.amplitude, 4) + " " + t.unit + " at " +
-         num(r.estimate_before.phase * kDegPerRad, 4) + " deg)";
+    s += " (the base fit alone: " + significant_or(r.estimate_before.amplitude, "n/a", 4) + " " + t.unit + " at " +
+         significant_or(r.estimate_before.phase * kDegPerRad, "n/a", 4) + " deg)";
   }
   if (!r.ambiguous.empty()) {
     s += "; " + std::to_string(r.ambiguous.size()) + (r.ambiguous.size() == 1 ? " finding is" : " findings are") +
@@ -136,8 +131,8 @@ json to_json(const est::TorqueTable& t, const est::DiagnosisResult& r, const std
 std::string params_text(const est::Effect& e, const std::string& sep) {
   std::string s;
   for (const auto& p : e.params) {
-    s += (s.empty() ? "" : sep) + p.name + " = " + num(p.value) + " +- " + num(p.se, 2) +
-         (p.unit.empty() ? "" : " " + p.unit);
+    s += (s.empty() ? "" : sep) + p.name + " = " + significant_or(p.value, "n/a") + " +- " +
+         significant_or(p.se, "n/a", 2) + (p.unit.empty() ? "" : " " + p.unit);
   }
   return s;
 }
@@ -159,16 +154,18 @@ std::string effect_title(const est::Effect& e) {
 }
 
 std::string estimate_text(const est::UnbalanceEstimate& e, const std::string& u) {
-  return "amplitude " + num(e.amplitude, 5) + " +- " + num(e.se_amplitude, 2) + " " + u + ", phase " +
-         num(e.phase * kDegPerRad, 5) + " +- " + num(e.se_phase * kDegPerRad, 2) + " deg, offset " + num(e.offset, 4) +
-         " +- " + num(e.se_offset, 2) + " " + u;
+  return "amplitude " + significant_or(e.amplitude, "n/a", 5) + " +- " + significant_or(e.se_amplitude, "n/a", 2) +
+         " " + u + ", phase " + significant_or(e.phase * kDegPerRad, "n/a", 5) + " +- " +
+         significant_or(e.se_phase * kDegPerRad, "n/a", 2) + " deg, offset " + significant_or(e.offset, "n/a", 4) +
+         " +- " + significant_or(e.se_offset, "n/a", 2) + " " + u;
 }
 
 namespace {
 
 std::string error_text(const est::EstimateError& e, const std::string& u) {
-  return "amplitude " + num(e.amplitude, 3) + " " + u + ", phase " + num(e.phase_deg, 3) +
-         " deg, unbalance left after correction " + num(e.vector, 3) + " " + u;
+  return "amplitude " + significant_or(e.amplitude, "n/a", 3) + " " + u + ", phase " +
+         significant_or(e.phase_deg, "n/a", 3) + " deg, unbalance left after correction " +
+         significant_or(e.vector, "n/a", 3) + " " + u;
 }
 
 }  // namespace
@@ -184,17 +181,19 @@ void print_text(const est::TorqueTable& t, const est::DiagnosisResult& r, double
       << ", time drift, K_T drift, direction offset, step, exponential settling, outliers, AR(1) "
          "errors; forward stepwise, Holm per round at alpha = "
       << alpha << ", delta_BIC < 0\n\n"
-      << "Base fit (Eq. 22): M(theta) = " << num(b.amplitude, 5) << " sin(theta + " << num(b.phase * kDegPerRad, 4)
-      << " deg) + " << num(b.offset, 4) << " " << u << "\n\n";
+      << "Base fit (Eq. 22): M(theta) = " << significant_or(b.amplitude, "n/a", 5) << " sin(theta + "
+      << significant_or(b.phase * kDegPerRad, "n/a", 4) << " deg) + " << significant_or(b.offset, "n/a", 4) << " " << u
+      << "\n\n";
   out << "Effects found (in the order added):" << (r.effects.empty() ? " none\n" : "\n");
   for (std::size_t i = 0; i < r.effects.size(); ++i) {
     const est::Effect& e = r.effects[i];
     out << "  " << i + 1 << ". " << effect_title(e) << ": " << params_text(e, ", ") << "\n"
-        << "     p = " << num(e.p_value, 3) << ", Holm-adjusted p = " << num(e.p_adjusted, 3)
-        << ", delta_BIC = " << num(e.delta_bic, 3) << "\n"
+        << "     p = " << significant_or(e.p_value, "n/a", 3)
+        << ", Holm-adjusted p = " << significant_or(e.p_adjusted, "n/a", 3)
+        << ", delta_BIC = " << significant_or(e.delta_bic, "n/a", 3) << "\n"
         << "     causes: " << e.causes << "\n"
-        << "     moves the unbalance estimate by " << num(e.shift_se, 3)
-        << " SE; trades off with the first harmonic at r = " << num(e.r_first_harmonic, 3)
+        << "     moves the unbalance estimate by " << significant_or(e.shift_se, "n/a", 3)
+        << " SE; trades off with the first harmonic at r = " << significant_or(e.r_first_harmonic, "n/a", 3)
         << (e.moves_estimate ? "" : "; " + e.estimate_note) << "\n";
   }
   for (const auto& s : r.notes) out << "  note: " << s << "\n";
@@ -202,8 +201,11 @@ void print_text(const est::TorqueTable& t, const est::DiagnosisResult& r, double
       << "Collinearity under this plan (r1: canonical correlation with the first harmonic; VIF "
          "against Eq. 22; the closest other candidate, base projected out; limit 0.9):\n";
   for (const est::CandidateCollinearity& c : r.collinearity) {
-    out << "  " << c.candidate << ": r1 " << num(c.r_first_harmonic, 3) << ", VIF " << num(c.vif_base, 3)
-        << (c.most_collinear_with.empty() ? "" : ", closest " + c.most_collinear_with + " at r " + num(c.r_other, 3))
+    out << "  " << c.candidate << ": r1 " << significant_or(c.r_first_harmonic, "n/a", 3) << ", VIF "
+        << significant_or(c.vif_base, "n/a", 3)
+        << (c.most_collinear_with.empty()
+                ? ""
+                : ", closest " + c.most_collinear_with + " at r " + significant_or(c.r_other, "n/a", 3))
         << (c.r_other >= 0.9 || c.r_first_harmonic >= 0.9 || c.vif_base >= 1.0 / (1.0 - 0.81)
                 ? "  (not separable on this plan)"
                 : "")
@@ -213,7 +215,7 @@ void print_text(const est::TorqueTable& t, const est::DiagnosisResult& r, double
     const est::AmbiguousFinding& a = r.ambiguous[i];
     out << "Ambiguous finding " << i + 1 << ": " << a.why << "\n";
     for (const est::Reading& rd : a.readings) {
-      out << "  reading " << rd.effects << " (delta_BIC " << num(rd.delta_bic, 3)
+      out << "  reading " << rd.effects << " (delta_BIC " << significant_or(rd.delta_bic, "n/a", 3)
           << "): " << estimate_text(rd.estimate, u) << "\n";
     }
     out << "  a plan that would separate them: " << a.plan << "\n";
@@ -221,8 +223,8 @@ void print_text(const est::TorqueTable& t, const est::DiagnosisResult& r, double
   out << "\nOmnibus check of the final residual: " << r.omnibus.message << "\n";
   for (const est::StructureTest& st : r.omnibus.tests) {
     out << "  " << st.name << ": "
-        << (st.examined ? "statistic " + num(st.statistic, 4) + ", p = " + num(st.p_value, 3) +
-                              (st.note.empty() ? "" : " (" + st.note + ")")
+        << (st.examined ? "statistic " + significant_or(st.statistic, "n/a", 4) + ", p = " +
+                              significant_or(st.p_value, "n/a", 3) + (st.note.empty() ? "" : " (" + st.note + ")")
                         : st.note)
         << "\n";
   }
@@ -231,16 +233,16 @@ void print_text(const est::TorqueTable& t, const est::DiagnosisResult& r, double
   }
   out << "\nCandidates tested in the last round, not added:\n";
   for (const auto& s : r.tested) out << "  " << s << "\n";
-  out << "\nrmse (sqrt(RSS/n)): before " << num(r.rmse_before) << " " << u << ", after " << num(r.rmse_after) << " "
-      << u << "\n"
+  out << "\nrmse (sqrt(RSS/n)): before " << significant_or(r.rmse_before, "n/a") << " " << u << ", after "
+      << significant_or(r.rmse_after, "n/a") << " " << u << "\n"
       << "Unbalance estimate (first harmonic, +- 1 SE):\n"
       << "  before: " << estimate_text(r.estimate_before, u) << "\n"
       << "  selected model: " << estimate_text(r.estimate_selected, u) << "\n"
       << "  after:  " << estimate_text(r.estimate_after, u) << " (the estimate reported: see the effects' notes)\n";
   if (load) {
     const est::KnownLoadErrors k = est::known_load_errors(r, load->torque, load->angle_rad);
-    out << "Error against the known load " << num(load->torque) << " " << u << " at "
-        << num(load->angle_rad * kDegPerRad) << " deg (estimate - load):\n"
+    out << "Error against the known load " << significant_or(load->torque, "n/a") << " " << u << " at "
+        << significant_or(load->angle_rad * kDegPerRad, "n/a") << " deg (estimate - load):\n"
         << "  before: " << error_text(k.before, u) << "\n"
         << "  after:  " << error_text(k.after, u) << "\n";
   }

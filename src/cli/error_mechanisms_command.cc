@@ -1,7 +1,6 @@
 #include "cli/error_mechanisms_command.h"
 
 #include <cmath>
-#include <cstdio>
 #include <filesystem>
 #include <iostream>
 #include <map>
@@ -9,6 +8,7 @@
 #include <set>
 
 #include "core/error.h"
+#include "core/format.h"
 #include "estimators/sine_fit.h"
 #include "estimators/torque_table.h"
 
@@ -55,29 +55,23 @@ Exit status: 0 success, 2 invalid input (the message names the file, line and co
 )";
 
 void print_text(const json& r, std::ostream& o) {
-  char b[400];
-  std::snprintf(b, sizeof b,
-                "Per-test error mechanisms against %zu measured tests (per-position noise %.3f mN*m from Table 1)\n\n",
-                r["tests"].get<std::size_t>(), r["position_noise_mNm"].get<double>());
-  o << b;
+  o << fmt::format(
+      "Per-test error mechanisms against {} measured tests (per-position noise {:.3f} mN*m from Table 1)\n\n",
+      r["tests"].get<std::size_t>(), r["position_noise_mNm"].get<double>());
   o << "Printed error rows checked against measured - load:\n";
   if (r["printed_error_checks"].empty()) o << "  all agree within the rounding\n";
   for (const auto& c : r["printed_error_checks"]) {
-    std::snprintf(b, sizeof b, "  %s test %d: %s printed %+.2f, its own row gives %+.2f (FLAGGED, kept as printed)\n",
-                  c["table"].get<std::string>().c_str(), c["test"].get<int>(), c["column"].get<std::string>().c_str(),
-                  c["printed"].get<double>(), c["recomputed"].get<double>());
-    o << b;
+    o << fmt::format("  {} test {}: {} printed {:+.2f}, its own row gives {:+.2f} (FLAGGED, kept as printed)\n",
+                     c["table"].get<std::string>(), c["test"].get<int>(), c["column"].get<std::string>(),
+                     c["printed"].get<double>(), c["recomputed"].get<double>());
   }
   for (const auto& t : r["rmse_recomputed"]) {
-    std::snprintf(b, sizeof b, "  %s: RMSE_MT %.2f mN*m, RMSE_b %.2f deg from measured - load",
-                  t["table"].get<std::string>().c_str(), t["rmse_torque_mNm"].get<double>(),
-                  t["rmse_angle_deg"].get<double>());
-    o << b;
+    o << fmt::format("  {}: RMSE_MT {:.2f} mN*m, RMSE_b {:.2f} deg from measured - load", t["table"].get<std::string>(),
+                     t["rmse_torque_mNm"].get<double>(), t["rmse_angle_deg"].get<double>());
     if (t.contains("rmse_angle_from_printed_errors_deg")) {
-      std::snprintf(b, sizeof b, " (%.2f mN*m, %.2f deg from the printed error rows)",
-                    t["rmse_torque_from_printed_errors_mNm"].get<double>(),
-                    t["rmse_angle_from_printed_errors_deg"].get<double>());
-      o << b;
+      o << fmt::format(" ({:.2f} mN*m, {:.2f} deg from the printed error rows)",
+                       t["rmse_torque_from_printed_errors_mNm"].get<double>(),
+                       t["rmse_angle_from_printed_errors_deg"].get<double>());
     }
     o << "\n";
   }
@@ -92,52 +86,40 @@ void print_text(const json& r, std::ostream& o) {
   for (const auto& row : r["calibrate_on_one_validate_on_others"]) {
     o << "  calibrated on " << row["calibration_table"].get<std::string>() << ":\n";
     for (const auto& m : row["mechanisms"]) {
-      std::snprintf(b, sizeof b, "    %-22s ln L calibration_target %7.2f; validation",
-                    m["mechanism"].get<std::string>().c_str(), m["calibration_target"]["log_likelihood"].get<double>());
-      o << b;
+      o << fmt::format("    {:<22} ln L calibration_target {:>7.2f}; validation", m["mechanism"].get<std::string>(),
+                       m["calibration_target"]["log_likelihood"].get<double>());
       for (const auto& v : m["validation"]) {
-        std::snprintf(b, sizeof b, " %s %.1f", v["table"].get<std::string>().c_str(),
-                      v["log_likelihood"].get<double>());
-        o << b;
+        o << fmt::format(" {} {:.1f}", v["table"].get<std::string>(), v["log_likelihood"].get<double>());
       }
-      std::snprintf(b, sizeof b, "; sum %.1f\n      (%s)\n", m["validation_log_likelihood"].get<double>(),
-                    params(m["parameters"]).c_str());
-      o << b;
+      o << fmt::format("; sum {:.1f}\n      ({})\n", m["validation_log_likelihood"].get<double>(),
+                       params(m["parameters"]));
     }
   }
   o << "  validation ln L summed over the choices of calibration table:";
   for (const auto& [k, v] : r["validation_log_likelihood_summed_over_calibration_tables"].items()) {
-    std::snprintf(b, sizeof b, " %s %.1f;", k.c_str(), v.get<double>());
-    o << b;
+    o << fmt::format(" {} {:.1f};", k, v.get<double>());
   }
   o << "\n\nJoint fits on all tables:\n";
   for (const auto& j : r["joint_fit_all_tables"]) {
-    std::snprintf(b, sizeof b, "  %-24s k=%d  ln L %8.2f  AIC %8.2f  dAIC %7.2f  (%s)\n",
-                  j["mechanism"].get<std::string>().c_str(), j["free_sigmas"].get<int>(),
-                  j["log_likelihood"].get<double>(), j["aic"].get<double>(), j["delta_aic"].get<double>(),
-                  params(j["parameters"]).c_str());
-    o << b;
+    o << fmt::format("  {:<24} k={}  ln L {:>8.2f}  AIC {:>8.2f}  dAIC {:>7.2f}  ({})\n",
+                     j["mechanism"].get<std::string>(), j["free_sigmas"].get<int>(), j["log_likelihood"].get<double>(),
+                     j["aic"].get<double>(), j["delta_aic"].get<double>(), params(j["parameters"]));
   }
   for (const auto& t : r["likelihood_ratio_tests"]) {
-    std::snprintf(b, sizeof b, "  %s LR = %.2f, p = %.3g\n", t["question"].get<std::string>().c_str(),
-                  t["statistic"].get<double>(), t["p_value"].get<double>());
-    o << b;
+    o << fmt::format("  {} LR = {:.2f}, p = {:.3g}\n", t["question"].get<std::string>(), t["statistic"].get<double>(),
+                     t["p_value"].get<double>());
   }
   o << "\nPredictive checks (share of " << r["predictive_draws"].get<int>()
     << " simulated copies under the joint fit as extreme as the data):\n";
   for (const auto& c : r["predictive_checks"]) {
-    std::snprintf(b, sizeof b, "  %-22s %s:", c["mechanism"].get<std::string>().c_str(),
-                  c["table"].get<std::string>().c_str());
-    o << b;
+    o << fmt::format("  {:<22} {}:", c["mechanism"].get<std::string>(), c["table"].get<std::string>());
     if (c.contains("spearman_abs_torque_error_vs_load")) {
-      std::snprintf(b, sizeof b, " |dMT| vs load rho_s %+.2f (share %.4f), |db| vs load %+.2f (share %.4f);",
-                    c["spearman_abs_torque_error_vs_load"].get<double>(), c["share_as_falling_torque"].get<double>(),
-                    c["spearman_abs_angle_error_vs_load"].get<double>(), c["share_as_falling_angle"].get<double>());
-      o << b;
+      o << fmt::format(" |dMT| vs load rho_s {:+.2f} (share {:.4f}), |db| vs load {:+.2f} (share {:.4f});",
+                       c["spearman_abs_torque_error_vs_load"].get<double>(), c["share_as_falling_torque"].get<double>(),
+                       c["spearman_abs_angle_error_vs_load"].get<double>(), c["share_as_falling_angle"].get<double>());
     }
-    std::snprintf(b, sizeof b, " dMT-db r %+.2f (share %.4f)\n", c["pearson_torque_vs_angle_error"].get<double>(),
-                  c["share_as_correlated"].get<double>());
-    o << b;
+    o << fmt::format(" dMT-db r {:+.2f} (share {:.4f})\n", c["pearson_torque_vs_angle_error"].get<double>(),
+                     c["share_as_correlated"].get<double>());
   }
   o << "\nSupported (best validation log-likelihood): " << r["supported"].get<std::string>() << "\n";
 }

@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <iostream>
 #include <memory>
 #include <nlohmann/json.hpp>
@@ -10,6 +9,7 @@
 #include <string>
 
 #include "core/error.h"
+#include "core/format.h"
 #include "estimators/sine_fit.h"
 #include "estimators/torque_table.h"
 
@@ -60,12 +60,6 @@ int decimals_for(const std::vector<double>& values) {
   return std::clamp(3 - static_cast<int>(std::floor(std::log10(scale))), 0, 12);
 }
 
-std::string fixed(double v, int decimals) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%.*f", decimals, v);
-  return buf;
-}
-
 nlohmann::json to_json(const estimators::TorqueTable& t, const estimators::SineFitResult& f) {
   nlohmann::json residuals = nlohmann::json::array();
   for (std::size_t i = 0; i < t.size(); ++i) {
@@ -109,14 +103,11 @@ void print_text(const estimators::TorqueTable& t, const estimators::SineFitResul
       << "  max |residual| = " << fixed(f.max_abs_residual, d + 1) << " " << u
       << "  (theta = " << fixed(t.theta_deg[worst], 2) << " deg, line " << t.rows[worst] << ")\n\n";
   const int w = 12;
-  char line[160];
   out << "  torque in " << u << ", residual = measured - fitted\n";
-  std::snprintf(line, sizeof line, "  %*s %*s %*s %*s\n", w, "theta [deg]", w, "measured", w, "fitted", w, "residual");
-  out << line;
+  out << fmt::format("  {:>{}} {:>{}} {:>{}} {:>{}}\n", "theta [deg]", w, "measured", w, "fitted", w, "residual", w);
   for (std::size_t i = 0; i < t.size(); ++i) {
-    std::snprintf(line, sizeof line, "  %*.2f %*.*f %*.*f %*.*f\n", w, t.theta_deg[i], w, d + 1, t.torque[i], w, d + 1,
-                  estimators::sine_fit_predict(f, t.theta_rad[i]), w, d + 1, f.residuals[i]);
-    out << line;
+    out << fmt::format("  {:>{}.2f} {:>{}.{}f} {:>{}.{}f} {:>{}.{}f}\n", t.theta_deg[i], w, t.torque[i], w, d + 1,
+                       estimators::sine_fit_predict(f, t.theta_rad[i]), w, d + 1, f.residuals[i], w, d + 1);
   }
 }
 

@@ -1,9 +1,9 @@
 #include "cli/mass_properties_output.h"
 
 #include <cmath>
-#include <cstdio>
 #include <string>
 
+#include "core/format.h"
 #include "geometry/rigid_body_inertia.h"
 
 namespace poise::cli::mass_properties {
@@ -31,12 +31,6 @@ nlohmann::json properties_json(const geometry::MassProperties& p, double volume,
             {"inertia_relative_difference", d.inertia}}}};
 }
 
-std::string g(double v, int digits = 6) {
-  char buf[48];
-  std::snprintf(buf, sizeof buf, "%.*g", digits, v);
-  return buf;
-}
-
 void print_properties(const geometry::MassProperties& p, double volume, const RaycastDifference& d,
                       const std::string& unit, double unit_m, std::ostream& out) {
   // Rounding residue (1e-17 mm where symmetry puts a zero) is shown as 0.
@@ -46,25 +40,22 @@ void print_properties(const geometry::MassProperties& p, double volume, const Ra
   const Eigen::Matrix3d inertia = p.inertia.unaryExpr([&](double v) { return clean(v, p.inertia.norm()); });
   geometry::PrincipalAxes pa = geometry::principal_axes(p.inertia);
   pa.axes = pa.axes.unaryExpr([&](double v) { return clean(v, 1e3); });
-  char line[200];
-  out << "  volume          " << g(volume) << " m^3 (" << g(volume / (unit_m * unit_m * unit_m)) << " " << unit
-      << "^3)\n";
-  out << "  mass            " << g(p.mass) << " kg\n";
-  std::snprintf(line, sizeof line, "  centre of mass  (%.6g, %.6g, %.6g) %s\n", c.x(), c.y(), c.z(), unit.c_str());
-  out << line;
+  out << "  volume          " << significant(volume, 6) << " m^3 ("
+      << significant(volume / (unit_m * unit_m * unit_m), 6) << " " << unit << "^3)\n";
+  out << "  mass            " << significant(p.mass, 6) << " kg\n";
+  out << fmt::format("  centre of mass  ({:.6g}, {:.6g}, {:.6g}) {}\n", c.x(), c.y(), c.z(), unit);
   out << "  inertia about the centre of mass, kg m^2 (Ixx Ixy Ixz / Iyx Iyy Iyz / Izx Izy Izz):\n";
   for (int i = 0; i < 3; ++i) {
-    std::snprintf(line, sizeof line, "    %14.6e %14.6e %14.6e\n", inertia(i, 0), inertia(i, 1), inertia(i, 2));
-    out << line;
+    out << fmt::format("    {:>14.6e} {:>14.6e} {:>14.6e}\n", inertia(i, 0), inertia(i, 1), inertia(i, 2));
   }
   out << "  principal moments and axes (in the mesh's frame):\n";
   for (int k = 0; k < 3; ++k) {
-    std::snprintf(line, sizeof line, "    I%d = %.6e kg m^2 about (%+.6f, %+.6f, %+.6f)\n", k + 1, pa.moments[k],
-                  pa.axes(0, k), pa.axes(1, k), pa.axes(2, k));
-    out << line;
+    out << fmt::format("    I{} = {:.6e} kg m^2 about ({:+.6f}, {:+.6f}, {:+.6f})\n", k + 1, pa.moments[k],
+                       pa.axes(0, k), pa.axes(1, k), pa.axes(2, k));
   }
-  out << "  ray-cast check: mass " << g(100.0 * d.mass, 3) << " %, centre of mass " << g(d.com_m / unit_m, 3) << " "
-      << unit << ", inertia " << g(100.0 * d.inertia, 3) << " % from the exact figures\n";
+  out << "  ray-cast check: mass " << significant(100.0 * d.mass, 3) << " %, centre of mass "
+      << significant(d.com_m / unit_m, 3) << " " << unit << ", inertia " << significant(100.0 * d.inertia, 3)
+      << " % from the exact figures\n";
 }
 
 std::size_t cavities_of(const Part& p) {
@@ -97,8 +88,8 @@ nlohmann::json to_json(const Computed& c) {
 void print_text(const Computed& c, std::ostream& out) {
   for (const auto& p : c.parts) {
     const std::size_t cavities = cavities_of(p);
-    out << p.file << " (" << p.unit << ", " << g(p.density) << " kg/m^3): " << p.mesh.triangles.size() << " triangles, "
-        << p.check.shells.size() << (p.check.shells.size() == 1 ? " shell" : " shells");
+    out << p.file << " (" << p.unit << ", " << significant(p.density, 6) << " kg/m^3): " << p.mesh.triangles.size()
+        << " triangles, " << p.check.shells.size() << (p.check.shells.size() == 1 ? " shell" : " shells");
     if (cavities) out << " (" << cavities << (cavities == 1 ? " cavity" : " cavities") << ")";
     out << ", closed and consistently oriented\n";
     print_properties(p.exact, p.check.volume_m3, difference(p.exact, p.raycast), p.unit, p.unit_m, out);

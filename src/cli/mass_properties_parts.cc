@@ -2,10 +2,10 @@
 
 #include <charconv>
 #include <cmath>
-#include <cstdio>
 #include <filesystem>
 
 #include "core/error.h"
+#include "core/format.h"
 #include "core/units.h"
 #include "geometry/mesh_text.h"
 #include "geometry/rigid_body_inertia.h"
@@ -14,12 +14,6 @@ namespace poise::cli::mass_properties {
 namespace {
 
 [[noreturn]] void refuse(const std::string& what) { throw geometry::MeshCheckError(what); }
-
-std::string g(double v, int digits = 3) {
-  char buf[48];
-  std::snprintf(buf, sizeof buf, "%.*g", digits, v);
-  return buf;
-}
 
 std::string count(std::size_t n, const std::string& one, const std::string& many) {
   return std::to_string(n) + " " + (n == 1 ? one : many);
@@ -141,7 +135,8 @@ void judge_overlap(const Part& p, const geometry::RayCastStats& stats, double ma
   if (stats.overlap_rays == 0) return;
   const double share = stats.overlap_volume_m3 / std::abs(p.check.volume_m3);
   const std::string what = "about " + geometry::describe_volume(p.mesh, stats.overlap_volume_m3) + " counted twice (" +
-                           g(share) + " of the part's volume; accepted up to " + g(max_share) + ", --max-overlap), " +
+                           significant(share, 3) + " of the part's volume; accepted up to " +
+                           significant(max_share, 3) + ", --max-overlap), " +
                            geometry::describe_box(p.mesh, stats.overlap_box);
   if (share > max_share) {
     c.errors.push_back(p.file + ": shells overlap: " + std::to_string(stats.overlap_rays) + " of " +
@@ -193,8 +188,8 @@ void examine(Part& p, const Options& opt, double weld_m, double max_share, Compu
   // is the likely cause (a region counted twice, a surface that does not enclose what it
   // seems to), unless the walls are thinner than the rays' spacing.
   if (const double dm = difference(p.exact, p.raycast).mass; dm > kRaycastTolerance) {
-    c.errors.push_back(p.file + ": the ray-cast check differs from the exact mass by " + g(100.0 * dm) +
-                       " % (tolerance " + g(100.0 * kRaycastTolerance, 2) +
+    c.errors.push_back(p.file + ": the ray-cast check differs from the exact mass by " + significant(100.0 * dm, 3) +
+                       " % (tolerance " + significant(100.0 * kRaycastTolerance, 2) +
                        " %): the mesh may count a region twice (faces or shells exported twice) or not enclose what "
                        "it seems to; if its walls are thin, raise --rays (now " +
                        std::to_string(c.rays) + ") to tell");

@@ -4,12 +4,14 @@
 #include <cstdio>
 #include <fstream>
 #include <iostream>
+#include <iterator>
 #include <map>
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <sstream>
 
 #include "core/error.h"
+#include "core/format.h"
 #include "core/units.h"
 #include "engine/results/checked_file.h"
 #include "engine/results/result_io.h"
@@ -69,10 +71,8 @@ int simulate(const Args& a) {
                 "): check the model's values" + (set.empty() ? std::string() : ", above all those set here: " + set));
   }
   std::string out = "time_s,current_A,phi_deg\n";
-  char buf[96];
   for (const auto& s : rec) {
-    std::snprintf(buf, sizeof buf, "%.6f,%.9g,%.9g\n", s.t, s.current, s.phi / units::kRadPerDeg);
-    out += buf;
+    fmt::format_to(std::back_inserter(out), "{:.6f},{:.9g},{:.9g}\n", s.t, s.current, s.phi / units::kRadPerDeg);
   }
   engine::write_file_atomic(a.out, out);  // WriteError: the file and the system's reason
   const double true_torque = m.rotor.mass * m.plan.gravity * truth.disk.eccentricity *

@@ -2,36 +2,33 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
+
+#include "core/format.h"
 
 namespace poise {
 
 std::string short_number(double v) {
   if (!std::isfinite(v)) return "nan";
-  char buf[32];
   const double a = std::fabs(v);
-  if (a >= 100.0 || a == 0.0) {
-    std::snprintf(buf, sizeof buf, "%.0f", v);
-  } else {
-    std::snprintf(buf, sizeof buf, "%#.3g", v);  // keeps trailing zeros: 1.00, not 1
-  }
-  return buf;
+  if (a >= 100.0 || a == 0.0) return fixed(v, 0);
+  std::string s = fmt::format("{:#.3g}", v);  // keeps trailing zeros: 1.00, not 1
+  // 99.95 to 99.999... rounds up to three whole digits: printf's "%#.3g" wrote "100.", fmt 9
+  // writes "100.0"; the text stays "100.".
+  if (s == "100.0" || s == "-100.0") s.pop_back();
+  return s;
 }
 
 namespace {
 
-std::string significant(double v, int digits) {
+// Four significant digits; any nan is "nan" (whatever its sign bit), inf "inf" or "-inf".
+std::string four_digits(double v) {
   if (!std::isfinite(v)) return std::isnan(v) ? "nan" : (v > 0 ? "inf" : "-inf");
-  char buf[48];
-  std::snprintf(buf, sizeof buf, "%.*g", digits, v);
-  return buf;
+  return significant(v, 4);
 }
 
 std::string with_decimals(double v, int decimals) {
-  if (!std::isfinite(v)) return significant(v, 4);
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%.*f", decimals, v);
-  std::string s = buf;
+  if (!std::isfinite(v)) return four_digits(v);
+  std::string s = fixed(v, decimals);
   if (s == "-0" || (s.rfind("-0.", 0) == 0 && s.find_first_not_of("0.", 1) == std::string::npos)) s.erase(0, 1);
   return s;
 }
@@ -45,9 +42,9 @@ IntervalText interval_text(double value, std::optional<double> lo, std::optional
   if (hi && std::isfinite(*hi)) half = std::min(half, std::fabs(*hi - value));
   if (lo && hi && std::isfinite(*lo) && std::isfinite(*hi) && !(half > 0.0)) half = 0.5 * std::fabs(*hi - *lo);
   if (!std::isfinite(value) || !std::isfinite(half) || !(half > 0.0)) {
-    t.value = significant(value, 4);
-    if (lo) t.lo = significant(*lo, 4);
-    if (hi) t.hi = significant(*hi, 4);
+    t.value = four_digits(value);
+    if (lo) t.lo = four_digits(*lo);
+    if (hi) t.hi = four_digits(*hi);
     return t;
   }
   int decimals = std::max(0, 1 - static_cast<int>(std::floor(std::log10(half))));

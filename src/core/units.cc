@@ -2,11 +2,11 @@
 
 #include <charconv>
 #include <cmath>
-#include <cstdio>
 #include <map>
 #include <stdexcept>
 
 #include "core/error.h"
+#include "core/format.h"
 
 namespace poise::units {
 namespace {
@@ -239,11 +239,8 @@ double parse_as(std::string_view text, const Dimension& expected) {
 
 double unit_factor(std::string_view unit) { return parse_unit(unit).factor; }
 
-std::string format(double value_si, std::string_view unit, int significant) {
-  double v = value_si / unit_factor(unit);
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%.*g", significant, v);
-  std::string out(buf);
+std::string format(double value_si, std::string_view unit, int digits) {
+  std::string out = significant(value_si / unit_factor(unit), digits);
   if (!unit.empty()) out.append(" ").append(unit);
   return out;
 }

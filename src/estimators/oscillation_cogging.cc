@@ -1,10 +1,10 @@
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <limits>
 #include <vector>
 
 #include "core/angles.h"
+#include "core/format.h"
 #include "estimators/oscillation_detail.h"
 
 namespace poise::estimators::osc {
@@ -33,15 +33,14 @@ OrderRange cogging_orders(const Signals& s, const OscillationOptions& opt, Oscil
       std::max(opt.cogging_min_order, swing > 0 ? static_cast<int>(std::ceil(kTwoPi / swing - 1e-9)) : r.max_order + 1);
   r.limited_by_swing = r.min_order > opt.cogging_min_order;
   if (r.limited_by_swing) {
-    char buf[600];
-    std::snprintf(buf, sizeof buf,
-                  "not identifiable with this swing (%.3g deg peak to peak) for orders %d to %d per turn: they "
-                  "complete less than one cycle over the swing and trade off with the constant and the "
-                  "spring. Order N needs a swing of at least 360/N deg (order %d: %.3g deg, i.e. +-%.3g deg)%s",
-                  swing * 180.0 / kPi, opt.cogging_min_order, std::min(r.min_order - 1, r.max_order),
-                  opt.cogging_min_order, 360.0 / opt.cogging_min_order, 180.0 / opt.cogging_min_order,
-                  r.min_order <= r.max_order ? "; orders from the swing's limit up are scanned" : "");
-    out.not_identifiable.emplace_back("cogging", buf);
+    out.not_identifiable.emplace_back(
+        "cogging",
+        fmt::format("not identifiable with this swing ({:.3g} deg peak to peak) for orders {} to {} per turn: they "
+                    "complete less than one cycle over the swing and trade off with the constant and the "
+                    "spring. Order N needs a swing of at least 360/N deg (order {}: {:.3g} deg, i.e. +-{:.3g} deg){}",
+                    swing * 180.0 / kPi, opt.cogging_min_order, std::min(r.min_order - 1, r.max_order),
+                    opt.cogging_min_order, 360.0 / opt.cogging_min_order, 180.0 / opt.cogging_min_order,
+                    r.min_order <= r.max_order ? "; orders from the swing's limit up are scanned" : ""));
   }
   return r;
 }

@@ -3,12 +3,12 @@
 #include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <numeric>
 #include <optional>
 #include <string>
 
 #include "core/angles.h"
+#include "core/format.h"
 #include "estimators/oscillation_detail.h"
 
 namespace poise::estimators {
@@ -121,23 +121,23 @@ std::optional<Tested> cogging_candidate(const Signals& s, const Eigen::MatrixXd&
   t.p = std::exp(lt.log_p), t.p_family = std::min(1.0, std::exp(lt.log_p + log_count));
   const Eigen::Index k0 = model.cols();
   const double amp = std::hypot(t.fit.beta[k0], t.fit.beta[k0 + 1]);
-  char buf[400];
+  std::string why;
   if (pick.at_edge) {
-    std::snprintf(buf, sizeof buf,
-                  "the best order, %d, lies at the swing's limit (orders from %d are scanned): the "
-                  "structure most likely belongs to a lower order that this swing cannot identify; "
-                  "not added. A larger swing would test the lower orders",
-                  lt.order, range.min_order);
+    why = fmt::format(
+        "the best order, {}, lies at the swing's limit (orders from {} are scanned): the "
+        "structure most likely belongs to a lower order that this swing cannot identify; "
+        "not added. A larger swing would test the lower orders",
+        lt.order, range.min_order);
   } else if (amp > plausible) {
-    std::snprintf(buf, sizeof buf,
-                  "the best order, %d, fits an amplitude of %.3g N*m, more than the %.3g N*m the base "
-                  "residual can hold (2 sqrt(2) x its RMS): it trades off with the base terms and is "
-                  "refused as implausible",
-                  lt.order, amp, plausible);
+    why = fmt::format(
+        "the best order, {}, fits an amplitude of {:.3g} N*m, more than the {:.3g} N*m the base "
+        "residual can hold (2 sqrt(2) x its RMS): it trades off with the base terms and is "
+        "refused as implausible",
+        lt.order, amp, plausible);
   } else {
     return t;
   }
-  out.not_identifiable.emplace_back("cogging", buf);
+  out.not_identifiable.emplace_back("cogging", std::move(why));
   closed = true;
   return std::nullopt;
 }

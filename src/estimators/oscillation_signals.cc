@@ -1,22 +1,15 @@
 #include <algorithm>
 #include <boost/math/distributions/fisher_f.hpp>
 #include <cmath>
-#include <cstdio>
 #include <string>
 #include <vector>
 
 #include "core/error.h"
+#include "core/format.h"
 #include "estimators/oscillation_detail.h"
 
 namespace poise::estimators::osc {
 namespace {
-
-// A number in a message: 6 significant digits ("1e+308", never 309 digits).
-std::string num(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.6g", v);
-  return buf;
-}
 
 struct Where {
   const OscillationRecord& rec;
@@ -35,11 +28,12 @@ double uniform_step(const OscillationRecord& rec, const Where& w) {
   for (std::size_t k = 1; k < n; ++k) steps[k - 1] = rec.t[k] - rec.t[k - 1];
   std::nth_element(steps.begin(), steps.begin() + static_cast<std::ptrdiff_t>(steps.size() / 2), steps.end());
   const double dt = steps[steps.size() / 2];
-  require(dt > 0, w.file + ": time must increase (median step " + num(dt) + " s)");
+  require(dt > 0, w.file + ": time must increase (median step " + significant(dt, 6) + " s)");
   for (std::size_t k = 1; k < n; ++k) {
     const double step = rec.t[k] - rec.t[k - 1];
-    require(std::abs(step - dt) < 1e-6 * dt + 1e-12, w.at(k) + "time must be uniformly sampled: step " + num(step) +
-                                                         " s, expected " + num(dt) + " s (the median step)");
+    require(std::abs(step - dt) < 1e-6 * dt + 1e-12, w.at(k) + "time must be uniformly sampled: step " +
+                                                         significant(step, 6) + " s, expected " + significant(dt, 6) +
+                                                         " s (the median step)");
   }
   return dt;
 }
@@ -69,7 +63,8 @@ Signals derive_signals(const OscillationRecord& rec, const OscillationOptions& o
   require(rec.current.size() == n_all && rec.phi.size() == n_all, "record columns differ in length");
   const Where w{rec, rec.file.empty() ? std::string("record") : rec.file};
   require(std::isfinite(opt.kt) && opt.kt > 0 && opt.kt < 1e6,
-          w.file + ": the torque constant K_T = " + num(opt.kt) + " N*m/A; expected a finite value in (0, 1e6) N*m/A");
+          w.file + ": the torque constant K_T = " + significant(opt.kt, 6) +
+              " N*m/A; expected a finite value in (0, 1e6) N*m/A");
   require(opt.derivative_window >= 5 && opt.derivative_window % 2 == 1, "derivative window must be odd and >= 5");
   const int m = opt.derivative_window / 2;
   require(n_all >= 8 * static_cast<std::size_t>(opt.derivative_window),
@@ -97,8 +92,8 @@ Signals derive_signals(const OscillationRecord& rec, const OscillationOptions& o
     s.acc[e] = 2.0 * (wn * sj2 - s2 * s0) / (wn * s4 - s2 * s2) / (s.dt * s.dt);
     s.phi[e] = rec.phi[c];
     s.y[e] = opt.kt * rec.current[c];
-    require(std::isfinite(s.y[e]),
-            w.at(c) + "K_T i is not finite (K_T = " + num(opt.kt) + " N*m/A, i = " + num(rec.current[c]) + " A)");
+    require(std::isfinite(s.y[e]), w.at(c) + "K_T i is not finite (K_T = " + significant(opt.kt, 6) +
+                                       " N*m/A, i = " + significant(rec.current[c], 6) + " A)");
     s.t[e] = rec.t[c];
   }
   require(s.rate.cwiseAbs().maxCoeff() > 0.0, w.file + ": phi does not move: no oscillation to diagnose");

@@ -6,9 +6,9 @@
 #include <array>
 #include <boost/math/distributions/fisher_f.hpp>
 #include <cmath>
-#include <cstdio>
 #include <numbers>
 #include "core/angles.h"
+#include "core/format.h"
 
 namespace poise::estimators::detail {
 namespace {
@@ -20,12 +20,6 @@ using Eigen::VectorXd;
 using angles::kPi;
 
 using angles::wrap_two_pi;
-
-std::string fmt(const char* f, double a, double b = 0.0) {
-  char buf[240];
-  std::snprintf(buf, sizeof buf, f, a, b);
-  return buf;
-}
 
 // (a, c, K) of the model.
 UnbalanceEstimate estimate_of_model(const Model& m, const ModelData& d);
@@ -141,10 +135,11 @@ void settle_ambiguous_term(Assessment& s, std::size_t i, const Eigen::Vector3d& 
   const Term& t = s.m.terms[i];
   AmbiguousFinding& a = tr.finding;
   e.moves_estimate = false;
-  a.why = term_label(t) + " and " + a.readings[1].effects +
-          (a.correlation > 0.0 ? fmt(" are collinear under this plan (canonical correlation %.3f)", a.correlation)
-                               : std::string(" are not told apart by these data (BIC within 6)")) +
-          (s.in.monotone_plan ? "; time order follows angle order" : "");
+  a.why =
+      term_label(t) + " and " + a.readings[1].effects +
+      (a.correlation > 0.0 ? fmt::format(" are collinear under this plan (canonical correlation {:.3f})", a.correlation)
+                           : std::string(" are not told apart by these data (BIC within 6)")) +
+      (s.in.monotone_plan ? "; time order follows angle order" : "");
   a.plan = separating_plan(t.name == "harmonic" ? "harmonic" : t.name,
                            tr.other_name == "harmonic" ? "harmonic" : tr.other_name);
   if (harmonic_confounded) {

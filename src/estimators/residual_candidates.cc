@@ -1,10 +1,10 @@
 #include "estimators/residual_candidates.h"
 
+#include "core/format.h"
 #include "estimators/residual_assessment.h"
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <string>
 
 namespace poise::estimators::detail {
@@ -93,9 +93,7 @@ Term exponential_family(const Model& m, const ModelData& d, const std::vector<do
   }
   Term best = scan(m, d, std::move(members), "exponential_drift", "time constant");
   if (best.examined) {
-    char buf[120];
-    std::snprintf(buf, sizeof buf, "tau = %.4g, Bonferroni over %d time constants", best.param, best.scanned);
-    best.note = buf;
+    best.note = fmt::format("tau = {:.4g}, Bonferroni over {} time constants", best.param, best.scanned);
   }
   return best;
 }
@@ -150,12 +148,10 @@ void compare_time_shapes(const ModelData& d, const CandidatePool& pool, Model& m
   if (best_label.empty()) return;
   std::string was;
   for (std::size_t i : group) was += (was.empty() ? "" : " + ") + m.terms[i].label;
-  char buf[300];
-  std::snprintf(buf, sizeof buf,
-                "the time-shaped effects %s were replaced by %s alone: lower BIC (%.2f against "
-                "%.2f, a scanned time constant or change point counted as a parameter)",
-                was.c_str(), best_label.c_str(), best_bic, bic_now);
-  notes.emplace_back(buf);
+  notes.emplace_back(
+      fmt::format("the time-shaped effects {} were replaced by {} alone: lower BIC ({:.2f} against "
+                  "{:.2f}, a scanned time constant or change point counted as a parameter)",
+                  was, best_label, best_bic, bic_now));
   m = std::move(best);
 }
 
@@ -176,12 +172,10 @@ void drop_redundant(const ModelData& d, Model& m, std::vector<std::string>& note
       if (b < best - 1e-9) best = b, pick = i, best_model = std::move(alt);
     }
     if (pick == m.terms.size()) return;
-    char buf[240];
-    std::snprintf(buf, sizeof buf,
-                  "%s, added in round %d, was dropped from the final model: without it the BIC is "
-                  "lower (%.2f against %.2f)",
-                  m.terms[pick].label.c_str(), m.terms[pick].round, best, now);
-    notes.emplace_back(buf);
+    notes.emplace_back(
+        fmt::format("{}, added in round {}, was dropped from the final model: without it the BIC is "
+                    "lower ({:.2f} against {:.2f})",
+                    m.terms[pick].label, m.terms[pick].round, best, now));
     m = std::move(best_model);
   }
 }

@@ -3,7 +3,6 @@
 #include <Eigen/Core>
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <limits>
 #include <numbers>
 #include <numeric>
@@ -12,6 +11,7 @@
 
 #include "core/angles.h"
 #include "core/error.h"
+#include "core/format.h"
 #include "estimators/residual_assessment.h"
 #include "estimators/residual_candidates.h"
 #include "estimators/residual_diagnosis_model.h"
@@ -187,12 +187,10 @@ Search search(const SearchInputs& in, const Model& start, bool ar_last) {
     }
     const auto ar =
         std::find_if(m.terms.begin(), m.terms.end(), [](const Term& x) { return x.name == "autocorrelation"; });
-    char buf[200];
-    std::snprintf(buf, sizeof buf,
-                  "autocorrelation, added in round %d, was removed in round %d: with %s in the "
-                  "model it has p = %.3g, delta_BIC = %+.2f",
-                  ar->round, s.rounds, m.terms.back().label.c_str(), check.p, check.delta_bic);
-    s.notes.emplace_back(buf);
+    s.notes.emplace_back(
+        fmt::format("autocorrelation, added in round {}, was removed in round {}: with {} in the "
+                    "model it has p = {:.3g}, delta_BIC = {:+.2f}",
+                    ar->round, s.rounds, m.terms.back().label, check.p, check.delta_bic));
     m.terms.erase(ar);
     m.ar = false;
     m.rho = RhoFit{};
@@ -256,14 +254,13 @@ ModelSelection select_model(const SearchInputs& in, const Model& start) {
   out.other = true;
   out.other_model = keep_a ? s.m : a.m;
   out.other_summary = keep_a ? s.summary : a.summary;
-  char buf[400];
-  std::snprintf(buf, sizeof buf,
-                "The search with AR(1) allowed in any round found %s (BIC %.2f); with AR(1) "
-                "deferred until no column effect qualifies it found %s (BIC %.2f). The "
-                "lower BIC is kept: %s.",
-                s.summary.c_str(), s.bic, a.summary.c_str(), a.bic, keep_a ? "the second" : "the first");
+  std::string note = fmt::format(
+      "The search with AR(1) allowed in any round found {} (BIC {:.2f}); with AR(1) "
+      "deferred until no column effect qualifies it found {} (BIC {:.2f}). The "
+      "lower BIC is kept: {}.",
+      s.summary, s.bic, a.summary, a.bic, keep_a ? "the second" : "the first");
   if (keep_a) s = std::move(a);
-  s.notes.emplace_back(buf);
+  s.notes.push_back(std::move(note));
   return out;
 }
 

@@ -5,8 +5,9 @@
 #include <boost/math/distributions/chi_squared.hpp>
 #include <boost/math/distributions/fisher_f.hpp>
 #include <cmath>
-#include <cstdio>
 #include <limits>
+
+#include "core/format.h"
 
 namespace poise::estimators::detail {
 namespace {
@@ -178,9 +179,7 @@ Term autocorrelation_test(const Model& m, const ModelData& d) {
   const double lr = std::max(0.0, 2.0 * (rf.loglik - l0));
   t.p = boost::math::cdf(boost::math::complement(boost::math::chi_squared(1.0), lr));
   t.delta_bic = -lr + std::log(n);
-  char buf[48];
-  std::snprintf(buf, sizeof buf, "rho = %.3f", rf.rho);
-  t.note = buf;
+  t.note = fmt::format("rho = {:.3f}", rf.rho);
   t.examined = true;
   return t;
 }
@@ -201,9 +200,9 @@ void holm(std::vector<Term>& c) {
 
 std::string describe(const Term& t) {
   if (!t.examined) return t.label + ": " + t.note;
-  char buf[160];
-  std::snprintf(buf, sizeof buf, "p = %.3g, Holm-adjusted p = %.3g, delta_BIC = %+.2f", t.p, t.p_adj, t.delta_bic);
-  return t.label + (t.note.empty() ? "" : " (" + t.note + ")") + ": " + buf;
+  const std::string stats =
+      fmt::format("p = {:.3g}, Holm-adjusted p = {:.3g}, delta_BIC = {:+.2f}", t.p, t.p_adj, t.delta_bic);
+  return t.label + (t.note.empty() ? "" : " (" + t.note + ")") + ": " + stats;
 }
 
 }  // namespace poise::estimators::detail

@@ -3,12 +3,12 @@
 #include <Eigen/Core>
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <limits>
 #include <string>
 #include <vector>
 
 #include "core/angles.h"
+#include "core/format.h"
 
 namespace poise::estimators::detail {
 namespace {
@@ -209,12 +209,10 @@ bool guard_one(const Model& cur, const GuardInputs& in, std::size_t j, Diagnosis
   }
   a.readings.push_back(
       {"plain estimate (without " + name + ")", model_bic(rest, d) - model_bic(cur, d), estimate_of(rest, d)});
-  char buf[320];
-  std::snprintf(buf, sizeof buf,
-                "%s and %s fit the data about as well (BIC within 10, or not separable from "
-                "correlated noise) and give unbalance estimates %.1f SE apart",
-                name.c_str(), against->reading.effects.c_str(), worst_se);
-  a.why = buf;
+  a.why = fmt::format(
+      "{} and {} fit the data about as well (BIC within 10, or not separable from "
+      "correlated noise) and give unbalance estimates {:.1f} SE apart",
+      name, against->reading.effects, worst_se);
   a.why += in.monotone_plan ? "; time order follows angle order" : "";
   a.correlation = r_first;
   a.plan = separating_plan(cur.terms[j].name, against->name);

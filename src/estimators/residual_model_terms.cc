@@ -5,9 +5,9 @@
 #include <array>
 #include <boost/math/distributions/fisher_f.hpp>
 #include <cmath>
-#include <cstdio>
 
 #include "core/angles.h"
+#include "core/format.h"
 #include "estimators/residual_assessment.h"
 
 namespace poise::estimators::detail {
@@ -17,12 +17,6 @@ using angles::wrap_two_pi;
 using Eigen::Index;
 using Eigen::MatrixXd;
 using Eigen::VectorXd;
-
-std::string fmt(const char* f, double a) {
-  char buf[240];
-  std::snprintf(buf, sizeof buf, f, a);
-  return buf;
-}
 
 }  // namespace
 
@@ -41,7 +35,7 @@ double drop_one_p(const Model& m, const ModelData& d, std::size_t i) {
 std::string term_label(const Term& t) {
   if (t.name == "outlier") return "outlier at row " + std::to_string(t.index);
   if (t.name == "step") return "step before row " + std::to_string(t.index);
-  if (t.name == "exponential_drift") return fmt("exponential_drift (tau %.3g)", t.param);
+  if (t.name == "exponential_drift") return fmt::format("exponential_drift (tau {:.3g})", t.param);
   return t.label;
 }
 

@@ -1,6 +1,7 @@
 #include "estimators/residual_omnibus.h"
 
 #include "core/error.h"
+#include "core/format.h"
 
 #include <Eigen/QR>
 #include <algorithm>
@@ -8,7 +9,6 @@
 #include <boost/math/distributions/fisher_f.hpp>
 #include <boost/math/distributions/normal.hpp>
 #include <cmath>
-#include <cstdio>
 #include <map>
 #include <numeric>
 #include <random>
@@ -25,18 +25,12 @@ double chi_squared_upper_tail(double dof, double x) {
   return boost::math::cdf(boost::math::complement(boost::math::chi_squared(dof), x));
 }
 
-std::string fmt(const char* f, double a, double b = 0.0, double c = 0.0) {
-  char buf[200];
-  std::snprintf(buf, sizeof buf, f, a, b, c);
-  return buf;
-}
-
 // "row 17 (line 19, theta 160 deg, t 960 s)".
 std::string at_row(const OmnibusInput& in, std::size_t i) {
   std::string s = "row " + std::to_string(i) + " (";
   if (!in.lines.empty()) s += "line " + std::to_string(in.lines[i]) + ", ";
-  s += fmt("theta %.4g deg", in.theta_deg[i]);
-  if (!in.time_s.empty()) s += fmt(", t %.6g s", in.time_s[i]);
+  s += fmt::format("theta {:.4g} deg", in.theta_deg[i]);
+  if (!in.time_s.empty()) s += fmt::format(", t {:.6g} s", in.time_s[i]);
   return s + ")";
 }
 
@@ -74,7 +68,7 @@ StructureTest lack_of_fit(const OmnibusInput& in, double rss) {
   t.statistic = (ss_lof / (g - p)) / (ss_pe / (n - g));
   t.p_value = boost::math::cdf(boost::math::complement(boost::math::fisher_f(g - p, n - g), t.statistic));
   t.examined = true;
-  t.note = fmt("%.0f positions, pure error on %.0f dof", g, n - g);
+  t.note = fmt::format("{:.0f} positions, pure error on {:.0f} dof", g, n - g);
   return t;
 }
 
@@ -90,11 +84,11 @@ StructureTest declared_noise(const OmnibusInput& in, double rss) {
     }
     mean_var /= static_cast<double>(in.residual.size());
     t.statistic = chi2;
-    t.note = fmt("residual sd %.4g against the points' own standard errors (rms %.4g)", std::sqrt(rss / dof),
-                 std::sqrt(mean_var));
+    t.note = fmt::format("residual sd {:.4g} against the points' own standard errors (rms {:.4g})",
+                         std::sqrt(rss / dof), std::sqrt(mean_var));
   } else if (in.noise > 0.0) {
     t.statistic = rss / (in.noise * in.noise);
-    t.note = fmt("residual sd %.4g against declared %.4g", std::sqrt(rss / dof), in.noise);
+    t.note = fmt::format("residual sd {:.4g} against declared {:.4g}", std::sqrt(rss / dof), in.noise);
   } else {
     t.note = "not examined: no independent noise level (--noise or a torque_se column)";
     return t;
@@ -134,7 +128,7 @@ StructureTest ljung_box(const std::vector<double>& r, bool ar) {
   const double dof = static_cast<double>(h) - (ar ? 1.0 : 0.0);
   t.p_value = chi_squared_upper_tail(dof, t.statistic);
   t.examined = true;
-  t.note = fmt("%.0f lags", static_cast<double>(h));
+  t.note = fmt::format("{:.0f} lags", static_cast<double>(h));
   return t;
 }
 
@@ -159,7 +153,7 @@ StructureTest runs(const std::vector<double>& r) {
   t.statistic = (runs_count - mean) / std::sqrt(var);
   t.p_value = 2.0 * boost::math::cdf(boost::math::normal(), -std::abs(t.statistic));
   t.examined = true;
-  t.note = fmt("%.0f runs, %.1f expected", runs_count, mean);
+  t.note = fmt::format("{:.0f} runs, {:.1f} expected", runs_count, mean);
   return t;
 }
 
@@ -299,7 +293,7 @@ std::string where_structure_is(const OmnibusInput& in, const std::vector<double>
             [&](auto x, auto y) { return std::abs(in.residual[x]) > std::abs(in.residual[y]); });
   where += "; largest residuals at";
   for (std::size_t k = 0; k < std::min<std::size_t>(3, n); ++k) {
-    where += (k ? ", " : " ") + at_row(in, idx[k]) + fmt(" %+.3g", in.residual[idx[k]]);
+    where += (k ? ", " : " ") + at_row(in, idx[k]) + fmt::format(" {:+.3g}", in.residual[idx[k]]);
   }
   return where;
 }
@@ -340,15 +334,15 @@ OmnibusResult omnibus_check(const OmnibusInput& in) {
   out.p_value = std::min(1.0, m * worst->p_value);
   out.unexplained = out.p_value < in.alpha;
   if (!out.unexplained) {
-    out.message =
-        fmt("No structure left in the residual beyond the noise (omnibus p = %.3g, "
-            "Bonferroni over %.0f tests, alpha = %.3g).",
-            out.p_value, m, in.alpha);
+    out.message = fmt::format(
+        "No structure left in the residual beyond the noise (omnibus p = {:.3g}, "
+        "Bonferroni over {:.0f} tests, alpha = {:.3g}).",
+        out.p_value, static_cast<double>(m), in.alpha);
     return out;
   }
   out.where = where_structure_is(in, ordered, shift_k, out.tests, m);
   out.message = "Unexplained structure: " + worst->name +
-                fmt(" p = %.3g (omnibus p = %.3g)", worst->p_value, out.p_value) + " - " + out.where +
+                fmt::format(" p = {:.3g} (omnibus p = {:.3g})", worst->p_value, out.p_value) + " - " + out.where +
                 ". No candidate effect explains it; the unbalance estimate carries it and its "
                 "standard errors, which assume independent noise, do not cover it.";
   return out;

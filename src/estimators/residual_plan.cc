@@ -2,9 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <numeric>
 
+#include "core/format.h"
 #include "estimators/sine_fit.h"
 
 namespace poise::estimators::detail {
@@ -36,20 +36,17 @@ std::string describe_plan(const TorqueTable& table, const std::vector<std::size_
   const std::size_t positions = count_distinct_angles(table.theta_rad);
   const long up = std::count(table.sweep.begin(), table.sweep.end(), 1);
   const long down = std::count(table.sweep.begin(), table.sweep.end(), -1);
-  char buf[400];
-  std::snprintf(buf, sizeof buf,
-                "%zu points at %zu positions%s; %s; measurement order from %s; rank correlation "
-                "of angle with measurement order %.2f%s",
-                table.size(), positions, positions < table.size() ? " (some repeated)" : "",
-                table.sweep.empty() ? "no sweep column"
-                : (up > 0 && down > 0)
-                    ? ("both directions (" + std::to_string(up) + " +, " + std::to_string(down) + " -)").c_str()
-                    : "one direction",
-                table.time_s.empty() ? "the row order" : "time_s", order_angle_correlation(table, order),
-                monotone ? ": time order follows angle order, so any smooth function of time is "
-                           "one of angle (harmonics, drifts and correlated noise are confounded)"
-                         : "");
-  return buf;
+  return fmt::format(
+      "{} points at {} positions{}; {}; measurement order from {}; rank correlation "
+      "of angle with measurement order {:.2f}{}",
+      table.size(), positions, positions < table.size() ? " (some repeated)" : "",
+      table.sweep.empty()    ? "no sweep column"
+      : (up > 0 && down > 0) ? "both directions (" + std::to_string(up) + " +, " + std::to_string(down) + " -)"
+                             : "one direction",
+      table.time_s.empty() ? "the row order" : "time_s", order_angle_correlation(table, order),
+      monotone ? ": time order follows angle order, so any smooth function of time is "
+                 "one of angle (harmonics, drifts and correlated noise are confounded)"
+               : "");
 }
 
 }  // namespace poise::estimators::detail

@@ -3,11 +3,11 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <cstdio>
 #include <limits>
 #include <numbers>
 #include <numeric>
 
+#include "core/format.h"
 #include "geometry/mesh_gaps.h"
 #include "geometry/mesh_needles.h"
 
@@ -46,12 +46,6 @@ void note(Defect& d, std::size_t tri) {
 
 std::string plural(std::size_t n, const std::string& one, const std::string& many) {
   return std::to_string(n) + " " + (n == 1 ? one : many);
-}
-
-std::string number(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.4g", v);
-  return buf;
 }
 
 // Solid angle of triangle (a, b, c) seen from the origin (Van Oosterom and Strackee 1983).
@@ -360,14 +354,14 @@ std::string unit_warning(const Mesh& mesh, const std::string& unit, double unit_
   constexpr double kLargest = 5.0, kSmallest = 0.5e-3;
   if (side <= kLargest && side >= kSmallest) return "";
   const double in_file = side / unit_m;  // the number written in the file
-  std::string msg = mesh.name + ": " + number(in_file) + " " + unit +
+  std::string msg = mesh.name + ": " + significant(in_file) + " " + unit +
                     " across (the largest side of its bounding box), " + (side > kLargest ? "large" : "small") +
                     " for a part: is --unit " + unit + " right?";
   static const std::pair<const char*, double> kUnits[] = {{"mm", 1e-3}, {"m", 1.0}, {"in", 0.0254}, {"cm", 1e-2}};
   for (const auto& [name, size] : kUnits) {
     const double other = in_file * size;
     if (name != unit && other <= kLargest && other >= kSmallest) {
-      msg += std::string(" In ") + name + " it would be " + number(in_file) + " " + name + " across.";
+      msg += std::string(" In ") + name + " it would be " + significant(in_file) + " " + name + " across.";
       break;
     }
   }

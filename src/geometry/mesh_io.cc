@@ -8,11 +8,13 @@
 #include <cstdio>
 #include <cstring>
 #include <fstream>
+#include <iterator>
 #include <map>
 #include <sstream>
 #include <string_view>
 #include <vector>
 
+#include "core/format.h"
 #include "geometry/mesh_needles.h"
 #include "geometry/polygon_triangulation.h"
 #include "geometry/vertex_welder.h"
@@ -326,9 +328,10 @@ std::string obj_text(const Mesh& mesh, double unit_m) {
 std::string stl_bytes(const Mesh& mesh, double unit_m) {
   std::string out;
   out.reserve(84 + 50 * mesh.triangles.size());
-  char header[80] = {};
-  std::snprintf(header, sizeof header, "Poise %s", mesh.name.c_str());
-  out.append(header, 80);
+  // The 80-byte header: "Poise <name>" (the name up to a NUL, as C text) cut to 79 bytes, NUL-padded.
+  std::string header = fmt::format("Poise {}", mesh.name.c_str());
+  header.resize(79);
+  out.append(header).append(1, '\0');
   const auto n = static_cast<std::uint32_t>(mesh.triangles.size());
   out.append(reinterpret_cast<const char*>(&n), 4);
   for (std::size_t k = 0; k < mesh.triangles.size(); ++k) {
@@ -350,15 +353,13 @@ std::string ascii_stl_text(const Mesh& mesh, double unit_m) {
   std::string out;
   const std::string name = mesh.name.empty() ? "part" : mesh.name;
   out += "solid " + name + '\n';
-  char buf[200];
   for (std::size_t k = 0; k < mesh.triangles.size(); ++k) {
     const Eigen::Vector3d n = mesh.face_normal(k).normalized();
-    std::snprintf(buf, sizeof buf, "  facet normal %.9g %.9g %.9g\n    outer loop\n", n.x(), n.y(), n.z());
-    out += buf;
+    fmt::format_to(std::back_inserter(out), "  facet normal {:.9g} {:.9g} {:.9g}\n    outer loop\n", n.x(), n.y(),
+                   n.z());
     for (int i = 0; i < 3; ++i) {
       const Eigen::Vector3d v = mesh.vertices[mesh.triangles[k][i]] / unit_m;
-      std::snprintf(buf, sizeof buf, "      vertex %.17g %.17g %.17g\n", v.x(), v.y(), v.z());
-      out += buf;
+      fmt::format_to(std::back_inserter(out), "      vertex {:.17g} {:.17g} {:.17g}\n", v.x(), v.y(), v.z());
     }
     out += "    endloop\n  endfacet\n";
   }

@@ -1,7 +1,8 @@
 #include "geometry/mesh_text.h"
 
 #include <cmath>
-#include <cstdio>
+
+#include "core/format.h"
 
 namespace poise::geometry {
 namespace {
@@ -20,9 +21,7 @@ Scale scale_of(const Mesh& mesh) {
 
 std::string number(double v, int digits = 6) {
   if (std::abs(v) < 1e-300) v = 0.0;  // no "-0"
-  char buf[40];
-  std::snprintf(buf, sizeof buf, "%.*g", digits, v);
-  return buf;
+  return significant(v, digits);
 }
 
 // Rounding residue (1e-15 where the file says 0) is written as 0.

@@ -1,6 +1,5 @@
 #include "geometry_studies/geometry_plots.h"
 
-#include <cstdio>
 #include <sstream>
 
 #include "engine/report/report_plot.h"
@@ -31,12 +30,6 @@ std::string histogram_script(const std::string& dat, int column, const std::stri
     << "if (STATS_records <= 10) set ytics 1\n"  // whole samples, not 0.5
     << "plot '" << dat << "' u (bin($" << column << ")):(1.0) smooth freq with boxes lc rgb '#4477aa' notitle\n";
   return g.str();
-}
-
-std::string fmt_g(double v, int prec) {
-  char buf[48];
-  std::snprintf(buf, sizeof buf, "%.*g", prec, v);
-  return buf;
 }
 
 }  // namespace poise::geometry_studies

@@ -23,7 +23,4 @@ std::string geometry_figures_html(const std::filesystem::path& plots_dir, const 
 /// sqrt(n) bins (5 to 40), each box as wide as its bin.
 std::string histogram_script(const std::string& dat, int column, const std::string& title, const std::string& xlabel);
 
-/// A number for the report's tables: %.*g.
-std::string fmt_g(double v, int prec = 6);
-
 }  // namespace poise::geometry_studies

@@ -2,10 +2,10 @@
 #include "core/diagnostics.h"
 
 #include <cmath>
-#include <cstdio>
 #include <filesystem>
 #include <iostream>
 
+#include "core/format.h"
 #include "core/units.h"
 #include "engine/study_files/model_overrides.h"
 #include "geometry/generators.h"
@@ -345,25 +345,20 @@ std::vector<std::string> plausibility_warnings(const GimbalModel& m) {
   std::vector<std::string> w;
   const auto& p = m.plausibility;
   if (!p.stated) return w;
-  auto num = [](double v) {
-    char b[32];
-    std::snprintf(b, sizeof b, "%.3g", v);
-    return std::string(b);
-  };
   const double s_k = m.kt_drift.spec.dist.stddev();
   const double coef = std::abs(p.kt_temperature_coefficient_per_K);
   const double k_limit = coef * p.magnet_temperature_swing_K;
   if (s_k > k_limit * (1.0 + 1e-9)) {
-    w.push_back("tolerances.kt_drift: 1 sigma " + num(100.0 * s_k) + "% of K_T between tests needs a " +
-                num(s_k / coef) + " K (1 sigma) magnet temperature swing at " +
-                num(100.0 * p.kt_temperature_coefficient_per_K) + " %/K; [plausibility] states " +
-                num(p.magnet_temperature_swing_K) + " K (" + num(100.0 * k_limit) +
+    w.push_back("tolerances.kt_drift: 1 sigma " + significant(100.0 * s_k, 3) + "% of K_T between tests needs a " +
+                significant(s_k / coef, 3) + " K (1 sigma) magnet temperature swing at " +
+                significant(100.0 * p.kt_temperature_coefficient_per_K, 3) + " %/K; [plausibility] states " +
+                significant(p.magnet_temperature_swing_K, 3) + " K (" + significant(100.0 * k_limit, 3) +
                 "% of K_T): past the physically plausible range");
   }
   const double s_z = m.gimbal_zero.spec.dist.stddev();
   if (s_z > p.zero_registration * (1.0 + 1e-9)) {
     w.push_back("tolerances.gimbal_zero: 1 sigma " + units::format(s_z, "deg", 3) + " is " +
-                (p.zero_registration > 0 ? num(s_z / p.zero_registration) + " times" : "above") +
+                (p.zero_registration > 0 ? significant(s_z / p.zero_registration, 3) + " times" : "above") +
                 " the zero registration the rig can do ([plausibility] zero_registration " +
                 units::format(p.zero_registration, "deg", 3) + "): past the physically plausible range");
   }

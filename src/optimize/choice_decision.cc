@@ -2,8 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 
+#include "core/format.h"
 #include "engine/kind_interface/procedure_study.h"
 #include "sampling/random_stream.h"
 #include "sampling/statistics.h"
@@ -218,11 +218,7 @@ std::size_t decided_headline(const Fresh& f, std::size_t pick) {
   return chosen;
 }
 
-std::string ratio_text(double a, double b) {
-  char ratio[32];
-  std::snprintf(ratio, sizeof ratio, "%.2g", a / b);
-  return ratio;
-}
+std::string ratio_text(double a, double b) { return significant(a / b, 2); }
 
 /// The decision in words: `chosen` against `other` (the best combination of another value of
 /// the deciding parameter), from the paired difference's interval and, where it shows

@@ -3,8 +3,8 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 
+#include "core/format.h"
 #include "engine/results/confidence_bound.h"
 
 namespace poise::optimize {
@@ -20,9 +20,7 @@ void RunProgress::step(double samples, const std::string& line, bool fast) {
   const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
   // Searches usually converge before their budget, so the plan (and the ETA) is an upper bound.
   const double eta = done_ > 0 ? elapsed / done_ * std::max(planned_ - done_, 0.0) : 0.0;
-  char timing[64];
-  std::snprintf(timing, sizeof timing, "  (%.0f s, ETA <= %.1f min)", elapsed, eta / 60.0);
-  diagnostics::progress("  " + line + timing);
+  diagnostics::progress("  " + line + fmt::format("  ({:.0f} s, ETA <= {:.1f} min)", elapsed, eta / 60.0));
 }
 
 double objective_value(const OptimizationSpec& spec, const std::vector<double>& x, const engine::McResult& e) {
@@ -46,12 +44,11 @@ ScoredDesign score_design(const OptimizationSpec& spec, const std::vector<double
   s.failure_share = e.n > 0 ? static_cast<double>(e.failures) / static_cast<double>(e.n) : 0.0;
   Evaluation& r = s.primary;
   if (s.failure_share > spec.max_failure_share()) {
-    char buf[160];
-    std::snprintf(buf, sizeof buf,
-                  "%zu of %zu samples failed (%.1f%%, over the study's max_failure_share %.3g): ", e.failures, e.n,
-                  100.0 * s.failure_share, spec.max_failure_share());
     r.ok = false;
-    r.message = buf + e.first_failure();
+    r.message =
+        fmt::format("{} of {} samples failed ({:.1f}%, over the study's max_failure_share {:.3g}): ", e.failures, e.n,
+                    100.0 * s.failure_share, spec.max_failure_share()) +
+        e.first_failure();
     return s;
   }
   r.objective = objective_value(spec, x, e);

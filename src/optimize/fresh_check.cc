@@ -1,8 +1,8 @@
 #include "optimize/fresh_check.h"
 
 #include <cmath>
-#include <cstdio>
 
+#include "core/format.h"
 #include "engine/kind_interface/procedure_study.h"
 #include "optimize/design_search.h"
 
@@ -94,9 +94,8 @@ std::string FreshCheck::describe_constraint(std::size_t k) const {
   const std::string& unit = c.unit;
   std::string s = r.statistic + " of " + r.output + " " + interval_text(c.interval, unit);
   if (c.bound) {
-    char buf[32];
-    std::snprintf(buf, sizeof buf, "%.4g", *c.bound);  // one digit more than the interval: it sits by the limit
-    s += " (" + describe(r.bound) + " " + buf + ")";
+    // One digit more than the interval: it sits by the limit.
+    s += " (" + describe(r.bound) + " " + significant(*c.bound) + ")";
   }
   return s + " " + to_string(c.verdict) + " " + (r.at_least ? ">= " : "<= ") + value_text(r.limit(), "") +
          (unit.empty() ? "" : " " + unit);
@@ -105,9 +104,7 @@ std::string FreshCheck::describe_constraint(std::size_t k) const {
 std::string FreshCheck::problems() const {
   std::string s;
   if (!failures_ok) {
-    char buf[96];
-    std::snprintf(buf, sizeof buf, "%zu of %zu samples failed (%.1f%%)", failures, samples, 100.0 * failure_share);
-    s = buf;
+    s = fmt::format("{} of {} samples failed ({:.1f}%)", failures, samples, 100.0 * failure_share);
   }
   for (std::size_t k = 0; k < constraints.size(); ++k) {
     if (constraints[k].verdict != Verdict::kPasses) s += (s.empty() ? "" : "; ") + describe_constraint(k);

@@ -4,11 +4,11 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <filesystem>
 #include <sstream>
 
 #include "core/error.h"
+#include "core/format.h"
 #include "core/units.h"
 #include "engine/kind_interface/study_evaluation.h"
 #include "engine/study_files/toml_reader.h"
@@ -55,9 +55,8 @@ constexpr const char* kStatistics = "mean, std, min, max, p<q> (p95, p99.73), fr
 }  // namespace
 
 std::string value_text(double value, const std::string& unit) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%.10g", value);
-  return unit.empty() ? std::string(buf) : std::string(buf) + " " + unit;
+  const std::string text = significant(value, 10);
+  return unit.empty() ? text : text + " " + unit;
 }
 
 std::string Requirement::describe() const {

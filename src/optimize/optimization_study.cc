@@ -2,9 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 
 #include "core/error.h"
+#include "core/format.h"
 #include "engine/kind_interface/procedure_study.h"
 #include "optimize/optimization_output.h"
 #include "optimize/optimum_neighbourhood.h"
@@ -33,15 +33,15 @@ std::vector<std::map<std::string, std::string>> combinations(const std::vector<C
 }
 
 std::string rounded_text(double v, double step, const std::string& unit) {
-  char buf[64];
+  std::string text;
   if (step > 0) {
     const double r = std::round(v / step) * step;
     const int decimals = std::max(0, -static_cast<int>(std::floor(std::log10(step))));
-    std::snprintf(buf, sizeof buf, "%.*f", decimals, r);
+    text = fixed(r, decimals);
   } else {
-    std::snprintf(buf, sizeof buf, "%.4g", v);
+    text = significant(v);
   }
-  return unit.empty() ? std::string(buf) : std::string(buf) + " " + unit;
+  return unit.empty() ? text : text + " " + unit;
 }
 
 // The design in words: "yaw.bearing_span 131 mm (127-133 over 3 searches), ...".
@@ -295,8 +295,7 @@ std::string fast_model_clause(const OptimizationSpec& spec, const OptimizationOu
   const std::string unit = spec.objective_output.empty() ? std::string() : output_unit(spec, spec.objective_output);
   const std::string what =
       spec.objective_output.empty() ? "the objective" : spec.objective_statistic + " of " + spec.objective_output;
-  char rel[32];
-  std::snprintf(rel, sizeof rel, "%.1e", std::fabs(o["relative"].get<double>()));
+  const std::string rel = fmt::format("{:.1e}", std::fabs(o["relative"].get<double>()));
   return ", which on the headline's " + std::to_string(out.fast_model["samples"].get<std::size_t>()) +
          " fresh samples gives " + what + " " +
          poise::interval_text(o["fast"].get<double>(), std::nullopt, std::nullopt).value + " against " +

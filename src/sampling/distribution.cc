@@ -2,10 +2,10 @@
 
 #include <boost/math/special_functions/erf.hpp>
 #include <cmath>
-#include <cstdio>
 #include <limits>
 
 #include "core/error.h"
+#include "core/format.h"
 #include "core/units.h"
 
 namespace poise::sampling {
@@ -163,23 +163,18 @@ double Distribution::upper() const {
 }
 
 std::string Distribution::describe(double display_factor, std::string_view unit) const {
-  char buf[256];
   const double t = tolerance_ / display_factor;
-  const std::string u(unit);
   switch (kind_) {
     case DistributionKind::kFixed:
-      std::snprintf(buf, sizeof buf, "fixed at %.4g %s", (nominal_ + tolerance_) / display_factor, u.c_str());
-      break;
+      return fmt::format("fixed at {:.4g} {}", (nominal_ + tolerance_) / display_factor, unit);
     case DistributionKind::kNormal:
-      std::snprintf(buf, sizeof buf, "normal, +-%.4g %s read as %s (sigma = %.4g %s)", t, u.c_str(),
-                    to_string(convention_).c_str(), stddev() / display_factor, u.c_str());
-      break;
+      return fmt::format("normal, +-{:.4g} {} read as {} (sigma = {:.4g} {})", t, unit, to_string(convention_),
+                         stddev() / display_factor, unit);
     default:
-      std::snprintf(buf, sizeof buf, "%s, +-%.4g %s read as %s (support +-%.4g %s, sigma = %.4g %s)",
-                    to_string(kind_).c_str(), t, u.c_str(), to_string(convention_).c_str(),
-                    half_width_ / display_factor, u.c_str(), stddev() / display_factor, u.c_str());
+      return fmt::format("{}, +-{:.4g} {} read as {} (support +-{:.4g} {}, sigma = {:.4g} {})", to_string(kind_), t,
+                         unit, to_string(convention_), half_width_ / display_factor, unit, stddev() / display_factor,
+                         unit);
   }
-  return buf;
 }
 
 }  // namespace poise::sampling

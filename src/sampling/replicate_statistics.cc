@@ -3,9 +3,9 @@
 #include <algorithm>
 #include <boost/math/distributions/students_t.hpp>
 #include <cmath>
-#include <cstdio>
 
 #include "core/error.h"
+#include "core/format.h"
 #include "sampling/statistics.h"
 
 namespace poise::sampling {
@@ -24,12 +24,6 @@ std::pair<double, double> mean_and_se(const std::vector<double>& x) {
   mean /= r;
   for (double v : x) m2 += (v - mean) * (v - mean);
   return {mean, std::sqrt(m2 / (r - 1.0) / r)};
-}
-
-std::string format(const char* f, double v) {
-  char buf[48];
-  std::snprintf(buf, sizeof buf, f, v);
-  return buf;
 }
 
 // Woodruff's ends of the p-quantile: the replicates' shares below the pooled estimate q give
@@ -79,19 +73,19 @@ void woodruff(Estimate& e, double p, const std::vector<double>& sorted, const st
   e.hi = ends.hi;
   const double half = ends.half;
   std::string name = "p";  // appended: "p" + a temporary trips GCC 12's -Wrestrict (PR 105329)
-  name += format("%.4g", 100.0 * p);
+  name += significant(100.0 * p);
   if (!e.hi || !e.lo) {
     e.note = std::string("one-sided: the replicates' spread of the share below ") + name + " (+-" +
-             format("%.2g", half) + ") reaches past the " + (e.hi ? "smallest" : "largest") + " of the " +
+             significant(half, 2) + ") reaches past the " + (e.hi ? "smallest" : "largest") + " of the " +
              std::to_string(sorted.size()) + " samples; no " + (e.hi ? "lower" : "upper") + " bound";
   }
   const double tail = replicate_size * std::min(p, 1.0 - p);
   if (tail < kMinTailPerReplicate) {
     e.note += std::string(e.note.empty() ? "" : "; ") + "approximate: replicate_size x " + (p > 0.5 ? "(1 - p)" : "p") +
-              " = " + format("%.3g", tail) + " < " + format("%.0f", kMinTailPerReplicate) +
+              " = " + significant(tail, 3) + " < " + fixed(kMinTailPerReplicate, 0) +
               ", so each replicate holds only a few samples beyond " + name +
               " and their spread is a spread of small counts; use replicates of at least " +
-              format("%.0f", std::ceil(kMinTailPerReplicate / std::min(p, 1.0 - p))) + " samples for this figure";
+              fixed(std::ceil(kMinTailPerReplicate / std::min(p, 1.0 - p)), 0) + " samples for this figure";
   }
 }
 

@@ -2,10 +2,10 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <limits>
 
 #include "core/error.h"
+#include "core/format.h"
 #include "sampling/random_stream.h"
 
 namespace poise::sampling {
@@ -277,10 +277,9 @@ SobolResult sobol_indices(std::span<const double> fA, std::span<const double> fB
   indices_from_sums(rows.layout, sums.data(), static_cast<double>(n), est);
   res.variance = est.variance;
   if (!(std::sqrt(est.variance) > kConstantOutputTolerance * max_abs)) {
-    char buf[160];
-    std::snprintf(buf, sizeof buf, "constant output (standard deviation %.3g <= %.0e x max |f| = %.6g)",
-                  std::sqrt(est.variance), kConstantOutputTolerance, max_abs);
-    res.note = std::string(buf) + ": indices undefined";
+    res.note = fmt::format("constant output (standard deviation {:.3g} <= {:.0e} x max |f| = {:.6g})",
+                           std::sqrt(est.variance), kConstantOutputTolerance, max_abs) +
+               ": indices undefined";
     return res;
   }
   for (std::size_t g = 0; g < k; ++g) {

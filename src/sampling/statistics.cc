@@ -5,10 +5,10 @@
 #include <boost/math/distributions/students_t.hpp>
 #include <boost/math/special_functions/beta.hpp>
 #include <cmath>
-#include <cstdio>
 #include <limits>
 
 #include "core/error.h"
+#include "core/format.h"
 
 namespace poise::sampling {
 
@@ -52,12 +52,6 @@ Estimate quantile_at(const QuantileRanks& r, At at) {
   return e;
 }
 
-std::string count_text(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.0f", v);
-  return buf;
-}
-
 // The note of a quantile's order-statistic interval with an end missing.
 void note_missing_ends(Estimate& e, std::size_t n, double p) {
   if (e.lo && e.hi) return;
@@ -65,7 +59,7 @@ void note_missing_ends(Estimate& e, std::size_t n, double p) {
     e.note = "no interval: " + std::to_string(n) + " samples are too few for either end";
   } else if (!e.hi) {
     e.note = "one-sided: no upper bound below n = " + std::to_string(samples_for_upper_end(p)) +
-             " (the upper 97.5% order statistic of p" + count_text(100.0 * p) + " lies past the largest of " +
+             " (the upper 97.5% order statistic of p" + fixed(100.0 * p, 0) + " lies past the largest of " +
              std::to_string(n) + " samples)";
   } else {
     e.note = "one-sided: no lower bound below n = " + std::to_string(samples_for_upper_end(1.0 - p));

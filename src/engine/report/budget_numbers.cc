@@ -2,7 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
+
+#include "core/format.h"
 
 namespace poise::engine {
 
@@ -11,14 +12,9 @@ using nlohmann::json;
 std::string budget_number(const json& v) {
   if (v.is_null()) return "-";
   const double x = v.get<double>();
-  char buf[32];
-  if (x != 0.0 && (std::abs(x) >= 1e5 || std::abs(x) < 1e-3)) {
-    std::snprintf(buf, sizeof buf, "%.4g", x);
-  } else {
-    const int digits = x == 0.0 ? 0 : std::max(0, 3 - static_cast<int>(std::floor(std::log10(std::abs(x)))));
-    std::snprintf(buf, sizeof buf, "%.*f", digits, x);
-  }
-  return buf;
+  if (x != 0.0 && (std::abs(x) >= 1e5 || std::abs(x) < 1e-3)) return significant(x);
+  const int digits = x == 0.0 ? 0 : std::max(0, 3 - static_cast<int>(std::floor(std::log10(std::abs(x)))));
+  return fixed(x, digits);
 }
 
 std::string recomputed_text(const json& it, const std::string& unit) {

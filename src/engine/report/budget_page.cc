@@ -2,9 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <sstream>
 
+#include "core/format.h"
 #include "engine/report/budget_numbers.h"
 #include "engine/report/report_contents.h"
 #include "engine/report/report_plot.h"
@@ -16,12 +16,6 @@ namespace {
 
 using nlohmann::json;
 
-std::string f2(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.2f", v);
-  return buf;
-}
-
 double nice_step(double span) {
   const double raw = span / 6.0;
   const double p = std::pow(10.0, std::floor(std::log10(raw)));
@@ -29,12 +23,6 @@ double nice_step(double span) {
     if (m * p >= raw) return m * p;
   }
   return 10 * p;
-}
-
-std::string tick_text(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%g", std::abs(v) < 1e-12 ? 0.0 : v);
-  return buf;
 }
 
 std::string verdict_cell(const std::string& v) {
@@ -46,10 +34,7 @@ std::string verdict_cell(const std::string& v) {
 
 std::string rel_cell(const json& it) {
   if (!it.contains("relative_difference") || it["relative_difference"].is_null()) return "<td></td>";
-  char buf[32];
-  const double pct = 100.0 * it["relative_difference"].get<double>();
-  std::snprintf(buf, sizeof buf, "%+.1f%%", std::abs(pct) < 0.05 ? 0.0 : pct);  // no "-0.0%"
-  return std::string("<td>") + buf + "</td>";
+  return "<td>" + signed_percent(it["relative_difference"].get<double>()) + "</td>";
 }
 
 std::string inputs_of(const json& l) {
@@ -92,14 +77,14 @@ void axes_svg(std::ostringstream& s, const ChartFrame& f, const json& j, const s
     << "' fill='none' stroke='#444'/>\n";
   const double step = nice_step(f.xmax);
   for (double t = 0; t <= f.xmax + 1e-12; t += step) {
-    s << "<line x1='" << f2(f.X(t)) << "' y1='" << f.T + f.ph << "' x2='" << f2(f.X(t)) << "' y2='" << f.T + f.ph + 5
-      << "' stroke='#444'/><text x='" << f2(f.X(t)) << "' y='" << f.T + f.ph + 18 << "' text-anchor='middle'>"
-      << tick_text(t) << "</text>\n";
+    s << "<line x1='" << fixed(f.X(t), 2) << "' y1='" << f.T + f.ph << "' x2='" << fixed(f.X(t), 2) << "' y2='"
+      << f.T + f.ph + 5 << "' stroke='#444'/><text x='" << fixed(f.X(t), 2) << "' y='" << f.T + f.ph + 18
+      << "' text-anchor='middle'>" << significant(std::abs(t) < 1e-12 ? 0.0 : t, 6) << "</text>\n";
   }
   for (int k = 0; k <= 4; ++k) {
     const double p = k / 4.0;
-    s << "<line x1='" << f.L - 5 << "' y1='" << f2(f.Y(p)) << "' x2='" << f.L << "' y2='" << f2(f.Y(p))
-      << "' stroke='#444'/><text x='" << f.L - 8 << "' y='" << f2(f.Y(p) + 4) << "' text-anchor='end'>" << p
+    s << "<line x1='" << f.L - 5 << "' y1='" << fixed(f.Y(p), 2) << "' x2='" << f.L << "' y2='" << fixed(f.Y(p), 2)
+      << "' stroke='#444'/><text x='" << f.L - 8 << "' y='" << fixed(f.Y(p) + 4, 2) << "' text-anchor='end'>" << p
       << "</text>\n";
   }
   s << "<text x='" << f.L + f.pw / 2 << "' y='" << f.T + f.ph + 38 << "' text-anchor='middle'>"
@@ -118,25 +103,26 @@ void monte_carlo_svg(std::ostringstream& s, const ChartFrame& f, const json& j, 
   const double top = *std::max_element(count.begin(), count.end());
   for (int b = 0; b < bins; ++b) {
     const double h = 0.9 * count[b] / top;
-    s << "<rect x='" << f2(f.X(f.xmax * b / bins)) << "' y='" << f2(f.Y(h)) << "' width='" << f2(f.pw / bins)
-      << "' height='" << f2(f.ph * h) << "' fill='#c6dbef' stroke='#fff' stroke-width='0.5'/>\n";
+    s << "<rect x='" << fixed(f.X(f.xmax * b / bins), 2) << "' y='" << fixed(f.Y(h), 2) << "' width='"
+      << fixed(f.pw / bins, 2) << "' height='" << fixed(f.ph * h, 2)
+      << "' fill='#c6dbef' stroke='#fff' stroke-width='0.5'/>\n";
   }
   s << "<polyline fill='none' stroke='#08519c' stroke-width='1.5' points='";
   const std::size_t n = mc.size(), every = std::max<std::size_t>(1, n / 800);
   for (std::size_t i = 0; i < n; i += every) {
-    s << f2(f.X(mc[i])) << ',' << f2(f.Y(static_cast<double>(i + 1) / static_cast<double>(n))) << ' ';
+    s << fixed(f.X(mc[i]), 2) << ',' << fixed(f.Y(static_cast<double>(i + 1) / static_cast<double>(n)), 2) << ' ';
   }
-  s << f2(f.X(mc.back())) << ',' << f2(f.Y(1.0)) << "'/>\n";
+  s << fixed(f.X(mc.back()), 2) << ',' << fixed(f.Y(1.0), 2) << "'/>\n";
   const json& m = j["monte_carlo"];
   const double q = m["value"].get<double>(), p = m["quantile"].get<double>();
   if (!m["ci95"][0].is_null() && !m["ci95"][1].is_null()) {
     const double lo = m["ci95"][0].get<double>(), hi = m["ci95"][1].get<double>();
-    s << "<rect x='" << f2(f.X(lo)) << "' y='" << f.T << "' width='" << f2(std::max(1.0, f.X(hi) - f.X(lo)))
+    s << "<rect x='" << fixed(f.X(lo), 2) << "' y='" << f.T << "' width='" << fixed(std::max(1.0, f.X(hi) - f.X(lo)), 2)
       << "' height='" << f.ph << "' fill='#08519c' opacity='0.15'/>\n";
   }
-  s << "<line x1='" << f2(f.X(q)) << "' y1='" << f.T << "' x2='" << f2(f.X(q)) << "' y2='" << f.T + f.ph
-    << "' stroke='#08519c' stroke-width='2'/>\n<line x1='" << f.L << "' y1='" << f2(f.Y(p)) << "' x2='" << f.L + f.pw
-    << "' y2='" << f2(f.Y(p)) << "' stroke='#08519c' stroke-dasharray='2,3'/>\n";
+  s << "<line x1='" << fixed(f.X(q), 2) << "' y1='" << f.T << "' x2='" << fixed(f.X(q), 2) << "' y2='" << f.T + f.ph
+    << "' stroke='#08519c' stroke-width='2'/>\n<line x1='" << f.L << "' y1='" << fixed(f.Y(p), 2) << "' x2='"
+    << f.L + f.pw << "' y2='" << fixed(f.Y(p), 2) << "' stroke='#08519c' stroke-dasharray='2,3'/>\n";
 }
 
 struct LegendEntry {
@@ -152,7 +138,7 @@ void budget_lines_svg(std::ostringstream& s, const ChartFrame& f, const json& j,
   const json& a = j["at_confidence"];
   const json& req = j["budget"]["requirement"];
   auto vline = [&](double v, const char* color, const char* dash, double width) {
-    s << "<line x1='" << f2(f.X(v)) << "' y1='" << f.T << "' x2='" << f2(f.X(v)) << "' y2='" << f.T + f.ph
+    s << "<line x1='" << fixed(f.X(v), 2) << "' y1='" << f.T << "' x2='" << fixed(f.X(v), 2) << "' y2='" << f.T + f.ph
       << "' stroke='" << color << "' stroke-width='" << width << "'"
       << (dash[0] ? std::string(" stroke-dasharray='") + dash + "'" : "") << "/>\n";
   };

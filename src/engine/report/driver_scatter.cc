@@ -6,6 +6,7 @@
 #include <numeric>
 #include <sstream>
 
+#include "core/format.h"
 #include "engine/report/report_plot.h"
 #include "engine/results/result_io.h"
 
@@ -128,8 +129,7 @@ bool driver_scatter(const fs::path& plots_dir, const fs::path& samples_csv, cons
     << "\nset ylabel " << gnuplot_quoted(what + (unit.empty() ? "" : " [" + unit + "]"))
     << "\nunset key\nset xtics rotate by 30 right\n";
   for (std::size_t k = 0; k < shares.size(); ++k) {
-    char share[32];
-    std::snprintf(share, sizeof share, " (%.2f)", shares[k].share);
+    const std::string share = fmt::format(" ({:.2f})", shares[k].share);
     g << "set xlabel " << gnuplot_quoted(shares[k].input + share) << "\nplot '" << name << ".dat' u " << k + 1 << ':'
       << ycol << ":(sprintf('" << literal(shares[k].input) << " %.4g, " << literal(output.name) << " %.4g "
       << literal(unit) << "', $" << k + 1 << ", $" << ycol

@@ -2,10 +2,10 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <optional>
 #include <sstream>
 
+#include "core/format.h"
 #include "core/number_text.h"
 #include "engine/report/report_figures.h"
 #include "engine/report/report_plot.h"
@@ -16,15 +16,6 @@
 
 namespace poise::engine {
 using nlohmann::json;
-
-namespace {
-
-std::string fmt(double v, int prec = 4) {
-  if (!std::isfinite(v)) return "&ndash;";
-  return format_significant(v, prec);
-}
-
-}  // namespace
 
 std::string references_html(const json& compared) {
   if (!compared.is_array() || compared.empty()) return "";
@@ -68,18 +59,21 @@ std::string references_html(const json& compared) {
               ? "<br><small>tuned: " + html_escape(c["follows_from"].get<std::string>()) + "</small>"
               : std::string())
       << "</td><td class='l'>" << html_escape(c["source"].get<std::string>()) << "</td><td>"
-      << fmt(c["reference"].get<double>()) << " " << html_escape(unit) << "</td><td>";
+      << significant_or(c["reference"].get<double>(), "&ndash;") << " " << html_escape(unit) << "</td><td>";
     if (c.contains("simulated")) {
       const auto& e = c["simulated"];
-      h << (e["value"].is_number() ? fmt(e["value"].get<double>()) : "&ndash;") << " <small>["
-        << (e["ci95"][0].is_number() ? fmt(e["ci95"][0].get<double>()) : "&ndash;") << ", "
-        << (e["ci95"][1].is_number() ? fmt(e["ci95"][1].get<double>()) : "open") << "]</small>";
+      h << (e["value"].is_number() ? significant_or(e["value"].get<double>(), "&ndash;") : "&ndash;") << " <small>["
+        << (e["ci95"][0].is_number() ? significant_or(e["ci95"][0].get<double>(), "&ndash;") : "&ndash;") << ", "
+        << (e["ci95"][1].is_number() ? significant_or(e["ci95"][1].get<double>(), "&ndash;") : "open") << "]</small>";
     } else {
       h << "distribution";
     }
     h << "</td><td>";
-    if (c.contains("percentile")) h << fmt(100 * c["percentile"].get<double>(), 3) << "th percentile";
-    else h << "&ndash;";
+    if (c.contains("percentile")) {
+      h << significant_or(100 * c["percentile"].get<double>(), "&ndash;", 3) << "th percentile";
+    } else {
+      h << "&ndash;";
+    }
     h << "</td><td class='l'>"
       << (verdict == "calibration_target" ? std::string("calibration target (not a validation)")
           : verdict == "undecided"        ? "undecided: " + html_escape(c.value("why", std::string()))
@@ -124,13 +118,12 @@ std::string answer_html(const std::string& answer, const json& verdicts) {
 std::string sensitivity_html(const json& s) {
   auto f = [](const json& e) {
     if (!e["value"].is_number()) return std::string("&ndash;");
-    char buf[120];
     const auto end = [](const json& x) { return x.is_number() ? x.get<double>() : NAN; };
-    std::snprintf(buf, sizeof buf, "%.3f <small>[%.3f, %.3f]</small>", e["value"].get<double>(), end(e["ci95"][0]),
-                  end(e["ci95"][1]));
+    const std::string text = fmt::format("{:.3f} <small>[{:.3f}, {:.3f}]</small>", e["value"].get<double>(),
+                                         end(e["ci95"][0]), end(e["ci95"][1]));
     // An index whose interval reaches zero is not told apart from no influence at all.
     const bool resolved = !(end(e["ci95"][0]) <= 0.0);
-    return std::string(buf) + (resolved ? "" : " <small>(not resolved)</small>");
+    return text + (resolved ? "" : " <small>(not resolved)</small>");
   };
   std::string h = "<h2>Which input drives each output (Sobol indices)</h2>\n<p>" +
                   html_escape(s["method"].get<std::string>()) + "; " +
@@ -187,13 +180,16 @@ std::string convergence_html(const json& c) {
   }
   h += "<table><tr><th class='l'>output</th><th class='l'>figure</th><th>value</th><th>rel. half-width</th>"
        "<th>samples for &plusmn;5%</th><th>samples for &plusmn;1%</th></tr>\n";
-  auto cell = [](const json& v) { return v.is_null() ? std::string("&ndash;") : fmt(v.get<double>()); };
+  auto cell = [](const json& v) {
+    return v.is_null() ? std::string("&ndash;") : significant_or(v.get<double>(), "&ndash;");
+  };
   for (const auto& [name, o] : c["figures"].items()) {
     for (const auto& [stat, f] : o.items()) {
       h += "<tr><td class='l'><code>" + html_escape(name) + "</code></td><td class='l'>" + stat + "</td><td>" +
-           fmt(f["value"].get<double>()) + "</td><td>" +
-           (f["relative_half_width"].is_null() ? std::string("&ndash;")
-                                               : fmt(100 * f["relative_half_width"].get<double>()) + "%") +
+           significant_or(f["value"].get<double>(), "&ndash;") + "</td><td>" +
+           (f["relative_half_width"].is_null()
+                ? std::string("&ndash;")
+                : significant_or(100 * f["relative_half_width"].get<double>(), "&ndash;") + "%") +
            "</td><td>" + cell(f["samples_for_5pct"]) + "</td><td>" + cell(f["samples_for_1pct"]) + "</td></tr>\n";
     }
   }

@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <map>
 #include <numeric>
 
@@ -12,6 +11,7 @@
 #include <boost/math/special_functions/beta.hpp>
 
 #include "core/error.h"
+#include "core/format.h"
 #include "engine/kind_interface/study_evaluation.h"
 #include "sampling/statistics.h"
 
@@ -120,17 +120,12 @@ BoundSpec parse_bound(const std::string& text) {
 
 std::string to_string(const BoundSpec& b) {
   if (b.side == BoundSide::kNone) return "value";
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%s%g", b.side == BoundSide::kUpper ? "upper" : "lower", 100.0 * b.confidence);
-  return buf;
+  return fmt::format("{}{:g}", b.side == BoundSide::kUpper ? "upper" : "lower", 100.0 * b.confidence);
 }
 
 std::string describe(const BoundSpec& b) {
   if (b.side == BoundSide::kNone) return "point value";
-  char buf[48];
-  std::snprintf(buf, sizeof buf, "%s %g%% bound", b.side == BoundSide::kUpper ? "upper" : "lower",
-                100.0 * b.confidence);
-  return buf;
+  return fmt::format("{} {:g}% bound", b.side == BoundSide::kUpper ? "upper" : "lower", 100.0 * b.confidence);
 }
 
 bool bound_supported(const std::string& stat) {
@@ -205,10 +200,8 @@ Interval interval(const SampleSet& s, const std::string& stat, double confidence
   }
   r.lo = one_sided_bound(s, stat, {BoundSide::kLower, one_sided});
   r.hi = one_sided_bound(s, stat, {BoundSide::kUpper, one_sided});
-  char buf[64];
   if (!s.replicate.empty()) {
-    std::snprintf(buf, sizeof buf, "%zu replicates", s.replicates());
-    r.method = buf;
+    r.method = fmt::format("{} replicates", s.replicates());
   } else if (quantile_level(stat)) {
     r.method = "order statistics";
   } else if (stat == "mean") {

@@ -12,7 +12,6 @@
 #include <boost/version.hpp>
 #include <cerrno>
 #include <chrono>
-#include <cstdio>
 #include <ctime>
 #include <filesystem>
 #include <fstream>
@@ -20,6 +19,7 @@
 #include <vector>
 
 #include "core/error.h"
+#include "core/format.h"
 #include "core/version.h"
 
 namespace poise::engine {
@@ -33,9 +33,9 @@ std::string file_sha1(const std::string& path) {
   h.process_bytes(bytes.data(), bytes.size());
   boost::uuids::detail::sha1::digest_type d;
   h.get_digest(d);
-  char buf[41];
-  for (std::size_t i = 0; i < 5; ++i) std::snprintf(buf + 8 * i, 9, "%08x", d[i]);
-  return buf;
+  std::string hex;
+  for (const auto word : d) hex += fmt::format("{:08x}", word);  // five 32-bit words
+  return hex;
 }
 
 namespace {

@@ -4,10 +4,10 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <limits>
 #include <sstream>
 
+#include "core/format.h"
 #include "core/units.h"
 #include "engine/kind_interface/study_kind.h"
 #include "engine/results/result_io.h"
@@ -19,13 +19,6 @@ namespace {
 using nlohmann::json;
 
 const std::vector<std::string> kStatistics = {"sample", "mean", "std", "p50", "p95", "p99_73", "max"};
-
-std::string fmt(double v, int prec = 4) {
-  if (!std::isfinite(v)) return "&ndash;";
-  char buf[48];
-  std::snprintf(buf, sizeof buf, "%.*g", prec, v);
-  return buf;
-}
 
 }  // namespace
 
@@ -156,7 +149,7 @@ json compare_references(const std::vector<ReferenceFigure>& refs, const std::vec
                (r.tolerance_relative > 0 && std::abs(val - in_unit) <= r.tolerance_relative * std::abs(in_unit));
       c["rule"] = r.tolerance_relative > 0
                       ? "agrees when the reference lies in the 95% interval of the simulated " + r.statistic +
-                            " or within " + fmt(100 * r.tolerance_relative, 3) + "% of it"
+                            " or within " + significant_or(100 * r.tolerance_relative, "&ndash;", 3) + "% of it"
                       : "agrees when the reference lies in the 95% interval of the simulated " + r.statistic;
     }
     c["verdict"] = r.role == "calibration_target" ? "calibration_target" : agrees ? "agrees" : "disagrees";

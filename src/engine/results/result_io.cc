@@ -7,9 +7,8 @@
 #include <fstream>
 
 #include "core/error.h"
+#include "core/format.h"
 #include "engine/results/checked_file.h"
-
-#include <cstdio>
 
 namespace poise::engine {
 
@@ -97,9 +96,7 @@ namespace poise::engine {
 
 std::string format_significant(double v, int digits) {
   if (!std::isfinite(v)) return std::isnan(v) ? "nan" : (v > 0 ? "inf" : "-inf");
-  char buf[48];
-  std::snprintf(buf, sizeof buf, "%.*g", digits, v);
-  return buf;
+  return significant(v, digits);
 }
 
 }  // namespace poise::engine

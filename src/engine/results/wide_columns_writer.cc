@@ -8,10 +8,10 @@
 #include <algorithm>
 #include <boost/uuid/detail/sha1.hpp>
 #include <cmath>
-#include <cstdio>
 #include <filesystem>
 
 #include "core/error.h"
+#include "core/format.h"
 #include "engine/results/checked_file.h"
 #include "engine/results/chunk_codec.h"
 #include "engine/results/hdf5_handles.h"
@@ -27,9 +27,9 @@ using hdf5::number_attribute;
 using hdf5::text_attribute;
 
 std::string hex(const Sha1::digest_type& d) {
-  char buf[41];
-  for (std::size_t i = 0; i < 5; ++i) std::snprintf(buf + 8 * i, 9, "%08x", d[i]);
-  return buf;
+  std::string hex;
+  for (const auto word : d) hex += fmt::format("{:08x}", word);  // five 32-bit words
+  return hex;
 }
 
 // A chunked, deflated, growable dataset of `rank` dimensions (the first unlimited).

@@ -3,10 +3,10 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <limits>
 
 #include "core/error.h"
+#include "core/format.h"
 #include "engine/results/result_io.h"
 #include "engine/run/study_runner.h"
 #include "sampling/interrupt.h"
@@ -16,12 +16,6 @@ using nlohmann::json;
 
 namespace {
 const char* kStatistics[] = {"mean", "std", "p50", "p95", "p99_73"};
-
-std::string fmt(double v) {
-  char buf[40];
-  std::snprintf(buf, sizeof buf, "%.4g", v);
-  return buf;
-}
 }  // namespace
 
 UntilTarget parse_until(const std::string& text, const std::vector<std::string>& outputs) {
@@ -77,9 +71,9 @@ void check_until_design(const UntilTarget& target, std::size_t replicate_size) {
   if (tail >= sampling::kMinTailPerReplicate) return;
   const auto needed = static_cast<std::size_t>(std::ceil(sampling::kMinTailPerReplicate / std::min(p, 1.0 - p)));
   throw UsageError("--until \"" + target.text + "\": replicates of " + std::to_string(replicate_size) +
-                   " samples cannot support an interval on " + target.statistic + ": each holds about " + fmt(tail) +
-                   " samples beyond it (replicate_size x " + (p > 0.5 ? "(1 - p)" : "p") + " < " +
-                   fmt(sampling::kMinTailPerReplicate) +
+                   " samples cannot support an interval on " + target.statistic + ": each holds about " +
+                   significant(tail) + " samples beyond it (replicate_size x " + (p > 0.5 ? "(1 - p)" : "p") + " < " +
+                   significant(sampling::kMinTailPerReplicate) +
                    "), so the spread of the replicates is a spread of a few "
                    "counts and a run that stops at its first narrow interval would stop on replicates that agree by "
                    "chance. Set [sampling] replicate_size to at least " +
@@ -128,13 +122,11 @@ std::string StopRule::operator()(const std::vector<std::vector<double>>& values,
   const sampling::Estimate share = sampling::fraction_wilson(failures, std::max<std::size_t>(completed, 1));
   if (static_cast<double>(failures) > limit || (completed >= 50 && share.lo && *share.lo > max_failure_share_)) {
     failed_ = true;
-    char buf[300];
-    std::snprintf(buf, sizeof buf,
-                  "failures: %zu of the %zu samples run failed (%.1f%%, 95%% interval %.1f-%.1f%%), more than "
-                  "max_failure_share = %.3g of the %zu planned allows",
-                  failures, completed, 100.0 * share.value, 100.0 * share.lo.value_or(0), 100.0 * share.hi.value_or(1),
-                  max_failure_share_, planned_);
-    return buf;
+    return fmt::format(
+        "failures: {} of the {} samples run failed ({:.1f}%, 95% interval {:.1f}-{:.1f}%), more than "
+        "max_failure_share = {:.3g} of the {} planned allows",
+        failures, completed, 100.0 * share.value, 100.0 * share.lo.value_or(0), 100.0 * share.hi.value_or(1),
+        max_failure_share_, planned_);
   }
   if (!until_ || completed < next_check_) return "";
   if (replicate_size_ > 0 && completed % replicate_size_ != 0) return "";
@@ -152,14 +144,14 @@ std::string StopRule::operator()(const std::vector<std::vector<double>>& values,
                      {"width", width},
                      {"target_width", target}});
   if (verbose_) {
-    diagnostics::progress("\n  until: " + until_->output + "." + until_->statistic + " = " + fmt(e.value) +
-                          ", 95% interval width " + fmt(width) + " (target " + fmt(target) + ") at " +
+    diagnostics::progress("\n  until: " + until_->output + "." + until_->statistic + " = " + significant(e.value) +
+                          ", 95% interval width " + significant(width) + " (target " + significant(target) + ") at " +
                           std::to_string(completed) + " samples");
   }
   if (width <= target) {
     met_at_ = completed;
-    return "until: " + until_->text + " met at " + std::to_string(completed) + " samples (width " + fmt(width) +
-           " <= " + fmt(target) + ")";
+    return "until: " + until_->text + " met at " + std::to_string(completed) + " samples (width " + significant(width) +
+           " <= " + significant(target) + ")";
   }
   return "";
 }

@@ -1,11 +1,11 @@
 #include "engine/study_files/user_parts.h"
 
 #include <cmath>
-#include <cstdio>
 #include <filesystem>
 #include <set>
 #include <utility>
 
+#include "core/format.h"
 #include "core/units.h"
 #include "engine/study_files/model_overrides.h"
 #include "geometry/mass_properties.h"
@@ -16,11 +16,7 @@ namespace poise::engine {
 namespace {
 
 // The share of a part's volume that overlapping shells may take: "1e-06".
-std::string overlap_share_text() {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%g", geometry::kMaxOverlapShare);
-  return buf;
-}
+std::string overlap_share_text() { return significant(geometry::kMaxOverlapShare, 6); }
 
 using units::kDensity;
 

@@ -1,12 +1,12 @@
 #include "kinds/balancing_machine/balancing_kind.h"
 #include "core/diagnostics.h"
 
-#include <cstdio>
 #include <mutex>
 #include <set>
 #include <string>
 #include <vector>
 
+#include "core/format.h"
 #include "engine/kind_interface/procedure_kind.h"
 #include "kinds/balancing_machine/balancing_model.h"
 #include "kinds/balancing_machine/balancing_sections.h"
@@ -52,17 +52,14 @@ class BalancingMachineKind final : public ProcedureKind {
     const BalancingStudy study(cfg, model, cfg.samples, cfg.seed);
     const json d = study.details({});
     warn_once(study.warnings());
-    char buf[768];
-    std::snprintf(buf, sizeof buf,
-                  "%s: valid. Study '%s' (%s) on model '%s': %zu unit-scope random inputs, %s design, %zu samples, "
-                  "seed %llu; per sample %zu experiment(s), %zu simulated balancing runs. Machine: %.3g and %.3g Hz at "
-                  "%.4g r/min, hard-bearing check %s.",
-                  cfg.file.c_str(), cfg.name.c_str(), cfg.kind.c_str(), model.name.c_str(), study.input_names().size(),
-                  sampling::to_string(cfg.method).c_str(), cfg.samples, static_cast<unsigned long long>(cfg.seed),
-                  balancing_sections(cfg).experiments.size(), study.runs_per_sample(),
-                  d["nominal_machine"]["omega_1_Hz"].get<double>(), d["nominal_machine"]["omega_2_Hz"].get<double>(),
-                  model.run.speed_rpm, d["hard_bearing"]["ok"].get<bool>() ? "passes" : "FAILS");
-    return buf;
+    return fmt::format(
+        "{}: valid. Study '{}' ({}) on model '{}': {} unit-scope random inputs, {} design, {} samples, "
+        "seed {}; per sample {} experiment(s), {} simulated balancing runs. Machine: {:.3g} and {:.3g} Hz at "
+        "{:.4g} r/min, hard-bearing check {}.",
+        cfg.file, cfg.name, cfg.kind, model.name, study.input_names().size(), sampling::to_string(cfg.method),
+        cfg.samples, cfg.seed, balancing_sections(cfg).experiments.size(), study.runs_per_sample(),
+        d["nominal_machine"]["omega_1_Hz"].get<double>(), d["nominal_machine"]["omega_2_Hz"].get<double>(),
+        model.run.speed_rpm, d["hard_bearing"]["ok"].get<bool>() ? "passes" : "FAILS");
   }
 };
 

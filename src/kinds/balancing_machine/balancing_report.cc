@@ -2,10 +2,10 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <filesystem>
 #include <fstream>
 
+#include "core/format.h"
 #include "core/units.h"
 #include "engine/report/report_plot.h"
 #include "engine/results/result_io.h"
@@ -17,12 +17,6 @@ using namespace poise::engine;
 namespace {
 namespace fs = std::filesystem;
 using nlohmann::json;
-
-std::string fmt(double v, int prec = 4) {
-  char buf[40];
-  std::snprintf(buf, sizeof buf, "%.*g", prec, v);
-  return buf;
-}
 
 std::size_t index_of(const std::vector<std::string>& names, const std::string& name) {
   return static_cast<std::size_t>(std::find(names.begin(), names.end(), name) - names.begin());
@@ -49,25 +43,27 @@ void machine_table(const json& d, const std::vector<std::string>& warnings, std:
   const json& nm = d["nominal_machine"];
   const json& hb = d["hard_bearing"];
   h << "<h2>The machine (nominal)</h2>\n<table>"
-    << "<tr><th class='l'>horizontal plates k5 (each)</th><td>" << fmt(nm["k5_N_per_m"].get<double>())
+    << "<tr><th class='l'>horizontal plates k5 (each)</th><td>" << significant(nm["k5_N_per_m"].get<double>())
     << " N/m</td></tr>"
-    << "<tr><th class='l'>torsional plate k6, lever l, k6 l&sup2;</th><td>" << fmt(nm["k6_N_per_m"].get<double>())
-    << " N/m, " << fmt(nm["lever_m"].get<double>() * 1e3) << " mm, " << fmt(nm["k6_l2_N_m_per_rad"].get<double>())
-    << " N m/rad</td></tr>"
-    << "<tr><th class='l'>M, m, H, J (rotor R on)</th><td>" << fmt(nm["total_mass_kg"].get<double>()) << " kg, "
-    << fmt(nm["rotating_mass_kg"].get<double>()) << " kg, " << fmt(nm["mass_centre_height_m"].get<double>() * 1e3)
-    << " mm, " << fmt(nm["inertia_about_centre_kg_m2"].get<double>()) << " kg m&sup2;</td></tr>"
-    << "<tr><th class='l'>natural frequencies (coupled)</th><td>" << fmt(nm["omega_1_Hz"].get<double>()) << " Hz, "
-    << fmt(nm["omega_2_Hz"].get<double>()) << " Hz (uncoupled " << fmt(nm["omega_x_uncoupled_Hz"].get<double>()) << ", "
-    << fmt(nm["omega_theta_uncoupled_Hz"].get<double>()) << " Hz)</td></tr>"
-    << "<tr><th class='l'>speed</th><td>" << fmt(nm["speed_rpm"].get<double>())
-    << " r/min = " << fmt(nm["speed_Hz"].get<double>()) << " Hz</td></tr>"
+    << "<tr><th class='l'>torsional plate k6, lever l, k6 l&sup2;</th><td>"
+    << significant(nm["k6_N_per_m"].get<double>()) << " N/m, " << significant(nm["lever_m"].get<double>() * 1e3)
+    << " mm, " << significant(nm["k6_l2_N_m_per_rad"].get<double>()) << " N m/rad</td></tr>"
+    << "<tr><th class='l'>M, m, H, J (rotor R on)</th><td>" << significant(nm["total_mass_kg"].get<double>()) << " kg, "
+    << significant(nm["rotating_mass_kg"].get<double>()) << " kg, "
+    << significant(nm["mass_centre_height_m"].get<double>() * 1e3) << " mm, "
+    << significant(nm["inertia_about_centre_kg_m2"].get<double>()) << " kg m&sup2;</td></tr>"
+    << "<tr><th class='l'>natural frequencies (coupled)</th><td>" << significant(nm["omega_1_Hz"].get<double>())
+    << " Hz, " << significant(nm["omega_2_Hz"].get<double>()) << " Hz (uncoupled "
+    << significant(nm["omega_x_uncoupled_Hz"].get<double>()) << ", "
+    << significant(nm["omega_theta_uncoupled_Hz"].get<double>()) << " Hz)</td></tr>"
+    << "<tr><th class='l'>speed</th><td>" << significant(nm["speed_rpm"].get<double>())
+    << " r/min = " << significant(nm["speed_Hz"].get<double>()) << " Hz</td></tr>"
     << "<tr><th class='l'>torsional plate end condition</th><td>"
     << d["torsional_plate"]["end_condition"].get<std::string>()
-    << ": K<sub>rot</sub> = " << fmt(d["torsional_plate"]["rotation_factor"].get<double>())
-    << " k6 l&sup2;, sensor 2 reads " << fmt(d["torsional_plate"]["sensor_2_force_factor"].get<double>())
-    << " k6 l &theta;, clamp moment " << fmt(100 * d["torsional_plate"]["clamp_moment_share"].get<double>(), 3)
-    << "% of F l (L/l = " << fmt(d["torsional_plate"]["length_over_lever"].get<double>(), 3) << ")</td></tr>"
+    << ": K<sub>rot</sub> = " << significant(d["torsional_plate"]["rotation_factor"].get<double>())
+    << " k6 l&sup2;, sensor 2 reads " << significant(d["torsional_plate"]["sensor_2_force_factor"].get<double>())
+    << " k6 l &theta;, clamp moment " << significant(100 * d["torsional_plate"]["clamp_moment_share"].get<double>(), 3)
+    << "% of F l (L/l = " << significant(d["torsional_plate"]["length_over_lever"].get<double>(), 3) << ")</td></tr>"
     << "<tr><th class='l'>hard-bearing check</th><td>" << (hb["ok"].get<bool>() ? "passes" : "FAILS") << ": "
     << html_escape(hb["message"].get<std::string>()) << "</td></tr></table>\n";
   for (const auto& w : warnings) h << "<p><b>Warning</b>: " << html_escape(w) << "</p>\n";
@@ -112,8 +108,9 @@ std::string position_bands(const SectionPage& page, const BalancingExperiment& e
 void separation_section(const SectionPage& page, const BalancingExperiment& x, const BalancingModel& model) {
   std::ostringstream& h = page.h;
   h << "<h2>Separation of static and couple unbalance (" << html_escape(x.name) << ")</h2>\n"
-    << "<p>" << fmt(x.mass * 1e3) << " g at r = " << fmt(x.radius * 1e3) << " mm on each testing surface in "
-    << x.positions << " holes, " << fmt(model.run.speed_rpm) << " r/min; effect on each sensor "
+    << "<p>" << significant(x.mass * 1e3) << " g at r = " << significant(x.radius * 1e3)
+    << " mm on each testing surface in " << x.positions << " holes, " << significant(model.run.speed_rpm)
+    << " r/min; effect on each sensor "
     << "(|A - A<sub>bare</sub>|, mean over the holes), median and 5-95% over the machines as built. "
     << "Sensor 1 should stay flat, sensor 2 grow in proportion to the height (the separation of the "
     << "model's Eq. 17, spring_plate_machine.h).</p>\n<table><tr><th>surface</th><th>height (mm)</th><th>sensor 1 "
@@ -123,9 +120,9 @@ void separation_section(const SectionPage& page, const BalancingExperiment& x, c
     const std::string base = x.name + "_s" + std::to_string(s);
     const Band b1 = band_of(page.values(base + "_sensor1_mN")), b2 = band_of(page.values(base + "_sensor2_mN"));
     const double z = model.rotor.surface_height(s) * 1e3;
-    h << "<tr><td>" << s << "</td><td>" << fmt(z) << "</td><td>" << fmt(b1.p50) << " <small>[" << fmt(b1.p05) << ", "
-      << fmt(b1.p95) << "]</small></td><td>" << fmt(b2.p50) << " <small>[" << fmt(b2.p05) << ", " << fmt(b2.p95)
-      << "]</small></td></tr>\n";
+    h << "<tr><td>" << s << "</td><td>" << significant(z) << "</td><td>" << significant(b1.p50) << " <small>["
+      << significant(b1.p05) << ", " << significant(b1.p95) << "]</small></td><td>" << significant(b2.p50)
+      << " <small>[" << significant(b2.p05) << ", " << significant(b2.p95) << "]</small></td></tr>\n";
     dat << z << ' ' << b1.p50 << ' ' << b1.p05 << ' ' << b1.p95 << ' ' << b2.p50 << ' ' << b2.p05 << ' ' << b2.p95
         << '\n';
   }
@@ -148,7 +145,7 @@ void separation_section(const SectionPage& page, const BalancingExperiment& x, c
 void umar_section(const SectionPage& page, const BalancingExperiment& x, const BalancingSections& sections) {
   std::ostringstream& h = page.h;
   h << "<h2>Minimum achievable residual unbalance U<sub>mar</sub> (" << html_escape(x.name) << ")</h2>\n<p>"
-    << fmt(x.mass * 1e3) << " g at r = " << fmt(x.radius * 1e3) << " mm in " << x.positions
+    << significant(x.mass * 1e3) << " g at r = " << significant(x.radius * 1e3) << " mm in " << x.positions
     << " angular positions of each correction plane (surfaces " << sections.plane_1_surface << " and "
     << sections.plane_2_surface
     << "); U<sub>mar,p</sub> = (X<sub>max</sub> - X<sub>min</sub>) r / 2, U<sub>mar</sub> = "
@@ -180,11 +177,13 @@ void stability_section(const SectionPage& page, const BalancingExperiment& x, co
   const double pass = pass_share(page.values(x.name + "_pass_ratio"));
   h << "<h2>Stability of the readings (" << html_escape(x.name) << "): "
     << (x.variant == "wang2014" ? "the test as Wang 2014 Sec. 5.2.2 prints it" : "Poise's variant, not in the paper")
-    << "</h2>\n<p>" << fmt(x.mass * 1e3) << " g at r = " << fmt(x.radius * 1e3) << " mm on surface " << x.surface
-    << " in " << x.positions << " holes" << (x.balance_first ? ", the rotor first balanced with the machine" : "")
-    << "; each plane's readings divided by their mean must lie within &plusmn;" << fmt(x.band * 100) << "%. "
-    << "Largest deviation: plane 1 " << fmt(b1.p50) << "% (p95 " << fmt(b1.p95) << "%), plane 2 " << fmt(b2.p50)
-    << "% (p95 " << fmt(b2.p95) << "%); " << fmt(pass * 100, 3) << "% of the machines pass.</p>\n";
+    << "</h2>\n<p>" << significant(x.mass * 1e3) << " g at r = " << significant(x.radius * 1e3) << " mm on surface "
+    << x.surface << " in " << x.positions << " holes"
+    << (x.balance_first ? ", the rotor first balanced with the machine" : "")
+    << "; each plane's readings divided by their mean must lie within &plusmn;" << significant(x.band * 100) << "%. "
+    << "Largest deviation: plane 1 " << significant(b1.p50) << "% (p95 " << significant(b1.p95) << "%), plane 2 "
+    << significant(b2.p50) << "% (p95 " << significant(b2.p95) << "%); " << significant(pass * 100, 3)
+    << "% of the machines pass.</p>\n";
   if (x.surface == sections.plane_1_surface || x.surface == sections.plane_2_surface) {
     h << "<p><small>The test mass sits in a correction plane, so the other plane's readings are its "
          "residual unbalance and the machine's error alone: their ratio to their own mean measures noise, "
@@ -199,7 +198,7 @@ void stability_section(const SectionPage& page, const BalancingExperiment& x, co
                  std::to_string(x.positions) +
                  ".5]\nset key outside bottom center horizontal\n"
                  "lo = " +
-                 fmt(1 - x.band) + "\nhi = " + fmt(1 + x.band) +
+                 significant(1 - x.band) + "\nhi = " + significant(1 + x.band) +
                  "\n"
                  "plot lo w l dt 2 lc rgb 'red' title 'band', hi w l dt 2 lc rgb 'red' notitle, '" +
                  x.name +
@@ -214,11 +213,11 @@ void urr_section(const SectionPage& page, const BalancingExperiment& x) {
   std::ostringstream& h = page.h;
   const Band b = band_of(page.values(x.name + "_min_pct"));
   const double pass = pass_share(page.values(x.name + "_pass_ratio"));
-  h << "<h2>Unbalance reduction ratio (" << html_escape(x.name) << ")</h2>\n<p>" << fmt(x.mass * 1e3)
-    << " g at r = " << fmt(x.radius * 1e3) << " mm in each correction plane (0 and 90 deg), one measuring run, "
+  h << "<h2>Unbalance reduction ratio (" << html_escape(x.name) << ")</h2>\n<p>" << significant(x.mass * 1e3)
+    << " g at r = " << significant(x.radius * 1e3) << " mm in each correction plane (0 and 90 deg), one measuring run, "
     << "one correction with the placement tolerances. URR = 1 - |U after| / |U before| (true unbalances), the "
-    << "smaller of the two planes: median " << fmt(b.p50) << "%, 5% quantile " << fmt(b.p05) << "%; "
-    << fmt(pass * 100, 3) << "% of the machines reach the required " << fmt(x.requirement * 100) << "% "
+    << "smaller of the two planes: median " << significant(b.p50) << "%, 5% quantile " << significant(b.p05) << "%; "
+    << significant(pass * 100, 3) << "% of the machines reach the required " << significant(x.requirement * 100) << "% "
     << "(<b>Poise's figure</b>: it charges the correction masses' placement errors to the machine).</p>\n";
   const Band bi = band_of(page.values(x.name + "_iso_min_pct"));
   const double pass_iso = pass_share(page.values(x.name + "_iso_pass_ratio"));
@@ -226,8 +225,8 @@ void urr_section(const SectionPage& page, const BalancingExperiment& x) {
        "reading) against the known test masses, no correction: URR<sub>iso</sub> = 1 - |D - T| / |T|, the smaller "
        "plane: "
        "median "
-    << fmt(bi.p50) << "%, 5% quantile " << fmt(bi.p05) << "%; " << fmt(pass_iso * 100, 3) << "% of the machines reach "
-    << fmt(x.requirement * 100) << "%.</p>\n";
+    << significant(bi.p50) << "%, 5% quantile " << significant(bi.p05) << "%; " << significant(pass_iso * 100, 3)
+    << "% of the machines reach " << significant(x.requirement * 100) << "%.</p>\n";
 }
 
 // Two-plane U_mar test, ISO 21940-21 style.
@@ -236,25 +235,27 @@ void umar_iso_section(const SectionPage& page, const BalancingExperiment& x) {
   const double pass = pass_share(page.values(x.name + "_pass_ratio"));
   const Band u1 = band_of(page.values(x.name + "_plane1_kgm")), u2 = band_of(page.values(x.name + "_plane2_kgm"));
   h << "<h2>Two-plane U<sub>mar</sub> test, ISO 21940-21 style (" << html_escape(x.name) << ")</h2>\n<p>"
-    << fmt(x.mass * 1e3) << " g at r = " << fmt(x.radius * 1e3) << " mm in both correction planes at once (plane 2's "
-    << fmt(x.plane_2_offset / units::kRadPerDeg) << " deg from plane 1's), moved together through " << x.positions
-    << " positions. U<sub>mar,p</sub> = (X<sub>max</sub> - X<sub>min</sub>) r / 2: plane 1 median " << fmt(u1.p50 * 1e6)
-    << " g mm, plane 2 " << fmt(u2.p50 * 1e6) << " g mm; every reading within the mean &plusmn; the claimed "
-    << fmt(x.claim * 1e6) << " g mm: " << fmt(pass * 100, 3) << "% of the machines.</p>\n";
+    << significant(x.mass * 1e3) << " g at r = " << significant(x.radius * 1e3)
+    << " mm in both correction planes at once (plane 2's " << significant(x.plane_2_offset / units::kRadPerDeg)
+    << " deg from plane 1's), moved together through " << x.positions
+    << " positions. U<sub>mar,p</sub> = (X<sub>max</sub> - X<sub>min</sub>) r / 2: plane 1 median "
+    << significant(u1.p50 * 1e6) << " g mm, plane 2 " << significant(u2.p50 * 1e6)
+    << " g mm; every reading within the mean &plusmn; the claimed " << significant(x.claim * 1e6)
+    << " g mm: " << significant(pass * 100, 3) << "% of the machines.</p>\n";
 }
 
 // Estimation error and couple interference: a histogram per error output.
 void accuracy_section(const SectionPage& page, const BalancingExperiment& x, const std::vector<OutputSpec>& outputs) {
   std::ostringstream& h = page.h;
   h << "<h2>Estimation error and couple interference (" << html_escape(x.name) << ")</h2>\n<p>A test piece with "
-    << fmt(x.piece_unbalance * 1e6) << " g mm in each plane (random angles) and its mass centre "
+    << significant(x.piece_unbalance * 1e6) << " g mm in each plane (random angles) and its mass centre "
     << "moved by the piece_centre_height tolerance, on the machine calibrated with rotor R. ic: influence "
        "coefficients (calibrated on the machine as built); cf: the corrected closed form with the design "
        "lever and speed (each sensor reads its own plate as built: the difference of the two horizontal "
        "plates reaches it, their common stiffness does not). Interference I<sub>s,c</sub>: static "
        "unbalance indicated per couple "
        "unbalance (1/mm), from a pure couple of "
-    << fmt(x.mass * 1e3) << " g at " << fmt(x.radius * 1e3) << " mm in the two planes.</p>\n";
+    << significant(x.mass * 1e3) << " g at " << significant(x.radius * 1e3) << " mm in the two planes.</p>\n";
   if (page.plots) {
     for (const std::string o :
          {"_u_error_ic_gmm", "_u_error_cf_gmm", "_v_error_ic_gmm", "_v_error_cf_gmm", "_plane_error_ic_pct",

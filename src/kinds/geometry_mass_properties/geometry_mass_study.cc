@@ -12,6 +12,7 @@
 #include <sstream>
 #include <utility>
 
+#include "core/format.h"
 #include "core/units.h"
 #include "engine/kind_interface/output_spec.h"
 #include "engine/kind_interface/procedure_study.h"
@@ -223,11 +224,11 @@ void MassStudy::report_sections(const McResult& mc, const std::string& plots_dir
     << "<th>divergence theorem (mesh)</th><th>rel. error</th><th>ray cast (" << g.rays_per_side
     << " per side)</th><th>rel. error</th></tr>\n";
   for (const auto& [name, q] : check["nominal"]["closed_form_check"].items()) {
-    h << "<tr><td class='l'>" << name << "</td><td>" << fmt_g(q["exact_mesh"]["closed_form"].get<double>(), 7)
-      << "</td><td>" << fmt_g(q["exact_mesh"]["value"].get<double>(), 7) << "</td><td>"
-      << fmt_g(q["exact_mesh"]["relative_error"].get<double>(), 3) << "</td><td>"
-      << fmt_g(q["ray_cast"]["value"].get<double>(), 7) << "</td><td>"
-      << fmt_g(q["ray_cast"]["relative_error"].get<double>(), 3) << "</td></tr>\n";
+    h << "<tr><td class='l'>" << name << "</td><td>" << significant(q["exact_mesh"]["closed_form"].get<double>(), 7)
+      << "</td><td>" << significant(q["exact_mesh"]["value"].get<double>(), 7) << "</td><td>"
+      << significant(q["exact_mesh"]["relative_error"].get<double>(), 3) << "</td><td>"
+      << significant(q["ray_cast"]["value"].get<double>(), 7) << "</td><td>"
+      << significant(q["ray_cast"]["relative_error"].get<double>(), 3) << "</td></tr>\n";
   }
   h << "</table>\n<p><small>The mesh's circles are polygons of equal area, so the mesh's mass equals the drawing's; "
        "the polygons' inertia differs by O(n<sup>-4</sup>).</small></p>\n";
@@ -237,8 +238,9 @@ void MassStudy::report_sections(const McResult& mc, const std::string& plots_dir
   conv_dat << "# rays_per_side  |mass err|  |Jzz err|  |e err| (relative, vs exact mesh)  seconds\n";
   for (const auto& c : check["convergence"]) {
     h << "<tr><td>" << c["rays_per_side"].get<int>() << "</td><td>" << c["rays"].get<std::size_t>() << "</td><td>"
-      << fmt_g(c["mass_rel_error"].get<double>(), 3) << "</td><td>" << fmt_g(c["Jzz_rel_error"].get<double>(), 3)
-      << "</td><td>" << fmt_g(c["e_rel_error"].get<double>(), 3) << "</td><td>" << fmt_g(c["seconds"].get<double>(), 3)
+      << significant(c["mass_rel_error"].get<double>(), 3) << "</td><td>"
+      << significant(c["Jzz_rel_error"].get<double>(), 3) << "</td><td>"
+      << significant(c["e_rel_error"].get<double>(), 3) << "</td><td>" << significant(c["seconds"].get<double>(), 3)
       << " (" << c["threads"].get<int>() << " threads)</td></tr>\n";
     conv_dat << c["rays_per_side"].get<int>() << ' ' << c["mass_rel_error"].get<double>() << ' '
              << c["Jzz_rel_error"].get<double>() << ' ' << c["e_rel_error"].get<double>() << ' '
@@ -298,7 +300,7 @@ std::string validate_geometry_mass_study(const StudyConfig& cfg) {
   const auto& s = study.model().nominal;
   const GeometryStudySpec& g = geometry_sections(cfg).geometry;
   return cfg.file + ": valid. Study '" + cfg.name + "' (" + cfg.kind + ") on model '" + study.model().name +
-         "': disk " + fmt_g(2e3 * s.radius) + " mm x " + fmt_g(1e3 * s.thickness) + " mm, " +
+         "': disk " + significant(2e3 * s.radius, 6) + " mm x " + significant(1e3 * s.thickness, 6) + " mm, " +
          std::to_string(s.holes.size()) + " holes, " + std::to_string(s.clumps.size()) + " clump weight(s); " +
          std::to_string(study.sampler().dimension()) + " random inputs, " + sampling::to_string(cfg.method) +
          " design, " + std::to_string(cfg.samples) + " samples, seed " + std::to_string(cfg.seed) + "; rays " +

@@ -1,8 +1,7 @@
 // GimbalStudy's summary.json "details" and its report section: the share of samples a
 // saturated drive or an out-of-range swing failed, the error mechanism, the counterweight
 // placement, and the plausibility warnings of the model's calibrated tolerances.
-#include <cstdio>
-
+#include "core/format.h"
 #include "engine/results/result_io.h"
 #include "kinds/gimbal_static_unbalance/gimbal_sections.h"
 #include "kinds/gimbal_static_unbalance/gimbal_study.h"
@@ -47,16 +46,14 @@ nlohmann::json GimbalStudy::details(const McResult& mc) const {
 void GimbalStudy::report_sections(const McResult& mc, const std::string&, bool, std::vector<std::string>&,
                                   std::ostringstream& h) const {
   const nlohmann::json d = details(mc);
-  char b[600];
   h << "<h2>Drive saturation and swing range</h2>\n";
-  std::snprintf(b, sizeof b,
-                "<p>A position whose drive current reaches its limit (%.4g mN*m at the nominal K_T) or whose swing "
-                "leaves the test's stated range (+-%.4g deg) fails its sample with the reason. Saturated: %zu of %zu "
-                "samples (share %.3g); swing out of range: %zu.</p>\n",
-                d["drive_limit_mNm"].get<double>(), d["swing_range_deg"].get<double>(),
-                d["saturated_share"]["count"].get<std::size_t>(), mc.completed,
-                d["saturated_share"]["share"].get<double>(), d["swing_out_of_range_share"]["count"].get<std::size_t>());
-  h << b;
+  h << fmt::format(
+      "<p>A position whose drive current reaches its limit ({:.4g} mN*m at the nominal K_T) or whose swing "
+      "leaves the test's stated range (+-{:.4g} deg) fails its sample with the reason. Saturated: {} of {} "
+      "samples (share {:.3g}); swing out of range: {}.</p>\n",
+      d["drive_limit_mNm"].get<double>(), d["swing_range_deg"].get<double>(),
+      d["saturated_share"]["count"].get<std::size_t>(), mc.completed, d["saturated_share"]["share"].get<double>(),
+      d["swing_out_of_range_share"]["count"].get<std::size_t>());
   h << "<h2>Per-test error mechanism and counterweight placement</h2>\n<p>Mechanism: <code>"
     << html_escape(model_.error_mechanism) << "</code>. Counterweight placement per group:";
   for (const auto& [g, p] : d["counterweight_placement"].items()) {

@@ -1,7 +1,6 @@
 #include "kinds/gimbal_static_unbalance/gimbal_kind.h"
 
-#include <cstdio>
-
+#include "core/format.h"
 #include "engine/kind_interface/procedure_kind.h"
 #include "kinds/gimbal_static_unbalance/gimbal_sections.h"
 #include "kinds/gimbal_static_unbalance/gimbal_study.h"
@@ -52,14 +51,11 @@ class GimbalStaticUnbalanceKind final : public ProcedureKind {
       tests += g.repeats * g.loads.size();
       positions += g.repeats * g.loads.size() * g.positions;
     }
-    char buf[512];
-    std::snprintf(buf, sizeof buf,
-                  "%s: valid. Study '%s' (%s) on model '%s': %zu unit-scope random inputs, %s design, %zu "
-                  "samples, seed %llu; per sample %zu group(s), %zu simulated tests, %zu turntable positions.",
-                  cfg.file.c_str(), cfg.name.c_str(), cfg.kind.c_str(), model.name.c_str(), study.input_names().size(),
-                  sampling::to_string(cfg.method).c_str(), cfg.samples, static_cast<unsigned long long>(cfg.seed),
-                  gimbal_sections(cfg).groups.size(), tests, positions);
-    std::string text = buf;
+    std::string text = fmt::format(
+        "{}: valid. Study '{}' ({}) on model '{}': {} unit-scope random inputs, {} design, {} "
+        "samples, seed {}; per sample {} group(s), {} simulated tests, {} turntable positions.",
+        cfg.file, cfg.name, cfg.kind, model.name, study.input_names().size(), sampling::to_string(cfg.method),
+        cfg.samples, cfg.seed, gimbal_sections(cfg).groups.size(), tests, positions);
     text += " Per-test error mechanism: " + model.error_mechanism + ".";
     const auto warnings = plausibility_warnings(model);
     for (const std::string& w : warnings) text += "\nwarning: " + w + ".";

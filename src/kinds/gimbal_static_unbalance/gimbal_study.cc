@@ -4,9 +4,9 @@
 
 #include <algorithm>
 #include <array>
-#include <cstdio>
 #include "core/angles.h"
 #include "core/error.h"
+#include "core/format.h"
 #include "core/units.h"
 #include "geometry/generators.h"
 #include "geometry/mass_properties.h"
@@ -225,26 +225,22 @@ void GimbalStudy::check_positions(const procedures::MeasurementResult& m, const 
   const double deg = units::kRadPerDeg;
   const auto& o = model_.plan.oscillation;
   for (const auto& p : m.positions) {
-    char where[200];
-    std::snprintf(where, sizeof where, "group %s, test %zu (load %.4g mN*m at %.4g deg), turntable position %.4g deg",
-                  group.c_str(), test, load_torque * 1e3, load_angle / deg, p.theta_nominal / deg);
+    const std::string where =
+        fmt::format("group {}, test {} (load {:.4g} mN*m at {:.4g} deg), turntable position {:.4g} deg", group, test,
+                    load_torque * 1e3, load_angle / deg, p.theta_nominal / deg);
     if (p.saturated) {
-      char b[600];
-      std::snprintf(
-          b, sizeof b,
-          "drive saturated: %s: the drive current reached its limit (%.4g A, %.4g mN*m at the nominal K_T) in "
+      throw Error(fmt::format(
+          "drive saturated: {}: the drive current reached its limit ({:.4g} A, {:.4g} mN*m at the nominal K_T) in "
           "the integration window, so Eq. 21's mean current is clipped and MT_s would come out low; the test "
           "needs a motor of more torque or a smaller load",
-          where, model_.plan.servo.current_limit, model_.plan.servo.current_limit * model_.plan.servo.kt_nominal * 1e3);
-      throw Error(b);
+          where, model_.plan.servo.current_limit,
+          model_.plan.servo.current_limit * model_.plan.servo.kt_nominal * 1e3));
     }
     if (std::abs(o.centre) + p.max_abs_phi > o.swing_range + 1e-12) {
-      char b[600];
-      std::snprintf(b, sizeof b,
-                    "swing out of range: %s: the gimbal swung %.4g deg about its centre (%.4g deg), leaving the test's "
-                    "stated range +-%.4g deg ([oscillation] swing_range)",
-                    where, p.max_abs_phi / deg, o.centre / deg, o.swing_range / deg);
-      throw Error(b);
+      throw Error(fmt::format(
+          "swing out of range: {}: the gimbal swung {:.4g} deg about its centre ({:.4g} deg), leaving the test's "
+          "stated range +-{:.4g} deg ([oscillation] swing_range)",
+          where, p.max_abs_phi / deg, o.centre / deg, o.swing_range / deg));
     }
   }
 }

@@ -2,12 +2,12 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <memory>
 #include <span>
 #include <sstream>
 #include <utility>
 
+#include "core/format.h"
 #include "core/units.h"
 #include "engine/kind_interface/output_spec.h"
 #include "engine/kind_interface/procedure_study.h"
@@ -186,20 +186,20 @@ void ObstructionStudy::report_sections(const McResult& mc, const std::string& pl
                                        std::vector<std::string>&, std::ostringstream& h) const {
   const GeometryStudySpec& gs = geometry_sections(cfg_).geometry;
   const auto& g = *model_.geometry;
-  h << "<h2>Nominal design</h2>\n<p>Yaw span " << fmt_g(1e3 * g.yaw_span) << " mm, pitch span "
-    << fmt_g(1e3 * g.pitch_span) << " mm; housing radius " << fmt_g(1e3 * g.housing_radius)
-    << " mm, window opening radius " << fmt_g(1e3 * g.window_radius) << " mm, clear aperture radius "
-    << fmt_g(1e3 * g.aperture_radius) << " mm, " << gs.beam_rays
+  h << "<h2>Nominal design</h2>\n<p>Yaw span " << significant(1e3 * g.yaw_span, 6) << " mm, pitch span "
+    << significant(1e3 * g.pitch_span, 6) << " mm; housing radius " << significant(1e3 * g.housing_radius, 6)
+    << " mm, window opening radius " << significant(1e3 * g.window_radius, 6) << " mm, clear aperture radius "
+    << significant(1e3 * g.aperture_radius, 6) << " mm, " << gs.beam_rays
     << " beam rays.</p>\n<table><tr><th class='l'>output</th><th>nominal</th></tr>\n";
   for (std::size_t k = 0; k < kNumOutputs; ++k) {
     if (k == 3 || k == 8) continue;  // the shifts: zero for the nominal design
-    h << "<tr><td class='l'>" << kOutputs[k].name << "</td><td>" << fmt_g(nominal_[k]) << " " << kOutputs[k].unit
-      << "</td></tr>\n";
+    h << "<tr><td class='l'>" << kOutputs[k].name << "</td><td>" << significant(nominal_[k], 6) << " "
+      << kOutputs[k].unit << "</td></tr>\n";
   }
   h << "</table>\n";
   if (nominal_[4] < 1e3 * gs.clearance_warn) {
-    h << "<p class='bad'>The nominal clearance " << fmt_g(nominal_[4]) << " mm is below the warning level "
-      << fmt_g(1e3 * gs.clearance_warn) << " mm.</p>\n";
+    h << "<p class='bad'>The nominal clearance " << significant(nominal_[4], 6) << " mm is below the warning level "
+      << significant(1e3 * gs.clearance_warn, 6) << " mm.</p>\n";
   }
   if (!plots) return;
   std::ostringstream map_dat;
@@ -281,17 +281,14 @@ std::unique_ptr<ProcedureStudy> make_obstruction_study(const StudyConfig& cfg,
 std::string validate_obstruction_study(const StudyConfig& cfg) {
   const ObstructionStudy study(cfg, load_seeker_model(cfg.model_path, cfg.overrides), cfg.samples, cfg.seed);
   const auto& g = *study.model().geometry;
-  char buf[640];
-  std::snprintf(buf, sizeof buf,
-                "%s: valid. Study '%s' (%s) on model '%s': spans %g / %g mm, housing radius %g mm, window %g mm; "
-                "%zu random inputs, %s design, %zu samples, seed %llu; grid %zu x %zu, %d beam rays, clearance %s.",
-                cfg.file.c_str(), cfg.name.c_str(), cfg.kind.c_str(), study.model().name.c_str(), 1e3 * g.yaw_span,
-                1e3 * g.pitch_span, 1e3 * g.housing_radius, 1e3 * g.window_radius, study.sampler().dimension(),
-                sampling::to_string(cfg.method).c_str(), cfg.samples, static_cast<unsigned long long>(cfg.seed),
-                geometry_sections(cfg).geometry.yaw_points, geometry_sections(cfg).geometry.pitch_points,
-                geometry_sections(cfg).geometry.beam_rays,
-                geometry_sections(cfg).geometry.clearance_per_sample ? "per sample" : "nominal only");
-  return buf;
+  return fmt::format(
+      "{}: valid. Study '{}' ({}) on model '{}': spans {:g} / {:g} mm, housing radius {:g} mm, window {:g} mm; "
+      "{} random inputs, {} design, {} samples, seed {}; grid {} x {}, {} beam rays, clearance {}.",
+      cfg.file, cfg.name, cfg.kind, study.model().name, 1e3 * g.yaw_span, 1e3 * g.pitch_span, 1e3 * g.housing_radius,
+      1e3 * g.window_radius, study.sampler().dimension(), sampling::to_string(cfg.method), cfg.samples, cfg.seed,
+      geometry_sections(cfg).geometry.yaw_points, geometry_sections(cfg).geometry.pitch_points,
+      geometry_sections(cfg).geometry.beam_rays,
+      geometry_sections(cfg).geometry.clearance_per_sample ? "per sample" : "nominal only");
 }
 
 }  // namespace poise::kinds::los_obstruction

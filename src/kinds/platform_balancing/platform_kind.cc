@@ -1,10 +1,9 @@
 #include "kinds/platform_balancing/platform_kind.h"
 #include "core/diagnostics.h"
 
-#include <cstdio>
-
 #include <algorithm>
 #include <thread>
+#include "core/format.h"
 #include "engine/kind_interface/procedure_kind.h"
 #include "engine/run/procedure_runner.h"
 #include "kinds/platform_balancing/platform_model.h"
@@ -67,15 +66,12 @@ class PlatformBalancingKind final : public ProcedureKind {
       load_seeker_model(sc.model_path, sc.overrides);
     }
     PlatformStudy study(cfg, model, cfg.samples, cfg.seed);
-    char buf[512];
-    std::snprintf(
-        buf, sizeof buf,
-        "%s: valid. Study '%s' (%s) on model '%s': %zu unit-scope random inputs, %s design, %zu samples, seed "
-        "%llu; per sample %zu test order(s) x 3 axis tests of %zu turntable positions.",
-        cfg.file.c_str(), cfg.name.c_str(), cfg.kind.c_str(), model.name.c_str(), study.input_names().size(),
-        sampling::to_string(cfg.method).c_str(), cfg.samples, static_cast<unsigned long long>(cfg.seed),
-        platform_sections(cfg).platform.orders.size(), platform_sections(cfg).platform.positions);
-    return buf;
+    return fmt::format(
+        "{}: valid. Study '{}' ({}) on model '{}': {} unit-scope random inputs, {} design, {} samples, seed "
+        "{}; per sample {} test order(s) x 3 axis tests of {} turntable positions.",
+        cfg.file, cfg.name, cfg.kind, model.name, study.input_names().size(), sampling::to_string(cfg.method),
+        cfg.samples, cfg.seed, platform_sections(cfg).platform.orders.size(),
+        platform_sections(cfg).platform.positions);
   }
 };
 

@@ -2,11 +2,11 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <thread>
 
+#include "core/format.h"
 #include "core/units.h"
 #include "engine/kind_interface/study_evaluation.h"
 #include "engine/report/report_plot.h"
@@ -27,12 +27,6 @@ using nlohmann::json;
 
 // Pairs a platform sample with a unit of the shafting study: an independent draw.
 constexpr std::uint64_t kPairingStream = 0x1F0;
-
-std::string fmt(double v, int prec = 4) {
-  char buf[40];
-  std::snprintf(buf, sizeof buf, "%.*g", prec, v);
-  return buf;
-}
 
 struct Quantiles {
   double p50 = NAN, p95 = NAN, p9973 = NAN;
@@ -59,12 +53,13 @@ std::string loop_statement(models::StabilizationLoop l) {
   l.inertia = 1.0;  // the gains scale with J; poles and crossover do not
   std::ostringstream os;
   if (l.type == models::LoopType::kRatePi) {
-    os << "PI rate loop, true open-loop crossover " << fmt(l.frequency_hz) << " Hz, integral ratio "
-       << fmt(l.integral_ratio) << " (no integral of the angle: a held torque leaves a held error)";
+    os << "PI rate loop, true open-loop crossover " << significant(l.frequency_hz) << " Hz, integral ratio "
+       << significant(l.integral_ratio) << " (no integral of the angle: a held torque leaves a held error)";
   } else {
-    os << "PID position loop with integrator, PD natural frequency " << fmt(l.frequency_hz) << " Hz (K_p = J w_n^2; "
-       << "open-loop crossover " << fmt(l.crossover_hz()) << " Hz), zeta " << fmt(l.damping) << ", integral ratio "
-       << fmt(l.integral_ratio);
+    os << "PID position loop with integrator, PD natural frequency " << significant(l.frequency_hz)
+       << " Hz (K_p = J w_n^2; "
+       << "open-loop crossover " << significant(l.crossover_hz()) << " Hz), zeta " << significant(l.damping)
+       << ", integral ratio " << significant(l.integral_ratio);
   }
   return os.str();
 }
@@ -93,12 +88,12 @@ void platform_table(const json& d, const PlatformStudySection& ps, std::ostrings
        "plane h (mm)</th>"
        "<th>stabilization: least disturbance stiffness (N m/rad)</th></tr>\n";
   for (const auto& g : d["gimbals"]) {
-    h << "<tr><td class='l'>" << g["axis"].get<std::string>() << "</td><td>" << fmt(g["mass_kg"].get<double>())
-      << "</td><td>" << fmt(g["axis_inertia_kg_m2"].get<double>()) << "</td><td>"
-      << fmt(g["kt_nominal_N_m_per_A"].get<double>()) << "</td><td>"
-      << fmt(g["counterweight_radius_m"].get<double>() * 1e3) << " / "
-      << fmt(g["counterweight_plane_m"].get<double>() * 1e3) << "</td><td>"
-      << fmt(g["loop_min_stiffness_N_m_per_rad"].get<double>()) << "</td></tr>\n";
+    h << "<tr><td class='l'>" << g["axis"].get<std::string>() << "</td><td>" << significant(g["mass_kg"].get<double>())
+      << "</td><td>" << significant(g["axis_inertia_kg_m2"].get<double>()) << "</td><td>"
+      << significant(g["kt_nominal_N_m_per_A"].get<double>()) << "</td><td>"
+      << significant(g["counterweight_radius_m"].get<double>() * 1e3) << " / "
+      << significant(g["counterweight_plane_m"].get<double>() * 1e3) << "</td><td>"
+      << significant(g["loop_min_stiffness_N_m_per_rad"].get<double>()) << "</td></tr>\n";
   }
   h << "</table>\n";
   if (!d["gimbals"].empty()) {
@@ -107,10 +102,11 @@ void platform_table(const json& d, const PlatformStudySection& ps, std::ostrings
       << ". Closed-loop poles (Hz, the "
          "same on every axis: the gains scale with its inertia):";
     for (const auto& pole : loop["closed_loop_poles_Hz"]) {
-      h << " " << fmt(pole[0].get<double>()) << (pole[1].get<double>() < 0 ? " - " : " + ")
-        << fmt(std::abs(pole[1].get<double>())) << "j";
+      h << " " << significant(pole[0].get<double>()) << (pole[1].get<double>() < 0 ? " - " : " + ")
+        << significant(std::abs(pole[1].get<double>())) << "j";
     }
-    h << "; least disturbance stiffness at " << fmt(loop["least_stiffness_at_Hz"].get<double>()) << " Hz.</p>\n";
+    h << "; least disturbance stiffness at " << significant(loop["least_stiffness_at_Hz"].get<double>())
+      << " Hz.</p>\n";
   }
   h << "<p>Each axis test is the complete simulated single-axis procedure (" << ps.positions
     << " turntable positions, servo-driven oscillation integrated with CVODE, sampled current, Eq. 21, Eq. 22 fit, Eq. "
@@ -118,14 +114,16 @@ void platform_table(const json& d, const PlatformStudySection& ps, std::ostrings
        "counterweight with its placement tolerances in the gimbal's correction plane) on the assembly that turns about "
        "the axis, the other gimbals locked with their locking errors. Residual torque: the exact statics on a grid of "
     << d["grid"]["points"].get<std::size_t>() << " gimbal angles (outer "
-    << fmt(d["grid"]["outer_deg"][0].get<double>()) << " to " << fmt(d["grid"]["outer_deg"][1].get<double>())
-    << " deg, middle " << fmt(d["grid"]["middle_deg"][0].get<double>()) << " to "
-    << fmt(d["grid"]["middle_deg"][1].get<double>()) << " deg, inner " << fmt(d["grid"]["inner_deg"][0].get<double>())
-    << " to " << fmt(d["grid"]["inner_deg"][1].get<double>())
+    << significant(d["grid"]["outer_deg"][0].get<double>()) << " to "
+    << significant(d["grid"]["outer_deg"][1].get<double>()) << " deg, middle "
+    << significant(d["grid"]["middle_deg"][0].get<double>()) << " to "
+    << significant(d["grid"]["middle_deg"][1].get<double>()) << " deg, inner "
+    << significant(d["grid"]["inner_deg"][0].get<double>()) << " to "
+    << significant(d["grid"]["inner_deg"][1].get<double>())
     << " deg), under gravity and under gravity plus the stated carrier "
        "acceleration ("
-    << fmt(ps.acceleration[0]) << ", " << fmt(ps.acceleration[1]) << ", " << fmt(ps.acceleration[2])
-    << ") m/s&sup2; in the base frame.</p>\n";
+    << significant(ps.acceleration[0]) << ", " << significant(ps.acceleration[1]) << ", "
+    << significant(ps.acceleration[2]) << ") m/s&sup2; in the base frame.</p>\n";
 }
 
 // Residual torques per axis and order.
@@ -141,20 +139,22 @@ void residual_table(const json& d, const PlatformStudySection& ps, std::ostrings
     const json& r = d["residual_by_order"][ax];
     const json& ini = r["initial_torque_max_mNm"];
     h << "<tr><td class='l'>" << ax << "</td><td class='l'>before balancing</td><td></td><td>"
-      << fmt(ini["p50"].get<double>()) << " / " << fmt(ini["p95"].get<double>()) << " / "
-      << fmt(ini["p99_73"].get<double>()) << "</td><td></td><td></td></tr>\n";
+      << significant(ini["p50"].get<double>()) << " / " << significant(ini["p95"].get<double>()) << " / "
+      << significant(ini["p99_73"].get<double>()) << "</td><td></td><td></td></tr>\n";
     for (std::size_t o = 0; o < ps.order_labels.size(); ++o) {
       const json& x = r[ps.order_labels[o]];
       h << "<tr><td class='l'>" << ax << "</td><td class='l'>" << html_escape(ps.order_texts[o]) << "</td><td>"
-        << fmt(x["residual_gmm"]["p50"].get<double>()) << " / " << fmt(x["residual_gmm"]["p95"].get<double>()) << " | "
-        << fmt(x["residual_grid_max_gmm"]["p50"].get<double>()) << " / "
-        << fmt(x["residual_grid_max_gmm"]["p95"].get<double>()) << "</td><td>"
-        << fmt(x["torque_max_mNm"]["p50"].get<double>()) << " / " << fmt(x["torque_max_mNm"]["p95"].get<double>())
-        << " / " << fmt(x["torque_max_mNm"]["p99_73"].get<double>()) << "</td><td>"
-        << fmt(x["torque_rms_mNm"]["p50"].get<double>()) << "</td><td>"
-        << fmt(x["torque_max_acc_mNm"]["p50"].get<double>()) << " / "
-        << fmt(x["torque_max_acc_mNm"]["p95"].get<double>()) << " / "
-        << fmt(x["torque_max_acc_mNm"]["p99_73"].get<double>()) << "</td></tr>\n";
+        << significant(x["residual_gmm"]["p50"].get<double>()) << " / "
+        << significant(x["residual_gmm"]["p95"].get<double>()) << " | "
+        << significant(x["residual_grid_max_gmm"]["p50"].get<double>()) << " / "
+        << significant(x["residual_grid_max_gmm"]["p95"].get<double>()) << "</td><td>"
+        << significant(x["torque_max_mNm"]["p50"].get<double>()) << " / "
+        << significant(x["torque_max_mNm"]["p95"].get<double>()) << " / "
+        << significant(x["torque_max_mNm"]["p99_73"].get<double>()) << "</td><td>"
+        << significant(x["torque_rms_mNm"]["p50"].get<double>()) << "</td><td>"
+        << significant(x["torque_max_acc_mNm"]["p50"].get<double>()) << " / "
+        << significant(x["torque_max_acc_mNm"]["p95"].get<double>()) << " / "
+        << significant(x["torque_max_acc_mNm"]["p99_73"].get<double>()) << "</td></tr>\n";
     }
   }
   h << "</table>\n<p><small>Why the order matters: an axis test sees only the part of the outboard first moment "
@@ -202,9 +202,9 @@ void los_budget_table(const json& d, const PlatformStudySection& ps, std::ostrin
        "gravity "
        "part, a rate loop holds the error c<sub>k</sub>&middot;g / K<sub>p</sub>), LOS error |&delta;&omega; &times; "
        "d| at each grid point over a profile of "
-    << fmt(ps.duration) << " s: a manoeuvre (" << fmt(ps.manoeuvre[0]) << ", " << fmt(ps.manoeuvre[1]) << ", "
-    << fmt(ps.manoeuvre[2]) << ") m/s&sup2; from " << fmt(ps.onset) << " s over " << fmt(ps.rise_time) << " s, and "
-    << ps.vibration.size()
+    << significant(ps.duration) << " s: a manoeuvre (" << significant(ps.manoeuvre[0]) << ", "
+    << significant(ps.manoeuvre[1]) << ", " << significant(ps.manoeuvre[2]) << ") m/s&sup2; from "
+    << significant(ps.onset) << " s over " << significant(ps.rise_time) << " s, and " << ps.vibration.size()
     << " vibration line(s). The gimbals hold their angles during the profile. Temporal: over the profile of one unit; "
        "ensemble: over the units (samples).</p>\n<table><tr><th class='l'>line</th><th "
        "class='l'>nature</th><th>p50</th>"
@@ -212,11 +212,11 @@ void los_budget_table(const json& d, const PlatformStudySection& ps, std::ostrin
     << (px > 0 ? "<th>p99.73 (px)</th>" : "") << "</tr>\n";
   for (const auto& l : d["los_budget"]) {
     const json& q = l["arcsec"];
-    auto cell = [&](const char* k) { return q.contains(k) ? fmt(q[k].get<double>()) : std::string(""); };
+    auto cell = [&](const char* k) { return q.contains(k) ? significant(q[k].get<double>()) : std::string(""); };
     h << "<tr><td class='l'>" << html_escape(l["line"].get<std::string>()) << "</td><td class='l'>"
       << html_escape(l["nature"].get<std::string>()) << "</td><td>" << cell("p50") << "</td><td>" << cell("p95")
       << "</td><td>" << cell("p99_73") << "</td>";
-    if (px > 0) h << "<td>" << fmt(q["p99_73"].get<double>() / px) << "</td>";
+    if (px > 0) h << "<td>" << significant(q["p99_73"].get<double>() / px) << "</td>";
     h << "</tr>\n";
   }
   h << "</table>\n";

@@ -4,10 +4,10 @@
 // outputs, sweeps, contributions, sensitivity, convergence, distribution figures,
 // provenance) the engine writes as for every kind.
 #include <cmath>
-#include <cstdio>
 #include <filesystem>
 #include <sstream>
 
+#include "core/format.h"
 #include "core/units.h"
 #include "engine/report/report_plot.h"
 #include "engine/results/result_io.h"
@@ -19,11 +19,6 @@ using namespace poise::engine;
 namespace {
 namespace fs = std::filesystem;
 using nlohmann::json;
-
-std::string num(double v, int prec = 4) {
-  if (!std::isfinite(v)) return "&ndash;";
-  return format_significant(v, prec);
-}
 
 json summary_with_unit(const sampling::Summary& s, const std::string& unit, const std::string& description) {
   json j = summary_json(s);
@@ -93,13 +88,15 @@ void SeekerLosStudy::report_sections(const McResult& mc, const std::string& plot
   const json& req = d["requirement"];
   h << "<h2>Units and field within the LOS limit</h2>\n";
   h << "<p>LOS limit: error &le; <b>" << html_escape(req["as_written"].get<std::string>())
-    << "</b> = " << num(req["arcsec"].get<double>()) << " arcsec (pixel IFOV "
-    << num(req["pixel_ifov_arcsec"].get<double>()) << " arcsec; "
+    << "</b> = " << significant_or(req["arcsec"].get<double>(), "&ndash;") << " arcsec (pixel IFOV "
+    << significant_or(req["pixel_ifov_arcsec"].get<double>(), "&ndash;") << " arcsec; "
     << html_escape(req["pixel_ifov_source"].get<std::string>()) << ").</p>\n";
   if (d.contains("fraction_samples_meeting")) {
     const json& fs_ = d["fraction_samples_meeting"];
     const json& ff = d["fraction_field_meeting"];
-    auto pct = [](const json& e) { return e.is_number() ? num(100 * e.get<double>(), 4) : std::string("&ndash;"); };
+    auto pct = [](const json& e) {
+      return e.is_number() ? significant_or(100 * e.get<double>(), "&ndash;", 4) : std::string("&ndash;");
+    };
     h << "<ul><li>Units that meet it over the <i>whole</i> field of regard: <b>" << pct(fs_["value"])
       << "%</b> <small>(95% "
       << "interval " << pct(fs_["ci95"][0]) << "&ndash;" << pct(fs_["ci95"][1]) << "%)</small></li>"
@@ -110,7 +107,8 @@ void SeekerLosStudy::report_sections(const McResult& mc, const std::string& plot
   if (d.contains("pooled_field_arcsec") && mc.outputs.size() == kNumSeekerOutputs) {
     const double ifov = req["pixel_ifov_arcsec"].get<double>();
     auto row = [&](const std::string& what, double v) {
-      h << "<tr><td class='l'>" << what << "</td><td>" << num(v) << "</td><td>" << num(v / ifov, 3) << "</td></tr>\n";
+      h << "<tr><td class='l'>" << what << "</td><td>" << significant_or(v, "&ndash;") << "</td><td>"
+        << significant_or(v / ifov, "&ndash;", 3) << "</td></tr>\n";
     };
     h << "<h2>The error over the field of regard</h2>\n<table><tr><th "
          "class='l'>figure</th><th>arcsec</th><th>px</th></tr>\n";

@@ -2,13 +2,13 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
 #include <map>
 #include <thread>
 
+#include "core/format.h"
 #include "core/units.h"
 #include "engine/kind_interface/study_kind.h"
 #include "engine/results/result_io.h"
@@ -32,17 +32,14 @@ std::string validate_seeker_study(const StudyConfig& cfg) {
   const SeekerModel model = load_model(cfg);
   const SeekerLosSections& sec = seeker_sections(cfg);
   SeekerSampler sampler(model);
-  char buf[512];
-  std::snprintf(buf, sizeof buf,
-                "%s: valid. Study '%s' (%s) on model '%s': %zu random inputs, %s design, %zu "
-                "samples, seed %llu, grid %zu x %zu over yaw [%g, %g] deg, pitch [%g, %g] deg, "
-                "requirement %s, %zu sweep(s).",
-                cfg.file.c_str(), cfg.name.c_str(), cfg.kind.c_str(), model.name.c_str(), sampler.dimension(),
-                sampling::to_string(cfg.method).c_str(), cfg.samples, static_cast<unsigned long long>(cfg.seed),
-                sec.yaw_points, sec.pitch_points, model.yaw_min / units::kRadPerDeg, model.yaw_max / units::kRadPerDeg,
-                model.pitch_min / units::kRadPerDeg, model.pitch_max / units::kRadPerDeg, sec.requirement_text.c_str(),
-                cfg.sweeps.size());
-  return buf;
+  return fmt::format(
+      "{}: valid. Study '{}' ({}) on model '{}': {} random inputs, {} design, {} "
+      "samples, seed {}, grid {} x {} over yaw [{:g}, {:g}] deg, pitch [{:g}, {:g}] deg, "
+      "requirement {}, {} sweep(s).",
+      cfg.file, cfg.name, cfg.kind, model.name, sampler.dimension(), sampling::to_string(cfg.method), cfg.samples,
+      cfg.seed, sec.yaw_points, sec.pitch_points, model.yaw_min / units::kRadPerDeg, model.yaw_max / units::kRadPerDeg,
+      model.pitch_min / units::kRadPerDeg, model.pitch_max / units::kRadPerDeg, sec.requirement_text,
+      cfg.sweeps.size());
 }
 
 json replay_seeker_sample(const StudyConfig& cfg, std::size_t index, const RunOptions& options) {
