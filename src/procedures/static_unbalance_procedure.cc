@@ -96,7 +96,6 @@ struct WindowSums {
 // settle and the lead-in (the start transient is not integrated).
 void lock_and_settle(const ProcedureRun& run) {
   Context& c = run.c;
-  c.i_ref = 0.0;  // set at the window's start when the window is integrated (integrate_window)
   std::array<double, kDynamicStates> y{};
   y[0] = run.plan.oscillation.centre - c.amplitude;
   if (!run.quasi) {
@@ -129,11 +128,6 @@ WindowSums integrate_window(const ProcedureRun& run, const PositionSensor& s, Po
   auto swing = [&](double phi) { pr.max_abs_phi = std::max(pr.max_abs_phi, std::abs(phi - c.centre)); };
   std::array<double, kDynamicStates> yi{};
   const std::span<double> ybuf(yi.data(), run.n_states);
-  {  // the window's integral about the current at its start (static_unbalance_servo.h)
-    const auto y = integ.state();
-    const Reference r = reference(c, integ.time());
-    run.c.i_ref = std::clamp(commanded_current(c, r, y[0], y[1], y[run.i_servo]), -c.i_max, c.i_max);
-  }
   double t_prev = integ.time(), w_prev = integ.state()[1];
   swing(integ.state()[0]);
   while (integ.time() < t2) {
@@ -150,7 +144,7 @@ WindowSums integrate_window(const ProcedureRun& run, const PositionSensor& s, Po
   const auto st = integ.state();
   const double window = t2 - t1;
   WindowSums sums;
-  sums.sum_i = measured_current_sum(run, s, c.i_ref + st[q0] / window);
+  sums.sum_i = measured_current_sum(run, s, st[q0] / window);
   sums.sum_track2 = static_cast<double>(n_samples) * st[q0 + 1] / window;
   pr.saturated = st[q0 + 2] > 0.0;
   return sums;

@@ -17,10 +17,6 @@ struct StaticUnbalanceWorkspace::Context {
   double disturbance_torque = 0;  // constant external torque at this position (N m)
   double t0 = 0, omega = 1, amplitude = 0, rate_amplitude = 0, centre = 0;
   double t1 = 0;  // start of the integration window (s)
-  // The current the window's integral is taken about (A): the window integrates i - i_ref, so
-  // the error test's relative part (rtol x the integral) stays small and its absolute
-  // tolerance sets the mean current's accuracy whatever rtol the mechanical states use.
-  double i_ref = 0;
   long rhs_calls = 0;
 };
 
