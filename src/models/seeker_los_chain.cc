@@ -57,12 +57,21 @@ inline PointingError error_against(const Eigen::Vector3d& d, double ca, double s
 // row by error_against if any point is outside their range (errors above ~200 arcsec or a LOS
 // behind the yaw azimuth: never in a tolerance study, kept exact anyway). restrict: the
 // arrays are disjoint, so no run-time alias checks. Cloned for AVX2 (4 doubles a lane, picked
-// at run time; no FMA, so every result is bit-identical to the SSE2 clone's).
-__attribute__((target_clones("avx2", "default"))) void error_row(
-    const Eigen::Matrix3d& m, double ca, double sa, std::size_t nb, const double* __restrict qx,
-    const double* __restrict qy, const double* __restrict qz, const double* __restrict cb, const double* __restrict sb,
-    double* __restrict tot, double* __restrict yaw, double* __restrict pit, double* __restrict arg_h,
-    double* __restrict arg_r, double* __restrict arg_p, double* __restrict arg_a) {
+// at run time; no FMA, so every result is bit-identical to the SSE2 clone's). Not under
+// ThreadSanitizer: the clones' resolver (an ifunc) runs while the dynamic loader relocates, before
+// TSan's runtime is up, and its instrumented code crashes the process then (the kinds' tests
+// segfaulted at start); the SSE2 code alone gives the same results.
+#if defined(__SANITIZE_THREAD__)
+#define POISE_ERROR_ROW_CLONES
+#else
+#define POISE_ERROR_ROW_CLONES __attribute__((target_clones("avx2", "default")))
+#endif
+POISE_ERROR_ROW_CLONES void error_row(const Eigen::Matrix3d& m, double ca, double sa, std::size_t nb,
+                                      const double* __restrict qx, const double* __restrict qy,
+                                      const double* __restrict qz, const double* __restrict cb,
+                                      const double* __restrict sb, double* __restrict tot, double* __restrict yaw,
+                                      double* __restrict pit, double* __restrict arg_h, double* __restrict arg_r,
+                                      double* __restrict arg_p, double* __restrict arg_a) {
   const double m00 = m(0, 0), m01 = m(0, 1), m02 = m(0, 2), m10 = m(1, 0), m11 = m(1, 1), m12 = m(1, 2), m20 = m(2, 0),
                m21 = m(2, 1), m22 = m(2, 2);
   for (std::size_t ib = 0; ib < nb; ++ib) {
