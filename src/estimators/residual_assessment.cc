@@ -1,35 +1,22 @@
 #include "estimators/residual_assessment.h"
 
-#include <Eigen/QR>
-#include <Eigen/SVD>
 #include <algorithm>
-#include <array>
-#include <boost/math/distributions/fisher_f.hpp>
 #include <cmath>
-#include <numbers>
+
 #include "core/angles.h"
 #include "core/format.h"
 
 namespace poise::estimators::detail {
 namespace {
 
-using Eigen::Index;
-using Eigen::MatrixXd;
-using Eigen::VectorXd;
-
-using angles::kPi;
-
 using angles::wrap_two_pi;
+using Eigen::MatrixXd;
 
 // (a, c, K) of the model.
-UnbalanceEstimate estimate_of_model(const Model& m, const ModelData& d);
-
 Eigen::Vector3d coefficients(const Model& m, const ModelData& d) {
-  const UnbalanceEstimate e = estimate_of_model(m, d);
+  const UnbalanceEstimate e = estimate_of(m, d);
   return {e.amplitude * std::cos(e.phase), e.amplitude * std::sin(e.phase), e.offset};
 }
-
-UnbalanceEstimate estimate_of_model(const Model& m, const ModelData& d) { return estimate_of(m, d); }
 
 // Bayesian model averaging over the readings with BIC weights w_i ~ exp(-delta_BIC_i / 2)
 // (Raftery 1995): the mean's move from the selected model goes into delta, the between-

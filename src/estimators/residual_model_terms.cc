@@ -11,14 +11,10 @@
 #include "estimators/residual_assessment.h"
 
 namespace poise::estimators::detail {
-namespace {
 
 using angles::wrap_two_pi;
 using Eigen::Index;
 using Eigen::MatrixXd;
-using Eigen::VectorXd;
-
-}  // namespace
 
 // Drop-one F test p of term i in model m (OLS or GLS at m's rho).
 double drop_one_p(const Model& m, const ModelData& d, std::size_t i) {

@@ -301,7 +301,6 @@ MeasurementResult run_static_unbalance_procedure(const TestPlan& plan, const Gim
   const double duration = position_duration(plan);  // move and lock, then the test
   if (record) record->clear();
   for (std::size_t ip = 0; ip < plan.positions.size(); ++ip) {
-    const double theta_nominal = plan.positions[ip];
     PositionResult pr;
     const PositionSensor s = start_position(run, truth, ip, duration, offset, normal, noise, pr);
     const long n_samples = run.w.n_samples;
@@ -327,7 +326,7 @@ MeasurementResult run_static_unbalance_procedure(const TestPlan& plan, const Gim
       out.solver.rhs_evals += st.rhs_evals;
       out.solver.jac_evals += st.jac_evals;
     }
-    theta.push_back(theta_nominal);
+    theta.push_back(pr.theta_nominal);
     torque.push_back(pr.torque);
     out.positions.push_back(pr);
   }
