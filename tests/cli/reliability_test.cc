@@ -595,4 +595,35 @@ TEST(Mpi, TwoRanksGiveTheSamplesAndStatisticsOfOneProcess) {
 #endif
 }
 
+TEST(Mpi, SweepsAndContributionsSpreadOverRanksGiveOneProcessesTables) {
+#if !defined(POISE_MPIEXEC) || !defined(POISE_BUILT_WITH_MPI)
+  GTEST_SKIP() << "needs mpirun and poise built with MPI (see TwoRanksGiveTheSamplesAndStatisticsOfOneProcess)";
+#else
+  // Each sweep value and each contribution run is a whole run made on one rank: three ranks
+  // for five sweep runs and the contribution runs leave some ranks one run more than others.
+  TempDir d;
+  std::string text = poise::test::read_text(seeker_study(d));
+  text += "contribution_samples = 128\n\n[[sweep]]\nparameter = \"yaw.bearing_span\"\n"
+          "values = [\"56 mm\", \"82 mm\", \"120 mm\"]\nsamples = 128\n\n[[sweep]]\n"
+          "parameter = \"pitch.bearing_span\"\nvalues = [\"40 mm\", \"70 mm\"]\nsamples = 96\n";
+  text = poise::test::replace_once(text, "contribution_samples = 0\n", "");
+  poise::test::write_text(d.file("sweeps.toml"), text);
+  const std::string args = "run '" + d.file("sweeps.toml") + "' --samples 300 -q --no-plots";
+  auto one = poise::test::run_poise(d, args + " --out '" + d.file("one") + "'");
+  ASSERT_EQ(one.status, 0) << one.err;
+  const std::string mpi = kMpiRootEnv + std::string("'") + POISE_MPIEXEC + "' --allow-run-as-root --oversubscribe -np 3 '" +
+                          POISE_BINARY + "' " + args + " --threads 1 --out '" + d.file("three") + "' >'" +
+                          d.file("mpi_out.txt") + "' 2>&1";
+  const int raw = std::system(mpi.c_str());
+  ASSERT_TRUE(WIFEXITED(raw) && WEXITSTATUS(raw) == 0) << poise::test::read_text(d.file("mpi_out.txt"));
+  const json s1 = comparable(d.file("one")), s3 = comparable(d.file("three"));
+  ASSERT_EQ(s1["sweeps"].size(), 2u) << s1.dump();
+  EXPECT_EQ(s1["sweeps"][0]["points"].size(), 3u);
+  ASSERT_GE(s1["contributions"].size(), 3u) << s1.dump();
+  EXPECT_EQ(s1["sweeps"], s3["sweeps"]);
+  EXPECT_EQ(s1["contributions"], s3["contributions"]);
+  EXPECT_EQ(s1, s3);
+#endif
+}
+
 }  // namespace

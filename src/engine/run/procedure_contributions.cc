@@ -10,7 +10,9 @@
 #include "engine/report/report_plot.h"
 #include "engine/results/requirements.h"
 #include "engine/results/result_io.h"
+#include "engine/run/runs_over_ranks.h"
 #include "engine/study_files/toml_reader.h"
+#include "sampling/distributed.h"
 
 namespace poise::engine {
 namespace {
@@ -59,26 +61,34 @@ json run_procedure_contributions(const StudyConfig& cfg, const StudyFactory& mak
     if (!k.empty() && std::find(keys.begin(), keys.end(), k) == keys.end()) keys.push_back(k);
   }
   if (progress) {
+    const int ranks = sampling::Cluster::size();
     diagnostics::progress("  contributions: " + std::to_string(keys.size() + 1) + " runs of " +
-                          std::to_string(samples) + " samples");
+                          std::to_string(samples) + " samples" +
+                          (ranks > 1 ? " over " + std::to_string(ranks) + " MPI ranks" : std::string()));
   }
-  json all = run_without(cfg, make_study, {}, samples, seed, threads, outputs);
-  all["without"] = "(nothing: all tolerances)";
-  out.push_back(all);
-  for (const auto& key : keys) {
+  // Run 0 with every tolerance, run k without keys[k - 1]: each a run of its own, spread over
+  // the MPI ranks, if any.
+  const std::vector<json> results = runs_over_ranks(keys.size() + 1, [&](std::size_t i) -> json {
+    if (i == 0) {
+      json all = run_without(cfg, make_study, {}, samples, seed, threads, outputs);
+      all["without"] = "(nothing: all tolerances)";
+      return all;
+    }
+    const std::string& key = keys[i - 1];
     const std::optional<std::string> zero = zero_of(cfg, model, key);
     if (!zero) {
-      out.push_back({{"without", key}, {"skipped", "given as a range (min, max) or with no tolerance value: no zero"}});
-      continue;
+      return {{"without", key}, {"skipped", "given as a range (min, max) or with no tolerance value: no zero"}};
     }
     try {
       json j = run_without(cfg, make_study, {{key + ".tolerance", *zero}}, samples, seed, threads, outputs);
       j["without"] = key;
-      out.push_back(j);
+      return j;
     } catch (const ValidationError& e) {
-      out.push_back({{"without", key}, {"skipped", std::string("the model refuses it at zero: ") + e.what()}});
+      return {{"without", key}, {"skipped", std::string("the model refuses it at zero: ") + e.what()}};
     }
-  }
+  });
+  if (!sampling::Cluster::root()) return nullptr;
+  for (const json& r : results) out.push_back(r);
   return out;
 }
 

@@ -22,7 +22,9 @@
 
 namespace poise::engine {
 
-/// Runs the contributions of the model tolerances `tolerance_keys` ("tolerances.kt_drift").
+/// Runs the contributions of the model tolerances `tolerance_keys` ("tolerances.kt_drift") and
+/// returns summary.json's "contributions" (on rank 0; null on the others). Every rank of an
+/// MPI run calls it: the runs are spread over the ranks (runs_over_ranks.h).
 nlohmann::json run_procedure_contributions(const StudyConfig& cfg, const StudyFactory& make_study,
                                            const std::vector<std::string>& tolerance_keys, std::size_t samples,
                                            std::uint64_t seed, int threads, bool progress,

@@ -29,6 +29,7 @@
 #include "engine/results/sensitivity_output.h"
 #include "engine/run/convergence.h"
 #include "engine/run/run_plan.h"
+#include "sampling/distributed.h"
 #include "sampling/interrupt.h"
 
 namespace poise::engine {
@@ -179,19 +180,21 @@ RunControl run_control(const StudyConfig& cfg, const std::shared_ptr<StopRule>& 
   return control;
 }
 
-// A complete run's sweeps and contributions (each a set of further in-memory runs).
-void add_sweeps_and_contributions(json& s, const FinishedRun& f, const StudyFactory& make_study,
+// A complete run's sweeps and contributions (each a set of further in-memory runs, spread
+// over the MPI ranks: every rank calls this; `s` is filled on rank 0).
+void add_sweeps_and_contributions(json& s, const StudyConfig& cfg, const ProcedureStudy& study, const RunPlan& plan,
+                                  const std::vector<Requirement>& requirements, const StudyFactory& make_study,
                                   const RunOptions& options) {
   const bool talk = options.progress && sampling::Cluster::root();
-  const std::size_t n = f.plan.samples;
-  if (!f.cfg.sweeps.empty()) {
-    s["sweeps"] = run_procedure_sweeps(f.cfg, make_study, n, f.plan.seed, f.plan.threads, talk, f.requirements,
-                                       f.study.outputs());
+  const std::size_t n = plan.samples;
+  if (!cfg.sweeps.empty()) {
+    s["sweeps"] =
+        run_procedure_sweeps(cfg, make_study, n, plan.seed, plan.threads, talk, requirements, study.outputs());
   }
-  if (f.cfg.contribution_samples > 0) {
-    s["contributions"] = run_procedure_contributions(f.cfg, make_study, f.study.tolerance_keys(),
-                                                     std::min(f.cfg.contribution_samples, n), f.plan.seed,
-                                                     f.plan.threads, talk, f.study.outputs());
+  if (cfg.contribution_samples > 0) {
+    s["contributions"] =
+        run_procedure_contributions(cfg, make_study, study.tolerance_keys(), std::min(cfg.contribution_samples, n),
+                                    plan.seed, plan.threads, talk, study.outputs());
   }
 }
 
@@ -247,11 +250,19 @@ std::string run_procedure_study(const StudyConfig& cfg_in, const StudyFactory& m
         if (cfg.samples_csv) rows(block);
       },
       done, control);
-  if (!root) return "";  // rank 0 writes the folder
+  // Rank 0 writes the folder; the other ranks only share its sweeps and contributions, which a
+  // complete run that is not a sensitivity analysis has (rank 0 knows how the run ended).
+  if (!root) {
+    json none;
+    if (sampling::Cluster::any(false))
+      add_sweeps_and_contributions(none, cfg, study, plan, requirements, make_study, options);
+    return "";
+  }
   csv.close();
   const std::size_t ran = mc.completed;
   const std::size_t rhs_uncounted = add_resumed_counters(plan.manifest, done.size(), mc);
   const std::string status = mc.interrupted ? "interrupted" : rule->failed() ? "failed" : "complete";
+  const bool extra_runs = sampling::Cluster::any(status == "complete" && plan.sensitivity_base == 0);
   // The counters samples.csv does not hold, for a later --resume (steps are in its rows).
   plan.manifest["solver_counters"] = {{"samples", ran}, {"rhs_evals", mc.rhs_evals}};
   finish_manifest(plan, status, ran);
@@ -265,7 +276,7 @@ std::string run_procedure_study(const StudyConfig& cfg_in, const StudyFactory& m
       : cfg.samples_csv && !mc.field.present
           ? write_sample_columns_h5(csv_path, h5_path, study.input_names(), study.outputs(), h5_text, h5_numbers)
           : json(nullptr);
-  if (status == "complete" && plan.sensitivity_base == 0) add_sweeps_and_contributions(s, f, make_study, options);
+  if (extra_runs) add_sweeps_and_contributions(s, cfg, study, plan, requirements, make_study, options);
   write_file_atomic((fs::path(plan.dir) / "summary.json").string(), s.dump(2) + "\n");
   const fs::path pdir = fs::path(plan.dir) / "plots";
   fs::create_directories(pdir);

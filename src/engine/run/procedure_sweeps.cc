@@ -8,37 +8,52 @@
 #include "engine/report/report_figures.h"
 #include "engine/report/report_plot.h"
 #include "engine/results/result_io.h"
+#include "engine/run/runs_over_ranks.h"
+#include "sampling/distributed.h"
 
 namespace poise::engine {
-namespace {
 using nlohmann::json;
-
-}  // namespace
 
 json run_procedure_sweeps(const StudyConfig& cfg, const StudyFactory& make_study, std::size_t run_samples,
                           std::uint64_t seed, int threads, bool progress, const std::vector<Requirement>& requirements,
                           const std::vector<OutputSpec>& outputs) {
-  json sweeps = json::array();
+  // Every (sweep, value) is a run of its own: spread over the MPI ranks, if any.
+  std::vector<std::pair<const SweepSpec*, const std::string*>> points;
   for (const auto& sw : cfg.sweeps) {
+    for (const auto& v : sw.values) points.emplace_back(&sw, &v);
+  }
+  const int ranks = sampling::Cluster::size();
+  if (progress && ranks > 1) {
+    diagnostics::progress("  sweeps: " + std::to_string(points.size()) + " runs over " + std::to_string(ranks) +
+                          " MPI ranks");
+  }
+  const std::vector<json> results = runs_over_ranks(points.size(), [&](std::size_t i) {
+    const SweepSpec& sw = *points[i].first;
+    const std::string& v = *points[i].second;
     const std::size_t n = sweep_samples(sw, run_samples);
-    json js{{"parameter", sw.parameter}, {"samples", n}, {"points", json::array()}};
-    for (const auto& v : sw.values) {
-      if (progress)
-        diagnostics::progress("  sweep " + sw.parameter + " = " + v + ": " + std::to_string(n) + " samples");
-      StudyConfig c = cfg;
-      auto overrides = c.overrides;
-      overrides[sw.parameter] = v;
-      c.overrides = apply_study_overrides(c, overrides);
-      const std::unique_ptr<ProcedureStudy> study = make_study(c, n, seed);
-      const McResult mc = study->run(threads, false, nullptr, {});
-      json p{{"value", v},
-             {"value_si", units::parse_quantity(v).value},
-             {"samples", mc.completed},
-             {"failures", mc.failures}};
-      p["outputs"] = outputs_json(mc, outputs, false);
-      p["requirements"] = judge_requirements(requirements, outputs, requirement_values(mc, outputs, cfg));
-      js["points"].push_back(p);
+    if (progress && ranks == 1) {
+      diagnostics::progress("  sweep " + sw.parameter + " = " + v + ": " + std::to_string(n) + " samples");
     }
+    StudyConfig c = cfg;
+    auto overrides = c.overrides;
+    overrides[sw.parameter] = v;
+    c.overrides = apply_study_overrides(c, overrides);
+    const std::unique_ptr<ProcedureStudy> study = make_study(c, n, seed);
+    const McResult mc = study->run(threads, false, nullptr, {});
+    json p{{"value", v},
+           {"value_si", units::parse_quantity(v).value},
+           {"samples", mc.completed},
+           {"failures", mc.failures}};
+    p["outputs"] = outputs_json(mc, outputs, false);
+    p["requirements"] = judge_requirements(requirements, outputs, requirement_values(mc, outputs, cfg));
+    return p;
+  });
+  if (!sampling::Cluster::root()) return nullptr;
+  json sweeps = json::array();
+  std::size_t next = 0;
+  for (const auto& sw : cfg.sweeps) {
+    json js{{"parameter", sw.parameter}, {"samples", sweep_samples(sw, run_samples)}, {"points", json::array()}};
+    for (std::size_t k = 0; k < sw.values.size(); ++k) js["points"].push_back(results[next++]);
     sweeps.push_back(js);
   }
   return sweeps;

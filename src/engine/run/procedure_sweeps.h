@@ -26,8 +26,10 @@ namespace poise::engine {
 using StudyFactory =
     std::function<std::unique_ptr<ProcedureStudy>(const StudyConfig& cfg, std::size_t samples, std::uint64_t seed)>;
 
-/// Runs every sweep of `cfg` and returns summary.json's "sweeps".
-/// `run_samples`: the run's sample count (a sweep without its own samples takes it).
+/// Runs every sweep of `cfg` and returns summary.json's "sweeps" (on rank 0; null on the
+/// others). Every rank of an MPI run calls it: the (sweep, value) runs are spread over the
+/// ranks (runs_over_ranks.h). `run_samples`: the run's sample count (a sweep without its own
+/// samples takes it).
 nlohmann::json run_procedure_sweeps(const StudyConfig& cfg, const StudyFactory& make_study, std::size_t run_samples,
                                     std::uint64_t seed, int threads, bool progress,
                                     const std::vector<Requirement>& requirements,
