@@ -203,7 +203,9 @@ void BM_StudyComputeOnly(benchmark::State& state) {
           study.compute(i, ws, r);
           benchmark::DoNotOptimize(r.outputs.data());
         },
-        [](std::size_t, std::span<const SeekerSampleResult>) {}, [](std::size_t) { return std::string(); },
+        [](std::span<const SeekerSampleResult>) { return std::string(); },
+        [](std::size_t, std::span<const SeekerSampleResult>, std::string_view) {},
+        [](std::size_t) { return std::string(); },
         [](const SeekerSampleResult&, poise::engine::ByteWriter&) {},
         [](poise::engine::ByteReader&, SeekerSampleResult&) {});
   }

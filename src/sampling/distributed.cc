@@ -103,30 +103,42 @@ std::vector<std::string> Cluster::gather(const std::string& local) {
 #endif
 }
 
-void Cluster::gather_each(const std::string& local, const std::function<void(int, std::string_view)>& take) {
+void Cluster::gather_each(const std::vector<std::string>& local,
+                          const std::function<void(int, std::string_view)>& take) {
+  const auto take_own = [&] {
+    for (const std::string& message : local) take(0, message);
+  };
   if (g_size == 1) {
-    take(0, local);
+    take_own();
     return;
   }
 #ifdef POISE_WITH_MPI
   constexpr int kTag = 19;
   if (g_rank != 0) {
-    const long long n = static_cast<long long>(local.size());
-    MPI_Send(&n, 1, MPI_LONG_LONG, 0, kTag, MPI_COMM_WORLD);
-    MPI_Send(local.data(), static_cast<int>(local.size()), MPI_CHAR, 0, kTag, MPI_COMM_WORLD);
+    const auto count = static_cast<long long>(local.size());
+    MPI_Send(&count, 1, MPI_LONG_LONG, 0, kTag, MPI_COMM_WORLD);
+    for (const std::string& message : local) {
+      const auto n = static_cast<long long>(message.size());
+      MPI_Send(&n, 1, MPI_LONG_LONG, 0, kTag, MPI_COMM_WORLD);
+      MPI_Send(message.data(), static_cast<int>(message.size()), MPI_CHAR, 0, kTag, MPI_COMM_WORLD);
+    }
     return;
   }
-  take(0, local);
+  take_own();
   std::string buffer;
   for (int q = 1; q < g_size; ++q) {
-    long long n = 0;
-    MPI_Recv(&n, 1, MPI_LONG_LONG, q, kTag, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
-    buffer.resize(static_cast<std::size_t>(n));
-    MPI_Recv(buffer.data(), static_cast<int>(n), MPI_CHAR, q, kTag, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
-    take(q, buffer);
+    long long count = 0;
+    MPI_Recv(&count, 1, MPI_LONG_LONG, q, kTag, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+    for (long long m = 0; m < count; ++m) {
+      long long n = 0;
+      MPI_Recv(&n, 1, MPI_LONG_LONG, q, kTag, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+      buffer.resize(static_cast<std::size_t>(n));
+      MPI_Recv(buffer.data(), static_cast<int>(n), MPI_CHAR, q, kTag, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+      take(q, buffer);
+    }
   }
 #else
-  take(0, local);
+  take_own();
 #endif
 }
 
@@ -139,6 +151,14 @@ bool Cluster::any(bool flag) {
 #else
   return flag;
 #endif
+}
+
+double Cluster::broadcast(double value) {
+  if (g_size == 1) return value;
+#ifdef POISE_WITH_MPI
+  MPI_Bcast(&value, 1, MPI_DOUBLE, 0, MPI_COMM_WORLD);
+#endif
+  return value;
 }
 
 }  // namespace poise::sampling

@@ -1,9 +1,10 @@
 #pragma once
 /// The processes of a run. Built with Open MPI (POISE_WITH_MPI) and started by mpirun,
-/// `poise run` splits its samples over the ranks: round by round, rank p computes chunk
-/// (round x size + p) of the sample order on its own threads, and rank 0 gathers the
-/// chunks, writes them in order and makes every decision (stop at a target interval, too
-/// many failures, a signal), which all ranks then share. Every sample depends only on
+/// `poise run` splits its samples over the ranks: round by round, each rank computes a
+/// contiguous portion of the round's chunks of the sample order on its own threads (rank 0 a
+/// smaller one when writing the results takes its time: engine/run/sample_driver.h), and rank
+/// 0 gathers them, writes them in order and makes every decision (stop at a target interval,
+/// too many failures, a signal), which all ranks then share. Every sample depends only on
 /// (seed, index), so the samples and statistics equal a one-process run's. Without MPI, or
 /// when not started by mpirun, there is one rank and every call is trivial.
 #include <functional>
@@ -33,12 +34,16 @@ class Cluster {
   static int default_threads();
   /// Each rank's bytes, gathered at rank 0 in rank order; other ranks get an empty vector.
   static std::vector<std::string> gather(const std::string& local);
-  /// Each rank's bytes handed to `take(rank, bytes)` on rank 0, one rank at a time in rank
-  /// order (rank 0's own first): rank 0 holds one other rank's message at a time, so its
-  /// memory does not grow with the number of ranks. Other ranks send and return.
-  static void gather_each(const std::string& local, const std::function<void(int, std::string_view)>& take);
+  /// Each rank's messages handed to `take(rank, bytes)` on rank 0, one rank at a time in rank
+  /// order (rank 0's own first), each rank's in their order: rank 0 holds one message of
+  /// another rank at a time, so its memory grows neither with the number of ranks nor with
+  /// the number of their messages. Other ranks send and return.
+  static void gather_each(const std::vector<std::string>& local,
+                          const std::function<void(int, std::string_view)>& take);
   /// Logical OR of every rank's flag, on every rank.
   static bool any(bool flag);
+  /// Rank 0's value, on every rank.
+  static double broadcast(double value);
 };
 
 }  // namespace poise::sampling

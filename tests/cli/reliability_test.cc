@@ -305,6 +305,10 @@ int wait_exit(pid_t pid) {
 }
 
 // summary.json without what may differ between equal runs (time, threads, ranks, resume).
+// CI runs as root in a container: Open MPI refuses root unless told (the flag, and its
+// environment form for the ranks' own checks).
+[[maybe_unused]] constexpr const char* kMpiRootEnv = "OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 ";
+
 json comparable(const std::string& dir) {
   json s = json::parse(poise::test::read_text(dir + "/summary.json"));
   s.erase("provenance");
@@ -419,6 +423,17 @@ TEST(Until, StopsAtTheSameReplicateForAnyThreadCount) {
   ASSERT_EQ(r2.status, 0) << r2.err;
   const json s = comparable(d.file("t1"));
   EXPECT_EQ(s, comparable(d.file("t2")));
+#if defined(POISE_MPIEXEC) && defined(POISE_BUILT_WITH_MPI)
+  // Two ranks, rank 0 taking a share of each round that changes with its timing: the stop rule
+  // sees the same chunks in the same order, and stops at the same sample.
+  const std::string mpi = kMpiRootEnv + std::string("'") + POISE_MPIEXEC + "' --allow-run-as-root --oversubscribe -np 2 '" +
+                          POISE_BINARY + "' " + args + " --threads 1 --out '" + d.file("r2") + "' >'" +
+                          d.file("mpi_until.txt") + "' 2>&1";
+  const int raw = std::system(mpi.c_str());
+  ASSERT_TRUE(WIFEXITED(raw) && WEXITSTATUS(raw) == 0) << poise::test::read_text(d.file("mpi_until.txt"));
+  EXPECT_EQ(s, comparable(d.file("r2")));
+  EXPECT_EQ(poise::test::read_text(d.file("t1/samples.csv")), poise::test::read_text(d.file("r2/samples.csv")));
+#endif
   const json& u = s["sample_convergence"]["until"];
   ASSERT_TRUE(u["met"].get<bool>()) << u.dump();
   const std::size_t n = u["met_at_samples"].get<std::size_t>();
@@ -554,9 +569,6 @@ TEST(Sensitivity, ProcedureStudyGroupsATolerancesColumnsTogether) {
   EXPECT_TRUE(per_column) << out["indices"].dump();
 }
 
-// CI runs as root in a container: Open MPI refuses root unless told (the flag, and its
-// environment form for the ranks' own checks).
-[[maybe_unused]] constexpr const char* kMpiRootEnv = "OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 ";
 
 TEST(Mpi, TwoRanksGiveTheSamplesAndStatisticsOfOneProcess) {
 #if !defined(POISE_MPIEXEC)
@@ -567,7 +579,9 @@ TEST(Mpi, TwoRanksGiveTheSamplesAndStatisticsOfOneProcess) {
 #else
   TempDir d;
   const std::string study = seeker_study(d);
-  const std::string args = "run '" + study + "' --samples 5000 -q --no-plots";
+  // 20 chunks of 1024: a first round of even shares, then rounds where rank 0, which writes,
+  // takes the share that balances its work (engine/run/sample_driver.h).
+  const std::string args = "run '" + study + "' --samples 20000 -q --no-plots";
   auto one = poise::test::run_poise(d, args + " --out '" + d.file("one") + "'");
   ASSERT_EQ(one.status, 0) << one.err;
   const std::string mpi = kMpiRootEnv + std::string("'") + POISE_MPIEXEC + "' --allow-run-as-root --oversubscribe -np 2 '" +

@@ -162,9 +162,11 @@ double input(const BalancingStudy& s, const SampleResult& r, const std::string& 
 
 std::vector<SampleResult> run_all(const BalancingStudy& s, int threads) {
   std::vector<SampleResult> all;
-  const McResult mc = s.run(threads, false, [&](std::span<const SampleResult> block) {
+  SampleSink keep;
+  keep.write = [&](std::span<const SampleResult> block, std::string_view) {
     all.insert(all.end(), block.begin(), block.end());
-  });
+  };
+  const McResult mc = s.run(threads, false, keep);
   EXPECT_EQ(mc.failures, 0u);
   return all;
 }

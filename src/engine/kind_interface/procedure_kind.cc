@@ -64,7 +64,7 @@ std::unique_ptr<InputEvaluator> ProcedureKind::input_evaluator(
 }
 
 McResult evaluate_procedure(const ProcedureStudy& study, int threads) {
-  McResult e = study.run(threads, false, nullptr, {});
+  McResult e = study.run(threads, false, {}, {});
   e.names = study.output_names();
   e.values.resize(e.names.size());
   return e;

@@ -10,6 +10,7 @@
 #include <span>
 #include <sstream>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include <nlohmann/json.hpp>
@@ -23,7 +24,17 @@
 
 namespace poise::engine {
 
-using SampleSink = std::function<void(std::span<const SampleResult>)>;
+/// Where a run's finished samples go (samples.csv): `format` makes a block's bytes where the
+/// block was computed (on whichever MPI rank, on its threads), and `write` takes the block and
+/// those bytes on rank 0, in sample order; so the formatting is spread over the ranks and rank 0
+/// only writes. Empty: the samples go nowhere but the run's statistics.
+struct SampleSink {
+  std::function<std::string(std::span<const SampleResult>)> format;
+  std::function<void(std::span<const SampleResult>, std::string_view formatted)> write;
+  explicit operator bool() const { return static_cast<bool>(write); }
+  /// The block's bytes, or none without a sink.
+  std::string bytes(std::span<const SampleResult> block) const { return format ? format(block) : std::string(); }
+};
 
 /// How a run is driven beyond its sample range: over MPI ranks (the run's main loop only)
 /// and with a stop rule checked on rank 0 after each chunk on the results so far.
@@ -41,6 +52,10 @@ struct RunControl {
   bool field_maps = true;
   std::map<std::string, std::string> field_attributes;
   std::map<std::string, std::uint64_t> field_number_attributes;
+  /// Called on every rank once the samples are done, before the study's own tail (its
+  /// statistics, its field's figures), with whether a signal stopped them; it may use the
+  /// ranks' collectives (a run that lets the other ranks go on while rank 0 finishes).
+  std::function<void(bool interrupted)> samples_done;
 };
 
 /// A SampleResult's trip between MPI ranks.
@@ -79,6 +94,7 @@ McResult run_procedure_samples(std::size_t samples, std::size_t block, int threa
   }
   const std::size_t first = std::min(done.size(), samples);
   if (!r.stop_reason.empty()) {
+    if (control.samples_done) control.samples_done(false);
     r.completed = first;
     summarize_outputs(r);
     return r;
@@ -87,12 +103,14 @@ McResult run_procedure_samples(std::size_t samples, std::size_t block, int threa
   DriveSpec spec{first, samples, chunk, 1, threads, control.distributed};
   const DriveOutcome o = drive_samples<SampleResult>(
       spec, make_workspace, [&](std::size_t i, auto& ws, SampleResult& res) { compute(i, *ws, res); },
-      [&](std::size_t, std::span<const SampleResult> finished) {
-        if (sink) sink(finished);
+      [&](std::span<const SampleResult> finished) { return sink.bytes(finished); },
+      [&](std::size_t, std::span<const SampleResult> finished, std::string_view formatted) {
+        if (sink) sink.write(finished, formatted);
         collect_samples(r, finished);
       },
       [&](std::size_t) { return control.stop ? control.stop(r) : std::string(); }, encode_result, decode_result, &bar);
   bar.finish();
+  if (control.samples_done) control.samples_done(o.interrupted);
   r.wall_seconds = bar.elapsed_seconds();
   r.completed = o.completed;
   r.interrupted = o.interrupted;

@@ -44,7 +44,7 @@ json run_without(const StudyConfig& cfg, const StudyFactory& make_study,
   auto overrides = c.overrides;
   for (const auto& [k, v] : extra) overrides[k] = v;
   c.overrides = apply_study_overrides(c, overrides);
-  const McResult mc = make_study(c, samples, seed)->run(threads, false, nullptr, {});
+  const McResult mc = make_study(c, samples, seed)->run(threads, false, {}, {});
   return {{"samples", mc.completed}, {"failures", mc.failures}, {"outputs", outputs_json(mc, outputs, false)}};
 }
 

@@ -241,28 +241,28 @@ std::string run_procedure_study(const StudyConfig& cfg_in, const StudyFactory& m
                                                    {"method", sampling::to_string(cfg.method)},
                                                    {"poise_version", kVersion}};
   const std::map<std::string, std::uint64_t> h5_numbers{{"seed", plan.seed}, {"planned_samples", n}};
-  const RunControl control = run_control(cfg, rule, h5_path, h5_text, h5_numbers);
+  RunControl control = run_control(cfg, rule, h5_path, h5_text, h5_numbers);
+  // A complete run that is not a sensitivity analysis has sweeps and contributions, which every
+  // rank shares. Rank 0 knows how the samples ended and says so as soon as they have: the other
+  // ranks start their share while it finishes the run's statistics and writes the folder.
+  bool extra_runs = false;
+  control.samples_done = [&](bool interrupted) {
+    extra_runs = sampling::Cluster::any(root && !interrupted && !rule->failed() && plan.sensitivity_base == 0);
+  };
   // Rows on disk are not written again (a study may recompute them: a resumed LOS run).
-  SampleRowWriter rows(csv, plan.threads, done.size(), study.has_solver());
-  McResult mc = study.run(
-      plan.threads, options.progress,
-      [&](std::span<const SampleResult> block) {
-        if (cfg.samples_csv) rows(block);
-      },
-      done, control);
-  // Rank 0 writes the folder; the other ranks only share its sweeps and contributions, which a
-  // complete run that is not a sensitivity analysis has (rank 0 knows how the run ended).
-  if (!root) {
+  SampleRowWriter rows(csv, done.size(), study.has_solver());
+  McResult mc = study.run(plan.threads, options.progress, cfg.samples_csv ? rows.sink() : SampleSink{}, done, control);
+  if (!root) {  // rank 0 writes the folder
     json none;
-    if (sampling::Cluster::any(false))
-      add_sweeps_and_contributions(none, cfg, study, plan, requirements, make_study, options);
+    if (extra_runs) add_sweeps_and_contributions(none, cfg, study, plan, requirements, make_study, options);
     return "";
   }
   csv.close();
   const std::size_t ran = mc.completed;
   const std::size_t rhs_uncounted = add_resumed_counters(plan.manifest, done.size(), mc);
   const std::string status = mc.interrupted ? "interrupted" : rule->failed() ? "failed" : "complete";
-  const bool extra_runs = sampling::Cluster::any(status == "complete" && plan.sensitivity_base == 0);
+  POISE_INVARIANT(extra_runs == (status == "complete" && plan.sensitivity_base == 0),
+                  "the sweeps' go-ahead shared with the other ranks is the run's status");
   // The counters samples.csv does not hold, for a later --resume (steps are in its rows).
   plan.manifest["solver_counters"] = {{"samples", ran}, {"rhs_evals", mc.rhs_evals}};
   finish_manifest(plan, status, ran);

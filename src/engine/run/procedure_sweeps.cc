@@ -39,7 +39,7 @@ json run_procedure_sweeps(const StudyConfig& cfg, const StudyFactory& make_study
     overrides[sw.parameter] = v;
     c.overrides = apply_study_overrides(c, overrides);
     const std::unique_ptr<ProcedureStudy> study = make_study(c, n, seed);
-    const McResult mc = study->run(threads, false, nullptr, {});
+    const McResult mc = study->run(threads, false, {}, {});
     json p{{"value", v},
            {"value_si", units::parse_quantity(v).value},
            {"samples", mc.completed},

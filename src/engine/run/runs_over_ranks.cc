@@ -21,9 +21,11 @@ std::vector<json> runs_over_ranks(std::size_t count, const std::function<json(st
     return results;
   }
   // This rank's runs, each result or the message of what stopped it. CBOR carries every
-  // number bit for bit (NaN too) to rank 0.
+  // number bit for bit (NaN too) to rank 0. Run i is rank (i + 1) mod ranks's: rank 0, which
+  // also finishes the run's statistics and writes its folder, gets the fewer when they do not
+  // divide evenly.
   json mine = json::array();
-  for (std::size_t i = me; i < count; i += ranks) {
+  for (std::size_t i = (me + ranks - 1) % ranks; i < count; i += ranks) {
     try {
       mine.push_back({{"result", run(i)}});
     } catch (const std::exception& e) {
@@ -37,7 +39,7 @@ std::vector<json> runs_over_ranks(std::size_t count, const std::function<json(st
   for (std::size_t q = 0; q < all.size(); ++q) {
     const json theirs = json::from_cbor(all[q]);
     for (std::size_t k = 0; k < theirs.size(); ++k) {
-      const std::size_t i = q + k * ranks;
+      const std::size_t i = (q + ranks - 1) % ranks + k * ranks;
       POISE_INVARIANT(i < count, "a rank sent more runs than it was given");
       if (theirs[k].contains("error")) {
         throw Error("run " + std::to_string(i + 1) + " of " + std::to_string(count) + " (on MPI rank " +

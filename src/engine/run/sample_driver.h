@@ -12,6 +12,8 @@
 #include <tbb/task_group.h>
 
 #include <algorithm>
+#include <chrono>
+#include <cmath>
 #include <cstddef>
 #include <cstdlib>
 #include <cstring>
@@ -19,6 +21,7 @@
 #include <string>
 #include <string_view>
 #include <type_traits>
+#include <utility>
 #include <vector>
 
 #include "core/error.h"
@@ -118,107 +121,271 @@ void decode_sample_fields(ByteReader& rd, Result& r) {
   rd.get_vector(r.outputs);
 }
 
-/// Runs the samples. compute(i, workspace, result); sink(first_index, span of results) on
-/// rank 0 in order; stop(completed) on rank 0 after each chunk, returning a reason to stop
-/// ("" to go on); encode(result, ByteWriter&) and decode(ByteReader&, result) carry results
-/// between ranks. Rank 0's outcome is every rank's.
-template <class Result, class MakeWorkspace, class Compute, class Sink, class Stop, class Encode, class Decode>
-DriveOutcome drive_samples(const DriveSpec& spec, MakeWorkspace make_workspace, Compute compute, Sink sink, Stop stop,
-                           Encode encode, Decode decode, sampling::Progress* progress = nullptr) {
-  using Workspace = decltype(make_workspace());
-  const int ranks = spec.distributed ? sampling::Cluster::size() : 1;
-  const int me = spec.distributed ? sampling::Cluster::rank() : 0;
-  const bool root = me == 0;
-  tbb::task_arena arena(std::max(1, spec.threads));
-  tbb::enumerable_thread_specific<Workspace> workspaces(make_workspace);
-  const std::size_t chunk = std::max<std::size_t>(spec.chunk, 1);
-  std::vector<Result> local(std::min(chunk, std::max<std::size_t>(spec.total - std::min(spec.first, spec.total), 1)));
-  DriveOutcome out;
-  out.completed = spec.first;
-  const std::size_t round_size = chunk * static_cast<std::size_t>(ranks);
-  // Fault injection for the tests of failure handling (engine/results/fault_injection.h):
-  // every k-th sample (indices k-1, 2k-1, ...) fails as a solver failure would.
-  const std::size_t inject = fault_injection::failing_sample_period();
-  auto compute_chunk = [&](std::size_t first, std::size_t n, std::vector<Result>& into) {
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, std::max<std::size_t>(spec.grain, 1)),
+namespace detail {
+
+/// The samples [start, start + n) one rank computes in a round.
+struct Portion {
+  std::size_t start = 0, n = 0;
+};
+
+/// A round of `chunks` chunks of the sample order from `base` (the last one may end at
+/// `total`), in contiguous portions in rank order: rank 0 takes `root_share` of the chunks
+/// (rounded), the other ranks the rest, as evenly as possible.
+inline std::vector<Portion> round_portions(std::size_t base, std::size_t total, std::size_t chunk, std::size_t chunks,
+                                           int ranks, double root_share) {
+  const auto others = static_cast<std::size_t>(ranks - 1);
+  auto root_chunks =
+      static_cast<std::size_t>(std::lround(std::clamp(root_share, 0.0, 1.0) * static_cast<double>(chunks)));
+  if (others == 0) root_chunks = chunks;
+  const std::size_t rest = chunks - std::min(root_chunks, chunks);
+  std::vector<Portion> portions(static_cast<std::size_t>(ranks));
+  std::size_t at = base;
+  for (std::size_t q = 0; q < portions.size(); ++q) {
+    const std::size_t n_chunks = q == 0 ? chunks - rest : rest / others + ((q - 1) < rest % others ? 1 : 0);
+    const std::size_t end = std::min(total, at + n_chunks * chunk);
+    portions[q] = {at, end - at};
+    at = end;
+  }
+  return portions;
+}
+
+/// Rank 0's share of a round's chunks that gives it as much work as each other rank, when it
+/// also takes `sink_seconds_per_sample` for every sample of the round (receiving, writing) and
+/// every rank computes (and formats) a sample in `compute_seconds_per_sample`: with s their
+/// ratio and R ranks, rank 0 computes n0 = N (1 - (R - 1) s) / R of the round's N samples and
+/// the others n0 + N s each; none when (R - 1) s >= 1.
+inline double balanced_root_share(double compute_seconds_per_sample, double sink_seconds_per_sample, int ranks) {
+  if (!(compute_seconds_per_sample > 0.0)) return 1.0 / ranks;
+  const double s = sink_seconds_per_sample / compute_seconds_per_sample;
+  return std::max(0.0, (1.0 - (ranks - 1) * s) / ranks);
+}
+
+/// Chunks per rank in a round of an MPI run: enough to balance rank 0's share finely.
+inline constexpr std::size_t kChunksPerRankInARound = 4;
+
+}  // namespace detail
+
+/// The sample loop (drive_samples below): compute(i, workspace, result); prepare(span of
+/// results) -> std::string, a chunk's bytes for the sink (samples.csv rows), made where the
+/// chunk was computed, on its threads; sink(first_index, span of results, prepared bytes) on
+/// rank 0 in order, chunk by chunk; stop(completed) on rank 0 after each chunk, returning a
+/// reason to stop ("" to go on); encode(result, ByteWriter&) and decode(ByteReader&, result)
+/// carry results between ranks. Rank 0's outcome is every rank's.
+template <class Result, class MakeWorkspace, class Compute, class Prepare, class Sink, class Stop, class Encode,
+          class Decode>
+class SampleDriver {
+ public:
+  SampleDriver(const DriveSpec& spec, MakeWorkspace make_workspace, Compute compute, Prepare prepare, Sink sink,
+               Stop stop, Encode encode, Decode decode, sampling::Progress* progress)
+      : spec_(spec),
+        compute_(std::move(compute)),
+        prepare_(std::move(prepare)),
+        sink_(std::move(sink)),
+        stop_(std::move(stop)),
+        encode_(std::move(encode)),
+        decode_(std::move(decode)),
+        progress_(progress),
+        ranks_(spec.distributed ? sampling::Cluster::size() : 1),
+        root_(!spec.distributed || sampling::Cluster::root()),
+        chunk_(std::max<std::size_t>(spec.chunk, 1)),
+        arena_(std::max(1, spec.threads)),
+        workspaces_(std::move(make_workspace)),
+        inject_(fault_injection::failing_sample_period()) {
+    out_.completed = spec.first;
+  }
+
+  DriveOutcome run() { return ranks_ == 1 ? run_alone() : run_distributed(); }
+
+ private:
+  using Workspace = decltype(std::declval<MakeWorkspace>()());
+  // A portion's results and its chunks' prepared bytes.
+  struct Computed {
+    std::vector<Result> results;
+    std::vector<std::string> prepared;
+  };
+
+  // Samples [first, first + n) on the arena's threads, then each chunk's bytes. Fault injection
+  // for the tests of failure handling (engine/results/fault_injection.h): every k-th sample
+  // (indices k-1, 2k-1, ...) fails as a solver failure would.
+  void compute_portion(std::size_t first, std::size_t n, Computed& into) {
+    if (into.results.size() < n) into.results.resize(n);
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, std::max<std::size_t>(spec_.grain, 1)),
                       [&](const tbb::blocked_range<std::size_t>& r) {
-                        Workspace& ws = workspaces.local();
+                        Workspace& ws = workspaces_.local();
                         for (std::size_t k = r.begin(); k != r.end(); ++k) {
-                          compute(first + k, ws, into[k]);
-                          if (inject > 0 && (first + k + 1) % inject == 0) {
-                            into[k].ok = false;
-                            into[k].message = "injected failure (fault_injection::fail_every_sample)";
+                          compute_(first + k, ws, into.results[k]);
+                          if (inject_ > 0 && (first + k + 1) % inject_ == 0) {
+                            into.results[k].ok = false;
+                            into.results[k].message = "injected failure (fault_injection::fail_every_sample)";
                           }
                         }
                       });
-  };
-  // One process: the next chunk is computed on the arena's other threads while this one is
-  // sunk (written, counted, checked by the stop rule) on the calling thread, so that the
-  // writing does not leave the cores idle. A chunk computed past a stop point is not kept.
-  std::vector<Result> ahead_results;
-  tbb::task_group ahead;
-  bool computed_ahead = false;
-  for (std::size_t base = spec.first; base < spec.total; base += round_size) {
-    const std::size_t my_start = std::min(base + static_cast<std::size_t>(me) * chunk, spec.total);
-    const std::size_t my_n = std::min(chunk, spec.total - my_start);
-    if (!computed_ahead) arena.execute([&] { compute_chunk(my_start, my_n, local); });
-    computed_ahead = false;
-    bool stop_now = false;
-    auto take_chunk = [&](std::size_t start, std::span<const Result> results) {
-      if (stop_now || results.empty()) return;  // past a stop point: computed, not kept
-      sink(start, results);
-      out.completed = start + results.size();
-      out.stop_reason = stop(out.completed);
-      stop_now = !out.stop_reason.empty();
-      if (progress) progress->update(out.completed - spec.first);
-    };
-    if (ranks == 1) {
-      const std::size_t next = base + round_size;
-      const bool pipelined = next < spec.total;
+    into.prepared.resize((n + chunk_ - 1) / chunk_);
+    for (std::size_t c = 0; c < into.prepared.size(); ++c) {
+      const std::size_t from = c * chunk_;
+      into.prepared[c] = prepare_(std::span<const Result>(into.results.data() + from, std::min(chunk_, n - from)));
+    }
+  }
+
+  // Rank 0: a portion's results sunk chunk by chunk, each followed by the stop rule; nothing
+  // past a stop point is kept (computed, not sunk).
+  void take(std::size_t start, std::span<const Result> results, std::span<const std::string> prepared) {
+    for (std::size_t c = 0; c * chunk_ < results.size(); ++c) {
+      if (stop_now_) return;
+      const std::span<const Result> part = results.subspan(c * chunk_, std::min(chunk_, results.size() - c * chunk_));
+      sink_(start + c * chunk_, part, std::string_view(prepared[c]));
+      out_.completed = start + c * chunk_ + part.size();
+      out_.stop_reason = stop_(out_.completed);
+      stop_now_ = !out_.stop_reason.empty();
+      if (progress_) progress_->update(out_.completed - spec_.first);
+    }
+  }
+
+  // After a round: whether the run ends (rank 0's stop, a signal on any rank), the same on
+  // every rank.
+  bool round_ends() {
+    if (root_ && sampling::interrupt_requested()) {
+      out_.interrupted = true;
+      out_.signal = sampling::interrupt_signal();
+    }
+    if (ranks_ == 1) return stop_now_ || out_.interrupted;
+    const bool any_signal = sampling::Cluster::any(sampling::interrupt_requested());
+    const bool end = sampling::Cluster::any(root_ && (stop_now_ || out_.interrupted));
+    if (any_signal && root_ && !out_.interrupted && !stop_now_) {
+      out_.interrupted = true;
+      out_.signal = 15;
+    }
+    return end || any_signal;
+  }
+
+  // One process: chunk by chunk; the next chunk is computed (and prepared) on the arena's other
+  // threads while this one is sunk (written, counted, checked by the stop rule) on the calling
+  // thread, so that the writing does not leave the cores idle.
+  DriveOutcome run_alone() {
+    Computed now, ahead_results;
+    tbb::task_group ahead;
+    bool computed_ahead = false;
+    for (std::size_t base = spec_.first; base < spec_.total; base += chunk_) {
+      const std::size_t n = std::min(chunk_, spec_.total - base);
+      if (!computed_ahead) arena_.execute([&] { compute_portion(base, n, now); });
+      computed_ahead = false;
+      const std::size_t next = base + chunk_;
+      const bool pipelined = next < spec_.total;
       if (pipelined) {
-        ahead_results.resize(local.size());
-        arena.execute(
-            [&] { ahead.run([&, next] { compute_chunk(next, std::min(chunk, spec.total - next), ahead_results); }); });
+        arena_.execute([&] {
+          ahead.run([&, next] { compute_portion(next, std::min(chunk_, spec_.total - next), ahead_results); });
+        });
       }
       try {
-        take_chunk(my_start, std::span<const Result>(local.data(), my_n));
+        take(base, std::span<const Result>(now.results.data(), n), now.prepared);
       } catch (...) {
-        if (pipelined) arena.execute([&] { ahead.wait(); });  // its buffers go out of scope
+        if (pipelined) arena_.execute([&] { ahead.wait(); });  // its buffers go out of scope
         throw;
       }
       if (pipelined) {
-        arena.execute([&] { ahead.wait(); });
-        std::swap(local, ahead_results);
+        arena_.execute([&] { ahead.wait(); });
+        std::swap(now, ahead_results);
         computed_ahead = true;
       }
-    } else {
-      ByteWriter w;
-      w.put(my_n);
-      for (std::size_t k = 0; k < my_n; ++k) encode(local[k], w);
-      // Rank by rank: rank 0 decodes and sinks one rank's chunk before it receives the next.
-      std::vector<Result> theirs;
-      sampling::Cluster::gather_each(w.bytes(), [&](int q, std::string_view bytes) {
-        ByteReader rd(bytes);
-        theirs.resize(rd.get<std::size_t>());
-        for (auto& r : theirs) decode(rd, r);
-        take_chunk(std::min(base + static_cast<std::size_t>(q) * chunk, spec.total), theirs);
-      });
+      if (round_ends()) break;
     }
-    if (root && sampling::interrupt_requested()) {
-      out.interrupted = true;
-      out.signal = sampling::interrupt_signal();
-    }
-    // Every rank learns rank 0's decision (and any rank's signal).
-    const bool any_signal = ranks > 1 ? sampling::Cluster::any(sampling::interrupt_requested()) : false;
-    const bool end =
-        ranks > 1 ? sampling::Cluster::any(root && (stop_now || out.interrupted)) : (stop_now || out.interrupted);
-    if (any_signal && root && !out.interrupted && !stop_now) {
-      out.interrupted = true;
-      out.signal = 15;
-    }
-    if (end || (any_signal && ranks > 1)) break;
+    return out_;
   }
-  return out;
+
+  // Several ranks: rounds of a few chunks per rank, each rank computing its portion; rank 0
+  // receives and sinks the portions rank by rank, chunk by chunk (one chunk of another rank's
+  // in memory at a time). Rank 0
+  // times its own computing and its sinking, and from the second round on takes the share of a
+  // round that balances its work with the others' (detail::balanced_root_share): the samples
+  // are the same whoever computes them.
+  DriveOutcome run_distributed() {
+    using Clock = std::chrono::steady_clock;
+    const auto seconds = [](Clock::duration d) { return std::chrono::duration<double>(d).count(); };
+    double root_share = 1.0 / ranks_, compute_s = 0.0, sink_s = 0.0;
+    std::size_t computed = 0, sunk = 0;
+    const auto me = static_cast<std::size_t>(sampling::Cluster::rank());
+    Computed mine, theirs;
+    for (std::size_t base = spec_.first; base < spec_.total;) {
+      const std::size_t chunks_left = (spec_.total - base + chunk_ - 1) / chunk_;
+      const std::size_t chunks =
+          std::min(detail::kChunksPerRankInARound * static_cast<std::size_t>(ranks_), chunks_left);
+      const std::vector<detail::Portion> portions =
+          detail::round_portions(base, spec_.total, chunk_, chunks, ranks_, root_share);
+      const detail::Portion my = portions[me];
+      const Clock::time_point t0 = Clock::now();
+      if (my.n > 0) arena_.execute([&] { compute_portion(my.start, my.n, mine); });
+      compute_s += seconds(Clock::now() - t0);
+      computed += my.n;
+      // Rank 0 takes its own portion as it is; every other rank sends its portion chunk by
+      // chunk (rank 0 holds one chunk of another rank's at a time).
+      std::vector<std::string> messages;
+      for (std::size_t from = 0; !root_ && from < my.n; from += chunk_) {
+        ByteWriter w;
+        const std::size_t n = std::min(chunk_, my.n - from);
+        w.put(n);
+        for (std::size_t k = from; k < from + n; ++k) encode_(mine.results[k], w);
+        w.put_string(mine.prepared[from / chunk_]);
+        messages.push_back(std::move(w.bytes()));
+      }
+      if (root_) {
+        const Clock::time_point t1 = Clock::now();
+        take(my.start, std::span<const Result>(mine.results.data(), my.n), mine.prepared);
+        sink_s += seconds(Clock::now() - t1);
+        sunk += my.n;
+      }
+      std::vector<std::size_t> next_of(portions.size());  // the next chunk's first sample, per rank
+      for (std::size_t q = 0; q < portions.size(); ++q) next_of[q] = portions[q].start;
+      sampling::Cluster::gather_each(messages, [&](int q, std::string_view bytes) {
+        const Clock::time_point t1 = Clock::now();
+        ByteReader rd(bytes);
+        theirs.results.resize(rd.get<std::size_t>());
+        for (auto& r : theirs.results) decode_(rd, r);
+        theirs.prepared.resize(1);
+        rd.get_string(theirs.prepared[0]);
+        std::size_t& at = next_of[static_cast<std::size_t>(q)];
+        take(at, theirs.results, theirs.prepared);
+        at += theirs.results.size();
+        sink_s += seconds(Clock::now() - t1);
+        sunk += theirs.results.size();
+      });
+      base = portions.back().start + portions.back().n;
+      if (root_ && computed > 0 && sunk > 0) {
+        root_share = detail::balanced_root_share(compute_s / static_cast<double>(computed),
+                                                 sink_s / static_cast<double>(sunk), ranks_);
+      }
+      root_share = sampling::Cluster::broadcast(root_share);
+      if (round_ends()) break;
+    }
+    return out_;
+  }
+
+  const DriveSpec spec_;
+  Compute compute_;
+  Prepare prepare_;
+  Sink sink_;
+  Stop stop_;
+  Encode encode_;
+  Decode decode_;
+  sampling::Progress* progress_;
+  const int ranks_;
+  const bool root_;
+  const std::size_t chunk_;
+  tbb::task_arena arena_;
+  tbb::enumerable_thread_specific<Workspace> workspaces_;
+  const std::size_t inject_;
+  DriveOutcome out_;
+  bool stop_now_ = false;
+};
+
+/// Runs samples [spec.first, spec.total) through a SampleDriver (see there for the callables).
+template <class Result, class MakeWorkspace, class Compute, class Prepare, class Sink, class Stop, class Encode,
+          class Decode>
+DriveOutcome drive_samples(const DriveSpec& spec, MakeWorkspace make_workspace, Compute compute, Prepare prepare,
+                           Sink sink, Stop stop, Encode encode, Decode decode, sampling::Progress* progress = nullptr) {
+  SampleDriver<Result, MakeWorkspace, Compute, Prepare, Sink, Stop, Encode, Decode> driver(
+      spec, std::move(make_workspace), std::move(compute), std::move(prepare), std::move(sink), std::move(stop),
+      std::move(encode), std::move(decode), progress);
+  return driver.run();
 }
 
 }  // namespace poise::engine

@@ -12,26 +12,32 @@ namespace {
 constexpr std::size_t kRowsPerPiece = 64;
 }  // namespace
 
-SampleRowWriter::SampleRowWriter(CheckedFile& csv, int threads, std::size_t rows_on_disk, bool solver_column)
-    : csv_(csv), arena_(std::max(1, threads)), rows_on_disk_(rows_on_disk), solver_column_(solver_column) {}
+SampleRowWriter::SampleRowWriter(CheckedFile& csv, std::size_t rows_on_disk, bool solver_column)
+    : csv_(csv), rows_on_disk_(rows_on_disk), solver_column_(solver_column) {}
 
-void SampleRowWriter::operator()(std::span<const SampleResult> block) {
+std::string SampleRowWriter::format(std::span<const SampleResult> block) const {
   const std::size_t n_pieces = (block.size() + kRowsPerPiece - 1) / kRowsPerPiece;
-  if (pieces_.size() < n_pieces) pieces_.resize(n_pieces);
-  if (n_pieces == 1) {
-    format_piece(block, 0);  // a procedure's small block: no task to hand out
-  } else {
-    arena_.execute(
-        [&] { tbb::parallel_for(std::size_t{0}, n_pieces, [&](std::size_t piece) { format_piece(block, piece); }); });
+  if (n_pieces <= 1) {  // a procedure's small block: no task to hand out
+    std::string text;
+    if (n_pieces == 1) format_piece(block, 0, text);
+    return text;
   }
-  for (std::size_t piece = 0; piece < n_pieces; ++piece) {
-    if (!pieces_[piece].empty()) csv_.write(pieces_[piece]);
-  }
+  std::vector<std::string> pieces(n_pieces);
+  tbb::parallel_for(std::size_t{0}, n_pieces, [&](std::size_t piece) { format_piece(block, piece, pieces[piece]); });
+  std::size_t bytes = 0;
+  for (const auto& piece : pieces) bytes += piece.size();
+  std::string text;
+  text.reserve(bytes);
+  for (const auto& piece : pieces) text += piece;
+  return text;
 }
 
-void SampleRowWriter::format_piece(std::span<const SampleResult> block, std::size_t piece) {
-  std::string& text = pieces_[piece];
-  text.clear();
+SampleSink SampleRowWriter::sink() {
+  return {[this](std::span<const SampleResult> block) { return format(block); },
+          [this](std::span<const SampleResult>, std::string_view rows) { write(rows); }};
+}
+
+void SampleRowWriter::format_piece(std::span<const SampleResult> block, std::size_t piece, std::string& text) const {
   std::vector<char> row;
   const std::size_t end = std::min(block.size(), (piece + 1) * kRowsPerPiece);
   for (std::size_t k = piece * kRowsPerPiece; k < end; ++k) {

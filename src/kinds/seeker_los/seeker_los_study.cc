@@ -214,8 +214,9 @@ McResult SeekerLosStudy::run(int threads, bool progress, const SampleSink& sink,
   const DriveOutcome outcome = drive_samples<SampleResult>(
       spec, [this] { return make_workspace(); },
       [this](std::size_t i, Workspace& ws, SampleResult& res) { compute(i, ws, res); },
-      [&](std::size_t, std::span<const SampleResult> block) {
-        if (sink) sink(block);
+      [&](std::span<const SampleResult> block) { return sink.bytes(block); },
+      [&](std::size_t, std::span<const SampleResult> block, std::string_view formatted) {
+        if (sink) sink.write(block, formatted);
         if (field) {
           for (const auto& s : block) field->append(s.index, s.ok, s.field);
         }
@@ -223,6 +224,7 @@ McResult SeekerLosStudy::run(int threads, bool progress, const SampleSink& sink,
       },
       [&](std::size_t) { return control.stop ? control.stop(r) : std::string(); }, encode_result, decode_result, &bar);
   bar.finish();
+  if (control.samples_done) control.samples_done(outcome.interrupted);
   r.completed = outcome.completed;
   r.interrupted = outcome.interrupted;
   r.signal = outcome.signal;
