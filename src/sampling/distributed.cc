@@ -103,6 +103,29 @@ std::vector<std::string> Cluster::gather(const std::string& local) {
 #endif
 }
 
+std::vector<std::string> Cluster::all_gather(const std::string& local) {
+  if (g_size == 1) return {local};
+#ifdef POISE_WITH_MPI
+  int n = static_cast<int>(local.size());
+  std::vector<int> sizes(static_cast<std::size_t>(g_size)), offsets(static_cast<std::size_t>(g_size));
+  MPI_Allgather(&n, 1, MPI_INT, sizes.data(), 1, MPI_INT, MPI_COMM_WORLD);
+  int total = 0;
+  for (std::size_t q = 0; q < sizes.size(); ++q) {
+    offsets[q] = total;
+    total += sizes[q];
+  }
+  std::string all(static_cast<std::size_t>(total), '\0');
+  MPI_Allgatherv(local.data(), n, MPI_CHAR, all.data(), sizes.data(), offsets.data(), MPI_CHAR, MPI_COMM_WORLD);
+  std::vector<std::string> out;
+  for (std::size_t q = 0; q < sizes.size(); ++q) {
+    out.push_back(all.substr(static_cast<std::size_t>(offsets[q]), static_cast<std::size_t>(sizes[q])));
+  }
+  return out;
+#else
+  return {local};
+#endif
+}
+
 void Cluster::gather_each(const std::vector<std::string>& local,
                           const std::function<void(int, std::string_view)>& take) {
   const auto take_own = [&] {
@@ -159,6 +182,19 @@ double Cluster::broadcast(double value) {
   MPI_Bcast(&value, 1, MPI_DOUBLE, 0, MPI_COMM_WORLD);
 #endif
   return value;
+}
+
+std::string Cluster::broadcast(const std::string& value) {
+  if (g_size == 1) return value;
+#ifdef POISE_WITH_MPI
+  long long n = static_cast<long long>(value.size());
+  MPI_Bcast(&n, 1, MPI_LONG_LONG, 0, MPI_COMM_WORLD);
+  std::string out = g_rank == 0 ? value : std::string(static_cast<std::size_t>(n), '\0');
+  MPI_Bcast(out.data(), static_cast<int>(n), MPI_CHAR, 0, MPI_COMM_WORLD);
+  return out;
+#else
+  return value;
+#endif
 }
 
 }  // namespace poise::sampling

@@ -34,6 +34,8 @@ class Cluster {
   static int default_threads();
   /// Each rank's bytes, gathered at rank 0 in rank order; other ranks get an empty vector.
   static std::vector<std::string> gather(const std::string& local);
+  /// Each rank's bytes, on every rank, in rank order.
+  static std::vector<std::string> all_gather(const std::string& local);
   /// Each rank's messages handed to `take(rank, bytes)` on rank 0, one rank at a time in rank
   /// order (rank 0's own first), each rank's in their order: rank 0 holds one message of
   /// another rank at a time, so its memory grows neither with the number of ranks nor with
@@ -44,6 +46,7 @@ class Cluster {
   static bool any(bool flag);
   /// Rank 0's value, on every rank.
   static double broadcast(double value);
+  static std::string broadcast(const std::string& value);
 };
 
 }  // namespace poise::sampling

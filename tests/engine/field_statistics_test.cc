@@ -3,7 +3,11 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <condition_variable>
+#include <mutex>
 #include <random>
+#include <string>
+#include <thread>
 #include <utility>
 #include <vector>
 
@@ -130,6 +134,69 @@ TEST(FieldStatistics, SameFiguresForAnyThreadCount) {
   EXPECT_EQ(a.pooled.mean.value, b.pooled.mean.value);  // bit for bit
   EXPECT_EQ(a.pooled.std.value, b.pooled.std.value);
   EXPECT_EQ(a.per_point, b.per_point);
+}
+
+// The ranks of an MPI run, played by threads: all_gather waits for every rank's bytes and
+// hands each the lot, in rank order.
+class ThreadRanks {
+ public:
+  explicit ThreadRanks(int ranks) : ranks_(ranks), bytes_(static_cast<std::size_t>(ranks)) {}
+  std::vector<std::string> all_gather(int rank, const std::string& mine) {
+    std::unique_lock<std::mutex> lock(mutex_);
+    const std::size_t round = round_;
+    bytes_[static_cast<std::size_t>(rank)] = mine;
+    if (++arrived_ == ranks_) {
+      result_ = bytes_;
+      arrived_ = 0;
+      ++round_;
+      done_.notify_all();
+    } else {
+      done_.wait(lock, [&] { return round_ != round; });
+    }
+    return result_;
+  }
+
+ private:
+  int ranks_, arrived_ = 0;
+  std::size_t round_ = 0;
+  std::vector<std::string> bytes_, result_;
+  std::mutex mutex_;
+  std::condition_variable done_;
+};
+
+TEST(FieldStatistics, SharedAmongRanksEveryRankGetsOneProcesssFiguresBitForBit) {
+  const std::size_t columns = 23;
+  const auto field = make_field(3001, columns, 5);
+  const double quantiles[] = {0.5, 0.95, 0.9973};
+  const engine::FieldColumnSource column = [&](std::size_t p, std::vector<float>& scratch) -> std::span<const float> {
+    scratch = field[p];  // as read from a file
+    return scratch;
+  };
+  for (const std::size_t collect_limit : {engine::kFieldCollectLimit, std::size_t{0}}) {
+    const engine::FieldStatistics one = field_statistics(columns, column, quantiles, 2, collect_limit);
+    for (const int ranks : {2, 3, 5}) {
+      ThreadRanks exchange(ranks);
+      std::vector<engine::FieldStatistics> got(static_cast<std::size_t>(ranks));
+      std::vector<std::thread> threads;
+      for (int r = 0; r < ranks; ++r) {
+        threads.emplace_back([&, r] {
+          engine::FieldShare share{r, ranks, [&, r](const std::string& mine) { return exchange.all_gather(r, mine); }};
+          got[static_cast<std::size_t>(r)] = field_statistics(columns, column, quantiles, 1, collect_limit, &share);
+        });
+      }
+      for (auto& t : threads) t.join();
+      for (const auto& g : got) {
+        EXPECT_EQ(g.per_point, one.per_point) << ranks << " ranks";
+        EXPECT_EQ(g.pooled.n, one.pooled.n);
+        EXPECT_EQ(g.pooled.mean.value, one.pooled.mean.value) << ranks << " ranks";  // bit for bit
+        EXPECT_EQ(g.pooled.std.value, one.pooled.std.value);
+        EXPECT_EQ(g.pooled.p95.value, one.pooled.p95.value);
+        EXPECT_EQ(g.pooled.p99_73.value, one.pooled.p99_73.value);
+        EXPECT_EQ(g.pooled.p99_73.lo, one.pooled.p99_73.lo);
+        EXPECT_EQ(g.pooled.max.value, one.pooled.max.value);
+      }
+    }
+  }
 }
 
 TEST(FieldStatistics, OneValueAndNoValue) {

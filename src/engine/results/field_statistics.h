@@ -17,9 +17,14 @@
 /// values (16 MB, three times that while they are sorted; else 0.5 MB of counts per thread and
 /// wanted bin).
 /// Missing values (NaN: failed samples) are left out. Results do not depend on the thread count.
+/// Shared among the ranks of an MPI run (FieldShare), each rank reads and sorts its own range of
+/// points, and the ranks exchange their points' figures, counts and collected values twice
+/// (after each pass); every sum is still taken in point order, so every rank gets one process's
+/// results, bit for bit.
 #include <cstddef>
 #include <functional>
 #include <span>
+#include <string>
 #include <vector>
 
 #include "sampling/statistics.h"
@@ -36,8 +41,17 @@ struct FieldStatistics {
 /// once (twice per point), each with its own scratch; the view is used before the next call.
 using FieldColumnSource = std::function<std::span<const float>(std::size_t p, std::vector<float>& scratch)>;
 inline constexpr std::size_t kFieldCollectLimit = std::size_t{1} << 22;  ///< 16 MB of keys
+
+/// The ranks of an MPI run computing a field's statistics together: rank r takes points
+/// [columns r / ranks, columns (r + 1) / ranks); `all_gather` hands every rank's bytes to
+/// each, in rank order (sampling::Cluster::all_gather). Every rank must call field_statistics.
+struct FieldShare {
+  int rank = 0, ranks = 1;
+  std::function<std::vector<std::string>(const std::string&)> all_gather;
+};
+
 FieldStatistics field_statistics(std::size_t columns, const FieldColumnSource& column,
                                  std::span<const double> quantiles, int threads,
-                                 std::size_t collect_limit = kFieldCollectLimit);
+                                 std::size_t collect_limit = kFieldCollectLimit, const FieldShare* share = nullptr);
 
 }  // namespace poise::engine

@@ -26,6 +26,7 @@
 
 #include "core/error.h"
 #include "engine/results/fault_injection.h"
+#include "sampling/byte_message.h"
 #include "sampling/distributed.h"
 #include "sampling/interrupt.h"
 #include "sampling/progress.h"
@@ -49,58 +50,8 @@ struct DriveOutcome {
   std::string stop_reason;  ///< why the stop callback ended the run ("" = it did not)
 };
 
-/// Bytes of a result, for the trip from a rank to rank 0 (plain fields only).
-class ByteWriter {
- public:
-  template <class T>
-  void put(const T& v) {
-    static_assert(std::is_trivially_copyable_v<T>);
-    out_.append(reinterpret_cast<const char*>(&v), sizeof v);
-  }
-  template <class T>
-  void put_vector(const std::vector<T>& v) {
-    put(v.size());
-    out_.append(reinterpret_cast<const char*>(v.data()), v.size() * sizeof(T));
-  }
-  void put_string(const std::string& s) {
-    put(s.size());
-    out_.append(s);
-  }
-  std::string& bytes() { return out_; }
-
- private:
-  std::string out_;
-};
-
-class ByteReader {
- public:
-  explicit ByteReader(std::string_view in) : in_(in) {}
-  template <class T>
-  T get() {
-    T v;
-    take(&v, sizeof v);
-    return v;
-  }
-  template <class T>
-  void get_vector(std::vector<T>& v) {
-    v.resize(get<std::size_t>());
-    take(v.data(), v.size() * sizeof(T));
-  }
-  void get_string(std::string& s) {
-    s.resize(get<std::size_t>());
-    take(s.data(), s.size());
-  }
-  bool done() const { return pos_ == in_.size(); }
-
- private:
-  void take(void* dst, std::size_t n) {
-    require(pos_ + n <= in_.size(), "corrupt sample message from an MPI rank");
-    if (n > 0) std::memcpy(dst, in_.data() + pos_, n);
-    pos_ += n;
-  }
-  std::string_view in_;
-  std::size_t pos_ = 0;
-};
+using sampling::ByteReader;
+using sampling::ByteWriter;
 
 /// The fields every sample result has (index, ok, message, inputs, outputs), for the
 /// encode/decode of a result type.

@@ -150,34 +150,58 @@ SampleResult SeekerLosStudy::replay(std::size_t i) const {
 
 namespace {
 
-// Closes the grid values' file and, for the field maps, reads it back point by point into the
-// p50, p95 and p99.73 maps and the pooled statistics; a scratch file (temporary) is removed.
+// The field's per-point p50, p95 and p99.73 and its pooled statistics, from the writer's kept
+// columns or else read back from `path` point by point (a rank without the writer reads the
+// file); shared among the MPI ranks with `share`.
+FieldStatistics field_figures(const WideColumnsWriter* field, const std::string& path, const WideColumnsSpec& layout,
+                              std::size_t points, int threads, const FieldShare* share) {
+  std::optional<WideColumnsReader> reader;
+  if (!field || !field->keeps()) reader.emplace(path, layout.dataset);
+  const double quantiles[] = {0.5, 0.95, 0.9973};
+  return field_statistics(
+      points,
+      [&](std::size_t p, std::vector<float>& column) -> std::span<const float> {
+        if (!reader) return field->kept_column(p);
+        reader->read_column(p, column);
+        return column;
+      },
+      quantiles, threads, kFieldCollectLimit, share);
+}
+
+void keep_field_figures(FieldStatistics&& fs, McResult& r) {
+  r.field.p50 = std::move(fs.per_point[0]);
+  r.field.p95 = std::move(fs.per_point[1]);
+  r.field.p99_73 = std::move(fs.per_point[2]);
+  r.field.pooled = fs.pooled;
+}
+
+// Closes the grid values' file and, for the field maps made by this process alone, reads it
+// back into them; a scratch file (temporary) is removed.
 void close_field_file(WideColumnsWriter& field, const WideColumnsSpec& layout, const std::string& field_path,
-                      bool temporary, std::size_t points, std::size_t n_ok, bool maps, int threads, McResult& r) {
-  r.field.present = maps;
+                      bool temporary, std::size_t points, bool maps_here, int threads, McResult& r) {
   r.field.file = field.close();
-  if (n_ok > 0 && maps) {
-    std::optional<WideColumnsReader> reader;
-    if (!field.keeps()) reader.emplace(field_path, layout.dataset);
-    const double quantiles[] = {0.5, 0.95, 0.9973};
-    FieldStatistics fs = field_statistics(
-        points,
-        [&](std::size_t p, std::vector<float>& column) -> std::span<const float> {
-          if (!reader) return field.kept_column(p);
-          reader->read_column(p, column);
-          return column;
-        },
-        quantiles, threads);
-    r.field.p50 = std::move(fs.per_point[0]);
-    r.field.p95 = std::move(fs.per_point[1]);
-    r.field.p99_73 = std::move(fs.per_point[2]);
-    r.field.pooled = fs.pooled;
-  }
+  if (maps_here) keep_field_figures(field_figures(&field, field_path, layout, points, threads, nullptr), r);
   if (temporary) {
     r.field.file = nullptr;  // a scratch file, not the run's
     std::error_code ec;
     std::filesystem::remove(field_path, ec);  // here, beside the summaries; `scratch` if a step throws
   }
+}
+
+// An MPI run whose grid values go to samples.h5: once rank 0 has closed it, every rank reads its
+// own range of points from it and the ranks make the maps together (FieldShare). Called on every
+// rank; `field` only on rank 0.
+void shared_field_figures(const WideColumnsWriter* field, const WideColumnsSpec& layout, const RunControl& control,
+                          std::size_t points, std::size_t n_ok, int threads, McResult& r) {
+  const bool root = sampling::Cluster::root();
+  if (!sampling::Cluster::any(root && n_ok > 0)) return;  // also: samples.h5 is closed
+  // Rank 0 named the run's folder: its samples.h5, absolute (the ranks may run elsewhere).
+  const std::string path =
+      sampling::Cluster::broadcast(root ? std::filesystem::absolute(control.field_file).string() : std::string());
+  const FieldShare share{sampling::Cluster::rank(), sampling::Cluster::size(),
+                         [](const std::string& mine) { return sampling::Cluster::all_gather(mine); }};
+  FieldStatistics fs = field_figures(field, path, layout, points, threads, &share);
+  if (root) keep_field_figures(std::move(fs), r);
 }
 
 }  // namespace
@@ -230,6 +254,11 @@ McResult SeekerLosStudy::run(int threads, bool progress, const SampleSink& sink,
   r.signal = outcome.signal;
   r.stop_reason = outcome.stop_reason;
   const std::size_t n_ok = r.ok_index.size();
+  // The field maps of an MPI run whose grid values go to samples.h5 are made by all its ranks;
+  // else by this process alone (from the file, its copy in memory or a scratch file).
+  const bool shared_maps = control.distributed && sampling::Cluster::size() > 1 && control.field_figures &&
+                           control.field_maps && !control.field_file.empty();
+  r.field.present = writes && control.field_maps;
   // The tail on all threads, two independent halves side by side so that each fills the
   // other's serial moments: closing samples.h5 and the field figures read back point by point;
   // the per-sample outputs' summaries.
@@ -237,7 +266,10 @@ McResult SeekerLosStudy::run(int threads, bool progress, const SampleSink& sink,
   arena.execute([&] {
     tbb::parallel_invoke(
         [&] {
-          if (field) close_field_file(*field, layout, field_path, temporary, g, n_ok, control.field_maps, threads, r);
+          if (field) {
+            const bool maps_here = !shared_maps && n_ok > 0 && control.field_maps;
+            close_field_file(*field, layout, field_path, temporary, g, maps_here, threads, r);
+          }
         },
         [&] {
           if (n_ok == 0) return;
@@ -248,6 +280,7 @@ McResult SeekerLosStudy::run(int threads, bool progress, const SampleSink& sink,
               tbb::simple_partitioner());
         });
   });
+  if (shared_maps) shared_field_figures(field.get(), layout, control, g, n_ok, threads, r);
   r.wall_seconds = bar.elapsed_seconds();
   return r;
 }
