@@ -165,6 +165,78 @@ void Cluster::gather_each(const std::vector<std::string>& local,
 #endif
 }
 
+struct PendingSends::Impl {
+  std::vector<std::string> messages;
+  std::vector<long long> header;  // the count, then each message's size
+#ifdef POISE_WITH_MPI
+  std::vector<MPI_Request> requests;
+#endif
+};
+
+PendingSends::PendingSends() : impl_(std::make_unique<Impl>()) {}
+
+PendingSends::~PendingSends() {
+  try {
+    Cluster::wait(*this);
+  } catch (...) {  // a destructor does not throw
+  }
+}
+
+void Cluster::send_to_root([[maybe_unused]] std::vector<std::string> messages, [[maybe_unused]] PendingSends& pending) {
+#ifdef POISE_WITH_MPI
+  if (g_size == 1 || g_rank == 0) return;
+  wait(pending);
+  constexpr int kTag = 19;  // as gather_each: rank 0 receives them there, in the order sent
+  PendingSends::Impl& p = *pending.impl_;
+  p.messages = std::move(messages);
+  p.header.assign(1, static_cast<long long>(p.messages.size()));
+  for (const std::string& m : p.messages) p.header.push_back(static_cast<long long>(m.size()));
+  p.requests.assign(1 + 2 * p.messages.size(), MPI_REQUEST_NULL);
+  MPI_Isend(p.header.data(), 1, MPI_LONG_LONG, 0, kTag, MPI_COMM_WORLD, &p.requests[0]);
+  for (std::size_t k = 0; k < p.messages.size(); ++k) {
+    MPI_Isend(&p.header[k + 1], 1, MPI_LONG_LONG, 0, kTag, MPI_COMM_WORLD, &p.requests[1 + 2 * k]);
+    MPI_Isend(p.messages[k].data(), static_cast<int>(p.messages[k].size()), MPI_CHAR, 0, kTag, MPI_COMM_WORLD,
+              &p.requests[2 + 2 * k]);
+  }
+#endif
+}
+
+void Cluster::wait([[maybe_unused]] PendingSends& pending) {
+#ifdef POISE_WITH_MPI
+  PendingSends::Impl& p = *pending.impl_;
+  if (!p.requests.empty() && g_mpi) {
+    MPI_Waitall(static_cast<int>(p.requests.size()), p.requests.data(), MPI_STATUSES_IGNORE);
+  }
+  p.requests.clear();
+  p.messages.clear();
+#endif
+}
+
+namespace {
+constexpr int kFromRootTag = 23;
+}  // namespace
+
+void Cluster::send_to([[maybe_unused]] int rank, [[maybe_unused]] std::string_view bytes) {
+#ifdef POISE_WITH_MPI
+  if (!g_mpi) return;
+  const auto n = static_cast<long long>(bytes.size());
+  MPI_Send(&n, 1, MPI_LONG_LONG, rank, kFromRootTag, MPI_COMM_WORLD);
+  MPI_Send(bytes.data(), static_cast<int>(bytes.size()), MPI_CHAR, rank, kFromRootTag, MPI_COMM_WORLD);
+#endif
+}
+
+std::string Cluster::receive_from_root() {
+  std::string out;
+#ifdef POISE_WITH_MPI
+  if (!g_mpi) return out;
+  long long n = 0;
+  MPI_Recv(&n, 1, MPI_LONG_LONG, 0, kFromRootTag, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+  out.resize(static_cast<std::size_t>(n));
+  MPI_Recv(out.data(), static_cast<int>(n), MPI_CHAR, 0, kFromRootTag, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+#endif
+  return out;
+}
+
 bool Cluster::any(bool flag) {
   if (g_size == 1) return flag;
 #ifdef POISE_WITH_MPI
@@ -174,14 +246,6 @@ bool Cluster::any(bool flag) {
 #else
   return flag;
 #endif
-}
-
-double Cluster::broadcast(double value) {
-  if (g_size == 1) return value;
-#ifdef POISE_WITH_MPI
-  MPI_Bcast(&value, 1, MPI_DOUBLE, 0, MPI_COMM_WORLD);
-#endif
-  return value;
 }
 
 std::string Cluster::broadcast(const std::string& value) {

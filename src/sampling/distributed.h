@@ -8,11 +8,27 @@
 /// (seed, index), so the samples and statistics equal a one-process run's. Without MPI, or
 /// when not started by mpirun, there is one rank and every call is trivial.
 #include <functional>
+#include <memory>
 #include <string>
 #include <string_view>
 #include <vector>
 
 namespace poise::sampling {
+
+/// Messages on their way from a rank to rank 0 (Cluster::send_to_root): they stay here until
+/// Cluster::wait says rank 0 has them (the destructor waits too).
+class PendingSends {
+ public:
+  PendingSends();
+  ~PendingSends();
+  PendingSends(const PendingSends&) = delete;
+  PendingSends& operator=(const PendingSends&) = delete;
+
+ private:
+  friend class Cluster;
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
 
 class Cluster {
  public:
@@ -42,10 +58,18 @@ class Cluster {
   /// the number of their messages. Other ranks send and return.
   static void gather_each(const std::vector<std::string>& local,
                           const std::function<void(int, std::string_view)>& take);
+  /// On a rank other than 0: sends its messages to rank 0, as gather_each receives them there,
+  /// without waiting for rank 0 to take them (the rank computes on meanwhile); `pending` keeps
+  /// them until wait(pending). A rank sends one set at a time: wait before the next.
+  static void send_to_root(std::vector<std::string> messages, PendingSends& pending);
+  static void wait(PendingSends& pending);
+  /// Rank 0 to one rank: `send_to(rank, bytes)` on rank 0 returns once that rank has them,
+  /// which it takes by `receive_from_root()`, in the order sent.
+  static void send_to(int rank, std::string_view bytes);
+  static std::string receive_from_root();
   /// Logical OR of every rank's flag, on every rank.
   static bool any(bool flag);
-  /// Rank 0's value, on every rank.
-  static double broadcast(double value);
+  /// Rank 0's bytes, on every rank.
   static std::string broadcast(const std::string& value);
 };
 

@@ -46,19 +46,21 @@ TEST(RoundPortions, CoverTheRoundInRankOrderWithRankZerosShare) {
 }
 
 TEST(BalancedRootShare, GivesRankZeroAsMuchWorkAsEachOtherRank) {
-  EXPECT_DOUBLE_EQ(detail::balanced_root_share(1.0, 0.0, 4), 0.25);  // nothing to write: even shares
-  EXPECT_DOUBLE_EQ(detail::balanced_root_share(0.0, 1.0, 2), 0.5);   // not measured yet: even
-  EXPECT_DOUBLE_EQ(detail::balanced_root_share(1.0, 1.0, 2), 0.0);   // writing takes all its time
+  EXPECT_DOUBLE_EQ(detail::balanced_root_share(1.0, 0.0, 1.0, 4), 0.25);  // nothing to write: even shares
+  EXPECT_DOUBLE_EQ(detail::balanced_root_share(0.0, 1.0, 1.0, 2), 0.5);   // not measured yet: even
+  EXPECT_DOUBLE_EQ(detail::balanced_root_share(1.0, 1.0, 1.0, 2), 0.0);   // writing takes all its time
   for (const int ranks : {2, 3, 8}) {
     for (const double sink : {0.01, 0.05, 0.1}) {
-      const double compute = 0.3;
-      const double share = detail::balanced_root_share(compute, sink, ranks);
-      const double root_work = share * compute + sink;  // per sample of the round
-      const double other_work = (1.0 - share) / (ranks - 1) * compute;
-      if (share > 0.0) {
-        EXPECT_NEAR(root_work, other_work, 1e-12) << ranks << " ranks, sink " << sink;
-      } else {  // writing alone takes rank 0 longer than the others' computing
-        EXPECT_GE(root_work, other_work) << ranks << " ranks, sink " << sink;
+      for (const double other : {0.3, 0.45}) {  // the others also encode and send: dearer per sample
+        const double compute = 0.3;
+        const double share = detail::balanced_root_share(compute, sink, other, ranks);
+        const double root_work = share * compute + sink;  // per sample of the round
+        const double other_work = (1.0 - share) / (ranks - 1) * other;
+        if (share > 0.0) {
+          EXPECT_NEAR(root_work, other_work, 1e-12) << ranks << " ranks, sink " << sink;
+        } else {  // writing alone takes rank 0 longer than the others' computing
+          EXPECT_GE(root_work, other_work) << ranks << " ranks, sink " << sink;
+        }
       }
     }
   }

@@ -100,15 +100,16 @@ inline std::vector<Portion> round_portions(std::size_t base, std::size_t total, 
   return portions;
 }
 
-/// Rank 0's share of a round's chunks that gives it as much work as each other rank, when it
-/// also takes `sink_seconds_per_sample` for every sample of the round (receiving, writing) and
-/// every rank computes (and formats) a sample in `compute_seconds_per_sample`: with s their
-/// ratio and R ranks, rank 0 computes n0 = N (1 - (R - 1) s) / R of the round's N samples and
-/// the others n0 + N s each; none when (R - 1) s >= 1.
-inline double balanced_root_share(double compute_seconds_per_sample, double sink_seconds_per_sample, int ranks) {
-  if (!(compute_seconds_per_sample > 0.0)) return 1.0 / ranks;
-  const double s = sink_seconds_per_sample / compute_seconds_per_sample;
-  return std::max(0.0, (1.0 - (ranks - 1) * s) / ranks);
+/// Rank 0's share of a round's chunks that gives it as much work as each other rank: rank 0
+/// computes (and formats) a sample in `root_compute` seconds and also takes `root_sink` for
+/// every sample of the round (receiving, writing); the other ranks take `other_compute` per
+/// sample they compute (computing, formatting, encoding). With R ranks and N samples, rank 0's
+/// n0 c0 + N s equals each other rank's (N - n0) / (R - 1) c: n0 / N = (c / (R - 1) - s) /
+/// (c0 + c / (R - 1)); none when s >= c / (R - 1). Even shares until both are measured.
+inline double balanced_root_share(double root_compute, double root_sink, double other_compute, int ranks) {
+  if (!(root_compute > 0.0) || !(other_compute > 0.0)) return 1.0 / ranks;
+  const double other = other_compute / (ranks - 1);
+  return std::clamp((other - root_sink) / (root_compute + other), 0.0, 1.0);
 }
 
 /// Chunks per rank in a round of an MPI run: enough to balance rank 0's share finely.
@@ -243,71 +244,139 @@ class SampleDriver {
     return out_;
   }
 
-  // Several ranks: rounds of a few chunks per rank, each rank computing its portion; rank 0
-  // receives and sinks the portions rank by rank, chunk by chunk (one chunk of another rank's
-  // in memory at a time). Rank 0
-  // times its own computing and its sinking, and from the second round on takes the share of a
-  // round that balances its work with the others' (detail::balanced_root_share): the samples
-  // are the same whoever computes them.
+  // Several ranks: rounds of a few chunks per rank, each rank computing its portion. Rank 0
+  // sinks a round's portions in rank order, its own first, then the others' as they arrive,
+  // chunk by chunk (one chunk of another rank's in memory at a time); meanwhile the other ranks,
+  // their portions sent, compute their portions of the next round, so rank 0's writing overlaps
+  // their computing. Rank 0's decision on a round (stop, a signal) reaches them as they finish
+  // the next one, which is then dropped. Every rank times its work, and from the ranks' timings
+  // rank 0's share of the round after next balances its work with the others'
+  // (detail::balanced_root_share); the samples are the same whoever computes them.
   DriveOutcome run_distributed() {
     using Clock = std::chrono::steady_clock;
     const auto seconds = [](Clock::duration d) { return std::chrono::duration<double>(d).count(); };
-    double root_share = 1.0 / ranks_, compute_s = 0.0, sink_s = 0.0;
-    std::size_t computed = 0, sunk = 0;
     const auto me = static_cast<std::size_t>(sampling::Cluster::rank());
-    Computed mine, theirs;
-    for (std::size_t base = spec_.first; base < spec_.total;) {
-      const std::size_t chunks_left = (spec_.total - base + chunk_ - 1) / chunk_;
-      const std::size_t chunks =
-          std::min(detail::kChunksPerRankInARound * static_cast<std::size_t>(ranks_), chunks_left);
-      const std::vector<detail::Portion> portions =
-          detail::round_portions(base, spec_.total, chunk_, chunks, ranks_, root_share);
-      const detail::Portion my = portions[me];
-      const Clock::time_point t0 = Clock::now();
-      if (my.n > 0) arena_.execute([&] { compute_portion(my.start, my.n, mine); });
-      compute_s += seconds(Clock::now() - t0);
-      computed += my.n;
-      // Rank 0 takes its own portion as it is; every other rank sends its portion chunk by
-      // chunk (rank 0 holds one chunk of another rank's at a time).
-      std::vector<std::string> messages;
-      for (std::size_t from = 0; !root_ && from < my.n; from += chunk_) {
-        ByteWriter w;
-        const std::size_t n = std::min(chunk_, my.n - from);
-        w.put(n);
-        for (std::size_t k = from; k < from + n; ++k) encode_(mine.results[k], w);
-        w.put_string(mine.prepared[from / chunk_]);
-        messages.push_back(std::move(w.bytes()));
-      }
+    Timing timing;
+    double next_share = 1.0 / ranks_;  // of the round after the one in hand
+    std::vector<detail::Portion> round = next_round(spec_.first, 1.0 / ranks_);
+    Computed mine, ahead;
+    sampling::PendingSends sending;
+    const Clock::time_point t0 = Clock::now();
+    compute_portion(round[me], mine);
+    timing.add_compute(seconds(Clock::now() - t0), round[me].n);
+    while (!round.empty()) {
+      const std::size_t end_of_round = round.back().start + round.back().n;
+      std::vector<detail::Portion> following = next_round(end_of_round, next_share);
       if (root_) {
+        timing.add_sink(sink_round(round, mine), end_of_round - round.front().start);
+      } else {
         const Clock::time_point t1 = Clock::now();
-        take(my.start, std::span<const Result>(mine.results.data(), my.n), mine.prepared);
-        sink_s += seconds(Clock::now() - t1);
-        sunk += my.n;
+        sampling::Cluster::send_to_root(encode_portion(round[me], mine), sending);
+        if (!following.empty()) compute_portion(following[me], ahead);
+        timing.add_compute(seconds(Clock::now() - t1), following.empty() ? 0 : following[me].n);
       }
-      std::vector<std::size_t> next_of(portions.size());  // the next chunk's first sample, per rank
-      for (std::size_t q = 0; q < portions.size(); ++q) next_of[q] = portions[q].start;
-      sampling::Cluster::gather_each(messages, [&](int q, std::string_view bytes) {
-        const Clock::time_point t1 = Clock::now();
-        ByteReader rd(bytes);
-        theirs.results.resize(rd.get<std::size_t>());
-        for (auto& r : theirs.results) decode_(rd, r);
-        theirs.prepared.resize(1);
-        rd.get_string(theirs.prepared[0]);
-        std::size_t& at = next_of[static_cast<std::size_t>(q)];
-        take(at, theirs.results, theirs.prepared);
-        at += theirs.results.size();
-        sink_s += seconds(Clock::now() - t1);
-        sunk += theirs.results.size();
-      });
-      base = portions.back().start + portions.back().n;
-      if (root_ && computed > 0 && sunk > 0) {
-        root_share = detail::balanced_root_share(compute_s / static_cast<double>(computed),
-                                                 sink_s / static_cast<double>(sunk), ranks_);
+      // Rank 0's decision on this round, and its share of the round after the following one.
+      const bool end = round_ends();
+      next_share = timing.balanced_share(ranks_);
+      if (end) break;
+      if (root_ && !following.empty()) {
+        const Clock::time_point t2 = Clock::now();
+        compute_portion(following[me], ahead);
+        timing.add_compute(seconds(Clock::now() - t2), following[me].n);
       }
-      root_share = sampling::Cluster::broadcast(root_share);
-      if (round_ends()) break;
+      sampling::Cluster::wait(sending);  // the round's messages are rank 0's: their buffers free
+      std::swap(mine, ahead);
+      round = std::move(following);
     }
+    sampling::Cluster::wait(sending);
     return out_;
+  }
+
+  // A rank's busy seconds so far: computing (with formatting and, on the other ranks, encoding
+  // and sending) and, on rank 0, sinking; and their samples.
+  struct Timing {
+    double compute_s = 0.0, sink_s = 0.0;
+    std::size_t computed = 0, sunk = 0;
+    void add_compute(double s, std::size_t n) {
+      compute_s += s;
+      computed += n;
+    }
+    void add_sink(double s, std::size_t n) {
+      sink_s += s;
+      sunk += n;
+    }
+    static double per_sample(double s, std::size_t n) { return n > 0 ? s / static_cast<double>(n) : 0.0; }
+    // Rank 0's share from every rank's timings (exchanged: the same figures, so the same share,
+    // on every rank).
+    double balanced_share(int ranks) const {
+      ByteWriter w;
+      w.put(per_sample(compute_s, computed));
+      w.put(per_sample(sink_s, sunk));
+      const std::vector<std::string> all = sampling::Cluster::all_gather(w.bytes());
+      double others = 0.0;
+      for (std::size_t q = 1; q < all.size(); ++q) {
+        ByteReader rd(all[q]);
+        const double c = rd.get<double>();
+        if (!(c > 0.0)) return 1.0 / ranks;  // not measured yet
+        others += c / static_cast<double>(all.size() - 1);
+      }
+      ByteReader root(all[0]);
+      const double root_compute = root.get<double>();
+      const double root_sink = root.get<double>();
+      return detail::balanced_root_share(root_compute, root_sink, others, ranks);
+    }
+  };
+
+  // The portions of the round from `base` (none past the end).
+  std::vector<detail::Portion> next_round(std::size_t base, double root_share) const {
+    if (base >= spec_.total) return {};
+    const std::size_t chunks_left = (spec_.total - base + chunk_ - 1) / chunk_;
+    const std::size_t chunks = std::min(detail::kChunksPerRankInARound * static_cast<std::size_t>(ranks_), chunks_left);
+    return detail::round_portions(base, spec_.total, chunk_, chunks, ranks_, root_share);
+  }
+
+  void compute_portion(const detail::Portion& p, Computed& into) {
+    if (p.n > 0) arena_.execute([&] { compute_portion(p.start, p.n, into); });
+  }
+
+  // A portion's messages to rank 0, one per chunk: its results and prepared bytes.
+  std::vector<std::string> encode_portion(const detail::Portion& p, const Computed& c) {
+    std::vector<std::string> messages;
+    for (std::size_t from = 0; from < p.n; from += chunk_) {
+      ByteWriter w;
+      const std::size_t n = std::min(chunk_, p.n - from);
+      w.put(n);
+      for (std::size_t k = from; k < from + n; ++k) encode_(c.results[k], w);
+      w.put_string(c.prepared[from / chunk_]);
+      messages.push_back(std::move(w.bytes()));
+    }
+    return messages;
+  }
+
+  // Rank 0: the round's portions sunk in order, its own as computed, the others' as received.
+  // Returns the seconds it was busy (decoding and sinking; not waiting for a message).
+  double sink_round(const std::vector<detail::Portion>& round, const Computed& own) {
+    using Clock = std::chrono::steady_clock;
+    double busy = 0.0;
+    Clock::time_point t0 = Clock::now();
+    take(round[0].start, std::span<const Result>(own.results.data(), round[0].n), own.prepared);
+    busy += std::chrono::duration<double>(Clock::now() - t0).count();
+    std::vector<std::size_t> next_of(round.size());  // the next chunk's first sample, per rank
+    for (std::size_t q = 0; q < round.size(); ++q) next_of[q] = round[q].start;
+    Computed theirs;
+    sampling::Cluster::gather_each({}, [&](int q, std::string_view bytes) {
+      t0 = Clock::now();
+      ByteReader rd(bytes);
+      theirs.results.resize(rd.get<std::size_t>());
+      for (auto& r : theirs.results) decode_(rd, r);
+      theirs.prepared.resize(1);
+      rd.get_string(theirs.prepared[0]);
+      std::size_t& at = next_of[static_cast<std::size_t>(q)];
+      take(at, theirs.results, theirs.prepared);
+      at += theirs.results.size();
+      busy += std::chrono::duration<double>(Clock::now() - t0).count();
+    });
+    return busy;
   }
 
   const DriveSpec spec_;

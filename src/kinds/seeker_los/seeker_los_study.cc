@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <memory>
 #include <optional>
@@ -25,6 +26,8 @@ namespace poise::kinds::seeker_los {
 using namespace poise::engine;
 namespace {
 constexpr double kArcsec = units::kArcsecPerRad;
+// The field maps: p50, p95 and p99.73 of each grid point (McResult::field).
+constexpr double kMapQuantiles[] = {0.5, 0.95, 0.9973};
 }  // namespace
 
 SeekerLosStudy::SeekerLosStudy(StudyConfig config, SeekerModel model, std::size_t samples, std::uint64_t seed)
@@ -157,7 +160,6 @@ FieldStatistics field_figures(const WideColumnsWriter* field, const std::string&
                               std::size_t points, int threads, const FieldShare* share) {
   std::optional<WideColumnsReader> reader;
   if (!field || !field->keeps()) reader.emplace(path, layout.dataset);
-  const double quantiles[] = {0.5, 0.95, 0.9973};
   return field_statistics(
       points,
       [&](std::size_t p, std::vector<float>& column) -> std::span<const float> {
@@ -165,7 +167,7 @@ FieldStatistics field_figures(const WideColumnsWriter* field, const std::string&
         reader->read_column(p, column);
         return column;
       },
-      quantiles, threads, kFieldCollectLimit, share);
+      kMapQuantiles, threads, kFieldCollectLimit, share);
 }
 
 void keep_field_figures(FieldStatistics&& fs, McResult& r) {
@@ -188,20 +190,46 @@ void close_field_file(WideColumnsWriter& field, const WideColumnsSpec& layout, c
   }
 }
 
-// An MPI run whose grid values go to samples.h5: once rank 0 has closed it, every rank reads its
-// own range of points from it and the ranks make the maps together (FieldShare). Called on every
-// rank; `field` only on rank 0.
+// An MPI run whose grid values go to samples.h5 makes the maps on all its ranks, each rank its
+// own range of points (FieldShare): rank 0 sends each rank its columns when it keeps them in
+// memory, else every rank reads its own from samples.h5 once rank 0 has closed it. Called on
+// every rank; `field` only on rank 0.
 void shared_field_figures(const WideColumnsWriter* field, const WideColumnsSpec& layout, const RunControl& control,
                           std::size_t points, std::size_t n_ok, int threads, McResult& r) {
-  const bool root = sampling::Cluster::root();
-  if (!sampling::Cluster::any(root && n_ok > 0)) return;  // also: samples.h5 is closed
-  // Rank 0 named the run's folder: its samples.h5, absolute (the ranks may run elsewhere).
-  const std::string path =
-      sampling::Cluster::broadcast(root ? std::filesystem::absolute(control.field_file).string() : std::string());
-  const FieldShare share{sampling::Cluster::rank(), sampling::Cluster::size(),
-                         [](const std::string& mine) { return sampling::Cluster::all_gather(mine); }};
-  FieldStatistics fs = field_figures(field, path, layout, points, threads, &share);
-  if (root) keep_field_figures(std::move(fs), r);
+  using sampling::Cluster;
+  const bool root = Cluster::root();
+  if (!Cluster::any(root && n_ok > 0)) return;  // also: samples.h5 is closed
+  const bool from_memory = Cluster::any(root && field->keeps());
+  const FieldShare share{Cluster::rank(), Cluster::size(),
+                         [](const std::string& mine) { return Cluster::all_gather(mine); }};
+  const auto first_of = [&](int rank) {
+    return points * static_cast<std::size_t>(rank) / static_cast<std::size_t>(share.ranks);
+  };
+  if (!from_memory) {  // rank 0 named the run's folder: its samples.h5, absolute
+    const std::string path =
+        Cluster::broadcast(root ? std::filesystem::absolute(control.field_file).string() : std::string());
+    FieldStatistics fs = field_figures(field, path, layout, points, threads, &share);
+    if (root) keep_field_figures(std::move(fs), r);
+  } else if (root) {
+    for (int q = 1; q < share.ranks; ++q) {
+      for (std::size_t p = first_of(q); p < first_of(q + 1); ++p) {
+        const std::span<const float> column = field->kept_column(p);
+        Cluster::send_to(q, std::string_view(reinterpret_cast<const char*>(column.data()), column.size_bytes()));
+      }
+    }
+    keep_field_figures(field_figures(field, control.field_file, layout, points, threads, &share), r);
+  } else {
+    std::vector<std::vector<float>> columns(first_of(share.rank + 1) - first_of(share.rank));
+    for (auto& column : columns) {
+      const std::string bytes = Cluster::receive_from_root();
+      column.resize(bytes.size() / sizeof(float));
+      std::memcpy(column.data(), bytes.data(), column.size() * sizeof(float));
+    }
+    field_statistics(
+        points,
+        [&](std::size_t p, std::vector<float>&) -> std::span<const float> { return columns[p - first_of(share.rank)]; },
+        kMapQuantiles, threads, kFieldCollectLimit, &share);
+  }
 }
 
 }  // namespace
