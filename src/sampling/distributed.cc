@@ -16,6 +16,26 @@ namespace {
 bool g_mpi = false;
 int g_rank = 0, g_size = 1, g_local = 1;
 
+// Where each rank's bytes start in the concatenation of all, and their total.
+int offsets_of(const std::vector<int>& sizes, std::vector<int>& offsets) {
+  offsets.resize(sizes.size());
+  int total = 0;
+  for (std::size_t q = 0; q < sizes.size(); ++q) {
+    offsets[q] = total;
+    total += sizes[q];
+  }
+  return total;
+}
+
+// The concatenation of every rank's bytes cut back into them.
+std::vector<std::string> split(const std::string& all, const std::vector<int>& sizes, const std::vector<int>& offsets) {
+  std::vector<std::string> out;
+  for (std::size_t q = 0; q < sizes.size(); ++q) {
+    out.push_back(all.substr(static_cast<std::size_t>(offsets[q]), static_cast<std::size_t>(sizes[q])));
+  }
+  return out;
+}
+
 int env_int(const char* name, int fallback) {
   const char* v = std::getenv(name);
   return v ? std::atoi(v) : fallback;
@@ -82,22 +102,9 @@ std::vector<std::string> Cluster::gather(const std::string& local) {
   std::vector<int> sizes(g_rank == 0 ? static_cast<std::size_t>(g_size) : 0);
   MPI_Gather(&n, 1, MPI_INT, sizes.data(), 1, MPI_INT, 0, MPI_COMM_WORLD);
   std::vector<int> offsets;
-  std::string all;
-  if (g_rank == 0) {
-    offsets.resize(sizes.size());
-    int total = 0;
-    for (std::size_t q = 0; q < sizes.size(); ++q) {
-      offsets[q] = total;
-      total += sizes[q];
-    }
-    all.resize(static_cast<std::size_t>(total));
-  }
+  std::string all(static_cast<std::size_t>(offsets_of(sizes, offsets)), '\0');  // rank 0's; empty elsewhere
   MPI_Gatherv(local.data(), n, MPI_CHAR, all.data(), sizes.data(), offsets.data(), MPI_CHAR, 0, MPI_COMM_WORLD);
-  std::vector<std::string> out;
-  for (std::size_t q = 0; q < sizes.size(); ++q) {
-    out.push_back(all.substr(static_cast<std::size_t>(offsets[q]), static_cast<std::size_t>(sizes[q])));
-  }
-  return out;
+  return split(all, sizes, offsets);
 #else
   return {local};
 #endif
@@ -107,47 +114,20 @@ std::vector<std::string> Cluster::all_gather(const std::string& local) {
   if (g_size == 1) return {local};
 #ifdef POISE_WITH_MPI
   int n = static_cast<int>(local.size());
-  std::vector<int> sizes(static_cast<std::size_t>(g_size)), offsets(static_cast<std::size_t>(g_size));
+  std::vector<int> sizes(static_cast<std::size_t>(g_size)), offsets;
   MPI_Allgather(&n, 1, MPI_INT, sizes.data(), 1, MPI_INT, MPI_COMM_WORLD);
-  int total = 0;
-  for (std::size_t q = 0; q < sizes.size(); ++q) {
-    offsets[q] = total;
-    total += sizes[q];
-  }
-  std::string all(static_cast<std::size_t>(total), '\0');
+  std::string all(static_cast<std::size_t>(offsets_of(sizes, offsets)), '\0');
   MPI_Allgatherv(local.data(), n, MPI_CHAR, all.data(), sizes.data(), offsets.data(), MPI_CHAR, MPI_COMM_WORLD);
-  std::vector<std::string> out;
-  for (std::size_t q = 0; q < sizes.size(); ++q) {
-    out.push_back(all.substr(static_cast<std::size_t>(offsets[q]), static_cast<std::size_t>(sizes[q])));
-  }
-  return out;
+  return split(all, sizes, offsets);
 #else
   return {local};
 #endif
 }
 
-void Cluster::gather_each(const std::vector<std::string>& local,
-                          const std::function<void(int, std::string_view)>& take) {
-  const auto take_own = [&] {
-    for (const std::string& message : local) take(0, message);
-  };
-  if (g_size == 1) {
-    take_own();
-    return;
-  }
+void Cluster::receive_each([[maybe_unused]] const std::function<void(int, std::string_view)>& take) {
 #ifdef POISE_WITH_MPI
-  constexpr int kTag = 19;
-  if (g_rank != 0) {
-    const auto count = static_cast<long long>(local.size());
-    MPI_Send(&count, 1, MPI_LONG_LONG, 0, kTag, MPI_COMM_WORLD);
-    for (const std::string& message : local) {
-      const auto n = static_cast<long long>(message.size());
-      MPI_Send(&n, 1, MPI_LONG_LONG, 0, kTag, MPI_COMM_WORLD);
-      MPI_Send(message.data(), static_cast<int>(message.size()), MPI_CHAR, 0, kTag, MPI_COMM_WORLD);
-    }
-    return;
-  }
-  take_own();
+  if (g_size == 1 || g_rank != 0) return;
+  constexpr int kTag = 19;  // as send_to_root
   std::string buffer;
   for (int q = 1; q < g_size; ++q) {
     long long count = 0;
@@ -160,8 +140,6 @@ void Cluster::gather_each(const std::vector<std::string>& local,
       take(q, buffer);
     }
   }
-#else
-  take_own();
 #endif
 }
 
@@ -186,7 +164,7 @@ void Cluster::send_to_root([[maybe_unused]] std::vector<std::string> messages, [
 #ifdef POISE_WITH_MPI
   if (g_size == 1 || g_rank == 0) return;
   wait(pending);
-  constexpr int kTag = 19;  // as gather_each: rank 0 receives them there, in the order sent
+  constexpr int kTag = 19;  // as receive_each: rank 0 receives them there, in the order sent
   PendingSends::Impl& p = *pending.impl_;
   p.messages = std::move(messages);
   p.header.assign(1, static_cast<long long>(p.messages.size()));

@@ -52,13 +52,11 @@ class Cluster {
   static std::vector<std::string> gather(const std::string& local);
   /// Each rank's bytes, on every rank, in rank order.
   static std::vector<std::string> all_gather(const std::string& local);
-  /// Each rank's messages handed to `take(rank, bytes)` on rank 0, one rank at a time in rank
-  /// order (rank 0's own first), each rank's in their order: rank 0 holds one message of
-  /// another rank at a time, so its memory grows neither with the number of ranks nor with
-  /// the number of their messages. Other ranks send and return.
-  static void gather_each(const std::vector<std::string>& local,
-                          const std::function<void(int, std::string_view)>& take);
-  /// On a rank other than 0: sends its messages to rank 0, as gather_each receives them there,
+  /// On rank 0: every other rank's messages (send_to_root) handed to `take(rank, bytes)`, one rank
+  /// at a time in rank order, each rank's in their order: rank 0 holds one message at a time, so
+  /// its memory grows neither with the number of ranks nor with that of their messages.
+  static void receive_each(const std::function<void(int, std::string_view)>& take);
+  /// On a rank other than 0: sends its messages to rank 0, as receive_each takes them there,
   /// without waiting for rank 0 to take them (the rank computes on meanwhile); `pending` keeps
   /// them until wait(pending). A rank sends one set at a time: wait before the next.
   static void send_to_root(std::vector<std::string> messages, PendingSends& pending);

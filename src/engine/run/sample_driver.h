@@ -364,7 +364,7 @@ class SampleDriver {
     std::vector<std::size_t> next_of(round.size());  // the next chunk's first sample, per rank
     for (std::size_t q = 0; q < round.size(); ++q) next_of[q] = round[q].start;
     Computed theirs;
-    sampling::Cluster::gather_each({}, [&](int q, std::string_view bytes) {
+    sampling::Cluster::receive_each([&](int q, std::string_view bytes) {
       t0 = Clock::now();
       ByteReader rd(bytes);
       theirs.results.resize(rd.get<std::size_t>());
