@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Installs the Debian 12 packages Poise needs. Idempotent: installs only what is missing.
-# --tests: also what only the tests need (headless Chromium for the report tests, clang-format
-# and clang-tidy for the format and lint checks).
+# Without arguments (the first README command): what building and running `poise` needs.
+# --tests (the test command): also what only the tests, benchmarks, fuzzers and the Python module
+# need.
 set -euo pipefail
 PKGS=(
   build-essential cmake git pkg-config
@@ -10,17 +11,21 @@ PKGS=(
   libmuparser-dev  # expressions of budget gains (poise budget)
   libfmt-dev  # core/format.h: every number and sentence formatted (fmt::format)
   libhdf5-dev zlib1g-dev  # samples.h5: per-sample grid values of a run (HDF5, deflated chunks)
-  time  # bench/los_scale: peak memory of a run (GNU time)
-  python3-h5py  # samples_h5_test: samples.h5 read as results/README.md shows (h5py)
-  libgtest-dev libbenchmark-dev libopenmpi-dev openmpi-bin gnuplot-nox
-  clang-14 libclang-rt-14-dev  # tests/fuzz: libFuzzer, ASan, UBSan (clang++-14 -fsanitize=fuzzer)
-  python3-numpy python3-scipy  # bench/baselines: the NumPy and SciPy scripts Poise is compared with
-  python3-dev pybind11-dev python3-pybind11  # python/: the module build/python/poise (pybind11)
-  python3-pytest python3-openturns  # python/tests (pytest) and the OpenTURNS example
+  libopenmpi-dev openmpi-bin  # runs over MPI ranks (poise is built with MPI where it is found)
+  gnuplot-nox  # the report's figures
 )
 if [ "${1:-}" = "--tests" ]; then
-  PKGS+=(chromium)  # tests/reports: every report rendered as a person sees it
-  PKGS+=(clang-format-14 clang-tidy-14)  # scripts/check_format.sh (run by test.sh), scripts/check_tidy.sh
+  PKGS+=(
+    time  # bench/los_scale: peak memory of a run (GNU time)
+    python3-h5py  # samples_h5_test: samples.h5 read as results/README.md shows (h5py)
+    libgtest-dev libbenchmark-dev
+    clang-14 libclang-rt-14-dev  # tests/fuzz: libFuzzer, ASan, UBSan (clang++-14 -fsanitize=fuzzer)
+    python3-numpy python3-scipy  # bench/baselines: the NumPy and SciPy scripts Poise is compared with
+    python3-dev pybind11-dev python3-pybind11  # python/: the module build/python/poise (pybind11)
+    python3-pytest python3-openturns  # python/tests (pytest) and the OpenTURNS example
+    chromium  # tests/reports: every report rendered as a person sees it
+    clang-format-14 clang-tidy-14  # scripts/check_format.sh (run by test.sh), scripts/check_tidy.sh
+  )
 fi
 missing=()
 for p in "${PKGS[@]}"; do

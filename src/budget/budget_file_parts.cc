@@ -126,6 +126,50 @@ Declared read_declared(TomlReader& t, const std::string& key, const Units& u) {
   return d;
 }
 
+namespace {
+
+// A line given as a value: its contribution as given; a tolerance's keys beside it are errors.
+void read_value_line(TomlReader& t, const Units& u, LineSpec& l) {
+  l.given = true;
+  l.value = read_value(t, "value", u, false).value_or(0.0);
+  bool extra = false;
+  for (const char* key : {"tolerance", "lever", "distribution", "tolerance_is", "gain", "declared"}) {
+    if (t.has(key)) {
+      t.error(key, "",
+              std::string("no ") + key +
+                  " in a line given as a value (a value line has nothing to "
+                  "recompute; remove value or " +
+                  key + ")");
+      extra = true;
+    }
+  }
+  if (extra) t.accept_all();  // said once above, not again as unknown keys
+}
+
+// A toleranced line's distribution and how its tolerance is stated, checked together.
+void read_line_distribution(TomlReader& t, LineSpec& l) {
+  const std::size_t errors_before = t.context().errors.size();
+  const std::string dist = t.choice("distribution", {"normal", "uniform", "arcsine", "truncated_normal", "fixed"});
+  l.distribution = sampling::parse_distribution_kind(dist);
+  const bool fixed = l.distribution == sampling::DistributionKind::kFixed;
+  const std::string conv = t.choice("tolerance_is", {"bounds", "1sigma", "2sigma", "3sigma"},
+                                    fixed ? std::optional<std::string>("bounds") : std::nullopt);
+  l.convention = sampling::parse_convention(conv);
+  if (fixed && l.kind == LineKind::kRandom) {
+    t.error("distribution", "\"fixed\"",
+            "kind = \"bias\" for a fixed value (a fixed value does not vary: it is a bias)");
+  }
+  if (t.context().errors.size() == errors_before) {
+    try {
+      sampling::Distribution(l.distribution, 0.0, 0.0, l.convention);
+    } catch (const Error& e) {
+      t.error("distribution", "\"" + dist + "\" with tolerance_is \"" + conv + "\"", e.what());
+    }
+  }
+}
+
+}  // namespace
+
 LineSpec read_line(TomlReader& t, const Units& u, const std::vector<std::string>& field_names) {
   LineSpec l;
   l.path = t.prefix();
@@ -139,20 +183,7 @@ LineSpec read_line(TomlReader& t, const Units& u, const std::vector<std::string>
   l.propagation = read_expression(t, "propagation", field_names, "");
   l.propagation_line = t.line_of("propagation");
   if (t.has("value")) {
-    l.given = true;
-    l.value = read_value(t, "value", u, false).value_or(0.0);
-    bool extra = false;
-    for (const char* key : {"tolerance", "lever", "distribution", "tolerance_is", "gain", "declared"}) {
-      if (t.has(key)) {
-        t.error(key, "",
-                std::string("no ") + key +
-                    " in a line given as a value (a value line has nothing to "
-                    "recompute; remove value or " +
-                    key + ")");
-        extra = true;
-      }
-    }
-    if (extra) t.accept_all();  // said once above, not again as unknown keys
+    read_value_line(t, u, l);
     return l;
   }
   const bool angle_budget = u.dimension == units::kAngle;
@@ -188,24 +219,7 @@ LineSpec read_line(TomlReader& t, const Units& u, const std::vector<std::string>
   } else {
     l.tolerance = t.quantity("tolerance", u.dimension, engine::non_negative);
   }
-  const std::size_t errors_before = t.context().errors.size();
-  const std::string dist = t.choice("distribution", {"normal", "uniform", "arcsine", "truncated_normal", "fixed"});
-  l.distribution = sampling::parse_distribution_kind(dist);
-  const bool fixed = l.distribution == sampling::DistributionKind::kFixed;
-  const std::string conv = t.choice("tolerance_is", {"bounds", "1sigma", "2sigma", "3sigma"},
-                                    fixed ? std::optional<std::string>("bounds") : std::nullopt);
-  l.convention = sampling::parse_convention(conv);
-  if (fixed && l.kind == LineKind::kRandom) {
-    t.error("distribution", "\"fixed\"",
-            "kind = \"bias\" for a fixed value (a fixed value does not vary: it is a bias)");
-  }
-  if (t.context().errors.size() == errors_before) {
-    try {
-      sampling::Distribution(l.distribution, 0.0, 0.0, l.convention);
-    } catch (const Error& e) {
-      t.error("distribution", "\"" + dist + "\" with tolerance_is \"" + conv + "\"", e.what());
-    }
-  }
+  read_line_distribution(t, l);
   l.gain = read_expression(t, "gain", field_names, "1");
   l.gain_line = t.line_of("gain");
   l.declared = read_declared(t, "declared", u);

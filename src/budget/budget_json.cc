@@ -72,6 +72,36 @@ json field_point(const BudgetSpec& spec, const std::vector<double>& x) {
   return p;
 }
 
+// The combined figure: its bounds, where in the field they fall, the declared figure and its
+// verdict, and the same in pixels where the budget has a pixel.
+json combined_json(const BudgetSpec& spec, const BudgetResult& res) {
+  const double f = spec.unit_factor;
+  json combined{{"least", res.combined.least / f},
+                {"greatest", res.combined.greatest / f},
+                {"unit", spec.unit},
+                {"level", std::to_string(spec.level) + "sigma"},
+                {"combination", to_string(spec.combination)},
+                {"least_at", field_point(spec, res.least_at)},
+                {"greatest_at", field_point(spec, res.greatest_at)},
+                {"declared", declared_json(spec.declared, f)}};
+  put_verdict(combined, res.combined_verdict);
+  if (res.combined_from_declared) {
+    combined["from_declared"] = {{"least", res.combined_from_declared->least / f},
+                                 {"greatest", res.combined_from_declared->greatest / f}};
+  }
+  if (spec.pixel) {
+    combined["pixel"] = *spec.pixel / f;
+    combined["least_px"] = res.combined.least / *spec.pixel;
+    combined["greatest_px"] = res.combined.greatest / *spec.pixel;
+    if (spec.declared_in_pixels.present) {
+      json px{{"declared", declared_json(spec.declared_in_pixels, 1.0)}};
+      put_verdict(px, res.pixels_verdict);
+      combined["in_pixels"] = std::move(px);
+    }
+  }
+  return combined;
+}
+
 }  // namespace
 
 json budget_json(const BudgetSpec& spec, const BudgetResult& res) {
@@ -117,30 +147,7 @@ json budget_json(const BudgetSpec& spec, const BudgetResult& res) {
     groups.push_back(std::move(j));
   }
   out["groups"] = std::move(groups);
-  json combined{{"least", res.combined.least / f},
-                {"greatest", res.combined.greatest / f},
-                {"unit", spec.unit},
-                {"level", std::to_string(spec.level) + "sigma"},
-                {"combination", to_string(spec.combination)},
-                {"least_at", field_point(spec, res.least_at)},
-                {"greatest_at", field_point(spec, res.greatest_at)},
-                {"declared", declared_json(spec.declared, f)}};
-  put_verdict(combined, res.combined_verdict);
-  if (res.combined_from_declared) {
-    combined["from_declared"] = {{"least", res.combined_from_declared->least / f},
-                                 {"greatest", res.combined_from_declared->greatest / f}};
-  }
-  if (spec.pixel) {
-    combined["pixel"] = *spec.pixel / f;
-    combined["least_px"] = res.combined.least / *spec.pixel;
-    combined["greatest_px"] = res.combined.greatest / *spec.pixel;
-    if (spec.declared_in_pixels.present) {
-      json px{{"declared", declared_json(spec.declared_in_pixels, 1.0)}};
-      put_verdict(px, res.pixels_verdict);
-      combined["in_pixels"] = std::move(px);
-    }
-  }
-  out["combined"] = std::move(combined);
+  out["combined"] = combined_json(spec, res);
   out["at_confidence"] = {{"least", res.at_confidence.least / f},
                           {"greatest", res.at_confidence.greatest / f},
                           {"unit", spec.unit},

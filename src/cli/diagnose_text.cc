@@ -42,31 +42,35 @@ std::string answer_sentence(const est::TorqueTable& t, const est::DiagnosisResul
   return s + ".";
 }
 
-json to_json(const est::TorqueTable& t, const est::DiagnosisResult& r, const std::optional<Load>& load, double alpha) {
-  json effects = json::array();
-  for (const est::Effect& e : r.effects) {
-    json params = json::object();
-    for (const auto& p : e.params) params[p.name] = {{"value", p.value}, {"se", p.se}, {"unit", p.unit}};
-    json j = {{"name", e.name},       {"title", effect_title(e)},   {"params", params},
-              {"p_value", e.p_value}, {"p_adjusted", e.p_adjusted}, {"delta_bic", e.delta_bic},
-              {"causes", e.causes}};
-    if (e.name == "harmonic") j["order"] = e.order;
-    // The family the issue fixes (time_drift with its shape, step, kt_drift, ...); the name
-    // above stays the candidate fitted (e.g. exponential_drift: family time_drift, shape
-    // exponential).
-    j["family"] = e.family.empty() ? e.name : e.family;
-    if (e.family == "time_drift") j["shape"] = e.shape;
-    if (!e.alternative.empty()) {
-      j["alternative"] = e.alternative;
-      if (std::isfinite(e.shape_delta_bic)) j["alternative_delta_bic"] = e.shape_delta_bic;
-    }
-    if (e.name == "outlier" || e.name == "step") j["index"] = e.index, j["line"] = e.line;
-    j["shift_se"] = e.shift_se;
-    j["r_first_harmonic"] = e.r_first_harmonic;
-    j["moves_estimate"] = e.moves_estimate;
-    if (!e.estimate_note.empty()) j["estimate_note"] = e.estimate_note;
-    effects.push_back(std::move(j));
+namespace {
+
+// One found effect: its parameters, evidence, family and what it does to the estimate.
+json effect_json(const est::Effect& e) {
+  json params = json::object();
+  for (const auto& p : e.params) params[p.name] = {{"value", p.value}, {"se", p.se}, {"unit", p.unit}};
+  json j = {{"name", e.name},       {"title", effect_title(e)},   {"params", params},
+            {"p_value", e.p_value}, {"p_adjusted", e.p_adjusted}, {"delta_bic", e.delta_bic},
+            {"causes", e.causes}};
+  if (e.name == "harmonic") j["order"] = e.order;
+  // The family the issue fixes (time_drift with its shape, step, kt_drift, ...); the name
+  // above stays the candidate fitted (e.g. exponential_drift: family time_drift, shape
+  // exponential).
+  j["family"] = e.family.empty() ? e.name : e.family;
+  if (e.family == "time_drift") j["shape"] = e.shape;
+  if (!e.alternative.empty()) {
+    j["alternative"] = e.alternative;
+    if (std::isfinite(e.shape_delta_bic)) j["alternative_delta_bic"] = e.shape_delta_bic;
   }
+  if (e.name == "outlier" || e.name == "step") j["index"] = e.index, j["line"] = e.line;
+  j["shift_se"] = e.shift_se;
+  j["r_first_harmonic"] = e.r_first_harmonic;
+  j["moves_estimate"] = e.moves_estimate;
+  if (!e.estimate_note.empty()) j["estimate_note"] = e.estimate_note;
+  return j;
+}
+
+// The omnibus test of the residual for structure no candidate explains, test by test.
+json omnibus_json(const est::DiagnosisResult& r) {
   json omnibus = {{"p_value", r.omnibus.p_value},
                   {"unexplained_structure", r.omnibus.unexplained},
                   {"where", r.omnibus.where},
@@ -77,6 +81,13 @@ json to_json(const est::TorqueTable& t, const est::DiagnosisResult& r, const std
     if (st.examined) tj["statistic"] = st.statistic, tj["p_value"] = st.p_value;
     omnibus["tests"].push_back(std::move(tj));
   }
+  return omnibus;
+}
+
+// Findings the data cannot decide between (each reading with its estimate and the plan that
+// would separate them), the candidates' collinearity with the first harmonic, and the effects
+// declared not identifiable.
+json ambiguous_json(const est::DiagnosisResult& r) {
   json ambiguous = json::array();
   for (const est::AmbiguousFinding& a : r.ambiguous) {
     json readings = json::array();
@@ -86,6 +97,10 @@ json to_json(const est::TorqueTable& t, const est::DiagnosisResult& r, const std
     }
     ambiguous.push_back({{"readings", readings}, {"correlation", a.correlation}, {"why", a.why}, {"plan", a.plan}});
   }
+  return ambiguous;
+}
+
+json collinearity_json(const est::DiagnosisResult& r) {
   json collinearity = json::array();
   for (const est::CandidateCollinearity& c : r.collinearity) {
     collinearity.push_back({{"candidate", c.candidate},
@@ -94,6 +109,14 @@ json to_json(const est::TorqueTable& t, const est::DiagnosisResult& r, const std
                             {"most_collinear_with", c.most_collinear_with},
                             {"r_other", c.r_other}});
   }
+  return collinearity;
+}
+
+}  // namespace
+
+json to_json(const est::TorqueTable& t, const est::DiagnosisResult& r, const std::optional<Load>& load, double alpha) {
+  json effects = json::array();
+  for (const est::Effect& e : r.effects) effects.push_back(effect_json(e));
   json not_identifiable = json::array();
   for (const auto& [name, why] : r.not_identifiable) {
     not_identifiable.push_back({{"name", name}, {"why", why}});
@@ -113,9 +136,9 @@ json to_json(const est::TorqueTable& t, const est::DiagnosisResult& r, const std
               {"n_points", t.size()},
               {"estimate_selected_model", estimate_json(r.estimate_selected)},
               {"plan", r.plan},
-              {"omnibus", omnibus},
-              {"ambiguous", ambiguous},
-              {"collinearity", collinearity},
+              {"omnibus", omnibus_json(r)},
+              {"ambiguous", ambiguous_json(r)},
+              {"collinearity", collinearity_json(r)},
               {"not_identifiable", not_identifiable},
               {"notes", r.notes},
               {"tested", r.tested}};

@@ -86,6 +86,12 @@ class ObstructionStudy final : public SampledModelStudy<ObstructionStudy> {
   nlohmann::json details(const McResult&) const override;
   void report_sections(const McResult& mc, const std::string& plots_dir, bool plots, std::vector<std::string>& figures,
                        std::ostringstream& html) const override;
+  /// The report's table of the nominal design (spans, radii, beam) and its outputs.
+  void nominal_design_html(std::ostringstream& h) const;
+  /// Gnuplot data of the nominal field maps (yaw, pitch, beam share, least clearance) and of
+  /// the clearances against pitch at yaw 0 and at the yaw limit.
+  std::string field_map_data() const;
+  std::string clearance_sweep_data() const;
 
   const SeekerModel& model() const { return model_; }
   const SeekerSampler& sampler() const { return sampler_; }
@@ -180,10 +186,7 @@ json ObstructionStudy::details(const McResult&) const {
             {"clearance_below_warning", nominal_[4] < 1e3 * gs.clearance_warn}}}};
 }
 
-// The report's own sections: the nominal design with its maps over the field, the clearance
-// against pitch, and the shifts of the samples.
-void ObstructionStudy::report_sections(const McResult& mc, const std::string& plots_dir, bool plots,
-                                       std::vector<std::string>&, std::ostringstream& h) const {
+void ObstructionStudy::nominal_design_html(std::ostringstream& h) const {
   const GeometryStudySpec& gs = geometry_sections(cfg_).geometry;
   const auto& g = *model_.geometry;
   h << "<h2>Nominal design</h2>\n<p>Yaw span " << significant(1e3 * g.yaw_span, 6) << " mm, pitch span "
@@ -201,7 +204,9 @@ void ObstructionStudy::report_sections(const McResult& mc, const std::string& pl
     h << "<p class='bad'>The nominal clearance " << significant(nominal_[4], 6) << " mm is below the warning level "
       << significant(1e3 * gs.clearance_warn, 6) << " mm.</p>\n";
   }
-  if (!plots) return;
+}
+
+std::string ObstructionStudy::field_map_data() const {
   std::ostringstream map_dat;
   map_dat << "# yaw_deg pitch_deg fraction_pct min_clearance_mm\n";
   for (std::size_t ia = 0; ia < yaw_.size(); ++ia) {
@@ -212,6 +217,10 @@ void ObstructionStudy::report_sections(const McResult& mc, const std::string& pl
     }
     map_dat << '\n';
   }
+  return map_dat.str();
+}
+
+std::string ObstructionStudy::clearance_sweep_data() const {
   // Nominal clearance against pitch at yaw 0 and at the field's yaw limit.
   std::ostringstream sweep_dat;
   sweep_dat << "# pitch_deg  ring_housing_mm barrel_housing_mm barrel_ring_mm (yaw 0) | same at yaw max\n";
@@ -223,8 +232,19 @@ void ObstructionStudy::report_sections(const McResult& mc, const std::string& pl
     }
     sweep_dat << '\n';
   }
+  return sweep_dat.str();
+}
+
+// The report's own sections: the nominal design with its maps over the field, the clearance
+// against pitch, and the shifts of the samples.
+void ObstructionStudy::report_sections(const McResult& mc, const std::string& plots_dir, bool plots,
+                                       std::vector<std::string>&, std::ostringstream& h) const {
+  nominal_design_html(h);
+  if (!plots) return;
+  const std::string map_dat = field_map_data();
+  const std::string sweep_dat = clearance_sweep_data();
   std::vector<GeometryPlot> figures;
-  figures.push_back({"map_fraction", map_dat.str(),
+  figures.push_back({"map_fraction", map_dat,
                      "set title 'Unobstructed share of the beam, nominal design [%]'\nset xlabel 'yaw [deg]'\n"
                      "set ylabel 'pitch [deg]'\n" +
                          std::string(kViridisPalette) +
@@ -233,7 +253,7 @@ void ObstructionStudy::report_sections(const McResult& mc, const std::string& pl
                          "%g deg: %.4g %% unobstructed, least clearance %.3g mm\", $1, $2, $3, $4)) with labels "
                          "hypertext point pt 7 ps 0.3 lc rgb '#ffffff' notitle\n",
                      "Unobstructed share of the beam over the field of regard (nominal)"});
-  figures.push_back({"map_clearance", map_dat.str(),
+  figures.push_back({"map_clearance", map_dat,
                      "set title 'Least clearance of the moving frames, nominal design [mm]'\nset xlabel 'yaw [deg]'\n"
                      "set ylabel 'pitch [deg]'\n" +
                          std::string(kViridisPalette) +
@@ -243,7 +263,7 @@ void ObstructionStudy::report_sections(const McResult& mc, const std::string& pl
                          "hypertext point pt 7 ps 0.3 lc rgb '#ffffff' notitle\n",
                      "Least clearance (ring-housing, barrel-housing, barrel-ring) over the field (nominal)"});
   figures.push_back(
-      {"clearance_vs_pitch", sweep_dat.str(),
+      {"clearance_vs_pitch", sweep_dat,
        "set title 'Clearance against pitch, nominal design'\nset xlabel 'pitch [deg]'\nset ylabel 'mm'\n"
        "set key outside right\n"
        "plot 'clearance_vs_pitch.dat' u 1:2 w l lw 2 t 'ring-housing, yaw 0', '' u 1:3 w l lw 2 t "
