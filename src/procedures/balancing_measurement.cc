@@ -22,13 +22,13 @@ struct BalancingWorkspace::Context {
 };
 
 namespace {
-using Context = BalancingWorkspace::Context;
+using BalancingContext = BalancingWorkspace::Context;
 constexpr int kStates = 4;  // x, x', theta, theta'
 
 // spring_plate_rhs on states scaled to O(1), so that one atol suits responses of any size.
 int scaled_rhs(double t, const double* ys, double* ydot, void* user) {
   if (user == nullptr) return -1;
-  auto* c = static_cast<Context*>(user);
+  auto* c = static_cast<BalancingContext*>(user);
   double y[kStates];
   for (std::size_t i = 0; i < kStates; ++i) y[i] = ys[i] * c->scale[i];
   const int r = models::spring_plate_rhs(t, y, ydot, &c->data);
@@ -102,7 +102,7 @@ void set_timing(const models::SpringPlateMachineParams& machine, const Balancing
 }
 
 // Scale the states by the size of the exact steady state (a floor for a zero unbalance).
-void scale_states(Context& c, const models::SpringPlateMachineParams& machine,
+void scale_states(BalancingContext& c, const models::SpringPlateMachineParams& machine,
                   const models::SpringPlateUnbalance& unbalance, double omega) {
   c.data = {machine, unbalance, omega};
   const Eigen::Vector2cd xs = models::steady_state_response(machine, unbalance, omega);
@@ -145,8 +145,8 @@ struct DemodulationSums {
   std::array<cd, 2> rev1{}, rev2{};  // [0] = previous revolution, [1] = last
 };
 
-DemodulationSums sample_and_demodulate(solvers::CvodeIntegrator& integ, const Context& c, const SampleWindow& w,
-                                       const SensorReadout& r, const SensorConfig& sensors,
+DemodulationSums sample_and_demodulate(solvers::CvodeIntegrator& integ, const BalancingContext& c,
+                                       const SampleWindow& w, const SensorReadout& r, const SensorConfig& sensors,
                                        sampling::NormalStream& normal) {
   const double t1 = w.t1, t2 = w.t2, period = w.period, dt = w.dt;
   const int spr = w.spr;
@@ -244,7 +244,7 @@ BalancingMeasurement run_balancing_measurement(const models::SpringPlateMachineP
   if (run.response == BalancingResponse::kSteadyState) {
     s = steady_state_sums(machine, unbalance, out.omega, w, readout, sensors, normal);
   } else {
-    Context& c = ws.context();
+    BalancingContext& c = ws.context();
     scale_states(c, machine, unbalance, out.omega);
     solvers::CvodeIntegrator& integ = ws.integrator();
     const std::array<double, kStates> y0{};
