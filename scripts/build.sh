@@ -6,15 +6,17 @@
 # headers its files share once; README, Two commands, gives the measured times). The default
 # builds everything, each source file compiled alone so that its own includes and warnings are
 # checked: tests, benchmarks, fuzzers and the Python module (the test command).
+# POISE_BUILD_DIR: another build folder than build/ (CI builds the first command's way there).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 target="${POISE_BUILD_TARGET:-all}"
+dir="${POISE_BUILD_DIR:-build}"
 parts=ON
 unity=OFF
 if [ "$target" = poise ]; then
   parts=OFF
   unity=ON
 fi
-cmake -S . -B build -DCMAKE_BUILD_TYPE=Release -DPOISE_BUILD_TESTS=$parts -DPOISE_BUILD_BENCH=$parts \
+cmake -S . -B "$dir" -DCMAKE_BUILD_TYPE=Release -DPOISE_BUILD_TESTS=$parts -DPOISE_BUILD_BENCH=$parts \
       -DPOISE_BUILD_PYTHON=$parts -DCMAKE_UNITY_BUILD=$unity "$@"
-cmake --build build -j"$(nproc)" --target "$target"
+cmake --build "$dir" -j"$(nproc)" --target "$target"
