@@ -9,6 +9,8 @@
 #include <mutex>
 #include <string>
 
+#include <tbb/task_arena.h>
+
 #include "core/error.h"
 
 namespace poise::geometry {
@@ -91,7 +93,13 @@ EmbreeScene::EmbreeScene(std::vector<Mesh> meshes, bool collect_all_hits)
     rtcAttachGeometryByID(scene_, g, static_cast<unsigned>(k));
     rtcReleaseGeometry(g);
   }
-  rtcCommitScene(scene_);
+  // Embree builds the BVH with oneTBB tasks; here in an arena of this thread alone, so that no
+  // other thread (one of the run's, waiting in its own parallel loop) runs one of them: oneTBB
+  // 2021.8 read the build's task_group_context after Embree had freed it (ThreadSanitizer, twice,
+  // Sensitivity.GeometryStudyThicknessDrivesTheDiskMass). A run's threads build their scenes side
+  // by side; each BVH build is then serial.
+  tbb::task_arena own_arena(1);
+  own_arena.execute([this] { rtcCommitScene(scene_); });
   check(dev, "building the scene");
 }
 
