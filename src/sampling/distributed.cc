@@ -15,6 +15,8 @@ namespace poise::sampling {
 namespace {
 bool g_mpi = false;
 int g_rank = 0, g_size = 1, g_local = 1;
+// The tag of the messages send_to_root sends and receive_each takes on rank 0.
+constexpr int kRootMessageTag = 19;
 
 // Where each rank's bytes start in the concatenation of all, and their total.
 int offsets_of(const std::vector<int>& sizes, std::vector<int>& offsets) {
@@ -127,16 +129,15 @@ std::vector<std::string> Cluster::all_gather(const std::string& local) {
 void Cluster::receive_each([[maybe_unused]] const std::function<void(int, std::string_view)>& take) {
 #ifdef POISE_WITH_MPI
   if (g_size == 1 || g_rank != 0) return;
-  constexpr int kTag = 19;  // as send_to_root
   std::string buffer;
   for (int q = 1; q < g_size; ++q) {
     long long count = 0;
-    MPI_Recv(&count, 1, MPI_LONG_LONG, q, kTag, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+    MPI_Recv(&count, 1, MPI_LONG_LONG, q, kRootMessageTag, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
     for (long long m = 0; m < count; ++m) {
       long long n = 0;
-      MPI_Recv(&n, 1, MPI_LONG_LONG, q, kTag, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+      MPI_Recv(&n, 1, MPI_LONG_LONG, q, kRootMessageTag, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
       buffer.resize(static_cast<std::size_t>(n));
-      MPI_Recv(buffer.data(), static_cast<int>(n), MPI_CHAR, q, kTag, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+      MPI_Recv(buffer.data(), static_cast<int>(n), MPI_CHAR, q, kRootMessageTag, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
       take(q, buffer);
     }
   }
@@ -164,17 +165,16 @@ void Cluster::send_to_root([[maybe_unused]] std::vector<std::string> messages, [
 #ifdef POISE_WITH_MPI
   if (g_size == 1 || g_rank == 0) return;
   wait(pending);
-  constexpr int kTag = 19;  // as receive_each: rank 0 receives them there, in the order sent
   PendingSends::Impl& p = *pending.impl_;
   p.messages = std::move(messages);
   p.header.assign(1, static_cast<long long>(p.messages.size()));
   for (const std::string& m : p.messages) p.header.push_back(static_cast<long long>(m.size()));
   p.requests.assign(1 + 2 * p.messages.size(), MPI_REQUEST_NULL);
-  MPI_Isend(p.header.data(), 1, MPI_LONG_LONG, 0, kTag, MPI_COMM_WORLD, &p.requests[0]);
+  MPI_Isend(p.header.data(), 1, MPI_LONG_LONG, 0, kRootMessageTag, MPI_COMM_WORLD, &p.requests[0]);
   for (std::size_t k = 0; k < p.messages.size(); ++k) {
-    MPI_Isend(&p.header[k + 1], 1, MPI_LONG_LONG, 0, kTag, MPI_COMM_WORLD, &p.requests[1 + 2 * k]);
-    MPI_Isend(p.messages[k].data(), static_cast<int>(p.messages[k].size()), MPI_CHAR, 0, kTag, MPI_COMM_WORLD,
-              &p.requests[2 + 2 * k]);
+    MPI_Isend(&p.header[k + 1], 1, MPI_LONG_LONG, 0, kRootMessageTag, MPI_COMM_WORLD, &p.requests[1 + 2 * k]);
+    MPI_Isend(p.messages[k].data(), static_cast<int>(p.messages[k].size()), MPI_CHAR, 0, kRootMessageTag,
+              MPI_COMM_WORLD, &p.requests[2 + 2 * k]);
   }
 #endif
 }

@@ -200,15 +200,15 @@ void add_sweeps_and_contributions(json& s, const StudyConfig& cfg, const Procedu
 
 // The samples a resumed run has in its samples.csv (none for a new run).
 std::vector<SampleResult> resumed_samples(const StudyConfig& cfg, const ProcedureStudy& study, const RunPlan& plan,
-                                          const RunOptions& options, const std::string& header) {
+                                          const RunOptions& options, const std::string& csv_path,
+                                          const std::string& header) {
   if (options.resume.empty()) return {};
   if (!cfg.samples_csv) {
     throw UsageError("--resume: " + plan.dir + " was run with [output] samples_csv = false (" + cfg.file +
                      "): without samples.csv there is nothing to resume from; run it again, or keep samples.csv");
   }
   std::vector<SampleResult> done =
-      read_done_samples((fs::path(plan.dir) / "samples.csv").string(), header, study.input_names().size(),
-                        study.output_names().size(), study.has_solver());
+      read_done_samples(csv_path, header, study.input_names().size(), study.output_names().size(), study.has_solver());
   if (options.progress && sampling::Cluster::root()) {
     diagnostics::progress("  resuming: " + std::to_string(done.size()) + " of " + std::to_string(plan.samples) +
                           " samples already done");
@@ -235,7 +235,7 @@ std::string run_procedure_study(const StudyConfig& cfg_in, const StudyFactory& m
   announce_run(cfg, plan, until, options.progress);
   const std::string header = csv_header(study);
   const std::string csv_path = (fs::path(plan.dir) / "samples.csv").string();
-  const std::vector<SampleResult> done = resumed_samples(cfg, study, plan, options, header);
+  const std::vector<SampleResult> done = resumed_samples(cfg, study, plan, options, csv_path, header);
   CheckedFile csv = cfg.samples_csv ? open_samples_csv(plan, header, !options.resume.empty()) : CheckedFile{};
   sampling::InterruptGuard interrupts;
   auto rule = std::make_shared<StopRule>(study.output_names(), n, cfg.max_failure_share, until, cfg.replicate_size,
