@@ -17,9 +17,10 @@
   Cost per sample  Poise's CPU per sample at 16384 over that at each larger scale, whole
                    and lean (1 = flat).                                 Target >= 0.83.
   Gimbal           poise_gimbal_bench BM_Measurement36By (36-point measurement, CPU time) by
-                   formulation and tolerance, each with its torque error against the tight
-                   value, against gimbal_scipy.py (LSODA) at the loosest rtol whose error is
-                   within 1e-4 of the load.                             Target >= 50x.
+                   formulation and tolerance, each with its worst torque error over 4 rotors
+                   x 3 noise seeds against their tight values, against gimbal_scipy.py (LSODA)
+                   at the loosest rtol whose error (one rotor) is within 1e-4 of the load.
+                                                                        Target >= 50x.
 The load average is printed beside the figures: on a loaded machine CPU times still grow
 (shared caches, frequency), so compare runs at similar load.
 
@@ -212,9 +213,11 @@ def main():
     rows = []  # (formulation, loose, max_order, ms, err)
     for name, bm in g.items():
         m = re.search(r"quasi_static:(\d)/loose:(\d+)/max_order:(\d)", name)
+        # The worst over the bench's accuracy sweep (4 rotors x 3 noise seeds), not one lucky case.
         rows.append((int(m.group(1)), int(m.group(2)), int(m.group(3)), cpu_seconds(bm) * 1e3,
-                     bm.get("tol_torque_rel", float("nan"))))
-        print(f"gimbal {name}: {rows[-1][3]:.1f} ms CPU, |dMT_s|/load {rows[-1][4]:.1e}")
+                     bm.get("worst_torque_rel", float("nan"))))
+        print(f"gimbal {name}: {rows[-1][3]:.1f} ms CPU, |dMT_s|/load {rows[-1][4]:.1e} (worst of 12 cases; "
+              f"this rotor {bm.get('tol_torque_rel', float('nan')):.1e})")
         doc["gimbal_poise"].append({"name": name, "quasi_static": bool(rows[-1][0]), "loose": rows[-1][1],
                                     "max_order": rows[-1][2], "cpu_ms": finite(rows[-1][3]),
                                     "torque_error_rel": finite(rows[-1][4])})
