@@ -66,6 +66,36 @@ TEST(BalancedRootShare, GivesRankZeroAsMuchWorkAsEachOtherRank) {
   }
 }
 
+TEST(BalancedRootShare, CountsTheWritingOfTheRoundBeforeBesideThisOnesComputing) {
+  // Rank 0 writes the round before (M samples) while computing its share of this one (N): with
+  // M = N / 2 it writes half as much beside the same computing, so its share grows.
+  const double compute = 0.3, sink = 0.1, other = 0.35;
+  for (const double ratio : {0.5, 1.0, 4.0 / 3.0}) {
+    const double share = detail::balanced_root_share(compute, sink, other, 2, ratio);
+    EXPECT_NEAR(share * compute + ratio * sink, (1.0 - share) * other, 1e-12) << ratio;
+  }
+  EXPECT_GT(detail::balanced_root_share(compute, sink, other, 2, 0.5),
+            detail::balanced_root_share(compute, sink, other, 2, 1.0));
+  EXPECT_EQ(detail::balanced_root_share(compute, sink, other, 2, 4.0), 0.0);  // writing alone is longer
+}
+
+TEST(ChunksPerRank, ShortFirstRoundsThenAQuarterOfWhatIsLeftAtMostTheCap) {
+  EXPECT_EQ(detail::chunks_per_rank(0, 1000, 2), 1u);  // before any timing
+  EXPECT_EQ(detail::chunks_per_rank(1, 1000, 2), 1u);
+  EXPECT_EQ(detail::chunks_per_rank(2, 1000, 2), detail::kChunksPerRankInARound);
+  EXPECT_EQ(detail::chunks_per_rank(5, 80, 2), 10u);  // 80 / (4 x 2)
+  EXPECT_EQ(detail::chunks_per_rank(5, 3, 2), 1u);    // never none
+  // Towards the end each round is about 3/4 of the one before.
+  std::size_t left = 400, before = 0;
+  for (std::size_t r = 2; left > 0; ++r) {
+    const std::size_t n = std::min(left, 2 * detail::chunks_per_rank(r, left, 2));
+    if (before > 0 && n > 8) {
+      EXPECT_GE(static_cast<double>(n), 0.7 * static_cast<double>(before)) << left;
+    }
+    before = n, left -= n;
+  }
+}
+
 // One process: every sample sunk once, in order, chunk by chunk with that chunk's prepared
 // bytes; a stop at the first chunk boundary past 45 samples.
 std::vector<std::string> drive(int threads, std::size_t* completed) {

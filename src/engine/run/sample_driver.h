@@ -101,19 +101,34 @@ inline std::vector<Portion> round_portions(std::size_t base, std::size_t total, 
 }
 
 /// Rank 0's share of a round's chunks that gives it as much work as each other rank: rank 0
-/// computes (and formats) a sample in `root_compute` seconds and also takes `root_sink` for
-/// every sample of the round (receiving, writing); the other ranks take `other_compute` per
-/// sample they compute (computing, formatting, encoding). With R ranks and N samples, rank 0's
-/// n0 c0 + N s equals each other rank's (N - n0) / (R - 1) c: n0 / N = (c / (R - 1) - s) /
-/// (c0 + c / (R - 1)); none when s >= c / (R - 1). Even shares until both are measured.
-inline double balanced_root_share(double root_compute, double root_sink, double other_compute, int ranks) {
+/// computes (and formats) a sample in `root_compute` seconds and, meanwhile, takes `root_sink`
+/// for every sample of the round before (receiving, writing), `sunk_per_computed` of them per
+/// sample of this round; the other ranks take `other_compute` per sample they compute
+/// (computing, formatting, encoding). With R ranks, N samples and M = N x sunk_per_computed
+/// sunk, rank 0's n0 c0 + M s equals each other rank's (N - n0) / (R - 1) c: n0 / N =
+/// (c / (R - 1) - s M / N) / (c0 + c / (R - 1)); none when that is negative. Even shares until
+/// both are measured.
+inline double balanced_root_share(double root_compute, double root_sink, double other_compute, int ranks,
+                                  double sunk_per_computed = 1.0) {
   if (!(root_compute > 0.0) || !(other_compute > 0.0)) return 1.0 / ranks;
   const double other = other_compute / (ranks - 1);
-  return std::clamp((other - root_sink) / (root_compute + other), 0.0, 1.0);
+  return std::clamp((other - root_sink * sunk_per_computed) / (root_compute + other), 0.0, 1.0);
 }
 
-/// Chunks per rank in a round of an MPI run: enough to balance rank 0's share finely.
-inline constexpr std::size_t kChunksPerRankInARound = 4;
+/// Chunks per rank in a round of an MPI run. The first rounds run before the timings balance
+/// rank 0's share, and the last round's writing on rank 0 has nothing beside it on the other
+/// ranks, so both are short: one chunk per rank for the first two, then a quarter of the chunks
+/// left (spread over the ranks), at most kChunksPerRankInARound, so that the few blocking
+/// exchanges of a round (its end, the timings) stay rare in a long run. Towards the end each
+/// round is 3/4 of the one before: rank 0 writes the one before while the others compute it,
+/// which balances while writing a sample takes no more than 3/4 of computing one.
+inline constexpr std::size_t kChunksPerRankInARound = 16;
+inline constexpr std::size_t kShortFirstRounds = 2;
+inline std::size_t chunks_per_rank(std::size_t round, std::size_t chunks_left, int ranks) {
+  if (round < kShortFirstRounds) return 1;
+  const std::size_t quarter = chunks_left / (4 * static_cast<std::size_t>(std::max(ranks, 1)));
+  return std::clamp<std::size_t>(quarter, 1, kChunksPerRankInARound);
+}
 
 }  // namespace detail
 
@@ -244,46 +259,42 @@ class SampleDriver {
     return out_;
   }
 
-  // Several ranks: rounds of a few chunks per rank, each rank computing its portion. Rank 0
-  // sinks a round's portions in rank order, its own first, then the others' as they arrive,
-  // chunk by chunk (one chunk of another rank's in memory at a time); meanwhile the other ranks,
-  // their portions sent, compute their portions of the next round, so rank 0's writing overlaps
-  // their computing. Rank 0's decision on a round (stop, a signal) reaches them as they finish
-  // the next one, which is then dropped. Every rank times its work, and from the ranks' timings
-  // rank 0's share of the round after next balances its work with the others'
+  // Several ranks: rounds of chunks (detail::chunks_per_rank), each rank computing its portion.
+  // Between two exchanges every rank works on the same two rounds: rank 0 sinks a round's
+  // portions in rank order, its own first, then the others' as they arrive, chunk by chunk (one
+  // chunk of another rank's in memory at a time), and computes its portion of the following
+  // round; the other ranks send their portions of the round and compute theirs of the following
+  // one. So rank 0's writing overlaps their computing, also when rounds change in size. Rank 0's
+  // decision on a round (stop, a signal) reaches them as they finish the following one, which
+  // is then dropped. Every rank times its work, and from the ranks' timings rank 0's share of
+  // the round after the following one balances its work with the others'
   // (detail::balanced_root_share); the samples are the same whoever computes them.
   DriveOutcome run_distributed() {
     using Clock = std::chrono::steady_clock;
     const auto seconds = [](Clock::duration d) { return std::chrono::duration<double>(d).count(); };
     const auto me = static_cast<std::size_t>(sampling::Cluster::rank());
     Timing timing;
-    double next_share = 1.0 / ranks_;  // of the round after the one in hand
-    std::vector<detail::Portion> round = next_round(spec_.first, 1.0 / ranks_);
+    std::vector<detail::Portion> round = next_round(spec_.first, timing, 0);
     Computed mine, ahead;
     sampling::PendingSends sending;
-    const Clock::time_point t0 = Clock::now();
-    compute_portion(round[me], mine);
-    timing.add_compute(seconds(Clock::now() - t0), round[me].n);
+    compute_portion(round[me], mine);  // not timed: it includes the workspaces' start
     while (!round.empty()) {
       const std::size_t end_of_round = round.back().start + round.back().n;
-      std::vector<detail::Portion> following = next_round(end_of_round, next_share);
+      std::vector<detail::Portion> following = next_round(end_of_round, timing, end_of_round - round.front().start);
+      const Clock::time_point t1 = Clock::now();
       if (root_) {
         timing.add_sink(sink_round(round, mine), end_of_round - round.front().start);
       } else {
-        const Clock::time_point t1 = Clock::now();
         sampling::Cluster::send_to_root(encode_portion(round[me], mine), sending);
-        if (!following.empty()) compute_portion(following[me], ahead);
-        timing.add_compute(seconds(Clock::now() - t1), following.empty() ? 0 : following[me].n);
       }
-      // Rank 0's decision on this round, and its share of the round after the following one.
+      const Clock::time_point t2 = Clock::now();
+      if (!following.empty()) compute_portion(following[me], ahead);
+      const double computing = seconds(Clock::now() - (root_ ? t2 : t1));  // the others' includes sending
+      if (!following.empty()) timing.add_compute(computing, following[me].n);
+      // Rank 0's decision on this round, and the timings for the share of the round after the following one.
       const bool end = round_ends();
-      next_share = timing.balanced_share(ranks_);
+      timing.exchange(ranks_);
       if (end) break;
-      if (root_ && !following.empty()) {
-        const Clock::time_point t2 = Clock::now();
-        compute_portion(following[me], ahead);
-        timing.add_compute(seconds(Clock::now() - t2), following[me].n);
-      }
       sampling::Cluster::wait(sending);  // the round's messages are rank 0's: their buffers free
       std::swap(mine, ahead);
       round = std::move(following);
@@ -292,11 +303,17 @@ class SampleDriver {
     return out_;
   }
 
-  // A rank's busy seconds so far: computing (with formatting and, on the other ranks, encoding
-  // and sending) and, on rank 0, sinking; and their samples.
+  // A rank's busy seconds since the last exchange: computing (with formatting and, on the other
+  // ranks, encoding and sending) and, on rank 0, sinking; and their samples. exchange() shares
+  // every rank's figures per sample (the same on every rank, so the same share everywhere): the
+  // last round's, so that the share follows a cost that changes along the run (the rounds are
+  // long enough to time), else the ones before.
   struct Timing {
     double compute_s = 0.0, sink_s = 0.0;
     std::size_t computed = 0, sunk = 0;
+    double root_compute = 0.0, root_sink = 0.0, others = 0.0;  // per sample, as last exchanged
+    double my_compute = 0.0, my_sink = 0.0;                    // this rank's, as last sent
+    bool exchanged = false;
     void add_compute(double s, std::size_t n) {
       compute_s += s;
       computed += n;
@@ -305,34 +322,49 @@ class SampleDriver {
       sink_s += s;
       sunk += n;
     }
-    static double per_sample(double s, std::size_t n) { return n > 0 ? s / static_cast<double>(n) : 0.0; }
-    // Rank 0's share from every rank's timings (exchanged: the same figures, so the same share,
-    // on every rank).
-    double balanced_share(int ranks) const {
+    static double per_sample(double s, std::size_t n, double before) {
+      return n > 0 ? s / static_cast<double>(n) : before;
+    }
+    void exchange(int ranks) {
+      my_compute = per_sample(compute_s, computed, my_compute);
+      my_sink = per_sample(sink_s, sunk, my_sink);
+      compute_s = sink_s = 0.0;
+      computed = sunk = 0;
       ByteWriter w;
-      w.put(per_sample(compute_s, computed));
-      w.put(per_sample(sink_s, sunk));
+      w.put(my_compute);
+      w.put(my_sink);
       const std::vector<std::string> all = sampling::Cluster::all_gather(w.bytes());
-      double others = 0.0;
+      others = 0.0;
+      bool measured = ranks > 1;
       for (std::size_t q = 1; q < all.size(); ++q) {
         ByteReader rd(all[q]);
         const double c = rd.get<double>();
-        if (!(c > 0.0)) return 1.0 / ranks;  // not measured yet
+        measured = measured && c > 0.0;
         others += c / static_cast<double>(all.size() - 1);
       }
       ByteReader root(all[0]);
-      const double root_compute = root.get<double>();
-      const double root_sink = root.get<double>();
-      return detail::balanced_root_share(root_compute, root_sink, others, ranks);
+      root_compute = root.get<double>();
+      root_sink = root.get<double>();
+      exchanged = measured;  // else even shares until every rank has computed
+    }
+    // Rank 0's share of a round of `computed_n` samples computed beside `sunk_n` sunk.
+    double share(int ranks, std::size_t sunk_n, std::size_t computed_n) const {
+      if (!exchanged || computed_n == 0) return 1.0 / ranks;
+      return detail::balanced_root_share(root_compute, root_sink, others, ranks,
+                                         static_cast<double>(sunk_n) / static_cast<double>(computed_n));
     }
   };
 
-  // The portions of the round from `base` (none past the end).
-  std::vector<detail::Portion> next_round(std::size_t base, double root_share) const {
+  // The portions of the round from `base` (none past the end), computed beside the sinking of
+  // `sunk_n` samples on rank 0.
+  std::vector<detail::Portion> next_round(std::size_t base, const Timing& timing, std::size_t sunk_n) {
     if (base >= spec_.total) return {};
     const std::size_t chunks_left = (spec_.total - base + chunk_ - 1) / chunk_;
-    const std::size_t chunks = std::min(detail::kChunksPerRankInARound * static_cast<std::size_t>(ranks_), chunks_left);
-    return detail::round_portions(base, spec_.total, chunk_, chunks, ranks_, root_share);
+    const std::size_t chunks =
+        std::min(detail::chunks_per_rank(rounds_planned_++, chunks_left, ranks_) * static_cast<std::size_t>(ranks_),
+                 chunks_left);
+    const std::size_t n = std::min(spec_.total - base, chunks * chunk_);
+    return detail::round_portions(base, spec_.total, chunk_, chunks, ranks_, timing.share(ranks_, sunk_n, n));
   }
 
   void compute_portion(const detail::Portion& p, Computed& into) {
@@ -354,18 +386,16 @@ class SampleDriver {
   }
 
   // Rank 0: the round's portions sunk in order, its own as computed, the others' as received.
-  // Returns the seconds it was busy (decoding and sinking; not waiting for a message).
+  // Returns the seconds it took, receiving included (the others sent their portions before
+  // computing on, so it is rank 0's work, not waiting).
   double sink_round(const std::vector<detail::Portion>& round, const Computed& own) {
     using Clock = std::chrono::steady_clock;
-    double busy = 0.0;
-    Clock::time_point t0 = Clock::now();
+    const Clock::time_point t0 = Clock::now();
     take(round[0].start, std::span<const Result>(own.results.data(), round[0].n), own.prepared);
-    busy += std::chrono::duration<double>(Clock::now() - t0).count();
     std::vector<std::size_t> next_of(round.size());  // the next chunk's first sample, per rank
     for (std::size_t q = 0; q < round.size(); ++q) next_of[q] = round[q].start;
     Computed theirs;
     sampling::Cluster::receive_each([&](int q, std::string_view bytes) {
-      t0 = Clock::now();
       ByteReader rd(bytes);
       theirs.results.resize(rd.get<std::size_t>());
       for (auto& r : theirs.results) decode_(rd, r);
@@ -374,9 +404,8 @@ class SampleDriver {
       std::size_t& at = next_of[static_cast<std::size_t>(q)];
       take(at, theirs.results, theirs.prepared);
       at += theirs.results.size();
-      busy += std::chrono::duration<double>(Clock::now() - t0).count();
     });
-    return busy;
+    return std::chrono::duration<double>(Clock::now() - t0).count();
   }
 
   const DriveSpec spec_;
@@ -395,6 +424,7 @@ class SampleDriver {
   const std::size_t inject_;
   DriveOutcome out_;
   bool stop_now_ = false;
+  std::size_t rounds_planned_ = 0;  ///< rounds of an MPI run planned so far (next_round)
 };
 
 /// Runs samples [spec.first, spec.total) through a SampleDriver (see there for the callables).
