@@ -83,7 +83,7 @@ TEST(ChunksPerRank, ShortFirstRoundsThenAQuarterOfWhatIsLeftAtMostTheCap) {
   EXPECT_EQ(detail::chunks_per_rank(0, 1000, 2), 1u);  // before any timing
   EXPECT_EQ(detail::chunks_per_rank(1, 1000, 2), 1u);
   EXPECT_EQ(detail::chunks_per_rank(2, 1000, 2), detail::kChunksPerRankInARound);
-  EXPECT_EQ(detail::chunks_per_rank(5, 80, 2), 10u);  // 80 / (4 x 2)
+  EXPECT_EQ(detail::chunks_per_rank(5, 48, 2), 6u);  // 48 / (4 x 2)
   EXPECT_EQ(detail::chunks_per_rank(5, 3, 2), 1u);    // never none
   // Towards the end each round is about 3/4 of the one before.
   std::size_t left = 400, before = 0;

@@ -122,7 +122,7 @@ inline double balanced_root_share(double root_compute, double root_sink, double 
 /// exchanges of a round (its end, the timings) stay rare in a long run. Towards the end each
 /// round is 3/4 of the one before: rank 0 writes the one before while the others compute it,
 /// which balances while writing a sample takes no more than 3/4 of computing one.
-inline constexpr std::size_t kChunksPerRankInARound = 16;
+inline constexpr std::size_t kChunksPerRankInARound = 8;
 inline constexpr std::size_t kShortFirstRounds = 2;
 inline std::size_t chunks_per_rank(std::size_t round, std::size_t chunks_left, int ranks) {
   if (round < kShortFirstRounds) return 1;
@@ -303,33 +303,32 @@ class SampleDriver {
     return out_;
   }
 
-  // A rank's busy seconds since the last exchange: computing (with formatting and, on the other
-  // ranks, encoding and sending) and, on rank 0, sinking; and their samples. exchange() shares
-  // every rank's figures per sample (the same on every rank, so the same share everywhere): the
-  // last round's, so that the share follows a cost that changes along the run (the rounds are
-  // long enough to time), else the ones before.
+  // A rank's busy seconds: computing (with formatting and, on the other ranks, encoding and
+  // sending) and, on rank 0, sinking; and their samples, each round's weighing half as much at
+  // every exchange, so that the share follows a cost that changes along the run yet a round
+  // with a lumpy cost (samples.h5 compresses a whole chunk of rows at once) does not swing it.
+  // exchange() shares every rank's figures per sample (the same on every rank, so the same
+  // share everywhere).
   struct Timing {
     double compute_s = 0.0, sink_s = 0.0;
-    std::size_t computed = 0, sunk = 0;
+    double computed = 0.0, sunk = 0.0;                         // samples (weighted as the seconds)
     double root_compute = 0.0, root_sink = 0.0, others = 0.0;  // per sample, as last exchanged
     double my_compute = 0.0, my_sink = 0.0;                    // this rank's, as last sent
     bool exchanged = false;
     void add_compute(double s, std::size_t n) {
       compute_s += s;
-      computed += n;
+      computed += static_cast<double>(n);
     }
     void add_sink(double s, std::size_t n) {
       sink_s += s;
-      sunk += n;
+      sunk += static_cast<double>(n);
     }
-    static double per_sample(double s, std::size_t n, double before) {
-      return n > 0 ? s / static_cast<double>(n) : before;
-    }
+    static double per_sample(double s, double n, double before) { return n > 0.0 ? s / n : before; }
     void exchange(int ranks) {
       my_compute = per_sample(compute_s, computed, my_compute);
       my_sink = per_sample(sink_s, sunk, my_sink);
-      compute_s = sink_s = 0.0;
-      computed = sunk = 0;
+      compute_s *= 0.5, sink_s *= 0.5;
+      computed *= 0.5, sunk *= 0.5;
       ByteWriter w;
       w.put(my_compute);
       w.put(my_sink);
