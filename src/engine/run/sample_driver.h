@@ -346,11 +346,14 @@ class SampleDriver {
       root_sink = root.get<double>();
       exchanged = measured;  // else even shares until every rank has computed
     }
-    // Rank 0's share of a round of `computed_n` samples computed beside `sunk_n` sunk.
+    // Rank 0's share of a round of `computed_n` samples computed beside `sunk_n` sunk; never more
+    // than an even one, so that rank 0's memory (its portions) does not grow with the rank count
+    // when the others are slower (several ranks on a core).
     double share(int ranks, std::size_t sunk_n, std::size_t computed_n) const {
       if (!exchanged || computed_n == 0) return 1.0 / ranks;
-      return detail::balanced_root_share(root_compute, root_sink, others, ranks,
-                                         static_cast<double>(sunk_n) / static_cast<double>(computed_n));
+      return std::min(1.0 / ranks,
+                      detail::balanced_root_share(root_compute, root_sink, others, ranks,
+                                                  static_cast<double>(sunk_n) / static_cast<double>(computed_n)));
     }
   };
 
