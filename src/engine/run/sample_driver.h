@@ -274,16 +274,18 @@ class SampleDriver {
     const auto seconds = [](Clock::duration d) { return std::chrono::duration<double>(d).count(); };
     const auto me = static_cast<std::size_t>(sampling::Cluster::rank());
     Timing timing;
-    std::vector<detail::Portion> round = next_round(spec_.first, timing, 0);
+    std::size_t round_index = 0;
+    std::vector<detail::Portion> round = next_round(spec_.first, round_index++, timing, 0);
     Computed mine, ahead;
     sampling::PendingSends sending;
     compute_portion(round[me], mine);  // not timed: it includes the workspaces' start
     while (!round.empty()) {
       const std::size_t end_of_round = round.back().start + round.back().n;
-      std::vector<detail::Portion> following = next_round(end_of_round, timing, end_of_round - round.front().start);
+      const std::size_t round_n = end_of_round - round.front().start;
+      std::vector<detail::Portion> following = next_round(end_of_round, round_index++, timing, round_n);
       const Clock::time_point t1 = Clock::now();
       if (root_) {
-        timing.add_sink(sink_round(round, mine), end_of_round - round.front().start);
+        timing.add_sink(sink_round(round, mine), round_n);
       } else {
         sampling::Cluster::send_to_root(encode_portion(round[me], mine), sending);
       }
@@ -357,14 +359,14 @@ class SampleDriver {
     }
   };
 
-  // The portions of the round from `base` (none past the end), computed beside the sinking of
-  // `sunk_n` samples on rank 0.
-  std::vector<detail::Portion> next_round(std::size_t base, const Timing& timing, std::size_t sunk_n) {
+  // The portions of the `index`-th round (from 0), from `base` (none past the end), computed
+  // beside the sinking of `sunk_n` samples on rank 0.
+  std::vector<detail::Portion> next_round(std::size_t base, std::size_t index, const Timing& timing,
+                                          std::size_t sunk_n) const {
     if (base >= spec_.total) return {};
     const std::size_t chunks_left = (spec_.total - base + chunk_ - 1) / chunk_;
     const std::size_t chunks =
-        std::min(detail::chunks_per_rank(rounds_planned_++, chunks_left, ranks_) * static_cast<std::size_t>(ranks_),
-                 chunks_left);
+        std::min(detail::chunks_per_rank(index, chunks_left, ranks_) * static_cast<std::size_t>(ranks_), chunks_left);
     const std::size_t n = std::min(spec_.total - base, chunks * chunk_);
     return detail::round_portions(base, spec_.total, chunk_, chunks, ranks_, timing.share(ranks_, sunk_n, n));
   }
@@ -426,7 +428,6 @@ class SampleDriver {
   const std::size_t inject_;
   DriveOutcome out_;
   bool stop_now_ = false;
-  std::size_t rounds_planned_ = 0;  ///< rounds of an MPI run planned so far (next_round)
 };
 
 /// Runs samples [spec.first, spec.total) through a SampleDriver (see there for the callables).
