@@ -15,6 +15,10 @@ namespace poise::sampling {
 namespace {
 bool g_mpi = false;
 int g_rank = 0, g_size = 1, g_local = 1;
+std::size_t g_counters_used = 0;  // SharedCounters made so far (the same on every rank)
+#ifdef POISE_WITH_MPI
+MPI_Win g_counters = MPI_WIN_NULL;  // kSharedCounters counts at rank 0, several ranks only
+#endif
 // The tag of the messages send_to_root sends and receive_each takes on rank 0.
 constexpr int kRootMessageTag = 19;
 
@@ -75,6 +79,14 @@ void Cluster::init([[maybe_unused]] int* argc, [[maybe_unused]] char*** argv) {
   } else {
     g_local = env_int("OMPI_COMM_WORLD_LOCAL_SIZE", g_size);
   }
+  if (g_size > 1) {  // SharedCounter's counts, all 0, open to every rank until finalize
+    long long* counts = nullptr;
+    const MPI_Aint bytes = g_rank == 0 ? static_cast<MPI_Aint>(kSharedCounters * sizeof(long long)) : 0;
+    MPI_Win_allocate(bytes, sizeof(long long), MPI_INFO_NULL, MPI_COMM_WORLD, &counts, &g_counters);
+    if (g_rank == 0) std::fill(counts, counts + kSharedCounters, 0LL);
+    MPI_Barrier(MPI_COMM_WORLD);
+    MPI_Win_lock_all(0, g_counters);
+  }
 #else
   if (env_int("OMPI_COMM_WORLD_SIZE", 1) > 1) {
     throw std::runtime_error(
@@ -86,6 +98,10 @@ void Cluster::init([[maybe_unused]] int* argc, [[maybe_unused]] char*** argv) {
 
 void Cluster::finalize() {
 #ifdef POISE_WITH_MPI
+  if (g_counters != MPI_WIN_NULL) {
+    MPI_Win_unlock_all(g_counters);
+    MPI_Win_free(&g_counters);
+  }
   if (g_mpi) MPI_Finalize();
   g_mpi = false;
 #endif
@@ -251,6 +267,29 @@ std::string Cluster::broadcast(const std::string& value) {
 #else
   return value;
 #endif
+}
+
+SharedCounter::SharedCounter() : session_(g_counters_used++), next_(0), step_(1) {
+#ifdef POISE_WITH_MPI
+  if (g_counters != MPI_WIN_NULL && session_ < kSharedCounters) return;
+#endif
+  next_ = static_cast<std::size_t>(g_rank);  // no window, or every counter used: every size-th number
+  step_ = static_cast<std::size_t>(g_size);
+}
+
+std::size_t SharedCounter::next() {
+#ifdef POISE_WITH_MPI
+  if (g_counters != MPI_WIN_NULL && session_ < kSharedCounters) {
+    const long long one = 1;
+    long long before = 0;
+    MPI_Fetch_and_op(&one, &before, MPI_LONG_LONG, 0, static_cast<MPI_Aint>(session_), MPI_SUM, g_counters);
+    MPI_Win_flush(0, g_counters);
+    return static_cast<std::size_t>(before);
+  }
+#endif
+  const std::size_t n = next_;
+  next_ += step_;
+  return n;
 }
 
 }  // namespace poise::sampling

@@ -7,6 +7,7 @@
 /// too many failures, a signal), which all ranks then share. Every sample depends only on
 /// (seed, index), so the samples and statistics equal a one-process run's. Without MPI, or
 /// when not started by mpirun, there is one rank and every call is trivial.
+#include <cstddef>
 #include <functional>
 #include <memory>
 #include <string>
@@ -28,6 +29,23 @@ class PendingSends {
   friend class Cluster;
   struct Impl;
   std::unique_ptr<Impl> impl_;
+};
+
+/// A count every rank draws from: next() hands out 0, 1, 2, ... each number to one rank,
+/// whichever asks first, without the others taking part (MPI's passive-target fetch-and-add on
+/// a window Cluster::init makes at rank 0; through shared memory on one machine; across
+/// machines a draw may wait until rank 0 next calls MPI). Every rank makes the same sequence of
+/// SharedCounters (the n-th one on each rank is the same count) and is not made to wait by
+/// making one. Each draws until it gets a number past what it needs. Past kSharedCounters
+/// counts in a process, or without MPI: rank r gets r, r + size, r + 2 size, ...
+inline constexpr std::size_t kSharedCounters = 64;
+class SharedCounter {
+ public:
+  SharedCounter();
+  std::size_t next();
+
+ private:
+  std::size_t session_, next_, step_;
 };
 
 class Cluster {

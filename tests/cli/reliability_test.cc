@@ -609,12 +609,35 @@ TEST(Mpi, TwoRanksGiveTheSamplesAndStatisticsOfOneProcess) {
 #endif
 }
 
+TEST(Mpi, AnOutFolderHoldingARunIsRefusedOnEveryRank) {
+#if !defined(POISE_MPIEXEC) || !defined(POISE_BUILT_WITH_MPI)
+  GTEST_SKIP() << "needs mpirun and poise built with MPI (see TwoRanksGiveTheSamplesAndStatisticsOfOneProcess)";
+#else
+  // Rank 0 makes the run's folder: its refusal is every rank's, and no rank waits for the run
+  // (it hung until killed). `timeout` ends a hang here as a failure, not a stuck test.
+  TempDir d;
+  const std::string study = seeker_study(d);
+  auto first = poise::test::run_poise(d, "run '" + study + "' --samples 64 -q --no-plots --out '" + d.file("r") + "'");
+  ASSERT_EQ(first.status, 0) << first.err;
+  const std::string mpi = kMpiRootEnv + std::string("timeout 120 '") + POISE_MPIEXEC +
+                          "' --allow-run-as-root --oversubscribe -np 2 '" + POISE_BINARY + "' run '" + study +
+                          "' --samples 64 -q --no-plots --threads 1 --out '" + d.file("r") + "' >'" +
+                          d.file("mpi_out.txt") + "' 2>&1";
+  const int raw = std::system(mpi.c_str());
+  const std::string out = poise::test::read_text(d.file("mpi_out.txt"));
+  ASSERT_TRUE(WIFEXITED(raw)) << out;
+  EXPECT_EQ(WEXITSTATUS(raw), 2) << out;  // 124: timeout killed a hang
+  EXPECT_NE(out.find("already holds a run"), std::string::npos) << out;
+#endif
+}
+
 TEST(Mpi, SweepsAndContributionsSpreadOverRanksGiveOneProcessesTables) {
 #if !defined(POISE_MPIEXEC) || !defined(POISE_BUILT_WITH_MPI)
   GTEST_SKIP() << "needs mpirun and poise built with MPI (see TwoRanksGiveTheSamplesAndStatisticsOfOneProcess)";
 #else
-  // Each sweep value and each contribution run is a whole run made on one rank: three ranks
-  // for five sweep runs and the contribution runs leave some ranks one run more than others.
+  // Each sweep value and each contribution run is a whole run made on one rank, the next one
+  // free when a rank is ready (engine/run/runs_over_ranks.h): three ranks for five sweep runs
+  // and the contribution runs, whichever rank makes which.
   TempDir d;
   std::string text = poise::test::read_text(seeker_study(d));
   text += "contribution_samples = 128\n\n[[sweep]]\nparameter = \"yaw.bearing_span\"\n"

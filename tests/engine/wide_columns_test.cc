@@ -137,6 +137,48 @@ TEST(WideColumns, KeptColumnsEqualWhatTheFileHolds) {
   EXPECT_FALSE(streams.keeps());
 }
 
+// An MPI run's rank 0 compresses each full chunk row over the next one's appends
+// (spread_compression): the file, its digest and the kept columns are those of a writer that
+// compresses each at once, also when the run ends with a spread chunk row still in flight.
+TEST(WideColumns, SpreadCompressionWritesTheSameColumns) {
+  test::TempDir d;
+  const std::size_t columns = 40;  // three blocks of columns
+  for (const std::size_t rows : {2 * engine::kWideChunkRows + 123, engine::kWideChunkRows + 9000}) {
+    const auto data = make_rows(rows, columns);
+    for (const bool kept : {false, true}) {
+      WideColumnsSpec at_once = spec(columns);
+      at_once.keep_up_to_bytes = kept ? (rows + 10) * columns * sizeof(float) : 0;
+      WideColumnsSpec spread = at_once;
+      spread.spread_compression = true;
+      WideColumnsWriter a(d.file("at_once.h5"), at_once, rows + 10, {}, {}, 2);
+      WideColumnsWriter b(d.file("spread.h5"), spread, rows + 10, {}, {}, 1);
+      ASSERT_EQ(b.keeps(), kept);
+      for (std::size_t i = 0; i < rows; ++i) {
+        a.append(i, i % 10 != 9, data[i]);
+        b.append(i, i % 10 != 9, data[i]);
+      }
+      const auto digest = b.close()["values_digest"].get<std::string>();
+      EXPECT_EQ(digest, a.close()["values_digest"].get<std::string>());
+      EXPECT_EQ(digest, expected_digest(data));
+      const WideColumnsReader ra(d.file("at_once.h5"), "grid_total_arcsec");
+      const WideColumnsReader rb(d.file("spread.h5"), "grid_total_arcsec");
+      ASSERT_EQ(rb.rows(), rows);
+      EXPECT_EQ(rb.sample_index(), ra.sample_index());
+      EXPECT_EQ(rb.ok(), ra.ok());
+      std::vector<float> ca, cb;
+      for (std::size_t p = 0; p < columns; ++p) {
+        ra.read_column(p, ca);
+        rb.read_column(p, cb);
+        ASSERT_EQ(cb.size(), rows);
+        EXPECT_EQ(std::memcmp(ca.data(), cb.data(), rows * sizeof(float)), 0) << "column " << p;
+        if (kept) {
+          EXPECT_EQ(std::memcmp(b.kept_column(p).data(), cb.data(), rows * sizeof(float)), 0);
+        }
+      }
+    }
+  }
+}
+
 TEST(WideColumns, TheHdf5LibraryReadsWhatPoiseCompressed) {
   test::TempDir d;
   const std::size_t rows = 3000, columns = 7;

@@ -54,6 +54,12 @@ struct WideColumnsSpec {
   /// most this many bytes (kKeepColumnsBytes for a run's file; 0 = never). A writer with no
   /// file (an empty path) keeps them only there and needs them to fit.
   std::size_t keep_up_to_bytes = 0;
+  /// Compress a full chunk row a block of columns at a time while the next chunk row comes in,
+  /// evenly over its rows, on the appending thread, instead
+  /// of all at once on the run's threads: appending then costs about the same for every row.
+  /// For an MPI run's rank 0, whose share of the samples is balanced on its cost of writing them
+  /// (engine/run/sample_driver.h). The file is the same.
+  bool spread_compression = false;
 };
 
 /// What a run keeps in memory of its wide values at most: 256 MiB, 397,000 samples of a
@@ -100,6 +106,9 @@ class WideColumnsWriter {
  private:
   void flush();
   struct FlushBlocks;  // one flush's blocks of columns (wide_columns_writer.cc)
+  std::unique_ptr<FlushBlocks> start_flush();
+  void finish_flush(FlushBlocks& f);
+  void advance_spread_flush(std::size_t blocks_due);
   void encode_block(std::size_t b, FlushBlocks& f);
   void write_block(std::size_t b, FlushBlocks& f) const;
   struct Handles;
@@ -113,8 +122,10 @@ class WideColumnsWriter {
   LargeBuffer<float> kept_;             ///< [column][row], planned_rows_ rows, when kept
   std::vector<std::uint64_t> samples_;  ///< rows in the buffer
   std::vector<std::uint8_t> ok_;
-  std::size_t rows_written_ = 0;
-  std::vector<std::uint32_t> crc_;  ///< per column, of the values so far
+  std::size_t rows_written_ = 0;         ///< rows before the buffer's (a spread flush's included)
+  std::unique_ptr<FlushBlocks> spread_;  ///< the chunk row a spread flush is compressing
+  LargeBuffer<float> spread_rows_;       ///< its rows, when not kept (the buffer swapped in)
+  std::vector<std::uint32_t> crc_;       ///< per column, of the values so far
   bool closed_ = false;
 };
 

@@ -76,6 +76,21 @@ struct WideColumnsWriter::Handles {
   Id file, values, sample, ok;
 };
 
+// One flush's blocks of columns: the rows, the encoded chunks, the per-thread buffers and
+// the first failed chunk write (the blocks after it are dropped).
+struct WideColumnsWriter::FlushBlocks {
+  std::size_t r = 0;                                                  // rows in the chunk
+  hsize_t first = 0;                                                  // the chunk's first row in the dataset
+  const float* rows = nullptr;                                        // [row][column], when not kept
+  std::vector<std::uint64_t> samples;                                 // the rows' sample indices
+  std::vector<std::uint8_t> ok;                                       // and ok flags
+  std::size_t blocks = 0, next_block = 0;                             // of columns; the next to encode (spread)
+  std::vector<std::string> encoded;                                   // per column
+  tbb::enumerable_thread_specific<std::vector<float>> block_columns;  // one block's columns per thread
+  tbb::enumerable_thread_specific<std::vector<float>> padded;         // a kept partial column, padded
+  std::string write_error;
+};
+
 WideColumnsWriter::WideColumnsWriter(std::string path, WideColumnsSpec spec, std::size_t planned_rows,
                                      const std::map<std::string, std::string>& text_attributes,
                                      const std::map<std::string, std::uint64_t>& number_attributes, int threads)
@@ -170,19 +185,9 @@ void WideColumnsWriter::append(std::size_t sample, bool ok, std::span<const floa
   }
   samples_.push_back(sample);
   ok_.push_back(ok ? 1 : 0);
+  if (spread_) advance_spread_flush(spread_->blocks * samples_.size() / chunk_rows_);  // its blocks due by now
   if (samples_.size() == chunk_rows_) flush();
 }
-
-// One flush's blocks of columns: the rows, the encoded chunks, the per-thread buffers and
-// the first failed chunk write (the blocks after it are dropped).
-struct WideColumnsWriter::FlushBlocks {
-  std::size_t r = 0;                                                  // rows in the chunk
-  hsize_t first = 0;                                                  // the chunk's first row in the dataset
-  std::vector<std::string> encoded;                                   // per column
-  tbb::enumerable_thread_specific<std::vector<float>> block_columns;  // one block's columns per thread
-  tbb::enumerable_thread_specific<std::vector<float>> padded;         // a kept partial column, padded
-  std::string write_error;
-};
 
 // Block b's columns (kBlock wide): taken from the kept columns, or transposed row by row from
 // the row buffer into the thread's block buffer; their CRCs updated, and each encoded.
@@ -201,7 +206,7 @@ void WideColumnsWriter::encode_block(std::size_t b, FlushBlocks& f) {
     columns.resize(width * stride);
     base = columns.data();
     for (std::size_t i = 0; i < r; ++i) {
-      const float* row = buffer_.data() + i * g + p0;
+      const float* row = f.rows + i * g + p0;
       for (std::size_t k = 0; k < width; ++k) base[k * stride + i] = row[k];
     }
   }
@@ -243,25 +248,73 @@ void WideColumnsWriter::write_block(std::size_t b, FlushBlocks& f) const {
   }
 }
 
-void WideColumnsWriter::flush() {
-  const std::size_t r = samples_.size();
-  if (r == 0) return;
-  const std::size_t g = spec_.columns;
-  // A chunk is a column. A pipeline on the run's threads: blocks of columns as wide as a cache
-  // line are taken from the kept columns, or transposed row by row from the row buffer into a
-  // block buffer per thread, and encoded in parallel, and written in order by one stage at a
-  // time (HDF5 calls are serialized) while later blocks are still being encoded. The rows past
-  // r of a last, partial chunk are outside the dataset: zeros compress best.
-  const std::size_t blocks = (g + kBlock - 1) / kBlock;
-  const hsize_t first = rows_written_, n = r;
-  const hsize_t extent[2] = {first + n, g};
+// The buffered rows as one flush: the dataset grown to hold them, their sample indices and ok
+// flags handed over, the buffer empty again.
+std::unique_ptr<WideColumnsWriter::FlushBlocks> WideColumnsWriter::start_flush() {
+  auto f = std::make_unique<FlushBlocks>();
+  f->r = samples_.size();
+  f->first = rows_written_;
+  f->blocks = (spec_.columns + kBlock - 1) / kBlock;
+  f->encoded.resize(spec_.columns);
+  const hsize_t extent[2] = {f->first + f->r, spec_.columns};
   if (h_ && H5Dset_extent(h_->values.get(), extent) < 0) {
     throw WriteError(path_, hdf5::failed("cannot grow /" + spec_.dataset));
   }
-  FlushBlocks f;
-  f.r = r;
-  f.first = first;
-  f.encoded.resize(g);
+  f->samples.swap(samples_);
+  f->ok.swap(ok_);
+  samples_.reserve(chunk_rows_);
+  ok_.reserve(chunk_rows_);
+  rows_written_ += f->r;
+  return f;
+}
+
+// After a flush's last block: its first failed write, else its sample indices and ok flags.
+void WideColumnsWriter::finish_flush(FlushBlocks& f) {
+  if (!f.write_error.empty()) throw WriteError(path_, f.write_error);
+  if (!h_) return;
+  try {
+    append_rows(h_->sample.get(), H5T_NATIVE_UINT64, f.first, f.r, f.samples.data());
+    append_rows(h_->ok.get(), H5T_NATIVE_UINT8, f.first, f.r, f.ok.data());
+  } catch (const Error& e) {
+    throw WriteError(path_, e.what());
+  }
+}
+
+// The spread flush's blocks up to `blocks_due` encoded and written, on this thread; finished
+// after its last.
+void WideColumnsWriter::advance_spread_flush(std::size_t blocks_due) {
+  FlushBlocks& f = *spread_;
+  for (; f.next_block < std::min(blocks_due, f.blocks); ++f.next_block) {
+    encode_block(f.next_block, f);
+    write_block(f.next_block, f);
+  }
+  if (f.next_block < f.blocks) return;
+  const std::unique_ptr<FlushBlocks> done = std::move(spread_);
+  finish_flush(*done);
+}
+
+void WideColumnsWriter::flush() {
+  if (spread_) advance_spread_flush(spread_->blocks);  // a chunk row's columns in order
+  if (samples_.empty()) return;
+  // Spread: the full row buffer is swapped for a second one and compressed while the rows
+  // after it come in (append). Else a pipeline on the run's threads: blocks of columns as
+  // wide as a cache line are taken from the kept columns, or transposed row by row from the
+  // row buffer into a block buffer per thread, and encoded in parallel, and written in order
+  // by one stage at a time (HDF5 calls are serialized) while later blocks are still being
+  // encoded. The rows past r of a last, partial chunk are outside the dataset: zeros compress
+  // best.
+  const bool spread = spec_.spread_compression && !closed_;
+  if (spread && !keeps()) {
+    if (spread_rows_.size() == 0) spread_rows_ = LargeBuffer<float>(chunk_rows_ * spec_.columns);
+    std::swap(buffer_, spread_rows_);
+  }
+  std::unique_ptr<FlushBlocks> f = start_flush();
+  if (!keeps()) f->rows = spread ? spread_rows_.data() : buffer_.data();
+  if (spread) {
+    spread_ = std::move(f);
+    return;
+  }
+  const std::size_t blocks = f->blocks;
   std::size_t next_block = 0;
   run_on_threads(threads_, [&] {
     tbb::parallel_pipeline(2 * static_cast<std::size_t>(threads_) + 1,
@@ -272,24 +325,13 @@ void WideColumnsWriter::flush() {
                                                                }) &
                                tbb::make_filter<std::size_t, std::size_t>(tbb::filter_mode::parallel,
                                                                           [&](std::size_t b) {
-                                                                            encode_block(b, f);
+                                                                            encode_block(b, *f);
                                                                             return b;
                                                                           }) &
                                tbb::make_filter<std::size_t, void>(tbb::filter_mode::serial_in_order,
-                                                                   [&](std::size_t b) { write_block(b, f); }));
+                                                                   [&](std::size_t b) { write_block(b, *f); }));
   });
-  if (!f.write_error.empty()) throw WriteError(path_, f.write_error);
-  if (h_) {
-    try {
-      append_rows(h_->sample.get(), H5T_NATIVE_UINT64, first, n, samples_.data());
-      append_rows(h_->ok.get(), H5T_NATIVE_UINT8, first, n, ok_.data());
-    } catch (const Error& e) {
-      throw WriteError(path_, e.what());
-    }
-  }
-  rows_written_ += r;
-  samples_.clear();
-  ok_.clear();
+  finish_flush(*f);
 }
 
 nlohmann::json WideColumnsWriter::close() {

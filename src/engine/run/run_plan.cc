@@ -75,7 +75,16 @@ RunPlan plan_run(StudyConfig& cfg, const RunOptions& options,
   // leaves nothing on disk.
   if (!p.until_text.empty()) check_until_design(parse_until(p.until_text, output_names()), cfg.replicate_size);
   if (options.resume.empty()) {
-    if (root) p.dir = make_run_folder(options.results_root, cfg.name, options.out);
+    // Rank 0 makes the folder; a refused --out (it holds a run) is every rank's error, so that
+    // none waits for a run that does not start.
+    std::string refused;
+    try {
+      if (root) p.dir = make_run_folder(options.results_root, cfg.name, options.out);
+    } catch (const UsageError& e) {
+      refused = e.what();
+    }
+    refused = sampling::Cluster::broadcast(refused);
+    if (!refused.empty()) throw UsageError(refused);
     p.manifest = {{"kind", cfg.kind},
                   {"study_file", fs::absolute(cfg.file).string()},
                   {"study_file_sha1", file_sha1(cfg.file)},

@@ -1,11 +1,14 @@
 #pragma once
 /// Independent whole runs of a study (the values of its sweeps, the runs of its contribution
-/// table) spread over the MPI ranks (sampling/distributed.h): rank p makes runs p - 1,
-/// p - 1 + ranks, ... (rank 0 the last of each round: it has the run's folder to write) on its
-/// own threads, and each run's result (JSON) is gathered at rank 0 in run order. A run depends only on its own inputs
-/// and the run's seed, so the results equal a one-process run's, whatever the rank count. One process: the runs, in
-/// order, and nothing else (a run's exception leaves as it is). Several: every rank must call it with the same count; a
-/// run that throws on any rank is reported by rank 0 as poise::Error with its message and the rank it ran on.
+/// table) spread over the MPI ranks (sampling/distributed.h): each rank takes the next run no
+/// rank has taken yet (sampling::SharedCounter) and makes it on its own threads, so a rank that
+/// starts late (rank 0, which finishes the run's statistics first) makes fewer; each run's
+/// result (JSON) is gathered at rank 0 in run order. A run depends only on its own inputs and
+/// the run's seed, so the results equal a one-process run's, whatever the rank count and
+/// whichever rank made it. One process: the runs, in order, and nothing else (a run's exception
+/// leaves as it is). Several: every rank must call it with the same count; a run that throws is
+/// reported by rank 0 as poise::Error with its message and the rank it ran on (the first such
+/// run's, in run order).
 #include <cstddef>
 #include <functional>
 #include <vector>

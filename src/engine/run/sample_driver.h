@@ -53,14 +53,14 @@ struct DriveOutcome {
 using sampling::ByteReader;
 using sampling::ByteWriter;
 
-/// The fields every sample result has (index, ok, message, inputs, outputs), for the
-/// encode/decode of a result type.
+/// The fields every sample result has that rank 0 reads (index, ok, message, outputs), for the
+/// encode/decode of a result type. Not the inputs: only samples.csv's rows show them, and they
+/// are formatted where the sample was computed (a fifth of a LOS sample's bytes).
 template <class Result>
 void encode_sample_fields(const Result& r, ByteWriter& w) {
   w.put(r.index);
   w.put(r.ok);
   w.put_string(r.message);
-  w.put_vector(r.inputs);
   w.put_vector(r.outputs);
 }
 template <class Result>
@@ -68,7 +68,6 @@ void decode_sample_fields(ByteReader& rd, Result& r) {
   r.index = rd.get<std::size_t>();
   r.ok = rd.get<bool>();
   rd.get_string(r.message);
-  rd.get_vector(r.inputs);
   rd.get_vector(r.outputs);
 }
 

@@ -232,6 +232,17 @@ void shared_field_figures(const WideColumnsWriter* field, const WideColumnsSpec&
   }
 }
 
+// The summaries of the per-sample outputs (none without an ok sample: also on MPI ranks other
+// than 0, which keep no values), on the caller's threads.
+void summarize_seeker_outputs(McResult& r, std::size_t replicate_size) {
+  if (r.ok_index.empty()) return;
+  r.outputs.resize(kNumSeekerOutputs);
+  tbb::parallel_for(
+      std::size_t{0}, kNumSeekerOutputs,
+      [&](std::size_t k) { r.outputs[k] = summarize_output(r.values[k], r.ok_index, replicate_size); },
+      tbb::simple_partitioner());
+}
+
 }  // namespace
 
 McResult SeekerLosStudy::run(int threads, bool progress, const SampleSink& sink, std::span<const SampleResult>,
@@ -251,6 +262,7 @@ McResult SeekerLosStudy::run(int threads, bool progress, const SampleSink& sink,
   std::unique_ptr<WideColumnsWriter> field;
   if (writes) {
     layout.compress = !temporary;
+    layout.spread_compression = control.distributed && sampling::Cluster::size() > 1;
     field = std::make_unique<WideColumnsWriter>(field_path, layout, samples_, control.field_attributes,
                                                 control.field_number_attributes, threads);
   }
@@ -289,7 +301,10 @@ McResult SeekerLosStudy::run(int threads, bool progress, const SampleSink& sink,
   r.field.present = writes && control.field_maps;
   // The tail on all threads, two independent halves side by side so that each fills the
   // other's serial moments: closing samples.h5 and the field figures read back point by point;
-  // the per-sample outputs' summaries.
+  // the per-sample outputs' summaries. With maps shared by the ranks, the other ranks start on
+  // theirs once samples.h5 is closed, and rank 0 summarizes the outputs after the maps, while
+  // they go on to the sweeps.
+  const auto summarize = [&] { summarize_seeker_outputs(r, config_.replicate_size); };
   tbb::task_arena arena(std::max(1, threads));
   arena.execute([&] {
     tbb::parallel_invoke(
@@ -300,15 +315,13 @@ McResult SeekerLosStudy::run(int threads, bool progress, const SampleSink& sink,
           }
         },
         [&] {
-          if (n_ok == 0) return;
-          r.outputs.resize(kNumSeekerOutputs);
-          tbb::parallel_for(
-              std::size_t{0}, kNumSeekerOutputs,
-              [&](std::size_t k) { r.outputs[k] = summarize_output(r.values[k], r.ok_index, config_.replicate_size); },
-              tbb::simple_partitioner());
+          if (!shared_maps) summarize();
         });
   });
-  if (shared_maps) shared_field_figures(field.get(), layout, control, g, n_ok, threads, r);
+  if (shared_maps) {
+    shared_field_figures(field.get(), layout, control, g, n_ok, threads, r);
+    arena.execute(summarize);
+  }
   r.wall_seconds = bar.elapsed_seconds();
   return r;
 }
