@@ -292,6 +292,20 @@ TEST(WideColumns, ChunkCodecStoresNoisyPlanesAndCodesTheRest) {
   std::vector<float> flat_back(flat.size());
   engine::decode_chunk(zf, 0, flat_back, "x.h5");
   EXPECT_EQ(flat_back, flat);
+  // A last chunk, its 6784 data rows noisy and the rest zeros: its planes are judged by the
+  // data rows, so the low mantissa planes' data bytes are stored, as in a full chunk, and the
+  // zeros after them coded as runs (a few bytes); it decodes to the same values.
+  const std::size_t rows = 6784;
+  std::vector<float> last(v.begin(), v.end());
+  std::fill(last.begin() + rows, last.end(), 0.0f);
+  const std::string by_data = engine::encode_chunk(last, engine::kChunkDeflateLevel, rows);
+  EXPECT_GT(by_data.size(), 2 * rows);  // two planes' data kept whole
+  const std::string data_alone = engine::encode_chunk(std::span<const float>(last.data(), rows));
+  EXPECT_LT(by_data.size(), data_alone.size() + 200);             // the zeros cost next to nothing
+  EXPECT_LE(by_data.size(), engine::encode_chunk(last).size());  // no larger than coded with the padding
+  std::vector<float> last_back(last.size());
+  engine::decode_chunk(by_data, 0, last_back, "x.h5");
+  EXPECT_EQ(0, std::memcmp(last_back.data(), last.data(), last.size() * sizeof(float)));
 }
 
 // A device that accepts no byte (/dev/full: every write fails with ENOSPC, as on a full disk):

@@ -92,8 +92,9 @@ struct Compressor {
 
 }  // namespace
 
-std::string encode_chunk(std::span<const float> values, int level) {
+std::string encode_chunk(std::span<const float> values, int level, std::size_t rows) {
   const std::size_t n = values.size();
+  const std::size_t data = rows == 0 ? n : std::min(rows, n);
   const std::size_t bytes = n * kElement;
   thread_local std::vector<unsigned char> shuffled, out;
   thread_local Compressor c;
@@ -110,15 +111,23 @@ std::string encode_chunk(std::span<const float> values, int level) {
   out.resize(deflateBound(&z, static_cast<uLong>(bytes)) + 5 * (bytes / 16384 + kElement) + 64);
   z.next_out = out.data();
   z.avail_out = static_cast<uInt>(out.size());
+  // `count` bytes coded as set (the stream's last ones finish it).
+  const auto code = [&](unsigned char* from, std::size_t count, int code_level, int strategy, bool last) {
+    int r = c.set(code_level, strategy);
+    if (r != Z_OK) return r;
+    z.next_in = from;
+    z.avail_in = static_cast<uInt>(count);
+    r = deflate(&z, last ? Z_FINISH : Z_NO_FLUSH);
+    return !last && r == Z_OK && z.avail_in != 0 ? Z_BUF_ERROR : r;
+  };
+  // Each plane's data bytes Huffman-coded or stored; a last chunk's zero padding as runs.
   for (std::size_t j = 0; j < kElement && rc == Z_OK; ++j) {
     unsigned char* plane = shuffled.data() + j * n;
-    const bool huffman = entropy_bytes(plane, n) < kStoredAbove * static_cast<double>(n);
-    rc = huffman ? c.set(level, Z_HUFFMAN_ONLY) : c.set(0, Z_DEFAULT_STRATEGY);
-    if (rc != Z_OK) break;
-    z.next_in = plane;
-    z.avail_in = static_cast<uInt>(n);
-    rc = deflate(&z, j + 1 == kElement ? Z_FINISH : Z_NO_FLUSH);
-    if (j + 1 < kElement && rc == Z_OK && z.avail_in != 0) rc = Z_BUF_ERROR;
+    const bool huffman = entropy_bytes(plane, data) < kStoredAbove * static_cast<double>(data);
+    const bool last = j + 1 == kElement;
+    rc = huffman ? code(plane, data, level, Z_HUFFMAN_ONLY, last && data == n)
+                 : code(plane, data, 0, Z_DEFAULT_STRATEGY, last && data == n);
+    if (rc == Z_OK && data < n) rc = code(plane + data, n - data, level, Z_RLE, last);
   }
   const std::size_t size = z.total_out;
   if (rc != Z_STREAM_END) {

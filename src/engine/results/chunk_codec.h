@@ -13,6 +13,7 @@
 ///      copying it costs a fraction of coding it for the same size. Any zlib reader inflates it.
 /// The dataset's creation property list declares the same pipeline (H5Pset_shuffle,
 /// H5Pset_deflate), so any HDF5 reader (h5py, pandas via h5py, h5dump) reads the chunks.
+#include <cstddef>
 #include <cstdint>
 #include <span>
 #include <string>
@@ -26,8 +27,12 @@ inline constexpr int kChunkDeflateLevel = 1;
 /// A byte plane is stored, not Huffman-coded, when its entropy is at least this share of 8 bits.
 inline constexpr double kStoredAbove = 0.97;
 
-/// Shuffled and deflated bytes of a chunk of 4-byte values.
-std::string encode_chunk(std::span<const float> values, int level = kChunkDeflateLevel);
+/// Shuffled and deflated bytes of a chunk of 4-byte values, of which the first `rows` are data
+/// (all when 0): a dataset's last chunk is padded with zeros past its rows, which no reader
+/// sees. Each plane's data bytes are stored or Huffman-coded as they decide, and the padding is
+/// coded as runs (Z_RLE): judged and coded with the padding, the noisy low planes of a chunk
+/// mostly of zeros were Huffman-coded, and a last chunk took twice a full one's time.
+std::string encode_chunk(std::span<const float> values, int level = kChunkDeflateLevel, std::size_t rows = 0);
 
 /// The values of a stored chunk. filter_mask is HDF5's: bit 0 set = shuffle skipped, bit 1
 /// set = deflate skipped. Throws poise::Error (naming `what`) on corrupt or short data.

@@ -226,7 +226,7 @@ void WideColumnsWriter::encode_block(std::size_t b, FlushBlocks& f) {
     }
     const std::span<const float> column(values, chunk_rows_);
     if (spec_.compress) {
-      f.encoded[p] = encode_chunk(column);
+      f.encoded[p] = encode_chunk(column, kChunkDeflateLevel, r);
     } else {
       f.encoded[p].assign(reinterpret_cast<const char*>(column.data()), column.size() * sizeof(float));
     }
