@@ -57,6 +57,27 @@ void prefer_shared_memory_transport() {
     setenv("OMPI_MCA_pml", "ob1", 0);
   }
 }
+
+// SharedCounter's counts, all 0, open to every rank until finalize. Where this MPI offers no
+// one-sided window (its failure returned, not fatal, on any rank), no rank uses one.
+void open_shared_counters() {
+  long long* counts = nullptr;
+  const MPI_Aint bytes = g_rank == 0 ? static_cast<MPI_Aint>(kSharedCounters * sizeof(long long)) : 0;
+  MPI_Comm_set_errhandler(MPI_COMM_WORLD, MPI_ERRORS_RETURN);
+  const bool made =
+      MPI_Win_allocate(bytes, sizeof(long long), MPI_INFO_NULL, MPI_COMM_WORLD, &counts, &g_counters) == MPI_SUCCESS;
+  MPI_Comm_set_errhandler(MPI_COMM_WORLD, MPI_ERRORS_ARE_FATAL);
+  int everywhere = made ? 1 : 0;
+  MPI_Allreduce(MPI_IN_PLACE, &everywhere, 1, MPI_INT, MPI_LAND, MPI_COMM_WORLD);
+  if (everywhere == 0) {
+    if (made) MPI_Win_free(&g_counters);
+    g_counters = MPI_WIN_NULL;
+    return;
+  }
+  if (g_rank == 0) std::fill(counts, counts + kSharedCounters, 0LL);
+  MPI_Barrier(MPI_COMM_WORLD);  // every count is 0 before any rank draws
+  MPI_Win_lock_all(0, g_counters);
+}
 #endif
 
 }  // namespace
@@ -79,14 +100,7 @@ void Cluster::init([[maybe_unused]] int* argc, [[maybe_unused]] char*** argv) {
   } else {
     g_local = env_int("OMPI_COMM_WORLD_LOCAL_SIZE", g_size);
   }
-  if (g_size > 1) {  // SharedCounter's counts, all 0, open to every rank until finalize
-    long long* counts = nullptr;
-    const MPI_Aint bytes = g_rank == 0 ? static_cast<MPI_Aint>(kSharedCounters * sizeof(long long)) : 0;
-    MPI_Win_allocate(bytes, sizeof(long long), MPI_INFO_NULL, MPI_COMM_WORLD, &counts, &g_counters);
-    if (g_rank == 0) std::fill(counts, counts + kSharedCounters, 0LL);
-    MPI_Barrier(MPI_COMM_WORLD);
-    MPI_Win_lock_all(0, g_counters);
-  }
+  if (g_size > 1) open_shared_counters();
 #else
   if (env_int("OMPI_COMM_WORLD_SIZE", 1) > 1) {
     throw std::runtime_error(
