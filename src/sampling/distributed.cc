@@ -287,7 +287,8 @@ SharedCounter::SharedCounter() : session_(g_counters_used++), next_(0), step_(1)
 #ifdef POISE_WITH_MPI
   if (g_counters != MPI_WIN_NULL && session_ < kSharedCounters) return;
 #endif
-  next_ = static_cast<std::size_t>(g_rank);  // no window, or every counter used: every size-th number
+  // No window, or every counter used: every size-th number, rank 0 the last of each size.
+  next_ = static_cast<std::size_t>((g_rank + g_size - 1) % g_size);
   step_ = static_cast<std::size_t>(g_size);
 }
 

@@ -37,7 +37,8 @@ class PendingSends {
 /// machines a draw may wait until rank 0 next calls MPI). Every rank makes the same sequence of
 /// SharedCounters (the n-th one on each rank is the same count) and is not made to wait by
 /// making one. Each draws until it gets a number past what it needs. Past kSharedCounters
-/// counts in a process, or without MPI: rank r gets r, r + size, r + 2 size, ...
+/// counts in a process, or without a window: rank r gets r - 1, r - 1 + size, ... (rank 0 the
+/// last of each size).
 inline constexpr std::size_t kSharedCounters = 64;
 class SharedCounter {
  public:

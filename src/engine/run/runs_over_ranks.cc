@@ -25,14 +25,12 @@ std::vector<json> runs_over_ranks(std::size_t count, const std::function<json(st
   // run's statistics first) or whose runs are slower takes fewer. CBOR carries every number
   // bit for bit (NaN too) to rank 0.
   json mine = json::array();
-  {
-    sampling::SharedCounter runs;
-    for (std::size_t i = runs.next(); i < count; i = runs.next()) {
-      try {
-        mine.push_back({{"run", i}, {"result", run(i)}});
-      } catch (const std::exception& e) {
-        mine.push_back({{"run", i}, {"error", e.what()}});
-      }
+  sampling::SharedCounter runs;
+  for (std::size_t i = runs.next(); i < count; i = runs.next()) {
+    try {
+      mine.push_back({{"run", i}, {"result", run(i)}});
+    } catch (const std::exception& e) {
+      mine.push_back({{"run", i}, {"error", e.what()}});
     }
   }
   const std::vector<std::uint8_t> bytes = json::to_cbor(mine);
