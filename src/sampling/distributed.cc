@@ -285,8 +285,9 @@ std::string Cluster::broadcast(const std::string& value) {
 
 SharedCounter::SharedCounter() : session_(g_counters_used++), next_(0), step_(1) {
 #ifdef POISE_WITH_MPI
-  if (g_counters != MPI_WIN_NULL && session_ < kSharedCounters) return;
+  shared_ = g_counters != MPI_WIN_NULL && session_ < kSharedCounters;
 #endif
+  if (shared_) return;
   // No window, or every counter used: every size-th number, rank 0 the last of each size.
   next_ = static_cast<std::size_t>((g_rank + g_size - 1) % g_size);
   step_ = static_cast<std::size_t>(g_size);
@@ -294,7 +295,7 @@ SharedCounter::SharedCounter() : session_(g_counters_used++), next_(0), step_(1)
 
 std::size_t SharedCounter::next() {
 #ifdef POISE_WITH_MPI
-  if (g_counters != MPI_WIN_NULL && session_ < kSharedCounters) {
+  if (shared_) {
     const long long one = 1;
     long long before = 0;
     MPI_Fetch_and_op(&one, &before, MPI_LONG_LONG, 0, static_cast<MPI_Aint>(session_), MPI_SUM, g_counters);

@@ -47,6 +47,7 @@ class SharedCounter {
 
  private:
   std::size_t session_, next_, step_;
+  bool shared_ = false;  ///< drawn from the window; else next_, next_ + step_, ...
 };
 
 class Cluster {

@@ -18,6 +18,43 @@ namespace poise::engine {
 namespace fs = std::filesystem;
 using nlohmann::json;
 
+namespace {
+
+// A resumed run's plan: its folder's run.json, refused when the study or model file changed.
+void resume_plan(const StudyConfig& cfg, const std::string& dir, RunPlan& p) {
+  p.dir = dir;
+  std::ifstream mf(fs::path(p.dir) / "run.json");
+  if (!mf) throw UsageError("--resume " + p.dir + ": no run.json there (not a run folder of Poise)");
+  p.manifest = json::parse(mf, nullptr, false);
+  if (p.manifest.is_discarded() || !p.manifest.is_object()) {
+    throw UsageError("--resume " + p.dir + ": run.json is not valid JSON");
+  }
+  if (p.manifest.value("study_file_sha1", "") != file_sha1(cfg.file) ||
+      p.manifest.value("model_file_sha1", "") != file_sha1(cfg.model_path)) {
+    throw UsageError("--resume " + p.dir + ": the study or model file changed since the run began; start a new run");
+  }
+  p.samples = p.manifest.at("samples").get<std::size_t>();
+  p.seed = p.manifest.at("seed").get<std::uint64_t>();
+  p.until_text = p.manifest.value("until", "");
+  p.sensitivity_base = p.manifest.value("sensitivity_base", std::size_t{0});
+}
+
+// The new run's folder, made by rank 0 ("" on the others); a refused --out (it holds a run) is
+// every rank's error, so that none waits for a run that does not start.
+std::string run_folder_on_root(const StudyConfig& cfg, const RunOptions& options) {
+  std::string dir, refused;
+  try {
+    if (sampling::Cluster::root()) dir = make_run_folder(options.results_root, cfg.name, options.out);
+  } catch (const UsageError& e) {
+    refused = e.what();
+  }
+  refused = sampling::Cluster::broadcast(refused);
+  if (!refused.empty()) throw UsageError(refused);
+  return dir;
+}
+
+}  // namespace
+
 RunPlan plan_run(StudyConfig& cfg, const RunOptions& options,
                  const std::function<std::pair<std::size_t, bool>()>& design_groups,
                  const std::function<std::vector<std::string>()>& output_names) {
@@ -29,23 +66,7 @@ RunPlan plan_run(StudyConfig& cfg, const RunOptions& options,
   p.sensitivity_base = options.sensitivity_base;
   p.threads = options.threads > 0 ? options.threads : sampling::Cluster::default_threads();
   if (p.samples == 0) throw UsageError("--samples must be at least 1");
-  if (!options.resume.empty()) {
-    p.dir = options.resume;
-    std::ifstream mf(fs::path(p.dir) / "run.json");
-    if (!mf) throw UsageError("--resume " + p.dir + ": no run.json there (not a run folder of Poise)");
-    p.manifest = json::parse(mf, nullptr, false);
-    if (p.manifest.is_discarded() || !p.manifest.is_object()) {
-      throw UsageError("--resume " + p.dir + ": run.json is not valid JSON");
-    }
-    if (p.manifest.value("study_file_sha1", "") != file_sha1(cfg.file) ||
-        p.manifest.value("model_file_sha1", "") != file_sha1(cfg.model_path)) {
-      throw UsageError("--resume " + p.dir + ": the study or model file changed since the run began; start a new run");
-    }
-    p.samples = p.manifest.at("samples").get<std::size_t>();
-    p.seed = p.manifest.at("seed").get<std::uint64_t>();
-    p.until_text = p.manifest.value("until", "");
-    p.sensitivity_base = p.manifest.value("sensitivity_base", std::size_t{0});
-  }
+  if (!options.resume.empty()) resume_plan(cfg, options.resume, p);
   // The sensitivity layout: base rows x (groups + 2) samples.
   if (p.sensitivity_base > 0) {
     const auto [dimensions, own_randomness] = design_groups();
@@ -75,16 +96,7 @@ RunPlan plan_run(StudyConfig& cfg, const RunOptions& options,
   // leaves nothing on disk.
   if (!p.until_text.empty()) check_until_design(parse_until(p.until_text, output_names()), cfg.replicate_size);
   if (options.resume.empty()) {
-    // Rank 0 makes the folder; a refused --out (it holds a run) is every rank's error, so that
-    // none waits for a run that does not start.
-    std::string refused;
-    try {
-      if (root) p.dir = make_run_folder(options.results_root, cfg.name, options.out);
-    } catch (const UsageError& e) {
-      refused = e.what();
-    }
-    refused = sampling::Cluster::broadcast(refused);
-    if (!refused.empty()) throw UsageError(refused);
+    p.dir = run_folder_on_root(cfg, options);
     p.manifest = {{"kind", cfg.kind},
                   {"study_file", fs::absolute(cfg.file).string()},
                   {"study_file_sha1", file_sha1(cfg.file)},
