@@ -50,7 +50,8 @@ const char* kDiagnoseHelp = R"(What it does:
   would separate them); how far each effect moves the estimate in standard errors; an
   omnibus check of the final residual (lack of fit against repeated positions, the points'
   own standard errors (column torque_se_mNm) or --noise,
-  Ljung-Box and runs tests in measurement order, CUSUM step scan) that reports "unexplained
+  Ljung-Box and runs tests in measurement order, CUSUM step scan, the largest periodogram
+  ordinate in measurement order, for a period in time) that reports "unexplained
   structure" and where it sits. The estimate reported ("after") takes an ambiguous effect as
   the mean of its readings with their spread in its uncertainty, and ignores an outlier found
   in correlated noise; "selected model" is the estimate with every effect found.

@@ -44,7 +44,7 @@ TEST(DiagnoseCommand, JsonForTable1HasExactlyTheDocumentedKeys) {
                                    "collinearity", "not_identifiable", "notes"}));
   EXPECT_EQ(keys(j.at("omnibus")), (std::set<std::string>{"p_value", "unexplained_structure",
                                                           "where", "message", "tests"}));
-  EXPECT_EQ(j.at("omnibus").at("tests").size(), 5u);
+  EXPECT_EQ(j.at("omnibus").at("tests").size(), 6u);
   EXPECT_FALSE(j.at("omnibus").at("message").get<std::string>().empty());  // never silent
   EXPECT_EQ(j.at("not_identifiable").at(0).at("name"), "turntable_angle_scale");
   EXPECT_EQ(j.at("collinearity").size(), 9u);  // harmonics 2..6, drift, K_T drift, step,

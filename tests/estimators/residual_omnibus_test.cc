@@ -1,12 +1,15 @@
 // Tests of estimators/residual_omnibus: the Kolmogorov tail at its tabulated 5 % point, the
 // Ljung-Box statistic recomputed by hand, each test catching the structure it is made for
 // (step -> CUSUM with its place, alternation -> runs, repeats that disagree -> lack of fit,
-// too much scatter -> declared noise), and the family's level on white residuals.
+// too much scatter -> declared noise, a sawtooth in time -> periodogram with its period), the
+// periodogram's statistic recomputed by a direct sum, and the family's level on white residuals.
 #include "estimators/residual_omnibus.h"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <complex>
+#include <cstdio>
 #include <numeric>
 #include <random>
 
@@ -103,6 +106,36 @@ TEST(ResidualOmnibus, MoreScatterThanTheDeclaredNoiseIsFlagged) {
   EXPECT_TRUE(o.unexplained);
   in.noise = 0.4;
   EXPECT_GT(test_named(omnibus_check(in), "declared_noise").p_value, 1e-3);
+}
+
+TEST(ResidualOmnibus, SawtoothInTimeIsFoundByThePeriodogramWithItsPeriod) {
+  // A sawtooth of period 10 points (600 s) over 36 points: no divisor of the record, so its
+  // fundamental falls between two Fourier frequencies. Peak to peak 1.2, noise sd 0.2.
+  std::vector<double> r = white(36, 9, 0.2);
+  for (std::size_t i = 0; i < 36; ++i) r[i] += 1.2 * (std::fmod(static_cast<double>(i) / 10.0, 1.0) - 0.5);
+  const OmnibusResult o = omnibus_check(input(r));
+  const StructureTest& pg = test_named(o, "periodogram");
+  ASSERT_TRUE(pg.examined) << pg.note;
+  EXPECT_LT(pg.p_value, 0.01);
+  EXPECT_TRUE(o.unexplained);
+  const std::size_t at = o.where.find("period ");
+  ASSERT_NE(at, std::string::npos) << o.where;
+  double period_points = 0.0, period_s = 0.0;
+  ASSERT_EQ(std::sscanf(o.where.c_str() + at, "period %lf points (about %lf s)", &period_points, &period_s), 2);
+  EXPECT_NEAR(period_points, 10.0, 0.5) << o.where;
+  EXPECT_NEAR(period_s, 600.0, 30.0) << o.where;  // 60 s per point
+}
+
+TEST(ResidualOmnibus, PeriodogramStatisticIsRecomputedByADirectSum) {
+  const std::vector<double> r = white(30, 10);  // zero mean
+  double energy = 0.0, best = 0.0;
+  for (double v : r) energy += v * v;
+  for (int j = 1; j <= 8 * 14; ++j) {  // f = j / 240 up to 14 / 30 cycles per point
+    std::complex<double> s = 0.0;
+    for (int t = 0; t < 30; ++t) s += r[t] * std::polar(1.0, -2.0 * M_PI * j * t / 240.0);
+    best = std::max(best, std::norm(s));
+  }
+  EXPECT_NEAR(test_named(omnibus_check(input(r)), "periodogram").statistic, best / energy, 1e-9);
 }
 
 TEST(ResidualOmnibus, WhiteResidualsAreRarelyFlagged) {
