@@ -428,7 +428,8 @@ OmnibusResult omnibus_check(const OmnibusInput& in) {
   out.where = where_structure_is(in, ordered, shift_k, out.tests, m);
   out.message = "Unexplained structure: " + worst->name +
                 fmt::format(" p = {:.3g} (omnibus p = {:.3g})", worst->p_value, out.p_value) + " - " + out.where +
-                ". No candidate effect explains it; the unbalance estimate carries it and its "
+                ". No candidate effect was added for it (the candidates of the last round show how close each came, "
+                "before and after the multiple-test adjustment); the unbalance estimate carries it and its "
                 "standard errors, which assume independent noise, do not cover it.";
   return out;
 }
