@@ -205,11 +205,16 @@ def main():
     g = gbench(os.path.join(a.build, "bench", "poise_gimbal_bench"), "BM_Measurement36By", "0.5" if not a.quick else "0.1")
     rtols = ["1e-3"] if a.quick else ["1e-4", "3e-4", "1e-3", "2e-3", "3e-3"]
     out = run([sys.executable, os.path.join(HERE, "gimbal_scipy.py"), "--rtol", *rtols])
+    lsoda_steps = {float(m.group(1)): (int(m.group(2)), int(m.group(3))) for m in re.finditer(
+        r"rtol ([\d.e+-]+): .*steps (\d+), rhs_evals (\d+)", out)}
     lsoda = sorted((float(m.group(1)), float(m.group(2)), float(m.group(3))) for m in re.finditer(
         r"rtol ([\d.e+-]+): MT_s [\d.]+ mN\*m, \|dMT_s\|/load ([\d.e+-]+), cpu ([\d.]+) s", out))
     for rt, err, cpu in lsoda:
-        print(f"gimbal LSODA rtol {rt:g}: {cpu * 1e3:.0f} ms CPU per measurement, |dMT_s|/load {err:.1e}")
-        doc["gimbal_lsoda"].append({"rtol": rt, "cpu_ms": finite(cpu * 1e3), "torque_error_rel": finite(err)})
+        steps, rhs_evals = lsoda_steps.get(rt, (None, None))
+        print(f"gimbal LSODA rtol {rt:g}: {cpu * 1e3:.0f} ms CPU per measurement, |dMT_s|/load {err:.1e}, "
+              f"{steps} steps, {rhs_evals} RHS evaluations")
+        doc["gimbal_lsoda"].append({"rtol": rt, "cpu_ms": finite(cpu * 1e3), "torque_error_rel": finite(err),
+                                    "steps": steps, "rhs_evals": rhs_evals})
     rows = []  # (formulation, loose, max_order, ms, err)
     for name, bm in g.items():
         m = re.search(r"quasi_static:(\d)/loose:(\d+)/max_order:(\d)", name)
@@ -217,10 +222,12 @@ def main():
         rows.append((int(m.group(1)), int(m.group(2)), int(m.group(3)), cpu_seconds(bm) * 1e3,
                      bm.get("worst_torque_rel", float("nan"))))
         print(f"gimbal {name}: {rows[-1][3]:.1f} ms CPU, |dMT_s|/load {rows[-1][4]:.1e} (worst of 12 cases; "
-              f"this rotor {bm.get('tol_torque_rel', float('nan')):.1e})")
+              f"this rotor {bm.get('tol_torque_rel', float('nan')):.1e}), {bm.get('steps', 0):.0f} steps, "
+              f"{bm.get('rhs_evals', 0):.0f} RHS evaluations")
         doc["gimbal_poise"].append({"name": name, "quasi_static": bool(rows[-1][0]), "loose": rows[-1][1],
                                     "max_order": rows[-1][2], "cpu_ms": finite(rows[-1][3]),
-                                    "torque_error_rel": finite(rows[-1][4])})
+                                    "torque_error_rel": finite(rows[-1][4]), "steps": bm.get("steps"),
+                                    "rhs_evals": bm.get("rhs_evals")})
 
     # "At the same accuracy": the loosest setting that, with every tighter one scanned, keeps the
     # torque within 1e-4 of the load of its tight value (the error is not monotone in the

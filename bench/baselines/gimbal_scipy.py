@@ -17,7 +17,8 @@ prints |MT_s - MT_s(tight)| / load for each: the same noise draws (same seed) in
 the difference is the solver's. Timing: CPU seconds (time.process_time) per measurement.
 
 Usage: gimbal_scipy.py [--rtol 1e-5 1e-6 ...] [--repeat N]
-Prints one line per rtol: "lsoda rtol R: MT_s X mN*m, |dMT_s|/load D, cpu S s per measurement".
+Prints one line per rtol: "lsoda rtol R: MT_s X mN*m, |dMT_s|/load D, cpu S s per measurement, steps K,
+rhs_evals E" (LSODA's steps and right-hand-side calls over the 36 positions).
 """
 import argparse, os, sys, time, tomllib
 import numpy as np
@@ -92,6 +93,7 @@ def measure(P, rtol, seed=2015):
     lsb = 2 * P["fs"] / 2 ** P["bits"]
     thetas = 2 * np.pi * np.arange(36) / 36
     offset, torques = P["offset"], []
+    counts = [0, 0]  # LSODA's steps and RHS evaluations (finite-difference Jacobians included)
     a = P["A"] * P["T"] / (2 * np.pi)
     for th in thetas:
         th_true = th + P["pos_err"] * rng.standard_normal()
@@ -100,13 +102,17 @@ def measure(P, rtol, seed=2015):
         gy, gz = P["g"] * np.cos(th_true), -P["g"] * np.sin(th_true)
         y = np.array([P["centre"] - a, 0, P["m"] * gy / P["k"], 0, P["m"] * gz / P["k"], 0, 0, 0, 0], float)
         for ta, tb in ((0.0, t0), (t0, t1), (t1, t2)):
-            y = odeint(rhs, y, [ta, tb], args=(P, gy, gz, wc), rtol=rtol, atol=atol, mxstep=100000)[-1]
+            sol, info = odeint(rhs, y, [ta, tb], args=(P, gy, gz, wc), rtol=rtol, atol=atol, mxstep=100000,
+                               full_output=True)
+            y = sol[-1]
+            counts[0] += int(info["nst"][-1])
+            counts[1] += int(info["nfe"][-1])
         i_mean = y[7] / (t2 - t1) + window_offset + np.sqrt((P["noise"] ** 2 + lsb ** 2 / 12) / n) * rng.standard_normal()
         torques.append(P["kt"] * i_mean)
     # Eq. 22: M = a sin(theta) + b cos(theta) + c by least squares.
     X = np.column_stack([np.sin(thetas), np.cos(thetas), np.ones_like(thetas)])
     coef = np.linalg.lstsq(X, np.array(torques), rcond=None)[0]
-    return np.hypot(coef[0], coef[1])
+    return np.hypot(coef[0], coef[1]), counts
 
 
 def main():
@@ -119,15 +125,15 @@ def main():
     P = load(a.model)
     load_torque = 25.81e-3 * 0.051 * P["g"]
     c0 = time.process_time()
-    tight = measure(P, a.tight_rtol)
+    tight, _ = measure(P, a.tight_rtol)
     print(f"lsoda tight rtol {a.tight_rtol:g}: MT_s {tight * 1e3:.6f} mN*m ({time.process_time() - c0:.2f} CPU-s)")
     for rtol in a.rtol:
         c0 = time.process_time()
         for _ in range(a.repeat):
-            mt = measure(P, rtol)
+            mt, counts = measure(P, rtol)
         cpu = (time.process_time() - c0) / a.repeat
         print(f"lsoda rtol {rtol:g}: MT_s {mt * 1e3:.6f} mN*m, |dMT_s|/load {abs(mt - tight) / load_torque:.2e},"
-              f" cpu {cpu:.3f} s per measurement")
+              f" cpu {cpu:.3f} s per measurement, steps {counts[0]}, rhs_evals {counts[1]}")
     return 0
 
 
