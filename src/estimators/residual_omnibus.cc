@@ -1,5 +1,7 @@
 #include "estimators/residual_omnibus.h"
 
+#include "estimators/residual_periodogram.h"
+
 #include "core/error.h"
 #include "core/format.h"
 
@@ -9,11 +11,9 @@
 #include <boost/math/distributions/fisher_f.hpp>
 #include <boost/math/distributions/normal.hpp>
 #include <cmath>
-#include <complex>
 #include <map>
 #include <numeric>
 #include <random>
-#include <unsupported/Eigen/FFT>
 
 namespace poise::estimators {
 namespace {
@@ -156,77 +156,6 @@ StructureTest runs(const std::vector<double>& r) {
   t.p_value = 2.0 * boost::math::cdf(boost::math::normal(), -std::abs(t.statistic));
   t.examined = true;
   t.note = fmt::format("{:.0f} runs, {:.1f} expected", runs_count, mean);
-  return t;
-}
-
-// The largest ordinate of the residual's periodogram in measurement order, over its sum of
-// squares (mean removed, r' = r - mean r): max_f |sum_t r'_t exp(-2 pi i f t)|^2 / sum_t r'_t^2 on a grid 8 times finer
-// than the Fourier frequencies (f = j / (8 n), up to floor((n - 1) / 2) / n cycles per point), so that a period that is
-// no divisor of the record is not split between two ordinates. *frequency: where it sits (cycles per point).
-double periodogram_peak(const std::vector<double>& r, double* frequency) {
-  constexpr std::size_t kOversampling = 8;
-  const std::size_t n = r.size(), padded = kOversampling * n, last = kOversampling * ((n - 1) / 2);
-  const double mean = std::accumulate(r.begin(), r.end(), 0.0) / static_cast<double>(n);
-  std::vector<double> x(padded, 0.0);
-  double energy = 0.0;
-  for (std::size_t t = 0; t < n; ++t) {
-    x[t] = r[t] - mean;
-    energy += x[t] * x[t];
-  }
-  if (!(energy > 0.0)) return 0.0;
-  Eigen::FFT<double> fft;
-  std::vector<std::complex<double>> spectrum;
-  fft.fwd(spectrum, x);
-  double best = 0.0;
-  for (std::size_t j = 1; j <= last; ++j) {
-    const double ordinate = std::norm(spectrum[j]);
-    if (ordinate > best) {
-      best = ordinate;
-      if (frequency) *frequency = static_cast<double>(j) / static_cast<double>(padded);
-    }
-  }
-  return best / energy;
-}
-
-// The periodogram test with its own Monte Carlo p: 400 draws of the residual of N(0, I) under
-// the design (white draws when there is none: AR(1) innovations), fixed seed.
-StructureTest periodogram(const OmnibusInput& in, const std::vector<double>& ordered) {
-  StructureTest t;
-  t.name = "periodogram";
-  const std::size_t n = ordered.size();
-  if (n < 12) {
-    t.note = "not examined: fewer than 12 points";
-    return t;
-  }
-  double frequency = 0.0;
-  t.statistic = periodogram_peak(ordered, &frequency);
-  if (!(t.statistic > 0.0)) {
-    t.note = "not examined: the residuals are zero";
-    return t;
-  }
-  constexpr int kDraws = 400;
-  const auto rows = static_cast<Eigen::Index>(n);
-  const bool projected = in.design.rows() == rows && in.design.cols() > 0 && !in.ar;
-  Eigen::MatrixXd q;
-  if (projected) {
-    Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(in.design);
-    q = qr.householderQ() * Eigen::MatrixXd::Identity(rows, qr.rank());
-  }
-  std::mt19937_64 rng(0x9e710d0u);
-  std::normal_distribution<double> g;
-  std::vector<double> draw(n);
-  int exceed = 0;
-  for (int k = 0; k < kDraws; ++k) {
-    Eigen::VectorXd z(rows);
-    for (Eigen::Index i = 0; i < rows; ++i) z(i) = g(rng);
-    if (projected) z -= q * (q.transpose() * z);
-    for (std::size_t j = 0; j < n; ++j) draw[j] = z(static_cast<Eigen::Index>(projected ? in.order[j] : j));
-    exceed += periodogram_peak(draw, nullptr) >= t.statistic;
-  }
-  t.p_value = (1.0 + exceed) / (kDraws + 1.0);
-  t.examined = true;
-  t.note = fmt::format("strongest period {:.3g} points; Monte Carlo p {}", 1.0 / frequency,
-                       projected ? "under the design" : "against white noise");
   return t;
 }
 
@@ -399,7 +328,7 @@ OmnibusResult omnibus_check(const OmnibusInput& in) {
   out.tests.push_back(runs(ordered));
   std::size_t shift_k = 0;
   out.tests.push_back(cusum_step(in, ordered, rss, dof, shift_k));
-  out.tests.push_back(periodogram(in, ordered));
+  out.tests.push_back(periodogram_test(in, ordered));
   if (in.design.rows() == static_cast<Eigen::Index>(n) && in.design.cols() > 0 && !in.ar) {
     monte_carlo(in, out.tests);
   }

@@ -22,17 +22,11 @@
 ///                 order; under no shift it tends to the sup of a Brownian bridge, tail
 ///                 P = 2 sum_j (-1)^(j-1) exp(-2 j^2 x^2) (Kolmogorov; the OLS-CUSUM test of
 ///                 Ploberger and Kraemer 1992). The argmax is where a level shift sits.
-///   periodogram   the largest periodogram ordinate of r in measurement order over its sum of
-///                 squares, max_f |sum_t r'_t exp(-2 pi i f t)|^2 / sum_t r'_t^2 (r' = r minus
-///                 its mean), on a grid 8 times
-///                 finer than the Fourier frequencies (a period that divides no record length
-///                 would split between two of them and Fisher's g (1929) on the Fourier
-///                 frequencies alone lost the sawtooth of the third generator: p 0.09 against
-///                 0.004). Finds a periodic effect in time that no candidate names (a
-///                 thermostat's cycle, a sawtooth) and a harmonic of the turntable angle above
-///                 the candidates' orders on a one-direction sweep. Its tail has no closed form:
-///                 always Monte Carlo (under the design, or white draws for AR(1) innovations).
-///                 Needs n >= 12.
+///   periodogram   the periodogram's largest ordinate of r in measurement order, on a grid 8
+///                 times finer than the Fourier frequencies (residual_periodogram.h): a periodic
+///                 effect in time that no candidate names (a thermostat's cycle, a sawtooth) and
+///                 a harmonic of the turntable angle above the candidates' orders on a
+///                 one-direction sweep. Always a Monte Carlo p (no closed-form tail). n >= 12.
 /// Residuals of a regression are not white even when the errors are: on a sweep the fitted
 /// sin, cos and drift columns are smooth in time and bias the residual autocorrelations, and
 /// the asymptotic Ljung-Box tail rejected 3.6 times too often (measured on the independent
