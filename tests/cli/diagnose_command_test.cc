@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -199,6 +200,10 @@ TEST(DiagnoseCommand, OutWritesJsonReportAndPlotAndRefusesToOverwrite) {
   EXPECT_NE(html.find("against the known load 12.91 mN*m at 45.5 deg"), std::string::npos);
   EXPECT_TRUE(fs::exists(out + "/plot.gp"));
   EXPECT_TRUE(fs::exists(out + "/plot.dat"));
+  // The residuals in measurement order: Table 1 has no time_s, so by row; a header and 36 rows.
+  const std::string by_time = poise::test::read_text(out + "/plot_time.dat");
+  EXPECT_EQ(by_time.rfind("# row residual_before residual_after", 0), 0u) << by_time;
+  EXPECT_EQ(std::count(by_time.begin(), by_time.end(), '\n'), 37);
   if (std::system("command -v gnuplot >/dev/null 2>&1") == 0) {
     ASSERT_TRUE(fs::exists(out + "/plot.svg"));
     EXPECT_NE(poise::test::read_text(out + "/plot.svg").find("<svg"), std::string::npos);

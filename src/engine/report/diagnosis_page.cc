@@ -164,9 +164,11 @@ std::string diagnosis_report_html(const json& d, const std::filesystem::path& pl
     << separability_html(d) << before_after_html(d) << closed_loop_html(d) << "<h2 id='plot'>Plot</h2>\n";
   if (plot_note.empty()) {
     h << inline_svg(plot_svg,
-                    "Upper panel: measured points, the base fit and the final model at each point. Lower "
-                    "panel: residuals of both (with AR(1) errors the final residual is the innovation; a "
-                    "flagged outlier's residual is 0).");
+                    "Upper panel: measured points, the base fit and the final model at each point. Middle "
+                    "panel: residuals of both against the turntable angle (with AR(1) errors the final "
+                    "residual is the innovation; a flagged outlier's residual is 0). Lower panel: the same "
+                    "residuals in measurement order (against time_s where the table has it), where a drift, "
+                    "a step or a period in time shows.");
   } else {
     h << "<p><b>" << html_escape(plot_note) << "</b></p>\n";
   }
