@@ -13,8 +13,9 @@
 ///     accuracy sweep: 4 rotors x 3 noise seeds), each |MT_s - MT_s(reference)| / this rig's
 ///     load, and worst_offset_rel the same of the fitted offset MK; the reference from the
 ///     dynamic model at fixed tight tolerances (tight_plan).
-///     bench/baselines/compare.py compares these with bench/baselines/gimbal_scipy.py (LSODA)
-///     at the loosest setting whose worst_torque_rel is within 1e-4. Target: >= 50x per core.
+///     bench/baselines/compare.py compares these with bench/baselines/gimbal_scipy.py --sweep
+///     (LSODA, the same sweep), each at the loosest setting whose worst error is within 1e-4.
+///     Target: >= 50x per core.
 /// Rig: models/gimbal_simulator_yang2015.toml (load_gimbal_model; found via $POISE_SOURCE_DIR
 /// or bench/..) with its solver settings, noise and positioning error (fixed seed); load
 /// 25.81 g at r = 51 mm, 45.5 deg (12.91 mN*m); nominal K_T, no tilt, no zero errors.

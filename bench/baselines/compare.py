@@ -18,8 +18,9 @@
                    and lean (1 = flat).                                 Target >= 0.83.
   Gimbal           poise_gimbal_bench BM_Measurement36By (36-point measurement, CPU time) by
                    formulation and tolerance, each with its worst torque error over 4 rotors
-                   x 3 noise seeds against their tight values, against gimbal_scipy.py (LSODA)
-                   at the loosest rtol whose error (one rotor) is within 1e-4 of the load.
+                   x 3 noise seeds against their tight values, against gimbal_scipy.py --sweep
+                   (LSODA) at the loosest rtol whose worst error over the same sweep is
+                   within 1e-4 of the load.
                                                                         Target >= 50x.
 The load average is printed beside the figures: on a loaded machine CPU times still grow
 (shared caches, frequency), so compare runs at similar load.
@@ -203,18 +204,27 @@ def main():
 
     # Gimbal measurement.
     g = gbench(os.path.join(a.build, "bench", "poise_gimbal_bench"), "BM_Measurement36By", "0.5" if not a.quick else "0.1")
-    rtols = ["1e-3"] if a.quick else ["1e-4", "3e-4", "1e-3", "2e-3", "3e-3"]
-    out = run([sys.executable, os.path.join(HERE, "gimbal_scipy.py"), "--rtol", *rtols])
+    rtols = ["1e-4", "3e-4", "1e-3"] if a.quick else ["1e-4", "3e-4", "1e-3", "2e-3", "3e-3"]
+    out = run([sys.executable, os.path.join(HERE, "gimbal_scipy.py"), "--sweep", "--rtol", *rtols])
+    # Each side judged by the same rule: the worst torque error over the bench's accuracy sweep
+    # (4 rotors x 3 noise seeds), not one case.
     lsoda_steps = {float(m.group(1)): (int(m.group(2)), int(m.group(3))) for m in re.finditer(
         r"rtol ([\d.e+-]+): .*steps (\d+), rhs_evals (\d+)", out)}
-    lsoda = sorted((float(m.group(1)), float(m.group(2)), float(m.group(3))) for m in re.finditer(
-        r"rtol ([\d.e+-]+): MT_s [\d.]+ mN\*m, \|dMT_s\|/load ([\d.e+-]+), cpu ([\d.]+) s", out))
-    for rt, err, cpu in lsoda:
+    lsoda_worst = {float(m.group(1)): float(m.group(2)) for m in re.finditer(
+        r"rtol ([\d.e+-]+): .*worst of \d+ cases ([\d.e+-]+)", out)}
+    lsoda = []
+    for m in re.finditer(r"rtol ([\d.e+-]+): MT_s [\d.]+ mN\*m, \|dMT_s\|/load ([\d.e+-]+), cpu ([\d.]+) s", out):
+        rt, one = float(m.group(1)), float(m.group(2))
+        lsoda.append((rt, lsoda_worst.get(rt, float("nan")), float(m.group(3)), one))
+    lsoda.sort()
+    for rt, err, cpu, one in lsoda:
         steps, rhs_evals = lsoda_steps.get(rt, (None, None))
-        print(f"gimbal LSODA rtol {rt:g}: {cpu * 1e3:.0f} ms CPU per measurement, |dMT_s|/load {err:.1e}, "
-              f"{steps} steps, {rhs_evals} RHS evaluations")
+        print(f"gimbal LSODA rtol {rt:g}: {cpu * 1e3:.0f} ms CPU per measurement, |dMT_s|/load {err:.1e} (worst of "
+              f"12 cases; this rotor {one:.1e}), {steps} steps, {rhs_evals} RHS evaluations")
         doc["gimbal_lsoda"].append({"rtol": rt, "cpu_ms": finite(cpu * 1e3), "torque_error_rel": finite(err),
-                                    "steps": steps, "rhs_evals": rhs_evals})
+                                    "torque_error_rel_this_rotor": finite(one), "steps": steps,
+                                    "rhs_evals": rhs_evals})
+    lsoda = [(rt, err, cpu) for rt, err, cpu, _ in lsoda]
     rows = []  # (formulation, loose, max_order, ms, err)
     for name, bm in g.items():
         m = re.search(r"quasi_static:(\d)/loose:(\d+)/max_order:(\d)", name)

@@ -16,7 +16,11 @@ Accuracy: the script first runs at --tight-rtol (1e-9) and then at each --rtol g
 prints |MT_s - MT_s(tight)| / load for each: the same noise draws (same seed) in all runs, so
 the difference is the solver's. Timing: CPU seconds (time.process_time) per measurement.
 
-Usage: gimbal_scipy.py [--rtol 1e-5 1e-6 ...] [--repeat N]
+With --sweep, each rtol's line also gives the worst |dMT_s|/load over the bench's accuracy sweep (4
+rotors x 3 noise seeds, each against its own run at --sweep-tight-rtol), the rule by which
+compare.py picks Poise's setting; compare.py then picks LSODA's by the same rule.
+
+Usage: gimbal_scipy.py [--rtol 1e-5 1e-6 ...] [--repeat N] [--sweep]
 Prints one line per rtol: "lsoda rtol R: MT_s X mN*m, |dMT_s|/load D, cpu S s per measurement, steps K,
 rhs_evals E" (LSODA's steps and right-hand-side calls over the 36 positions).
 """
@@ -35,10 +39,13 @@ def q(text):
     return float(v) * UNITS[u]
 
 
-def load(path):
+CLUMP, RADIUS, ANGLE = 25.81e-3, 0.051, 45.5 * np.pi / 180  # the bench's load
+
+
+def load(path, clump=CLUMP, angle=ANGLE):
     m = tomllib.load(open(path, "rb"))
     r, mo, sv, osc, acq, tt = m["rotor"], m["motor"], m["servo"], m["oscillation"], m["acquisition"], m["turntable"]
-    clump, radius, angle = 25.81e-3, 0.051, 45.5 * np.pi / 180
+    radius = RADIUS
     P = dict(m=q(r["mass"]) + clump, J=q(r["inertia"]) + clump * radius ** 2, k=q(r["support_stiffness"]),
              c=q(r["support_damping"]), kf=q(r["viscous_friction"]), tc=q(r["coulomb_friction"]),
              ws=q(r["coulomb_smoothing"]), kcr=q(r["torsion_stiffness"]), phi0=q(r["torsion_zero"]),
@@ -115,25 +122,42 @@ def measure(P, rtol, seed=2015):
     return np.hypot(coef[0], coef[1]), counts
 
 
+def sweep_cases(path):
+    """The bench's accuracy sweep (bench/gimbal_bench.cc accuracy_sweep): clumps of 25.81, 10, 50
+    and 5 g at 51 mm and 45.5 + 70 k deg, each with noise seeds 1, 2 and 3 (NumPy's draws here)."""
+    return [(load(path, mass, (45.5 + 70.0 * k) * np.pi / 180), seed)
+            for k, mass in enumerate((CLUMP, 10e-3, 50e-3, 5e-3)) for seed in (1, 2, 3)]
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--model", default=os.path.join(ROOT, "models", "gimbal_simulator_yang2015.toml"))
     ap.add_argument("--rtol", type=float, nargs="+", default=[1e-4, 1e-5, 1e-6])
     ap.add_argument("--tight-rtol", type=float, default=1e-9)
     ap.add_argument("--repeat", type=int, default=1)
+    ap.add_argument("--sweep", action="store_true",
+                    help="also the worst |dMT_s|/load over the bench's accuracy sweep (4 rotors x 3 noise seeds, "
+                         "each against its own run at --sweep-tight-rtol), as Poise's setting is judged")
+    ap.add_argument("--sweep-tight-rtol", type=float, default=1e-5)
     a = ap.parse_args()
     P = load(a.model)
-    load_torque = 25.81e-3 * 0.051 * P["g"]
+    load_torque = CLUMP * RADIUS * P["g"]
     c0 = time.process_time()
     tight, _ = measure(P, a.tight_rtol)
     print(f"lsoda tight rtol {a.tight_rtol:g}: MT_s {tight * 1e3:.6f} mN*m ({time.process_time() - c0:.2f} CPU-s)")
+    cases = sweep_cases(a.model) if a.sweep else []
+    references = [measure(Pc, a.sweep_tight_rtol, seed)[0] for Pc, seed in cases]
     for rtol in a.rtol:
         c0 = time.process_time()
         for _ in range(a.repeat):
             mt, counts = measure(P, rtol)
         cpu = (time.process_time() - c0) / a.repeat
+        worst = ""
+        if cases:
+            w = max(abs(measure(Pc, rtol, seed)[0] - ref) for (Pc, seed), ref in zip(cases, references))
+            worst = f", worst of {len(cases)} cases {w / load_torque:.2e}"
         print(f"lsoda rtol {rtol:g}: MT_s {mt * 1e3:.6f} mN*m, |dMT_s|/load {abs(mt - tight) / load_torque:.2e},"
-              f" cpu {cpu:.3f} s per measurement, steps {counts[0]}, rhs_evals {counts[1]}")
+              f" cpu {cpu:.3f} s per measurement, steps {counts[0]}, rhs_evals {counts[1]}{worst}")
     return 0
 
 
