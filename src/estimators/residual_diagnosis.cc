@@ -131,6 +131,25 @@ detail::CandidatePool make_pool(const SearchInputs& in) {
   };
 }
 
+// Correlated noise that its own test suggests (p < alpha) but the adjustment over the round's
+// candidates does not establish: said, with the plan that would tell it from a smooth effect;
+// no correction is applied.
+void note_suggested_autocorrelation(const SearchInputs& in, const std::vector<Term>& round,
+                                    std::vector<std::string>& notes) {
+  const auto ar = std::find_if(round.begin(), round.end(), [](const Term& t) { return t.name == "autocorrelation"; });
+  const double alpha = in.options.alpha;
+  if (ar == round.end() || !ar->examined || !(ar->p < alpha) || ar->p_adj < alpha) return;
+  const auto examined = std::count_if(round.begin(), round.end(), [](const Term& t) { return t.examined; });
+  const bool monotone = detail::monotone_plan(in.table, in.d.order);
+  notes.push_back(fmt::format(
+      "{}: p = {:.3g} on its own, {:.3g} after the adjustment over the round's {} candidates: correlated "
+      "noise is suggested, not established, and no correction is applied; {}",
+      ar->note.empty() ? ar->label : ar->label + " (" + ar->note + ")", ar->p, ar->p_adj, static_cast<double>(examined),
+      monotone ? "on this one-direction sweep it cannot be told from a smooth effect in angle or time: the "
+                 "same positions swept in the other direction (or in random order) would separate them"
+               : "a repeat of the test, or the positions in random order, would establish it"));
+}
+
 // Forward stepwise search from `start` (the rounds described in residual_diagnosis.h). With
 // ar_last, AR(1) is picked only in a round where no column candidate qualifies.
 Search search(const SearchInputs& in, const Model& start, bool ar_last) {
@@ -166,6 +185,7 @@ Search search(const SearchInputs& in, const Model& start, bool ar_last) {
     }
     if (!pick) {
       for (const Term& term : c) s.tested.push_back(describe(term));
+      note_suggested_autocorrelation(in, c, s.notes);
       break;
     }
     Term added = *pick;
