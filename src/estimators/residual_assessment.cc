@@ -114,6 +114,33 @@ TermReadings readings_of_term(const Assessment& s, std::size_t i, const Model& r
   return out;
 }
 
+// (a, c) of a reading's estimate.
+Eigen::Vector2d first_harmonic(const Reading& r) {
+  return {r.estimate.amplitude * std::cos(r.estimate.phase), r.estimate.amplitude * std::sin(r.estimate.phase)};
+}
+
+// Whether some reading's first harmonic lies beyond 2 SE of the selected model's, along the
+// line between them (the selected estimate's covariance).
+bool readings_disagree(const Assessment& s, const AmbiguousFinding& a) {
+  for (const Reading& r : a.readings) {
+    const Eigen::Vector2d v = first_harmonic(r) - s.coef_sel.head<2>();
+    const double len = v.norm();
+    if (!(len > 0.0)) continue;
+    const Eigen::Vector2d u = v / len;
+    if (len > 2.0 * std::sqrt(std::max(0.0, u.dot(s.cov_sel * u)))) return true;
+  }
+  return false;
+}
+
+// The estimate without the term (the data do not separate readings that disagree), with the
+// readings' spread about it (half the largest distance, as a standard deviation) added.
+void keep_plain_estimate(Assessment& s, const AmbiguousFinding& a, const Eigen::Vector3d& coef_rest) {
+  double spread = 0.0;
+  for (const Reading& r : a.readings) spread = std::max(spread, (first_harmonic(r) - coef_rest.head<2>()).norm());
+  s.delta += coef_rest - s.coef_sel;
+  s.allowance2 += 0.25 * spread * spread;
+}
+
 // An ambiguous term: the estimate does not take it alone. Against the first harmonic (not
 // identified), the readings' spread goes into the uncertainty; otherwise the readings are
 // averaged (BIC weights, or equally across time shapes).
@@ -141,6 +168,15 @@ void settle_ambiguous_term(Assessment& s, std::size_t i, const Eigen::Vector3d& 
     e.estimate_note =
         "trades off with the first harmonic and is not identified (drop-one p >= "
         "1e-4): the estimate does not take it; the readings' spread is added to "
+        "its uncertainty";
+  } else if (!tr.shape_readings && e.shift_se < 1.0 && readings_disagree(s, a)) {
+    // The effect found hardly moves the estimate, a reading the data do not separate from it
+    // would move it beyond 2 SE: only that reading argues for the move, and the data do not
+    // favour it; the estimate stays where the plain fit has it.
+    keep_plain_estimate(s, a, coef_rest);
+    e.estimate_note =
+        "ambiguous: this effect moves the estimate by less than 1 SE, a reading the data do not separate "
+        "from it by more than 2 SE; the estimate keeps the value without it, the readings' spread added to "
         "its uncertainty";
   } else {
     average_readings(a, s.coef_sel, s.delta, s.allowance2, tr.shape_readings);
