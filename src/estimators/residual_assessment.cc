@@ -175,9 +175,9 @@ void settle_ambiguous_term(Assessment& s, std::size_t i, const Eigen::Vector3d& 
     // favour it; the estimate stays where the plain fit has it.
     keep_plain_estimate(s, a, coef_rest);
     e.estimate_note =
-        "ambiguous: this effect moves the estimate by less than 1 SE, a reading the data do not separate "
-        "from it by more than 2 SE; the estimate keeps the value without it, the readings' spread added to "
-        "its uncertainty";
+        "ambiguous: this effect moves the estimate by less than 1 SE, and a reading the data do not "
+        "separate from it would move it by more than 2 SE: the estimate keeps the value without it, the "
+        "readings' spread added to its uncertainty";
   } else {
     average_readings(a, s.coef_sel, s.delta, s.allowance2, tr.shape_readings);
     e.estimate_note = tr.shape_readings
