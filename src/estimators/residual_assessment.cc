@@ -132,8 +132,9 @@ bool readings_disagree(const Assessment& s, const AmbiguousFinding& a) {
   return false;
 }
 
-// The estimate without the term (the data do not separate readings that disagree), with the
-// readings' spread about it (half the largest distance, as a standard deviation) added.
+// The estimate without the term, with the readings' spread about it (half the largest
+// distance, as a standard deviation) added: a term not identified against the first harmonic,
+// or readings that disagree and that the data do not separate.
 void keep_plain_estimate(Assessment& s, const AmbiguousFinding& a, const Eigen::Vector3d& coef_rest) {
   double spread = 0.0;
   for (const Reading& r : a.readings) spread = std::max(spread, (first_harmonic(r) - coef_rest.head<2>()).norm());
@@ -157,14 +158,7 @@ void settle_ambiguous_term(Assessment& s, std::size_t i, const Eigen::Vector3d& 
   a.plan = separating_plan(t.name == "harmonic" ? "harmonic" : t.name,
                            tr.other_name == "harmonic" ? "harmonic" : tr.other_name);
   if (harmonic_confounded) {
-    double spread = 0.0;
-    for (const Reading& r : a.readings) {
-      const Eigen::Vector2d x(r.estimate.amplitude * std::cos(r.estimate.phase),
-                              r.estimate.amplitude * std::sin(r.estimate.phase));
-      spread = std::max(spread, (x - coef_rest.head<2>()).norm());
-    }
-    s.delta += coef_rest - s.coef_sel;
-    s.allowance2 += 0.25 * spread * spread;
+    keep_plain_estimate(s, a, coef_rest);
     e.estimate_note =
         "trades off with the first harmonic and is not identified (drop-one p >= "
         "1e-4): the estimate does not take it; the readings' spread is added to "
