@@ -178,19 +178,12 @@ double cusum_statistic(const std::vector<double>& ordered, double dof, std::size
 // Monte Carlo p-values of the order-based tests under the design (see the header).
 void monte_carlo(const OmnibusInput& in, std::vector<StructureTest>& tests) {
   constexpr int kDraws = 400;
-  const auto n = static_cast<Eigen::Index>(in.residual.size());
-  Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(in.design);
-  const Eigen::MatrixXd q = qr.householderQ() * Eigen::MatrixXd::Identity(n, qr.rank());
-  const double dof = static_cast<double>(n - qr.rank());
-  std::mt19937_64 rng(0x5eed0b1u);
-  std::normal_distribution<double> g;
+  ResidualDraws draws(in, true, 0x5eed0b1u);
+  const double dof = static_cast<double>(static_cast<Eigen::Index>(in.residual.size()) - draws.rank());
   std::vector<int> exceed(tests.size(), 0);
   std::vector<double> ordered(in.residual.size());
   for (int k = 0; k < kDraws; ++k) {
-    Eigen::VectorXd z(n);
-    for (Eigen::Index i = 0; i < n; ++i) z(i) = g(rng);
-    const Eigen::VectorXd r = z - q * (q.transpose() * z);
-    for (std::size_t j = 0; j < ordered.size(); ++j) ordered[j] = r(static_cast<Eigen::Index>(in.order[j]));
+    draws.next(ordered);
     for (std::size_t t = 0; t < tests.size(); ++t) {
       StructureTest& st = tests[t];
       if (!st.examined) continue;
@@ -213,6 +206,23 @@ void monte_carlo(const OmnibusInput& in, std::vector<StructureTest>& tests) {
 }
 
 }  // namespace
+
+ResidualDraws::ResidualDraws(const OmnibusInput& in, bool projected, std::uint64_t seed)
+    : order_(in.order), projected_(projected), z_(static_cast<Eigen::Index>(in.residual.size())), rng_(seed) {
+  if (projected_) {
+    Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(in.design);
+    rank_ = qr.rank();
+    q_ = qr.householderQ() * Eigen::MatrixXd::Identity(z_.size(), rank_);
+  }
+}
+
+void ResidualDraws::next(std::vector<double>& ordered) {
+  for (Eigen::Index i = 0; i < z_.size(); ++i) z_(i) = normal_(rng_);
+  if (projected_) z_ -= q_ * (q_.transpose() * z_);
+  for (std::size_t j = 0; j < ordered.size(); ++j) {
+    ordered[j] = z_(static_cast<Eigen::Index>(projected_ ? order_[j] : j));
+  }
+}
 
 double brownian_bridge_sup_tail(double x) {
   if (x <= 0.2) return 1.0;  // the series converges slowly here; the tail is 1 to 1e-9

@@ -39,6 +39,8 @@
 /// cases. Measured on tests/independent_gimbal_data: see residual_omnibus_test.cc.
 #include <Eigen/Core>
 #include <cstddef>
+#include <cstdint>
+#include <random>
 #include <string>
 #include <vector>
 
@@ -77,6 +79,27 @@ struct OmnibusResult {
   bool unexplained = false;  ///< p_value < alpha
   std::string where;         ///< rows, angles, times of the structure (when flagged)
   std::string message;       ///< one sentence, flagged or not: never silent
+};
+
+/// The Monte Carlo draws of the residual above, in measurement order: r = (I - H) z under
+/// in.design (`projected`), or the white z itself (then in row order), z ~ N(0, I) from a
+/// fixed seed. One source for every Monte Carlo p of the family.
+class ResidualDraws {
+ public:
+  ResidualDraws(const OmnibusInput& in, bool projected, std::uint64_t seed);
+  /// The next draw into `ordered` (size n).
+  void next(std::vector<double>& ordered);
+  /// Rank of the design (0 when not projected).
+  Eigen::Index rank() const { return rank_; }
+
+ private:
+  const std::vector<std::size_t>& order_;
+  bool projected_;
+  Eigen::MatrixXd q_;  ///< orthonormal basis of the design's columns
+  Eigen::Index rank_ = 0;
+  Eigen::VectorXd z_;
+  std::mt19937_64 rng_;
+  std::normal_distribution<double> normal_;
 };
 
 /// Runs the family on in.residual. Deterministic; never throws for n >= 4.

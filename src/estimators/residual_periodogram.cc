@@ -2,11 +2,9 @@
 
 #include "core/format.h"
 
-#include <Eigen/QR>
 #include <algorithm>
 #include <complex>
 #include <numeric>
-#include <random>
 #include <unsupported/Eigen/FFT>
 
 namespace poise::estimators {
@@ -51,22 +49,12 @@ StructureTest periodogram_test(const OmnibusInput& in, const std::vector<double>
     return t;
   }
   constexpr int kDraws = 400;
-  const auto rows = static_cast<Eigen::Index>(n);
-  const bool projected = in.design.rows() == rows && in.design.cols() > 0 && !in.ar;
-  Eigen::MatrixXd q;
-  if (projected) {
-    Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(in.design);
-    q = qr.householderQ() * Eigen::MatrixXd::Identity(rows, qr.rank());
-  }
-  std::mt19937_64 rng(0x9e710d0u);
-  std::normal_distribution<double> g;
+  const bool projected = in.design.rows() == static_cast<Eigen::Index>(n) && in.design.cols() > 0 && !in.ar;
+  ResidualDraws draws(in, projected, 0x9e710d0u);
   std::vector<double> draw(n);
   int exceed = 0;
   for (int k = 0; k < kDraws; ++k) {
-    Eigen::VectorXd z(rows);
-    for (Eigen::Index i = 0; i < rows; ++i) z(i) = g(rng);
-    if (projected) z -= q * (q.transpose() * z);
-    for (std::size_t j = 0; j < n; ++j) draw[j] = z(static_cast<Eigen::Index>(projected ? in.order[j] : j));
+    draws.next(draw);
     exceed += periodogram_peak(draw, nullptr) >= t.statistic;
   }
   t.p_value = (1.0 + exceed) / (kDraws + 1.0);
