@@ -208,23 +208,19 @@ def main():
     out = run([sys.executable, os.path.join(HERE, "gimbal_scipy.py"), "--sweep", "--rtol", *rtols])
     # Each side judged by the same rule: the worst torque error over the bench's accuracy sweep
     # (4 rotors x 3 noise seeds), not one case.
-    lsoda_steps = {float(m.group(1)): (int(m.group(2)), int(m.group(3))) for m in re.finditer(
-        r"rtol ([\d.e+-]+): .*steps (\d+), rhs_evals (\d+)", out)}
-    lsoda_worst = {float(m.group(1)): float(m.group(2)) for m in re.finditer(
-        r"rtol ([\d.e+-]+): .*worst of \d+ cases ([\d.e+-]+)", out)}
-    lsoda = []
-    for m in re.finditer(r"rtol ([\d.e+-]+): MT_s [\d.]+ mN\*m, \|dMT_s\|/load ([\d.e+-]+), cpu ([\d.]+) s", out):
-        rt, one = float(m.group(1)), float(m.group(2))
-        lsoda.append((rt, lsoda_worst.get(rt, float("nan")), float(m.group(3)), one))
-    lsoda.sort()
-    for rt, err, cpu, one in lsoda:
-        steps, rhs_evals = lsoda_steps.get(rt, (None, None))
+    lsoda = []  # (rtol, worst error, cpu s)
+    for m in sorted(re.finditer(r"rtol ([\d.e+-]+): MT_s [\d.]+ mN\*m, \|dMT_s\|/load ([\d.e+-]+), cpu ([\d.]+) s per "
+                                r"measurement, steps (\d+), rhs_evals (\d+)(?:, worst of \d+ cases ([\d.e+-]+))?", out),
+                    key=lambda m: float(m.group(1))):
+        rt, one, cpu, steps, rhs_evals = float(m.group(1)), float(m.group(2)), float(m.group(3)), int(m.group(4)), \
+            int(m.group(5))
+        err = float(m.group(6)) if m.group(6) else float("nan")
         print(f"gimbal LSODA rtol {rt:g}: {cpu * 1e3:.0f} ms CPU per measurement, |dMT_s|/load {err:.1e} (worst of "
               f"12 cases; this rotor {one:.1e}), {steps} steps, {rhs_evals} RHS evaluations")
         doc["gimbal_lsoda"].append({"rtol": rt, "cpu_ms": finite(cpu * 1e3), "torque_error_rel": finite(err),
                                     "torque_error_rel_this_rotor": finite(one), "steps": steps,
                                     "rhs_evals": rhs_evals})
-    lsoda = [(rt, err, cpu) for rt, err, cpu, _ in lsoda]
+        lsoda.append((rt, err, cpu))
     rows = []  # (formulation, loose, max_order, ms, err)
     for name, bm in g.items():
         m = re.search(r"quasi_static:(\d)/loose:(\d+)/max_order:(\d)", name)

@@ -45,8 +45,7 @@ CLUMP, RADIUS, ANGLE = 25.81e-3, 0.051, 45.5 * np.pi / 180  # the bench's load
 def load(path, clump=CLUMP, angle=ANGLE):
     m = tomllib.load(open(path, "rb"))
     r, mo, sv, osc, acq, tt = m["rotor"], m["motor"], m["servo"], m["oscillation"], m["acquisition"], m["turntable"]
-    radius = RADIUS
-    P = dict(m=q(r["mass"]) + clump, J=q(r["inertia"]) + clump * radius ** 2, k=q(r["support_stiffness"]),
+    P = dict(m=q(r["mass"]) + clump, J=q(r["inertia"]) + clump * RADIUS ** 2, k=q(r["support_stiffness"]),
              c=q(r["support_damping"]), kf=q(r["viscous_friction"]), tc=q(r["coulomb_friction"]),
              ws=q(r["coulomb_smoothing"]), kcr=q(r["torsion_stiffness"]), phi0=q(r["torsion_zero"]),
              kt=q(mo["kt_nominal"]), imax=q(mo["current_limit"]), bw=q(sv["bandwidth"]), zeta=float(sv["damping"]),
@@ -57,7 +56,7 @@ def load(path, clump=CLUMP, angle=ANGLE):
              fs=q(acq["adc_full_scale"]), pos_err=q(tt["positioning_error"]), g=q(tt["gravity"]),
              rtol=float(m["solver"]["rtol"]), atol_angle=q(m["solver"]["atol_angle"]),
              atol_length=q(m["solver"]["atol_length"]))
-    P["e"], P["eps"] = clump * radius / P["m"], angle
+    P["e"], P["eps"] = clump * RADIUS / P["m"], angle
     return P
 
 
