@@ -11,6 +11,7 @@
 #include <type_traits>
 
 #include "core/error.h"
+#include "solvers/small_dense_linear_solver.h"
 
 namespace poise::solvers {
 namespace {
@@ -104,7 +105,7 @@ CvodeIntegrator::CvodeIntegrator(std::size_t n, RhsFunction rhs, void* user_data
   check(CVodeSetUserData(mem, owned_->binding.get()), "CVodeSetUserData");
   SUNMatrix a = SUNDenseMatrix(static_cast<sunindextype>(n), static_cast<sunindextype>(n), ctx);
   owned_->matrix.reset(a);
-  SUNLinearSolver ls = SUNLinSol_Dense(y, a, ctx);
+  SUNLinearSolver ls = n <= kSmallDenseMaxSize ? small_dense_linear_solver(n, ctx) : SUNLinSol_Dense(y, a, ctx);
   owned_->solver.reset(ls);
   require(a && ls, "CVODE: cannot create the dense linear solver");
   a_ = a;

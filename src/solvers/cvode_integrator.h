@@ -1,6 +1,7 @@
 #pragma once
 /// A CVODE integrator (SUNDIALS 6.4) owned by one worker thread: context, state vector,
-/// dense matrix and linear solver are created once and re-initialized per solve
+/// dense matrix and linear solver (Eigen LU up to 16 states, small_dense_linear_solver.h;
+/// SUNLinSol_Dense above) are created once and re-initialized per solve
 /// (CVodeReInit), so nothing is allocated per sample.
 ///
 /// Why CVODE (BDF, Newton, dense direct solver) and not IDA: the disk rotor's mass matrix

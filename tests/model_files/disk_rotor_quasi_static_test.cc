@@ -100,7 +100,10 @@ TEST(QuasiStaticSupports, TorqueEstimateMatchesTheFullModelAtTightTolerance) {
 TEST(WindowNoiseInDistribution, SameLawAsTheSampledInstrumentAndReplayable) {
   const model_files::GimbalModel& m = yang_model();
   const GimbalTruth truth = loaded_truth(m);
-  TestPlan plan = plan_of(m, 4, Supports::kQuasiStatic);
+  // 100x the model's tolerances: the two paths integrate the window differently, and at the
+  // model's rtol 1e-4 that alone moves the mean torque by up to ~1e-4 of it (~0.9 uN*m), as much
+  // as the bound below; at 1e-6 what is left is the noise law under test.
+  TestPlan plan = plan_of(m, 4, Supports::kQuasiStatic, 100.0);
   plan.acquisition.offset_drift = plan.acquisition.offset_noise = 0.0;  // the white noise alone
   plan.positioning_error = 0.0;
   const int n = 120;
@@ -122,6 +125,8 @@ TEST(WindowNoiseInDistribution, SameLawAsTheSampledInstrumentAndReplayable) {
                        std::sqrt((std::pow(plan.acquisition.noise_rms, 2) + lsb * lsb / 12.0) / 4000.0);
   EXPECT_NEAR(sa / sigma, 1.0, 0.2);
   EXPECT_NEAR(sb / sigma, 1.0, 0.2);
+  std::printf("window noise: means differ by %.3g N*m (bound %.3g); sd/sigma %.3f drawn, %.3f sampled\n",
+              std::abs(ma - mb), 4.0 * sigma * std::sqrt(2.0 / n), sa / sigma, sb / sigma);
   EXPECT_NEAR(ma, mb, 4.0 * sigma * std::sqrt(2.0 / n));
 }
 
