@@ -126,7 +126,7 @@ int diagnose(const Args& a) {
                       {"p_adjusted", e.p_adjusted},
                       {"delta_bic", e.delta_bic},
                       {"causes", e.causes}};
-    if (e.name == "cogging") ej["order"] = e.order;
+    if (e.name == "cogging") ej["order"] = e.order, ej["order_resolution"] = e.order_resolution;
     for (const auto& q : e.params) ej["params"][q.name] = {{"value", q.value}, {"se", q.se}, {"unit", q.unit}};
     j["effects"].push_back(ej);
   }
@@ -142,9 +142,15 @@ int diagnose(const Args& a) {
     std::printf("    %-2s = %.4g +- %.2g %s\n", b.name.c_str(), b.value, b.se, b.unit.c_str());
   std::printf("\n  effects found: %zu\n", d.effects.size());
   for (const auto& e : d.effects) {
-    std::printf("  * %s%s  p = %.2g (Holm %.2g), delta BIC = %.1f\n", e.name.c_str(),
-                e.name == "cogging" ? (" of order " + std::to_string(e.order) + " per turn").c_str() : "", e.p_value,
-                e.p_adjusted, e.delta_bic);
+    std::printf(
+        "  * %s%s  p = %.2g (Holm %.2g), delta BIC = %.1f\n", e.name.c_str(),
+        e.name == "cogging"
+            ? fmt::format(
+                  " of order {} +- {:.0f} per turn (orders closer than one cycle over the swing are not told apart)",
+                  e.order, e.order_resolution)
+                  .c_str()
+            : "",
+        e.p_value, e.p_adjusted, e.delta_bic);
     for (const auto& q : e.params)
       std::printf("      %s = %.4g +- %.2g %s\n", q.name.c_str(), q.value, q.se, q.unit.c_str());
     std::printf("      causes: %s\n", e.causes.c_str());

@@ -241,7 +241,7 @@ CoggingPick scanned(const Eigen::MatrixXd& model, const Eigen::VectorXd& y, cons
   const double swing = phi.size() > 0 ? phi.maxCoeff() - phi.minCoeff() : 0.0;
   if (!(swing > 0)) return c;
   const ScanBest b = scan_best(model, y, phi, range, angles::kTwoPi / swing);
-  c.test = b.test, c.count = b.count;
+  c.test = b.test, c.count = b.count, c.resolution = angles::kPi / swing;
   c.at_edge = limited && c.test.order != 0 && c.test.order <= range.min_order + std::max(2, range.min_order / 20);
   return c;
 }

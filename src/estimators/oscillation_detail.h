@@ -105,9 +105,13 @@ Moving away_from_reversals(const Signals& s, const Eigen::MatrixXd& model);
 /// min order + max(2, min order / 20), when limited by the swing) is returned as such (at_edge:
 /// to be refused) and the moving samples' pick at their own limit is not taken. count: the
 /// orders both scans examined (the Bonferroni family).
+/// resolution: half a resolution cell of the scan that picked it, pi / swing orders (orders
+/// closer than one cycle over the swing are not told apart: the estimate of a weak order, or
+/// one the model's misfit reaches, moves within it).
 struct CoggingPick {
   LocalTest test;
   int count = 0;
+  double resolution = 0.0;
   bool on_moving = false, at_edge = false;
 };
 CoggingPick pick_cogging(const Signals& s, const Eigen::MatrixXd& model, const Moving& mv, const OrderRange& range);

@@ -21,6 +21,7 @@ using osc::Signals;
 struct Candidate {
   std::string name;
   int order = 0;
+  double resolution = 0.0;  ///< cogging: the order's (CoggingPick)
   Eigen::MatrixXd cols;
   std::string causes;
 };
@@ -108,13 +109,14 @@ std::optional<Tested> cogging_candidate(const Signals& s, const Eigen::MatrixXd&
   const osc::LocalTest& lt = pick.test;
   if (pick.count == 0 || lt.order == 0) return std::nullopt;
   Tested t = test_columns(model, s.y, cur,
-                          {"cogging", lt.order, osc::cogging_columns(s.phi, lt.order),
+                          {"cogging", lt.order, pick.resolution, osc::cogging_columns(s.phi, lt.order),
                            "motor cogging (slot/pole detent) or a periodic drag of the bearing cage"},
                           1.0);
   if (pick.on_moving) {
     const Fit mfit = least_squares(mv.model, mv.y);
     t.dbic =
-        test_columns(mv.model, mv.y, mfit, {"cogging", lt.order, osc::cogging_columns(mv.phi, lt.order), ""}, 1.0).dbic;
+        test_columns(mv.model, mv.y, mfit, {"cogging", lt.order, 0.0, osc::cogging_columns(mv.phi, lt.order), ""}, 1.0)
+            .dbic;
   }
   const double log_count = std::log(static_cast<double>(pick.count));
   t.log_p_rank = -lt.f + log_count;
@@ -146,6 +148,7 @@ OscillationEffect to_effect(const Tested& top, double p_adj, Eigen::Index k0) {
   OscillationEffect eff;
   eff.name = top.cand.name;
   eff.order = top.cand.order;
+  eff.order_resolution = top.cand.resolution;
   eff.p_value = top.p;
   eff.p_adjusted = p_adj;
   eff.delta_bic = top.dbic;
@@ -194,9 +197,9 @@ OscillationDiagnosis diagnose_oscillation(const OscillationRecord& rec, const Os
   out.rmse_before = std::sqrt(base.rss / static_cast<double>(s.n));
 
   std::vector<Candidate> fixed;
-  fixed.push_back({"offset_drift", 0, (s.t.array() - s.t.mean()).matrix(),
+  fixed.push_back({"offset_drift", 0, 0.0, (s.t.array() - s.t.mean()).matrix(),
                    "current-sensor offset drift (amplifier warm-up), motor heating changing K_T"});
-  fixed.push_back({"coulomb_asymmetry", 0, s.direction.unaryExpr([](double v) { return v > 0 ? 1.0 : 0.0; }),
+  fixed.push_back({"coulomb_asymmetry", 0, 0.0, s.direction.unaryExpr([](double v) { return v > 0 ? 1.0 : 0.0; }),
                    "direction-dependent bearing friction (preload, lubricant, seal)"});
   const osc::OrderRange range = osc::cogging_orders(s, opt, out);
   const double plausible = 2.0 * std::sqrt(2.0) * out.rmse_before;  // largest amplitude the residual holds

@@ -91,6 +91,10 @@ struct OscillationParam {
 struct OscillationEffect {
   std::string name;  ///< cogging, offset_drift, coulomb_asymmetry
   int order = 0;     ///< cogging order N
+  /// cogging: the order's resolution, half a cycle over the swing (180 deg / swing peak to
+  /// peak, in orders): orders closer than one cycle over the swing are not told apart, and the
+  /// estimate of a weak order, or of one the model's misfit reaches, moves within it
+  double order_resolution = 0.0;
   std::vector<OscillationParam> params;
   double p_value = 1.0, p_adjusted = 1.0, delta_bic = 0.0;
   std::string causes;

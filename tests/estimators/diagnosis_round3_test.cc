@@ -267,7 +267,7 @@ std::string record_summary(const OscillationDiagnosis& d) {
 // (c) Cogging of orders 32..551 over a swing that holds a cycle of each, at amplitudes from a
 // whole-record matched-filter SNR of 8 up to the 0.03-0.4 mN*m.
 TEST(DiagnosisRound3Records, CoggingAcrossOrdersAboveTheSwingLimitIsFound) {
-  int found = 0, runs = 0;
+  int found = 0, runs = 0, reported = 0, within_resolution = 0;
   for (int order : {32, 60, 96, 144, 264, 551}) {
     for (double amp : {0.025e-3, 0.03e-3, 0.1e-3, 0.4e-3}) {
       td::Plant p;
@@ -277,7 +277,13 @@ TEST(DiagnosisRound3Records, CoggingAcrossOrdersAboveTheSwingLimitIsFound) {
       // Orders closer than a quarter of the resolution 2 pi / swing (6 here) are not told
       // apart at a low SNR: over the swing their cycles differ by less than a quarter.
       bool hit = false;
-      for (const auto& e : d.effects) hit |= e.name == "cogging" && std::abs(e.order - order) <= 6;
+      for (const auto& e : d.effects) {
+        hit |= e.name == "cogging" && std::abs(e.order - order) <= 6;
+        if (e.name != "cogging") continue;
+        // The stated resolution holds the planted order.
+        ++reported, within_resolution += std::abs(e.order - order) <= e.order_resolution;
+        EXPECT_GT(e.order_resolution, 0.0);
+      }
       ++runs, found += hit;
       if (!hit) {
         std::printf("  missed: order %d, %.3g mN*m (matched-filter SNR %.1f): %s\n", order,
@@ -285,8 +291,10 @@ TEST(DiagnosisRound3Records, CoggingAcrossOrdersAboveTheSwingLimitIsFound) {
       }
     }
   }
-  std::printf("cogging over a 14.6 deg swing: found %d of %d\n", found, runs);
+  std::printf("cogging over a 14.6 deg swing: found %d of %d; %d of %d orders reported within their resolution\n",
+              found, runs, within_resolution, reported);
   EXPECT_GE(found, runs * 9 / 10);
+  EXPECT_EQ(within_resolution, reported);
 }
 
 // (c) A current-sensor offset drift of 1 mA over the two-period record (0.5 mA/s).

@@ -145,6 +145,9 @@ def score_record(entry, d):
     e_b, e_a = abs(tb['value'] - truth), abs(ta['value'] - truth)
     res = dict(file=entry['file'], kind='record', reported=sorted(names),
                orders=[e.get('order') for e in d.get('effects', []) if e.get('name') == 'cogging'],
+               order_resolutions=[e.get('order_resolution') for e in d.get('effects', [])
+                                  if e.get('name') == 'cogging'],
+               planted_orders=[e['params']['order'] for e in entry['effects'] if e['family'] == 'cogging'],
                err_before_mNm=e_b, err_after_mNm=e_a, tol_mNm=tol, worse=bool(e_a > e_b + tol),
                clean=entry['clean'], effects=[])
     accepted_all = set()

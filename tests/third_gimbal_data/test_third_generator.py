@@ -68,6 +68,21 @@ def test_scores_not_below_floors(scored):
     assert r['false_positive_pct'] <= FLOORS['record_false_positive_pct_max'], r['false_positive_files']
 
 
+def test_cogging_orders_lie_within_their_stated_resolution(scored):
+    """A cogging Poise reports on a record with one planted is within its stated resolution
+    (order_resolution, half a cycle over the swing) of the planted order."""
+    _, res = scored
+    checked = 0
+    for f in res['files']:
+        if f['kind'] != 'record' or len(f.get('planted_orders', [])) != 1:
+            continue
+        for order, resolution in zip(f['orders'], f['order_resolutions']):
+            assert resolution is not None and resolution > 0, f['file']
+            assert abs(order - f['planted_orders'][0]) <= resolution, (f['file'], order, resolution)
+            checked += 1
+    assert checked >= 4, 'the suite lost its found cogging'
+
+
 def test_manifest_lists_every_file_with_its_truth(scored):
     d, _ = scored
     man = json.load(open(os.path.join(d, 'manifest.json')))
