@@ -15,7 +15,9 @@
 ///   exponential_drift       exp(-(t - t_first) / tau), tau scanned      initial_excess, tau
 ///   kt_drift                (t - mean t) M(theta) of the current model  relative_rate
 ///   outlier                 indicator of one point             offset (index, file line)
-///   autocorrelation         AR(1) errors in measurement order   rho
+///   autocorrelation         AR(1) errors in measurement order   rho (restricted LR test,
+///                           one-sided: rho > 0, the correlation drifts, thermal lag and a
+///                           servo's slow error give successive readings)
 /// (families step and exponential_drift, their scans and the K_T drift: residual_candidates.h)
 ///
 /// Why harmonic 2 is not an axis tilt. With the turntable at theta, gravity in the turntable
@@ -72,7 +74,8 @@
 /// says that correlated noise is suggested, not established, that no correction is applied, and
 /// which plan would separate it (on a one-direction sweep: the same positions swept the other
 /// way or in random order). On the independent generator's AR(1) tables (rho 0.8 and 0.85, 100
-/// each) AR(1) is found or suggested in 55 and 51 (diagnosis_round3_test); on white noise the
+/// each) AR(1) is found or suggested in 64 and 61 (55 and 51 with the test two-sided;
+/// diagnosis_round3_test); on white noise the
 /// note comes at about the rate alpha allows.
 /// Holm keeps the chance of adding anything to a clean record <= alpha: whatever either search
 /// adds first must pass the same first-round Holm family (exact F tests under independent

@@ -177,7 +177,12 @@ Term autocorrelation_test(const Model& m, const ModelData& d) {
   const double n = static_cast<double>(d.n);
   const double l0 = restricted_loglik(m.x, d, 0.0);
   const double lr = std::max(0.0, 2.0 * (rf.loglik - l0));
-  t.p = boost::math::cdf(boost::math::complement(boost::math::chi_squared(1.0), lr));
+  // One-sided, against positive correlation (the signed root of the LR is asymptotically
+  // normal): drifts, thermal lag and a servo's slow error correlate successive readings
+  // positively; a negative rho is not an error law a measurement in time produces, and where
+  // the residual alternates a deterministic term (a direction offset) is the candidate.
+  const double two_sided = boost::math::cdf(boost::math::complement(boost::math::chi_squared(1.0), lr));
+  t.p = rf.rho > 0.0 ? 0.5 * two_sided : 1.0 - 0.5 * two_sided;
   t.delta_bic = -lr + std::log(n);
   t.note = fmt::format("rho = {:.3f}", rf.rho);
   t.examined = true;

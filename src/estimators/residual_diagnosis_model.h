@@ -100,7 +100,7 @@ bool nested_test(const Model& m, const ModelData& d, Term& t, bool refit_rho = t
 /// Bonferroni-adjusted over the points examined.
 Term outlier_family(const Model& m, const ModelData& d);
 
-/// Restricted likelihood-ratio test of AR(1) errors given m's columns.
+/// Restricted likelihood-ratio test of AR(1) errors given m's columns, one-sided (rho > 0).
 Term autocorrelation_test(const Model& m, const ModelData& d);
 
 /// Holm step-down adjustment of the examined terms' p (sets p_adj).

@@ -211,14 +211,15 @@ TEST(DiagnosisRound3, DirectionOffsetOnASplitSweepIsNotReportedAsATimeDrift) {
 // (d) AR(1) noise on a one-direction sweep: no correction the data cannot separate from the
 // noise (before round 3: 3 and 5 of 100 worse beyond 2 SE, a wander fitted as a step), and the
 // diagnosis says so: AR(1) found, or its note that correlated noise is suggested and which plan
-// would separate it (measured 28 Nov 2026: 55 and 51 of 100; on the white-noise scenarios above
-// the note comes in 0 to 2 of 6 to 20 tables, as its test at alpha allows).
+// would separate it (measured 28 Nov 2026: 55 and 51 of 100; 64 and 61 with the AR(1) test
+// one-sided, rho > 0; on the white-noise scenarios above the note comes in 0 to 2 of 6 to 20
+// tables, as its test at alpha allows).
 void correlated_noise(double sigma, double rho, std::uint64_t seed0) {
   const auto none = [](const Effect&) { return false; };
   const Tally t = run("clean, AR(1) noise", td::forward_sweep(), {}, {}, {sigma, rho}, 100, seed0,
                       none, none);
   EXPECT_EQ(t.worse, 0);
-  EXPECT_GE(t.correlated_said, 40);
+  EXPECT_GE(t.correlated_said, 50);
 }
 
 TEST(DiagnosisRound3, CorrelatedNoiseRho080IsNeverMadeWorse) { correlated_noise(0.2e-3, 0.8, 5600); }
