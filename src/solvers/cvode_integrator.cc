@@ -11,6 +11,7 @@
 #include <type_traits>
 
 #include "core/error.h"
+#include "solvers/serial_vector_norm.h"
 #include "solvers/small_dense_linear_solver.h"
 
 namespace poise::solvers {
@@ -84,6 +85,7 @@ CvodeIntegrator::CvodeIntegrator(std::size_t n, RhsFunction rhs, void* user_data
   owned_->tmp.reset(tmp);
   require(y && tmp, "CVODE: cannot allocate vectors");
   N_VConst(0.0, y);
+  use_weighted_rms_norm(y);              // clones inherit it
   N_VEnableFusedOps_Serial(y, SUNTRUE);  // one loop per linear combination (clones inherit)
   N_VEnableFusedOps_Serial(tmp, SUNTRUE);
   y_ = y;

@@ -352,8 +352,11 @@ positions = 2
     EXPECT_LT(cf, 3.0 * dev_pct);
     EXPECT_GE(cf, cf_lo - 1e-4);
     EXPECT_LE(cf, cf_hi + 1e-4);
-    EXPECT_LT(output(study, r, "acc_u_error_ic_gmm"), 1e-3);  // of 5000 g mm per plane
-    EXPECT_LT(output(study, r, "acc_v_error_ic_gmm"), 1e-3);
+    // Of 5000 g mm per plane: 4e-7 of it, with the solver at rtol = atol = 1e-6. The rounding of
+    // CVODE's linear solves alone moves one of these samples between 1.1e-4 and 1.4e-3 g mm (28
+    // Nov 2026, SUNDIALS' dense LU against Eigen's); the closed form is off by 2 to 50 g mm.
+    EXPECT_LT(output(study, r, "acc_u_error_ic_gmm"), 2e-3);
+    EXPECT_LT(output(study, r, "acc_v_error_ic_gmm"), 2e-3);
     EXPECT_LT(output(study, r, "acc_interference_ic_per_mm"), 1e-6);
     // (The couple's effect is a difference of two runs with the piece on: its simulation error
     // is that of the piece's amplitudes, ~1e-8 of 5000 g mm, i.e. ~1e-3 of the interference.)
