@@ -2,25 +2,16 @@
 #include "solvers/serial_vector_norm.h"
 
 #include <gtest/gtest.h>
-#include <sundials/sundials_context.h>
 
 #include <cmath>
 #include <random>
 
-namespace poise::solvers {
-namespace {
-
-struct Sundials {
-  Sundials() { SUNContext_Create(nullptr, &ctx); }
-  ~Sundials() { SUNContext_Free(&ctx); }
-  SUNContext ctx = nullptr;
-};
-
-}  // namespace
-}  // namespace poise::solvers
+#include "sundials_context.h"
 
 namespace poise::solvers {
 namespace {
+
+using Sundials = test::SundialsContext;
 
 TEST(WeightedRmsNorm, EqualsSundialsOwnAtEverySmallSize) {
   Sundials s;

@@ -14,15 +14,12 @@
 
 #include "solvers/cvode_integrator.h"
 #include "solvers/small_dense_linear_solver.h"
+#include "sundials_context.h"
 
 namespace poise::solvers {
 namespace {
 
-struct Sundials {
-  Sundials() { SUNContext_Create(nullptr, &ctx); }
-  ~Sundials() { SUNContext_Free(&ctx); }
-  SUNContext ctx = nullptr;
-};
+using Sundials = test::SundialsContext;
 
 // x from A x = b through the solver (A copied into a SUNDIALS dense matrix).
 std::vector<double> solve_through(const Eigen::MatrixXd& a, const Eigen::VectorXd& b, int* setup_flag) {
