@@ -9,6 +9,7 @@
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <sstream>
+#include <string>
 
 #include "core/error.h"
 #include "core/format.h"
@@ -142,15 +143,14 @@ int diagnose(const Args& a) {
     std::printf("    %-2s = %.4g +- %.2g %s\n", b.name.c_str(), b.value, b.se, b.unit.c_str());
   std::printf("\n  effects found: %zu\n", d.effects.size());
   for (const auto& e : d.effects) {
-    std::printf(
-        "  * %s%s  p = %.2g (Holm %.2g), delta BIC = %.1f\n", e.name.c_str(),
+    const std::string order =
         e.name == "cogging"
             ? fmt::format(
                   " of order {} +- {:.0f} per turn (orders closer than one cycle over the swing are not told apart)",
                   e.order, e.order_resolution)
-                  .c_str()
-            : "",
-        e.p_value, e.p_adjusted, e.delta_bic);
+            : "";
+    std::printf("  * %s%s  p = %.2g (Holm %.2g), delta BIC = %.1f\n", e.name.c_str(), order.c_str(), e.p_value,
+                e.p_adjusted, e.delta_bic);
     for (const auto& q : e.params)
       std::printf("      %s = %.4g +- %.2g %s\n", q.name.c_str(), q.value, q.se, q.unit.c_str());
     std::printf("      causes: %s\n", e.causes.c_str());

@@ -1,7 +1,7 @@
 #pragma once
 /// A SUNDIALS linear solver for the small dense systems of Poise's integrators (n <= 16):
-/// Eigen's partial-pivoting LU on a fixed-capacity matrix (no allocation, loops the compiler
-/// unrolls and vectorizes) in place of SUNDIALS' generic dense GETRF/GETRS, which walks
+/// Eigen's partial-pivoting LU, one fixed-size instance per n (no allocation, loops the
+/// compiler unrolls and vectorizes) in place of SUNDIALS' generic dense GETRF/GETRS, which walks
 /// column pointers and dominated the gimbal measurement's profile (17 % of its CPU time in
 /// GETRS alone for a 13-state system).
 ///

@@ -143,15 +143,15 @@ def score_record(entry, d):
     tb, ta = d['torque_before_mNm'], d['torque_after_mNm']
     tol = max(0.5 * tb['se'], 0.005)
     e_b, e_a = abs(tb['value'] - truth), abs(ta['value'] - truth)
+    planted_orders = [e['params']['order'] for e in entry['effects'] if e['family'] == 'cogging']
     res = dict(file=entry['file'], kind='record', reported=sorted(names),
                orders=[e.get('order') for e in d.get('effects', []) if e.get('name') == 'cogging'],
                order_resolutions=[e.get('order_resolution') for e in d.get('effects', [])
                                   if e.get('name') == 'cogging'],
-               planted_orders=[e['params']['order'] for e in entry['effects'] if e['family'] == 'cogging'],
+               planted_orders=planted_orders,
                err_before_mNm=e_b, err_after_mNm=e_a, tol_mNm=tol, worse=bool(e_a > e_b + tol),
                clean=entry['clean'], effects=[])
     accepted_all = set()
-    planted_orders = [e['params']['order'] for e in entry['effects'] if e['family'] == 'cogging']
     # A cogging found at an order more than 10 % from every planted order is not the planted one
     # (Poise reports ~570 on clean records of this generator): it is invented, not found.
     stray = [o for o in res['orders'] if not any(abs(o - n) <= 0.1 * n for n in planted_orders)]
