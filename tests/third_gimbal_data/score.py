@@ -24,11 +24,17 @@ family):
                                                 exponential_drift (pieces of the saw)
     bent_shaft        none: a pure first harmonic; any effect reported on it is invented
 Records:
-    cogging           cogging at an order within 10 % of the planted one; a cogging order
-                      farther from every planted order counts as invented (and not as found)
+    cogging           cogging at an order within 10 % of the planted one; or farther, but with
+                      the planted order inside the order's stated resolution (order_resolution,
+                      half a cycle over the swing: counted as found, listed apart as
+                      "resolution"); a cogging order farther from every planted order than both
+                      counts as invented (and not as found)
     offset_drift      offset_drift
-    friction_asymmetry  friction_asymmetry / coulomb_asymmetry (Poise itself lists a constant
-                        asymmetry as not identifiable at one position)
+    friction_asymmetry  the issue's target is "not identifiable, and nothing invented" (a
+                        constant asymmetry is, at one position, the constant's alias): met when
+                        Poise lists coulomb_asymmetry (or friction_asymmetry) under
+                        not_identifiable and reports no effect; scored apart from the detectable
+                        effects (its generator z counts the alias as signal)
 An effect Poise names in an "ambiguous" group's readings also counts as an alias.
 
 Estimate made worse (tables): e = |MT e^{i b} - U e^{i b_true}| (vector error, mN*m) before and
@@ -49,6 +55,9 @@ import os
 import subprocess
 import sys
 
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import oracle  # noqa: E402
+
 TABLE_MAP = {
     'sag_harmonic2': ({'harmonic 2'}, set()),
     'thermal_kt': ({'kt_drift'}, {'time_drift', 'exponential_drift'}),
@@ -67,6 +76,8 @@ RECORD_MAP = {
     'offset_drift': ({'offset_drift'}, set()),
     'friction_asymmetry': ({'friction_asymmetry', 'coulomb_asymmetry'}, set()),
 }
+# Families whose target is an honest "not identifiable" (with nothing invented), not a detection.
+NOT_IDENTIFIABLE_TARGET = {'friction_asymmetry'}
 
 
 def poise_name(e):
@@ -152,19 +163,38 @@ def score_record(entry, d):
                err_before_mNm=e_b, err_after_mNm=e_a, tol_mNm=tol, worse=bool(e_a > e_b + tol),
                clean=entry['clean'], effects=[])
     accepted_all = set()
-    # A cogging found at an order more than 10 % from every planted order is not the planted one
-    # (Poise reports ~570 on clean records of this generator): it is invented, not found.
-    stray = [o for o in res['orders'] if not any(abs(o - n) <= 0.1 * n for n in planted_orders)]
+    # A cogging found at an order more than 10 % from every planted order, and farther from each
+    # than its own stated resolution, is not the planted one (Poise reported ~570 on clean
+    # records of this generator): it is invented, not found.
+    def near(o, n):
+        return abs(o - n) <= 0.1 * n
+
+    def within(o, w, n):
+        return w is not None and abs(o - n) <= w
+
+    pairs = list(zip(res['orders'], res['order_resolutions']))
+    stray = [o for o, w in pairs if not any(near(o, n) or within(o, w, n) for n in planted_orders)]
+    by_resolution_only = any(within(o, w, n) and not any(near(o, m) for m in planted_orders)
+                             for o, w in pairs for n in planted_orders)
     matched = names - ({'cogging'} if len(stray) == len(res['orders']) else set())
+    said_not_identifiable = {e.get('name') for e in d.get('not_identifiable', [])}
     for eff in entry['effects']:
         exact, alias = RECORD_MAP[eff['family']]
         accepted_all |= exact | alias
-        verdict = 'found' if matched & exact else ('alias' if matched & alias else
-                                                    ('wrong_family' if names else 'missed'))
+        if eff['family'] in NOT_IDENTIFIABLE_TARGET:
+            met = bool(said_not_identifiable & exact) and not names
+            verdict = 'not_identifiable' if met else ('wrong_family' if names else 'not_said')
+        elif matched & exact:
+            verdict = 'resolution' if eff['family'] == 'cogging' and by_resolution_only else 'found'
+        else:
+            verdict = 'alias' if matched & alias else ('wrong_family' if names else 'missed')
         res['effects'].append(dict(family=eff['family'], z=eff['z'], detectable=eff['detectable'],
                                    verdict=verdict, params=eff['params']))
     res['invented'] = sorted((names - accepted_all) | ({f'cogging order {o}' for o in stray}))
     return res
+
+
+FOUND = ('found', 'alias', 'resolution')
 
 
 def pct(a, b):
@@ -175,18 +205,23 @@ def summarise(results):
     S = {}
     for kind in ('table', 'record'):
         rs = [r for r in results if r['kind'] == kind]
-        det = [e for r in rs for e in r['effects'] if e['detectable']]
-        und = [e for r in rs for e in r['effects'] if not e['detectable']]
-        found = [e for e in det if e['verdict'] in ('found', 'alias')]
+        judged = [e for r in rs for e in r['effects'] if e['family'] not in NOT_IDENTIFIABLE_TARGET]
+        det = [e for e in judged if e['detectable']]
+        und = [e for e in judged if not e['detectable']]
+        found = [e for e in det if e['verdict'] in FOUND]
+        unid = [e for r in rs for e in r['effects'] if e['family'] in NOT_IDENTIFIABLE_TARGET]
         clean = [r for r in rs if r['clean']]
         fp = [r for r in clean if r['reported']]
         S[kind] = dict(
             files=len(rs), detectable=len(det), found=len(found), found_pct=pct(len(found), len(det)),
             found_exact=sum(e['verdict'] == 'found' for e in det),
             found_alias=sum(e['verdict'] == 'alias' for e in det),
+            found_resolution=sum(e['verdict'] == 'resolution' for e in det),
+            not_identifiable_target=len(unid),
+            not_identifiable_said=sum(e['verdict'] == 'not_identifiable' for e in unid),
             wrong_family=sum(e['verdict'] == 'wrong_family' for e in det),
             missed=sum(e['verdict'] == 'missed' for e in det),
-            undetectable=len(und), undetectable_found=sum(e['verdict'] in ('found', 'alias') for e in und),
+            undetectable=len(und), undetectable_found=sum(e['verdict'] in FOUND for e in und),
             worse=sum(r['worse'] for r in rs), worse_files=[r['file'] for r in rs if r['worse']],
             clean=len(clean), false_positive=len(fp), false_positive_pct=pct(len(fp), len(clean)),
             false_positive_files=[r['file'] for r in fp],
@@ -199,12 +234,15 @@ def summarise(results):
         for r in rs:
             for e in r['effects']:
                 f = fams.setdefault(e['family'], dict(detectable=0, found=0, undetectable=0, undetectable_found=0))
-                if e['detectable']:
+                if e['family'] in NOT_IDENTIFIABLE_TARGET:
+                    f['not_identifiable_said'] = f.get('not_identifiable_said', 0) + (e['verdict'] == 'not_identifiable')
+                    f['not_identifiable_target'] = f.get('not_identifiable_target', 0) + 1
+                elif e['detectable']:
                     f['detectable'] += 1
-                    f['found'] += e['verdict'] in ('found', 'alias')
+                    f['found'] += e['verdict'] in FOUND
                 else:
                     f['undetectable'] += 1
-                    f['undetectable_found'] += e['verdict'] in ('found', 'alias')
+                    f['undetectable_found'] += e['verdict'] in FOUND
         S[kind]['by_family'] = fams
     return S
 
@@ -219,7 +257,10 @@ def format_table(S):
     row('files', t['files'], r['files'])
     row('detectable planted effects found (exact + alias)',
         f"{t['found']}/{t['detectable']} ({t['found_pct']:.0f}%; {t['found_alias']} alias)",
-        f"{r['found']}/{r['detectable']} ({r['found_pct']:.0f}%; {r['found_alias']} alias)")
+        f"{r['found']}/{r['detectable']} ({r['found_pct']:.0f}%; {r['found_alias']} alias, "
+        f"{r['found_resolution']} within the stated order resolution only)")
+    row('"not identifiable" said, nothing invented (friction asymmetry)', '-',
+        f"{r['not_identifiable_said']}/{r['not_identifiable_target']}")
     row('detectable effects missed (nothing reported)', t['missed'], r['missed'])
     row('detectable effects given a wrong family', t['wrong_family'], r['wrong_family'])
     row('undetectable planted effects reported anyway', f"{t['undetectable_found']}/{t['undetectable']}",
@@ -230,12 +271,22 @@ def format_table(S):
         f"{r['false_positive']}/{r['clean']} ({r['false_positive_pct']:.0f}%)")
     row('files with invented effects (not planted)', t['files_with_invented'], r['files_with_invented'])
     row('clean tables flagged "unexplained structure"', t['clean_unexplained_structure'], '-')
+    for key, what in (('oracle_noise_estimated', 'shape known, noise estimated'),
+                      ('oracle_noise_known', 'shape and noise known')):
+        if key in S:
+            o = S[key]
+            row(f"oracle bound ({what}; {o['candidates']} candidates at alpha {o['alpha']}; oracle.py)",
+                f"{o['found']}/{o['detectable']} ({o['found_pct']:.0f}%)", '-')
     lines.append('')
     lines.append('| family | detectable found | undetectable reported |')
     lines.append('| --- | --- | --- |')
     for kind in ('table', 'record'):
         for fam, f in S[kind]['by_family'].items():
-            lines.append(f"| {fam} | {f['found']}/{f['detectable']} | {f['undetectable_found']}/{f['undetectable']} |")
+            if 'not_identifiable_target' in f:
+                lines.append(f"| {fam} | \"not identifiable\" said, nothing invented: "
+                             f"{f['not_identifiable_said']}/{f['not_identifiable_target']} | - |")
+            else:
+                lines.append(f"| {fam} | {f['found']}/{f['detectable']} | {f['undetectable_found']}/{f['undetectable']} |")
     return '\n'.join(lines)
 
 
@@ -249,7 +300,12 @@ def score(suite, poise, jobs=1):
 
     with cf.ThreadPoolExecutor(max_workers=max(1, jobs)) as ex:
         results = list(ex.map(one, entries))
-    return dict(summary=summarise(results), files=results)
+    summary = summarise(results)
+    for key, estimate_sigma in (('oracle_noise_estimated', True), ('oracle_noise_known', False)):
+        o = oracle.oracle(suite, estimate_sigma=estimate_sigma)
+        summary[key] = {k: v for k, v in o.items() if k != 'effects'}
+        summary[key]['missed'] = [f"{e['file']}: {e['family']}" for e in o['effects'] if not e['found']]
+    return dict(summary=summary, files=results)
 
 
 def main():
@@ -271,7 +327,8 @@ def main():
                 print(f'{kind} {key}: ' + '; '.join(s[key]))
     for r in res['files']:
         for e in r['effects']:
-            if e['detectable'] and e['verdict'] not in ('found', 'alias'):
+            judged = e['detectable'] and e['family'] not in NOT_IDENTIFIABLE_TARGET
+            if (judged and e['verdict'] not in FOUND) or e['verdict'] == 'not_said':
                 print(f"{r['file']}: {e['family']} (z {e['z']}) {e['verdict']}; reported {r['reported']}")
     print(f'wrote {out}')
 
