@@ -41,9 +41,9 @@ const char* kDiagnoseHelp = R"(What it does:
   over change points), a saturating exponential drift (scanned over time constants), a drift
   of the torque constant scaling the whole M(theta), one outlier at a time, AR(1) errors in
   measurement order. Forward stepwise: each round tests every candidate (F test of the nested
-  linear model; Bonferroni over a scanned family; restricted likelihood ratio of
-  Prais-Winsten GLS for AR(1)), adjusts the round's p-values with Holm, and adds the best
-  one only if its adjusted p < alpha AND it lowers the BIC. On data with none of these
+  linear model; Bonferroni over a scanned family; for AR(1) the restricted likelihood ratio
+  of Prais-Winsten GLS, one-sided: rho > 0), adjusts the round's p-values with Holm, and
+  adds the best one only if its adjusted p < alpha AND it lowers the BIC. On data with none of these
   effects it adds one in at most about alpha of the cases.
   Then: what this plan cannot tell apart (candidates collinear with each other or with the
   first harmonic are reported together, with the estimate under each reading and a plan that

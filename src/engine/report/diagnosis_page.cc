@@ -47,7 +47,8 @@ std::string method_html(const json& d) {
        "2.."
     << d.value("max_harmonic", 0)
     << ", time drift, K_T drift, direction offset, step, exponential settling, outliers, AR(1) errors, added by "
-       "forward stepwise selection (F test or likelihood ratio, Holm-adjusted per round, alpha = "
+       "forward stepwise selection (F test; for AR(1) the one-sided (rho &gt; 0) restricted likelihood ratio; "
+       "Holm-adjusted per round, alpha = "
     << num(d["alpha"], 3) << ", and &Delta;BIC &lt; 0).</p>\n";
   return h.str();
 }
