@@ -340,4 +340,30 @@ TEST(DiagnoseCommand, TimeEffectsAreReportedByFamilyWithTheirShape) {
   EXPECT_NE(r.out.find("shape not identifiable"), std::string::npos);
 }
 
+TEST(DiagnoseCommand, AStepsChangePointTimeHasNoStandardErrorAndTheReportSaysNotNan) {
+  poise::test::TempDir dir;
+  std::string csv = "theta_deg,torque_mNm,time_s\n";
+  unsigned state = 777;  // fixed noise (LCG): the same table every run
+  const auto uniform = [&state] { return (state = state * 1103515245u + 12345u) / 4294967296.0; };
+  for (int k = 0; k < 36; ++k) {
+    const double theta = 10.0 * k, t = 12.0 * k;
+    const double noise = 0.1 * (uniform() + uniform() + uniform() - 1.5) * 2.0;
+    const double m = 9.0 * std::sin(theta * std::numbers::pi / 180.0 + 0.3) + 2.0 + (k >= 21 ? 1.5 : 0.0) + noise;
+    csv += std::to_string(theta) + "," + std::to_string(m) + "," + std::to_string(t) + "\n";
+  }
+  const std::string data = dir.file("step.csv"), out = dir.file("diag");
+  poise::test::write_text(data, csv);
+  RunResult r = run_poise(dir, "diagnose '" + data + "' --out '" + out + "'");
+  ASSERT_EQ(r.status, 0) << r.err;
+  const nlohmann::json j = nlohmann::json::parse(poise::test::read_text(out + "/diagnosis.json"));
+  ASSERT_FALSE(j.at("effects").empty()) << r.out;
+  const auto& params = j.at("effects")[0].at("params");
+  ASSERT_TRUE(params.contains("at_time")) << params.dump();
+  EXPECT_TRUE(params.at("at_time").at("se").is_null());  // a scanned change point: no SE
+  const std::string html = poise::test::read_text(out + "/report.html");
+  EXPECT_NE(html.find("&plusmn; n/a s"), std::string::npos);
+  EXPECT_EQ(html.find("&plusmn; nan"), std::string::npos);
+  EXPECT_NE(r.out.find("+- n/a s"), std::string::npos) << r.out;
+}
+
 }  // namespace

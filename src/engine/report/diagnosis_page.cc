@@ -1,5 +1,6 @@
 #include "engine/report/diagnosis_page.h"
 
+#include <cmath>
 #include <sstream>
 #include <string>
 
@@ -14,8 +15,8 @@ namespace {
 using nlohmann::json;
 
 std::string num(const json& v, int digits) {
-  if (v.is_string()) return html_escape(v.get<std::string>());  // "inf"
-  if (!v.is_number()) return "n/a";
+  if (v.is_string()) return html_escape(v.get<std::string>());      // "inf"
+  if (!v.is_number() || std::isnan(v.get<double>())) return "n/a";  // NaN: not estimated (JSON null)
   return format_significant(v.get<double>(), digits);
 }
 
