@@ -60,10 +60,22 @@ Polar polar(double a, double c, const Eigen::Matrix2d& cov) {
 
 }  // namespace
 
+const char* causes_of(const std::string& name, int order) {
+  if (name == "harmonic") return order == 2 ? kCauseHarmonic2 : kCauseHarmonicHigh;
+  if (name == "time_drift" || name == "time_drift_quadratic") return kCauseDrift;
+  if (name == "step") return kCauseStep;
+  if (name == "exponential_drift") return kCauseExponential;
+  if (name == "kt_drift") return kCauseKt;
+  if (name == "direction_offset") return kCauseDirection;
+  if (name == "outlier") return kCauseOutlier;
+  return kCauseAr;
+}
+
 Effect to_effect(const Term& t, const Model& m, const LinearFit& f, const TorqueTable& table) {
   Effect e;
   e.name = t.name, e.order = t.order, e.index = t.index;
   e.p_value = t.p, e.p_adjusted = t.p_adj, e.delta_bic = t.delta_bic;
+  e.causes = causes_of(t.name, t.order);
   const std::string& u = table.unit;
   const std::string per = table.time_s.empty() ? "/measurement" : "/s";
   const auto coef = [&](Index k) {
@@ -73,14 +85,12 @@ Effect to_effect(const Term& t, const Model& m, const LinearFit& f, const Torque
     const Polar p = polar(f.beta(t.first), f.beta(t.first + 1), f.cov.block<2, 2>(t.first, t.first));
     e.params = {{"amplitude", p.amplitude, p.se_amplitude, u},
                 {"phase_deg", p.phase * kDegPerRad, p.se_phase * kDegPerRad, "deg"}};
-    e.causes = t.order == 2 ? kCauseHarmonic2 : kCauseHarmonicHigh;
   } else if (t.name == "time_drift" || t.name == "time_drift_quadratic") {
     const bool quad = t.name == "time_drift_quadratic";
     EffectParam p = coef(0);
     p.name = quad ? "curvature" : "slope";
     p.unit = u + per + (quad ? "^2" : "");
     e.params = {p};
-    e.causes = kCauseDrift;
   } else if (t.name == "step") {
     EffectParam p = coef(0);
     p.name = "level_change";
@@ -90,34 +100,28 @@ Effect to_effect(const Term& t, const Model& m, const LinearFit& f, const Torque
                 {"first_row_after", static_cast<double>(row), 0.0, ""},
                 {"at_time", at, std::numeric_limits<double>::quiet_NaN(), table.time_s.empty() ? "measurement" : "s"}};
     e.line = row < table.rows.size() ? table.rows[row] : 0;
-    e.causes = kCauseStep;
   } else if (t.name == "exponential_drift") {
     EffectParam p = coef(0);
     p.name = "initial_excess";
     e.params = {p,
                 {"tau", t.param, std::numeric_limits<double>::quiet_NaN(), table.time_s.empty() ? "measurement" : "s"}};
-    e.causes = kCauseExponential;
   } else if (t.name == "kt_drift") {
     EffectParam p = coef(0);
     p.name = "relative_rate";
     p.unit = per.substr(1) == "s" ? "1/s" : "1/measurement";
     e.params = {p};
-    e.causes = kCauseKt;
   } else if (t.name == "direction_offset") {
     EffectParam p = coef(0);
     p.name = "half_difference";
     e.params = {p};
-    e.causes = kCauseDirection;
   } else if (t.name == "outlier") {
     EffectParam p = coef(0);
     p.name = "offset";
     e.params = {p};
     const auto row = static_cast<std::size_t>(t.index);
     e.line = row < table.rows.size() ? table.rows[row] : 0;
-    e.causes = kCauseOutlier;
   } else {
     e.params = {{"rho", m.rho.rho, m.rho.se, ""}};
-    e.causes = kCauseAr;
   }
   return e;
 }

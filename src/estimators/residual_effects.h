@@ -11,4 +11,7 @@ namespace poise::estimators::detail {
 /// harmonic's amplitude and phase by the delta method).
 Effect to_effect(const Term& t, const Model& m, const LinearFit& f, const TorqueTable& table);
 
+/// The physical causes of a candidate of this name (order: a harmonic's), in words.
+const char* causes_of(const std::string& name, int order);
+
 }  // namespace poise::estimators::detail

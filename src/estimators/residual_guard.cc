@@ -9,6 +9,7 @@
 
 #include "core/angles.h"
 #include "core/format.h"
+#include "estimators/residual_effects.h"
 
 namespace poise::estimators::detail {
 namespace {
@@ -158,7 +159,7 @@ Model without_terms(const Model& m, const ModelData& d, const std::vector<bool>&
 // The readings of term j of cur (cur: the selected model without the terms guarded so far)
 // against the plain estimate; an ambiguous finding when one disagrees beyond kGuardSe.
 bool guard_one(const Model& cur, const GuardInputs& in, std::size_t j, DiagnosisResult& res, double& allowance,
-               std::string& against_label) {
+               std::string& against_label, std::string& against_name) {
   const ModelData& d = in.d;
   const LinearFit f = fit_linear(cur.x, d, cur.ar, cur.rho.rho);
   if (!f.ok) return false;
@@ -218,6 +219,7 @@ bool guard_one(const Model& cur, const GuardInputs& in, std::size_t j, Diagnosis
   a.plan = separating_plan(cur.terms[j].name, against->name);
   allowance = 0.25 * reach * reach;
   against_label = against->reading.effects;
+  against_name = against->name;
   res.ambiguous.push_back(std::move(a));
   return true;
 }
@@ -228,6 +230,7 @@ GuardResult guard_estimate(const Model& m, const GuardInputs& in, DiagnosisResul
   GuardResult g;
   g.allowance.assign(m.terms.size(), std::numeric_limits<double>::quiet_NaN());
   g.against.assign(m.terms.size(), "");
+  g.against_name.assign(m.terms.size(), "");
   std::vector<bool> drop(m.terms.size(), false);
   for (std::size_t i = 0; i < m.terms.size(); ++i) {
     if (m.terms[i].name == "autocorrelation") continue;
@@ -235,7 +238,7 @@ GuardResult guard_estimate(const Model& m, const GuardInputs& in, DiagnosisResul
     std::size_t j = i;  // index of term i in cur
     for (std::size_t k = 0; k < i; ++k) j -= drop[k] ? 1 : 0;
     double a = 0.0;
-    if (!guard_one(cur, in, j, res, a, g.against[i])) continue;
+    if (!guard_one(cur, in, j, res, a, g.against[i], g.against_name[i])) continue;
     drop[i] = true;
     g.allowance[i] = a;
     res.effects[i].estimate_note =
@@ -305,14 +308,21 @@ void name_families(const Model& m, const ModelData& d, const CandidatePool& pool
       }
     }
     if (t.name == "direction_offset") continue;
+    std::string other;  // the reading the shape is not told from
     if (e.shape_delta_bic < identified_by(t.name, alternative_name)) {
       e.family = "time_drift";
       e.shape = "not identifiable";
+      other = alternative_name;
     }
     if (i < guard.against.size() && !guard.against[i].empty()) {
       e.family = "time_drift";
       e.shape = "not identifiable";
       e.alternative = guard.against[i];
+      other = guard.against_name[i];
+    }
+    // Its causes are those of either reading (not of a harmonic, whose order is not kept here).
+    if (!other.empty() && other != t.name && other != "first harmonic" && other != "harmonic") {
+      e.causes += " Or, read as " + other + ": " + causes_of(other, 0);
     }
   }
 }

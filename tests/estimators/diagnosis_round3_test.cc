@@ -115,6 +115,18 @@ bool other_time_shape(const Effect& e, const std::string& family, const std::str
   return time_family && !(f == family && (shape.empty() || s == shape));
 }
 
+// A time effect whose shape is not identifiable names the causes of both readings: its own
+// and, after "Or, read as", those of the shape it is not told from.
+bool causes_name_both_readings(const Effect& e) {
+  if (family_of(e).second != "not identifiable") return true;
+  for (const char* other : {"time_drift", "exponential_drift", "step", "kt_drift", "direction_offset"}) {
+    if (e.alternative.rfind(other, 0) == 0 && e.name != other) {
+      return e.causes.find(std::string(" Or, read as ") + other + ": ") != std::string::npos;
+    }
+  }
+  return true;
+}
+
 const td::TableNoise kWhite{0.2e-3, 0.0};
 
 // (a) A 2nd harmonic from anisotropic sag on a one-direction sweep, where a step or a K_T
@@ -157,6 +169,7 @@ TEST(DiagnosisRound3, TimeEffectsAreReportedByFamily) {
   const auto drift = [](const std::string& shape) {
     return [shape](const Effect& e) {
       const auto [f, s] = family_of(e);
+      EXPECT_TRUE(causes_name_both_readings(e)) << e.name << " or " << e.alternative << ": " << e.causes;
       return f == "time_drift" && (s == shape || s == "not identifiable");
     };
   };
