@@ -159,7 +159,7 @@ Model without_terms(const Model& m, const ModelData& d, const std::vector<bool>&
 // The readings of term j of cur (cur: the selected model without the terms guarded so far)
 // against the plain estimate; an ambiguous finding when one disagrees beyond kGuardSe.
 bool guard_one(const Model& cur, const GuardInputs& in, std::size_t j, DiagnosisResult& res, double& allowance,
-               std::string& against_label, std::string& against_name) {
+               CompetingReading& competing) {
   const ModelData& d = in.d;
   const LinearFit f = fit_linear(cur.x, d, cur.ar, cur.rho.rho);
   if (!f.ok) return false;
@@ -218,8 +218,7 @@ bool guard_one(const Model& cur, const GuardInputs& in, std::size_t j, Diagnosis
   a.correlation = r_first;
   a.plan = separating_plan(cur.terms[j].name, against->name);
   allowance = 0.25 * reach * reach;
-  against_label = against->reading.effects;
-  against_name = against->name;
+  competing = {against->reading.effects, against->name};
   res.ambiguous.push_back(std::move(a));
   return true;
 }
@@ -229,8 +228,7 @@ bool guard_one(const Model& cur, const GuardInputs& in, std::size_t j, Diagnosis
 GuardResult guard_estimate(const Model& m, const GuardInputs& in, DiagnosisResult& res) {
   GuardResult g;
   g.allowance.assign(m.terms.size(), std::numeric_limits<double>::quiet_NaN());
-  g.against.assign(m.terms.size(), "");
-  g.against_name.assign(m.terms.size(), "");
+  g.against.assign(m.terms.size(), {});
   std::vector<bool> drop(m.terms.size(), false);
   for (std::size_t i = 0; i < m.terms.size(); ++i) {
     if (m.terms[i].name == "autocorrelation") continue;
@@ -238,7 +236,7 @@ GuardResult guard_estimate(const Model& m, const GuardInputs& in, DiagnosisResul
     std::size_t j = i;  // index of term i in cur
     for (std::size_t k = 0; k < i; ++k) j -= drop[k] ? 1 : 0;
     double a = 0.0;
-    if (!guard_one(cur, in, j, res, a, g.against[i], g.against_name[i])) continue;
+    if (!guard_one(cur, in, j, res, a, g.against[i])) continue;
     drop[i] = true;
     g.allowance[i] = a;
     res.effects[i].estimate_note =
@@ -314,11 +312,11 @@ void name_families(const Model& m, const ModelData& d, const CandidatePool& pool
       e.shape = "not identifiable";
       other = alternative_name;
     }
-    if (i < guard.against.size() && !guard.against[i].empty()) {
+    if (i < guard.against.size() && !guard.against[i].label.empty()) {
       e.family = "time_drift";
       e.shape = "not identifiable";
-      e.alternative = guard.against[i];
-      other = guard.against_name[i];
+      e.alternative = guard.against[i].label;
+      other = guard.against[i].name;
     }
     // Its causes are those of either reading (not of a harmonic, whose order is not kept here).
     if (!other.empty() && other != t.name && other != "first harmonic" && other != "harmonic") {

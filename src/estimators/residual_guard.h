@@ -66,12 +66,15 @@ struct GuardInputs {
 
 /// What the guard decided, per term of m: allowance NaN when the term earns its move, else
 /// the variance (table unit^2) to add to the plain estimate's (AssessmentInputs::guarded);
-/// against: the competing reading that keeps the plain value ("" none); against_name: its
+/// against: the competing reading that keeps the plain value (label "" none), with its
 /// candidate's name ("first harmonic" for the reading with no effect).
+struct CompetingReading {
+  std::string label;
+  std::string name;
+};
 struct GuardResult {
   std::vector<double> allowance;
-  std::vector<std::string> against;
-  std::vector<std::string> against_name;
+  std::vector<CompetingReading> against;
 };
 
 /// Applies the guard to every column effect of m (res.effects in the order of m.terms, with

@@ -297,12 +297,16 @@ def physics_signal(fam, prm, spec, th, t):
 PHYSICAL = {'sag_harmonic2', 'thermal_kt', 'bent_shaft'}
 
 
+def effect_signal(fam, prm, spec, th, sw, t):
+    """Noise-free contribution (mN*m) of any deterministic effect, physical or artifact."""
+    return physics_signal(fam, prm, spec, th, t) if fam in PHYSICAL else artifact_signal(fam, prm, th, sw, t)
+
+
 def effect_z(fam, prm, spec, th, sw, t):
     X = base_design_matrix(th)
     if fam == 'ar1':
         return prm['rho'] * math.sqrt(len(th))
-    s = physics_signal(fam, prm, spec, th, t) if fam in PHYSICAL else artifact_signal(fam, prm, th, sw, t)
-    return orth_norm(X, s) / spec['sigma_mNm']
+    return orth_norm(X, effect_signal(fam, prm, spec, th, sw, t)) / spec['sigma_mNm']
 
 
 SIZE_KEY = dict(sag_harmonic2='M2_mNm', thermal_kt='dT_inf_K', linear_drift='d_mNm',

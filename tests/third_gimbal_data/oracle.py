@@ -71,11 +71,7 @@ def oracle_effect(entry, eff, th, sw, t, y, alpha, candidates, estimate_sigma):
         p = ar1_p(M, r)
         return dict(p=float(p), found=bool(p < alpha / candidates))
     spec = dict(U_mNm=entry['U_mNm'], b_deg=entry['b_deg'], MK_mNm=entry['MK_mNm'])
-    if fam in generate.PHYSICAL:
-        s = generate.physics_signal(fam, prm, spec, th, t)
-    else:
-        s = generate.artifact_signal(fam, prm, th, sw, t)
-    s = M @ s
+    s = M @ generate.effect_signal(fam, prm, spec, th, sw, t)
     along = float(s @ r / np.linalg.norm(s))
     if not estimate_sigma:
         z = along / entry['noise_sigma_mNm']

@@ -94,9 +94,8 @@ def test_oracle_z_on_noise_free_tables_is_the_planted_z(scored):
             fam, prm = eff['family'], eff['params']
             if fam == 'ar1':
                 continue
-            signal = (generate.physics_signal(fam, prm, spec, th, t) if fam in generate.PHYSICAL
-                      else generate.artifact_signal(fam, prm, th, sw, t))
-            y = 2.0 + entry['U_mNm'] * np.sin(np.deg2rad(th + entry['b_deg'])) + signal
+            y = (2.0 + entry['U_mNm'] * np.sin(np.deg2rad(th + entry['b_deg']))
+                 + generate.effect_signal(fam, prm, spec, th, sw, t))
             z = oracle.oracle_effect(entry, eff, th, sw, t, y, 0.05, 12, False)['z']
             assert abs(abs(z) - eff['z']) <= 1e-3 * max(1.0, eff['z']), (entry['file'], z, eff['z'])
             checked.add(fam)
