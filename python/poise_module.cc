@@ -31,6 +31,7 @@
 #include "core/version.h"
 #include "engine/kind_interface/input_evaluation.h"
 #include "engine/kind_interface/study_kind.h"
+#include "engine/results/fault_injection.h"
 #include "engine/run/study_runner.h"
 #include "engine/study_files/study_config.h"
 #include "engine/study_files/toml_reader.h"
@@ -321,6 +322,8 @@ PYBIND11_MODULE(_poise, m) {
   using namespace poise::python;
   m.doc() = "C++ side of the poise package (import poise, not this module)";
   poise::kinds::register_study_kinds();
+  // The test hooks of the engine (POISE_INJECT_*), as the `poise` command reads them.
+  poise::engine::fault_injection::set_from_environment();
   static py::exception<NativeError> native(m, "NativeError");
   py::register_exception_translator([](std::exception_ptr p) {
     try {

@@ -6,6 +6,7 @@
 set -euo pipefail
 PKGS=(
   build-essential cmake git pkg-config
+  ccache  # every compilation goes through it (CMakeLists.txt): a clean clone reuses the objects
   libeigen3-dev libsundials-dev libnlopt-cxx-dev libembree-dev libtbb-dev
   libcli11-dev libtomlplusplus-dev nlohmann-json3-dev librandom123-dev libboost-dev
   libmuparser-dev  # expressions of budget gains (poise budget)

@@ -3,7 +3,11 @@
 # Debug (assertions on) with line tables only (-g1: every report has its functions and lines,
 # and the build takes a third less than with -g), ASan at -O2 (at -O1 the diagnosis batteries of
 # the unit tests ran 70 times slower than in Release, 460 s a test), TSan at -O1, and builds
-# only what its tests need:
+# only what its tests need. The ASan build compiles the libraries in unity batches and the tests
+# with their shared precompiled header, as the README commands do; the TSan build compiles each
+# source file alone, the tests' included, without a precompiled header: it is CI's check that
+# every source file's own includes suffice (.ci/run; poise_header_check does each header).
+# Both compile through ccache (CMakeLists.txt):
 #   scripts/sanitize.sh address   AddressSanitizer + UndefinedBehaviorSanitizer (every finding
 #                                 fatal) over the `unit` tests but the `battery`   build-asan/
 #                                 ones (statistical batteries: the code paths of the other unit
@@ -28,12 +32,14 @@ which="${1:-all}"
 # scheduler (spawn, steal, wait) is in libtbb: with Debian's uninstrumented libtbb12 every
 # hand-over of data between a task and its parent is reported as a race. So the TSan build
 # links oneTBB built with -fsanitize=thread: the release Debian ships (libtbb12 2021.8.0),
-# from Debian's own source tarball, built once into build-tsan/onetbb/ (about 2 minutes).
+# from Debian's own source tarball, built once (about 2 minutes) into the folder below.
 # Embree's BVH builds then run on the same, instrumented, scheduler (one libtbb.so.12 loaded).
 tbb_version=2021.8.0
 tbb_sha256=7e9111b8bb59c8800bf6d0b06afe7b0891937443d2dae1ee1101c8e2ede6a7ef
+# It is kept outside the checkout (~/.cache/poise/, or $XDG_CACHE_HOME/poise/), so that a clean
+# clone on the same machine finds it built.
 tbb_tsan() {  # prints the CMake TBB_DIR of the instrumented oneTBB
-  local dir="$root/build-tsan/onetbb"
+  local dir="${XDG_CACHE_HOME:-$HOME/.cache}/poise/onetbb-${tbb_version}-tsan"
   if [ ! -f "$dir/install/lib/cmake/TBB/TBBConfig.cmake" ]; then
     mkdir -p "$dir"
     if [ ! -f "$dir/onetbb.tar.xz" ]; then
@@ -64,7 +70,12 @@ run() {  # run <sanitizers> <build dir> <target> <ctest label> [ctest args]
     extra+=(-DTBB_DIR="$tbb_dir")
   fi
   local optimize=-O1
-  [ "$sanitizers" = thread ] || optimize="-O2 -fno-omit-frame-pointer"
+  if [ "$sanitizers" = thread ]; then
+    extra+=(-DCMAKE_UNITY_BUILD=OFF -DPOISE_TEST_PCH=OFF)  # each source alone: its own includes checked
+  else
+    optimize="-O2 -fno-omit-frame-pointer"
+    extra+=(-DCMAKE_UNITY_BUILD=ON -DPOISE_TEST_PCH=ON)
+  fi
   cmake -S . -B "$dir" -DCMAKE_BUILD_TYPE=Debug -DCMAKE_CXX_FLAGS_DEBUG="-g1 $optimize" \
         -DPOISE_SANITIZE="$sanitizers" -DPOISE_WERROR=ON -DPOISE_BUILD_PYTHON=OFF -DPOISE_BUILD_BENCH=OFF \
         "${extra[@]}" || return 1

@@ -135,6 +135,7 @@ int run_collect(const std::vector<std::string>& args) {
   };
   std::vector<BenchArg> benches;
   std::vector<StudyArg> studies;
+  std::map<std::string, std::pair<std::string, std::string>> study_references;  // name -> file, verdict
   std::string baselines_path, scale_path;
   std::map<std::string, std::pair<double, double>> loads;  // name -> load average before, after
   auto need = [&](std::size_t i, std::size_t n, const std::string& opt) {
@@ -157,6 +158,10 @@ int run_collect(const std::vector<std::string>& args) {
       studies.push_back(
           {args[i + 1], static_cast<int>(parse_double(args[i + 2], a)), parse_double(args[i + 3], a), args[i + 4]});
       i += 4;
+    } else if (a == "--study-reference") {  // NAME FILE VERDICT: samples against the recorded reference
+      need(i, 3, a);
+      study_references[args[i + 1]] = {args[i + 2], args[i + 3]};
+      i += 3;
     } else if (a == "--load") {  // the 1-minute load average before and after a binary or study
       need(i, 3, a);
       loads[args[i + 1]] = {parse_double(args[i + 2], a), parse_double(args[i + 3], a)};
@@ -293,6 +298,10 @@ int run_collect(const std::vector<std::string>& args) {
     json e = {{"exit_status", st.rc}, {"wall_s", st.wall}};
     if (loads.count("study:" + st.name)) {
       e["load_avg"] = std::max(loads["study:" + st.name].first, loads["study:" + st.name].second);
+    }
+    if (study_references.count(st.name)) {
+      const auto& [file, verdict] = study_references[st.name];
+      e["reference"] = {{"file", file}, {"verdict", verdict}};
     }
     json summary;
     try {

@@ -69,13 +69,13 @@ void decide_machines(const json& cur, const json& prev, const json& ref, TimingR
   if (!ref.is_null() && !rules.times_vs_reference)
     std::printf(
         "note: the reference was recorded on another machine (%s): its benchmark times are not judged here; its "
-        "statistics and ratios are.\n",
+        "ratios are, and the studies against their recorded references.\n",
         machine_key(ref).empty() ? "not recorded" : machine_key(ref).c_str());
   const bool has_own_times = (!prev.is_null() && rules.times_vs_previous) || (!ref.is_null() && rules.times_vs_reference);
   if (!has_own_times)
     std::printf(
         "note: first run on this machine: its times are this machine's baseline (judged from its next run on); "
-        "ratios, memory and study statistics are judged now.\n");
+        "ratios, memory and the studies' samples are judged now.\n");
 }
 
 }  // namespace
@@ -97,8 +97,6 @@ int run_compare(const std::vector<std::string>& args) {
       opt.k = parse_double(value(), a);
     else if (a == "--floor")
       opt.floor = parse_double(value(), a);
-    else if (a == "--stat-rtol")
-      opt.stat_rtol = parse_double(value(), a);
     else if (a == "--wall-warn")
       opt.wall_warn = parse_double(value(), a);
     else if (a == "--ratio-band")
@@ -148,9 +146,9 @@ int run_compare(const std::vector<std::string>& args) {
       "rule: a figure regresses when worse than the previous run or the reference by more than\n"
       "  band = max(%s, %.3g x sqrt(noise_current^2 + noise_other^2)). Benchmark figure: median time per\n"
       "  iteration (CPU; real for /real_time) / calibration median; noise: relative standard error of the\n"
-      "  median(s), 1.2533 sd / sqrt(n) / median x t(0.975, n-1) / 1.96. Study statistics must equal the\n"
-      "  reference to relative %.0e. Targets and study wall times only warn.%s\n",
-      pct(opt.floor).c_str(), opt.k, opt.stat_rtol,
+      "  median(s), 1.2533 sd / sqrt(n) / median x t(0.975, n-1) / 1.96. Study samples must equal their\n"
+      "  recorded reference (tests/data/study_reference/). Targets and study wall times only warn.%s\n",
+      pct(opt.floor).c_str(), opt.k,
       opt.warn_timing ? "\n  --warn-timing (quick run): timing regressions only warn too." : "");
 
   decide_machines(cur, prev, ref, rules);

@@ -12,7 +12,6 @@ namespace poise::nightly {
 struct Options {
   double k = 3.0;
   double floor = 0.05;
-  double stat_rtol = 1e-9;
   double wall_warn = 0.25;
   // A baseline ratio regresses below previous (reference) / (1 + ratio_band): 0.2 catches a 1.3x
   // slowdown of Poise (ratio / 1.3 < ratio / 1.2) and leaves 20 % to the ratio's own scatter.

@@ -1,13 +1,14 @@
 /// poise_nightly_compare: the JSON side of bench/nightly (issue 9 item 7). Five modes:
 ///
 ///   poise_nightly_compare CURRENT.json [--previous PREV.json] [--reference REF.json]
-///                         [--k K] [--floor F] [--stat-rtol R] [--all]
+///                         [--k K] [--floor F] [--all]
 ///       compare a nightly run with the previous run and with the stored reference figures;
 ///       prints a table; exit 0 fine, 3 regression, 2 bad input.
 ///   poise_nightly_compare calibrate [--repetitions N] [--min-time S]
 ///       time the fixed calibration workload; prints {"values": [ns per step, ...]}.
 ///   poise_nightly_compare collect --out FILE --meta META.json [--calibration CAL.json]...
 ///                         [--bench BINARY RC BENCH.json]... [--study NAME RC WALL_S SUMMARY.json]...
+///                         [--study-reference NAME FILE VERDICT]...
 ///                         [--baselines BASELINES.json] [--scale SCALE.json] [--load NAME BEFORE AFTER]...
 ///       assemble one nightly file from the raw outputs (Google Benchmark JSON, summary.json,
 ///       bench/baselines/compare.py --json).
@@ -31,8 +32,9 @@
 /// them (bench/nightly records it before and after each binary) is below (cores - 1) + 0.5: on a
 /// loaded machine they measure the neighbours. With --warn-timing (quick runs) a timing regression
 /// only warns unless worse by more than max(2 x band, 50 %).
-/// Reference-study statistics (fixed seed and sample count, deterministic), their values and their
-/// 95 % interval ends, must equal the reference to a relative 1e-9. Absolute targets (README) are checked and only warned about.
+/// Reference studies (fixed seed and sample count, deterministic): bench/nightly compares each one's
+/// samples with its one recorded reference (tests/data/study_reference/, as study_reference_test
+/// does) and a difference is a regression. Absolute targets (README) are checked and only warned about.
 /// Study wall times (one run each, no noise estimate) are warned about beyond 25 %.
 /// Absolute times (benchmarks, study wall times) are judged only against runs of the same machine
 /// (host, CPU model, cores: machine_key); against another machine's previous run or reference they
@@ -62,9 +64,8 @@ void print_help() {
       "  poise_nightly_compare CURRENT.json [--previous PREV.json] [--reference REF.json] [options]\n"
       "      --k K           noise multiplier of the band (default 3)\n"
       "      --floor F       smallest band, relative (default 0.05 = 5%%)\n"
-      "      --stat-rtol R   relative tolerance of reference-study statistics (default 1e-9)\n"
       "      --wall-warn W   warn when a study's wall time grows by more than W (default 0.25)\n"
-      "      --all           print every statistic, not only the changed ones\n"
+      "      --all           print every figure, not only the changed ones\n"
       "      --warn-timing   timing regressions only warn (bench/nightly --quick), unless worse by more than\n"
       "                      max(2 x band, G)\n"
       "      --gross G       (default 0.5: 1.5x slower)\n"
@@ -77,8 +78,8 @@ void print_help() {
       "  runs) / the calibration median of the same run; it regresses when worse than previous/reference\n"
       "  by more than max(floor, k*sqrt(n1^2+n2^2)), n = the figures' noise (relative standard error of\n"
       "  the medians x t(0.975, n-1)/1.96, benchmark and calibration combined). Speed-ups (2 threads over 1)\n"
-      "  likewise, judged only below a load of (cores - 1) + M. Study statistics and their 95 %% interval\n"
-      "  ends (fixed seeds) must equal the reference to R. Targets: warnings only.\n"
+      "  likewise, judged only below a load of (cores - 1) + M. Study samples (fixed seeds) must equal their\n"
+      "  recorded reference (tests/data/study_reference/, bench/nightly's verdict). Targets: warnings only.\n"
       "  Baseline ratios (NumPy/SciPy CPU time / Poise's, one run): below previous/reference / (1+B) a\n"
       "  regression (1.3x slower Poise is caught at B 0.2); below target, not run or no reference: warnings.\n"
       "  Exit status: 0 fine (warnings allowed), 3 regression (listed at the end), 2 bad input or usage.\n"
@@ -86,6 +87,7 @@ void print_help() {
       "  poise_nightly_compare calibrate [--repetitions N] [--min-time S]     time the calibration workload\n"
       "  poise_nightly_compare collect --out FILE --meta META.json [--calibration CAL.json]...\n"
       "        [--bench BINARY EXIT_STATUS BENCH.json]... [--study NAME EXIT_STATUS WALL_S SUMMARY.json]...\n"
+      "        [--study-reference NAME FILE VERDICT]...  (same | differs: ... | missing: ..., against the recorded one)\n"
       "        [--baselines BASELINES.json]    (bench/baselines/compare.py --json, or {\"status\": \"not run\"})\n"
       "        [--scale SCALE.json]            (bench/los_scale --json, or {\"status\": \"not run\"})\n"
       "        [--load NAME BEFORE AFTER]...   (1-minute load average around a binary; NAME study:S for a study)\n"

@@ -243,16 +243,24 @@ def test_evaluate_releases_the_gil():
 
 
 def test_ctrl_c_stops_a_run():
+    # The run holds at sample 5000 until its signal (POISE_INJECT_HOLD_AT_SAMPLE) and says so on
+    # stderr: the signal is sent once the run is under way, and the run cannot end before it.
     code = ("import poise, sys\n"
             "try:\n"
-            f"    poise.run({SEEKER!r}, samples=20000000, seed=1, threads=1)\n"
+            f"    poise.run({SEEKER!r}, samples=20000, seed=1, threads=1)\n"
             "except KeyboardInterrupt as e:\n"
             "    print('interrupted:', e); sys.exit(42)\n")
+    env = dict(os.environ, POISE_INJECT_HOLD_AT_SAMPLE="5000")
     p = subprocess.Popen([sys.executable, "-c", code], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
-                         env=dict(os.environ))
-    time.sleep(3.0)
+                         env=env)
+    seen = []
+    for line in p.stderr:  # ends at the hook's line, or when the child ends without it
+        seen.append(line)
+        if "held until SIGINT" in line:
+            break
+    assert seen and "sample 5000 held" in seen[-1], "".join(seen)
     p.send_signal(signal.SIGINT)
-    out, err = p.communicate(timeout=120)
+    out, err = p.communicate()
     assert p.returncode == 42, out + err
     assert "SIGINT" in out and "nothing was kept (out=None)" in out
 
@@ -289,7 +297,7 @@ def test_warnings_reach_python_as_poise_warnings():
         "print(len(w), all(issubclass(x.category, poise.PoiseWarning) for x in w))\n"
         "print(w[0].message if w else '')\n"
     )
-    r = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, env=os.environ.copy(), timeout=120)
+    r = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, env=os.environ.copy(), timeout=600)
     assert r.returncode == 0, r.stderr
     first, message = r.stdout.splitlines()[:2]
     count, all_poise = first.split()

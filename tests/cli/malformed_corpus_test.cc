@@ -32,7 +32,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-fs::path corpus_dir() { return fs::path(POISE_SOURCE_DIR) / "tests" / "data" / "malformed"; }
+fs::path corpus_dir() { return fs::path(::poise::test::source_dir()) / "tests" / "data" / "malformed"; }
 
 std::vector<std::string> corpus_files() {
   std::vector<std::string> out;
@@ -88,7 +88,7 @@ TEST_P(MalformedCorpus, RefusedWithAClearMessage) {
   TempDir dir;
   const std::string out = dir.file("stdout.txt"), err = dir.file("stderr.txt");
   // `timeout` turns a hang into status 124 and passes a signal on as 128 + signal.
-  const std::string cmd = "timeout 120 '" + std::string(POISE_BINARY) + "' validate '" + path + "' >'" + out +
+  const std::string cmd = "timeout 120 '" + ::poise::test::poise_binary() + "' validate '" + path + "' >'" + out +
                           "' 2>'" + err + "'";
   const int raw = std::system(cmd.c_str());
   ASSERT_TRUE(WIFEXITED(raw)) << name << ": poise did not exit normally";

@@ -22,7 +22,7 @@ using test::TempDir;
 
 // Peak resident set (bytes) of one `poise run` of the LOS study with `samples` samples.
 long peak_rss_bytes(const TempDir& d, const std::string& study, std::size_t samples, const std::string& out) {
-  const std::string cmd = std::string("exec '") + POISE_BINARY + "' run '" + study + "' --samples " +
+  const std::string cmd = std::string("exec '") + ::poise::test::poise_binary() + "' run '" + study + "' --samples " +
                           std::to_string(samples) + " --threads 2 -q --no-plots --out '" + out + "' >'" +
                           d.file("out.txt") + "' 2>'" + d.file("err.txt") + "'";
   const pid_t pid = fork();

@@ -181,7 +181,7 @@ TEST(SimulateRecord, AFailedWriteGivesExit1WithTheFileAndTheReasonAndLeavesNoTem
   EXPECT_NE(r.err.find("no/such/dir/rec.csv"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("No such file or directory"), std::string::npos) << r.err;
   const std::string cmd = "POISE_INJECT_WRITE_FAILURE_AFTER=1000 POISE_INJECT_WRITE_FAILURE_FILE=disk.csv '" +
-                          std::string(POISE_BINARY) + "' simulate-record " + shq(kModel) + " --out " +
+                          ::poise::test::poise_binary() + "' simulate-record " + shq(kModel) + " --out " +
                           shq(d.file("disk.csv")) + " >" + shq(d.file("o.txt")) + " 2>" + shq(d.file("e.txt"));
   const int raw = std::system(cmd.c_str());
   ASSERT_TRUE(WIFEXITED(raw));

@@ -268,10 +268,12 @@ TEST(CsvNumbers, ReadBackExactly) {
 
 // ---- end to end through the binary ---------------------------------------------------
 
-// Starts `poise args` in the background (stdout/stderr to files in dir); returns its pid.
-pid_t start_poise(const TempDir& dir, const std::string& args) {
-  const std::string cmd = std::string("exec '") + POISE_BINARY + "' " + args + " >'" + dir.file("bg_out.txt") +
-                          "' 2>'" + dir.file("bg_err.txt") + "'";
+// Starts `poise args` in the background (stdout/stderr to files in dir); returns its pid. With
+// `hold_at` the run holds before that sample until a signal (POISE_INJECT_HOLD_AT_SAMPLE,
+// engine/results/fault_injection.h): it cannot end before the test has signalled it.
+pid_t start_poise(const TempDir& dir, const std::string& args, std::size_t hold_at) {
+  const std::string cmd = "POISE_INJECT_HOLD_AT_SAMPLE=" + std::to_string(hold_at) + " exec '" + ::poise::test::poise_binary() +
+                          "' " + args + " >'" + dir.file("bg_out.txt") + "' 2>'" + dir.file("bg_err.txt") + "'";
   const pid_t pid = fork();
   if (pid == 0) {
     execl("/bin/sh", "sh", "-c", cmd.c_str(), static_cast<char*>(nullptr));
@@ -285,15 +287,19 @@ std::size_t lines_of(const std::string& path) {
   return static_cast<std::size_t>(std::count(t.begin(), t.end(), '\n'));
 }
 
-// Waits until `path` has at least `lines` lines (or the process ended); returns whether it got there.
-bool wait_for_lines(pid_t pid, const std::string& path, std::size_t lines) {
-  for (int k = 0; k < 6000; ++k) {
-    if (lines_of(path) >= lines) return true;
+// Waits until the held run of start_poise has reached its held sample (the hook's line on
+// stderr) and `path` has at least `lines` lines; false if the process ended first. A held run
+// cannot end by itself, so this waits on the run's progress, not on the machine's speed.
+bool wait_until_held(pid_t pid, const TempDir& dir, const std::string& path, std::size_t lines) {
+  for (;;) {
+    if (poise::test::read_text(dir.file("bg_err.txt")).find("held until SIGINT") != std::string::npos &&
+        lines_of(path) >= lines) {
+      return true;
+    }
     int st = 0;
     if (waitpid(pid, &st, WNOHANG) == pid) return false;
     std::this_thread::sleep_for(std::chrono::milliseconds(10));
   }
-  return false;
 }
 
 int wait_exit(pid_t pid) {
@@ -335,8 +341,9 @@ TEST(Interrupt, SigintStopsCleanlyAndResumeGivesTheUninterruptedResult) {
   TempDir d;
   const std::string study = seeker_study(d);
   const std::string args = "run '" + study + "' --samples 40000 --threads 2 -q --no-plots --out ";
-  const pid_t pid = start_poise(d, args + "'" + d.file("cut") + "'");
-  ASSERT_TRUE(wait_for_lines(pid, d.file("cut/samples.csv"), 2049));
+  // Held at sample 2048: the two chunks of 1024 before it are written, the run waits for the signal.
+  const pid_t pid = start_poise(d, args + "'" + d.file("cut") + "'", 2048);
+  ASSERT_TRUE(wait_until_held(pid, d, d.file("cut/samples.csv"), 2049)) << poise::test::read_text(d.file("bg_err.txt"));
   kill(pid, SIGINT);
   EXPECT_EQ(wait_exit(pid), 130);
   const std::string err = poise::test::read_text(d.file("bg_err.txt"));
@@ -365,8 +372,8 @@ TEST(Interrupt, KillNineKeepsFinishedSamplesOfAProcedureStudy) {
   TempDir d;
   const std::string study = poise::test::source_path("studies/gimbal_unbalance_mc.toml");
   const std::string args = "run '" + study + "' --samples 64 --threads 2 -q --no-plots --out ";
-  const pid_t pid = start_poise(d, args + "'" + d.file("cut") + "'");
-  ASSERT_TRUE(wait_for_lines(pid, d.file("cut/samples.csv"), 20));
+  const pid_t pid = start_poise(d, args + "'" + d.file("cut") + "'", 32);  // chunks of 8: 32 rows written
+  ASSERT_TRUE(wait_until_held(pid, d, d.file("cut/samples.csv"), 20)) << poise::test::read_text(d.file("bg_err.txt"));
   kill(pid, SIGKILL);
   EXPECT_EQ(wait_exit(pid), 128 + SIGKILL);
   EXPECT_FALSE(fs::exists(d.file("cut/summary.json")));
@@ -390,8 +397,8 @@ TEST(Interrupt, ResumedBalancingRunCountsTheSolverWorkOfBothParts) {
   TempDir d;
   const std::string study = poise::test::source_path("studies/wang2014_balancing_mc.toml");
   const std::string args = "run '" + study + "' --samples 64 --threads 2 -q --no-plots --out ";
-  const pid_t pid = start_poise(d, args + "'" + d.file("cut") + "'");
-  ASSERT_TRUE(wait_for_lines(pid, d.file("cut/samples.csv"), 9));
+  const pid_t pid = start_poise(d, args + "'" + d.file("cut") + "'", 16);  // chunks of 8: 16 rows written
+  ASSERT_TRUE(wait_until_held(pid, d, d.file("cut/samples.csv"), 9)) << poise::test::read_text(d.file("bg_err.txt"));
   kill(pid, SIGINT);
   ASSERT_EQ(wait_exit(pid), 130) << poise::test::read_text(d.file("bg_err.txt"));
   const json first = json::parse(poise::test::read_text(d.file("cut/run.json")));
@@ -427,7 +434,7 @@ TEST(Until, StopsAtTheSameReplicateForAnyThreadCount) {
   // Two ranks, rank 0 taking a share of each round that changes with its timing: the stop rule
   // sees the same chunks in the same order, and stops at the same sample.
   const std::string mpi = kMpiRootEnv + std::string("'") + POISE_MPIEXEC + "' --allow-run-as-root --oversubscribe -np 2 '" +
-                          POISE_BINARY + "' " + args + " --threads 1 --out '" + d.file("r2") + "' >'" +
+                          ::poise::test::poise_binary() + "' " + args + " --threads 1 --out '" + d.file("r2") + "' >'" +
                           d.file("mpi_until.txt") + "' 2>&1";
   const int raw = std::system(mpi.c_str());
   ASSERT_TRUE(WIFEXITED(raw) && WEXITSTATUS(raw) == 0) << poise::test::read_text(d.file("mpi_until.txt"));
@@ -585,7 +592,7 @@ TEST(Mpi, TwoRanksGiveTheSamplesAndStatisticsOfOneProcess) {
   auto one = poise::test::run_poise(d, args + " --out '" + d.file("one") + "'");
   ASSERT_EQ(one.status, 0) << one.err;
   const std::string mpi = kMpiRootEnv + std::string("'") + POISE_MPIEXEC + "' --allow-run-as-root --oversubscribe -np 2 '" +
-                          POISE_BINARY + "' " + args + " --threads 1 --out '" + d.file("two") + "' >'" +
+                          ::poise::test::poise_binary() + "' " + args + " --threads 1 --out '" + d.file("two") + "' >'" +
                           d.file("mpi_out.txt") + "' 2>&1";
   const int raw = std::system(mpi.c_str());
   ASSERT_TRUE(WIFEXITED(raw) && WEXITSTATUS(raw) == 0) << poise::test::read_text(d.file("mpi_out.txt"));
@@ -600,7 +607,7 @@ TEST(Mpi, TwoRanksGiveTheSamplesAndStatisticsOfOneProcess) {
   auto g1 = poise::test::run_poise(d, "run '" + g + "' --samples 24 -q --no-plots --out '" + d.file("g1") + "'");
   ASSERT_EQ(g1.status, 0) << g1.err;
   const std::string mpi_g = kMpiRootEnv + std::string("'") + POISE_MPIEXEC + "' --allow-run-as-root --oversubscribe -np 2 '" +
-                            POISE_BINARY + "' run '" + g + "' --samples 24 -q --no-plots --threads 1 --out '" +
+                            ::poise::test::poise_binary() + "' run '" + g + "' --samples 24 -q --no-plots --threads 1 --out '" +
                             d.file("g2") + "' >'" + d.file("mpi_g.txt") + "' 2>&1";
   const int raw_g = std::system(mpi_g.c_str());
   ASSERT_TRUE(WIFEXITED(raw_g) && WEXITSTATUS(raw_g) == 0) << poise::test::read_text(d.file("mpi_g.txt"));
@@ -620,7 +627,7 @@ TEST(Mpi, AnOutFolderHoldingARunIsRefusedOnEveryRank) {
   auto first = poise::test::run_poise(d, "run '" + study + "' --samples 64 -q --no-plots --out '" + d.file("r") + "'");
   ASSERT_EQ(first.status, 0) << first.err;
   const std::string mpi = kMpiRootEnv + std::string("timeout 120 '") + POISE_MPIEXEC +
-                          "' --allow-run-as-root --oversubscribe -np 2 '" + POISE_BINARY + "' run '" + study +
+                          "' --allow-run-as-root --oversubscribe -np 2 '" + ::poise::test::poise_binary() + "' run '" + study +
                           "' --samples 64 -q --no-plots --threads 1 --out '" + d.file("r") + "' >'" +
                           d.file("mpi_out.txt") + "' 2>&1";
   const int raw = std::system(mpi.c_str());
@@ -649,7 +656,7 @@ TEST(Mpi, SweepsAndContributionsSpreadOverRanksGiveOneProcessesTables) {
   auto one = poise::test::run_poise(d, args + " --out '" + d.file("one") + "'");
   ASSERT_EQ(one.status, 0) << one.err;
   const std::string mpi = kMpiRootEnv + std::string("'") + POISE_MPIEXEC + "' --allow-run-as-root --oversubscribe -np 3 '" +
-                          POISE_BINARY + "' " + args + " --threads 1 --out '" + d.file("three") + "' >'" +
+                          ::poise::test::poise_binary() + "' " + args + " --threads 1 --out '" + d.file("three") + "' >'" +
                           d.file("mpi_out.txt") + "' 2>&1";
   const int raw = std::system(mpi.c_str());
   ASSERT_TRUE(WIFEXITED(raw) && WEXITSTATUS(raw) == 0) << poise::test::read_text(d.file("mpi_out.txt"));

@@ -20,7 +20,7 @@ using test::TempDir;
 
 // The example's parts file in a folder holding the generated meshes under meshes/.
 std::string example(const TempDir& dir) {
-  const std::string cmd = std::string("'") + POISE_MAKE_EXAMPLE_MESHES + "' '" + dir.file("meshes") + "' >/dev/null";
+  const std::string cmd = std::string("'") + ::poise::test::built_program("poise_make_example_meshes") + "' '" + dir.file("meshes") + "' >/dev/null";
   EXPECT_EQ(std::system(cmd.c_str()), 0);
   const std::string path = dir.file("rotor_parts.toml");
   test::write_text(path, test::read_text(test::source_path("examples/user_parts/rotor_parts.toml")));

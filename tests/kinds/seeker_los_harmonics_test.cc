@@ -18,6 +18,7 @@
 #include "model_files/seeker_model.h"
 #include "models/seeker_los_chain.h"
 #include "sampling/design.h"
+#include "test_util.h"
 
 using namespace poise::kinds::seeker_los;  // the kinds' and model files' own namespaces
 using namespace poise::model_files;  // the kinds' and model files' own namespaces
@@ -61,7 +62,7 @@ AxisErrorState random_axis(std::mt19937_64& rng, const std::vector<double>& orde
 
 // The shipped studies' grids and their model's error draws (the study's own design points).
 TEST(SeekerLosHarmonics, GroupedSumsMatchDirectFormOnShippedStudies) {
-  const std::string dir = POISE_SOURCE_DIR;
+  const std::string dir = ::poise::test::source_dir();
   for (const char* name : {"los_seeker_wang2011", "los_seeker_wang2011_housing", "los_seeker_wang2011_replicates"}) {
     SCOPED_TRACE(name);
     poise::engine::StudyConfig cfg = poise::engine::load_study(dir + "/studies/" + name + ".toml");

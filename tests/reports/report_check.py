@@ -145,7 +145,7 @@ def render_problems(report_path, exe):
         with tempfile.TemporaryDirectory() as profile:
             out = subprocess.run([exe, "--headless", "--no-sandbox", "--disable-gpu", "--user-data-dir=" + profile,
                                   "--window-size=1100,900", "--virtual-time-budget=5000", "--dump-dom",
-                                  "file://" + probe_path], capture_output=True, text=True, timeout=120).stdout
+                                  "file://" + probe_path], capture_output=True, text=True, timeout=600).stdout
     finally:
         os.unlink(probe_path)
     m = re.search(r'<pre id="poise-render-check">(.*?)</pre>', out, re.S)

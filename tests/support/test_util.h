@@ -10,13 +10,44 @@
 #include <fstream>
 #include <sstream>
 #include <cstdlib>
+#include <stdexcept>
 #include <string>
 
 namespace poise::test {
 
-inline std::string source_path(const std::string& rel) {
-  return (std::filesystem::path(POISE_SOURCE_DIR) / rel).string();
+/// The build folder of the running test program: the nearest folder above it that holds
+/// CMakeCache.txt. Found when the test runs, not compiled in, so that a test's object file is
+/// the same in every checkout and build folder (ccache shares it between clean clones).
+inline const std::filesystem::path& build_dir() {
+  static const std::filesystem::path dir = [] {
+    std::filesystem::path p = std::filesystem::read_symlink("/proc/self/exe").parent_path();
+    while (!std::filesystem::exists(p / "CMakeCache.txt")) {
+      if (p == p.root_path()) throw std::runtime_error("test setup: no CMakeCache.txt above the test program");
+      p = p.parent_path();
+    }
+    return p;
+  }();
+  return dir;
 }
+
+/// The source folder this build was configured from (CMAKE_HOME_DIRECTORY of CMakeCache.txt).
+inline const std::string& source_dir() {
+  static const std::string dir = [] {
+    std::ifstream cache(build_dir() / "CMakeCache.txt");
+    const std::string key = "CMAKE_HOME_DIRECTORY:INTERNAL=";
+    for (std::string line; std::getline(cache, line);) {
+      if (line.rfind(key, 0) == 0) return line.substr(key.size());
+    }
+    throw std::runtime_error("test setup: CMakeCache.txt names no CMAKE_HOME_DIRECTORY");
+  }();
+  return dir;
+}
+
+/// The built `poise` executable, and the other programs the build puts beside it.
+inline std::string built_program(const std::string& name) { return (build_dir() / name).string(); }
+inline std::string poise_binary() { return built_program("poise"); }
+
+inline std::string source_path(const std::string& rel) { return (std::filesystem::path(source_dir()) / rel).string(); }
 
 inline std::string read_text(const std::string& path) {
   std::ifstream in(path);
@@ -67,7 +98,7 @@ struct RunResult {
 inline RunResult run_poise(const TempDir& dir, const std::string& args) {
   const std::string out = dir.file("stdout.txt"), err = dir.file("stderr.txt");
   const std::string cmd =
-      std::string("'") + POISE_BINARY + "' " + args + " >'" + out + "' 2>'" + err + "'";
+      "'" + poise_binary() + "' " + args + " >'" + out + "' 2>'" + err + "'";
   const int raw = std::system(cmd.c_str());
   RunResult r;
   r.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;

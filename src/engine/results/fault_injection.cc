@@ -2,9 +2,14 @@
 
 #include <algorithm>
 #include <atomic>
+#include <chrono>
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <mutex>
+#include <thread>
+
+#include "sampling/interrupt.h"
 
 namespace poise::engine::fault_injection {
 namespace {
@@ -21,6 +26,8 @@ WriteBudget& write_budget() {
 }
 
 std::atomic<std::size_t> sample_period{0};
+constexpr std::size_t kNoHeldSample = static_cast<std::size_t>(-1);
+std::atomic<std::size_t> held_sample{kNoHeldSample};
 
 }  // namespace
 
@@ -48,6 +55,16 @@ void fail_every_sample(std::size_t k) { sample_period.store(k); }
 
 std::size_t failing_sample_period() { return sample_period.load(); }
 
+void hold_at_sample(std::optional<std::size_t> k) { held_sample.store(k.value_or(kNoHeldSample)); }
+
+void hold_if_held(std::size_t index) {
+  if (index != held_sample.load(std::memory_order_relaxed)) return;
+  std::fprintf(stderr, "poise: test hook: sample %zu held until SIGINT or SIGTERM (POISE_INJECT_HOLD_AT_SAMPLE)\n",
+               index);
+  std::fflush(stderr);
+  while (!sampling::interrupt_requested()) std::this_thread::sleep_for(std::chrono::milliseconds(2));
+}
+
 void set_from_environment() {
   if (const char* after = std::getenv("POISE_INJECT_WRITE_FAILURE_AFTER"); after && *after) {
     const char* only = std::getenv("POISE_INJECT_WRITE_FAILURE_FILE");
@@ -55,6 +72,9 @@ void set_from_environment() {
   }
   if (const char* every = std::getenv("POISE_INJECT_FAILURE_EVERY"); every && *every) {
     fail_every_sample(static_cast<std::size_t>(std::strtoull(every, nullptr, 10)));
+  }
+  if (const char* hold = std::getenv("POISE_INJECT_HOLD_AT_SAMPLE"); hold && *hold) {
+    hold_at_sample(static_cast<std::size_t>(std::strtoull(hold, nullptr, 10)));
   }
 }
 

@@ -7,6 +7,10 @@
 ///                   with `only_file`, only writes to that file name (or its ".tmp") count.
 ///   sample failures every k-th sample (indices k-1, 2k-1, ...) of a run fails as a solver
 ///                   failure would (engine/run/sample_driver.h).
+///   a held sample   the sample of index k waits, before it is computed, until a stop is
+///                   requested (SIGINT or SIGTERM, sampling/interrupt.h), and says so once on
+///                   stderr: a run under this hook cannot end before its signal, so a test of
+///                   the clean stop does not race the machine (tests/cli/reliability_test.cc).
 #include <cstddef>
 #include <optional>
 #include <string>
@@ -22,9 +26,15 @@ std::size_t allowed_write(const std::string& path, std::size_t n);
 void fail_every_sample(std::size_t k);
 std::size_t failing_sample_period();
 
-/// The hooks from POISE_INJECT_WRITE_FAILURE_AFTER, POISE_INJECT_WRITE_FAILURE_FILE and
-/// POISE_INJECT_FAILURE_EVERY, for a program's entry point (the `poise` command calls it
-/// once, before it runs anything).
+/// The sample of index k is held until a stop is requested (std::nullopt: none).
+void hold_at_sample(std::optional<std::size_t> k);
+/// Holds the calling thread if `index` is the held sample: returns once a stop is requested
+/// (at once when the hook is off or `index` is another sample).
+void hold_if_held(std::size_t index);
+
+/// The hooks from POISE_INJECT_WRITE_FAILURE_AFTER, POISE_INJECT_WRITE_FAILURE_FILE,
+/// POISE_INJECT_FAILURE_EVERY and POISE_INJECT_HOLD_AT_SAMPLE, for a program's entry point
+/// (the `poise` command and the Python module call it once, before they run anything).
 void set_from_environment();
 
 }  // namespace poise::engine::fault_injection

@@ -172,13 +172,14 @@ class SampleDriver {
 
   // Samples [first, first + n) on the arena's threads, then each chunk's bytes. Fault injection
   // for the tests of failure handling (engine/results/fault_injection.h): every k-th sample
-  // (indices k-1, 2k-1, ...) fails as a solver failure would.
+  // (indices k-1, 2k-1, ...) fails as a solver failure would; a held sample waits for a signal.
   void compute_portion(std::size_t first, std::size_t n, Computed& into) {
     if (into.results.size() < n) into.results.resize(n);
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, std::max<std::size_t>(spec_.grain, 1)),
                       [&](const tbb::blocked_range<std::size_t>& r) {
                         Workspace& ws = workspaces_.local();
                         for (std::size_t k = r.begin(); k != r.end(); ++k) {
+                          fault_injection::hold_if_held(first + k);
                           compute_(first + k, ws, into.results[k]);
                           if (inject_ > 0 && (first + k + 1) % inject_ == 0) {
                             into.results[k].ok = false;
