@@ -15,16 +15,20 @@
 #include "solvers/small_dense_linear_solver.h"
 
 namespace poise::solvers {
-namespace {
 
-struct RhsBinding {
+// The right-hand side and its user data, handed to CVODE as user_data. Outside the anonymous
+// namespace: CvodeIntegrator::Handles holds one, and a member of a type with internal linkage
+// warns (-Wsubobject-linkage) where this file is compiled inside a unity batch.
+struct CvodeRhsBinding {
   RhsFunction rhs;
   void* user;
 };
 
+namespace {
+
 // The C callback: forwards raw arrays; the user function must not throw.
 int cvode_rhs(sunrealtype t, N_Vector y, N_Vector ydot, void* user_data) {
-  auto* b = static_cast<RhsBinding*>(user_data);
+  auto* b = static_cast<CvodeRhsBinding*>(user_data);
   return b->rhs(t, N_VGetArrayPointer(y), N_VGetArrayPointer(ydot), b->user);
 }
 
@@ -59,7 +63,7 @@ struct CvodeIntegrator::Handles {
   std::unique_ptr<std::remove_pointer_t<SUNMatrix>, FreeMatrix> matrix;
   std::unique_ptr<std::remove_pointer_t<SUNLinearSolver>, FreeSolver> solver;
   std::unique_ptr<void, FreeMemory> memory;
-  std::unique_ptr<RhsBinding> binding;
+  std::unique_ptr<CvodeRhsBinding> binding;
 };
 
 // Keeps CVODE's message for the exception instead of printing it to stderr.
@@ -103,7 +107,7 @@ CvodeIntegrator::CvodeIntegrator(std::size_t n, RhsFunction rhs, void* user_data
     std::copy(opt.atol_per_state.begin(), opt.atol_per_state.end(), N_VGetArrayPointer(tmp));
     check(CVodeSVtolerances(mem, opt.rtol, tmp), "CVodeSVtolerances");  // CVODE copies it
   }
-  owned_->binding = std::make_unique<RhsBinding>(RhsBinding{rhs, user_data});
+  owned_->binding = std::make_unique<CvodeRhsBinding>(CvodeRhsBinding{rhs, user_data});
   check(CVodeSetUserData(mem, owned_->binding.get()), "CVodeSetUserData");
   SUNMatrix a = SUNDenseMatrix(static_cast<sunindextype>(n), static_cast<sunindextype>(n), ctx);
   owned_->matrix.reset(a);
