@@ -322,8 +322,13 @@ PYBIND11_MODULE(_poise, m) {
   using namespace poise::python;
   m.doc() = "C++ side of the poise package (import poise, not this module)";
   poise::kinds::register_study_kinds();
-  // The test hooks of the engine (POISE_INJECT_*), as the `poise` command reads them.
+  // The test hooks of the engine (POISE_INJECT_*), as the `poise` command reads them, and the
+  // held sample's, for python/tests (engine/results/fault_injection.h): not part of the API.
   poise::engine::fault_injection::set_from_environment();
+  m.def("_test_hold_at_sample",
+        [](std::optional<std::size_t> k) { poise::engine::fault_injection::hold_at_sample(k); });
+  m.def("_test_hold_reached", [] { return poise::engine::fault_injection::hold_reached(); });
+  m.def("_test_release_hold", [] { poise::engine::fault_injection::release_hold(); });
   static py::exception<NativeError> native(m, "NativeError");
   py::register_exception_translator([](std::exception_ptr p) {
     try {

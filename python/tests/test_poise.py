@@ -224,22 +224,24 @@ def test_diagnose_is_the_json_of_the_command_line():
 
 
 def test_evaluate_releases_the_gil():
+    # evaluate holds before point 3000 (a test hook of the engine) until this thread sees the hold
+    # and releases it. This thread needs the GIL to look: had evaluate kept it, the test could
+    # never get past its first look (it would end at ctest's hang guard). No timing involved.
+    from poise import _poise
     s = poise.Study(SEEKER)
-    x = np.tile([v for v in s.nominal().values()], (60000, 1))
-    done = threading.Event()
-    ticks = 0
-
-    def work():
-        s.evaluate(x, threads=1)
-        done.set()
-
-    t = threading.Thread(target=work)
-    t.start()
-    while not done.is_set():  # this thread runs only while the other has let the GIL go
-        ticks += 1
-        time.sleep(0.001)
-    t.join()
-    assert ticks > 10
+    x = np.tile([v for v in s.nominal().values()], (6000, 1))
+    _poise._test_hold_at_sample(3000)
+    try:
+        t = threading.Thread(target=lambda: s.evaluate(x, threads=1))
+        t.start()
+        while not _poise._test_hold_reached():
+            time.sleep(0.001)
+        assert t.is_alive()  # evaluate is inside its call, held, while this thread runs
+        _poise._test_release_hold()
+        t.join()
+    finally:
+        _poise._test_hold_at_sample(None)
+    assert not t.is_alive()
 
 
 def test_ctrl_c_stops_a_run():

@@ -10,6 +10,7 @@
 #include <thread>
 
 #include "core/error.h"
+#include "engine/results/fault_injection.h"
 #include "sampling/distributed.h"
 
 namespace poise::engine {
@@ -51,6 +52,7 @@ InputEvaluationFailures evaluate_inputs(const InputEvaluator& evaluator, const I
       }
       InputColumns chunk = InputColumns::row_major(rows.data(), ni);
       chunk.first = r.begin();
+      fault_injection::hold_if_held_in(r.begin(), r.end());  // a test hook (fault_injection.h)
       evaluator.evaluate_points(chunk, outputs.data(), r.begin(), r.end(), local);
       // A point with a NaN or infinite input has no answer, whatever the formula made of it.
       for (const auto& [k, why] : not_finite) {

@@ -28,6 +28,7 @@ WriteBudget& write_budget() {
 std::atomic<std::size_t> sample_period{0};
 constexpr std::size_t kNoHeldSample = static_cast<std::size_t>(-1);
 std::atomic<std::size_t> held_sample{kNoHeldSample};
+std::atomic<bool> held_reached{false}, held_released{false};
 
 }  // namespace
 
@@ -55,15 +56,29 @@ void fail_every_sample(std::size_t k) { sample_period.store(k); }
 
 std::size_t failing_sample_period() { return sample_period.load(); }
 
-void hold_at_sample(std::optional<std::size_t> k) { held_sample.store(k.value_or(kNoHeldSample)); }
-
-void hold_if_held(std::size_t index) {
-  if (index != held_sample.load(std::memory_order_relaxed)) return;
-  std::fprintf(stderr, "poise: test hook: sample %zu held until SIGINT or SIGTERM (POISE_INJECT_HOLD_AT_SAMPLE)\n",
-               index);
-  std::fflush(stderr);
-  while (!sampling::interrupt_requested()) std::this_thread::sleep_for(std::chrono::milliseconds(2));
+void hold_at_sample(std::optional<std::size_t> k) {
+  held_reached.store(false);
+  held_released.store(false);
+  held_sample.store(k.value_or(kNoHeldSample));
 }
+
+void hold_if_held(std::size_t index) { hold_if_held_in(index, index + 1); }
+
+void hold_if_held_in(std::size_t first, std::size_t last) {
+  const std::size_t held = held_sample.load(std::memory_order_relaxed);
+  if (held < first || held >= last) return;
+  std::fprintf(stderr, "poise: test hook: sample %zu held until SIGINT or SIGTERM, or its release (POISE_INJECT_HOLD_AT_SAMPLE)\n",
+               held);
+  std::fflush(stderr);
+  held_reached.store(true);
+  while (!sampling::interrupt_requested() && !held_released.load()) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(2));
+  }
+}
+
+bool hold_reached() { return held_reached.load(); }
+
+void release_hold() { held_released.store(true); }
 
 void set_from_environment() {
   if (const char* after = std::getenv("POISE_INJECT_WRITE_FAILURE_AFTER"); after && *after) {

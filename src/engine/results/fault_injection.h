@@ -26,11 +26,18 @@ std::size_t allowed_write(const std::string& path, std::size_t n);
 void fail_every_sample(std::size_t k);
 std::size_t failing_sample_period();
 
-/// The sample of index k is held until a stop is requested (std::nullopt: none).
+/// The sample of index k is held until a stop is requested or release_hold() is called
+/// (std::nullopt: none); resets hold_reached().
 void hold_at_sample(std::optional<std::size_t> k);
-/// Holds the calling thread if `index` is the held sample: returns once a stop is requested
-/// (at once when the hook is off or `index` is another sample).
+/// Holds the calling thread if `index` is the held sample: returns once a stop is requested or
+/// the hold is released (at once when the hook is off or `index` is another sample).
 void hold_if_held(std::size_t index);
+/// The same for a block of samples [first, last) computed together (evaluate's chunks).
+void hold_if_held_in(std::size_t first, std::size_t last);
+/// Whether a thread has reached the held sample; and lets it go on (the Python module's test of
+/// evaluate releasing the GIL: the test's own thread sees the hold and releases it).
+bool hold_reached();
+void release_hold();
 
 /// The hooks from POISE_INJECT_WRITE_FAILURE_AFTER, POISE_INJECT_WRITE_FAILURE_FILE,
 /// POISE_INJECT_FAILURE_EVERY and POISE_INJECT_HOLD_AT_SAMPLE, for a program's entry point
