@@ -67,8 +67,10 @@ void hold_if_held(std::size_t index) { hold_if_held_in(index, index + 1); }
 void hold_if_held_in(std::size_t first, std::size_t last) {
   const std::size_t held = held_sample.load(std::memory_order_relaxed);
   if (held < first || held >= last) return;
-  std::fprintf(stderr, "poise: test hook: sample %zu held until SIGINT or SIGTERM, or its release (POISE_INJECT_HOLD_AT_SAMPLE)\n",
-               held);
+  std::fprintf(
+      stderr,
+      "poise: test hook: sample %zu held until SIGINT or SIGTERM, or its release (POISE_INJECT_HOLD_AT_SAMPLE)\n",
+      held);
   std::fflush(stderr);
   held_reached.store(true);
   while (!sampling::interrupt_requested() && !held_released.load()) {
