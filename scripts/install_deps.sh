@@ -24,7 +24,8 @@ if [ "${1:-}" = "--tests" ]; then
     python3-numpy python3-scipy  # bench/baselines: the NumPy and SciPy scripts Poise is compared with
     python3-dev pybind11-dev python3-pybind11  # python/: the module build/python/poise (pybind11)
     python3-pytest python3-openturns  # python/tests (pytest) and the OpenTURNS example
-    chromium  # tests/reports: every report rendered as a person sees it
+    chromium  # tests/reports: every report rendered as a person sees it; the guide's gallery and checks
+    mkdocs  # scripts/docs.sh: the guide (docs/), mkdocs build --strict
     clang-format-14 clang-tidy-14  # scripts/check_format.sh (run by test.sh), scripts/check_tidy.sh
   )
 fi

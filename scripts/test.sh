@@ -4,6 +4,7 @@
 # rest), run the tests a newcomer needs with ctest: every test but the statistical batteries
 # and the fuzz runs (labels `battery` and `fuzz`), which .ci/run and the nightly add.
 # Warnings are errors here with g++ 12, CI's compiler (CMakeLists.txt, POISE_WERROR).
+# Then the guide, built into build/docs/site (scripts/docs.sh).
 # Extra arguments go to ctest (e.g. -R Interrupt, -L unit).
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -12,4 +13,8 @@ cd "$(dirname "$0")/.."
 # ./scripts/format.sh.
 ./scripts/check_format.sh
 ./scripts/build.sh
+# The guide (docs/ and the reference pages generated from build/poise) with `mkdocs build
+# --strict`: a broken link fails here; the `docs` tests below check the built site in Chromium
+# and run every example of its pages.
+./scripts/docs.sh
 ctest --test-dir build --output-on-failure -j"$(nproc)" -LE '^(battery|fuzz)$' "$@"
