@@ -90,8 +90,8 @@ void print_text(const estimators::TorqueTable& t, const estimators::SineFitResul
                                f.residuals.begin());
   out << "Least-squares sine fit (Yang et al. 2015, Eq. 22) of " << f.n << " points from " << t.file << ", column "
       << t.torque_column << ":\n\n"
-      << "  M(theta) = " << fixed(f.amplitude, d) << " sin(theta + " << fixed(rad_to_deg(f.phase), 2) << " deg) + "
-      << fixed(f.offset, d) << " " << u << "\n\n"
+      << "  M(theta) = " << fixed(f.amplitude, d) << " sin(theta + " << fixed(rad_to_deg(f.phase), 2) << " deg) "
+      << (f.offset < 0 ? "- " : "+ ") << fixed(std::abs(f.offset), d) << " " << u << "\n\n"
       << "  amplitude MT_s = " << fixed(f.amplitude, d + 1) << " +- " << fixed(f.se_amplitude, d + 1) << " " << u
       << "\n"
       << "  phase b        = " << fixed(rad_to_deg(f.phase), 3) << " +- " << fixed(rad_to_deg(f.se_phase), 3)
