@@ -11,6 +11,8 @@
 #include <sstream>
 #include <string>
 
+#include "cli/column_options.h"
+#include "cli/record_map_output.h"
 #include "core/error.h"
 #include "core/format.h"
 #include "core/units.h"
@@ -19,6 +21,8 @@
 #include "engine/study_files/toml_reader.h"
 #include "estimators/oscillation_diagnosis.h"
 #include "estimators/oscillation_record.h"
+#include "estimators/record_map_diagnosis.h"
+#include "estimators/record_motion.h"
 #include "model_files/gimbal_model.h"
 
 using namespace poise::model_files;  // the kinds' and model files' own namespaces
@@ -31,6 +35,7 @@ struct Args {
   std::vector<std::string> sets;
   std::uint64_t seed = 1;
   bool json = false;
+  ColumnOptions columns;
 };
 
 int simulate(const Args& a) {
@@ -98,9 +103,24 @@ int diagnose(const Args& a) {
   } catch (const Error& e) {
     throw Error("--kt '" + a.kt_text + "': " + e.what());
   }
-  const estimators::OscillationRecord record = estimators::read_oscillation_record(a.file);
+  const estimators::OscillationRecord record =
+      estimators::read_oscillation_record(a.file, column_mapping(a.columns, estimators::record_column_roles()));
+  const std::string torque_source = record.torque.empty() ? "K_T = " + a.kt_text : "the torque as recorded";
   estimators::OscillationDiagnosis d;
+  estimators::RecordMotion motion;
   try {
+    motion = estimators::record_motion(record, opt);
+    if (motion.kind != "swing") {
+      const estimators::MapDiagnosis map = estimators::diagnose_map(record, opt);
+      if (a.json) {
+        nlohmann::json j = map_diagnosis_json(map);
+        j["reading"] = record.notes;
+        std::cout << j.dump(2) << '\n';
+      } else {
+        std::cout << map_diagnosis_text(map, record, torque_source);
+      }
+      return 0;
+    }
     d = estimators::diagnose_oscillation(record, opt);
   } catch (const Error&) {
     throw;
@@ -113,6 +133,16 @@ int diagnose(const Args& a) {
     return nlohmann::json{{"value", q.value * f}, {"se", q.se * f}};
   };
   j["n_samples"] = d.n;
+  j["motion"] = {{"kind", motion.kind},
+                 {"description", motion.description},
+                 {"turns", motion.turns},
+                 {"reversals", motion.reversals}};
+  j["reading"] = record.notes;
+  j["time"] = {{"median_step_s", d.median_step},
+               {"gaps", d.gaps},
+               {"gap_total_s", d.gap_total},
+               {"gap_largest_s", d.gap_largest},
+               {"gap_largest_line", d.gap_largest_line}};
   j["torque_eq21_mNm"] = d.torque_eq21 * 1e3;
   j["torque_before_mNm"] = p(d.torque_before, 1e3);
   j["torque_after_mNm"] = p(d.torque_after, 1e3);
@@ -137,7 +167,16 @@ int diagnose(const Args& a) {
     std::cout << j.dump(2) << '\n';
     return 0;
   }
-  std::printf("Time-series diagnosis of %s (%zu samples used, K_T = %s)\n\n", a.file.c_str(), d.n, a.kt_text.c_str());
+  std::printf("Time-series diagnosis of %s (%zu samples used, %s)\n", a.file.c_str(), d.n, torque_source.c_str());
+  std::printf("  motion: %s\n", motion.description.c_str());
+  for (const auto& note : record.notes) std::printf("  read: %s\n", note.c_str());
+  std::printf("  time: median step %s s; %s\n\n", significant(d.median_step, 4).c_str(),
+              d.gaps == 0
+                  ? "no gap"
+                  : fmt::format("{} gap(s) over {} s, the largest {} s before line {} (each stretch derived "
+                                "on its own)",
+                                d.gaps, significant(d.gap_total, 3), significant(d.gap_largest, 3), d.gap_largest_line)
+                        .c_str());
   std::printf("  base model  K_T i = J phi'' + B phi' + C sign(phi') [+ K phi] + M_0\n");
   for (const auto& b : d.base_before)
     std::printf("    %-2s = %.4g +- %.2g %s\n", b.name.c_str(), b.value, b.se, b.unit.c_str());
@@ -194,9 +233,21 @@ std::function<std::optional<int>()> add_record_commands(CLI::App& app) {
       "pi / (max |phi'| dt), per turn, confirmed away from the reversals), offset drift and "
       "friction asymmetry, adds what is significant (F test, Holm, BIC) and reports the position's "
       "torque before and after");
-  diag->add_option("RECORD", a->file, "CSV with columns time_s, current_A, phi_deg")
+  diag->add_option("RECORD", a->file,
+                   "the record: a text table with columns of time, drive current (or torque) and angle; by "
+                   "default time_s, current_A, phi_deg (what simulate-record writes)")
       ->required()
       ->check(CLI::ExistingFile);
+  add_column_options(diag, a->columns, estimators::record_column_roles());
+  diag->footer(R"(
+A lab's file as it comes: comma, semicolon, tab or space delimited, comment lines (#, %, //),
+headers with spaces, the time stamps as logged (jitter used as it is, gaps reported; a stamp
+that repeats or goes back is an error), an angle that wraps once a turn. Name the columns and
+units the file uses, e.g. a logger's "t [ms]; Iq; pos" with encoder counts of 16384 a turn:
+
+  poise diagnose-record log.csv --column time="t [ms]" --column current=Iq --unit current=A       --column angle=pos --unit angle="1/16384 rev" --kt "0.05 N*m/A"
+
+A file that records the torque itself: --column torque=HEADER (K_T is then not used).)");
   diag->add_option("--kt", a->kt_text, "torque constant with its unit (default \"0.05 N*m/A\")");
   diag->add_flag("--json", a->json, "print one JSON object");
   return [a, sim, diag]() -> std::optional<int> {

@@ -43,6 +43,7 @@ const std::map<std::string, UnitDef, std::less<>>& unit_table() {
       {"s", {1.0, kTime}},
       {"ms", {1e-3, kTime}},
       {"us", {1e-6, kTime}},
+      {"ns", {1e-9, kTime}},  // loggers' time stamps (ns since the epoch)
       {"min", {60.0, kTime}},
       {"h", {3600.0, kTime}},
       // current

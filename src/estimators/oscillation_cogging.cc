@@ -134,9 +134,9 @@ double median_of(std::vector<double> v) {
 struct Level {
   double sigma2 = 0.0, cells = 0.0;
 };
-Level local_level(const OrderScan& scan, long i, double cell) {
+Level local_level(const OrderScan& scan, long i, double cell, double local_cells) {
   const auto n = static_cast<long>(scan.drop.size());
-  const long guard = std::lround(kGuardCells * cell), width = std::lround(kLocalCells * cell);
+  const long guard = std::lround(kGuardCells * cell), width = std::lround(local_cells * cell);
   // At an end of the scan the window keeps its size, shifted inward.
   const long lo = std::clamp(i - guard - width, 0L, std::max(0L, n - 1 - 2 * (guard + width)));
   std::vector<double> nb;
@@ -164,13 +164,13 @@ LocalTest judge(double drop, double white, double dof_white, const Level& local)
 
 // The index of the smallest p with the scan's own levels (the pair of each order not removed;
 // rss, dof: the model's fit the scan was run on).
-long nominated(const OrderScan& scan, double cell, double rss, double dof) {
+long nominated(const OrderScan& scan, double cell, double rss, double dof, double local_cells) {
   long at = -1;
   double best = 0.0;
   for (long i = 0; i < static_cast<long>(scan.drop.size()); ++i) {
     const double d = scan.drop[static_cast<std::size_t>(i)];
     if (!std::isfinite(d)) continue;
-    const LocalTest t = judge(d, (rss - d) / (dof - 2.0), dof - 2.0, local_level(scan, i, cell));
+    const LocalTest t = judge(d, (rss - d) / (dof - 2.0), dof - 2.0, local_level(scan, i, cell, local_cells));
     if (t.f > 0 && (at < 0 || t.log_p < best)) best = t.log_p, at = i;
   }
   return at;
@@ -191,23 +191,23 @@ long largest(const OrderScan& scan, long i, long reach) {
 // its neighbours on the residual the pair leaves (a strong order's own side lobes would raise
 // it), the white level that residual's.
 LocalTest judged(const Eigen::MatrixXd& model, const Eigen::VectorXd& y, const Eigen::VectorXd& phi,
-                 const OrderRange& range, double cell, int order, double rss) {
+                 const OrderRange& range, double cell, int order, double rss, double local_cells) {
   const Eigen::MatrixXd x = joined(model, cogging_columns(phi, order));
   const Fit fit = least_squares(x, y);
-  const int reach = static_cast<int>(std::lround((kGuardCells + kLocalCells) * cell));
+  const int reach = static_cast<int>(std::lround((kGuardCells + local_cells) * cell));
   OrderRange near = range;
   near.max_order = std::min(range.max_order, std::max(order, range.min_order + reach) + reach);
   near.min_order = std::max(range.min_order, near.max_order - 2 * reach);
   const OrderScan scan = scan_orders(x, y - x * fit.beta, phi, near);
   const auto dof = static_cast<double>(y.size() - x.cols());
-  LocalTest t = judge(rss - fit.rss, fit.rss / dof, dof, local_level(scan, order - near.min_order, cell));
+  LocalTest t = judge(rss - fit.rss, fit.rss / dof, dof, local_level(scan, order - near.min_order, cell, local_cells));
   t.order = order;
   return t;
 }
 }  // namespace
 
 ScanBest scan_best(const Eigen::MatrixXd& model, const Eigen::VectorXd& y, const Eigen::VectorXd& phi,
-                   const OrderRange& range, double cell) {
+                   const OrderRange& range, double cell, double local_cells) {
   ScanBest b;
   const Eigen::Index dof = y.size() - model.cols();
   if (dof <= 3) return b;
@@ -219,14 +219,17 @@ ScanBest scan_best(const Eigen::MatrixXd& model, const Eigen::VectorXd& y, const
   // and the largest drop of all. Where the first's level, its pair removed, is the white one
   // (it was raised only by its own side lobes), it moves to the largest drop within a cell:
   // the least-squares order of its peak.
-  long at = nominated(scan, cell, fit.rss, static_cast<double>(dof));
+  long at = nominated(scan, cell, fit.rss, static_cast<double>(dof), local_cells);
   const long top = largest(scan, 0, -1);
   for (const long i : {at, top}) {
     if (i < 0 || (i == top && at == top && b.test.order != 0)) continue;
-    LocalTest t = judged(model, y, phi, range, cell, scan.first + static_cast<int>(i), fit.rss);
+    LocalTest t = judged(model, y, phi, range, cell, scan.first + static_cast<int>(i), fit.rss, local_cells);
     if (i == at && t.white) {
       const long peak = largest(scan, at, std::max(1L, std::lround(cell)));
-      if (peak != at) t = judged(model, y, phi, range, cell, scan.first + static_cast<int>(peak), fit.rss), at = peak;
+      if (peak != at) {
+        t = judged(model, y, phi, range, cell, scan.first + static_cast<int>(peak), fit.rss, local_cells);
+        at = peak;
+      }
     }
     if (t.f > 0 && (b.test.order == 0 || t.log_p < b.test.log_p)) b.test = t;
   }

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "estimators/oscillation_diagnosis.h"
+#include "estimators/record_motion.h"
 
 namespace poise::estimators::osc {
 
@@ -15,12 +16,18 @@ struct Signals {
   Eigen::VectorXd y;                  ///< K_T i, N m
   Eigen::VectorXd phi, rate, acc, t;  ///< rad, rad/s (Savitzky-Golay), rad/s^2, s
   Eigen::VectorXd direction;          ///< sign of the rate, a zero rate taking the last nonzero sign
-  double dt = 0.0;                    ///< sampling step, s
+  double dt = 0.0;                    ///< the median sampling step, s
   std::size_t n = 0;
+  std::size_t gaps = 0;                       ///< steps of more than 5 median steps (each window within a stretch)
+  double gap_total = 0.0, gap_largest = 0.0;  ///< s
+  std::size_t gap_largest_line = 0;           ///< file line of the row after the largest gap
 };
 
 /// Checks the record and options (messages in oscillation_diagnosis.h) and derives the signals.
 Signals derive_signals(const OscillationRecord& rec, const OscillationOptions& opt);
+
+/// The motion of the derived signals (record_motion.h); timed: the record has time stamps.
+RecordMotion recognise_motion(const Signals& s, bool timed, int window);
 
 struct Fit {
   Eigen::VectorXd beta;
@@ -86,8 +93,10 @@ struct ScanBest {
   LocalTest test;
   int count = 0;
 };
+/// local_cells: the neighbourhood's half-width in cells (kLocalCells for a swing; a map of many
+/// real orders needs a wider one, or its own orders raise the level of each other).
 ScanBest scan_best(const Eigen::MatrixXd& model, const Eigen::VectorXd& y, const Eigen::VectorXd& phi,
-                   const OrderRange& range, double cell);
+                   const OrderRange& range, double cell, double local_cells = kLocalCells);
 
 /// The samples away from the reversals (|phi'| at least kMovingFraction of its maximum),
 /// where a cogging torque cycles and the friction model's error at the reversals (another

@@ -176,8 +176,13 @@ OscillationDiagnosis diagnose_oscillation(const OscillationRecord& rec, const Os
   const Signals s = osc::derive_signals(rec, opt);
   OscillationDiagnosis out;
   out.n = s.n;
-  out.torque_eq21 =
-      opt.kt * std::accumulate(rec.current.begin(), rec.current.end(), 0.0) / static_cast<double>(rec.current.size());
+  out.torque_eq21 = rec.torque.empty() ? opt.kt * std::accumulate(rec.current.begin(), rec.current.end(), 0.0) /
+                                             static_cast<double>(rec.current.size())
+                                       : std::accumulate(rec.torque.begin(), rec.torque.end(), 0.0) /
+                                             static_cast<double>(rec.torque.size());
+  out.gaps = s.gaps, out.gap_total = s.gap_total, out.gap_largest = s.gap_largest;
+  out.gap_largest_line = s.gap_largest_line;
+  out.median_step = s.dt;
   bool inertia = false, curvature = false;
   Eigen::MatrixXd model = base_model(s, out, inertia, curvature);
   const Fit base = least_squares(model, s.y);

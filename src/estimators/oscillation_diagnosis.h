@@ -15,7 +15,8 @@
 /// U sin a cos delta + U cos a sin delta over the swing, G = U sin a; kept where it can show,
 /// |M_0| |column| / sigma >= 3 (a 3-sigma matched filter for the largest G the position's
 /// torque allows); at a swing of a few degrees it would only trade off with cogging.)
-/// phi', phi'' from a local quadratic (Savitzky-Golay) fit over `derivative_window` samples.
+/// phi', phi'' from a local quadratic least-squares fit over `derivative_window` samples on
+/// their own time stamps (on a uniform grid, the Savitzky-Golay filter).
 /// M_0 is the torque Eq. 21 is after: K_T mean(i) over whole periods equals M_0 when the
 /// other terms average out.
 /// Candidates, each adding columns, tested like the turntable diagnosis (nested F test,
@@ -67,11 +68,15 @@
 namespace poise::estimators {
 
 struct OscillationRecord {
-  std::vector<double> t;           ///< s, uniformly sampled
-  std::vector<double> current;     ///< A
-  std::vector<double> phi;         ///< rad
+  std::vector<double> t;           ///< s, increasing (jitter and gaps allowed)
+  std::vector<double> current;     ///< A; empty when the record gives the torque
+  std::vector<double> torque;      ///< N*m, the drive torque; empty when it gives the current
+  std::vector<double> phi;         ///< rad, unwrapped
+  std::vector<double> velocity;    ///< rad/s where the file has it; else empty
   std::string file;                ///< for messages; "" = unnamed
   std::vector<std::size_t> lines;  ///< 1-based file line of each sample; empty = unknown
+  std::vector<std::string> notes;  ///< what reading the file did (columns, units, unwraps)
+  bool no_time = false;            ///< the file has no time: t is the row's order (a map)
 };
 
 struct OscillationOptions {
@@ -110,10 +115,16 @@ struct OscillationDiagnosis {
   std::vector<std::pair<std::string, std::string>> not_identifiable;  ///< (candidate, why)
   double rmse_before = 0.0, rmse_after = 0.0;                         ///< torque residual (N m)
   int rounds = 0;
+  double median_step = 0.0;                   ///< s, of the time stamps as they are
+  std::size_t gaps = 0;                       ///< steps of more than 5 median steps
+  double gap_total = 0.0, gap_largest = 0.0;  ///< s
+  std::size_t gap_largest_line = 0;           ///< file line of the row after the largest gap
 };
 
-/// Throws poise::Error for fewer than 8 windows of samples, unequal sizes, non-uniform time
-/// (naming the file and line), a non-positive or non-finite K_T, torques that overflow, an
+/// Time stamps are used as they are (jitter; gaps of more than 5 median steps split the
+/// record into stretches, each derived on its own). Throws poise::Error for fewer than 8
+/// windows of samples, unequal sizes, a time stamp that repeats or goes back (naming the file
+/// and line), a non-positive or non-finite K_T, torques that overflow, an
 /// even window, or a record with no motion.
 OscillationDiagnosis diagnose_oscillation(const OscillationRecord& rec, const OscillationOptions& opt);
 

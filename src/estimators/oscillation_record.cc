@@ -1,80 +1,66 @@
 #include "estimators/oscillation_record.h"
 
-#include <algorithm>
-#include <charconv>
 #include <cmath>
-#include <fstream>
-#include <map>
-#include <sstream>
-#include <vector>
 
 #include "core/error.h"
-#include "core/units.h"
+#include "core/format.h"
 
 namespace poise::estimators {
-namespace {
 
-std::vector<std::string> split_cells(const std::string& line) {
-  std::vector<std::string> cells;
-  std::stringstream ss(line);
-  std::string cell;
-  while (std::getline(ss, cell, ',')) cells.push_back(cell);
-  if (!line.empty() && line.back() == ',') cells.emplace_back();  // a trailing empty cell
-  return cells;
+const std::vector<ColumnRole>& record_column_roles() {
+  static const std::vector<ColumnRole> roles = {
+      {"time", {"time_s"}, units::kTime, "s", false, "time"},
+      {"current", {"current_A"}, units::kCurrent, "A", false, "drive current"},
+      {"torque", {"torque_Nm"}, units::kTorque, "N*m", false, "drive torque"},
+      {"angle", {"phi_deg"}, units::kAngle, "deg", true, "axis angle"},
+      {"velocity", {"velocity_rad_s"}, units::Dimension{{0, 0, -1, 0, 1, 0}}, "rad/s", false, "angular velocity"},
+  };
+  return roles;
 }
 
-std::string trimmed(std::string s) {
-  while (!s.empty() && (s.back() == '\r' || s.back() == ' ' || s.back() == '\t')) s.pop_back();
-  std::size_t b = 0;
-  while (b < s.size() && (s[b] == ' ' || s[b] == '\t')) ++b;
-  return s.substr(b);
-}
-
-}  // namespace
-
-OscillationRecord read_oscillation_record(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw Error(path + ": cannot open the file");
-  std::string line;
-  std::getline(in, line);
-  if (line.rfind("\xEF\xBB\xBF", 0) == 0) line.erase(0, 3);  // a UTF-8 byte order mark
-  std::vector<std::string> head = split_cells(line);
-  for (auto& h : head) h = trimmed(h);
-  std::map<std::string, std::size_t> col;
-  for (std::size_t i = 0; i < head.size(); ++i) col.emplace(head[i], i);
-  for (const char* need : {"time_s", "current_A", "phi_deg"}) {
-    if (!col.count(need)) {
-      throw Error(path + ":1: missing column '" + need + "' (need time_s, current_A, phi_deg)");
-    }
-  }
+OscillationRecord read_oscillation_record(const std::string& path, const ColumnMapping& mapping) {
+  const LabTable t = read_lab_table(path, record_column_roles(), mapping);
   OscillationRecord r;
   r.file = path;
-  std::size_t lineno = 1;
-  while (std::getline(in, line)) {
-    ++lineno;
-    if (trimmed(line).empty()) continue;
-    const std::vector<std::string> cells = split_cells(line);
-    if (cells.size() != head.size()) {
-      throw Error(path + ":" + std::to_string(lineno) + ": " + std::to_string(cells.size()) +
-                  " cells, the header has " + std::to_string(head.size()));
+  r.lines = t.lines;
+  if (t.has("time")) {
+    r.t = t.at("time");
+  } else {  // a map without time: the rows in their order
+    r.no_time = true;
+    for (std::size_t k = 0; k < t.size(); ++k) r.t.push_back(static_cast<double>(k));
+    r.notes.push_back("no time column: the rows are taken in their order, as a quasi-static map");
+  }
+  r.phi = t.at("angle");
+  if (t.has("torque") && (mapping.header.count("torque") || !t.has("current"))) {
+    r.torque = t.at("torque");
+  } else if (t.has("current")) {
+    r.current = t.at("current");
+  } else {
+    throw InputError({path, static_cast<int>(t.header_line), 0}, "column of the drive current or torque", "(none)",
+                     "a column 'current_A' or 'torque_Nm', or name one with --column current=HEADER "
+                     "or --column torque=HEADER");
+  }
+  if (t.has("velocity")) r.velocity = t.at("velocity");
+  r.notes.push_back(fmt::format("{} rows read, delimited by {}", t.size(), t.delimiter));
+  for (const auto& [role, header] : t.header) {
+    if (role == "current" && !r.torque.empty()) continue;
+    if (role == "torque" && r.torque.empty()) continue;
+    r.notes.push_back(fmt::format("{}: column '{}' in {}", role, header, t.unit.at(role)));
+  }
+  // A single-turn encoder wraps: a jump of more than half a turn between two rows is a wrap.
+  std::size_t unwraps = 0;
+  double shift = 0.0;
+  for (std::size_t k = 1; k < r.phi.size(); ++k) {
+    const double raw_step = r.phi[k] + shift - r.phi[k - 1];
+    if (std::abs(raw_step) > units::kPi) {
+      shift -= 2.0 * units::kPi * std::round(raw_step / (2.0 * units::kPi));
+      ++unwraps;
     }
-    auto num = [&](const char* name) {
-      const std::string c = trimmed(cells[col.at(name)]);
-      const std::size_t sign = !c.empty() && c[0] == '+' ? 1 : 0;  // "+0.5" as written by some loggers
-      double v = 0.0;
-      const auto res = std::from_chars(c.data() + sign, c.data() + c.size(), v);
-      const bool whole =
-          c.size() > sign && !(sign && c[1] == '-') && res.ec == std::errc() && res.ptr == c.data() + c.size();
-      if (!whole || !std::isfinite(v)) {
-        throw InputError({path, static_cast<int>(std::min<std::size_t>(lineno, 2147483647u)), 0},
-                         std::string("column ") + name, c.empty() ? "(empty)" : c, "a finite number");
-      }
-      return v;
-    };
-    r.t.push_back(num("time_s"));
-    r.current.push_back(num("current_A"));
-    r.phi.push_back(num("phi_deg") * units::kRadPerDeg);
-    r.lines.push_back(lineno);
+    r.phi[k] += shift;
+  }
+  if (unwraps > 0) {
+    r.notes.push_back(fmt::format(
+        "the angle wraps {} time(s) (a jump of more than half a turn between two rows): unwrapped", unwraps));
   }
   return r;
 }

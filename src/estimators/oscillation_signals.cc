@@ -21,21 +21,49 @@ struct Where {
   }
 };
 
-// The sampling step: the median step (one bad step does not move it); every step must match.
-double uniform_step(const OscillationRecord& rec, const Where& w) {
+// The time stamps as they are: each must come after the one before (a repeated or backward
+// stamp is an error naming its line). Returns the median step; gaps (a step of more than 5
+// median steps) split the record into segments, each derived on its own.
+struct TimeBase {
+  double median_step = 0.0;
+  std::vector<std::size_t> segment_starts;  ///< first row of each segment; the last ends at n
+};
+
+TimeBase time_base(const OscillationRecord& rec, const Where& w) {
   const std::size_t n = rec.t.size();
+  for (std::size_t k = 1; k < n; ++k) {
+    const double step = rec.t[k] - rec.t[k - 1];
+    require(step > 0.0, w.at(k) + "time " + significant(rec.t[k], 9) + " s " +
+                            (step == 0.0 ? "repeats the stamp of the row before"
+                                         : "goes back from " + significant(rec.t[k - 1], 9) + " s") +
+                            ": each row's time must come after the one before");
+  }
   std::vector<double> steps(n - 1);
   for (std::size_t k = 1; k < n; ++k) steps[k - 1] = rec.t[k] - rec.t[k - 1];
   std::nth_element(steps.begin(), steps.begin() + static_cast<std::ptrdiff_t>(steps.size() / 2), steps.end());
-  const double dt = steps[steps.size() / 2];
-  require(dt > 0, w.file + ": time must increase (median step " + significant(dt, 6) + " s)");
+  TimeBase tb;
+  tb.median_step = steps[steps.size() / 2];
+  tb.segment_starts.push_back(0);
   for (std::size_t k = 1; k < n; ++k) {
-    const double step = rec.t[k] - rec.t[k - 1];
-    require(std::abs(step - dt) < 1e-6 * dt + 1e-12, w.at(k) + "time must be uniformly sampled: step " +
-                                                         significant(step, 6) + " s, expected " + significant(dt, 6) +
-                                                         " s (the median step)");
+    if (rec.t[k] - rec.t[k - 1] > 5.0 * tb.median_step) tb.segment_starts.push_back(k);
   }
-  return dt;
+  return tb;
+}
+
+// phi', phi'' at row c from the least-squares quadratic through rows [a, b] on their own times
+// (on a uniform grid: the Savitzky-Golay filter).
+std::pair<double, double> local_quadratic(const OscillationRecord& rec, std::size_t a, std::size_t b, std::size_t c) {
+  Eigen::Matrix3d ata = Eigen::Matrix3d::Zero();
+  Eigen::Vector3d aty = Eigen::Vector3d::Zero();
+  const double scale = std::max(rec.t[b] - rec.t[c], rec.t[c] - rec.t[a]);
+  for (std::size_t j = a; j <= b; ++j) {
+    const double u = (rec.t[j] - rec.t[c]) / scale;
+    const Eigen::Vector3d row(1.0, u, u * u);
+    ata += row * row.transpose();
+    aty += row * rec.phi[j];
+  }
+  const Eigen::Vector3d coef = ata.ldlt().solve(aty);
+  return {coef[1] / scale, 2.0 * coef[2] / (scale * scale)};
 }
 
 // Direction of motion: the sign of the smoothed rate, a zero rate (quantised encoder at rest
@@ -60,7 +88,9 @@ Eigen::VectorXd direction_of(const Eigen::VectorXd& rate) {
 
 Signals derive_signals(const OscillationRecord& rec, const OscillationOptions& opt) {
   const std::size_t n_all = rec.t.size();
-  require(rec.current.size() == n_all && rec.phi.size() == n_all, "record columns differ in length");
+  require((rec.current.size() == n_all || rec.torque.size() == n_all) && rec.phi.size() == n_all &&
+              (rec.velocity.empty() || rec.velocity.size() == n_all),
+          "record columns differ in length");
   const Where w{rec, rec.file.empty() ? std::string("record") : rec.file};
   require(std::isfinite(opt.kt) && opt.kt > 0 && opt.kt < 1e6,
           w.file + ": the torque constant K_T = " + significant(opt.kt, 6) +
@@ -72,29 +102,47 @@ Signals derive_signals(const OscillationRecord& rec, const OscillationOptions& o
               std::to_string(8 * opt.derivative_window) + " (8 derivative windows of " +
               std::to_string(opt.derivative_window) + " samples)");
   Signals s;
-  s.dt = uniform_step(rec, w);
-  // Savitzky-Golay quadratic: phi' = sum j phi_j / (S2 dt), phi'' = 2 c / dt^2.
-  double s2 = 0, s4 = 0;
-  for (int j = -m; j <= m; ++j) s2 += j * j, s4 += static_cast<double>(j) * j * j * j;
-  const double wn = 2 * m + 1;
-  s.n = n_all - 2 * static_cast<std::size_t>(m);
+  const TimeBase tb = time_base(rec, w);
+  s.dt = tb.median_step;
+  const bool by_torque = !rec.torque.empty();
+  // Rows whose window lies within one segment (the window's edges dropped at each gap).
+  std::vector<std::size_t> rows;
+  for (std::size_t g = 0; g < tb.segment_starts.size(); ++g) {
+    const std::size_t a = tb.segment_starts[g];
+    const std::size_t b = g + 1 < tb.segment_starts.size() ? tb.segment_starts[g + 1] : n_all;
+    for (std::size_t c = a + static_cast<std::size_t>(m); c + static_cast<std::size_t>(m) < b; ++c) rows.push_back(c);
+  }
+  require(rows.size() >= 8 * static_cast<std::size_t>(opt.derivative_window),
+          w.file + ": " + std::to_string(rows.size()) + " samples lie in stretches without gaps of at least " +
+              std::to_string(opt.derivative_window) + " samples; expected at least " +
+              std::to_string(8 * opt.derivative_window));
+  s.n = rows.size();
   const auto ne = static_cast<Eigen::Index>(s.n);
   s.y.resize(ne), s.phi.resize(ne), s.rate.resize(ne), s.acc.resize(ne), s.t.resize(ne);
   for (std::size_t k = 0; k < s.n; ++k) {
-    const std::size_t c = k + static_cast<std::size_t>(m);
-    double sj = 0, sj2 = 0, s0 = 0;
-    for (int j = -m; j <= m; ++j) {
-      const double v = rec.phi[static_cast<std::size_t>(static_cast<long>(c) + j)];
-      s0 += v, sj += j * v, sj2 += j * j * v;
-    }
+    const std::size_t c = rows[k];
+    const auto [rate, acc] = local_quadratic(rec, c - static_cast<std::size_t>(m), c + static_cast<std::size_t>(m), c);
     const auto e = static_cast<Eigen::Index>(k);
-    s.rate[e] = sj / (s2 * s.dt);
-    s.acc[e] = 2.0 * (wn * sj2 - s2 * s0) / (wn * s4 - s2 * s2) / (s.dt * s.dt);
+    s.rate[e] = rec.velocity.empty() ? rate : rec.velocity[c];
+    s.acc[e] = acc;
     s.phi[e] = rec.phi[c];
-    s.y[e] = opt.kt * rec.current[c];
-    require(std::isfinite(s.y[e]), w.at(c) + "K_T i is not finite (K_T = " + significant(opt.kt, 6) +
-                                       " N*m/A, i = " + significant(rec.current[c], 6) + " A)");
+    s.y[e] = by_torque ? rec.torque[c] : opt.kt * rec.current[c];
+    if (!std::isfinite(s.y[e])) {
+      throw Error(w.at(c) + (by_torque ? "the torque is not finite"
+                                       : "K_T i is not finite (K_T = " + significant(opt.kt, 6) +
+                                             " N*m/A, i = " + significant(rec.current[c], 6) + " A)"));
+    }
     s.t[e] = rec.t[c];
+  }
+  s.gaps = tb.segment_starts.size() - 1;
+  for (std::size_t g = 1; g < tb.segment_starts.size(); ++g) {
+    const std::size_t k = tb.segment_starts[g];
+    const double gap = rec.t[k] - rec.t[k - 1];
+    s.gap_total += gap;
+    if (gap > s.gap_largest) {
+      s.gap_largest = gap;
+      s.gap_largest_line = k < rec.lines.size() ? rec.lines[k] : k + 1;
+    }
   }
   require(s.rate.cwiseAbs().maxCoeff() > 0.0, w.file + ": phi does not move: no oscillation to diagnose");
   s.direction = direction_of(s.rate);

@@ -19,7 +19,6 @@ using Eigen::VectorXd;
 // |R_ii| below this fraction of the largest pivot (columns scaled to unit norm): the columns
 // are not separable at these points.
 constexpr double kRankThreshold = 1e-10;
-constexpr double kMaxRho = 0.99;  // |rho| bound: stationary errors, finite ln(1 - rho^2)
 
 // P m in measurement order (identity for rho = 0), indexed by row.
 MatrixXd whiten(const MatrixXd& m, const std::vector<std::size_t>& order, double rho) {

@@ -24,6 +24,9 @@
 
 namespace poise::estimators::detail {
 
+/// |rho| bound of the AR(1) errors: stationary, with a finite ln(1 - rho^2).
+inline constexpr double kMaxRho = 0.99;
+
 /// The values and their measurement order.
 struct ModelData {
   Eigen::VectorXd y;               ///< values, one per row

@@ -28,7 +28,7 @@ Vector3d coefficients(const UnbalanceEstimate& e) {
 // effect must hold at every larger rho the data accept. The larger p of the two.
 double p_under_ar1(const Model& m, const ModelData& d, std::size_t i) {
   constexpr double kHalfChi2 = 1.92;  // chi^2(1) 95 % / 2
-  constexpr double kStep = 0.01, kMaxRho = 0.99;
+  constexpr double kStep = 0.01;      // the rho grid's step, up to kMaxRho (residual_diagnosis_model.h)
   Model g = m;
   g.ar = true;
   g.rho = fit_rho(g.x, d);

@@ -202,26 +202,30 @@ TEST(DiagnoseRecord, RefusedRecordsGiveExit2WithFileLineAndColumn) {
   // A missing column names the file, line 1 and the column.
   RunResult r = with("nocol.csv", "time_s,current_A\n0,1\n");
   EXPECT_EQ(r.status, 2);
-  EXPECT_NE(r.err.find(d.file("nocol.csv") + ":1: missing column 'phi_deg'"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find(d.file("nocol.csv") +
+                       ":1: missing column 'phi_deg' (the axis angle): the file's columns are 'time_s', 'current_A'; "
+                       "name the one that holds it with --column angle=HEADER"),
+            std::string::npos)
+      << r.err;
   // A cell that is not a number: file, line, column, the cell.
   std::string bad = good;
   const auto line3 = bad.find('\n', bad.find('\n') + 1) + 1;  // start of line 3
   bad.replace(line3, bad.find(',', line3) - line3, "12abc");
   r = with("cell.csv", bad);
   EXPECT_EQ(r.status, 2);
-  EXPECT_NE(r.err.find(d.file("cell.csv") + ":3: key 'column time_s' = 12abc: expected a finite number"),
+  EXPECT_NE(r.err.find(d.file("cell.csv") + ":3:1: key 'column time_s' = 12abc: expected a finite number"),
             std::string::npos) << r.err;
   // A value past double's range, or not finite.
   r = with("inf.csv", "time_s,current_A,phi_deg\n0,1e999,0\n");
   EXPECT_EQ(r.status, 2);
-  EXPECT_NE(r.err.find(":2: key 'column current_A' = 1e999"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find(":2:2: key 'column current_A' = 1e999"), std::string::npos) << r.err;
   r = with("nan.csv", "time_s,current_A,phi_deg\n0,1,nan\n");
   EXPECT_EQ(r.status, 2);
-  EXPECT_NE(r.err.find(":2: key 'column phi_deg' = nan"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find(":2:3: key 'column phi_deg' = nan"), std::string::npos) << r.err;
   // A row with a cell too many.
   r = with("cells.csv", "time_s,current_A,phi_deg\n0,1,2\n0.001,1,2,3\n");
   EXPECT_EQ(r.status, 2);
-  EXPECT_NE(r.err.find(d.file("cells.csv") + ":3: 4 cells, the header has 3"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find(d.file("cells.csv") + ":3: 4 cells, the header (line 1) has 3"), std::string::npos) << r.err;
   // A 3 MB cell is echoed cut, not whole.
   r = with("huge.csv", "time_s,current_A,phi_deg\n" + std::string(3'000'000, '7') + "x,1,2\n");
   EXPECT_EQ(r.status, 2);
@@ -234,7 +238,7 @@ TEST(DiagnoseRecord, RefusedRecordsGiveExit2WithFileLineAndColumn) {
   // A leading plus sign is a number; two are not.
   r = with("plus.csv", "time_s,current_A,phi_deg\n0,+1,++2\n");
   EXPECT_EQ(r.status, 2);
-  EXPECT_NE(r.err.find(":2: key 'column phi_deg' = ++2"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find(":2:3: key 'column phi_deg' = ++2"), std::string::npos) << r.err;
   // CRLF line ends and a byte order mark are accepted.
   std::string crlf = "\xEF\xBB\xBF";
   std::istringstream lines(good);

@@ -18,6 +18,8 @@
 #include "core/units.h"
 #include "estimators/oscillation_diagnosis.h"
 #include "estimators/oscillation_record.h"
+#include "estimators/record_map_diagnosis.h"
+#include "estimators/record_motion.h"
 #include "estimators/residual_diagnosis.h"
 #include "estimators/sine_fit.h"
 #include "estimators/torque_table.h"
@@ -191,7 +193,12 @@ void fuzz_record(std::string_view text) {
   const fs::path file = work_dir() / "fuzz_record.csv";
   write_file(file, csv);
   const estimators::OscillationRecord r = estimators::read_oscillation_record(file.string());
-  (void)estimators::diagnose_oscillation(r, opt);
+  // As `poise diagnose-record` does: the motion first, then the diagnosis that reads it.
+  if (estimators::record_motion(r, opt).kind == "swing") {
+    (void)estimators::diagnose_oscillation(r, opt);
+  } else {
+    (void)estimators::diagnose_map(r, opt);
+  }
 }
 
 void fuzz_mesh(std::string_view text, const char* extension) {
