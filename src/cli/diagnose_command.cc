@@ -140,7 +140,7 @@ struct Diagnosed {
 // Throws poise::Error (a ValidationError among them) for invalid input.
 Diagnosed diagnose(const DiagnoseRequest& o) {
   Diagnosed d;
-  d.table = est::read_torque_table(o.data);
+  d.table = est::read_torque_table(o.data, column_mapping(o.columns, est::torque_table_roles()));
   d.load = parse_load(o, d.table);
   est::DiagnosisOptions opt;
   opt.alpha = o.alpha;
@@ -232,6 +232,7 @@ DiagnoseHandler add_diagnose_command(CLI::App& app) {
                   "torque_Nm), optional time_s and sweep")
       ->required();
   sub->add_flag("--json", opt->json, "print the diagnosis as one JSON object");
+  add_column_options(sub, opt->columns, est::torque_table_roles());
   sub->add_option("--alpha", opt->alpha, "familywise level per round (Holm), default 0.05");
   sub->add_option("--max-harmonic", opt->max_harmonic,
                   "highest harmonic tried, default 6 (capped to keep 5 residual dof)");

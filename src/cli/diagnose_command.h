@@ -16,6 +16,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "cli/column_options.h"
+
 namespace poise::cli {
 
 /// What `poise diagnose` is given besides --json and --out (the options of the same names).
@@ -27,6 +29,7 @@ struct DiagnoseRequest {
   std::string load_torque, load_angle;  ///< a known load; both or neither
   std::string study;                    ///< a gimbal study to close the loop on; "" = none
   std::size_t study_samples = 64;
+  ColumnOptions columns;  ///< --column, --unit: the file's own columns and units
 };
 
 /// The diagnosis as `poise diagnose --json` prints it (with "closed_loop" for a study).

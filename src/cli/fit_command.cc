@@ -8,6 +8,7 @@
 #include <numbers>
 #include <string>
 
+#include "cli/column_options.h"
 #include "core/error.h"
 #include "core/format.h"
 #include "estimators/sine_fit.h"
@@ -111,9 +112,10 @@ void print_text(const estimators::TorqueTable& t, const estimators::SineFitResul
   }
 }
 
-int run_fit(const std::string& path, bool json) {
+int run_fit(const std::string& path, bool json, const ColumnOptions& columns) {
   try {
-    const estimators::TorqueTable table = estimators::read_torque_table(path);
+    const estimators::TorqueTable table =
+        estimators::read_torque_table(path, column_mapping(columns, estimators::torque_table_roles()));
     // Fit in the file's unit so the output repeats the measured values exactly as written.
     const estimators::SineFitResult fit = estimators::fit_sine(table.theta_rad, table.torque);
     if (json) {
@@ -135,16 +137,18 @@ FitHandler add_fit_command(CLI::App& app) {
   struct Options {
     std::string data;
     bool json = false;
+    ColumnOptions columns;
   };
   auto opt = std::make_shared<Options>();  // outlives this call: CLI11 writes into it
   CLI::App* sub =
       app.add_subcommand("fit", "least-squares sine fit of measured unbalance torque against turntable angle");
   sub->add_option("DATA", opt->data, "CSV file with columns theta_deg and torque_mNm (or torque_Nm)")->required();
   sub->add_flag("--json", opt->json, "print the fit as one JSON object");
+  add_column_options(sub, opt->columns, estimators::torque_table_roles());
   sub->footer(kFitHelp);
   return [sub, opt]() -> std::optional<int> {
     if (!*sub) return std::nullopt;
-    return run_fit(opt->data, opt->json);
+    return run_fit(opt->data, opt->json, opt->columns);
   };
 }
 

@@ -164,9 +164,9 @@ void read_row(const std::string& path, std::size_t line, const std::vector<std::
   }
 }
 
-// The whole table: a header, enough rows, at least 3 distinct angles.
-void check_table(const std::string& path, const std::optional<Columns>& cols, const TorqueTable& t) {
-  if (!cols) fail(path, 0, "no header line; expected e.g. 'theta_deg,torque_mNm'");
+}  // namespace
+
+void check_torque_table(const std::string& path, const TorqueTable& t) {
   if (t.size() < kMinRows) {
     fail(path, 0,
          std::to_string(t.size()) + " data rows; expected at least " + std::to_string(kMinRows) +
@@ -178,6 +178,14 @@ void check_table(const std::string& path, const std::optional<Columns>& cols, co
          "duplicate angles only: " + std::to_string(distinct) + " distinct value(s) of theta_deg modulo 360 deg in " +
              std::to_string(t.size()) + " rows; expected at least 3");
   }
+}
+
+namespace {
+
+// The whole table: a header, enough rows, at least 3 distinct angles.
+void check_table(const std::string& path, const std::optional<Columns>& cols, const TorqueTable& t) {
+  if (!cols) fail(path, 0, "no header line; expected e.g. 'theta_deg,torque_mNm'");
+  check_torque_table(path, t);
 }
 
 }  // namespace

@@ -24,6 +24,8 @@
 #include <string>
 #include <vector>
 
+#include "estimators/lab_table.h"
+
 namespace poise::estimators {
 
 /// The rows of a torque table, in file order. SI inside (rad, N*m); the file's own values
@@ -52,5 +54,20 @@ struct TorqueTable {
 /// torque or standard error beyond 1e9 N*m in magnitude (its squares would overflow the fits),
 /// a sweep other than +1/-1, fewer than 4 data rows, fewer than 3 distinct angles.
 TorqueTable read_torque_table(const std::string& path);
+
+/// The column roles of a torque table (angle, torque, time, sweep, torque_se) with their
+/// default headers, for --column and --unit (estimators/lab_table.h).
+const std::vector<ColumnRole>& torque_table_roles();
+
+/// Reads a lab's table as it comes (estimators/lab_table.h: any delimiter, comments, headers
+/// with spaces and units, the columns named by `mapping`), into the same TorqueTable; the
+/// torque "as written" is in the unit its column was read in. A file with the default comma
+/// format and an empty mapping is read by read_torque_table(path), with its messages. Throws as
+/// read_lab_table does, and as read_torque_table for too few rows or distinct angles, a torque
+/// beyond 1e9 N*m, a sweep other than +1/-1.
+TorqueTable read_torque_table(const std::string& path, const ColumnMapping& mapping);
+
+/// At least 4 rows and 3 distinct angles (modulo 360 deg); throws poise::Error naming the file.
+void check_torque_table(const std::string& path, const TorqueTable& t);
 
 }  // namespace poise::estimators

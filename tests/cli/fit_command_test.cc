@@ -8,8 +8,12 @@
 #include <cstdlib>
 #include <nlohmann/json.hpp>
 #include <set>
+#include <algorithm>
+#include <numbers>
+#include <sstream>
 #include <string>
 
+#include "core/format.h"
 #include "test_util.h"
 
 namespace {
@@ -71,6 +75,33 @@ TEST(FitCommand, TextOutputShowsTheFitWithUnitsAndTheTable) {
   EXPECT_NE(r.out.find("amplitude MT_s = 12.475 +- 0.055 mN*m"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("max |residual| = 0.636 mN*m"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("20.00       13.850       14.486       -0.636"), std::string::npos) << r.out;
+}
+
+TEST(FitCommand, ReadsALabsTableAsItComesWithItsOwnColumnsAndUnits) {
+  // Table 1 as another lab keeps it: a comment, semicolons and decimal commas, the angle in
+  // radians and the torque in N*m under headers of its own. The fit is the same, in N*m.
+  poise::test::TempDir dir;
+  std::istringstream in(poise::test::read_text(kTable1));
+  std::string line, text = "# turntable test, unit 3\nangle [rad];M (N*m)\n";
+  std::getline(in, line);
+  while (std::getline(in, line)) {
+    double theta = 0, torque = 0;
+    if (std::sscanf(line.c_str(), "%lf,%lf", &theta, &torque) != 2) continue;
+    std::string row = fmt::format("{:.12g};{:.12g}\n", theta * std::numbers::pi / 180.0, torque * 1e-3);
+    std::replace(row.begin(), row.end(), '.', ',');
+    text += row;
+  }
+  const std::string path = dir.file("lab.csv");
+  poise::test::write_text(path, text);
+  RunResult r = run_poise(dir, "fit '" + path + "' --column angle='angle [rad]' --column torque='M (N*m)' --json");
+  ASSERT_EQ(r.status, 0) << r.err;
+  const nlohmann::json j = nlohmann::json::parse(r.out);
+  EXPECT_NEAR(j.at("amplitude").get<double>(), 12.4747e-3, 1e-7) << r.out;
+  // A torque column without a unit it can read is refused with the option that gives it.
+  poise::test::write_text(path, "angle_deg;M\n0;1\n90;2\n180;1\n270;0\n");
+  r = run_poise(dir, "fit '" + path + "' --column angle=angle_deg --column torque=M");
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.err.find("expected --unit torque=UNIT"), std::string::npos) << r.err;
 }
 
 TEST(FitCommand, BadCellGivesStatus2AndNamesLineAndColumn) {

@@ -7,11 +7,13 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <algorithm>
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
 
 #include "estimators/oscillation_record.h"
+#include "core/format.h"
 #include "test_util.h"
 
 namespace {
@@ -109,6 +111,49 @@ TEST(DiagnoseRecord, TorqueIsLinearInTheTorqueConstantAndMatchesTheSimulatedEq21
   EXPECT_NE(r.out.find("K_T i = J phi'' + B phi' + C sign(phi')"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("torque residual RMS"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("mN*m"), std::string::npos) << r.out;
+}
+
+TEST(DiagnoseRecord, ALoggersFileAsItComesGivesTheSameDiagnosis) {
+  // The simulated record rewritten as a logger keeps it: a comment, semicolons, decimal commas,
+  // time in ms, the current in mA under another name, the angle as counts of a 16384-count
+  // encoder that wraps once a turn, a column the diagnosis does not need.
+  TempDir d;
+  const std::string rec = d.file("cog.csv");
+  ASSERT_EQ(poise_run(d, "simulate-record " + shq(kModel) + " --out " + shq(rec) +
+                             " --set rotor.cogging_torque='0.3 mN*m' --set rotor.cogging_order=180")
+                .status,
+            0);
+  std::istringstream in(poise::test::read_text(rec));
+  std::string line, logged = "# bench logger 2.1, axis 2\nt [ms];temperature;Iq (mA);pos\n";
+  std::getline(in, line);  // the header
+  while (std::getline(in, line)) {
+    double t = 0, i = 0, phi = 0;
+    ASSERT_EQ(std::sscanf(line.c_str(), "%lf,%lf,%lf", &t, &i, &phi), 3);
+    const double counts = std::fmod(phi / 360.0 * 16384.0 + 2 * 16384.0, 16384.0);
+    std::string row = fmt::format("{:.6f};21,5;{:.9g};{:.9g}\n", t * 1e3, i * 1e3, counts);
+    std::replace(row.begin(), row.end(), '.', ',');
+    logged += row;
+  }
+  const std::string log = d.file("axis2.log");
+  poise::test::write_text(log, logged);
+  const RunResult a = poise_run(d, "diagnose-record " + shq(rec) + " --json");
+  const RunResult b = poise_run(d, "diagnose-record " + shq(log) +
+                                       " --column time='t [ms]' --column current='Iq (mA)' --column angle=pos"
+                                       " --unit angle='1/16384 rev' --json");
+  ASSERT_EQ(a.status, 0) << a.err;
+  ASSERT_EQ(b.status, 0) << b.err;
+  const json ja = json::parse(a.out), jb = json::parse(b.out);
+  EXPECT_EQ(ja["motion"]["kind"], "swing");
+  EXPECT_EQ(jb["motion"]["kind"], "swing");
+  ASSERT_FALSE(jb["effects"].empty());
+  EXPECT_EQ(jb["effects"][0]["order"], ja["effects"][0]["order"]);
+  const double amp_a = ja["effects"][0]["params"]["amplitude"]["value"], amp_b = jb["effects"][0]["params"]["amplitude"]["value"];
+  EXPECT_NEAR(amp_b, amp_a, 1e-3 * amp_a);  // the file's rounding only
+  EXPECT_NEAR(jb["torque_after_mNm"]["value"].get<double>(), ja["torque_after_mNm"]["value"].get<double>(), 1e-3);
+  // What the reading did is said.
+  const std::string reading = jb["reading"].dump();
+  EXPECT_NE(reading.find("delimited by semicolon"), std::string::npos) << reading;
+  EXPECT_NE(reading.find("current: column 'Iq (mA)' in mA"), std::string::npos) << reading;
 }
 
 TEST(DiagnoseRecord, FindsTheCoggingTheSimulationWasGiven) {

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <random>
 
 #include "core/error.h"
 #include "core/units.h"
@@ -125,6 +126,46 @@ TEST(OscillationDiagnosis, AddingTheFoundCoggingToTheModelReproducesTheRecord) {
   };
   const double rms_before = rms_diff(before), rms_after = rms_diff(after);
   EXPECT_LT(rms_after, 0.2 * rms_before) << "current RMS difference " << rms_before << " -> " << rms_after << " A";
+}
+
+TEST(OscillationDiagnosis, JitteredStampsAndGapsAreUsedAsTheyAre) {
+  // The record as a PC logger would keep it: a third of the rows lost at random (steps of one,
+  // two or three sampling periods) and a gap of 250 rows; the values at the rows kept are the
+  // record's own, at their own times (no more than two rows lost in a row).
+  const TestPlan plan = plan_one_position(0.3);
+  const GimbalTruth truth = truth_with(0.3e-3, 0.0);
+  const OscillationRecord full = record(plan, truth, 1);
+  OscillationRecord logged;
+  std::mt19937_64 rng(5);
+  std::bernoulli_distribution lost(1.0 / 3.0);
+  const std::size_t gap_from = full.t.size() / 2, gap_to = gap_from + 250;
+  int lost_in_a_row = 0;
+  for (std::size_t k = 0; k < full.t.size(); ++k) {
+    if (k >= gap_from && k < gap_to) continue;
+    if (k > 0 && lost_in_a_row < 2 && lost(rng)) {  // steps of up to three periods: jitter, not gaps
+      ++lost_in_a_row;
+      continue;
+    }
+    lost_in_a_row = 0;
+    logged.t.push_back(full.t[k]);
+    logged.current.push_back(full.current[k]);
+    logged.phi.push_back(full.phi[k]);
+    logged.lines.push_back(k + 2);
+  }
+  const OscillationDiagnosis a = diagnose_oscillation(full, options());
+  const OscillationDiagnosis b = diagnose_oscillation(logged, options());
+  EXPECT_EQ(a.gaps, 0u);
+  EXPECT_EQ(b.gaps, 1u);
+  double widest = 0.0;  // the gap, widened by the rows lost beside it
+  for (std::size_t k = 1; k < logged.t.size(); ++k) widest = std::max(widest, logged.t[k] - logged.t[k - 1]);
+  EXPECT_DOUBLE_EQ(b.gap_largest, widest);
+  EXPECT_GE(widest, full.t[gap_to] - full.t[gap_from - 1] - 1e-12);
+  ASSERT_FALSE(b.effects.empty());
+  EXPECT_EQ(b.effects[0].name, "cogging");
+  EXPECT_NEAR(b.effects[0].order, 180, 2);
+  const double se = b.effects[0].params[0].se;
+  EXPECT_NEAR(b.effects[0].params[0].value, a.effects[0].params[0].value, 3 * se);
+  EXPECT_NEAR(b.torque_after.value, a.torque_after.value, 3 * b.torque_after.se);
 }
 
 TEST(OscillationDiagnosis, FindsAnOffsetDrift) {

@@ -1,0 +1,58 @@
+"""Poise on real records from public sources (issue 53), read as they come, against an oracle
+that knows the orders (tests/real_records/compare.py, tests/data/real/*/SOURCE): every order
+whose oracle amplitude is at least 10% of the largest is found, with its amplitude within 25%;
+the Coulomb friction within 15% where the record has both directions; the residual after the
+effects within 1.3 times the oracle's.
+
+KNOWN_MISSES lists, per record, the orders Poise does not find today, each with the reason:
+the test fails if another order is missed (and says so if a known miss is found: then remove it
+from the list). Run by ctest (real_records) with POISE_EXE set."""
+import os
+import sys
+
+import pytest
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import compare  # noqa: E402
+
+EXE = os.environ.get("POISE_EXE", os.path.join(compare.SRC, "build", "poise"))
+
+KNOWN_MISSES = {
+    # A run-in from standstill under a velocity loop: the residual is coloured at low orders (the
+    # loop's own current, the spin-up) and the orders 7 and 9 (3.5 and 4.5 Hz), 13% and 15% of the
+    # largest, do not stand out of their neighbourhood's level; 39 (19%) neither. Measured
+    # 2026-11-29; a per-turn consistency test over the 2.5 turns may find them.
+    "moteus_jelmerv_runin": {7, 9, 39},
+}
+
+
+@pytest.mark.parametrize("name", compare.records())
+def test_poise_finds_what_the_oracle_finds(name):
+    c = compare.comparison(EXE, name)
+    largest = max(c["oracle_orders"].values())
+    problems = []
+    for order, amplitude in c["oracle_orders"].items():
+        if amplitude < 0.1 * largest:
+            continue
+        mine = c["poise_orders"].get(order)
+        if mine is None:
+            if order not in KNOWN_MISSES.get(name, set()):
+                problems.append(f"order {order} (oracle {amplitude:.3f} A) not found")
+            continue
+        if order in KNOWN_MISSES.get(name, set()):
+            problems.append(f"order {order} is found now: remove it from KNOWN_MISSES")
+        if abs(mine - amplitude) > 0.25 * amplitude:
+            problems.append(f"order {order}: {mine:.3f} A against the oracle's {amplitude:.3f} A")
+    if c["oracle_coulomb"] is not None:
+        if c["poise_coulomb"] is None or abs(c["poise_coulomb"] - c["oracle_coulomb"]) > 0.15 * abs(c["oracle_coulomb"]):
+            problems.append(f"Coulomb {c['poise_coulomb']} A against the oracle's {c['oracle_coulomb']:.3f} A")
+    if not c["poise_rmse"] <= 1.3 * c["oracle_rmse"]:
+        problems.append(f"residual {c['poise_rmse']:.3f} A against the oracle's {c['oracle_rmse']:.3f} A")
+    assert not problems, f"{name}: " + "; ".join(problems)
+
+
+def test_every_record_has_its_source_and_oracle():
+    for name in compare.records():
+        for part in ("SOURCE", "oracle.py", "oracle.json", "poise_args"):
+            assert os.path.isfile(os.path.join(compare.REAL, name, part)), f"{name}: no {part}"
+    assert len(compare.records()) >= 3
