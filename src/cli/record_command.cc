@@ -196,8 +196,10 @@ int diagnose(const Args& a) {
     if (e.name == "cogging") {  // close the loop: the effect, as the simulation model takes it
       std::printf(
           "      into the model: --set rotor.cogging_torque=\"%.4g N*m\" --set rotor.cogging_order=%d "
-          "--set rotor.cogging_phase=\"%.4g rad\"\n",
-          e.params[0].value, e.order, e.params[1].value);
+          "--set rotor.cogging_phase=\"%.4g rad\"\n"
+          "        (or, in the model file: [[rotor.cogging]] order = %d, torque = \"%.4g N*m\", phase = \"%.4g "
+          "rad\")\n",
+          e.params[0].value, e.order, e.params[1].value, e.order, e.params[0].value, e.params[1].value);
     }
   }
   for (const auto& [name, why] : d.not_identifiable)

@@ -127,6 +127,14 @@ void read_rotor_table(TomlReader& root, GimbalModel& m) {
   r.cogging_torque = t.quantity("cogging_torque", units::kTorque, non_negative, 0.0);
   r.cogging_order = static_cast<int>(t.integer("cogging_order", 0, 100000, 0));
   r.cogging_phase = t.quantity("cogging_phase", units::kAngle, {}, 0.0);
+  // [[rotor.cogging]]: a cogging map, one table per order (what `poise diagnose-record` prints).
+  for (auto& c : t.table_array("cogging")) {
+    models::DiskRotorParams::CoggingHarmonic h;
+    h.order = static_cast<int>(c.integer("order", 1, 100000));
+    h.torque = c.quantity("torque", units::kTorque, non_negative);
+    h.phase = c.quantity("phase", units::kAngle, {}, 0.0);
+    r.cogging_map.push_back(h);
+  }
   // "dynamic": the 7-state disk on elastic supports; "quasi_static": the supports follow
   // their static load (models/disk_rotor.h), valid with the support mode far above the servo.
   m.plan.supports = t.choice("supports", {"dynamic", "quasi_static"}, "dynamic") == "quasi_static"

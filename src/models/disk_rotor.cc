@@ -1,6 +1,7 @@
 #include "models/disk_rotor.h"
 
 #include <Eigen/Geometry>
+#include <algorithm>
 #include <cmath>
 
 namespace poise::models {
@@ -16,12 +17,23 @@ GimbalGravity gravity_in_gimbal(double g, double theta, double tilt, double tilt
   return {g_gimbal.y(), g_gimbal.z()};
 }
 
+double cogging_torque_at(const DiskRotorParams& p, double phi) {
+  double torque = p.cogging_order > 0 ? -p.cogging_torque * std::sin(p.cogging_order * phi + p.cogging_phase) : 0.0;
+  for (const auto& h : p.cogging_map) torque -= h.torque * std::sin(h.order * phi + h.phase);
+  return torque;
+}
+
+int highest_cogging_order(const DiskRotorParams& p) {
+  int highest = p.cogging_order > 0 ? p.cogging_order : 0;
+  for (const auto& h : p.cogging_map) highest = std::max(highest, h.order);
+  return highest;
+}
+
 namespace {
 // Generalized force on phi: motor, cogging, friction, cable and gravity (no y, z in it).
 inline double phi_force(const DiskRotorParams& p, const GimbalGravity& g, double phi, double w, double sp, double cp,
                         double motor_torque) {
-  const double cogging =
-      p.cogging_order > 0 ? -p.cogging_torque * std::sin(p.cogging_order * phi + p.cogging_phase) : 0.0;
+  const double cogging = cogging_torque_at(p, phi);
   return motor_torque + cogging - p.viscous_friction * w - p.coulomb_friction * std::tanh(w / p.coulomb_smoothing) -
          p.torsion_stiffness * (phi - p.torsion_zero) + p.mass * p.eccentricity * (-g.gy * sp + g.gz * cp);
 }

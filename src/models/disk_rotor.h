@@ -17,8 +17,8 @@
 ///       + 1/2 J phidot^2
 ///   V = 1/2 k (y^2 + z^2) + 1/2 k_CR (phi - phi_0)^2 - m (g_y (y + e cos p) + g_z (z + e sin p))
 /// Non-conservative: motor torque M, viscous K_f phidot, Coulomb T_c tanh(phidot / w_s) on phi;
-/// support damping c ydot, c zdot. Motor cogging -T_cog sin(N phi + psi) (conservative, off
-/// unless set) joins M. Lagrange's equations give
+/// support damping c ydot, c zdot. Motor cogging -T_cog sin(N phi + psi), or a map of such
+/// orders (conservative, off unless set) joins M. Lagrange's equations give
 ///   (J + m e^2) phi'' - m e sin p y'' + m e cos p z'' = M - K_f phi' - T_c tanh(phi'/w_s)
 ///                                 - k_CR (phi - phi_0) + m e (-g_y sin p + g_z cos p)
 ///   m y'' - m e sin p phi'' = m e cos p phi'^2 - k y - c y' + m g_y
@@ -59,6 +59,7 @@
 /// 7-state model's stiff 411 Hz mode, so the solver steps with the motion. Checked against
 /// the full model in tests/model_files/disk_rotor_quasi_static_test.cc (36-point torque estimate).
 #include <array>
+#include <vector>
 
 namespace poise::models {
 
@@ -77,7 +78,20 @@ struct DiskRotorParams {
   double cogging_torque = 0.0;      ///< T_cog (N m): motor cogging -T_cog sin(N phi + psi_cog)
   int cogging_order = 0;            ///< N, cycles per turn (0 = none)
   double cogging_phase = 0.0;       ///< psi_cog (rad)
+  /// A cogging map: more orders, each -T_k sin(N_k phi + psi_k), added to the one above.
+  struct CoggingHarmonic {
+    int order = 0;        ///< N_k, cycles per turn (>= 1)
+    double torque = 0.0;  ///< T_k (N m)
+    double phase = 0.0;   ///< psi_k (rad)
+  };
+  std::vector<CoggingHarmonic> cogging_map;
 };
+
+/// The cogging torque on phi: -T_cog sin(N phi + psi_cog) - sum_k T_k sin(N_k phi + psi_k) (N m).
+double cogging_torque_at(const DiskRotorParams& p, double phi);
+
+/// The highest cogging order of the rotor (0 without cogging).
+int highest_cogging_order(const DiskRotorParams& p);
 
 /// Components of gravity perpendicular to the gimbal axis, in the gimbal frame (m/s^2).
 struct GimbalGravity {

@@ -209,7 +209,7 @@ WindowSums sample_window(const ProcedureRun& run, const PositionSensor& s, Posit
 bool period_mean_current(const Context& c, double* i_mean) {
   const models::DiskRotorParams& d = c.disk;
   const double j_total = d.inertia + d.mass * d.eccentricity * d.eccentricity;
-  const double swing = std::abs(c.amplitude) * std::max(d.cogging_order, 1);
+  const double swing = std::abs(c.amplitude) * std::max(models::highest_cogging_order(d), 1);
   const int points = 2 * (32 + static_cast<int>(std::ceil(swing)));  // even: the grid is symmetric
   double sum = 0.0;
   for (int j = 0; j < points; ++j) {

@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <algorithm>
 #include <nlohmann/json.hpp>
+#include <regex>
 #include <sstream>
 #include <string>
 
@@ -154,6 +155,45 @@ TEST(DiagnoseRecord, ALoggersFileAsItComesGivesTheSameDiagnosis) {
   const std::string reading = jb["reading"].dump();
   EXPECT_NE(reading.find("delimited by semicolon"), std::string::npos) << reading;
   EXPECT_NE(reading.find("current: column 'Iq (mA)' in mA"), std::string::npos) << reading;
+}
+
+TEST(DiagnoseRecord, TheCoggingFoundGoesBackIntoTheModelAsAMap) {
+  // A cogging map in the model file ([[rotor.cogging]]) is the same torque as the single-order
+  // keys: the simulated records are identical.
+  TempDir d;
+  const std::string base = poise::test::read_text(kModel);
+  const std::string with_map = d.file("map.toml");
+  poise::test::write_text(with_map, base + "\n[[rotor.cogging]]\norder = 180\ntorque = \"0.3 mN*m\"\n");
+  ASSERT_EQ(poise_run(d, "simulate-record " + shq(with_map) + " --out " + shq(d.file("a.csv"))).status, 0);
+  ASSERT_EQ(poise_run(d, "simulate-record " + shq(kModel) + " --out " + shq(d.file("b.csv")) +
+                             " --set rotor.cogging_torque='0.3 mN*m' --set rotor.cogging_order=180")
+                .status,
+            0);
+  EXPECT_EQ(poise::test::read_text(d.file("a.csv")), poise::test::read_text(d.file("b.csv")));
+  // The diagnosis prints the map's lines; put into the model, they give back a record whose
+  // diagnosis is the measured one's.
+  RunResult r = poise_run(d, "diagnose-record " + shq(d.file("a.csv")));
+  ASSERT_EQ(r.status, 0) << r.err;
+  std::smatch m_line;
+  ASSERT_TRUE(std::regex_search(r.out, m_line,
+                                std::regex(R"re(\[\[rotor\.cogging\]\] order = (\d+), torque = "([^"]+)", phase = "([^"]+)")re")))
+      << r.out;
+  const std::string lines = "[[rotor.cogging]]\norder = " + m_line[1].str() + "\ntorque = \"" + m_line[2].str() +
+                            "\"\nphase = \"" + m_line[3].str() + "\"\n";
+  const std::string found_model = d.file("found.toml");
+  poise::test::write_text(found_model, base + "\n" + lines + "\n");
+  ASSERT_EQ(poise_run(d, "simulate-record " + shq(found_model) + " --out " + shq(d.file("c.csv"))).status, 0);
+  const json measured = json::parse(poise_run(d, "diagnose-record " + shq(d.file("a.csv")) + " --json").out);
+  const RunResult again = poise_run(d, "diagnose-record " + shq(d.file("c.csv")) + " --json");
+  ASSERT_EQ(again.status, 0) << again.err << "\nmodel lines:\n" << lines;
+  const json simulated = json::parse(again.out);
+  ASSERT_FALSE(simulated["effects"].empty());
+  const auto& m = measured["effects"][0];
+  const auto& s = simulated["effects"][0];
+  EXPECT_NEAR(s["order"].get<double>(), m["order"].get<double>(), m["order_resolution"].get<double>());
+  const double se = m["params"]["amplitude"]["se"];
+  EXPECT_NEAR(s["params"]["amplitude"]["value"].get<double>(), m["params"]["amplitude"]["value"].get<double>(),
+              4 * se);
 }
 
 TEST(DiagnoseRecord, FindsTheCoggingTheSimulationWasGiven) {
