@@ -38,6 +38,18 @@ def write(path, text):
         f.write(text)
 
 
+def real_records_page(poise):
+    """Poise beside the oracle on each real record (tests/real_records/compare.py)."""
+    sys.path.insert(0, os.path.join(SOURCE, "tests", "real_records"))
+    import compare  # noqa: E402
+    return ("# Real records\n\nPoise's `diagnose-record` on the real records of `tests/data/real/` beside "
+            "each record's oracle (an ordinary least-squares fit that knows the orders; `SOURCE` and "
+            "`oracle.py` in each folder), made when this guide was built by "
+            "`tests/real_records/compare.py`. Amplitudes in A (the records hold currents; Poise runs "
+            "with K_T = 1 N*m/A). How to read your own: [Your own records](../metrologist.md#your-own-records).\n\n"
+            + compare.table(poise) + "\n")
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--build", default=os.path.join(SOURCE, "build"), help="the build folder (default: build)")
@@ -60,6 +72,7 @@ def main():
     write(os.path.join(src, "reference", "keys.md"), keys)
     write(os.path.join(src, "reference", "exit-codes.md"), reference_pages.exit_codes_page(poise))
     write(os.path.join(src, "reference", "python.md"), reference_pages.python_page(os.path.join(build, "python")))
+    write(os.path.join(src, "reference", "real-records.md"), real_records_page(poise))
     with tempfile.TemporaryDirectory() as work:
         made, summaries = gallery.make(poise, SOURCE, src, work)
     write(os.path.join(src, "gallery.md"), gallery.page(made))

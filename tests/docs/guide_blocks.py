@@ -3,7 +3,7 @@ is compared with what a command printed.
 
 Conventions of the guide (docs/contributing.md, "The guide"):
 - ```console blocks are run: each `$ ` line is a command (run by bash from a folder where
-  build/, studies/, models/, data/ and examples/ are the repository's), the lines after it until
+  build/, studies/, models/, data/, examples/ and tests/ are the repository's), the lines after it until
   the next `$ ` are what it prints. Each shown line must be printed, in the order shown (stdout;
   a line not on stdout may be on stderr); a shown line ending in `...` stands for a printed
   line that starts with the text before it; a line `...` alone stands for any lines. The

@@ -28,7 +28,7 @@ def page_id(path):
 def workspace(tmp):
     """A folder where the guide's relative paths mean what they mean in the repository, and
     where a run's results stay out of it."""
-    for name in ("studies", "models", "data", "examples"):
+    for name in ("studies", "models", "data", "examples", "tests"):
         os.symlink(os.path.join(SRC, name), os.path.join(tmp, name))
     os.symlink(BUILD, os.path.join(tmp, "build"))
     return tmp

@@ -56,3 +56,14 @@ def test_every_record_has_its_source_and_oracle():
         for part in ("SOURCE", "oracle.py", "oracle.json", "poise_args"):
             assert os.path.isfile(os.path.join(compare.REAL, name, part)), f"{name}: no {part}"
     assert len(compare.records()) >= 3
+
+
+def test_the_readme_shows_the_table_as_poise_makes_it_now():
+    with open(os.path.join(compare.SRC, "README.md"), encoding="utf-8") as f:
+        readme = f.read()
+    start = readme.index("<!-- real-records: made by tests/real_records/compare.py -->\n")
+    end = readme.index("<!-- /real-records -->")
+    shown = readme[start:end].split("\n", 1)[1].strip()
+    assert shown == compare.table(EXE).strip(), (
+        "README.md's real-records table differs from what Poise gives now: paste the output of "
+        "`/usr/bin/python3 tests/real_records/compare.py`")
