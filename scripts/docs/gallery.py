@@ -71,6 +71,9 @@ def entries(source, folder):
         ("diagnose", "Measured turntable data diagnosed (poise diagnose)", "metrologist.md",
          ["diagnose", os.path.join("data", "yang2015", "table1_loading_test_36pt.csv"),
           "--load-torque", "12.91 mN*m", "--load-angle", "45.5 deg"]),
+        ("diagnose_record", "A real record's cogging map (poise diagnose-record)", "metrologist.md",
+         ["diagnose-record", os.path.join("tests", "data", "real", "odrive_gchenfc_coggingmap", "map.csv"),
+          "--column", "angle=count", "--unit", "angle=1/8192 rev", "--column", "current=Iq_A", "--kt", "1 N*m/A"]),
         ("optimize", "A test plan optimized (poise optimize)", "test-planner.md",
          ["optimize", optimization_file(source, folder)]),
     ]
@@ -95,7 +98,7 @@ def screenshot(exe, page, png):
 
 
 def answer_of(out):
-    for name in ("summary.json", "budget.json", "diagnosis.json"):
+    for name in ("summary.json", "budget.json", "diagnosis.json", "record.json"):
         path = os.path.join(out, name)
         if os.path.isfile(path):
             with open(path, encoding="utf-8") as f:

@@ -13,6 +13,8 @@
 
 #include "cli/column_options.h"
 #include "cli/record_map_output.h"
+#include "cli/record_report.h"
+#include "cli/record_swing_output.h"
 #include "core/error.h"
 #include "core/format.h"
 #include "core/units.h"
@@ -32,6 +34,7 @@ namespace {
 
 struct Args {
   std::string model, out, file, kt_text = "0.05 N*m/A", theta_text = "30 deg";
+  std::string report_dir;  ///< diagnose-record --out: record.json, figures, report.html
   std::vector<std::string> sets;
   std::uint64_t seed = 1;
   bool json = false;
@@ -96,6 +99,20 @@ int simulate(const Args& a) {
   return 0;
 }
 
+// The diagnosis as --json prints it, or its text with the answer last; --out DIR: the folder.
+int report(const Args& a, const nlohmann::json& j, const std::string& text, const RecordResiduals& residuals) {
+  if (!a.report_dir.empty()) write_record_folder(a.report_dir, j, residuals);
+  if (a.json) {
+    std::cout << j.dump(2) << '\n';
+    return 0;
+  }
+  std::cout << text << '\n' << j["answer"].get<std::string>() << '\n';
+  if (!a.report_dir.empty()) {
+    std::cout << "\nreport: " << (std::filesystem::path(a.report_dir) / "report.html").string() << '\n';
+  }
+  return 0;
+}
+
 int diagnose(const Args& a) {
   estimators::OscillationOptions opt;
   try {
@@ -112,14 +129,12 @@ int diagnose(const Args& a) {
     motion = estimators::record_motion(record, opt);
     if (motion.kind != "swing") {
       const estimators::MapDiagnosis map = estimators::diagnose_map(record, opt);
-      if (a.json) {
-        nlohmann::json j = map_diagnosis_json(map);
-        j["reading"] = record.notes;
-        std::cout << j.dump(2) << '\n';
-      } else {
-        std::cout << map_diagnosis_text(map, record, torque_source);
-      }
-      return 0;
+      nlohmann::json j = map_diagnosis_json(map);
+      j["reading"] = record.notes;
+      j["file"] = a.file;
+      j["answer"] = record_answer(j);
+      return report(a, j, map_diagnosis_text(map, record, torque_source),
+                    {map.angle, map.residual_base, map.residual_after});
     }
     d = estimators::diagnose_oscillation(record, opt);
   } catch (const Error&) {
@@ -128,87 +143,11 @@ int diagnose(const Args& a) {
     throw Error(a.file + ": the record cannot be diagnosed (" + e.what() + "); check --kt (" + a.kt_text +
                 ") and the record's columns and units");
   }
-  nlohmann::json j;
-  auto p = [](const estimators::OscillationParam& q, double f) {
-    return nlohmann::json{{"value", q.value * f}, {"se", q.se * f}};
-  };
-  j["n_samples"] = d.n;
-  j["motion"] = {{"kind", motion.kind},
-                 {"description", motion.description},
-                 {"turns", motion.turns},
-                 {"reversals", motion.reversals}};
-  j["reading"] = record.notes;
-  j["time"] = {{"median_step_s", d.median_step},
-               {"gaps", d.gaps},
-               {"gap_total_s", d.gap_total},
-               {"gap_largest_s", d.gap_largest},
-               {"gap_largest_line", d.gap_largest_line}};
-  j["torque_eq21_mNm"] = d.torque_eq21 * 1e3;
-  j["torque_before_mNm"] = p(d.torque_before, 1e3);
-  j["torque_after_mNm"] = p(d.torque_after, 1e3);
-  j["rmse_before_mNm"] = d.rmse_before * 1e3;
-  j["rmse_after_mNm"] = d.rmse_after * 1e3;
-  j["base_model"] = nlohmann::json::object();
-  for (const auto& b : d.base_before) j["base_model"][b.name] = {{"value", b.value}, {"se", b.se}, {"unit", b.unit}};
-  j["effects"] = nlohmann::json::array();
-  for (const auto& e : d.effects) {
-    nlohmann::json ej{{"name", e.name},
-                      {"p_value", e.p_value},
-                      {"p_adjusted", e.p_adjusted},
-                      {"delta_bic", e.delta_bic},
-                      {"causes", e.causes}};
-    if (e.name == "cogging") ej["order"] = e.order, ej["order_resolution"] = e.order_resolution;
-    for (const auto& q : e.params) ej["params"][q.name] = {{"value", q.value}, {"se", q.se}, {"unit", q.unit}};
-    j["effects"].push_back(ej);
-  }
-  j["not_identifiable"] = nlohmann::json::array();
-  for (const auto& [name, why] : d.not_identifiable) j["not_identifiable"].push_back({{"name", name}, {"why", why}});
-  if (a.json) {
-    std::cout << j.dump(2) << '\n';
-    return 0;
-  }
-  std::printf("Time-series diagnosis of %s (%zu samples used, %s)\n", a.file.c_str(), d.n, torque_source.c_str());
-  std::printf("  motion: %s\n", motion.description.c_str());
-  for (const auto& note : record.notes) std::printf("  read: %s\n", note.c_str());
-  std::printf("  time: median step %s s; %s\n\n", significant(d.median_step, 4).c_str(),
-              d.gaps == 0
-                  ? "no gap"
-                  : fmt::format("{} gap(s) over {} s, the largest {} s before line {} (each stretch derived "
-                                "on its own)",
-                                d.gaps, significant(d.gap_total, 3), significant(d.gap_largest, 3), d.gap_largest_line)
-                        .c_str());
-  std::printf("  base model  K_T i = J phi'' + B phi' + C sign(phi') [+ K phi] + M_0\n");
-  for (const auto& b : d.base_before)
-    std::printf("    %-2s = %.4g +- %.2g %s\n", b.name.c_str(), b.value, b.se, b.unit.c_str());
-  std::printf("\n  effects found: %zu\n", d.effects.size());
-  for (const auto& e : d.effects) {
-    const std::string order =
-        e.name == "cogging"
-            ? fmt::format(
-                  " of order {} +- {:.0f} per turn (orders closer than one cycle over the swing are not told apart)",
-                  e.order, e.order_resolution)
-            : "";
-    std::printf("  * %s%s  p = %.2g (Holm %.2g), delta BIC = %.1f\n", e.name.c_str(), order.c_str(), e.p_value,
-                e.p_adjusted, e.delta_bic);
-    for (const auto& q : e.params)
-      std::printf("      %s = %.4g +- %.2g %s\n", q.name.c_str(), q.value, q.se, q.unit.c_str());
-    std::printf("      causes: %s\n", e.causes.c_str());
-    if (e.name == "cogging") {  // close the loop: the effect, as the simulation model takes it
-      std::printf(
-          "      into the model: --set rotor.cogging_torque=\"%.4g N*m\" --set rotor.cogging_order=%d "
-          "--set rotor.cogging_phase=\"%.4g rad\"\n"
-          "        (or, in the model file: [[rotor.cogging]] order = %d, torque = \"%.4g N*m\", phase = \"%.4g "
-          "rad\")\n",
-          e.params[0].value, e.order, e.params[1].value, e.order, e.params[0].value, e.params[1].value);
-    }
-  }
-  for (const auto& [name, why] : d.not_identifiable)
-    std::printf("  not identifiable here: %s: %s\n", name.c_str(), why.c_str());
-  std::printf("\n  torque residual RMS  %.4f -> %.4f mN*m\n", d.rmse_before * 1e3, d.rmse_after * 1e3);
-  std::printf("  position torque: Eq. 21 %.4f mN*m; M_0 base %.4f +- %.4f; with the effects %.4f +- %.4f mN*m\n",
-              d.torque_eq21 * 1e3, d.torque_before.value * 1e3, d.torque_before.se * 1e3, d.torque_after.value * 1e3,
-              d.torque_after.se * 1e3);
-  return 0;
+  nlohmann::json j = swing_diagnosis_json(d, motion, record);
+  j["file"] = a.file;
+  j["answer"] = record_answer(j);
+  return report(a, j, swing_diagnosis_text(d, motion, record, torque_source),
+                {d.angle, d.residual_base, d.residual_after});
 }
 
 }  // namespace
@@ -252,6 +191,9 @@ units the file uses, e.g. a logger's "t [ms]; Iq; pos" with encoder counts of 16
 A file that records the torque itself: --column torque=HEADER (K_T is then not used).)");
   diag->add_option("--kt", a->kt_text, "torque constant with its unit (default \"0.05 N*m/A\")");
   diag->add_flag("--json", a->json, "print one JSON object");
+  diag->add_option("--out", a->report_dir,
+                   "folder to write: record.json (the --json object), the figures (the cogging map, the residual "
+                   "against angle before and after; gnuplot) and report.html, which opens with the answer");
   return [a, sim, diag]() -> std::optional<int> {
     try {
       if (*sim) return simulate(*a);

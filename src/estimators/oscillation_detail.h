@@ -17,6 +17,7 @@ struct Signals {
   Eigen::VectorXd phi, rate, acc, t;  ///< rad, rad/s (Savitzky-Golay), rad/s^2, s
   Eigen::VectorXd direction;          ///< sign of the rate, a zero rate taking the last nonzero sign
   double dt = 0.0;                    ///< the median sampling step, s
+  double span_all = 0.0;              ///< rad, max - min of the angle over every row (edges included)
   std::size_t n = 0;
   std::size_t gaps = 0;                       ///< steps of more than 5 median steps (each window within a stretch)
   double gap_total = 0.0, gap_largest = 0.0;  ///< s

@@ -185,6 +185,7 @@ OscillationDiagnosis diagnose_oscillation(const OscillationRecord& rec, const Os
   out.median_step = s.dt;
   bool inertia = false, curvature = false;
   Eigen::MatrixXd model = base_model(s, out, inertia, curvature);
+  const Eigen::MatrixXd base_columns = model;
   const Fit base = least_squares(model, s.y);
   out.torque_before = param(base, 0, "M_0", "N*m");
   if (inertia) {
@@ -250,6 +251,10 @@ OscillationDiagnosis diagnose_oscillation(const OscillationRecord& rec, const Os
   }
   out.torque_after = param(cur, 0, "M_0", "N*m");
   out.rmse_after = std::sqrt(cur.rss / static_cast<double>(s.n));
+  const Eigen::VectorXd after = s.y - model * cur.beta, before = s.y - base_columns * base.beta;
+  out.angle.assign(s.phi.data(), s.phi.data() + s.phi.size());
+  out.residual_base.assign(before.data(), before.data() + before.size());
+  out.residual_after.assign(after.data(), after.data() + after.size());
   return out;
 }
 

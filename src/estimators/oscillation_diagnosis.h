@@ -119,6 +119,9 @@ struct OscillationDiagnosis {
   std::size_t gaps = 0;                       ///< steps of more than 5 median steps
   double gap_total = 0.0, gap_largest = 0.0;  ///< s
   std::size_t gap_largest_line = 0;           ///< file line of the row after the largest gap
+  /// For figures: each sample's angle (rad) and its residual of the base model and of the final
+  /// one (N m), in record order.
+  std::vector<double> angle, residual_base, residual_after;
 };
 
 /// Time stamps are used as they are (jitter; gaps of more than 5 median steps split the

@@ -134,6 +134,8 @@ Signals derive_signals(const OscillationRecord& rec, const OscillationOptions& o
     }
     s.t[e] = rec.t[c];
   }
+  const auto [lowest, highest] = std::minmax_element(rec.phi.begin(), rec.phi.end());
+  s.span_all = *highest - *lowest;
   s.gaps = tb.segment_starts.size() - 1;
   for (std::size_t g = 1; g < tb.segment_starts.size(); ++g) {
     const std::size_t k = tb.segment_starts[g];

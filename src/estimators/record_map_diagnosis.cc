@@ -119,6 +119,7 @@ MapDiagnosis diagnose_map(const OscillationRecord& rec, const OscillationOptions
   Eigen::MatrixXd model = Eigen::MatrixXd::Ones(n, 1);
   out.coulomb_fitted = out.motion.forward && out.motion.backward;
   if (out.coulomb_fitted) model = osc::joined(model, s.direction);
+  const Eigen::MatrixXd base_model = model;
   Fit cur = least_squares(model, s.y);
   out.rmse_base = std::sqrt(cur.rss / static_cast<double>(n));
 
@@ -206,6 +207,11 @@ MapDiagnosis diagnose_map(const OscillationRecord& rec, const OscillationOptions
     }
   }
   out.rmse_after = std::sqrt(cur.rss / static_cast<double>(n));
+  const Eigen::VectorXd after = s.y - model * cur.beta;
+  const Eigen::VectorXd before = s.y - base_model * least_squares(base_model, s.y).beta;
+  out.angle.assign(s.phi.data(), s.phi.data() + n);
+  out.residual_base.assign(before.data(), before.data() + n);
+  out.residual_after.assign(after.data(), after.data() + n);
   return out;
 }
 

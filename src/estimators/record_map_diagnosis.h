@@ -66,6 +66,9 @@ struct MapDiagnosis {
   double rmse_base = 0.0;      ///< N m, of the base model (M_0, C)
   double rmse_after = 0.0;     ///< N m, with every effect
   std::vector<MapStep> steps;  ///< the residual after each effect added
+  /// For figures: each sample's angle (rad) and its residual of the base model and of the final
+  /// one (N m), in record order.
+  std::vector<double> angle, residual_base, residual_after;
   double median_step = 0.0;
   std::size_t gaps = 0;
   double gap_total = 0.0, gap_largest = 0.0;

@@ -28,7 +28,7 @@ std::string directions(const RecordMotion& m) {
 RecordMotion recognise_motion(const Signals& s, bool timed, int window) {
   RecordMotion m;
   m.timed = timed;
-  m.span = s.phi.maxCoeff() - s.phi.minCoeff();
+  m.span = s.span_all;
   m.turns = m.span / angles::kTwoPi;
   // Moving rows: the angle's own step to the next row is at least 10 % of the 90th percentile
   // of the steps (a held position's encoder jitter of a count is not a move; the smoothed rate

@@ -98,12 +98,16 @@ def make_report(kind, tmp):
     elif kind == "diagnose":
         poise("diagnose", os.path.join(SRC, "data", "yang2015", "table1_loading_test_36pt.csv"), "--out", out,
               "--load-torque", "12.91 mN*m", "--load-angle", "45.5 deg")
+    elif kind == "diagnose_record":  # a real quasi-static cogging map (tests/data/real)
+        poise("diagnose-record", os.path.join(SRC, "tests", "data", "real", "odrive_gchenfc_coggingmap", "map.csv"),
+              "--column", "angle=count", "--unit", "angle=1/8192 rev", "--column", "current=Iq_A", "--kt", "1 N*m/A",
+              "--out", out)
     elif kind == "optimize":
         poise("optimize", optimization_file(tmp), "-q", "--threads", "2", "--out", out)
     return os.path.join(out, "report.html")
 
 
-KINDS = list(RUNS) + ["budget", "diagnose", "optimize"]
+KINDS = list(RUNS) + ["budget", "diagnose", "diagnose_record", "optimize"]
 
 
 @pytest.mark.parametrize("kind", KINDS)
