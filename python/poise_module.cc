@@ -293,7 +293,8 @@ std::string mass_properties(const std::vector<std::string>& meshes, const std::v
 
 std::string diagnose(const std::string& data, double alpha, int max_harmonic, const std::string& noise,
                      const std::string& load_torque, const std::string& load_angle, const std::string& study,
-                     std::size_t study_samples) {
+                     std::size_t study_samples, const std::vector<std::string>& columns,
+                     const std::vector<std::string>& units) {
   return guarded([&] {
     py::gil_scoped_release release;
     cli::DiagnoseRequest r;
@@ -305,6 +306,7 @@ std::string diagnose(const std::string& data, double alpha, int max_harmonic, co
     r.load_angle = load_angle;
     r.study = study;
     r.study_samples = study_samples;
+    r.columns = {columns, units};
     try {
       return cli::diagnose_json(r).dump();
     } catch (const engine::ValidationError&) {
@@ -361,7 +363,8 @@ PYBIND11_MODULE(_poise, m) {
   m.def("mass_properties", &mass_properties, py::arg("meshes"), py::arg("units"), py::arg("densities"), py::arg("rays"),
         py::arg("drop_duplicates"), py::arg("weld"), py::arg("max_overlap"));
   m.def("diagnose", &diagnose, py::arg("data"), py::arg("alpha"), py::arg("max_harmonic"), py::arg("noise"),
-        py::arg("load_torque"), py::arg("load_angle"), py::arg("study"), py::arg("study_samples"));
+        py::arg("load_torque"), py::arg("load_angle"), py::arg("study"), py::arg("study_samples"), py::arg("columns"),
+        py::arg("units"));
   py::class_<Study>(m, "Study")
       .def(py::init<const std::string&, const std::map<std::string, std::string>&, std::optional<std::uint64_t>>(),
            py::arg("path"), py::arg("overrides"), py::arg("seed"))

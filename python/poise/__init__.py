@@ -282,8 +282,13 @@ def mass_properties(meshes, unit, density, rays=256, drop_duplicates=False, weld
 
 
 def diagnose(data, alpha=0.05, max_harmonic=6, noise=None, load_torque=None, load_angle=None, study=None,
-             study_samples=64):
-    """A measured static-unbalance table diagnosed as ``poise diagnose --json`` does."""
+             study_samples=64, columns=None, units=None):
+    """A measured static-unbalance table diagnosed as ``poise diagnose --json`` does.
+
+    columns, units: the file's own column names and units by role, as ``--column`` and ``--unit``
+    take them, e.g. ``columns={"angle": "angle [rad]", "torque": "M"}, units={"torque": "N*m"}``
+    (roles: angle, torque, time, sweep, torque_se)."""
+    pairs = lambda d: [f"{role}={value}" for role, value in (d or {}).items()]  # noqa: E731
     return json.loads(_call(_poise.diagnose, os.fspath(data), float(alpha), int(max_harmonic), noise or "",
                             load_torque or "", load_angle or "", "" if study is None else os.fspath(study),
-                            int(study_samples)))
+                            int(study_samples), pairs(columns), pairs(units)))

@@ -307,3 +307,21 @@ def test_warnings_reach_python_as_poise_warnings():
     assert int(count) >= 1 and all_poise == "True", r.stdout
     assert "above lead" in message or "outside the rotor" in message, r.stdout
     assert "poise: warning:" not in r.stderr  # not printed besides: Python has them
+
+
+def test_diagnose_reads_a_labs_table_with_its_own_columns(tmp_path):
+    """columns= and units= are the command line's --column and --unit."""
+    path = tmp_path / "lab.csv"
+    rows = ["# turntable log", "angle (deg);M"]
+    with open(os.path.join(SRC, "data", "yang2015", "table1_loading_test_36pt.csv"), encoding="utf-8") as f:
+        next(f)
+        for line in f:
+            theta, torque = line.strip().split(",")[:2]
+            rows.append(f"{theta};{float(torque) * 1e-3!r}".replace(".", ","))
+    path.write_text("\n".join(rows) + "\n", encoding="utf-8")
+    j = poise.diagnose(path, columns={"angle": "angle (deg)", "torque": "M"}, units={"torque": "N*m"})
+    cli = json.loads(subprocess.run([EXE, "diagnose", str(path), "--column", "angle=angle (deg)", "--column",
+                                     "torque=M", "--unit", "torque=N*m", "--json"], check=True, capture_output=True,
+                                    text=True).stdout)
+    assert j == cli
+    assert j["estimate_before"]["amplitude"] == pytest.approx(12.4747e-3, rel=1e-4)

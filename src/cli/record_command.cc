@@ -168,12 +168,14 @@ std::function<std::optional<int>()> add_record_commands(CLI::App& app) {
   sim->add_option("--seed", a->seed, "noise seed (default 1)");
   CLI::App* diag = app.add_subcommand(
       "diagnose-record",
-      "residual diagnosis of a raw record of one turntable position: fits K_T i = J phi'' + B phi' + "
-      "C sign(phi') + K phi (+ gravity's curvature G (cos(phi - mean) - 1) at swings where it can show) + "
-      "M_0, then looks for cogging (orders from 360/swing, at least 20, to the record's Nyquist limit "
-      "pi / (max |phi'| dt), per turn, confirmed away from the reversals), offset drift and "
-      "friction asymmetry, adds what is significant (F test, Holm, BIC) and reports the position's "
-      "torque before and after");
+      "residual diagnosis of a raw record (time, drive current or torque, angle) read as the lab wrote it. "
+      "The motion is recognised first and only what it can show is fitted. A swing about a turntable "
+      "position: K_T i = J phi'' + B phi' + C sign(phi') + K phi (+ gravity's curvature where it can show) + "
+      "M_0, then cogging (orders from 360/swing, at least 20, to the record's Nyquist limit, confirmed away "
+      "from the reversals), offset drift and friction asymmetry, and the position's torque before and after. "
+      "A quasi-static map or laps: the torque against angle, Coulomb friction per direction where the record "
+      "goes both ways, and a cogging map of every significant order from 1 per turn. Effects are added "
+      "when significant (F test against the residual's local noise level, Holm or Bonferroni, BIC)");
   diag->add_option("RECORD", a->file,
                    "the record: a text table with columns of time, drive current (or torque) and angle; by "
                    "default time_s, current_A, phi_deg (what simulate-record writes)")
@@ -184,9 +186,11 @@ std::function<std::optional<int>()> add_record_commands(CLI::App& app) {
 A lab's file as it comes: comma, semicolon, tab or space delimited, comment lines (#, %, //),
 headers with spaces, the time stamps as logged (jitter used as it is, gaps reported; a stamp
 that repeats or goes back is an error), an angle that wraps once a turn. Name the columns and
-units the file uses, e.g. a logger's "t [ms]; Iq; pos" with encoder counts of 16384 a turn:
+units the file uses, e.g. a logger's "t [ms]; Iq; pos" with encoder counts of 16384 a turn
+(one command, on one line):
 
-  poise diagnose-record log.csv --column time="t [ms]" --column current=Iq --unit current=A       --column angle=pos --unit angle="1/16384 rev" --kt "0.05 N*m/A"
+  poise diagnose-record log.csv --column time="t [ms]" --column current=Iq --unit current=A
+      --column angle=pos --unit angle="1/16384 rev" --kt "0.05 N*m/A"
 
 A file that records the torque itself: --column torque=HEADER (K_T is then not used).)");
   diag->add_option("--kt", a->kt_text, "torque constant with its unit (default \"0.05 N*m/A\")");
