@@ -184,8 +184,9 @@ std::function<std::optional<int>()> add_record_commands(CLI::App& app) {
   add_column_options(diag, a->columns, estimators::record_column_roles());
   diag->footer(R"(
 A lab's file as it comes: comma, semicolon, tab or space delimited, comment lines (#, %, //),
-headers with spaces, the time stamps as logged (jitter used as it is, gaps reported; a stamp
-that repeats or goes back is an error), an angle that wraps once a turn. Name the columns and
+headers with spaces, quoted cells, a NumPy .npy array (columns named 0, 1, ...), the time
+stamps as logged, as numbers or as dates and times (jitter used as it is, gaps reported; a
+stamp that repeats or goes back is an error), an angle that wraps once a turn. Name the columns and
 units the file uses, e.g. a logger's "t [ms]; Iq; pos" with encoder counts of 16384 a turn
 (one command, on one line):
 

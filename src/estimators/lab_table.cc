@@ -4,6 +4,7 @@
 #include <charconv>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <cstring>
 #include <fstream>
 #include <optional>
@@ -33,7 +34,15 @@ int line_number(std::size_t line) { return static_cast<int>(std::min<std::size_t
 enum class Delimiter { kComma, kSemicolon, kTab, kWhitespace };
 
 Delimiter delimiter_of(const std::string& header) {
-  const auto count = [&](char c) { return std::count(header.begin(), header.end(), c); };
+  const auto count = [&](char c) {  // outside double quotes
+    long n = 0;
+    bool quoted = false;
+    for (const char h : header) {
+      if (h == '"') quoted = !quoted;
+      if (h == c && !quoted) ++n;
+    }
+    return n;
+  };
   const long semicolons = count(';'), tabs = count('\t'), commas = count(',');
   if (semicolons == 0 && tabs == 0 && commas == 0) return Delimiter::kWhitespace;
   if (semicolons >= tabs && semicolons >= commas) return Delimiter::kSemicolon;
@@ -64,12 +73,23 @@ std::vector<std::string> cells_of(const std::string& line, Delimiter d) {
     }
     return cells;
   }
+  // A cell in double quotes may hold the delimiter ("Iq, A") and doubled quotes ("" for ").
   const char sep = d == Delimiter::kComma ? ',' : d == Delimiter::kSemicolon ? ';' : '\t';
-  std::size_t b = 0;
+  std::string cell;
+  bool quoted = false;
   for (std::size_t k = 0; k <= line.size(); ++k) {
-    if (k == line.size() || line[k] == sep) {
-      cells.push_back(trimmed(std::string_view(line).substr(b, k - b)));
-      b = k + 1;
+    if (k == line.size() || (line[k] == sep && !quoted)) {
+      cells.push_back(trimmed(cell));
+      cell.clear();
+    } else if (line[k] == '"') {
+      if (quoted && k + 1 < line.size() && line[k + 1] == '"') {
+        cell += '"';
+        ++k;
+      } else {
+        quoted = !quoted;
+      }
+    } else {
+      cell += line[k];
     }
   }
   return cells;
@@ -83,6 +103,38 @@ std::optional<double> number_of(std::string cell, bool decimal_comma) {
   const auto res = std::from_chars(cell.data() + sign, cell.data() + cell.size(), v);
   if (res.ec != std::errc() || res.ptr != cell.data() + cell.size() || !std::isfinite(v)) return std::nullopt;
   return v;
+}
+
+// A date and time as loggers write it, "2024-07-04 11:34:18.818" or "2024-07-04T11:34:18Z" (an
+// offset "+02:00" is taken off): seconds since 1970-01-01 00:00 UTC; nullopt for anything else.
+std::optional<double> seconds_of_date_time(const std::string& cell) {
+  int year = 0, month = 0, day = 0, hour = 0, minute = 0;
+  double second = 0.0;
+  char sep = 0;
+  int used = 0;
+  if (std::sscanf(cell.c_str(), "%4d-%2d-%2d%c%2d:%2d:%lf%n", &year, &month, &day, &sep, &hour, &minute, &second,
+                  &used) != 7 ||
+      (sep != 'T' && sep != ' ') || month < 1 || month > 12 || day < 1 || day > 31 || hour > 23 || minute > 59 ||
+      !(second >= 0.0 && second < 61.0)) {
+    return std::nullopt;
+  }
+  double offset = 0.0;
+  const std::string rest = cell.substr(static_cast<std::size_t>(used));
+  int oh = 0, om = 0;
+  if (rest == "Z" || rest.empty()) {
+  } else if ((rest[0] == '+' || rest[0] == '-') && std::sscanf(rest.c_str() + 1, "%2d:%2d", &oh, &om) == 2) {
+    offset = (rest[0] == '+' ? 1.0 : -1.0) * (oh * 3600.0 + om * 60.0);
+  } else {
+    return std::nullopt;
+  }
+  // Days from the civil date (proleptic Gregorian), as in H. Hinnant's days_from_civil.
+  const int y = year - (month <= 2 ? 1 : 0);
+  const int era = (y >= 0 ? y : y - 399) / 400;
+  const int yoe = y - era * 400;
+  const int doy = (153 * (month + (month > 2 ? -3 : 9)) + 2) / 5 + day - 1;
+  const int doe = yoe * 365 + yoe / 4 - yoe / 100 + doy;
+  const double days = static_cast<double>(era) * 146097.0 + doe - 719468.0;
+  return days * 86400.0 + hour * 3600.0 + minute * 60.0 + second - offset;
 }
 
 // The unit a header carries: "time [ms]", "Iq (A)", "position_rad"; nullopt when none of them
@@ -371,11 +423,17 @@ LabTable read_lab_table(const std::string& path, const std::vector<ColumnRole>& 
                          std::to_string(headers.size()) + " cells, as the header (line " +
                              std::to_string(t.header_line) + ") has, delimited by " + t.delimiter);
       }
-      const auto v = number_of(cells[f.index], decimal_comma);
+      auto v = number_of(cells[f.index], decimal_comma);
+      if (!v && f.role->dimension == units::kTime) {  // a date and time: seconds, whatever the column's unit
+        if (const auto s = seconds_of_date_time(cells[f.index])) v = *s / f.factor;
+      }
       if (!v) {
-        throw InputError({path, line_number(lineno), static_cast<int>(f.index + 1)}, "column " + header,
-                         cells[f.index].empty() ? "(empty)" : cells[f.index],
-                         "a finite number (the " + f.role->what + ")");
+        throw InputError(
+            {path, line_number(lineno), static_cast<int>(f.index + 1)}, "column " + header,
+            cells[f.index].empty() ? "(empty)" : cells[f.index],
+            f.role->dimension == units::kTime
+                ? "a finite number, or a date and time such as 2024-07-04 11:34:18.818 (the " + f.role->what + ")"
+                : "a finite number (the " + f.role->what + ")");
       }
       t.si[f.role->role].push_back(*v * f.factor);
     }

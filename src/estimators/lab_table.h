@@ -8,8 +8,10 @@
 ///   most frequent of ';', tab and ','; none of them: whitespace). With ';' or tab as the
 ///   delimiter, a decimal comma ("0,25") is read as a decimal point;
 /// - comment lines starting with '#', '%' or "//" anywhere, and blank lines; a UTF-8 byte
-///   order mark; CRLF line ends; cells and headers with spaces around them, or in double quotes;
-///   numbers with a leading '+';
+///   order mark; CRLF line ends; cells and headers with spaces around them, or in double quotes
+///   (which may hold the delimiter, "Iq, A", and "" for a quote); numbers with a leading '+';
+/// - a time column of dates and times ("2024-07-04 11:34:18.818", "2024-07-04T11:34:18Z", an
+///   offset "+02:00" taken off): seconds since 1970-01-01 UTC (only differences matter);
 /// - the header: the first line that is not a comment. A column is found by its role: by the
 ///   header the user names (`--column current=Iq`), else by the role's default headers.
 /// - units: `--unit ROLE=UNIT` with any unit Poise knows of the role's dimension ("ms", "mA",

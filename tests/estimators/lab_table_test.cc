@@ -107,6 +107,30 @@ TEST(LabTable, ErrorsNameTheFileLineColumnAndWhatWasExpected) {
   EXPECT_THROW(add_column_option(m, "--unit", "angle", roles()), InputError);
 }
 
+TEST(LabTable, ReadsQuotedCellsAndDateTimeStamps) {
+  // A spreadsheet's export: quoted headers holding the delimiter, time as dates and times.
+  test::TempDir d;
+  test::write_text(d.file("pc.csv"),
+                   "\"Time\",\"Iq, A\",\"Position \"\"enc\"\"\"\n"
+                   "2024-07-04 11:34:18.818,1.5,0\n"
+                   "2024-07-04T11:34:19.318Z,\"2.5\",4096\n"
+                   "2024-07-04T13:34:19.818+02:00,3,8192\n");
+  const LabTable t = read_lab_table(
+      d.file("pc.csv"), roles(),
+      mapping({{"time", "Time"}, {"current", "Iq, A"}, {"angle", "Position \"enc\""}},
+              {{"time", "s"}, {"current", "A"}, {"angle", "1/8192 rev"}}));
+  ASSERT_EQ(t.size(), 3u);
+  EXPECT_NEAR(t.at("time")[1] - t.at("time")[0], 0.5, 1e-6);
+  EXPECT_NEAR(t.at("time")[2] - t.at("time")[0], 1.0, 1e-6);  // the offset taken off
+  EXPECT_NEAR(t.at("time")[0], 1720092858.818, 1e-3);          // seconds since 1970 UTC
+  EXPECT_DOUBLE_EQ(t.at("current")[1], 2.5);
+  EXPECT_NEAR(t.at("angle")[2], 2 * kPi, 1e-12);
+  // A stamp that is neither a number nor a date and time says what was expected.
+  test::write_text(d.file("bad.csv"), "time_s,current_A,phi_deg\n2024-13-04 10:00:00,1,2\n");
+  EXPECT_NE(error_of(d.file("bad.csv"), {}).find("expected a finite number, or a date and time"), std::string::npos)
+      << error_of(d.file("bad.csv"), {});
+}
+
 TEST(LabTable, UnitsOfColumnsIncludeCountsAsFractionsOfATurn) {
   EXPECT_NEAR(column_unit_factor("1/4096 rev", units::kAngle), 2 * kPi / 4096, 1e-15);
   EXPECT_NEAR(column_unit_factor("0.5 deg", units::kAngle), 0.5 * kPi / 180, 1e-15);
