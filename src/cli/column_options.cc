@@ -21,7 +21,8 @@ void add_column_options(CLI::App* command, ColumnOptions& options, const std::ve
       ->add_option("--unit", options.units,
                    "ROLE=UNIT: the unit of that column, any unit Poise knows of its kind (ms, mA, rad, rev), "
                    "or one count as a quantity or fraction (--unit angle=\"1/16384 rev\"); without it, the "
-                   "unit in the header (\"time [ms]\", \"Iq (A)\", \"position_rad\"), else the role's default")
+                   "unit in the header (\"time [ms]\", \"Iq (A)\", \"position_rad\"); a default header (time_s, ...) "
+                   "has its default unit, any other header needs one of these")
       ->type_name("ROLE=UNIT");
 }
 

@@ -214,7 +214,10 @@ std::optional<Found> find_column(const ColumnRole& role, const std::vector<std::
     unit = role.default_unit;
   } else {
     throw InputError(where, "unit of column '" + header + "' (" + role.what + ")", "(not given)",
-                     "--unit " + role.role + "=UNIT, e.g. --unit " + role.role + "=" + role.default_unit);
+                     "--unit " + role.role + "=UNIT, e.g. --unit " + role.role + "=" + role.default_unit +
+                         (role.dimension == units::kAngle
+                              ? ", or for encoder counts --unit " + role.role + "=\"1/4096 rev\" (counts a turn)"
+                              : std::string()));
   }
   try {
     return Found{&role, *index, column_unit_factor(unit, role.dimension)};

@@ -66,6 +66,8 @@ double bic_change(double rss_before, double rss_after, Eigen::Index n, Eigen::In
          static_cast<double>(added) * std::log(static_cast<double>(n));
 }
 
+std::string turns_of(double turns) { return significant(turns, 3) + (turns > 1.0 ? " turns" : " turn"); }
+
 void say_what_this_motion_cannot_show(const RecordMotion& m, const osc::OrderRange& range, bool trend_offered,
                                       MapDiagnosis& out) {
   const bool steps = m.kind == "steps";
@@ -73,7 +75,7 @@ void say_what_this_motion_cannot_show(const RecordMotion& m, const osc::OrderRan
       "inertia", steps ? "a quasi-static map has no acceleration at its rows: a swing, or laps with speed steps, "
                          "would show it"
                        : "laps hold too little acceleration to show it: a swing, or laps with speed steps, "
-                         "would");
+                         "would show it");
   out.not_identifiable.emplace_back(
       "damping", steps ? "a quasi-static map has no velocity at its rows: laps at two or more speeds would show it"
                        : "one speed per direction cannot separate viscous damping from Coulomb friction: laps at "
@@ -86,19 +88,19 @@ void say_what_this_motion_cannot_show(const RecordMotion& m, const osc::OrderRan
   }
   if (range.min_order > 1) {
     out.not_identifiable.emplace_back(
-        "cogging", fmt::format("{} less than one cycle over the record's {} turn: a record of at least one "
-                               "turn would show {}",
+        "cogging", fmt::format("{} less than one cycle over the record's {}: a record of at least one turn "
+                               "would show {}",
                                range.min_order == 2 ? std::string("order 1 completes")
                                                     : fmt::format("orders 1 to {} complete", range.min_order - 1),
-                               significant(m.turns, 3), range.min_order == 2 ? "it" : "them"));
+                               turns_of(m.turns), range.min_order == 2 ? "it" : "them"));
   }
   if (!trend_offered && m.timed) {
     out.not_identifiable.emplace_back(
         "offset_drift",
-        fmt::format("on {} turn in one direction the angle is nearly a function of time, so a slow drift "
+        fmt::format("on {} in one direction the angle is nearly a function of time, so a slow drift "
                     "cannot be told from the lowest cogging orders: the lowest orders found may hold a drift, or "
                     "a drift an order; laps in both directions, or more turns, would separate them",
-                    significant(m.turns, 3)));
+                    turns_of(m.turns)));
   }
 }
 

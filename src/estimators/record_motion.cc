@@ -19,6 +19,8 @@ double quantile(std::vector<double> v, double q) {
   return v[static_cast<std::size_t>(at)];
 }
 
+std::string turns_text(double turns) { return significant(turns, 3) + (turns > 1.0 ? " turns" : " turn"); }
+
 std::string directions(const RecordMotion& m) {
   return m.forward && m.backward ? "both directions" : m.forward ? "forward only" : "backward only";
 }
@@ -67,15 +69,14 @@ RecordMotion recognise_motion(const Signals& s, bool timed, int window) {
   } else if (!timed || m.moving_share < 0.5) {
     m.kind = "steps";
     m.description =
-        fmt::format("a quasi-static map ({}), {}: {} turn{}",
-                    timed ? "stepped and held" : "rows in file order, no time", directions(m), significant(m.turns, 3),
+        fmt::format("a quasi-static map ({}), {}: {}{}", timed ? "stepped and held" : "rows in file order, no time",
+                    directions(m), turns_text(m.turns),
                     timed ? fmt::format(", moving in {}% of the rows", std::lround(100 * m.moving_share)) : "");
   } else {
     m.kind = "laps";
-    m.description =
-        fmt::format("laps at {} speed, {}: {} turn at {} {} (speed varies by {}% interquartile)",
-                    m.speed_variation < 0.3 ? "a steady" : "a varying", directions(m), significant(m.turns, 3),
-                    significant(m.speed / angles::kTwoPi, 3), unit, std::lround(100 * m.speed_variation));
+    m.description = fmt::format("laps at {} speed, {}: {} at {} {} (speed varies by {}% interquartile)",
+                                m.speed_variation < 0.3 ? "a steady" : "a varying", directions(m), turns_text(m.turns),
+                                significant(m.speed / angles::kTwoPi, 3), unit, std::lround(100 * m.speed_variation));
   }
   return m;
 }

@@ -59,7 +59,10 @@ const StudyKind* read_study_table(TomlReader& root, const std::string& path, Stu
   if (model.empty() && t.has("model") && t.raw()["model"].is_string()) {
     t.error("model", "\"\"", "the path of the model file, e.g. \"../models/seeker_two_axis_wang2011.toml\"");
   } else if (!model.empty() && !std::filesystem::is_regular_file(c.model_path, ec)) {
-    t.error("model", quote_value(model), "an existing model file (looked for " + c.model_path + ")");
+    const std::string looked = std::filesystem::absolute(c.model_path, ec).lexically_normal().string();
+    t.error("model", quote_value(model),
+            "an existing model file, its path taken from the study file's folder (looked for " +
+                (looked.empty() ? c.model_path : looked) + ")");
   }
   c.title = t.string("title", "");
   c.notes = t.string("notes", "");
