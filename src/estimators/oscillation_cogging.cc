@@ -164,13 +164,14 @@ LocalTest judge(double drop, double white, double dof_white, const Level& local)
 
 // The index of the smallest p with the scan's own levels (the pair of each order not removed;
 // rss, dof: the model's fit the scan was run on).
-long nominated(const OrderScan& scan, double cell, double rss, double dof, double local_cells) {
+long nominated(const OrderScan& scan, double cell, double rss, double dof, double local_cells, const OrderScan* noise) {
   long at = -1;
   double best = 0.0;
   for (long i = 0; i < static_cast<long>(scan.drop.size()); ++i) {
     const double d = scan.drop[static_cast<std::size_t>(i)];
     if (!std::isfinite(d)) continue;
-    const LocalTest t = judge(d, (rss - d) / (dof - 2.0), dof - 2.0, local_level(scan, i, cell, local_cells));
+    const LocalTest t =
+        judge(d, (rss - d) / (dof - 2.0), dof - 2.0, local_level(noise ? *noise : scan, i, cell, local_cells));
     if (t.f > 0 && (at < 0 || t.log_p < best)) best = t.log_p, at = i;
   }
   return at;
@@ -191,7 +192,8 @@ long largest(const OrderScan& scan, long i, long reach) {
 // its neighbours on the residual the pair leaves (a strong order's own side lobes would raise
 // it), the white level that residual's.
 LocalTest judged(const Eigen::MatrixXd& model, const Eigen::VectorXd& y, const Eigen::VectorXd& phi,
-                 const OrderRange& range, double cell, int order, double rss, double local_cells) {
+                 const OrderRange& range, double cell, int order, double rss, double local_cells,
+                 const OrderScan* noise) {
   const Eigen::MatrixXd x = joined(model, cogging_columns(phi, order));
   const Fit fit = least_squares(x, y);
   const int reach = static_cast<int>(std::lround((kGuardCells + local_cells) * cell));
@@ -200,14 +202,16 @@ LocalTest judged(const Eigen::MatrixXd& model, const Eigen::VectorXd& y, const E
   near.min_order = std::max(range.min_order, near.max_order - 2 * reach);
   const OrderScan scan = scan_orders(x, y - x * fit.beta, phi, near);
   const auto dof = static_cast<double>(y.size() - x.cols());
-  LocalTest t = judge(rss - fit.rss, fit.rss / dof, dof, local_level(scan, order - near.min_order, cell, local_cells));
+  const Level level = noise ? local_level(*noise, order - range.min_order, cell, local_cells)
+                            : local_level(scan, order - near.min_order, cell, local_cells);
+  LocalTest t = judge(rss - fit.rss, fit.rss / dof, dof, level);
   t.order = order;
   return t;
 }
 }  // namespace
 
 ScanBest scan_best(const Eigen::MatrixXd& model, const Eigen::VectorXd& y, const Eigen::VectorXd& phi,
-                   const OrderRange& range, double cell, double local_cells) {
+                   const OrderRange& range, double cell, double local_cells, const OrderScan* noise) {
   ScanBest b;
   const Eigen::Index dof = y.size() - model.cols();
   if (dof <= 3) return b;
@@ -219,15 +223,15 @@ ScanBest scan_best(const Eigen::MatrixXd& model, const Eigen::VectorXd& y, const
   // and the largest drop of all. Where the first's level, its pair removed, is the white one
   // (it was raised only by its own side lobes), it moves to the largest drop within a cell:
   // the least-squares order of its peak.
-  long at = nominated(scan, cell, fit.rss, static_cast<double>(dof), local_cells);
+  long at = nominated(scan, cell, fit.rss, static_cast<double>(dof), local_cells, noise);
   const long top = largest(scan, 0, -1);
   for (const long i : {at, top}) {
     if (i < 0 || (i == top && at == top && b.test.order != 0)) continue;
-    LocalTest t = judged(model, y, phi, range, cell, scan.first + static_cast<int>(i), fit.rss, local_cells);
+    LocalTest t = judged(model, y, phi, range, cell, scan.first + static_cast<int>(i), fit.rss, local_cells, noise);
     if (i == at && t.white) {
       const long peak = largest(scan, at, std::max(1L, std::lround(cell)));
       if (peak != at) {
-        t = judged(model, y, phi, range, cell, scan.first + static_cast<int>(peak), fit.rss, local_cells);
+        t = judged(model, y, phi, range, cell, scan.first + static_cast<int>(peak), fit.rss, local_cells, noise);
         at = peak;
       }
     }

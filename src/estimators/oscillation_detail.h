@@ -95,9 +95,13 @@ struct ScanBest {
   int count = 0;
 };
 /// local_cells: the neighbourhood's half-width in cells (kLocalCells for a swing; a map of many
-/// real orders needs a wider one, or its own orders raise the level of each other).
+/// real orders needs a wider one, or its own orders raise the level of each other). noise: when
+/// given, the local level is taken from these noise-only drops over the same range (a record
+/// whose halves each cover a turn: the halves' difference, where the real orders cancel;
+/// record_map_diagnosis.cc) instead of from the scan's own drops.
 ScanBest scan_best(const Eigen::MatrixXd& model, const Eigen::VectorXd& y, const Eigen::VectorXd& phi,
-                   const OrderRange& range, double cell, double local_cells = kLocalCells);
+                   const OrderRange& range, double cell, double local_cells = kLocalCells,
+                   const OrderScan* noise = nullptr);
 
 /// The samples away from the reversals (|phi'| at least kMovingFraction of its maximum),
 /// where a cogging torque cycles and the friction model's error at the reversals (another

@@ -21,6 +21,19 @@ using osc::least_squares;
 // close together (slots, poles and their sums), which a narrow neighbourhood would take for noise.
 constexpr double kMapLocalCells = 40.0;
 
+// The median angle step between moving rows (rad).
+double median_angle_step(const osc::Signals& s) {
+  std::vector<double> steps;
+  const double span = s.phi.maxCoeff() - s.phi.minCoeff();
+  for (Eigen::Index k = 1; k < s.phi.size(); ++k) {
+    const double d = std::abs(s.phi[k] - s.phi[k - 1]);
+    if (d > 1e-12 * std::max(1.0, span)) steps.push_back(d);
+  }
+  if (steps.empty()) return 0.0;
+  std::nth_element(steps.begin(), steps.begin() + static_cast<std::ptrdiff_t>(steps.size() / 2), steps.end());
+  return steps[steps.size() / 2];
+}
+
 // The cogging orders a steps or laps record can show: from the lowest that completes a cycle
 // over the span to half the rows per turn at the median angle step between moving rows.
 osc::OrderRange map_orders(const osc::Signals& s, const RecordMotion& m, const OscillationOptions& opt) {
@@ -40,6 +53,57 @@ osc::OrderRange map_orders(const osc::Signals& s, const RecordMotion& m, const O
   r.min_order = std::max(1, static_cast<int>(std::ceil(angles::kTwoPi / (m.span + median_step) - 1e-9)));
   r.limited_by_swing = r.min_order > 1;
   return r;
+}
+
+// The noise of each order from the record's two halves (in sample order), when each covers a
+// turn: the pair's least-squares coefficients on each half of the residual (each half's mean
+// removed), their difference Delta, and d = Delta^T (G_A^-1 + G_B^-1)^-1 Delta, which for noise
+// alone is sigma^2 chi^2(2), as a drop is, while an order that is in both halves (a real, steady
+// cogging order) cancels. Empty (count 0) when a half covers less than a turn.
+osc::OrderScan split_half_noise(const Eigen::VectorXd& resid, const Eigen::VectorXd& phi, const osc::OrderRange& range,
+                                double median_step) {
+  osc::OrderScan noise;
+  const Eigen::Index n = phi.size(), half = n / 2;
+  auto covers_a_turn = [&](Eigen::Index a, Eigen::Index b) {
+    const auto part = phi.segment(a, b - a);
+    return part.maxCoeff() - part.minCoeff() + median_step >= angles::kTwoPi * (1.0 - 1e-9);
+  };
+  if (range.min_order > range.max_order || half < 16 || !covers_a_turn(0, half) || !covers_a_turn(half, n)) {
+    return noise;
+  }
+  noise.first = range.min_order;
+  noise.drop.assign(static_cast<std::size_t>(range.max_order - range.min_order + 1),
+                    std::numeric_limits<double>::quiet_NaN());
+  const Eigen::Index bounds[3] = {0, half, n};
+  Eigen::VectorXd r(n);
+  for (int h = 0; h < 2; ++h) {
+    const auto part = resid.segment(bounds[h], bounds[h + 1] - bounds[h]);
+    r.segment(bounds[h], bounds[h + 1] - bounds[h]) = (part.array() - part.mean()).matrix();
+  }
+  for (int order = range.min_order; order <= range.max_order; ++order) {
+    Eigen::Vector2d coef[2];
+    Eigen::Matrix2d inverse_sum = Eigen::Matrix2d::Zero();
+    bool usable = true;
+    for (int h = 0; h < 2 && usable; ++h) {
+      Eigen::Matrix2d g = Eigen::Matrix2d::Zero();
+      Eigen::Vector2d b = Eigen::Vector2d::Zero();
+      for (Eigen::Index k = bounds[h]; k < bounds[h + 1]; ++k) {
+        const Eigen::Vector2d x(std::sin(order * phi[k]), std::cos(order * phi[k]));
+        g += x * x.transpose();
+        b += x * r[k];
+      }
+      const Eigen::LDLT<Eigen::Matrix2d> ldlt(g);
+      usable = ldlt.info() == Eigen::Success && g.determinant() > 1e-9 * g.trace() * g.trace();
+      if (!usable) break;
+      coef[h] = ldlt.solve(b);
+      inverse_sum += ldlt.solve(Eigen::Matrix2d::Identity());
+    }
+    if (!usable) continue;
+    const Eigen::Vector2d delta = coef[0] - coef[1];
+    noise.drop[static_cast<std::size_t>(order - range.min_order)] = delta.dot(inverse_sum.ldlt().solve(delta));
+    ++noise.count;
+  }
+  return noise;
 }
 
 OscillationParam param_of(const Fit& f, Eigen::Index i, const char* name) {
@@ -135,7 +199,9 @@ MapDiagnosis diagnose_map(const OscillationRecord& rec, const OscillationOptions
   std::vector<int> found;
   for (int round = 0; round < kMaxOrders + 1 && static_cast<int>(found.size()) < kMaxOrders; ++round) {
     // The best order of the round (Bonferroni over the orders scanned) and the trend (one test).
-    const osc::ScanBest best = osc::scan_best(model, s.y, s.phi, range, cell, kMapLocalCells);
+    const osc::OrderScan noise = split_half_noise(s.y - model * cur.beta, s.phi, range, median_angle_step(s));
+    const osc::ScanBest best =
+        osc::scan_best(model, s.y, s.phi, range, cell, kMapLocalCells, noise.count > 0 ? &noise : nullptr);
     const int candidates = (best.test.order != 0 ? 1 : 0) + (drift_in ? 0 : 1);
     if (candidates == 0) break;
     double order_log_p = std::numeric_limits<double>::infinity(), order_dbic = 0.0;

@@ -16,7 +16,12 @@
 /// forward stepwise: each round scans every order on the current model's residual and judges
 /// the best against the larger of the residual's white and local noise levels (the method of
 /// oscillation_diagnosis.h, osc::scan_best), Bonferroni over the orders scanned, and adds it
-/// when the adjusted p < alpha and delta BIC < 0; at most `kMaxOrders` orders. Amplitude
+/// when the adjusted p < alpha and delta BIC < 0; at most `kMaxOrders` orders. The local level
+/// is the median over +-40 cells of the neighbouring orders' noise: where each half of the
+/// record (in sample order) covers a turn, each order's noise is the difference of its
+/// coefficients between the halves (d = Delta^T (G_A^-1 + G_B^-1)^-1 Delta, sigma^2 chi^2(2)
+/// for noise alone), in which a steady cogging order cancels, so that a drive's dense spectrum
+/// of real orders does not count as noise; otherwise the neighbours' own drops. Amplitude
 /// T_N = hypot(a_N, b_N), phase psi_N = atan2(b_N, a_N) (the motor's torque T_N sin(N phi +
 /// psi_N) balances the cogging), each with its standard error (delta method) and resolution
 /// (half a cycle over the span: orders closer than one cycle over the record are not told
