@@ -175,7 +175,8 @@ struct Found {
 // The column of a role, and the SI value of one of its units; nullopt for an optional role not
 // in the file.
 std::optional<Found> find_column(const ColumnRole& role, const std::vector<std::string>& headers,
-                                 const ColumnMapping& mapping, const std::string& path, std::size_t header_line) {
+                                 const ColumnMapping& mapping, const std::string& path, std::size_t header_line,
+                                 std::vector<const ColumnRole*>& missing) {
   const SourceLocation where{path, line_number(header_line), 0};
   std::optional<std::size_t> index;
   bool named = false;
@@ -195,13 +196,8 @@ std::optional<Found> find_column(const ColumnRole& role, const std::vector<std::
     }
   }
   if (!index) {
-    if (!role.required) return std::nullopt;
-    std::string defaults;
-    for (const auto& h : role.default_headers) defaults += (defaults.empty() ? "'" : " or '") + h + "'";
-    throw Error(
-        fmt::format("{}:{}: missing column {} (the {}): the file's columns are {}; name the one that holds "
-                    "it with --column {}=HEADER",
-                    path, header_line, defaults, role.what, listed(headers), role.role));
+    if (role.required) missing.push_back(&role);
+    return std::nullopt;
   }
   const std::string& header = headers[*index];
   std::string unit;
@@ -226,6 +222,26 @@ std::optional<Found> find_column(const ColumnRole& role, const std::vector<std::
     if (expected.rfind("expected ", 0) == 0) expected.erase(0, 9);
     throw InputError(where, "unit of column '" + header + "' (" + role.what + ")", unit, expected);
   }
+}
+
+// Every required column the file lacks, in one message.
+void refuse_missing(const std::vector<const ColumnRole*>& missing, const std::vector<std::string>& headers,
+                    const std::string& path, std::size_t header_line) {
+  if (missing.empty()) return;
+  std::string names, options;
+  for (std::size_t i = 0; i < missing.size(); ++i) {
+    std::string defaults;
+    for (const auto& h : missing[i]->default_headers) defaults += (defaults.empty() ? "'" : " or '") + h + "'";
+    if (i > 0) names += i + 1 == missing.size() ? " and " : ", ";
+    names += fmt::format("{} (the {})", defaults, missing[i]->what);
+    if (i > 0) options += ' ';
+    options += fmt::format("--column {}=HEADER", missing[i]->role);
+  }
+  const bool several = missing.size() > 1;
+  throw Error(
+      fmt::format("{}:{}: missing column{} {}: the file's columns are {}; name the one{} that hold{} {} with {}", path,
+                  header_line, several ? "s" : "", names, listed(headers), several ? "s" : "", several ? "" : "s",
+                  several ? "them" : "it", options));
 }
 
 }  // namespace
@@ -364,8 +380,9 @@ LabTable read_lab_table(const std::string& path, const std::vector<ColumnRole>& 
     for (std::size_t c = 0; c < a.columns.size(); ++c) headers.push_back(std::to_string(c));
     t.delimiter = "NumPy .npy";
     t.header_line = 0;
+    std::vector<const ColumnRole*> missing;
     for (const ColumnRole& role : roles) {
-      if (auto f = find_column(role, headers, mapping, path, 0)) {
+      if (auto f = find_column(role, headers, mapping, path, 0, missing)) {
         t.header[role.role] = headers[f->index];
         t.unit[role.role] = mapping.unit.count(role.role) ? mapping.unit.at(role.role) : role.default_unit;
         auto& values = t.si[role.role];
@@ -376,6 +393,7 @@ LabTable read_lab_table(const std::string& path, const std::vector<ColumnRole>& 
         }
       }
     }
+    refuse_missing(missing, headers, path, 0);
     const std::size_t n = a.columns.empty() ? 0 : a.columns.front().size();
     for (std::size_t k = 0; k < n; ++k) t.lines.push_back(k + 1);
     return t;
@@ -399,8 +417,9 @@ LabTable read_lab_table(const std::string& path, const std::vector<ColumnRole>& 
   t.delimiter = delimiter_name(delimiter);
   const bool decimal_comma = delimiter == Delimiter::kSemicolon || delimiter == Delimiter::kTab;
   std::vector<Found> found;
+  std::vector<const ColumnRole*> missing;
   for (const ColumnRole& role : roles) {
-    if (auto f = find_column(role, headers, mapping, path, lineno)) {
+    if (auto f = find_column(role, headers, mapping, path, lineno, missing)) {
       found.push_back(*f);
       t.header[role.role] = headers[f->index];
       t.unit[role.role] = mapping.unit.count(role.role)
@@ -409,6 +428,7 @@ LabTable read_lab_table(const std::string& path, const std::vector<ColumnRole>& 
       t.si[role.role];
     }
   }
+  refuse_missing(missing, headers, path, lineno);
   while (std::getline(in, line)) {
     ++lineno;
     if (is_comment(line)) continue;

@@ -13,6 +13,7 @@
 
 #include "core/error.h"
 #include "estimators/oscillation_record.h"
+#include "estimators/torque_table.h"
 #include "test_util.h"
 
 namespace poise::estimators {
@@ -129,6 +130,22 @@ TEST(LabTable, ReadsQuotedCellsAndDateTimeStamps) {
   test::write_text(d.file("bad.csv"), "time_s,current_A,phi_deg\n2024-13-04 10:00:00,1,2\n");
   EXPECT_NE(error_of(d.file("bad.csv"), {}).find("expected a finite number, or a date and time"), std::string::npos)
       << error_of(d.file("bad.csv"), {});
+}
+
+TEST(LabTable, EveryMissingColumnIsNamedInOneMessage) {
+  test::TempDir d;
+  test::write_text(d.file("t.csv"), "a;b\n1;2\n");
+  try {
+    read_lab_table(d.file("t.csv"), torque_table_roles(), {});
+    ADD_FAILURE() << "accepted";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find(d.file("t.csv") +
+                                         ":1: missing columns 'theta_deg' (the turntable angle) and 'torque_mNm' (the "
+                                         "unbalance torque): the file's columns are 'a', 'b'; name the ones that hold "
+                                         "them with --column angle=HEADER --column torque=HEADER"),
+              std::string::npos)
+        << e.what();
+  }
 }
 
 TEST(LabTable, UnitsOfColumnsIncludeCountsAsFractionsOfATurn) {
