@@ -10,18 +10,19 @@ import subprocess
 import tempfile
 
 
-def optimization_file(source, folder):
-    """A small test-plan question on the gimbal study: 8 or 12 positions, the period searched."""
+def optimization_file(source, folder, samples=8, evaluations=6, verification=16):
+    """A small test-plan question on the gimbal study: 8 or 12 positions, the period searched,
+    test time second (also tests/reports' optimize report, at fewer samples)."""
     path = os.path.join(folder, "plan.toml")
     study = os.path.join(source, "studies", "gimbal_unbalance_mc.toml")
     with open(path, "w", encoding="utf-8") as f:
         f.write(f'''[optimization]
 name = "plan"
 study = "{study}"
-samples = 8
+samples = {samples}
 seed = 5
 algorithm = "cobyla"
-max_evaluations = 6
+max_evaluations = {evaluations}
 [[variable]]
 parameter = "oscillation.period"
 lower = "1 s"
@@ -40,7 +41,7 @@ output = "g_test_time_min"
 statistic = "max"
 points = 1
 [verification]
-samples = 16
+samples = {verification}
 seed = 9
 ''')
     return path

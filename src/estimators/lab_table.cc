@@ -369,35 +369,40 @@ NpyArray read_npy(const std::string& path) {
 
 bool is_npy(const std::string& path) { return path.size() > 4 && path.compare(path.size() - 4, 4, ".npy") == 0; }
 
+// A .npy array's series as the table's columns, named "0", "1", ... (no lines: rows from 1).
+LabTable npy_table(const std::string& path, const std::vector<ColumnRole>& roles, const ColumnMapping& mapping) {
+  LabTable t;
+  t.file = path;
+  const NpyArray a = read_npy(path);
+  std::vector<std::string> headers;
+  for (std::size_t c = 0; c < a.columns.size(); ++c) headers.push_back(std::to_string(c));
+  t.delimiter = "NumPy .npy";
+  t.header_line = 0;
+  std::vector<const ColumnRole*> missing;
+  for (const ColumnRole& role : roles) {
+    if (auto f = find_column(role, headers, mapping, path, 0, missing)) {
+      t.header[role.role] = headers[f->index];
+      t.unit[role.role] = mapping.unit.count(role.role) ? mapping.unit.at(role.role) : role.default_unit;
+      auto& values = t.si[role.role];
+      for (double v : a.columns[f->index]) {
+        require(std::isfinite(v),
+                path + ": column " + headers[f->index] + " (" + role.what + ") holds a value that is not finite");
+        values.push_back(v * f->factor);
+      }
+    }
+  }
+  refuse_missing(missing, headers, path, 0);
+  const std::size_t n = a.columns.empty() ? 0 : a.columns.front().size();
+  for (std::size_t k = 0; k < n; ++k) t.lines.push_back(k + 1);
+  return t;
+}
+
 }  // namespace
 
 LabTable read_lab_table(const std::string& path, const std::vector<ColumnRole>& roles, const ColumnMapping& mapping) {
   LabTable t;
   t.file = path;
-  if (is_npy(path)) {
-    const NpyArray a = read_npy(path);
-    std::vector<std::string> headers;
-    for (std::size_t c = 0; c < a.columns.size(); ++c) headers.push_back(std::to_string(c));
-    t.delimiter = "NumPy .npy";
-    t.header_line = 0;
-    std::vector<const ColumnRole*> missing;
-    for (const ColumnRole& role : roles) {
-      if (auto f = find_column(role, headers, mapping, path, 0, missing)) {
-        t.header[role.role] = headers[f->index];
-        t.unit[role.role] = mapping.unit.count(role.role) ? mapping.unit.at(role.role) : role.default_unit;
-        auto& values = t.si[role.role];
-        for (double v : a.columns[f->index]) {
-          require(std::isfinite(v),
-                  path + ": column " + headers[f->index] + " (" + role.what + ") holds a value that is not finite");
-          values.push_back(v * f->factor);
-        }
-      }
-    }
-    refuse_missing(missing, headers, path, 0);
-    const std::size_t n = a.columns.empty() ? 0 : a.columns.front().size();
-    for (std::size_t k = 0; k < n; ++k) t.lines.push_back(k + 1);
-    return t;
-  }
+  if (is_npy(path)) return npy_table(path, roles, mapping);
   std::ifstream in(path);
   if (!in) throw Error(path + ": cannot open the file");
   std::string line;

@@ -21,10 +21,9 @@ using osc::least_squares;
 // close together (slots, poles and their sums), which a narrow neighbourhood would take for noise.
 constexpr double kMapLocalCells = 40.0;
 
-// The median angle step between moving rows (rad).
-double median_angle_step(const osc::Signals& s) {
+// The median angle step between moving rows (rad; 0 when none moves); span: the record's angle span.
+double median_angle_step(const osc::Signals& s, double span) {
   std::vector<double> steps;
-  const double span = s.phi.maxCoeff() - s.phi.minCoeff();
   for (Eigen::Index k = 1; k < s.phi.size(); ++k) {
     const double d = std::abs(s.phi[k] - s.phi[k - 1]);
     if (d > 1e-12 * std::max(1.0, span)) steps.push_back(d);
@@ -36,16 +35,9 @@ double median_angle_step(const osc::Signals& s) {
 
 // The cogging orders a steps or laps record can show: from the lowest that completes a cycle
 // over the span to half the rows per turn at the median angle step between moving rows.
-osc::OrderRange map_orders(const osc::Signals& s, const RecordMotion& m, const OscillationOptions& opt) {
-  std::vector<double> steps;
-  for (Eigen::Index k = 1; k < s.phi.size(); ++k) {
-    const double d = std::abs(s.phi[k] - s.phi[k - 1]);
-    if (d > 1e-12 * std::max(1.0, m.span)) steps.push_back(d);
-  }
+osc::OrderRange map_orders(const RecordMotion& m, double median_step, const OscillationOptions& opt) {
   osc::OrderRange r;
-  if (steps.empty() || !(m.span > 0)) return r;
-  std::nth_element(steps.begin(), steps.begin() + static_cast<std::ptrdiff_t>(steps.size() / 2), steps.end());
-  const double median_step = steps[steps.size() / 2];
+  if (!(median_step > 0) || !(m.span > 0)) return r;
   r.max_order = static_cast<int>(std::min(2000.0, std::floor(angles::kPi / median_step)));
   if (opt.cogging_max_order > 0) r.max_order = std::min(r.max_order, opt.cogging_max_order);
   // The angle the rows stand for: the span and one step (a map of 512 points a turn apart by
@@ -168,82 +160,9 @@ void say_what_this_motion_cannot_show(const RecordMotion& m, const osc::OrderRan
   }
 }
 
-}  // namespace
-
-MapDiagnosis diagnose_map(const OscillationRecord& rec, const OscillationOptions& opt) {
-  const osc::Signals s = osc::derive_signals(rec, opt);
-  MapDiagnosis out;
-  out.motion = osc::recognise_motion(s, !rec.no_time, opt.derivative_window);
-  require(out.motion.kind != "swing", (rec.file.empty() ? std::string("record") : rec.file) +
-                                          ": the record is a swing about a position; diagnose_oscillation reads it");
-  out.n = s.n;
-  out.median_step = s.dt, out.gaps = s.gaps, out.gap_total = s.gap_total, out.gap_largest = s.gap_largest;
-  out.gap_largest_line = s.gap_largest_line;
-  const auto n = static_cast<Eigen::Index>(s.n);
-  out.rmse_constant = std::sqrt((s.y.array() - s.y.mean()).square().sum() / static_cast<double>(n));
-
-  Eigen::MatrixXd model = Eigen::MatrixXd::Ones(n, 1);
-  out.coulomb_fitted = out.motion.forward && out.motion.backward;
-  if (out.coulomb_fitted) model = osc::joined(model, s.direction);
-  const Eigen::MatrixXd base_model = model;
-  Fit cur = least_squares(model, s.y);
-  out.rmse_base = std::sqrt(cur.rss / static_cast<double>(n));
-
-  const osc::OrderRange range = map_orders(s, out.motion, opt);
-  const bool trend_offered = out.motion.timed && (out.coulomb_fitted || out.motion.turns > 2.0) && !rec.no_time;
-  say_what_this_motion_cannot_show(out.motion, range, trend_offered, out);
-  const double cell = std::max(1.0, angles::kTwoPi / std::max(out.motion.span, 1e-12));
-  const double resolution = 0.5 * cell;
-  const Eigen::VectorXd drift = (s.t.array() - s.t.mean()).matrix();
-  bool drift_in = !trend_offered;
-  std::vector<int> found;
-  for (int round = 0; round < kMaxOrders + 1 && static_cast<int>(found.size()) < kMaxOrders; ++round) {
-    // The best order of the round (Bonferroni over the orders scanned) and the trend (one test).
-    const osc::OrderScan noise = split_half_noise(s.y - model * cur.beta, s.phi, range, median_angle_step(s));
-    const osc::ScanBest best =
-        osc::scan_best(model, s.y, s.phi, range, cell, kMapLocalCells, noise.count > 0 ? &noise : nullptr);
-    const int candidates = (best.test.order != 0 ? 1 : 0) + (drift_in ? 0 : 1);
-    if (candidates == 0) break;
-    double order_log_p = std::numeric_limits<double>::infinity(), order_dbic = 0.0;
-    Fit order_fit;
-    if (best.test.order != 0) {
-      order_fit = least_squares(osc::joined(model, osc::cogging_columns(s.phi, best.test.order)), s.y);
-      order_log_p = best.test.log_p + std::log(static_cast<double>(std::max(1, best.count)));
-      order_dbic = bic_change(cur.rss, order_fit.rss, n, 2);
-    }
-    double drift_log_p = std::numeric_limits<double>::infinity(), drift_dbic = 0.0;
-    Fit drift_fit;
-    if (!drift_in && osc::independence(model, drift) > 1e-3) {
-      drift_fit = least_squares(osc::joined(model, drift), s.y);
-      drift_log_p = std::log(std::max(osc::f_test_p(cur.rss, drift_fit.rss, 1, n, model.cols() + 1), 1e-300));
-      drift_dbic = bic_change(cur.rss, drift_fit.rss, n, 1);
-    }
-    const bool take_order = order_log_p <= drift_log_p;
-    const double log_p = (take_order ? order_log_p : drift_log_p) + std::log(static_cast<double>(candidates));
-    const double dbic = take_order ? order_dbic : drift_dbic;
-    if (!(log_p < std::log(opt.alpha) && dbic < 0)) break;
-    if (take_order) {
-      model = osc::joined(model, osc::cogging_columns(s.phi, best.test.order));
-      cur = order_fit;
-      found.push_back(best.test.order);
-      MapOrder o;
-      o.order = best.test.order;
-      o.p_value = std::exp(best.test.log_p), o.p_adjusted = std::min(1.0, std::exp(log_p)), o.delta_bic = dbic;
-      out.orders.push_back(o);
-      out.steps.push_back({fmt::format("order {}", o.order), std::sqrt(cur.rss / static_cast<double>(n))});
-    } else {
-      model = osc::joined(model, drift);
-      cur = drift_fit;
-      drift_in = true;
-      OscillationEffect e;
-      e.name = "offset_drift";
-      e.p_value = std::exp(drift_log_p), e.p_adjusted = std::min(1.0, std::exp(log_p)), e.delta_bic = dbic;
-      e.causes = "current-sensor offset drift (amplifier warm-up), motor heating changing K_T";
-      out.trends.push_back(e);
-      out.steps.push_back({"offset_drift", std::sqrt(cur.rss / static_cast<double>(n))});
-    }
-  }
-  // The estimates of the final model: every order's amplitude and phase jointly.
+// The estimates of the final model, in the order its columns were added (out.steps): every
+// order's amplitude and phase jointly, the drift's slope, M_0 and the friction per direction.
+void final_estimates(const Fit& cur, double resolution, MapDiagnosis& out) {
   const Eigen::Index first_order = out.coulomb_fitted ? 2 : 1;
   Eigen::Index column = first_order;
   std::size_t next_order = 0;
@@ -274,9 +193,87 @@ MapDiagnosis diagnose_map(const OscillationRecord& rec, const OscillationOptions
           significant(out.coulomb.value, 3)));
     }
   }
+}
+
+}  // namespace
+
+MapDiagnosis diagnose_map(const OscillationRecord& rec, const OscillationOptions& opt) {
+  const osc::Signals s = osc::derive_signals(rec, opt);
+  MapDiagnosis out;
+  out.motion = osc::recognise_motion(s, !rec.no_time, opt.derivative_window);
+  require(out.motion.kind != "swing", (rec.file.empty() ? std::string("record") : rec.file) +
+                                          ": the record is a swing about a position; diagnose_oscillation reads it");
+  out.n = s.n;
+  out.median_step = s.dt, out.gaps = s.gaps, out.gap_total = s.gap_total, out.gap_largest = s.gap_largest;
+  out.gap_largest_line = s.gap_largest_line;
+  const auto n = static_cast<Eigen::Index>(s.n);
+  out.rmse_constant = std::sqrt((s.y.array() - s.y.mean()).square().sum() / static_cast<double>(n));
+
+  Eigen::MatrixXd model = Eigen::MatrixXd::Ones(n, 1);
+  out.coulomb_fitted = out.motion.forward && out.motion.backward;
+  if (out.coulomb_fitted) model = osc::joined(model, s.direction);
+  const Eigen::MatrixXd base_model = model;
+  const Fit base = least_squares(model, s.y);
+  Fit cur = base;
+  out.rmse_base = std::sqrt(cur.rss / static_cast<double>(n));
+
+  const double median_step = median_angle_step(s, out.motion.span);
+  const osc::OrderRange range = map_orders(out.motion, median_step, opt);
+  const bool trend_offered = out.motion.timed && (out.coulomb_fitted || out.motion.turns > 2.0) && !rec.no_time;
+  say_what_this_motion_cannot_show(out.motion, range, trend_offered, out);
+  const double cell = std::max(1.0, angles::kTwoPi / std::max(out.motion.span, 1e-12));
+  const double resolution = 0.5 * cell;
+  const Eigen::VectorXd drift = (s.t.array() - s.t.mean()).matrix();
+  bool drift_in = !trend_offered;
+  for (int round = 0; round < kMaxOrders + 1 && static_cast<int>(out.orders.size()) < kMaxOrders; ++round) {
+    // The best order of the round (Bonferroni over the orders scanned) and the trend (one test).
+    const osc::OrderScan noise = split_half_noise(s.y - model * cur.beta, s.phi, range, median_step);
+    const osc::ScanBest best =
+        osc::scan_best(model, s.y, s.phi, range, cell, kMapLocalCells, noise.count > 0 ? &noise : nullptr);
+    const int candidates = (best.test.order != 0 ? 1 : 0) + (drift_in ? 0 : 1);
+    if (candidates == 0) break;
+    double order_log_p = std::numeric_limits<double>::infinity(), order_dbic = 0.0;
+    Fit order_fit;
+    if (best.test.order != 0) {
+      order_fit = least_squares(osc::joined(model, osc::cogging_columns(s.phi, best.test.order)), s.y);
+      order_log_p = best.test.log_p + std::log(static_cast<double>(std::max(1, best.count)));
+      order_dbic = bic_change(cur.rss, order_fit.rss, n, 2);
+    }
+    double drift_log_p = std::numeric_limits<double>::infinity(), drift_dbic = 0.0;
+    Fit drift_fit;
+    if (!drift_in && osc::independence(model, drift) > 1e-3) {
+      drift_fit = least_squares(osc::joined(model, drift), s.y);
+      drift_log_p = std::log(std::max(osc::f_test_p(cur.rss, drift_fit.rss, 1, n, model.cols() + 1), 1e-300));
+      drift_dbic = bic_change(cur.rss, drift_fit.rss, n, 1);
+    }
+    const bool take_order = order_log_p <= drift_log_p;
+    const double log_p = (take_order ? order_log_p : drift_log_p) + std::log(static_cast<double>(candidates));
+    const double dbic = take_order ? order_dbic : drift_dbic;
+    if (!(log_p < std::log(opt.alpha) && dbic < 0)) break;
+    if (take_order) {
+      model = osc::joined(model, osc::cogging_columns(s.phi, best.test.order));
+      cur = order_fit;
+      MapOrder o;
+      o.order = best.test.order;
+      o.p_value = std::exp(best.test.log_p), o.p_adjusted = std::min(1.0, std::exp(log_p)), o.delta_bic = dbic;
+      out.orders.push_back(o);
+      out.steps.push_back({fmt::format("order {}", o.order), std::sqrt(cur.rss / static_cast<double>(n))});
+    } else {
+      model = osc::joined(model, drift);
+      cur = drift_fit;
+      drift_in = true;
+      OscillationEffect e;
+      e.name = "offset_drift";
+      e.p_value = std::exp(drift_log_p), e.p_adjusted = std::min(1.0, std::exp(log_p)), e.delta_bic = dbic;
+      e.causes = "current-sensor offset drift (amplifier warm-up), motor heating changing K_T";
+      out.trends.push_back(e);
+      out.steps.push_back({"offset_drift", std::sqrt(cur.rss / static_cast<double>(n))});
+    }
+  }
+  final_estimates(cur, resolution, out);
   out.rmse_after = std::sqrt(cur.rss / static_cast<double>(n));
   const Eigen::VectorXd after = s.y - model * cur.beta;
-  const Eigen::VectorXd before = s.y - base_model * least_squares(base_model, s.y).beta;
+  const Eigen::VectorXd before = s.y - base_model * base.beta;
   out.angle.assign(s.phi.data(), s.phi.data() + n);
   out.residual_base.assign(before.data(), before.data() + n);
   out.residual_after.assign(after.data(), after.data() + n);

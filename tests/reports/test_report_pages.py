@@ -17,8 +17,11 @@ import pytest
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import report_check  # noqa: E402
 
+
 EXE = os.environ.get("POISE_EXE", "build/poise")
 SRC = os.environ.get("POISE_SOURCE_DIR", os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__)))))
+sys.path.insert(0, os.path.join(SRC, "scripts", "docs"))
+import gallery  # noqa: E402  (the optimize report's file)
 
 
 def poise(*args, ok=(0,)):
@@ -43,38 +46,8 @@ def seeker_study(tmp):
 
 
 def optimization_file(tmp):
-    """A small test-plan question: positions 8 or 12, the period searched, test time second."""
-    path = os.path.join(tmp, "plan.toml")
-    with open(path, "w", encoding="utf-8") as f:
-        f.write(f'''[optimization]
-name = "plan"
-study = "{study("gimbal_unbalance_mc.toml")}"
-samples = 4
-seed = 5
-algorithm = "cobyla"
-max_evaluations = 4
-[[variable]]
-parameter = "oscillation.period"
-lower = "1 s"
-upper = "6 s"
-start = "4 s"
-[[choice]]
-parameter = "group.positions"
-values = ["8", "12"]
-[overrides]
-"oscillation.periods" = "1"
-[objective]
-output = "g_rmse_torque_mNm"
-statistic = "p95"
-[pareto]
-output = "g_test_time_min"
-statistic = "max"
-points = 1
-[verification]
-samples = 8
-seed = 9
-''')
-    return path
+    """The gallery's small test-plan question (scripts/docs/gallery.py), at fewer samples."""
+    return gallery.optimization_file(SRC, tmp, samples=4, evaluations=4, verification=8)
 
 
 RUNS = {
