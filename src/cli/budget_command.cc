@@ -238,7 +238,7 @@ void add_budget_answer(const budget::BudgetSpec& spec, const std::vector<double>
   for (std::size_t i = 0; i < index.size(); ++i) index[i] = i;
   const std::vector<engine::OutputSpec> outputs = {{spec.output, spec.unit, ""}};
   const json verdicts = engine::judge_requirements({r}, outputs, [&](const std::string&) {
-    return engine::OutputValues{&mc_values, &index, 0, true};
+    return engine::OutputValues{.values = &mc_values, .ok_index = &index, .replicate_size = 0, .independent = true};
   });
   out["requirement_verdict"] = verdicts[0];
   std::string answer = engine::answer_sentence(verdicts, json::object(), outputs, "complete", mc_values.size());

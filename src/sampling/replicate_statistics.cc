@@ -114,7 +114,9 @@ Summary summarize_replicates(std::span<const double> values, std::span<const std
     size_sum += static_cast<double>(g.size());
   }
   const std::size_t r = per.size();
-  for (Estimate* e : {&pooled.mean, &pooled.std, &pooled.p50, &pooled.p95, &pooled.p99_73}) {
+  std::vector<Estimate*> pooled_figures = {&pooled.mean, &pooled.std};
+  for (const SummaryQuantile& q : summary_quantiles()) pooled_figures.push_back(&(pooled.*q.field));
+  for (Estimate* e : pooled_figures) {
     e->lo.reset();
     e->hi.reset();
     e->note = r < 2 ? "no interval: fewer than 2 replicates of 2 or more values" : "";
@@ -133,9 +135,7 @@ Summary summarize_replicates(std::span<const double> values, std::span<const std
   std::vector<double> sorted(values.begin(), values.end());
   std::sort(sorted.begin(), sorted.end());
   const double m = size_sum / static_cast<double>(r);
-  woodruff(pooled.p50, 0.50, sorted, groups, m);
-  woodruff(pooled.p95, 0.95, sorted, groups, m);
-  woodruff(pooled.p99_73, 0.9973, sorted, groups, m);
+  for (const SummaryQuantile& q : summary_quantiles()) woodruff(pooled.*q.field, q.p, sorted, groups, m);
   return pooled;
 }
 

@@ -66,7 +66,14 @@ void note_missing_ends(Estimate& e, std::size_t n, double p) {
   }
 }
 
+constexpr SummaryQuantile kSummaryQuantiles[] = {
+    {"p0_135", 0.00135, &Summary::p0_135}, {"p2_5", 0.025, &Summary::p2_5},     {"p50", 0.50, &Summary::p50},
+    {"p95", 0.95, &Summary::p95},          {"p97_5", 0.975, &Summary::p97_5},   {"p99_73", 0.9973, &Summary::p99_73},
+    {"p99_865", 0.99865, &Summary::p99_865}};
+
 }  // namespace
+
+std::span<const SummaryQuantile> summary_quantiles() { return kSummaryQuantiles; }
 
 std::size_t samples_for_upper_end(double p) {
   // The upper end X(u) exists when P(Binomial(n, p) <= n - 1) = 1 - p^n >= 0.975.
@@ -148,8 +155,10 @@ Summary summarize(std::span<const double> values) {
 
 std::vector<std::size_t> summary_ranks(std::size_t n) {
   const double nn = static_cast<double>(n);
-  std::vector<std::size_t> ranks = {n - 1};
-  for (const double p : {0.50, 0.95, 0.9973, nn / (nn + 1.0)}) {
+  std::vector<std::size_t> ranks = {0, n - 1};
+  std::vector<double> levels = {1.0 / (nn + 1.0), nn / (nn + 1.0)};
+  for (const SummaryQuantile& q : summary_quantiles()) levels.push_back(q.p);
+  for (const double p : levels) {
     const QuantileRanks r = quantile_ranks(n, p, true);
     ranks.push_back(r.lo_i);
     ranks.push_back(r.hi_i);
@@ -188,17 +197,17 @@ Summary summarize_from(const SummaryMoments& m, const std::function<double(std::
     s.std.lo = std::max(0.0, sd - 1.959963984540054 * se_s);
     s.std.hi = sd + 1.959963984540054 * se_s;
   }
-  const QuantileRanks r50 = quantile_ranks(n, 0.50, true), r95 = quantile_ranks(n, 0.95, true),
-                      r9973 = quantile_ranks(n, 0.9973, true), rmax = quantile_ranks(n, nn / (nn + 1.0), true);
-  s.p50 = quantile_at(r50, at);
-  s.p95 = quantile_at(r95, at);
-  s.p99_73 = quantile_at(r9973, at);
-  note_missing_ends(s.p50, n, 0.50);
-  note_missing_ends(s.p95, n, 0.95);
-  note_missing_ends(s.p99_73, n, 0.9973);
+  for (const SummaryQuantile& q : summary_quantiles()) {
+    Estimate& e = s.*q.field;
+    e = quantile_at(quantile_ranks(n, q.p, true), at);
+    note_missing_ends(e, n, q.p);
+  }
   s.max.value = at(n - 1);
-  s.max.lo = quantile_at(rmax, at).lo;
+  s.max.lo = quantile_at(quantile_ranks(n, nn / (nn + 1.0), true), at).lo;
   s.max.note = "one-sided: the sample maximum has no distribution-free upper bound";
+  s.min.value = at(0);
+  s.min.hi = quantile_at(quantile_ranks(n, 1.0 / (nn + 1.0), true), at).hi;
+  s.min.note = "one-sided: the sample minimum has no distribution-free lower bound";
   return s;
 }
 

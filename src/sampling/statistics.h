@@ -14,6 +14,11 @@
 ///            the upper end of pXX needs n >= ln(0.025) / ln(p) (1365 for p99.73, 72 for p95).
 ///   max    : the sample maximum; lower end = lower order-statistic bound of the quantile
 ///            n/(n+1), upper end unknown (no distribution-free upper bound exists).
+///   min    : its mirror: the sample minimum; upper end = upper order-statistic bound of the
+///            quantile 1/(n+1), lower end unknown.
+/// The quantiles are p0.135, p2.5, p50, p95, p97.5, p99.73 and p99.865 (summary_quantiles()):
+/// the lower tail beside the upper one, for two-sided specifications (a gap between two limits;
+/// p0.135 and p99.865 are the natural process limits mean -+ 3 sigma of a normal output).
 ///   fraction (of successes): Wilson score interval.
 /// Intervals assume independent samples; for Latin hypercube and Sobol designs they are
 /// conservative for the mean (those designs lower its variance) but not necessarily for tail
@@ -38,8 +43,18 @@ struct Estimate {
 
 struct Summary {
   std::size_t n = 0;
-  Estimate mean, std, p50, p95, p99_73, max;
+  Estimate mean, std, min, p0_135, p2_5, p50, p95, p97_5, p99_73, p99_865, max;
 };
+
+/// A quantile a Summary holds: its name in summary.json ("p99_73"), its level (0.9973) and
+/// its member.
+struct SummaryQuantile {
+  const char* name;
+  double p;
+  Estimate Summary::*field;
+};
+/// Every quantile of a Summary, in increasing level.
+std::span<const SummaryQuantile> summary_quantiles();
 
 /// Summary of the values (order does not matter). Throws if values is empty.
 Summary summarize(std::span<const double> values);

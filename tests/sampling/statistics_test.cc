@@ -73,6 +73,37 @@ TEST(Statistics, SummaryOfOneToHundred) {
   EXPECT_GT(*s.std.hi, sd);
 }
 
+// The lower tail mirrors the upper one: on 1..200 each lower quantile is n + 1 minus the upper
+// one at 1 - p (definition 8 is symmetric), the minimum's interval mirrors the maximum's, and
+// p0.135 has no lower end below n = 2731 (ln 0.025 / ln 0.99865: the mirror of p99.865).
+TEST(Statistics, LowerTailMirrorsTheUpperTail) {
+  std::vector<double> v;
+  for (int i = 200; i >= 1; --i) v.push_back(i);
+  const Summary s = ps::summarize(v);
+  EXPECT_EQ(s.min.value, 1.0);
+  EXPECT_FALSE(s.min.lo.has_value());
+  ASSERT_TRUE(s.min.hi.has_value() && s.max.lo.has_value());
+  EXPECT_EQ(*s.min.hi, 201.0 - *s.max.lo);
+  EXPECT_EQ(s.min.note.rfind("one-sided", 0), 0u);
+  EXPECT_NEAR(s.p2_5.value, 201.0 - s.p97_5.value, 1e-12);
+  EXPECT_NEAR(s.p0_135.value, 201.0 - s.p99_865.value, 1e-12);
+  EXPECT_NEAR(s.p2_5.value, (200.0 + 1.0 / 3.0) * 0.025 + 1.0 / 3.0, 1e-12);  // rank 5.34
+  ASSERT_TRUE(s.p2_5.lo && s.p2_5.hi && s.p97_5.lo && s.p97_5.hi);
+  EXPECT_EQ(*s.p2_5.lo, 201.0 - *s.p97_5.hi);
+  EXPECT_EQ(*s.p2_5.hi, 201.0 - *s.p97_5.lo);
+  EXPECT_FALSE(s.p0_135.lo.has_value());
+  EXPECT_EQ(s.p0_135.note.rfind("one-sided: no lower bound below n = 2731", 0), 0u) << s.p0_135.note;
+  // The summary from order statistics (a field read column by column) gives the same figures.
+  ps::SummaryMoments m{200, 100.5, 0.0, 0.0};
+  for (int i = 1; i <= 200; ++i) {
+    m.m2 += (i - 100.5) * (i - 100.5);
+    m.m4 += std::pow(i - 100.5, 4);
+  }
+  const Summary f = ps::summarize_from(m, [](std::size_t k) { return static_cast<double>(k + 1); });
+  for (const ps::SummaryQuantile& q : ps::summary_quantiles()) EXPECT_EQ((f.*q.field).value, (s.*q.field).value) << q.name;
+  EXPECT_EQ(f.min.value, 1.0);
+}
+
 TEST(Statistics, SmallSamples) {
   const std::vector<double> one{3.5};
   const Summary s1 = ps::summarize(one);

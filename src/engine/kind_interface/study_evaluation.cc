@@ -80,6 +80,15 @@ double statistic(std::vector<double> v, const std::string& name) {
     for (double y : v) k += (le ? y <= x : y >= x) ? 1.0 : 0.0;
     return k / n;
   }
+  if (name.rfind("fraction_within:", 0) == 0) {
+    // The share of values within [lo, hi] (a NaN, a failed sample's, is not within).
+    const std::size_t colon = name.find(':', 16);
+    if (colon == std::string::npos) throw Error("unknown statistic '" + name + "'");
+    const double lo = std::stod(name.substr(16, colon - 16)), hi = number_after(colon + 1);
+    double k = 0.0;
+    for (double y : v) k += (y >= lo && y <= hi) ? 1.0 : 0.0;
+    return k / n;
+  }
   if (name.size() > 1 && name[0] == 'p') {
     std::string q = name.substr(1);
     std::replace(q.begin(), q.end(), '_', '.');  // p99_73 as in summary.json
@@ -96,7 +105,8 @@ double statistic(std::vector<double> v, const std::string& name) {
     return sampling::quantile_value(v, p / 100.0);
   }
   throw Error("unknown statistic '" + name +
-              "'; use mean, std, min, max, p<q> (p50, p95, p99.73), fraction_le:<x> or fraction_ge:<x>");
+              "'; use mean, std, min, max, p<q> (p50, p95, p99.73), fraction_le:<x>, fraction_ge:<x> or "
+              "fraction_within:<lo>:<hi>");
 }
 
 }  // namespace poise::engine

@@ -23,7 +23,8 @@ McResult evaluate_study(const StudyConfig& cfg, const std::map<std::string, std:
 std::vector<std::string> study_output_names(const StudyConfig& cfg);
 
 /// A statistic of values: "mean", "std", "min", "max", "p<q>" (p50, p95, p99.73, ...), or
-/// "fraction_le:<x>" / "fraction_ge:<x>" (share of samples at most / at least x).
+/// "fraction_le:<x>" / "fraction_ge:<x>" (share of samples at most / at least x),
+/// "fraction_within:<lo>:<hi>" (share within [lo, hi]; a NaN value is not within).
 /// Throws poise::Error for an unknown statistic or no values.
 double statistic(std::vector<double> values, const std::string& name);
 /// Whether `name` is a statistic statistic() understands (for validation).

@@ -98,14 +98,16 @@ std::string run_report_html(const json& s, const FinishedRun& f, const std::file
   if (s.contains("sensitivity")) h << sensitivity_html(s["sensitivity"]);
   h << references_html(s["references"]);
   f.study.report_sections(f.mc, pdir.string(), plots, figures, h);
-  h << "<h2>Outputs per sample</h2>\n<table><tr><th class='l'>output</th><th>mean</th><th>std</th><th>p50</th>"
-       "<th>p95</th><th>p99.73</th><th>max</th></tr>\n";
+  h << "<h2>Outputs per sample</h2>\n<table><tr><th class='l'>output</th><th>mean</th><th>std</th><th>min</th>"
+       "<th>p0.135</th><th>p50</th><th>p95</th><th>p99.73</th><th>max</th></tr>\n";
   for (const auto& [name, o] : s["outputs"].items()) {
     h << "<tr><td class='l'><code>" << html_escape(name) << "</code> " << html_escape(o["unit"].get<std::string>());
     if (o.contains("description")) h << "<br><small>" << html_escape(o["description"].get<std::string>()) << "</small>";
-    h << "</td><td>" << statistic_cell(o["mean"]) << "</td><td>" << statistic_cell(o["std"]) << "</td><td>"
-      << statistic_cell(o["p50"]) << "</td><td>" << statistic_cell(o["p95"]) << "</td><td>"
-      << statistic_cell(o["p99_73"]) << "</td><td>" << statistic_cell(o["max"]) << "</td></tr>\n";
+    h << "</td>";
+    for (const char* statistic : {"mean", "std", "min", "p0_135", "p50", "p95", "p99_73", "max"}) {
+      h << "<td>" << statistic_cell(o[statistic]) << "</td>";
+    }
+    h << "</tr>\n";
   }
   h << "</table>\n";
   if (s.contains("sweeps")) h << sweeps_html(s["sweeps"], f.study.outputs(), pdir, plots);

@@ -18,7 +18,8 @@ namespace poise::engine {
 namespace {
 using nlohmann::json;
 
-const std::vector<std::string> kStatistics = {"sample", "mean", "std", "p50", "p95", "p99_73", "max"};
+const std::vector<std::string> kStatistics = {"sample", "mean", "std",   "min",    "p0_135",  "p2_5",
+                                              "p50",    "p95",  "p97_5", "p99_73", "p99_865", "max"};
 
 }  // namespace
 

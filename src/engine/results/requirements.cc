@@ -3,6 +3,7 @@
 #include "core/nearest_name.h"
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <functional>
 
@@ -10,6 +11,7 @@
 #include "engine/kind_interface/study_kind.h"
 #include "engine/results/confidence_bound.h"
 #include "engine/results/result_io.h"
+#include "engine/results/specification_limits.h"
 #include "engine/study_files/toml_reader.h"
 
 namespace poise::engine {
@@ -30,31 +32,49 @@ struct Judged {
   std::optional<std::size_t> samples_to_decide;
 };
 
-// The verdict of one requirement on the values, the limit in the output's unit.
-Judged judge(const Requirement& r, const OutputValues& ov, double limit, double value) {
+// A sample extreme has no distribution-free bound on its far side: "max <= limit" is decided
+// by the samples alone (a sample beyond the limit: not met; none: met by every sample run), and
+// "min >= limit" mirrors it.
+Judged judge_extreme(const Requirement& r, double limit, double value) {
   Judged j;
-  const SampleSet set = sample_set(*ov.values, *ov.ok_index, ov.replicate_size);
-  const auto beyond = [&](double x) { return r.at_most ? x > limit : x < limit; };
-  if (r.statistic == "max") {
-    // The population's maximum is at least the sample's: a sample beyond an upper limit
-    // decides "not met"; below it, no bound exists and the samples run are all there is.
-    if (r.at_most) {
-      j.verdict = value > limit ? "not met" : "met";
-      if (j.verdict == "met") j.note = "met by every sample run; a maximum has no distribution-free upper bound";
-    } else {
-      j.verdict = value >= limit ? "met" : "not met";
-      if (j.verdict == "not met") j.note = "no sample reached the limit; a maximum has no distribution-free bound";
+  const bool upper_extreme = r.statistic == "max";
+  const std::string what = upper_extreme ? "a maximum" : "a minimum";
+  if (r.at_most == upper_extreme) {  // max <= limit, min >= limit
+    const bool beyond = r.at_most ? value > limit : value < limit;
+    j.verdict = beyond ? "not met" : "met";
+    if (!beyond) {
+      j.note = "met by every sample run; " + what + " has no distribution-free " + (upper_extreme ? "upper" : "lower") +
+               " bound";
     }
-    return j;
+  } else {  // max >= limit, min <= limit
+    const bool reached = r.at_most ? value <= limit : value >= limit;
+    j.verdict = reached ? "met" : "not met";
+    if (!reached) j.note = "no sample reached the limit; " + what + " has no distribution-free bound";
   }
+  return j;
+}
+
+// The verdict of one requirement on the values, the limit in the output's unit (a
+// specification's figure: `spec`).
+Judged judge(const Requirement& r, const OutputValues& ov, double limit, double value,
+             const std::optional<SpecificationFigure>& spec) {
+  if (r.statistic == "max" || r.statistic == "min") return judge_extreme(r, limit, value);
+  Judged j;
+  const auto beyond = [&](double x) { return r.at_most ? x > limit : x < limit; };
   if (!ov.independent && ov.replicate_size == 0) {
     j.design_note =
         "the bounds assume independent samples; this lhs or sobol design without [sampling] "
         "replicate_size does not guarantee them (set replicate_size, or method = \"monte_carlo\")";
   }
-  const BoundSpec up{BoundSide::kUpper, r.confidence}, down{BoundSide::kLower, r.confidence};
-  j.bound = one_sided_bound(set, r.statistic, r.at_most ? up : down);
-  j.other = one_sided_bound(set, r.statistic, r.at_most ? down : up);
+  if (spec) {
+    j.bound = spec->bound;
+    j.other = spec->other;
+  } else {
+    const SampleSet set = sample_set(*ov.values, *ov.ok_index, ov.replicate_size);
+    const BoundSpec up{BoundSide::kUpper, r.confidence}, down{BoundSide::kLower, r.confidence};
+    j.bound = one_sided_bound(set, r.statistic, r.at_most ? up : down);
+    j.other = one_sided_bound(set, r.statistic, r.at_most ? down : up);
+  }
   if (j.bound && !beyond(*j.bound)) {
     j.verdict = "met";
   } else if (j.other && beyond(*j.other)) {
@@ -71,7 +91,8 @@ Judged judge(const Requirement& r, const OutputValues& ov, double limit, double 
                statistic_label(r.statistic);
       // A distribution-free bound of the q-quantile exists from n >= ln(1 - c) / ln(q) (upper)
       // or ln(1 - c) / ln(1 - q) (lower) samples on.
-      if (r.statistic.size() > 1 && r.statistic[0] == 'p' && ov.replicate_size == 0) {
+      if (r.statistic.size() > 1 && r.statistic[0] == 'p' && !is_specification_statistic(r.statistic) &&
+          ov.replicate_size == 0) {
         std::string q_text = r.statistic.substr(1);
         std::replace(q_text.begin(), q_text.end(), '_', '.');
         const double q = std::stod(q_text) / 100.0;
@@ -91,10 +112,37 @@ Judged judge(const Requirement& r, const OutputValues& ov, double limit, double 
   return j;
 }
 
+// A specification's limits must convert to the output's unit.
+void check_specification_units(const Requirement& r, const OutputSpec& o, const SourceLocation& at,
+                               std::vector<InputError>& errors) {
+  const units::Quantity u = unit_quantity(o.unit);
+  for (const std::string& limit : r.within) {
+    try {
+      if (units::parse_quantity(limit).dim == u.dim) continue;
+    } catch (const Error&) {
+      continue;  // reported when the file was read
+    }
+    errors.emplace_back(at, "requirement.within", quote_value(limit),
+                        "a value in a unit of " + units::dimension_name(u.dim) + " (the output " + r.output +
+                            " is in " + (o.unit.empty() || o.unit == "1" ? std::string("no unit") : o.unit) + ")");
+  }
+}
+
+void read_confidence_and_notes(TomlReader& t, Requirement& r) {
+  r.confidence = t.number(
+      "confidence",
+      [](double c) {
+        return c >= 0.5 && c < 1.0 ? std::string() : std::string("a one-sided confidence, 0.5 <= c < 1, e.g. 0.95");
+      },
+      0.95);
+  t.string("notes", "");
+}
+
 }  // namespace
 
 const std::vector<std::string>& requirement_statistics() {
-  static const std::vector<std::string> kStatistics = {"mean", "p50", "p95", "p99_73", "max"};
+  static const std::vector<std::string> kStatistics = {"mean", "min",   "p0_135", "p2_5",    "p50",
+                                                       "p95",  "p97_5", "p99_73", "p99_865", "max"};
   return kStatistics;
 }
 
@@ -108,6 +156,14 @@ std::vector<Requirement> read_requirements(TomlReader& root) {
     r.line = t.line_of("output");
     r.origin = r.file + ":" + std::to_string(r.line);
     r.output = t.string("output");
+    if (t.has("within") || t.schema_only()) {
+      read_specification(t, r);
+      if (!t.schema_only()) {
+        read_confidence_and_notes(t, r);
+        out.push_back(r);
+        continue;
+      }
+    }
     r.statistic = t.choice("statistic", requirement_statistics(), "p95");
     const bool most = t.has("at_most"), least = t.has("at_least");
     if (most == least && !t.schema_only()) {
@@ -129,13 +185,7 @@ std::vector<Requirement> read_requirements(TomlReader& root) {
                 std::string("a number with the output's unit, e.g. \"1.5 mN*m\" (") + e.what() + ")");
       }
     }
-    r.confidence = t.number(
-        "confidence",
-        [](double c) {
-          return c >= 0.5 && c < 1.0 ? std::string() : std::string("a one-sided confidence, 0.5 <= c < 1, e.g. 0.95");
-        },
-        0.95);
-    t.string("notes", "");
+    read_confidence_and_notes(t, r);
     out.push_back(r);
   }
   return out;
@@ -151,6 +201,10 @@ void check_requirements(const std::vector<Requirement>& requirements, const std:
       for (const auto& x : outputs) names += (names.empty() ? "" : ", ") + x.name;
       errors.emplace_back(at, "requirement.output", quote_value(r.output),
                           "an output of this study: " + names + did_you_mean(r.output, output_names_of(outputs)));
+      continue;
+    }
+    if (is_specification_statistic(r.statistic)) {
+      check_specification_units(r, *o, at, errors);
       continue;
     }
     try {
@@ -174,12 +228,24 @@ nlohmann::json judge_requirements(const std::vector<Requirement>& requirements, 
   for (const auto& r : requirements) {
     const OutputSpec* o = find_output(outputs, r.output);
     if (!o) continue;  // check_requirements refused it before the run
-    const double limit = units::parse_quantity(r.limit_text).value / unit_quantity(o->unit).value;
-    json v{{"output", r.output},         {"statistic", r.statistic},
-           {"at_most", r.at_most},       {"limit", {{"value", limit}, {"unit", o->unit}, {"as_written", r.limit_text}}},
-           {"confidence", r.confidence}, {"declared_in", r.origin}};
+    const bool specification = is_specification_statistic(r.statistic);
+    const double limit = specification ? std::stod(r.limit_text)
+                                       : units::parse_quantity(r.limit_text).value / unit_quantity(o->unit).value;
+    const std::string limit_unit = specification ? (r.statistic == "ppm" ? "ppm" : "") : o->unit;
+    json v{
+        {"output", r.output},         {"statistic", r.statistic},
+        {"at_most", r.at_most},       {"limit", {{"value", limit}, {"unit", limit_unit}, {"as_written", r.limit_text}}},
+        {"confidence", r.confidence}, {"declared_in", r.origin}};
+    std::optional<SpecificationFigure> spec;
+    double lower = 0.0, upper = 0.0;
+    if (specification) {
+      std::tie(lower, upper) = specification_limits(r, o->unit);
+      v["within"] = {{"lower", lower}, {"upper", upper}, {"unit", o->unit}, {"as_written", r.within}};
+    }
     const OutputValues ov = values_of(r.output);
-    if (!ov.values || ov.values->empty()) {
+    // Every sample failed: a yield is 0 (failed samples count as outside), other figures have none.
+    const bool yield_of_failures = specification && r.statistic != "cpk" && ov.values && ov.failed > 0;
+    if (!ov.values || (ov.values->empty() && !yield_of_failures)) {
       v["value"] = nullptr;
       v["bound"] = nullptr;
       v["verdict"] = "undecided";
@@ -187,13 +253,16 @@ nlohmann::json judge_requirements(const std::vector<Requirement>& requirements, 
       out.push_back(v);
       continue;
     }
-    const double value = statistic(*ov.values, r.statistic);
-    const Judged j = judge(r, ov, limit, value);
+    if (specification) spec = specification_figure(r, ov, lower, upper);
+    const double value = spec ? spec->value : statistic(*ov.values, r.statistic);
+    Judged j = judge(r, ov, limit, value, spec);
+    if (spec && !spec->note.empty()) j.note = j.note.empty() ? spec->note : spec->note + "; " + j.note;
     v["value"] = value;
     v["bound"] = j.bound ? json(*j.bound) : json(nullptr);
     v["bound_side"] = r.at_most ? "upper" : "lower";
     v["other_bound"] = j.other ? json(*j.other) : json(nullptr);
     v["samples"] = ov.values->size();
+    if (ov.failed > 0) v["failed_samples"] = ov.failed;
     v["verdict"] = j.verdict;
     v["margin"] = r.at_most ? limit - value : value - limit;  // > 0: on the right side of the limit
     if (j.samples_to_decide) v["samples_to_decide"] = *j.samples_to_decide;
@@ -248,8 +317,7 @@ void add_clause(const json& v, VerdictClauses& c) {
   if (bound.is_number())
     figures += " (" + bound_side + " " + pct + " bound " + format_significant(bound.get<double>(), 4) + ")";
   if (verdict == "met") {
-    c.met.push_back(statistic_label(v["statistic"].get<std::string>()) + " of " + v["output"].get<std::string>() + " " +
-                    figures + (v["at_most"].get<bool>() ? " <= " : " >= ") +
+    c.met.push_back(requirement_subject(v) + " " + figures + (v["at_most"].get<bool>() ? " <= " : " >= ") +
                     v["limit"]["as_written"].get<std::string>());
   } else if (verdict == "not met") {
     const double over = std::abs(value - limit);
@@ -335,8 +403,14 @@ std::vector<std::pair<std::string, std::string>> shown_statistics(const json& ve
                                                                   std::size_t fallback) {
   std::vector<std::pair<std::string, std::string>> shown;
   for (const auto& v : verdicts) {
-    std::pair<std::string, std::string> p{v["output"].get<std::string>(), v["statistic"].get<std::string>()};
-    if (std::find(shown.begin(), shown.end(), p) == shown.end()) shown.push_back(p);
+    const std::string output = v["output"].get<std::string>(), statistic = v["statistic"].get<std::string>();
+    // A specification is shown by the output's natural process limits (p0.135 and p99.865).
+    std::vector<std::string> statistics = {statistic};
+    if (is_specification_statistic(statistic)) statistics = {"p0_135", "p99_865"};
+    for (const std::string& stat : statistics) {
+      const std::pair<std::string, std::string> p{output, stat};
+      if (std::find(shown.begin(), shown.end(), p) == shown.end()) shown.push_back(p);
+    }
   }
   if (shown.empty()) {
     for (std::size_t k = 0; k < outputs.size() && k < fallback; ++k) shown.emplace_back(outputs[k].name, "p95");
@@ -360,14 +434,32 @@ std::string with_unit(double v, const std::string& unit) {
 }
 
 std::string statistic_label(const std::string& statistic) {
-  if (statistic == "p99_73") return "p99.73";
+  if (statistic == "cpk") return "Cpk";
+  if (statistic.size() > 1 && statistic[0] == 'p' && std::isdigit(static_cast<unsigned char>(statistic[1]))) {
+    std::string label = statistic;
+    std::replace(label.begin(), label.end(), '_', '.');
+    return label;
+  }
   return statistic;
+}
+
+std::string requirement_subject(const json& v) {
+  const std::string statistic = v["statistic"].get<std::string>();
+  std::string s = statistic_label(statistic) + " of " + v["output"].get<std::string>();
+  if (v.contains("within")) {
+    const json& w = v["within"]["as_written"];
+    s += std::string(statistic == "ppm"   ? " outside"
+                     : statistic == "cpk" ? " on"
+                                          : " within") +
+         " [" + w[0].get<std::string>() + ", " + w[1].get<std::string>() + "]";
+  }
+  return s;
 }
 
 // What a requirement says, in words: "p95 of g_rmse_torque_mNm at most 1.5 mN*m".
 std::string requirement_text(const json& v) {
-  return statistic_label(v["statistic"].get<std::string>()) + " of " + v["output"].get<std::string>() +
-         (v["at_most"].get<bool>() ? " at most " : " at least ") + v["limit"]["as_written"].get<std::string>();
+  return requirement_subject(v) + (v["at_most"].get<bool>() ? " at most " : " at least ") +
+         v["limit"]["as_written"].get<std::string>();
 }
 
 }  // namespace poise::engine

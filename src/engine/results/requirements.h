@@ -5,9 +5,17 @@
 ///
 ///     [[requirement]]
 ///     output = "g_rmse_torque_mNm"   # any output of the study (`poise keys KIND`)
-///     statistic = "p95"              # mean | p50 | p95 | p99_73 | max
+///     statistic = "p95"              # mean | min | p0_135 | p2_5 | p50 | p95 | p97_5 | p99_73
+///                                    # | p99_865 | max
 ///     at_most = "1.5 mN*m"           # or at_least, with a unit the output's converts to
 ///     confidence = 0.95              # one-sided, default 0.95
+///
+/// or a two-sided specification (engine/results/specification_limits.h):
+///
+///     [[requirement]]
+///     output = "gap_mm"
+///     within = ["0.05 mm", "0.80 mm"]
+///     yield_at_least = 0.9973        # or ppm_at_most = 2700, or cpk_at_least = 1.33
 ///
 /// The verdict is decided on the statistic's one-sided bound at that confidence, the bounds
 /// `poise optimize` uses (engine/results/confidence_bound.h: order statistics for quantiles, Student t
@@ -18,7 +26,8 @@
 ///   undecided  the limit lies between them; the verdict then says how many samples would
 ///              likely decide it, were the statistic where it is now (half-width ~ 1/sqrt(n)).
 /// A maximum has no distribution-free bound: "max <= limit" is "not met" when a sample
-/// exceeds the limit and otherwise "met by every sample run" (said so in the verdict's note).
+/// exceeds the limit and otherwise "met by every sample run" (said so in the verdict's note);
+/// a minimum mirrors it.
 ///
 /// Every requirement's verdict goes to summary.json "requirements", and one sentence,
 /// "answer", says whether every requirement is met and, if not, which and by how much. The
@@ -40,16 +49,17 @@ struct OutputSpec;  // engine/kind_interface/study_kind.h
 /// One [[requirement]] of a study file (or a kind's shorthand for one).
 struct Requirement {
   std::string output;
-  std::string statistic = "p95";  ///< mean | p50 | p95 | p99_73 | max
-  bool at_most = true;            ///< false: at_least
-  std::string limit_text;         ///< as written ("1.5 mN*m")
-  double confidence = 0.95;       ///< one-sided
-  std::string origin;             ///< where it was stated ("studies/x.toml:12", or a shorthand's key)
+  std::string statistic = "p95";    ///< requirement_statistics(), or yield | ppm | cpk with `within`
+  bool at_most = true;              ///< false: at_least
+  std::string limit_text;           ///< as written ("1.5 mN*m"; a yield's "0.9973", "2700 ppm")
+  std::vector<std::string> within;  ///< a specification's [lower, upper] as written, or empty
+  double confidence = 0.95;         ///< one-sided
+  std::string origin;               ///< where it was stated ("studies/x.toml:12", or a shorthand's key)
   std::string file;
   int line = 0;
 };
 
-/// The statistics a requirement may name.
+/// The statistics a requirement may name with at_most or at_least.
 const std::vector<std::string>& requirement_statistics();
 
 /// Reads the study file's [[requirement]] tables (errors recorded on `root`). A plain table
@@ -66,6 +76,8 @@ struct OutputValues {
   const std::vector<double>* values = nullptr;
   const std::vector<std::size_t>* ok_index = nullptr;
   std::size_t replicate_size = 0;
+  /// Samples that failed (no value), which a specification's yield counts as outside.
+  std::size_t failed = 0;
   /// Whether the samples are independent draws (plain Monte Carlo) or come in randomized
   /// replicates; false for an lhs or sobol design without replicates, whose order-statistic
   /// and Student-t bounds are then not guaranteed (each verdict says so).
@@ -104,9 +116,13 @@ std::optional<bool> requirements_met(const nlohmann::json& summary);
 
 /// A figure in the output's unit, 4 significant digits ("1.25 mN*m", "0.42" when unitless).
 std::string with_unit(double v, const std::string& unit);
-/// A statistic's name for people ("p99_73" -> "p99.73").
+/// A statistic's name for people ("p99_73" -> "p99.73", "cpk" -> "Cpk").
 std::string statistic_label(const std::string& statistic);
-/// What a requirement's verdict says, in words: "p95 of g_rmse_torque_mNm at most 1.5 mN*m".
+/// What a requirement's verdict is on: "p95 of g_rmse_torque_mNm", "yield of gap_mm within
+/// [0.05 mm, 0.80 mm]".
+std::string requirement_subject(const nlohmann::json& verdict);
+/// What a requirement's verdict says, in words: "p95 of g_rmse_torque_mNm at most 1.5 mN*m",
+/// "yield of gap_mm within [0.05 mm, 0.80 mm] at least 0.9973".
 std::string requirement_text(const nlohmann::json& verdict);
 
 }  // namespace poise::engine

@@ -20,13 +20,11 @@ nlohmann::json estimate_json(const sampling::Estimate& e) {
 }
 
 nlohmann::json summary_json(const sampling::Summary& s) {
-  return {{"n", s.n},
-          {"mean", estimate_json(s.mean)},
-          {"std", estimate_json(s.std)},
-          {"p50", estimate_json(s.p50)},
-          {"p95", estimate_json(s.p95)},
-          {"p99_73", estimate_json(s.p99_73)},
-          {"max", estimate_json(s.max)}};
+  nlohmann::json j{{"n", s.n}, {"mean", estimate_json(s.mean)}, {"std", estimate_json(s.std)}};
+  j["min"] = estimate_json(s.min);
+  for (const sampling::SummaryQuantile& q : sampling::summary_quantiles()) j[q.name] = estimate_json(s.*q.field);
+  j["max"] = estimate_json(s.max);
+  return j;
 }
 
 std::string csv_number(double v) {

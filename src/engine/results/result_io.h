@@ -10,7 +10,8 @@ namespace poise::engine {
 
 /// {"value": v, "ci95": [lo or null, hi or null]}
 nlohmann::json estimate_json(const sampling::Estimate& e);
-/// {"n", "mean", "std", "p50", "p95", "p99_73", "max"}, each an estimate_json.
+/// {"n", "mean", "std", "min", "p0_135", "p2_5", "p50", "p95", "p97_5", "p99_73", "p99_865",
+/// "max"}, each an estimate_json (sampling::summary_quantiles()).
 nlohmann::json summary_json(const sampling::Summary& s);
 /// A number for samples.csv: the shortest text that reads back to the same double ("nan" for NaN).
 std::string csv_number(double v);

@@ -15,7 +15,7 @@ namespace poise::engine {
 using nlohmann::json;
 
 namespace {
-const char* kStatistics[] = {"mean", "std", "p50", "p95", "p99_73"};
+const char* kStatistics[] = {"mean", "std", "p0_135", "p2_5", "p50", "p95", "p97_5", "p99_73", "p99_865"};
 }  // namespace
 
 UntilTarget parse_until(const std::string& text, const std::vector<std::string>& outputs) {
@@ -29,11 +29,11 @@ UntilTarget parse_until(const std::string& text, const std::vector<std::string>&
     return s;
   };
   if (op == std::string::npos || dot == std::string::npos) {
-    throw UsageError(
-        "--until \"" + text +
-        "\": expected OUTPUT.STAT<=WIDTH, e.g. \"los_max_arcsec.p99_73<=0.5\" or "
-        "\"los_max_arcsec.p95<=1%\" (STAT: mean, std, p50, p95, p99_73; WIDTH: the 95% interval's full width "
-        "in the output's unit, or a percentage of the figure)");
+    throw UsageError("--until \"" + text +
+                     "\": expected OUTPUT.STAT<=WIDTH, e.g. \"los_max_arcsec.p99_73<=0.5\" or "
+                     "\"los_max_arcsec.p95<=1%\" (STAT: mean, std, p0_135, p2_5, p50, p95, p97_5, p99_73, p99_865; "
+                     "WIDTH: the 95% interval's full width "
+                     "in the output's unit, or a percentage of the figure)");
   }
   t.output = text.substr(0, dot);
   t.statistic = text.substr(dot + 1, op - dot - 1);
@@ -49,7 +49,7 @@ UntilTarget parse_until(const std::string& text, const std::vector<std::string>&
   }
   if (std::find(std::begin(kStatistics), std::end(kStatistics), t.statistic) == std::end(kStatistics)) {
     throw UsageError("--until \"" + text + "\": statistic \"" + t.statistic +
-                     "\" is not one of mean, std, p50, p95, p99_73");
+                     "\" is not one of mean, std, p0_135, p2_5, p50, p95, p97_5, p99_73, p99_865");
   }
   try {
     std::size_t used = 0;
@@ -66,7 +66,10 @@ UntilTarget parse_until(const std::string& text, const std::vector<std::string>&
 
 void check_until_design(const UntilTarget& target, std::size_t replicate_size) {
   if (replicate_size == 0 || target.statistic.empty() || target.statistic[0] != 'p') return;
-  const double p = target.statistic == "p50" ? 0.5 : target.statistic == "p95" ? 0.95 : 0.9973;
+  double p = 0.5;
+  for (const sampling::SummaryQuantile& q : sampling::summary_quantiles()) {
+    if (target.statistic == q.name) p = q.p;
+  }
   const double tail = static_cast<double>(replicate_size) * std::min(p, 1.0 - p);
   if (tail >= sampling::kMinTailPerReplicate) return;
   const auto needed = static_cast<std::size_t>(std::ceil(sampling::kMinTailPerReplicate / std::min(p, 1.0 - p)));
@@ -85,9 +88,9 @@ void check_until_design(const UntilTarget& target, std::size_t replicate_size) {
 const sampling::Estimate& statistic_of(const sampling::Summary& s, const std::string& statistic) {
   if (statistic == "mean") return s.mean;
   if (statistic == "std") return s.std;
-  if (statistic == "p50") return s.p50;
-  if (statistic == "p95") return s.p95;
-  if (statistic == "p99_73") return s.p99_73;
+  for (const sampling::SummaryQuantile& q : sampling::summary_quantiles()) {
+    if (statistic == q.name) return s.*q.field;
+  }
   if (statistic == "max") return s.max;
   throw Error("unknown statistic " + statistic);
 }

@@ -62,7 +62,7 @@ std::function<OutputValues(const std::string&)> requirement_values(const McResul
     const auto k = static_cast<std::size_t>(it - outputs.begin());
     OutputValues ov;
     if (it != outputs.end() && k < r.values.size()) {
-      ov = {&r.values[k], &r.ok_index, cfg.replicate_size, independent_samples(cfg)};
+      ov = {&r.values[k], &r.ok_index, cfg.replicate_size, r.failures, independent_samples(cfg)};
     }
     return ov;
   };

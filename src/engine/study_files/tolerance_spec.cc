@@ -2,6 +2,32 @@
 
 namespace poise::engine {
 
+namespace {
+
+// deviation = [lower, upper]: two values of `dim` (plain numbers when dimensionless), lower < upper.
+std::pair<double, double> read_deviation(TomlReader& t, const units::Dimension& dim) {
+  const std::vector<std::string> ends = t.string_array("deviation");
+  const std::string expected = "two deviations [lower, upper] from the value, e.g. [\"0 mm\", \"+0.06 mm\"]";
+  if (ends.size() != 2) {
+    t.error("deviation", std::to_string(ends.size()) + " values", expected);
+    return {0.0, 0.0};
+  }
+  double x[2] = {0.0, 0.0};
+  for (int k = 0; k < 2; ++k) {
+    try {
+      x[k] = units::parse_as(ends[k], dim);
+    } catch (const Error& e) {
+      t.error("deviation", quote_value(ends[k]), expected + " (" + e.what() + ")");
+      return {0.0, 0.0};
+    }
+  }
+  if (!(x[0] < x[1]))
+    t.error("deviation", "[" + ends[0] + ", " + ends[1] + "]", "the lower deviation first, below the upper");
+  return {x[0], x[1]};
+}
+
+}  // namespace
+
 ToleranceSpec read_tolerance(TomlReader& parent, const std::string& key, const units::Dimension& dim,
                              const std::string& display_unit) {
   ToleranceSpec spec;
@@ -33,7 +59,23 @@ ToleranceSpec read_tolerance(TomlReader& parent, const std::string& key, const u
       t.quantity("max", dim);
     }
   }
-  if (t.has("min") || t.has("max")) {
+  if (t.schema_only()) {
+    t.ask("deviation",
+          "two values [lower, upper] deviations from the value, e.g. [\"0 mm\", \"+0.06 mm\"] (a drawing's "
+          "asymmetric limits), with tolerance_is; instead of tolerance",
+          "(optional)", false);
+  }
+  if (t.has("deviation") && !t.schema_only()) {
+    // A drawing's asymmetric limits: the distribution centred between them, its half-width
+    // read by tolerance_is.
+    const auto range = read_deviation(t, dim);
+    if (t.has("tolerance") || t.has("min") || t.has("max")) {
+      t.error("deviation", "", "either deviation, tolerance or min/max, not two of them");
+    }
+    nominal = 0.5 * (range.first + range.second);
+    tol = 0.5 * (range.second - range.first);
+    convention = sampling::parse_convention(t.choice("tolerance_is", {"bounds", "1sigma", "2sigma", "3sigma"}));
+  } else if (t.has("min") || t.has("max")) {
     const double lo = dimensionless ? t.number("min") : t.quantity("min", dim);
     const double hi = dimensionless ? t.number("max") : t.quantity("max", dim);
     if (hi < lo) t.error("max", "", "max >= min");

@@ -5,6 +5,10 @@
 ///   distribution = "normal"      # normal | uniform | arcsine | truncated_normal | fixed
 ///   tolerance_is = "3sigma"      # bounds | 1sigma | 2sigma | 3sigma
 ///   source = "Wang 2011, Sec. 2.1.1 (3) 1)"
+/// or a drawing's asymmetric limits (the distribution centred between them, t their half-width):
+///   deviation = ["0 mm", "+0.06 mm"]
+///   distribution = "normal"
+///   tolerance_is = "3sigma"
 /// or, for a parameter with a range rather than a deviation:
 ///   min = 0.4
 ///   max = 0.96

@@ -1,0 +1,221 @@
+#include "engine/kind_interface/closed_form_study.h"
+
+#include <cmath>
+#include <mutex>
+#include <sstream>
+
+#include "core/error.h"
+#include "engine/results/result_io.h"
+#include "engine/study_files/model_overrides.h"
+
+namespace poise::engine {
+namespace {}  // namespace
+
+ClosedFormModel read_closed_form_model(const ClosedFormDeclaration& d, TomlReader& root) {
+  ClosedFormModel model;
+  model.header = read_model_header(root, d.name);
+  TomlReader p = root.table("parameters");
+  for (const auto& par : d.parameters) {
+    // A dimensionless value may be a plain number or carry a dimensionless unit ("23.6 ppm").
+    const bool plain = par.dimension == units::kDimensionless && !(p.has(par.name) && p.raw()[par.name].is_string());
+    model.values.push_back(plain ? p.number(par.name) : p.quantity(par.name, par.dimension));
+  }
+  if (root.has_or_schema("tolerances")) {
+    TomlReader t = root.table("tolerances");
+    for (std::size_t k = 0; k < d.parameters.size(); ++k) {
+      const ClosedFormParameter& par = d.parameters[k];
+      if (!t.has(par.name) && !t.schema_only()) continue;
+      bool range = false;
+      if (t.has(par.name) && t.raw()[par.name].is_table()) {
+        const TomlReader sub = t.table(par.name);
+        range = sub.has("min") || sub.has("max");
+      }
+      model.drawn.push_back({k, read_tolerance(t, par.name, par.dimension, par.display_unit), range});
+    }
+  }
+  return model;
+}
+
+namespace {
+
+std::string column_name(const ClosedFormParameter& p) {
+  std::string unit = p.display_unit;
+  for (auto& ch : unit) {
+    if (ch == '*' || ch == '/' || ch == '^') ch = '_';
+  }
+  return unit.empty() || unit == "1" ? p.name : p.name + "_" + unit;
+}
+
+double display_factor(const std::string& unit) { return unit_quantity(unit).value; }
+
+// The study of a closed-form kind: each sample draws the toleranced parameters from its
+// design point and evaluates the kind's formula.
+class ClosedFormStudy final : public ProcedureStudyBase<ClosedFormStudy> {
+ public:
+  ClosedFormStudy(StudyConfig cfg, ClosedFormDeclaration declaration, ClosedFormModel model,
+                  ClosedFormFunctions functions, std::size_t samples, std::uint64_t seed)
+      : cfg_(std::move(cfg)),
+        declaration_(std::move(declaration)),
+        model_(std::move(model)),
+        functions_(std::move(functions)),
+        samples_(samples),
+        design_(make_design(cfg_, seed, samples, std::max<std::size_t>(model_.drawn.size(), 1))) {
+    const ClosedFormDeclaration& d = declaration_;
+    for (const auto& dr : model_.drawn) {
+      input_names_.push_back(column_name(d.parameters[dr.parameter]));
+      input_factor_.push_back(display_factor(d.parameters[dr.parameter].display_unit));
+      input_tolerances_.push_back("tolerances." + d.parameters[dr.parameter].name);
+    }
+    for (const auto& o : d.outputs) output_factor_.push_back(display_factor(o.unit));
+    declare_outputs(d.outputs);
+  }
+
+  // One thread's function and buffers.
+  struct Workspace {
+    std::unique_ptr<ClosedFormFunction> function;
+    std::vector<double> u, values;
+  };
+  std::unique_ptr<Workspace> make_workspace() const {
+    return std::make_unique<Workspace>(Workspace{functions_(), std::vector<double>(design_.dimension()), {}});
+  }
+  void compute(std::size_t i, Workspace& ws, SampleResult& out) const {
+    const ClosedFormDeclaration& d = declaration_;
+    out = SampleResult{};  // the driver reuses its result slots
+    out.index = i;
+    ws.values = model_.values;
+    design_.point(i, ws.u);
+    out.inputs.resize(model_.drawn.size());
+    for (std::size_t k = 0; k < model_.drawn.size(); ++k) {
+      const auto& dr = model_.drawn[k];
+      const double x = dr.spec.dist.quantile(ws.u[k]);
+      ws.values[dr.parameter] = dr.range ? x : ws.values[dr.parameter] + x;
+      out.inputs[k] = ws.values[dr.parameter] / input_factor_[k];
+    }
+    try {
+      out.outputs.resize(d.outputs.size());
+      ws.function->compute(ws.values, out.outputs);
+      for (std::size_t k = 0; k < out.outputs.size(); ++k) out.outputs[k] /= output_factor_[k];
+    } catch (const Error& e) {
+      out.ok = false;
+      out.message = e.what();
+      out.outputs.assign(d.outputs.size(), NAN);
+    }
+  }
+
+  bool evaluates_inputs() const override { return true; }
+  std::vector<double> nominal_inputs() const override {
+    std::vector<double> x;
+    for (std::size_t k = 0; k < model_.drawn.size(); ++k) {
+      const auto& dr = model_.drawn[k];
+      x.push_back((dr.range ? dr.spec.dist.quantile(0.5) : model_.values[dr.parameter]) / input_factor_[k]);
+    }
+    return x;
+  }
+  void evaluate_point(std::size_t, std::span<const double> inputs, std::span<double> outputs) const override {
+    std::vector<double> values = model_.values;
+    for (std::size_t k = 0; k < model_.drawn.size(); ++k)
+      values[model_.drawn[k].parameter] = inputs[k] * input_factor_[k];
+    std::unique_ptr<ClosedFormFunction> f = take_function();
+    std::vector<double> si(declaration_.outputs.size());
+    try {
+      f->compute(values, si);
+    } catch (...) {
+      give_back(std::move(f));
+      throw;
+    }
+    give_back(std::move(f));
+    for (std::size_t k = 0; k < si.size() && k < outputs.size(); ++k) outputs[k] = si[k] / output_factor_[k];
+  }
+
+  std::size_t samples() const { return samples_; }
+  std::size_t design_dimension() const { return design_.dimension(); }
+  const StudyConfig& config() const override { return cfg_; }
+  std::string model_name() const override { return model_.header.name; }
+  std::string model_source() const override { return model_.header.source; }
+  void report_sections(const McResult&, const std::string&, bool, std::vector<std::string>&,
+                       std::ostringstream& html) const override {
+    const ClosedFormDeclaration& d = declaration_;
+    html << "<h2>Model parameters</h2>\n<table><tr><th class='l'>parameter</th><th>value</th>"
+            "<th class='l'>tolerance</th><th class='l'>source</th></tr>\n";
+    for (std::size_t k = 0; k < d.parameters.size(); ++k) {
+      const ClosedFormParameter& p = d.parameters[k];
+      std::string tol = "fixed", source;
+      for (const auto& dr : model_.drawn) {
+        if (dr.parameter != k) continue;
+        const double f = display_factor(p.display_unit);
+        const std::string unit = p.display_unit.empty() || p.display_unit == "1" ? "" : " " + p.display_unit;
+        tol = dr.range ? "range " + format_significant(dr.spec.dist.lower() / f, 6) + " to " +
+                             format_significant(dr.spec.dist.upper() / f, 6) + unit + " (" +
+                             sampling::to_string(dr.spec.dist.kind()) + "; the value above is not used)"
+                       : "deviation: " + dr.spec.dist.describe(dr.spec.display_factor, p.display_unit);
+        source = dr.spec.source;
+      }
+      html << "<tr><td class='l'><code>" << html_escape(p.name) << "</code> " << html_escape(p.description)
+           << "</td><td>" << format_significant(model_.values[k] / display_factor(p.display_unit), 6)
+           << (p.display_unit.empty() || p.display_unit == "1" ? "" : " " + html_escape(p.display_unit))
+           << "</td><td class='l'>" << html_escape(tol) << "</td><td class='l'>" << html_escape(source)
+           << "</td></tr>\n";
+    }
+    html << "</table>\n";
+  }
+
+ private:
+  // evaluate_point's functions, reused across calls from any thread.
+  std::unique_ptr<ClosedFormFunction> take_function() const {
+    {
+      const std::lock_guard<std::mutex> lock(pool_mutex_);
+      if (!pool_.empty()) {
+        std::unique_ptr<ClosedFormFunction> f = std::move(pool_.back());
+        pool_.pop_back();
+        return f;
+      }
+    }
+    return functions_();
+  }
+  void give_back(std::unique_ptr<ClosedFormFunction> f) const {
+    const std::lock_guard<std::mutex> lock(pool_mutex_);
+    pool_.push_back(std::move(f));
+  }
+
+  StudyConfig cfg_;
+  ClosedFormDeclaration declaration_;
+  ClosedFormModel model_;
+  ClosedFormFunctions functions_;
+  mutable std::mutex pool_mutex_;
+  mutable std::vector<std::unique_ptr<ClosedFormFunction>> pool_;
+  std::size_t samples_;
+  sampling::Design design_;
+  std::vector<double> input_factor_, output_factor_;  ///< SI per display unit (not parsed per sample)
+};
+
+}  // namespace
+
+std::unique_ptr<ProcedureStudy> make_closed_form_study(const StudyConfig& cfg, ClosedFormDeclaration declaration,
+                                                       ClosedFormModel model, ClosedFormFunctions functions,
+                                                       std::size_t samples, std::uint64_t seed) {
+  return std::make_unique<ClosedFormStudy>(cfg, std::move(declaration), std::move(model), std::move(functions), samples,
+                                           seed);
+}
+
+std::string validate_closed_form(const StudyConfig& cfg, const ClosedFormDeclaration& d, const ClosedFormModel& m) {
+  // A parameter drawn from a range has no value to sweep: its range sets it.
+  for (const auto& sw : cfg.sweeps) {
+    for (const auto& dr : m.drawn) {
+      const std::string name = d.parameters[dr.parameter].name;
+      if (dr.range && sw.parameter == "parameters." + name) {
+        throw ValidationError({InputError(
+            SourceLocation{cfg.file, sw.line, 0}, "sweep.parameter", quote_value(sw.parameter),
+            "a parameter whose value counts: " + name +
+                " is drawn from its range "
+                "([tolerances." +
+                name + "] min, max); sweep tolerances." + name + ".min and .max, or give it a deviation instead")});
+      }
+    }
+  }
+  return cfg.file + ": valid. Study '" + cfg.name + "' (" + cfg.kind + ") on model '" + m.header.name +
+         "': " + std::to_string(m.drawn.size()) + " toleranced parameter(s) of " + std::to_string(d.parameters.size()) +
+         ", " + std::to_string(d.outputs.size()) + " outputs, " + sampling::to_string(cfg.method) + " design, " +
+         std::to_string(cfg.samples) + " samples, seed " + std::to_string(cfg.seed) + ".";
+}
+
+}  // namespace poise::engine
