@@ -67,8 +67,8 @@ void note_missing_ends(Estimate& e, std::size_t n, double p) {
 }
 
 constexpr SummaryQuantile kSummaryQuantiles[] = {
-    {"p0_135", 0.00135, &Summary::p0_135}, {"p2_5", 0.025, &Summary::p2_5},     {"p50", 0.50, &Summary::p50},
-    {"p95", 0.95, &Summary::p95},          {"p97_5", 0.975, &Summary::p97_5},   {"p99_73", 0.9973, &Summary::p99_73},
+    {"p0_135", 0.00135, &Summary::p0_135},  {"p2_5", 0.025, &Summary::p2_5},   {"p50", 0.50, &Summary::p50},
+    {"p95", 0.95, &Summary::p95},           {"p97_5", 0.975, &Summary::p97_5}, {"p99_73", 0.9973, &Summary::p99_73},
     {"p99_865", 0.99865, &Summary::p99_865}};
 
 }  // namespace

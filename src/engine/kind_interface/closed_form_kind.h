@@ -35,6 +35,7 @@
 #include <memory>
 #include <span>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "core/units.h"
@@ -58,6 +59,9 @@ struct ClosedFormDeclaration {
   std::string summary;  ///< for `poise --help` and `poise keys`
   std::vector<ClosedFormParameter> parameters;
   std::vector<OutputSpec> outputs;  ///< compute() returns them in SI, in this order
+  /// How the outputs are computed, for the report: (what, formula) rows; empty for a kind
+  /// whose formula is its C++ (its header states it).
+  std::vector<std::pair<std::string, std::string>> formulas;
 };
 
 class ClosedFormKind : public ProcedureKind {

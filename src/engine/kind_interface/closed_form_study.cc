@@ -157,6 +157,13 @@ class ClosedFormStudy final : public ProcedureStudyBase<ClosedFormStudy> {
            << "</td></tr>\n";
     }
     html << "</table>\n";
+    if (d.formulas.empty()) return;
+    html << "<h2>Formulas</h2>\n<table><tr><th class='l'>name</th><th class='l'>formula</th></tr>\n";
+    for (const auto& [what, formula] : d.formulas) {
+      html << "<tr><td class='l'><code>" << html_escape(what) << "</code></td><td class='l'><code>"
+           << html_escape(formula) << "</code></td></tr>\n";
+    }
+    html << "</table>\n";
   }
 
  private:

@@ -70,9 +70,13 @@ std::string describe_node(const toml::node& n) {
 
 namespace {
 
-// The last files parsed, with their text: a study's model file is read by several stages
+// The last large files parsed, with their text: a study's model file is read by several stages
 // (validation, references, outputs, the run), and a file holding a 1 MB string must not be
-// parsed ten times. A file is taken from here only when its text is unchanged.
+// parsed ten times. A file is taken from here only when its text is unchanged. A copy of a
+// toml::table loses the source positions of its nodes (toml++ 3.3), so a file small enough to
+// parse again in well under a millisecond is parsed again: its errors keep their lines, and
+// readers that keep the file's order of keys (by line) see it.
+constexpr std::size_t kCachedFileBytes = 64 * 1024;
 struct ParsedFile {
   std::string path, text;
   toml::table table;
@@ -130,7 +134,9 @@ toml::table parse_toml_file(const std::string& path) {
         {InputError(SourceLocation{path, 0, 0}, "(file)", "cannot be opened", "a readable TOML file")});
   }
   std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  if (auto parsed = parsed_before(path, text)) return std::move(*parsed);
+  if (text.size() >= kCachedFileBytes) {
+    if (auto parsed = parsed_before(path, text)) return std::move(*parsed);
+  }
   // toml++ descends recursively: a file nested tens of thousands of levels deep would
   // overflow the stack. Such a file is refused before it is parsed.
   if (const auto deep = find_too_deep_nesting(text)) {
@@ -141,7 +147,7 @@ toml::table parse_toml_file(const std::string& path) {
   }
   try {
     toml::table table = toml::parse(text, path);
-    remember_parsed(path, std::move(text), table);
+    if (text.size() >= kCachedFileBytes) remember_parsed(path, std::move(text), table);
     return table;
   } catch (const toml::parse_error& e) {
     SourceLocation loc{path, static_cast<int>(e.source().begin.line), static_cast<int>(e.source().begin.column)};

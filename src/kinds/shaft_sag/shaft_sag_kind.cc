@@ -31,7 +31,8 @@ class ShaftSagKind final : public ClosedFormKind {
                          {"los_per_tilt", kDimensionless, "1", "LOS turn per radian of tilt (1 lens, 2 mirror)"}},
                         {{"tilt_urad", "urad", "tilt of the shaft at the optics"},
                          {"los_error_arcsec", "arcsec", "LOS error from the tilt: |los_per_tilt x tilt|"},
-                         {"deflection_um", "um", "sag of the shaft at the optics"}}}) {}
+                         {"deflection_um", "um", "sag of the shaft at the optics"}},
+                        {}}) {}
 
   std::vector<double> compute(std::span<const double> p) const override {
     const double span = p[0], a = p[1], d = p[2], bore = p[3], e = p[4], m = p[5], g = p[6], k = p[7];
