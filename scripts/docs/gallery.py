@@ -55,6 +55,8 @@ def entries(source, folder):
          ["run", study("los_seeker_wang2011.toml"), "--samples", "1024"]),
         ("shaft_sag", "Your own closed-form mechanism (study kind shaft_sag)", "own-mechanism.md",
          ["run", study("shaft_sag_example.toml"), "--samples", "4096"]),
+        ("formula", "Your own mechanism as formulas, no C++ (study kind formula)", "own-mechanism.md",
+         ["run", study("bearing_stack_formula.toml"), "--samples", "20000"]),
         ("gimbal_static_unbalance", "Static-unbalance test of a gimbal axis (gimbal_static_unbalance)", "designer.md",
          ["run", study("gimbal_unbalance_mc.toml"), "--samples", "16"]),
         ("balancing_machine", "Spring-plate balancing machine (balancing_machine)", "balancing.md",
