@@ -38,6 +38,17 @@ ClosedFormModel read_closed_form_model(const ClosedFormDeclaration& d, TomlReade
 
 namespace {
 
+// A deviation as the drawing gives it: "normal, +-0.05 mm read as 3sigma ...", and for
+// asymmetric limits the limits and the centre first ("-0.12 to 0 mm, centred on -0.06 mm: ...").
+std::string deviation_text(const ToleranceSpec& spec, double factor, const std::string& unit) {
+  const sampling::Distribution& d = spec.dist;
+  std::string text = d.describe(spec.display_factor, spec.display_unit);
+  if (d.nominal() == 0.0 || d.kind() == sampling::DistributionKind::kFixed) return text;
+  return format_significant((d.nominal() - d.tolerance()) / factor, 6) + " to " +
+         format_significant((d.nominal() + d.tolerance()) / factor, 6) + unit + ", centred on " +
+         format_significant(d.nominal() / factor, 6) + unit + ": " + text;
+}
+
 std::string column_name(const ClosedFormParameter& p) {
   std::string unit = p.display_unit;
   for (auto& ch : unit) {
@@ -147,7 +158,7 @@ class ClosedFormStudy final : public ProcedureStudyBase<ClosedFormStudy> {
         tol = dr.range ? "range " + format_significant(dr.spec.dist.lower() / f, 6) + " to " +
                              format_significant(dr.spec.dist.upper() / f, 6) + unit + " (" +
                              sampling::to_string(dr.spec.dist.kind()) + "; the value above is not used)"
-                       : "deviation: " + dr.spec.dist.describe(dr.spec.display_factor, p.display_unit);
+                       : "deviation: " + deviation_text(dr.spec, f, unit);
         source = dr.spec.source;
       }
       html << "<tr><td class='l'><code>" << html_escape(p.name) << "</code> " << html_escape(p.description)

@@ -56,7 +56,7 @@ std::vector<engine::ClosedFormParameter> file_parameters(const toml::table& doc,
       continue;
     }
     const toml::node& node = *table->get(key);
-    engine::ClosedFormParameter p{key, units::kDimensionless, "", "parameter " + key};
+    engine::ClosedFormParameter p{key, units::kDimensionless, "", ""};
     if (const auto* s = node.as_string()) {
       try {
         p.dimension = units::parse_quantity(s->get()).dim;
