@@ -123,7 +123,7 @@ class Result:
 
 
 def run(study, samples=None, seed=None, threads=0, overrides=None, plots=False, out=None, progress=False,
-        sensitivity_base=0):
+        sensitivity_base=0, model=None, allow_programs=False):
     """Runs a study file as ``poise run`` does and returns a :class:`Result`.
 
     samples, seed: override the file's [sampling]; threads: 0 = all cores (results do not
@@ -132,12 +132,21 @@ def run(study, samples=None, seed=None, threads=0, overrides=None, plots=False, 
     (must not hold a run), None = nothing kept; progress: show progress on stderr;
     sensitivity_base: > 0 runs ``poise sensitivity --base N`` instead (Sobol indices with
     their intervals in ``summary["sensitivity"]``; samples is then set by the layout).
+    model: for a study whose model file has ``kind = "python"``, the function f(inputs) ->
+    outputs that computes it: inputs is a dict of NumPy arrays (a batch of samples, one array
+    per parameter, in the unit its value is written in), and f returns a dict with an array (or
+    a number) per declared output in its unit; a NaN is a sample without an answer, an exception
+    fails the batch with its message. allow_programs: start the program a model file with
+    ``kind = "external"`` names (only for a program you trust), as ``--allow-programs``.
     """
+    if model is not None and not callable(model):
+        raise InputError(f"model={model!r}: expected a function f(inputs) -> outputs", None, None, "model")
     samples, seed = _count("samples", samples, 1), _count("seed", seed, 0)
     threads, sensitivity_base = _count("threads", threads, 0), _count("sensitivity_base", sensitivity_base, 0)
     try:
         raw = _call(_poise.run, os.fspath(study), samples, seed, threads, _overrides(overrides), bool(plots),
-                    None if out is None else os.fspath(out), bool(progress), sensitivity_base)
+                    None if out is None else os.fspath(out), bool(progress), sensitivity_base, model,
+                    bool(allow_programs))
     except InputError as e:
         if str(e).startswith("--out "):  # the command line's words for this function's out=
             raise InputError("out=" + str(e)[len("--out "):], e.file, e.line, "out") from None

@@ -325,3 +325,103 @@ def test_diagnose_reads_a_labs_table_with_its_own_columns(tmp_path):
                                     text=True).stdout)
     assert j == cli
     assert j["estimate_before"]["amplitude"] == pytest.approx(12.4747e-3, rel=1e-4)
+
+
+# --- Your own mechanism: a Python function (kind = "python"), an external program ---------------
+
+STACK_PARAMETERS = """
+[parameters]
+housing = "0.060 m"
+bearing_a = "0.016 m"
+spacer = "0.0276 m"
+bearing_b = "0.016 m"
+[tolerances.housing]
+tolerance = "0.00005 m"
+distribution = "normal"
+tolerance_is = "3sigma"
+[tolerances.bearing_a]
+deviation = ["-0.00012 m", "0 m"]
+distribution = "normal"
+tolerance_is = "3sigma"
+[tolerances.spacer]
+tolerance = "0.00003 m"
+distribution = "uniform"
+tolerance_is = "bounds"
+"""
+
+STACK_PROGRAM = """import json, sys
+for line in sys.stdin:
+    r = json.loads(line)
+    x = r["inputs"]
+    print(json.dumps({"sample": r["sample"], "outputs": {"gap": x["housing"] - (x["bearing_a"] + x["spacer"] + x["bearing_b"])}}), flush=True)
+"""
+
+
+def stack_study(tmp_path, kind, model_keys=""):
+    outputs = '[[output]]\nname = "gap"\nunit = "m"\n'
+    if kind == "formula":
+        outputs += 'formula = "housing - (bearing_a + spacer + bearing_b)"\n'
+    (tmp_path / f"{kind}.toml").write_text(f'[model]\nkind = "{kind}"\nname = "stack"\n{model_keys}' +
+                                           STACK_PARAMETERS + outputs)
+    study = tmp_path / f"study_{kind}.toml"
+    study.write_text(f'[study]\nname = "s"\nkind = "{kind}"\nmodel = "{kind}.toml"\n'
+                     '[sampling]\nmethod = "monte_carlo"\nsamples = 300\nseed = 4\nmax_failure_share = 0.99\n')
+    return str(study)
+
+
+def stack_function(x):
+    return {"gap": x["housing"] - (x["bearing_a"] + x["spacer"] + x["bearing_b"])}
+
+
+def test_a_formula_a_program_and_a_python_function_give_the_same_samples(tmp_path):
+    """The same arithmetic in SI units three ways: samples.csv the same byte for byte."""
+    (tmp_path / "model.py").write_text(STACK_PROGRAM)
+    runs = {
+        "formula": poise.run(stack_study(tmp_path, "formula"), threads=2, out=tmp_path / "formula_run"),
+        "python": poise.run(stack_study(tmp_path, "python", "batch = 64\n"), threads=2, out=tmp_path / "python_run",
+                            model=stack_function),
+        "external": poise.run(stack_study(tmp_path, "external", 'command = ["python3", "model.py"]\n'), threads=2,
+                              out=tmp_path / "external_run", allow_programs=True),
+    }
+    texts = {k: (tmp_path / f"{k}_run" / "samples.csv").read_text() for k in runs}
+    assert texts["python"] == texts["formula"]
+    assert texts["external"] == texts["formula"]
+    assert len(runs["python"].outputs["gap"]) == 300
+
+
+def test_a_python_study_needs_its_function_and_a_program_its_permission(tmp_path):
+    with pytest.raises(poise.Error, match=r"poise.run\(.*model=f"):
+        poise.run(stack_study(tmp_path, "python"))
+    (tmp_path / "model.py").write_text(STACK_PROGRAM)
+    with pytest.raises(poise.Error, match="--allow-programs"):
+        poise.run(stack_study(tmp_path, "external", 'command = ["python3", "model.py"]\n'))
+    with pytest.raises(poise.InputError, match="expected a function"):
+        poise.run(stack_study(tmp_path, "python"), model=42)
+
+
+def test_a_python_function_that_fails_fails_its_samples_with_the_reason(tmp_path):
+    def half_nan(x):
+        gap = x["housing"] - (x["bearing_a"] + x["spacer"] + x["bearing_b"])
+        gap[::2] = np.nan
+        return {"gap": gap}
+
+    def raising(x):
+        raise ValueError("no such bearing")
+
+    r = poise.run(stack_study(tmp_path, "python"), model=half_nan, out=tmp_path / "nan")
+    assert r.summary["failures"]["count"] == 150
+    assert "the model function gave no number for gap" in (tmp_path / "nan" / "samples.csv").read_text()
+    with pytest.raises(poise.Error):
+        poise.run(stack_study(tmp_path, "python"), model=raising, out=tmp_path / "raising")
+    assert "the model function raised ValueError: no such bearing" in (tmp_path / "raising" / "samples.csv").read_text()
+
+
+def test_the_shipped_python_study_gives_its_recorded_samples(tmp_path):
+    """studies/bearing_stack_python.toml with models/bearing_stack_python.py at the plan's 2
+    samples, seed 11 (tests/data/study_reference/record.sh records it this way)."""
+    import runpy
+    f = runpy.run_path(os.path.join(SRC, "models", "bearing_stack_python.py"))["model"]
+    poise.run(os.path.join(SRC, "studies", "bearing_stack_python.toml"), samples=2, seed=11, threads=2,
+              out=tmp_path / "run", model=f)
+    recorded = os.path.join(SRC, "tests", "data", "study_reference", "bearing_stack_python.csv")
+    assert (tmp_path / "run" / "samples.csv").read_text() == open(recorded).read()

@@ -57,6 +57,10 @@ def entries(source, folder):
          ["run", study("shaft_sag_example.toml"), "--samples", "4096"]),
         ("formula", "Your own mechanism as formulas, no C++ (study kind formula)", "own-mechanism.md",
          ["run", study("bearing_stack_formula.toml"), "--samples", "20000"]),
+        ("external", "Your own mechanism as a program of its own (study kind external)", "own-mechanism.md",
+         ["run", study("bearing_stack_external.toml"), "--samples", "4096", "--allow-programs"]),
+        ("python", "Your own mechanism as a Python function (study kind python)", "own-mechanism.md",
+         ["python", study("bearing_stack_python.toml"), os.path.join("models", "bearing_stack_python.py")]),
         ("gimbal_static_unbalance", "Static-unbalance test of a gimbal axis (gimbal_static_unbalance)", "designer.md",
          ["run", study("gimbal_unbalance_mc.toml"), "--samples", "16"]),
         ("balancing_machine", "Spring-plate balancing machine (balancing_machine)", "balancing.md",
@@ -111,6 +115,14 @@ def answer_of(out):
     return ""
 
 
+# A Python function's study run from Python: study, the function's file (its `model`), folder.
+PYTHON_RUN = """import runpy, sys
+import poise
+study, function, out = sys.argv[1:]
+poise.run(study, model=runpy.run_path(function)["model"], threads=2, out=out, plots=True)
+"""
+
+
 def make(poise, source, site_src, work):
     """Writes gallery/<anchor>.html and .png under site_src; returns [(anchor, title, page, answer,
     command)] and [(anchor, summary dict)] of the study runs."""
@@ -120,14 +132,21 @@ def make(poise, source, site_src, work):
     made, summaries = [], []
     for anchor, title, page, args in entries(source, work):
         out = os.path.join(work, anchor)
-        command = [poise, *args, "--out", out] + (["-q", "--threads", "2"] if args[0] in ("run", "sensitivity", "optimize") else [])
-        r = subprocess.run(command, cwd=source, capture_output=True, text=True, timeout=1800)
+        env = None
+        if args[0] == "python":  # a Python function's study: poise.run(study, model=f) from Python
+            command = ["/usr/bin/python3", "-c", PYTHON_RUN, args[1], args[2], out]
+            env = dict(os.environ, PYTHONPATH=os.path.join(os.path.dirname(poise), "python"))
+        else:
+            command = [poise, *args, "--out", out] + (["-q", "--threads", "2"] if args[0] in ("run", "sensitivity", "optimize") else [])
+        r = subprocess.run(command, cwd=source, capture_output=True, text=True, timeout=1800, env=env)
         if r.returncode not in (0, 3):  # 3: a requirement not met, or a design not verified: still a report
             raise SystemExit(f"build_guide: {' '.join(command)} exited {r.returncode}:\n{r.stderr[-2000:]}")
         report = os.path.join(out, "report.html")
         shutil.copyfile(report, os.path.join(gallery, anchor + ".html"))
         screenshot(exe, report, os.path.join(gallery, anchor + ".png"))
         shown = ["build/poise"] + [os.path.basename(a) if a.startswith(work + os.sep) else a for a in args]
+        if args[0] == "python":
+            shown = [f'poise.run("{args[1]}",', f'model=runpy.run_path("{args[2]}")["model"])']
         made.append((anchor, title, page, answer_of(out), shown))
         summary = os.path.join(out, "summary.json")
         if args[0] == "run" and os.path.isfile(summary):

@@ -1,5 +1,7 @@
 #include "cli/optimize_command.h"
 
+#include "engine/kind_interface/programs_allowed.h"
+
 #include <cstdint>
 #include <iostream>
 #include <memory>
@@ -99,6 +101,9 @@ OptimizeHandler add_optimize_command(CLI::App& app) {
   sub->add_option("--threads,-j", opt->run.threads, "worker threads per evaluation (default: all cores)")
       ->check(CLI::NonNegativeNumber);
   sub->add_option("--seed", opt->seed, "seed of the search's samples (default: the file's [optimization] seed)");
+  sub->add_flag_callback(
+      "--allow-programs", [] { engine::allow_programs(true); },
+      "start the program a model file names (kind = \"external\"): only for a program you trust");
   sub->add_flag("--quiet,-q", opt->quiet, "no progress on stderr");
   sub->add_flag("--no-plots", opt->no_plots, "skip gnuplot figures");
   sub->footer(kOptimizeHelp);

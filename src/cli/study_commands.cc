@@ -4,6 +4,7 @@
 
 #include "cli/count_check.h"
 #include "core/error.h"
+#include "engine/kind_interface/programs_allowed.h"
 #include "engine/study_files/toml_reader.h"
 #include "sampling/distributed.h"
 
@@ -28,6 +29,13 @@ void StudyCommands::add_common(CLI::App* sub, bool resumable) {
   if (!resumable) file->required();
   sub->add_option("--samples,-n", samples_, "number of samples (overrides [sampling] samples)")->check(at_least_one());
   sub->add_option("--seed,-s", seed_, "random seed (overrides [sampling] seed); same seed, same samples");
+  add_allow_programs(sub);
+}
+
+void StudyCommands::add_allow_programs(CLI::App* sub) {
+  sub->add_flag("--allow-programs", allow_programs_,
+                "start the program a model file names (kind = \"external\"); without it such a study is refused: "
+                "only for a program you trust");
 }
 
 void StudyCommands::add_run(CLI::App& app) {
@@ -44,7 +52,9 @@ void StudyCommands::add_run(CLI::App& app) {
       ->excludes("--samples")
       ->excludes("--seed");
   run_->add_option("--until", opt_.until,
-                   "run until a 95% interval is this narrow: OUTPUT.STAT<=WIDTH (STAT: mean, std, p50, p95, p99_73; "
+                   "run until a 95% interval is this narrow: OUTPUT.STAT<=WIDTH (STAT: mean, std, p0_135, p2_5, p50, "
+                   "p95, p97_5, "
+                   "p99_73, p99_865; "
                    "WIDTH in the output's unit, or N% of the figure), e.g. \"los_max_arcsec.p95<=0.2\". Checked at "
                    "~10% steps of the sample count; needs monte_carlo, or lhs/sobol with [sampling] replicate_size")
       ->excludes("--resume")
@@ -74,6 +84,7 @@ void StudyCommands::add_sensitivity(CLI::App& app) {
       "(--resume), and distributed under mpirun.");
   CLI::App* s = sensitivity_;
   s->add_option("STUDY", study_, "study file (TOML); with --resume, run.json names it")->check(CLI::ExistingFile);
+  add_allow_programs(s);
   s->add_option("--base,-b", base_,
                 "base rows N (each index's interval narrows as 1/sqrt(N); 64-256 for a "
                 "simulated procedure, 1000+ for a LOS study)")
@@ -126,6 +137,7 @@ std::optional<int> StudyCommands::settle_options() {
 
 int StudyCommands::execute() {
   const bool root = sampling::Cluster::root();
+  if (allow_programs_) engine::allow_programs(true);
   try {
     if (*validate_) {
       std::cout << engine::validate_study(study_) << '\n';

@@ -28,6 +28,7 @@ class StudyCommands {
   void add_common(CLI::App* sub, bool resumable);
   void add_run(CLI::App& app);
   void add_sensitivity(CLI::App& app);
+  void add_allow_programs(CLI::App* sub);
   /// The parsed options into `opt_` (study from --resume, --set, seeds); a refusal's status.
   std::optional<int> settle_options();
   int execute();
@@ -36,7 +37,7 @@ class StudyCommands {
   std::string study_;
   std::size_t samples_ = 0, max_samples_ = 0, base_ = 0, index_ = 0;
   std::uint64_t seed_ = 0;
-  bool quiet_ = false, no_plots_ = false;
+  bool quiet_ = false, no_plots_ = false, allow_programs_ = false;
   std::vector<std::string> settings_;
   CLI::App* run_ = nullptr;
   CLI::App* sensitivity_ = nullptr;

@@ -35,6 +35,9 @@ const std::map<std::string, UnitDef, std::less<>>& unit_table() {
       {"um", {1e-6, kLength}},
       {"µm", {1e-6, kLength}},
       {"nm", {1e-9, kLength}},
+      {"in", {0.0254, kLength}},      // inch, exact by definition
+      {"mil", {0.0254e-3, kLength}},  // thousandth of an inch (a "thou")
+      {"thou", {0.0254e-3, kLength}},
       // mass
       {"kg", {1.0, kMass}},
       {"g", {1e-3, kMass}},

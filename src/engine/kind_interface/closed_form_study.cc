@@ -11,6 +11,19 @@
 namespace poise::engine {
 namespace {}  // namespace
 
+void ClosedFormFunction::compute_batch(std::span<const std::size_t> ids, std::span<const double> parameters,
+                                       std::span<double> outputs, std::vector<std::string>& failures) {
+  const std::size_t n = ids.size(), p = n ? parameters.size() / n : 0, q = n ? outputs.size() / n : 0;
+  failures.assign(n, "");
+  for (std::size_t r = 0; r < n; ++r) {
+    try {
+      compute(parameters.subspan(r * p, p), outputs.subspan(r * q, q));
+    } catch (const Error& e) {
+      failures[r] = e.what();
+    }
+  }
+}
+
 ClosedFormModel read_closed_form_model(const ClosedFormDeclaration& d, TomlReader& root) {
   ClosedFormModel model;
   model.header = read_model_header(root, d.name);
@@ -64,11 +77,12 @@ double display_factor(const std::string& unit) { return unit_quantity(unit).valu
 class ClosedFormStudy final : public ProcedureStudyBase<ClosedFormStudy> {
  public:
   ClosedFormStudy(StudyConfig cfg, ClosedFormDeclaration declaration, ClosedFormModel model,
-                  ClosedFormFunctions functions, std::size_t samples, std::uint64_t seed)
+                  ClosedFormFunctions functions, std::size_t samples, std::uint64_t seed, std::size_t batch)
       : cfg_(std::move(cfg)),
         declaration_(std::move(declaration)),
         model_(std::move(model)),
         functions_(std::move(functions)),
+        batch_(std::max<std::size_t>(batch, 1)),
         samples_(samples),
         design_(make_design(cfg_, seed, samples, std::max<std::size_t>(model_.drawn.size(), 1))) {
     const ClosedFormDeclaration& d = declaration_;
@@ -81,30 +95,78 @@ class ClosedFormStudy final : public ProcedureStudyBase<ClosedFormStudy> {
     declare_outputs(d.outputs);
   }
 
-  // One thread's function and buffers.
+  // One thread's function and buffers; with batches, the outputs of the range of samples the
+  // driver gave the thread (begin_range), computed at once.
   struct Workspace {
+    const ClosedFormStudy* study = nullptr;
     std::unique_ptr<ClosedFormFunction> function;
     std::vector<double> u, values;
+    std::size_t begin = 0, end = 0;  // the batch computed: samples [begin, end)
+    std::vector<std::size_t> ids;
+    std::vector<double> rows_in, rows_out;
+    std::vector<std::string> failures;
+    void begin_range(std::size_t first, std::size_t n) { study->compute_range(first, n, *this); }
   };
   std::unique_ptr<Workspace> make_workspace() const {
-    return std::make_unique<Workspace>(Workspace{functions_(), std::vector<double>(design_.dimension()), {}});
+    auto ws = std::make_unique<Workspace>();
+    ws->study = this;
+    ws->function = functions_();
+    ws->u.resize(design_.dimension());
+    return ws;
   }
-  void compute(std::size_t i, Workspace& ws, SampleResult& out) const {
-    const ClosedFormDeclaration& d = declaration_;
-    out = SampleResult{};  // the driver reuses its result slots
-    out.index = i;
+  std::size_t samples_per_task() const override { return batch_ > 1 ? batch_ : 64; }
+
+  // Sample i's parameters (SI) into ws.values and its inputs (display units) into `inputs`.
+  void draw(std::size_t i, Workspace& ws, std::span<double> inputs) const {
     ws.values = model_.values;
     design_.point(i, ws.u);
-    out.inputs.resize(model_.drawn.size());
     for (std::size_t k = 0; k < model_.drawn.size(); ++k) {
       const auto& dr = model_.drawn[k];
       const double x = dr.spec.dist.quantile(ws.u[k]);
       ws.values[dr.parameter] = dr.range ? x : ws.values[dr.parameter] + x;
-      out.inputs[k] = ws.values[dr.parameter] / input_factor_[k];
+      inputs[k] = ws.values[dr.parameter] / input_factor_[k];
+    }
+  }
+
+  // Samples [first, first + n) through the function at once (a batch study only).
+  void compute_range(std::size_t first, std::size_t n, Workspace& ws) const {
+    if (batch_ <= 1) return;
+    const std::size_t p = model_.values.size(), q = declaration_.outputs.size();
+    ws.ids.resize(n);
+    ws.rows_in.resize(n * p);
+    ws.rows_out.assign(n * q, NAN);
+    std::vector<double> inputs(model_.drawn.size());
+    for (std::size_t r = 0; r < n; ++r) {
+      ws.ids[r] = first + r;
+      draw(first + r, ws, inputs);
+      std::copy(ws.values.begin(), ws.values.end(), ws.rows_in.begin() + static_cast<long>(r * p));
     }
     try {
-      out.outputs.resize(d.outputs.size());
-      ws.function->compute(ws.values, out.outputs);
+      ws.function->compute_batch(ws.ids, ws.rows_in, ws.rows_out, ws.failures);
+    } catch (const Error& e) {
+      ws.failures.assign(n, e.what());
+    }
+    ws.begin = first;
+    ws.end = first + n;
+  }
+
+  void compute(std::size_t i, Workspace& ws, SampleResult& out) const {
+    const ClosedFormDeclaration& d = declaration_;
+    out = SampleResult{};  // the driver reuses its result slots
+    out.index = i;
+    out.inputs.resize(model_.drawn.size());
+    out.outputs.resize(d.outputs.size());
+    if (batch_ > 1 && !(i >= ws.begin && i < ws.end)) compute_range(i, 1, ws);  // a replay, or outside the range
+    draw(i, ws, out.inputs);
+    try {
+      if (batch_ > 1) {
+        const std::size_t r = i - ws.begin, q = d.outputs.size();
+        if (!ws.failures[r].empty()) throw Error(ws.failures[r]);
+        std::copy(ws.rows_out.begin() + static_cast<long>(r * q), ws.rows_out.begin() + static_cast<long>((r + 1) * q),
+                  out.outputs.begin());
+      } else {
+        ws.function->compute(ws.values, out.outputs);
+      }
       for (std::size_t k = 0; k < out.outputs.size(); ++k) out.outputs[k] /= output_factor_[k];
     } catch (const Error& e) {
       out.ok = false;
@@ -114,6 +176,18 @@ class ClosedFormStudy final : public ProcedureStudyBase<ClosedFormStudy> {
   }
 
   bool evaluates_inputs() const override { return true; }
+  std::vector<InputLimits> input_limits() const override {
+    std::vector<InputLimits> out;
+    for (std::size_t k = 0; k < model_.drawn.size(); ++k) {
+      const auto& dr = model_.drawn[k];
+      const sampling::Distribution& d = dr.spec.dist;
+      const double base = dr.range ? 0.0 : model_.values[dr.parameter], f = input_factor_[k];
+      const double half = d.kind() == sampling::DistributionKind::kFixed ? 0.0 : d.tolerance();
+      const double centre = d.kind() == sampling::DistributionKind::kFixed ? d.mean() : d.nominal();
+      out.push_back({(base + centre - half) / f, (base + centre + half) / f, (base + d.mean()) / f, d.stddev() / f});
+    }
+    return out;
+  }
   std::vector<double> nominal_inputs() const override {
     std::vector<double> x;
     for (std::size_t k = 0; k < model_.drawn.size(); ++k) {
@@ -123,19 +197,36 @@ class ClosedFormStudy final : public ProcedureStudyBase<ClosedFormStudy> {
     return x;
   }
   void evaluate_point(std::size_t, std::span<const double> inputs, std::span<double> outputs) const override {
-    std::vector<double> values = model_.values;
-    for (std::size_t k = 0; k < model_.drawn.size(); ++k)
-      values[model_.drawn[k].parameter] = inputs[k] * input_factor_[k];
+    std::vector<std::string> failures;
+    evaluate_points(inputs, 1, outputs, failures);
+    if (!failures[0].empty()) throw Error(failures[0]);
+  }
+  void evaluate_points(std::span<const double> inputs, std::size_t n, std::span<double> outputs,
+                       std::vector<std::string>& failures) const override {
+    const std::size_t p = model_.values.size(), q = declaration_.outputs.size(), m = model_.drawn.size();
+    std::vector<double> rows(n * p), si(n * q, NAN);
+    std::vector<std::size_t> ids(n);
+    for (std::size_t r = 0; r < n; ++r) {
+      ids[r] = r;
+      std::copy(model_.values.begin(), model_.values.end(), rows.begin() + static_cast<long>(r * p));
+      for (std::size_t k = 0; k < m; ++k)
+        rows[r * p + model_.drawn[k].parameter] = inputs[r * m + k] * input_factor_[k];
+    }
     std::unique_ptr<ClosedFormFunction> f = take_function();
-    std::vector<double> si(declaration_.outputs.size());
     try {
-      f->compute(values, si);
+      f->compute_batch(ids, rows, si, failures);
+    } catch (const Error& e) {
+      failures.assign(n, e.what());
     } catch (...) {
       give_back(std::move(f));
       throw;
     }
     give_back(std::move(f));
-    for (std::size_t k = 0; k < si.size() && k < outputs.size(); ++k) outputs[k] = si[k] / output_factor_[k];
+    for (std::size_t r = 0; r < n; ++r) {
+      for (std::size_t k = 0; k < q; ++k) {
+        outputs[r * q + k] = failures[r].empty() ? si[r * q + k] / output_factor_[k] : NAN;
+      }
+    }
   }
 
   std::size_t samples() const { return samples_; }
@@ -199,6 +290,7 @@ class ClosedFormStudy final : public ProcedureStudyBase<ClosedFormStudy> {
   ClosedFormDeclaration declaration_;
   ClosedFormModel model_;
   ClosedFormFunctions functions_;
+  std::size_t batch_ = 1;
   mutable std::mutex pool_mutex_;
   mutable std::vector<std::unique_ptr<ClosedFormFunction>> pool_;
   std::size_t samples_;
@@ -210,9 +302,9 @@ class ClosedFormStudy final : public ProcedureStudyBase<ClosedFormStudy> {
 
 std::unique_ptr<ProcedureStudy> make_closed_form_study(const StudyConfig& cfg, ClosedFormDeclaration declaration,
                                                        ClosedFormModel model, ClosedFormFunctions functions,
-                                                       std::size_t samples, std::uint64_t seed) {
+                                                       std::size_t samples, std::uint64_t seed, std::size_t batch) {
   return std::make_unique<ClosedFormStudy>(cfg, std::move(declaration), std::move(model), std::move(functions), samples,
-                                           seed);
+                                           seed, batch);
 }
 
 std::string validate_closed_form(const StudyConfig& cfg, const ClosedFormDeclaration& d, const ClosedFormModel& m) {

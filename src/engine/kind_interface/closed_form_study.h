@@ -25,6 +25,11 @@ class ClosedFormFunction {
   /// The outputs (SI, declared order) from the parameters (SI, declared order). Throws
   /// poise::Error for a draw without a physical answer: the sample fails with that reason.
   virtual void compute(std::span<const double> parameters, std::span<double> outputs) = 0;
+  /// Rows [0, ids.size()) at once, `parameters` and `outputs` row-major (SI; one row per id,
+  /// the sample or point it is). A row without a physical answer gets its reason in
+  /// failures[row] (the others ""), its outputs left as they are. Default: compute() row by row.
+  virtual void compute_batch(std::span<const std::size_t> ids, std::span<const double> parameters,
+                             std::span<double> outputs, std::vector<std::string>& failures);
 };
 /// Makes one function per thread.
 using ClosedFormFunctions = std::function<std::unique_ptr<ClosedFormFunction>()>;
@@ -47,9 +52,11 @@ struct ClosedFormModel {
 ClosedFormModel read_closed_form_model(const ClosedFormDeclaration& declaration, TomlReader& root);
 
 /// The study of a closed-form model over `samples` samples with `seed`.
+/// `batch` > 1: the function is called with batches of that many samples (an external
+/// program, a Python function), each thread's samples in a batch of their own.
 std::unique_ptr<ProcedureStudy> make_closed_form_study(const StudyConfig& cfg, ClosedFormDeclaration declaration,
                                                        ClosedFormModel model, ClosedFormFunctions functions,
-                                                       std::size_t samples, std::uint64_t seed);
+                                                       std::size_t samples, std::uint64_t seed, std::size_t batch = 1);
 
 /// validate()'s check of a closed-form study (no sweep of a parameter drawn from a range) and
 /// its one-line summary. Throws ValidationError.

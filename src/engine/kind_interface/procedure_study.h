@@ -15,6 +15,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "core/error.h"
+
 #include "engine/kind_interface/output_spec.h"
 #include "engine/results/mc_result.h"
 #include "engine/run/sample_driver.h"
@@ -23,6 +25,13 @@
 #include "sampling/statistics.h"
 
 namespace poise::engine {
+
+/// An input as the drawing gives it: the limits a worst case is taken between (the tolerance
+/// as written about its centre, or a range's min and max) and its distribution's mean and
+/// standard deviation.
+struct InputLimits {
+  double lower = 0.0, upper = 0.0, mean = 0.0, sd = 0.0;
+};
 
 /// Where a run's finished samples go (samples.csv): `format` makes a block's bytes where the
 /// block was computed (on whichever MPI rank, on its threads), and `write` takes the block and
@@ -41,6 +50,7 @@ struct SampleSink {
 struct RunControl {
   bool distributed = false;
   std::size_t replicate_size = 0;                    ///< set from the study's config by ProcedureStudyBase::run
+  std::size_t samples_per_task = 1;                  ///< set from the study by ProcedureStudyBase::run
   std::function<std::string(const McResult&)> stop;  ///< "" = go on
   /// A study with a per-sample field: make its figures (McResult::field) and write its values
   /// to `field_file` (samples.h5 of a run; "" = kept in memory, or a scratch file when too
@@ -85,7 +95,9 @@ McResult run_procedure_samples(std::size_t samples, std::size_t block, int threa
   McResult r;
   r.n = samples;
   r.replicate_size = control.replicate_size;
-  const std::size_t chunk = std::min<std::size_t>(block, 8);
+  // Chunks of 8 whole procedures (progress and samples.csv move often), of a few tasks' worth
+  // for cheap or batched samples; the same for any thread or rank count (the stop points).
+  const std::size_t chunk = std::min<std::size_t>(block, std::max<std::size_t>(8, 4 * control.samples_per_task));
   // A resumed run's samples pass the stop rule chunk by chunk as they did the first time, so
   // a run that had already met its stop point is not continued past it.
   for (std::size_t start = 0; start < done.size(); start += chunk) {
@@ -100,7 +112,8 @@ McResult run_procedure_samples(std::size_t samples, std::size_t block, int threa
     return r;
   }
   sampling::Progress bar("samples", samples - first, progress && sampling::Cluster::root());
-  DriveSpec spec{first, samples, chunk, 1, threads, control.distributed};
+  DriveSpec spec{
+      first, samples, chunk, std::max<std::size_t>(control.samples_per_task, 1), threads, control.distributed};
   const DriveOutcome o = drive_samples<SampleResult>(
       spec, make_workspace, [&](std::size_t i, auto& ws, SampleResult& res) { compute(i, *ws, res); },
       [&](std::span<const SampleResult> finished) { return sink.bytes(finished); },
@@ -170,6 +183,29 @@ class ProcedureStudy {
   /// without a physical answer. Called only when evaluates_inputs().
   virtual void evaluate_point(std::size_t /*k*/, std::span<const double> /*inputs*/,
                               std::span<double> /*outputs*/) const {}
+  /// Points [0, n) at once (inputs n x input_names(), outputs n x outputs(), row-major):
+  /// a point without a physical answer gets its reason in failures[point] and NaN outputs.
+  /// Default: evaluate_point one at a time. Called only when evaluates_inputs().
+  virtual void evaluate_points(std::span<const double> inputs, std::size_t n, std::span<double> outputs,
+                               std::vector<std::string>& failures) const {
+    const std::size_t p = n ? inputs.size() / n : 0, q = n ? outputs.size() / n : 0;
+    failures.assign(n, "");
+    for (std::size_t r = 0; r < n; ++r) {
+      try {
+        evaluate_point(r, inputs.subspan(r * p, p), outputs.subspan(r * q, q));
+      } catch (const Error& e) {
+        failures[r] = e.what();
+        for (std::size_t k = 0; k < q; ++k) outputs[r * q + k] = NAN;
+      }
+    }
+  }
+  /// Samples per task of the parallel loop: 1 (the default) for whole procedures, more for a
+  /// study whose samples are cheap or computed in batches.
+  virtual std::size_t samples_per_task() const { return 1; }
+  /// Each input's drawing limits, mean and standard deviation (input_names() order and
+  /// units), for the worst-case, RSS and Monte Carlo figures side by side
+  /// (engine/results/stack_up.h); empty (the default): the study has no such box.
+  virtual std::vector<InputLimits> input_limits() const { return {}; }
   /// Study-specific figures (written into plots_dir; names of the SVGs made are appended to
   /// `figures`) and HTML sections for report.html.
   virtual void report_sections(const McResult&, const std::string& /*plots_dir*/, bool /*plots*/,
@@ -195,6 +231,7 @@ class ProcedureStudyBase : public ProcedureStudy {
     const Derived& d = static_cast<const Derived&>(*this);
     RunControl c = control;
     c.replicate_size = d.config().replicate_size;
+    c.samples_per_task = d.samples_per_task();
     return run_procedure_samples(
         d.samples(), d.config().block, threads, progress, sink, done, [&d] { return d.make_workspace(); },
         [&d](std::size_t i, auto& ws, SampleResult& res) { d.compute(i, ws, res); }, c);

@@ -1,5 +1,7 @@
 #include "engine/report/run_report.h"
 
+#include "engine/run/stack_up.h"
+
 #include <optional>
 
 #include <algorithm>
@@ -110,6 +112,7 @@ std::string run_report_html(const json& s, const FinishedRun& f, const std::file
     h << "</tr>\n";
   }
   h << "</table>\n";
+  if (s.contains("stack_up")) h << stack_up_html(s["stack_up"]);
   if (s.contains("sweeps")) h << sweeps_html(s["sweeps"], f.study.outputs(), pdir, plots);
   if (s.contains("contributions")) {
     h << contributions_html(s["contributions"], s["requirements"], f.study.outputs(), pdir, plots);

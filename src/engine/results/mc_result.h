@@ -12,6 +12,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "sampling/cross_moments.h"
 #include "sampling/statistics.h"
 
 namespace poise::engine {
@@ -53,6 +54,9 @@ struct McResult {
   std::string stop_reason;         ///< why the run stopped before n ("" = it did not)
   std::size_t replicate_size = 0;  ///< summaries by replicate (design.h) when > 0
   FieldFigures field;              ///< a study with a per-sample field, when asked for
+  /// Means and covariances of the ok samples' inputs and outputs (a study of at most 64
+  /// inputs and outputs together), for each input's share of an output's variance.
+  sampling::CrossMoments moments;
   /// The output names (an in-memory evaluation sets them: StudyKind::evaluate, the optimizer).
   std::vector<std::string> names;
 

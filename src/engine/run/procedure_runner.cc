@@ -1,5 +1,7 @@
 #include "engine/run/procedure_runner.h"
+
 #include "core/diagnostics.h"
+#include "engine/run/stack_up.h"
 
 #include "engine/kind_interface/study_kind.h"
 #include "engine/report/report_figures.h"
@@ -123,6 +125,9 @@ json summary_of(const FinishedRun& f, const StopRule& rule, const RunOptions& op
     }
   }
   if (const json d = f.study.details(f.mc); !d.is_null()) s["details"] = d;
+  if (f.plan.sensitivity_base == 0) {
+    if (const json su = stack_up_json(f.study, f.mc, f.requirements); !su.is_null()) s["stack_up"] = su;
+  }
   s["provenance"] = {{"poise_version", kVersion},
                      {"git_commit", git_commit()},
                      {"study_file_sha1", file_sha1(cfg.file)},

@@ -34,6 +34,7 @@ void collect_samples(McResult& r, std::span<const SampleResult> block) {
     if (r.values.size() < s.outputs.size()) r.values.resize(s.outputs.size());
     for (std::size_t k = 0; k < s.outputs.size(); ++k) r.values[k].push_back(s.outputs[k]);
     r.ok_index.push_back(s.index);
+    if (s.inputs.size() + s.outputs.size() <= 64) r.moments.add(s.inputs, s.outputs);
   }
 }
 

@@ -178,6 +178,10 @@ class SampleDriver {
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, std::max<std::size_t>(spec_.grain, 1)),
                       [&](const tbb::blocked_range<std::size_t>& r) {
                         Workspace& ws = workspaces_.local();
+                        // A study that computes its samples in batches gets the task's range first.
+                        if constexpr (requires { ws->begin_range(std::size_t{}, std::size_t{}); }) {
+                          ws->begin_range(first + r.begin(), r.size());
+                        }
                         for (std::size_t k = r.begin(); k != r.end(); ++k) {
                           fault_injection::hold_if_held(first + k);
                           compute_(first + k, ws, into.results[k]);
