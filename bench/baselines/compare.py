@@ -16,6 +16,9 @@
                    at the same scales.                                  Target >= 5x.
   Cost per sample  Poise's CPU per sample at 16384 over that at each larger scale, whole
                    and lean (1 = flat).                                 Target >= 0.83.
+  Stack-up         `poise run` of Drake's motor assembly (formula kind, 10^6 samples, no
+                   samples.csv or plots) against stackup_numpy.py computing the same statistics;
+                   3 pairs (1 with --quick), the median pair's ratio.        Target >= 1x.
   Gimbal           poise_gimbal_bench BM_Measurement36By (36-point measurement, CPU time) by
                    formulation and tolerance, each with its worst torque error over 4 rotors
                    x 3 noise seeds against their tight values, against gimbal_scipy.py --sweep
@@ -117,6 +120,41 @@ def whole_run_pairs(build, n, lean, count):
             pairs.append((n_cpu / p_cpu, p_cpu, n_cpu))
             shutil.rmtree(os.path.join(tmp, f"poise{k}"), ignore_errors=True)
             shutil.rmtree(os.path.join(tmp, f"numpy{k}"), ignore_errors=True)
+    return sorted(pairs)
+
+
+STACKUP_STUDY = """[study]
+name = "drake_stackup"
+kind = "formula"
+model = "{model}"
+[sampling]
+method = "monte_carlo"
+samples = {samples}
+seed = 1
+[output]
+plots = false
+samples_csv = false
+[[requirement]]
+output = "gap"
+within = ["0.04 in", "0.08 in"]
+yield_at_least = 0.5
+"""
+
+
+def stackup_pairs(build, samples, count):
+    """The formula kind on Drake's stack-up (its statistics, the share outside and the summary;
+    no samples.csv, no plots) against stackup_numpy.py, pair by pair. Sorted by ratio."""
+    pairs = []
+    with tempfile.TemporaryDirectory() as tmp:
+        study = os.path.join(tmp, "drake.toml")
+        model = os.path.join(ROOT, "tests", "data", "stackups", "drake_motor_assembly", "model.toml")
+        open(study, "w").write(STACKUP_STUDY.format(model=model, samples=samples))
+        for k in range(count):
+            p_cpu = child_cpu([os.path.join(build, "poise"), "run", study, "--threads", "1", "--out",
+                               os.path.join(tmp, f"poise{k}"), "--quiet", "--no-plots"])
+            n_cpu = child_cpu([sys.executable, os.path.join(HERE, "stackup_numpy.py"), "--samples", str(samples)])
+            pairs.append((n_cpu / p_cpu, p_cpu, n_cpu))
+            shutil.rmtree(os.path.join(tmp, f"poise{k}"), ignore_errors=True)
     return sorted(pairs)
 
 
@@ -270,6 +308,15 @@ def main():
                  "reason": ("no LSODA tolerance" if not ref else "no Poise setting") +
                            " kept the torque within 1e-4 of the load"}
         doc["ratios"][key] = e
+    # Stack-up (issue 54): the formula kind at 10^6 samples against a vectorised NumPy script.
+    pairs = stackup_pairs(a.build, 1000000, 1 if a.quick else 3)
+    ratio, p_cpu, n_cpu = pairs[len(pairs) // 2]
+    print(f"Stack-up (Drake, 10^6 samples): poise {p_cpu:.2f} CPU-s, numpy {n_cpu:.2f} CPU-s -> {ratio:.2f}x "
+          f"(range {pairs[0][0]:.2f}-{pairs[-1][0]:.2f}; target >= 1x)")
+    doc["ratios"]["stackup"] = ratio_entry(
+        "stack-up, Drake's motor assembly at 10^6 samples with its statistics: NumPy over Poise's formula kind",
+        poise=figure(p_cpu, "s", "poise run, formula kind, --threads 1, no samples.csv or plots, user + sys CPU"),
+        baseline=figure(n_cpu, "s", "stackup_numpy.py, 10^6 samples, user + sys CPU"), target_min=1.0)
     if a.json:
         doc["finished_utc"] = utc_now()
         doc["load_avg_end"] = [round(x, 2) for x in os.getloadavg()]

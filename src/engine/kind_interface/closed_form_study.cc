@@ -152,10 +152,7 @@ class ClosedFormStudy final : public ProcedureStudyBase<ClosedFormStudy> {
 
   void compute(std::size_t i, Workspace& ws, SampleResult& out) const {
     const ClosedFormDeclaration& d = declaration_;
-    out = SampleResult{};  // the driver reuses its result slots
-    out.index = i;
-    out.inputs.resize(model_.drawn.size());
-    out.outputs.resize(d.outputs.size());
+    start_sample(i, out);  // the driver reuses its result slots: no allocation per sample
     if (batch_ > 1 && !(i >= ws.begin && i < ws.end)) compute_range(i, 1, ws);  // a replay, or outside the range
     draw(i, ws, out.inputs);
     try {

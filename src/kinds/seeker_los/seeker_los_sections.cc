@@ -20,7 +20,14 @@ std::unique_ptr<KindSections> read_seeker_los_sections(TomlReader& root, const S
   for (const auto& r : cfg.requirements) {
     if (!stated && (r.output == "los_max_arcsec" || r.output == "los_max_px")) stated = &r;
   }
-  if (stated && !root.has("requirement")) {
+  const bool shorthand = root.has("requirement") && root.raw()["requirement"].is_table();
+  if (!stated && !shorthand && !root.has("requirement") && !root.schema_only()) {
+    // No LOS limit stated: a study may have no requirement, as every kind may. The field
+    // figures (the share of the field within the limit) are then taken against 1 px.
+    c->requirement = 1.0;
+    c->requirement_in_pixels = true;
+    c->requirement_shorthand = false;
+  } else if (stated && !shorthand) {
     c->requirement_text = stated->limit_text;
     c->requirement_shorthand = false;
     try {

@@ -5,7 +5,8 @@
 ///                  shorthand for the requirement "p99.73 of los_max_px (or los_max_arcsec)
 ///                  at most 1 px, at 95% confidence"; or, instead, [[requirement]] tables
 ///                  (engine/results/requirements.h), the first on los_max_arcsec or los_max_px
-///                  giving the field figures their limit
+///                  giving the field figures their limit; or none (the field figures are then
+///                  taken against 1 px)
 ///   [clearance]    output = true, yaw_points, pitch_points (optional; the nominal frames'
 ///                  least clearance to the housing as an output: geometry_study.h)
 ///   [output]       contribution_samples = 4096 (each tolerance set to zero in turn; 0 = off)

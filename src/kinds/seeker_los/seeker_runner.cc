@@ -38,7 +38,8 @@ std::string validate_seeker_study(const StudyConfig& cfg) {
       "requirement {}, {} sweep(s).",
       cfg.file, cfg.name, cfg.kind, model.name, sampler.dimension(), sampling::to_string(cfg.method), cfg.samples,
       cfg.seed, sec.yaw_points, sec.pitch_points, model.yaw_min / units::kRadPerDeg, model.yaw_max / units::kRadPerDeg,
-      model.pitch_min / units::kRadPerDeg, model.pitch_max / units::kRadPerDeg, sec.requirement_text,
+      model.pitch_min / units::kRadPerDeg, model.pitch_max / units::kRadPerDeg,
+      sec.requirement_text.empty() ? std::string("none stated (the field figures against 1 px)") : sec.requirement_text,
       cfg.sweeps.size());
 }
 
