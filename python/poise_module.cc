@@ -40,6 +40,7 @@
 #include "geometry/mesh_check.h"
 #include "kinds/python/python_model_function.h"
 #include "kinds/registry.h"
+#include "python_model.h"
 #include "python_results.h"
 
 namespace py = pybind11;
@@ -98,69 +99,6 @@ std::string temporary_run_folder() {
   throw Error("cannot make a temporary folder in " + base.string());
 }
 
-// The first line of the Python exception in flight ("ValueError: math domain error").
-std::string exception_line(const py::error_already_set& e) {
-  std::string text = e.what();
-  return text.substr(0, text.find('\n'));
-}
-
-// A batch through the user's function f(inputs) -> outputs (kind = "python"): the GIL taken on
-// the engine's thread, the inputs as a dict of NumPy arrays, the outputs read back; a batch the
-// function raises on, or answers with no array of that output, fails with the reason.
-void call_model_function(const py::object& f, const std::vector<std::string>& input_names,
-                         const std::vector<std::string>& output_names, std::span<const double> inputs, std::size_t n,
-                         std::span<double> outputs, std::vector<std::string>& failures) {
-  py::gil_scoped_acquire gil;
-  const std::size_t p = input_names.size(), q = output_names.size();
-  py::dict in;
-  for (std::size_t k = 0; k < p; ++k) {
-    py::array_t<double> a(static_cast<py::ssize_t>(n));
-    auto w = a.mutable_unchecked<1>();
-    for (std::size_t r = 0; r < n; ++r) w(static_cast<py::ssize_t>(r)) = inputs[r * p + k];
-    in[py::str(input_names[k])] = a;
-  }
-  auto fail_all = [&](const std::string& why) { failures.assign(n, why); };
-  py::object result;
-  try {
-    result = f(in);
-  } catch (py::error_already_set& e) {
-    fail_all("the model function raised " + exception_line(e));
-    return;
-  }
-  if (!py::isinstance<py::dict>(result)) {
-    fail_all("the model function returned " + std::string(py::str(result.get_type().attr("__name__"))) +
-             ", not a dict of its outputs");
-    return;
-  }
-  const py::dict d = result.cast<py::dict>();
-  for (std::size_t k = 0; k < q; ++k) {
-    if (!d.contains(output_names[k])) {
-      fail_all("the model function's result has no output " + output_names[k]);
-      return;
-    }
-    py::array_t<double, py::array::forcecast> a;
-    try {
-      a = py::array_t<double, py::array::forcecast>::ensure(d[py::str(output_names[k])]);
-    } catch (py::error_already_set& e) {
-      fail_all("the model function's " + output_names[k] + " is not numbers: " + exception_line(e));
-      return;
-    }
-    if (!a || (a.size() != 1 && static_cast<std::size_t>(a.size()) != n)) {
-      fail_all("the model function gave " + (a ? std::to_string(a.size()) : std::string("no")) + " values of " +
-               output_names[k] + " for a batch of " + std::to_string(n));
-      return;
-    }
-    const double* v = a.data();
-    for (std::size_t r = 0; r < n; ++r) {
-      const double x = v[a.size() == 1 ? 0 : r];
-      outputs[r * q + k] = x;
-      if (!std::isfinite(x) && failures[r].empty()) {
-        failures[r] = "the model function gave no number for " + output_names[k] + " (" + std::to_string(x) + ")";
-      }
-    }
-  }
-}
-
 // poise.run: the study run as `poise run` runs it; the folder's samples and summary read back.
 py::dict run(const std::string& study, std::optional<std::size_t> samples, std::optional<std::uint64_t> seed,
              int threads, const std::map<std::string, std::string>& overrides, bool plots,
@@ -172,8 +110,9 @@ py::dict run(const std::string& study, std::optional<std::size_t> samples, std::
       if (!model.is_none()) {
         kinds::python::set_model_function(
             [model](const std::vector<std::string>& in, const std::vector<std::string>& out, std::span<const double> x,
-                    std::size_t n, std::span<double> y,
-                    std::vector<std::string>& failures) { call_model_function(model, in, out, x, n, y, failures); });
+                    std::size_t n, std::span<double> y, std::vector<std::string>& failures) {
+              python_module::call_model_function(model, in, out, x, n, y, failures);
+            });
       }
       engine::allow_programs(allow);
     }
