@@ -1,5 +1,6 @@
 #include "engine/run/stack_up.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <optional>
@@ -54,7 +55,8 @@ std::vector<std::vector<double>> sensitivities(const ProcedureStudy& study, cons
   return c;
 }
 
-// Each output's least and greatest value over the box's corners, and the corners without a value.
+// Each output's least and greatest value over the box's corners, and the corners without a value;
+// the corners go to the study in batches (one call of a program per batch, not per corner).
 struct Corners {
   std::vector<double> lo, hi;
   std::size_t failed = 0;
@@ -62,18 +64,28 @@ struct Corners {
 Corners corner_extremes(const ProcedureStudy& study, const std::vector<InputLimits>& limits, std::size_t q) {
   Corners c{std::vector<double>(q, std::numeric_limits<double>::infinity()),
             std::vector<double>(q, -std::numeric_limits<double>::infinity()), 0};
-  const std::size_t n = limits.size();
-  std::vector<double> x(n);
-  for (std::size_t mask = 0; mask < (std::size_t{1} << n); ++mask) {
-    for (std::size_t i = 0; i < n; ++i) x[i] = (mask >> i) & 1U ? limits[i].upper : limits[i].lower;
-    const auto y = outputs_at(study, x);
-    if (!y) {
-      ++c.failed;
-      continue;
+  const std::size_t n = limits.size(), corners = std::size_t{1} << n, batch = 4096;
+  std::vector<double> x, y;
+  std::vector<std::string> failures;
+  for (std::size_t first = 0; first < corners; first += batch) {
+    const std::size_t rows = std::min(batch, corners - first);
+    x.resize(rows * n);
+    y.assign(rows * q, 0.0);
+    for (std::size_t r = 0; r < rows; ++r) {
+      for (std::size_t i = 0; i < n; ++i) x[r * n + i] = ((first + r) >> i) & 1U ? limits[i].upper : limits[i].lower;
     }
-    for (std::size_t k = 0; k < q; ++k) {
-      c.lo[k] = std::min(c.lo[k], (*y)[k]);
-      c.hi[k] = std::max(c.hi[k], (*y)[k]);
+    study.evaluate_points(x, rows, y, failures);
+    for (std::size_t r = 0; r < rows; ++r) {
+      bool ok = failures[r].empty();
+      for (std::size_t k = 0; k < q && ok; ++k) ok = std::isfinite(y[r * q + k]);
+      if (!ok) {
+        ++c.failed;
+        continue;
+      }
+      for (std::size_t k = 0; k < q; ++k) {
+        c.lo[k] = std::min(c.lo[k], y[r * q + k]);
+        c.hi[k] = std::max(c.hi[k], y[r * q + k]);
+      }
     }
   }
   return c;
@@ -181,7 +193,12 @@ json stack_up_json(const ProcedureStudy& study, const McResult& mc, const std::v
   if (!f_centre || !f_mean) return nullptr;
   const auto c = sensitivities(study, centre, half, *f_centre);
   std::optional<Corners> corners;
-  if (limits.size() <= kMostCornerInputs) corners = corner_extremes(study, limits, f_centre->size());
+  // The corners, unless there are more of them than the run's samples (and 4096): a slow model's
+  // worst case must not cost more than its Monte Carlo.
+  const std::size_t corner_budget = std::max<std::size_t>(4096, mc.n);
+  if (limits.size() <= kMostCornerInputs && (std::size_t{1} << limits.size()) <= corner_budget) {
+    corners = corner_extremes(study, limits, f_centre->size());
+  }
   json outputs = json::object();
   const auto& specs = study.outputs();
   for (std::size_t k = 0; k < specs.size(); ++k) {
@@ -199,7 +216,7 @@ json stack_up_json(const ProcedureStudy& study, const McResult& mc, const std::v
           {"worst_case_method",
            corners ? "the extremes over the 2^n corners of the box of drawing limits (exact for an output monotone in "
                      "each input), beside the linearised bound"
-                   : "linearised only: more than 16 inputs"},
+                   : "linearised only: more corners (2^n) than 65536 or than the run's samples"},
           {"rss_method", "first order at the box's centre: -+ sqrt(sum (c_i h_i)^2) of the tolerances as written"},
           {"monte_carlo_contributions",
            "squared standardized regression coefficients of the run's samples (their sum, R^2, is 1 for a linear "

@@ -9,8 +9,9 @@
 ///   sensitivities  c_i = d output / d input_i at the box's centre by central differences
 ///                  (step 1e-3 of the input's half-width), in output unit per input unit.
 ///   worst_case     the output's extremes over the box of the drawing's limits [lower_i,
-///                  upper_i]: the min and max over its 2^n corners (n <= 16), exact for an
-///                  output monotone in each input, and its linearised bound f(centre) -+
+///                  upper_i]: the min and max over its 2^n corners (2^n at most 65536 and at
+///                  most the run's samples or 4096), exact for an output monotone in each
+///                  input, and its linearised bound f(centre) -+
 ///                  sum |c_i| h_i (h_i the half-widths) beside it.
 ///   rss            f(centre) -+ sqrt(sum (c_i h_i)^2): the classic root-sum-square of the
 ///                  tolerances as written, which reads each h_i as the same number of sigmas;
