@@ -7,6 +7,7 @@
 #include <thread>
 #include <vector>
 
+#include "cli/balance_command.h"
 #include "cli/budget_command.h"
 #include "cli/count_check.h"
 #include "cli/diagnose_command.h"
@@ -136,6 +137,7 @@ int run_main(int argc, char** argv) {
 
   poise::cli::StudyCommands study_commands(app);  // run, sensitivity, validate, replay
   const poise::cli::FitHandler fit = poise::cli::add_fit_command(app);
+  const poise::cli::BalanceHandler balance = poise::cli::add_balance_command(app);
   const poise::cli::ErrorMechanismsHandler mechanisms = poise::cli::add_error_mechanisms_command(app);
   const poise::cli::DiagnoseHandler diagnose = poise::cli::add_diagnose_command(app);
   const auto record = poise::cli::add_record_commands(app);
@@ -167,6 +169,7 @@ int run_main(int argc, char** argv) {
   // any other failure 1, each with its message (the commands catch what they can name).
   try {
     if (const auto status = fit()) return *status;
+    if (const auto status = balance()) return *status;
     if (const auto status = mechanisms()) return *status;
     if (const auto status = diagnose()) return *status;
     if (const auto status = record()) return *status;

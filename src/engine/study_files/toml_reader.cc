@@ -97,7 +97,7 @@ std::vector<TomlReader> TomlReader::table_array(const std::string& key) {
   if (!n && schema_only()) out.emplace_back(kEmpty, ctx_, path(key) + "[]");  // its keys, for the schema
   if (!n) return out;
   const auto* arr = n->as_array();
-  if (!arr || !arr->is_array_of_tables()) {
+  if (!arr || (!arr->empty() && !arr->is_array_of_tables())) {  // an empty array: none
     error(key, describe_node(*n), "an array of tables [[" + path(key) + "]]");
     return out;
   }

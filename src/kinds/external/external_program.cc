@@ -25,6 +25,7 @@ using nlohmann::json;
 using Clock = std::chrono::steady_clock;
 
 constexpr std::size_t kStderrKept = 2048;
+constexpr double kStartAllowance = 10.0;  // s
 
 void close_fd(int& fd) {
   if (fd >= 0) ::close(fd);
@@ -101,6 +102,7 @@ void ExternalProgram::start() {
   for (int fd : {to_child_, from_child_, err_child_}) ::fcntl(fd, F_SETFL, ::fcntl(fd, F_GETFL) | O_NONBLOCK);
   pending_out_.clear();
   err_.clear();
+  just_started_ = true;
 }
 
 void ExternalProgram::stop(bool kill_now) {
@@ -134,7 +136,10 @@ std::string ExternalProgram::stderr_tail() const {
 std::string ExternalProgram::exchange(const std::string& requests, std::size_t expected,
                                       std::vector<std::string>& lines) {
   std::size_t written = 0;
-  auto deadline = Clock::now() + std::chrono::duration<double>(timeout_s_);
+  // The first answer after a start waits longer: a program's start (an interpreter importing
+  // its libraries) is not an answer's wait.
+  auto deadline = Clock::now() + std::chrono::duration<double>(timeout_s_ + (just_started_ ? kStartAllowance : 0.0));
+  just_started_ = false;
   char buf[65536];
   for (;;) {
     pollfd fds[3];

@@ -29,7 +29,8 @@ struct Answer {
 class ExternalProgram {
  public:
   /// `argv[0]` is found on PATH unless it holds a '/' (then it is relative to `folder`), which is
-  /// also the program's working directory. `timeout_s`: the longest wait for one answer line.
+  /// also the program's working directory. `timeout_s`: the longest wait for one answer line
+  /// (10 s more for the first answer after the program starts).
   ExternalProgram(std::vector<std::string> argv, std::string folder, std::vector<std::string> input_names,
                   std::vector<std::string> output_names, double timeout_s);
   ~ExternalProgram();
@@ -58,6 +59,7 @@ class ExternalProgram {
   pid_t pid_ = -1;
   int to_child_ = -1, from_child_ = -1, err_child_ = -1;
   std::string pending_out_, err_;
+  bool just_started_ = false;
 };
 
 }  // namespace poise::kinds::external
