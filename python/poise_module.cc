@@ -108,11 +108,14 @@ py::dict run(const std::string& study, std::optional<std::size_t> samples, std::
   struct RunScope {
     RunScope(const py::object& model, bool allow) {
       if (!model.is_none()) {
-        kinds::python::set_model_function(
-            [model](const std::vector<std::string>& in, const std::vector<std::string>& out, std::span<const double> x,
-                    std::size_t n, std::span<double> y, std::vector<std::string>& failures) {
-              python_module::call_model_function(model, in, out, x, n, y, failures);
-            });
+        // The engine's threads copy the function without Python's lock: they share one
+        // reference to f (an atomic count), and the last one, the global's, goes here, under it.
+        auto f = std::make_shared<py::object>(model);
+        kinds::python::set_model_function([f](const std::vector<std::string>& in, const std::vector<std::string>& out,
+                                              std::span<const double> x, std::size_t n, std::span<double> y,
+                                              std::vector<std::string>& failures) {
+          python_module::call_model_function(*f, in, out, x, n, y, failures);
+        });
       }
       engine::allow_programs(allow);
     }

@@ -11,6 +11,7 @@
 #include "core/units.h"
 #include "engine/kind_interface/study_kind.h"
 #include "engine/results/confidence_bound.h"
+#include "engine/results/result_io.h"
 #include "engine/study_files/toml_reader.h"
 
 namespace poise::engine {
