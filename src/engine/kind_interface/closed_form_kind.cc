@@ -6,8 +6,6 @@
 namespace poise::engine {
 namespace {
 
-struct NoSections : KindSectionsOf<NoSections> {};
-
 // A compiled kind's function: its compute(), which keeps no state.
 class KindFunction final : public ClosedFormFunction {
  public:
@@ -35,7 +33,7 @@ ClosedFormModel load_model(const ClosedFormDeclaration& d, const std::string& pa
 ClosedFormKind::ClosedFormKind(ClosedFormDeclaration declaration) : declaration_(std::move(declaration)) {}
 
 std::unique_ptr<KindSections> ClosedFormKind::read_sections(TomlReader&, const StudyConfig&) const {
-  return std::make_unique<NoSections>();
+  return std::make_unique<ClosedFormSections>();
 }
 
 std::string ClosedFormKind::validate(const StudyConfig& cfg) const {

@@ -18,6 +18,9 @@
 
 namespace poise::engine {
 
+/// The study file's sections of a closed-form kind: none beyond the shared ones.
+struct ClosedFormSections : KindSectionsOf<ClosedFormSections> {};
+
 /// One thread's means of computing a sample (it may keep scratch state between samples).
 class ClosedFormFunction {
  public:

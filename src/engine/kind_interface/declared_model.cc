@@ -4,6 +4,8 @@
 #include <cctype>
 #include <charconv>
 
+#include "engine/study_files/model_overrides.h"
+
 namespace poise::engine {
 namespace {
 
@@ -99,6 +101,54 @@ std::vector<OutputSpec> declared_outputs(TomlReader& root, std::map<std::string,
   }
   if (tables.empty() && !root.schema_only()) root.error("output", "", "at least one [[output]] with name and unit");
   return out;
+}
+
+DeclaredModel read_declared_model(const std::string& path, const std::map<std::string, std::string>& overrides,
+                                  const std::string& kind, const std::function<void(TomlReader& model)>& model_keys) {
+  ModelDocument m = open_model_file(path, overrides);
+  TomlReader root(m.doc, m.ctx);
+  DeclaredModel d;
+  d.declaration.name = kind;
+  std::map<std::string, units::Dimension> names;
+  d.declaration.parameters = declared_parameters(root, m.doc, names, {});
+  d.model = read_closed_form_model(d.declaration, root);
+  TomlReader model = root.table("model");
+  model_keys(model);
+  d.declaration.outputs = declared_outputs(root, names, {});
+  finish(m.doc, *m.ctx);
+  return d;
+}
+
+DeclaredUnitsFunction::DeclaredUnitsFunction(const ClosedFormDeclaration& declaration) {
+  for (const auto& p : declaration.parameters) {
+    inputs_.push_back(p.name);
+    in_factor_.push_back(unit_quantity(p.display_unit).value);
+  }
+  for (const auto& o : declaration.outputs) {
+    outputs_.push_back(o.name);
+    out_factor_.push_back(unit_quantity(o.unit).value);
+  }
+}
+
+void DeclaredUnitsFunction::compute(std::span<const double> parameters, std::span<double> outputs) {
+  std::vector<std::string> failures;
+  const std::size_t id = 0;
+  compute_batch(std::span<const std::size_t>(&id, 1), parameters, outputs, failures);
+  if (!failures[0].empty()) throw Error(failures[0]);
+}
+
+void DeclaredUnitsFunction::compute_batch(std::span<const std::size_t> ids, std::span<const double> parameters,
+                                          std::span<double> outputs, std::vector<std::string>& failures) {
+  const std::size_t n = ids.size(), p = in_factor_.size(), q = out_factor_.size();
+  std::vector<double> in(parameters.begin(), parameters.end());
+  for (std::size_t r = 0; r < n; ++r) {
+    for (std::size_t k = 0; k < p; ++k) in[r * p + k] /= in_factor_[k];
+  }
+  failures.assign(n, "");
+  evaluate(ids, in, outputs, failures);
+  for (std::size_t r = 0; r < n; ++r) {
+    for (std::size_t k = 0; k < q; ++k) outputs[r * q + k] *= out_factor_[k];
+  }
 }
 
 }  // namespace poise::engine

@@ -46,4 +46,42 @@ std::vector<ClosedFormParameter> declared_parameters(TomlReader& root, const tom
 std::vector<OutputSpec> declared_outputs(TomlReader& root, std::map<std::string, units::Dimension>& taken,
                                          const std::function<bool(const std::string&)>& reserved);
 
+/// A declared model as read: its declaration (parameters and outputs) and its parameters'
+/// values and tolerances.
+struct DeclaredModel {
+  ClosedFormDeclaration declaration;
+  ClosedFormModel model;
+};
+
+/// Reads the model file at `path` (overrides on it) of [model] kind `kind`: its parameters,
+/// tolerances and [[output]] tables, and with `model_keys` the kind's own keys of [model]
+/// (read before the file is finished, so an unknown key is still refused). Throws
+/// ValidationError.
+DeclaredModel read_declared_model(const std::string& path, const std::map<std::string, std::string>& overrides,
+                                  const std::string& kind, const std::function<void(TomlReader& model)>& model_keys);
+
+/// A function that computes a declared model in the units its file writes: the parameters in
+/// the units their values are written in, the outputs in their declared units (an external
+/// program, a Python function). It converts from and to SI for the closed-form study.
+class DeclaredUnitsFunction : public ClosedFormFunction {
+ public:
+  explicit DeclaredUnitsFunction(const ClosedFormDeclaration& declaration);
+  /// One row, through compute_batch.
+  void compute(std::span<const double> parameters, std::span<double> outputs) override;
+  void compute_batch(std::span<const std::size_t> ids, std::span<const double> parameters, std::span<double> outputs,
+                     std::vector<std::string>& failures) override;
+
+ protected:
+  /// Rows of `inputs` (input_names(), written units, row-major) to `outputs` (output_names(),
+  /// declared units); a row without an answer gets its reason in failures (n "" on entry).
+  virtual void evaluate(std::span<const std::size_t> ids, const std::vector<double>& inputs, std::span<double> outputs,
+                        std::vector<std::string>& failures) = 0;
+  const std::vector<std::string>& input_names() const { return inputs_; }
+  const std::vector<std::string>& output_names() const { return outputs_; }
+
+ private:
+  std::vector<std::string> inputs_, outputs_;
+  std::vector<double> in_factor_, out_factor_;  ///< SI per written unit
+};
+
 }  // namespace poise::engine

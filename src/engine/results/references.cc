@@ -18,8 +18,13 @@ namespace poise::engine {
 namespace {
 using nlohmann::json;
 
-const std::vector<std::string> kStatistics = {"sample", "mean", "std",   "min",    "p0_135",  "p2_5",
-                                              "p50",    "p95",  "p97_5", "p99_73", "p99_865", "max"};
+// "sample", or a figure of the summary (sampling/statistics.h).
+const std::vector<std::string> kStatistics = [] {
+  std::vector<std::string> names = {"sample", "mean", "std", "min"};
+  for (const sampling::SummaryQuantile& q : sampling::summary_quantiles()) names.emplace_back(q.name);
+  names.emplace_back("max");
+  return names;
+}();
 
 }  // namespace
 

@@ -141,8 +141,12 @@ void read_confidence_and_notes(TomlReader& t, Requirement& r) {
 }  // namespace
 
 const std::vector<std::string>& requirement_statistics() {
-  static const std::vector<std::string> kStatistics = {"mean", "min",   "p0_135", "p2_5",    "p50",
-                                                       "p95",  "p97_5", "p99_73", "p99_865", "max"};
+  static const std::vector<std::string> kStatistics = [] {
+    std::vector<std::string> names = {"mean", "min"};
+    for (const sampling::SummaryQuantile& q : sampling::summary_quantiles()) names.emplace_back(q.name);
+    names.emplace_back("max");
+    return names;
+  }();
   return kStatistics;
 }
 

@@ -15,7 +15,18 @@ namespace poise::engine {
 using nlohmann::json;
 
 namespace {
-const char* kStatistics[] = {"mean", "std", "p0_135", "p2_5", "p50", "p95", "p97_5", "p99_73", "p99_865"};
+// The figures --until may name: the mean, the sd and every quantile of the summary.
+const std::vector<std::string> kStatistics = [] {
+  std::vector<std::string> names = {"mean", "std"};
+  for (const sampling::SummaryQuantile& q : sampling::summary_quantiles()) names.emplace_back(q.name);
+  return names;
+}();
+
+std::string statistics_listed() {
+  std::string s;
+  for (const auto& name : kStatistics) s.append(s.empty() ? "" : ", ").append(name);
+  return s;
+}
 }  // namespace
 
 UntilTarget parse_until(const std::string& text, const std::vector<std::string>& outputs) {
@@ -31,9 +42,9 @@ UntilTarget parse_until(const std::string& text, const std::vector<std::string>&
   if (op == std::string::npos || dot == std::string::npos) {
     throw UsageError("--until \"" + text +
                      "\": expected OUTPUT.STAT<=WIDTH, e.g. \"los_max_arcsec.p99_73<=0.5\" or "
-                     "\"los_max_arcsec.p95<=1%\" (STAT: mean, std, p0_135, p2_5, p50, p95, p97_5, p99_73, p99_865; "
-                     "WIDTH: the 95% interval's full width "
-                     "in the output's unit, or a percentage of the figure)");
+                     "\"los_max_arcsec.p95<=1%\" (STAT: " +
+                     statistics_listed() +
+                     "; WIDTH: the 95% interval's full width in the output's unit, or a percentage of the figure)");
   }
   t.output = text.substr(0, dot);
   t.statistic = text.substr(dot + 1, op - dot - 1);
@@ -47,9 +58,9 @@ UntilTarget parse_until(const std::string& text, const std::vector<std::string>&
     throw UsageError("--until \"" + text + "\": no output \"" + t.output + "\" in this study; its outputs are " +
                      listing());
   }
-  if (std::find(std::begin(kStatistics), std::end(kStatistics), t.statistic) == std::end(kStatistics)) {
-    throw UsageError("--until \"" + text + "\": statistic \"" + t.statistic +
-                     "\" is not one of mean, std, p0_135, p2_5, p50, p95, p97_5, p99_73, p99_865");
+  if (std::find(kStatistics.begin(), kStatistics.end(), t.statistic) == kStatistics.end()) {
+    throw UsageError("--until \"" + text + "\": statistic \"" + t.statistic + "\" is not one of " +
+                     statistics_listed());
   }
   try {
     std::size_t used = 0;
@@ -177,7 +188,7 @@ json convergence_json(const std::vector<std::string>& outputs, const std::vector
   json figures = json::object();
   for (std::size_t k = 0; k < outputs.size() && k < summaries.size(); ++k) {
     json o = json::object();
-    for (const char* stat : kStatistics) {
+    for (const std::string& stat : kStatistics) {
       const sampling::Estimate& e = statistic_of(summaries[k], stat);
       const double half = 0.5 * interval_width(e);
       const double rel = std::abs(e.value) > 0 ? half / std::abs(e.value) : std::numeric_limits<double>::infinity();

@@ -6,7 +6,6 @@
 #include <optional>
 
 #include <boost/math/distributions/chi_squared.hpp>
-#include <boost/math/special_functions/beta.hpp>
 
 #include "core/error.h"
 #include "core/format.h"
@@ -115,13 +114,17 @@ json capability(const Requirement& r, const OutputSpec& o, std::size_t k, const 
     const double cpk = std::min(usl - mean, mean - lsl) / (3.0 * sd);
     j["cpk"] = {{"value", cpk}, {"ci95", {cpk_bound(cpk, s.n, 0.975, false), cpk_bound(cpk, s.n, 0.975, true)}}};
   }
-  // Parts per million outside, the failed samples counted outside (as the yield's verdict does).
-  double outside = static_cast<double>(mc.failures);
-  for (double v : mc.values[k]) outside += (v < lsl || v > usl) ? 1.0 : 0.0;
-  const double all = n + static_cast<double>(mc.failures);
-  const double lo = outside <= 0.0 ? 0.0 : boost::math::ibeta_inv(outside, all - outside + 1.0, 0.025);
-  const double hi = outside >= all ? 1.0 : boost::math::ibeta_inv(outside + 1.0, all - outside, 0.975);
-  j["ppm_outside"] = {{"value", 1e6 * outside / all}, {"ci95", {1e6 * lo, 1e6 * hi}}};
+  // Parts per million outside, the failed samples counted outside, as the verdict of a
+  // ppm_at_most requirement counts them: its one-sided bounds at 97.5% are the 95% interval.
+  Requirement ppm = r;
+  ppm.statistic = "ppm";
+  ppm.at_most = true;
+  ppm.confidence = 0.975;
+  const OutputValues values{
+      .values = &mc.values[k], .ok_index = &mc.ok_index, .replicate_size = 0, .failed = mc.failures};
+  const SpecificationFigure f = specification_figure(ppm, values, lsl, usl);
+  j["ppm_outside"] = {{"value", f.value},
+                      {"ci95", {f.other ? json(*f.other) : json(nullptr), f.bound ? json(*f.bound) : json(nullptr)}}};
   j["note"] = "Cp and Cpk assume normal values; ppm is counted on the samples (failed ones outside)";
   return j;
 }

@@ -27,11 +27,7 @@ namespace poise::kinds::external {
 using namespace poise::engine;
 namespace {
 
-struct NoSections : KindSectionsOf<NoSections> {};
-
-struct ExternalModel {
-  ClosedFormDeclaration declaration;
-  ClosedFormModel model;
+struct ExternalModel : DeclaredModel {
   std::vector<std::string> command;
   std::string folder;  ///< the model file's, where the program runs
   std::size_t batch = 64;
@@ -39,66 +35,39 @@ struct ExternalModel {
 };
 
 ExternalModel read_model(const std::string& path, const std::map<std::string, std::string>& overrides) {
-  ModelDocument m = open_model_file(path, overrides);
-  TomlReader root(m.doc, m.ctx);
   ExternalModel e;
-  e.declaration.name = "external";
-  std::map<std::string, units::Dimension> names;
-  e.declaration.parameters = declared_parameters(root, m.doc, names, {});
-  e.model = read_closed_form_model(e.declaration, root);
-  TomlReader model = root.table("model");
-  e.command = model.string_array("command");
-  if (e.command.empty() && !model.schema_only()) {
-    model.error("command", "[]", "the program and its arguments, e.g. [\"python3\", \"my_model.py\"] (no shell)");
-  }
-  e.batch = static_cast<std::size_t>(model.integer("batch", 1, 1000000, 64));
-  e.timeout_s = model.quantity("timeout", units::kTime, positive, 60.0);
-  e.declaration.outputs = declared_outputs(root, names, {});
-  finish(m.doc, *m.ctx);
+  static_cast<DeclaredModel&>(e) = read_declared_model(path, overrides, "external", [&e](TomlReader& model) {
+    e.command = model.string_array("command");
+    if (e.command.empty() && !model.schema_only()) {
+      model.error("command", "[]", "the program and its arguments, e.g. [\"python3\", \"my_model.py\"] (no shell)");
+    }
+    e.batch = static_cast<std::size_t>(model.integer("batch", 1, 1000000, 64));
+    e.timeout_s = model.quantity("timeout", units::kTime, positive, 60.0);
+  });
   e.folder = std::filesystem::absolute(std::filesystem::path(path)).parent_path().lexically_normal().string();
   return e;
 }
 
-// One thread's process: SI parameters to the program's units and back.
-class ExternalFunction final : public ClosedFormFunction {
+// One thread's process, in the model file's units.
+class ExternalFunction final : public DeclaredUnitsFunction {
  public:
-  explicit ExternalFunction(const ExternalModel& m) : m_(m) {
-    std::vector<std::string> inputs, outputs;
-    for (const auto& p : m.declaration.parameters) {
-      inputs.push_back(p.name);
-      in_factor_.push_back(unit_quantity(p.display_unit).value);
-    }
-    for (const auto& o : m.declaration.outputs) {
-      outputs.push_back(o.name);
-      out_factor_.push_back(unit_quantity(o.unit).value);
-    }
-    program_ = std::make_unique<ExternalProgram>(m.command, m.folder, inputs, outputs, m.timeout_s);
-  }
-  void compute(std::span<const double> parameters, std::span<double> outputs) override {
-    std::vector<std::string> failures;
-    const std::size_t id = 0;
-    compute_batch(std::span<const std::size_t>(&id, 1), parameters, outputs, failures);
-    if (!failures[0].empty()) throw Error(failures[0]);
-  }
-  void compute_batch(std::span<const std::size_t> ids, std::span<const double> parameters, std::span<double> outputs,
-                     std::vector<std::string>& failures) override {
-    const std::size_t n = ids.size(), p = in_factor_.size(), q = out_factor_.size();
-    std::vector<double> in(parameters.begin(), parameters.end());
-    for (std::size_t r = 0; r < n; ++r) {
-      for (std::size_t k = 0; k < p; ++k) in[r * p + k] /= in_factor_[k];
-    }
-    const std::vector<Answer> answers = program_->evaluate(std::vector<std::size_t>(ids.begin(), ids.end()), in);
-    failures.assign(n, "");
-    for (std::size_t r = 0; r < n; ++r) {
+  explicit ExternalFunction(const ExternalModel& m)
+      : DeclaredUnitsFunction(m.declaration),
+        program_(std::make_unique<ExternalProgram>(m.command, m.folder, input_names(), output_names(), m.timeout_s)) {}
+
+ protected:
+  void evaluate(std::span<const std::size_t> ids, const std::vector<double>& inputs, std::span<double> outputs,
+                std::vector<std::string>& failures) override {
+    const std::vector<Answer> answers = program_->evaluate(std::vector<std::size_t>(ids.begin(), ids.end()), inputs);
+    const std::size_t q = output_names().size();
+    for (std::size_t r = 0; r < ids.size(); ++r) {
       failures[r] = answers[r].failed;
       if (!failures[r].empty()) continue;
-      for (std::size_t k = 0; k < q; ++k) outputs[r * q + k] = answers[r].outputs[k] * out_factor_[k];
+      for (std::size_t k = 0; k < q; ++k) outputs[r * q + k] = answers[r].outputs[k];
     }
   }
 
  private:
-  const ExternalModel& m_;
-  std::vector<double> in_factor_, out_factor_;
   std::unique_ptr<ExternalProgram> program_;
 };
 
@@ -110,7 +79,7 @@ class ExternalKind final : public ProcedureKind {
            "output (JSON lines; runs only with --allow-programs; model: e.g. models/bearing_stack_external.toml)";
   }
   std::unique_ptr<KindSections> read_sections(TomlReader&, const StudyConfig&) const override {
-    return std::make_unique<NoSections>();
+    return std::make_unique<ClosedFormSections>();
   }
   std::string validate(const StudyConfig& cfg) const override {
     const ExternalModel m = read_model(cfg.model_path, cfg.overrides);

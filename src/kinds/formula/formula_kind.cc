@@ -16,8 +16,6 @@ namespace poise::kinds::formula {
 using namespace poise::engine;
 namespace {
 
-struct NoSections : KindSectionsOf<NoSections> {};
-
 double atan2_of(double y, double x) { return std::atan2(y, x); }
 double hypot_of(double x, double y) { return std::hypot(x, y); }
 double floor_of(double x) { return std::floor(x); }
@@ -101,7 +99,7 @@ class FormulaKind final : public ProcedureKind {
            "units, checked when read (model: e.g. models/bearing_stack_formula.toml)";
   }
   std::unique_ptr<KindSections> read_sections(TomlReader&, const StudyConfig&) const override {
-    return std::make_unique<NoSections>();
+    return std::make_unique<ClosedFormSections>();
   }
   std::string validate(const StudyConfig& cfg) const override {
     const std::shared_ptr<const FormulaModel> m = load(cfg.model_path, cfg.overrides);

@@ -123,28 +123,19 @@ class Checker {
     Term t{"(" + c.text + "?" + a.text + ":" + b.text + ")", join(a, b, at_b, "?:"), std::nullopt, a.zero && b.zero};
     return t;
   }
-  Term logical_or() {
-    Term a = logical_and();
+  // a || b and a && b: operands of no unit, left to right; && binds tighter.
+  Term logical_or() { return logical("||", &Checker::logical_and); }
+  Term logical_and() { return logical("&&", &Checker::comparison); }
+  Term logical(const std::string& op, Term (Checker::*operand)()) {
+    Term a = (this->*operand)();
     for (;;) {
       skip_space();
       const std::size_t at = pos_;
-      if (!accept("||")) return a;
-      Term b = logical_and();
-      need_number(a, at, "'||'");
-      need_number(b, at, "'||'");
-      a = {"(" + a.text + "||" + b.text + ")", {}, std::nullopt, false};
-    }
-  }
-  Term logical_and() {
-    Term a = comparison();
-    for (;;) {
-      skip_space();
-      const std::size_t at = pos_;
-      if (!accept("&&")) return a;
-      Term b = comparison();
-      need_number(a, at, "'&&'");
-      need_number(b, at, "'&&'");
-      a = {"(" + a.text + "&&" + b.text + ")", {}, std::nullopt, false};
+      if (!accept(op)) return a;
+      Term b = (this->*operand)();
+      need_number(a, at, "'" + op + "'");
+      need_number(b, at, "'" + op + "'");
+      a = {"(" + a.text + op + b.text + ")", {}, std::nullopt, false};
     }
   }
   Term comparison() {

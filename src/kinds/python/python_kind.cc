@@ -29,64 +29,30 @@ namespace {
 std::mutex g_mutex;
 BatchFunction g_function;
 
-struct NoSections : KindSectionsOf<NoSections> {};
-
-struct PythonModel {
-  ClosedFormDeclaration declaration;
-  ClosedFormModel model;
+struct PythonModel : DeclaredModel {
   std::size_t batch = 4096;
-  std::vector<std::string> inputs, outputs;
-  std::vector<double> in_factor, out_factor;
 };
 
 PythonModel read_model(const std::string& path, const std::map<std::string, std::string>& overrides) {
-  ModelDocument m = open_model_file(path, overrides);
-  TomlReader root(m.doc, m.ctx);
   PythonModel p;
-  p.declaration.name = "python";
-  std::map<std::string, units::Dimension> names;
-  p.declaration.parameters = declared_parameters(root, m.doc, names, {});
-  p.model = read_closed_form_model(p.declaration, root);
-  p.batch = static_cast<std::size_t>(root.table("model").integer("batch", 1, 100000000, 4096));
-  p.declaration.outputs = declared_outputs(root, names, {});
-  finish(m.doc, *m.ctx);
-  for (const auto& par : p.declaration.parameters) {
-    p.inputs.push_back(par.name);
-    p.in_factor.push_back(unit_quantity(par.display_unit).value);
-  }
-  for (const auto& o : p.declaration.outputs) {
-    p.outputs.push_back(o.name);
-    p.out_factor.push_back(unit_quantity(o.unit).value);
-  }
+  static_cast<DeclaredModel&>(p) = read_declared_model(path, overrides, "python", [&p](TomlReader& model) {
+    p.batch = static_cast<std::size_t>(model.integer("batch", 1, 100000000, 4096));
+  });
   return p;
 }
 
-// A thread's calls of the function: SI to the written units and back.
-class PythonFunction final : public ClosedFormFunction {
+// A thread's calls of the function, in the model file's units.
+class PythonFunction final : public DeclaredUnitsFunction {
  public:
-  PythonFunction(const PythonModel& m, BatchFunction f) : m_(m), f_(std::move(f)) {}
-  void compute(std::span<const double> parameters, std::span<double> outputs) override {
-    std::vector<std::string> failures;
-    const std::size_t id = 0;
-    compute_batch(std::span<const std::size_t>(&id, 1), parameters, outputs, failures);
-    if (!failures[0].empty()) throw Error(failures[0]);
-  }
-  void compute_batch(std::span<const std::size_t> ids, std::span<const double> parameters, std::span<double> outputs,
-                     std::vector<std::string>& failures) override {
-    const std::size_t n = ids.size(), p = m_.inputs.size(), q = m_.outputs.size();
-    std::vector<double> in(parameters.begin(), parameters.end());
-    for (std::size_t r = 0; r < n; ++r) {
-      for (std::size_t k = 0; k < p; ++k) in[r * p + k] /= m_.in_factor[k];
-    }
-    failures.assign(n, "");
-    f_(m_.inputs, m_.outputs, in, n, outputs, failures);
-    for (std::size_t r = 0; r < n; ++r) {
-      for (std::size_t k = 0; k < q; ++k) outputs[r * q + k] *= m_.out_factor[k];
-    }
+  PythonFunction(const PythonModel& m, BatchFunction f) : DeclaredUnitsFunction(m.declaration), f_(std::move(f)) {}
+
+ protected:
+  void evaluate(std::span<const std::size_t> ids, const std::vector<double>& inputs, std::span<double> outputs,
+                std::vector<std::string>& failures) override {
+    f_(input_names(), output_names(), inputs, ids.size(), outputs, failures);
   }
 
  private:
-  const PythonModel& m_;
   BatchFunction f_;
 };
 
@@ -98,7 +64,7 @@ class PythonKind final : public ProcedureKind {
            "poise.run(study, model=f) (model: e.g. models/bearing_stack_python.toml)";
   }
   std::unique_ptr<KindSections> read_sections(TomlReader&, const StudyConfig&) const override {
-    return std::make_unique<NoSections>();
+    return std::make_unique<ClosedFormSections>();
   }
   std::string validate(const StudyConfig& cfg) const override {
     const PythonModel m = read_model(cfg.model_path, cfg.overrides);
