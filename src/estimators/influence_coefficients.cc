@@ -27,7 +27,7 @@ CMatrix influence_matrix(const InfluenceCalibration& c) {
 InfluenceCalibration calibrate(const std::vector<BalancingRun>& runs, std::size_t planes) {
   std::vector<const BalancingRun*> known;
   for (const auto& r : runs) {
-    if (r.masses) known.push_back(&r);
+    if (r.masses && !r.check) known.push_back(&r);
   }
   if (known.size() < planes + 1) {
     throw Error("a calibration of " + std::to_string(planes) + " plane(s) needs at least " +
@@ -53,6 +53,9 @@ InfluenceCalibration calibrate(const std::vector<BalancingRun>& runs, std::size_
                 " planes (a plane without a trial mass, or two planes always loaded alike): no calibration");
   }
   const CMatrix xhx_inv = (x.adjoint() * x).inverse();
+  for (Eigen::Index i = 0; i < k; ++i) {
+    for (Eigen::Index j = 0; j < k; ++j) c.design_inverse.push_back(xhx_inv(i, j));
+  }
   c.initial.resize(c.sensors);
   c.h.assign(c.sensors, std::vector<PhasorEstimate>(planes));
   c.residuals.assign(known.size(), std::vector<Phasor>(c.sensors));
@@ -62,7 +65,10 @@ InfluenceCalibration calibrate(const std::vector<BalancingRun>& runs, std::size_
     const CVector beta = qr.solve(y);
     const CVector e = y - x * beta;
     std::optional<double> s2;
-    if (c.dof > 0) s2 = e.squaredNorm() / static_cast<double>(c.dof);
+    if (c.dof > 0) {
+      s2 = e.squaredNorm() / static_cast<double>(c.dof);
+      c.noise_var.push_back(*s2);
+    }
     for (Eigen::Index r = 0; r < n; ++r) c.residuals[r][s] = e(r);
     // Each part's sd: the complex variance s^2 (X^H X)^-1_jj is shared by its two parts.
     auto estimate = [&](Eigen::Index j) {

@@ -26,12 +26,16 @@ namespace poise::estimators {
 
 using Phasor = std::complex<double>;
 
-/// One run: its name, readings (one per sensor) and the masses it added (one per plane; 0 where
-/// none), or no masses known (an unknown rotor's run).
+/// One reading of a run: its name, readings (one per sensor) and the masses it added (one per
+/// plane; 0 where none), or no masses known (an unknown rotor's run). A check run has known
+/// masses that the calibration leaves out: its unbalance is predicted and compared with them.
+/// `declared` numbers the run (repeated readings of one run share it).
 struct BalancingRun {
   std::string name;
   std::vector<Phasor> readings;
   std::optional<std::vector<Phasor>> masses;
+  bool check = false;
+  std::size_t declared = 0;
 };
 
 /// A complex estimate with its standard error (the sd of each of its parts), if any.
@@ -49,9 +53,15 @@ struct InfluenceCalibration {
   /// The condition number of the influence matrix H (sensors x planes): large (say > 100) means
   /// the planes are not separable on these sensors.
   double condition = 0.0;
+  /// Each sensor's reading noise variance s^2 (E|e|^2, complex), from the residuals; empty
+  /// without degrees of freedom.
+  std::vector<double> noise_var;
+  /// (X^H X)^-1 of the runs' design (1, masses), (planes + 1)^2 row-major: the covariance of a
+  /// sensor's [a, h...] is noise_var[s] times it.
+  std::vector<Phasor> design_inverse;
 };
 
-/// Fits the coefficients from the runs with known masses. Throws poise::Error when there are
+/// Fits the coefficients from the runs with known masses (check runs left out). Throws poise::Error when there are
 /// fewer such runs than 1 + planes, or when their masses do not separate the planes (the
 /// matrix of masses has lower rank).
 InfluenceCalibration calibrate(const std::vector<BalancingRun>& runs, std::size_t planes);

@@ -1,4 +1,4 @@
-#include "cli/balance_campaign.h"
+#include "balancing/campaign.h"
 
 #include <cmath>
 #include <filesystem>
@@ -9,7 +9,7 @@
 #include "engine/study_files/toml_reader.h"
 #include "estimators/lab_table.h"
 
-namespace poise::cli {
+namespace poise::balancing {
 namespace {
 using engine::TomlReader;
 using estimators::Phasor;
@@ -23,6 +23,7 @@ struct SensorColumns {
 struct DeclaredRun {
   std::string name;
   std::optional<std::vector<Phasor>> masses;
+  bool check = false;
 };
 
 std::optional<std::vector<Phasor>> read_masses(TomlReader& run, const BalancingCampaign& c) {
@@ -41,6 +42,16 @@ std::optional<std::vector<Phasor>> read_masses(TomlReader& run, const BalancingC
     }
   }
   return per_plane;
+}
+
+DeclaredRun read_run(TomlReader& r, const BalancingCampaign& c) {
+  DeclaredRun d{r.string("name"), read_masses(r, c), r.boolean("check", false)};
+  if (d.check && !d.masses) {
+    r.error("check", "true",
+            "a check run with its masses: `masses = [...]` (the masses added, known, that the calibration leaves "
+            "out and the answer is compared with)");
+  }
+  return d;
 }
 
 }  // namespace
@@ -74,7 +85,7 @@ BalancingCampaign read_balancing_campaign(const std::string& path) {
     c.plane_radius.push_back(p.quantity("radius", units::kLength, engine::non_negative, 0.0));
   }
   std::vector<DeclaredRun> declared;
-  for (TomlReader& r : root.table_array("run")) declared.push_back({r.string("name"), read_masses(r, c)});
+  for (TomlReader& r : root.table_array("run")) declared.push_back(read_run(r, c));
   if (c.sensors.empty()) root.error("sensor", "", "at least one [[sensor]] with name, amplitude and phase");
   if (c.planes.empty()) root.error("plane", "", "at least one [[plane]] with a name");
   engine::finish(doc, *ctx);
@@ -102,8 +113,9 @@ BalancingCampaign read_balancing_campaign(const std::string& path) {
                        "a run's number, 1 to " + std::to_string(declared.size()) + " (the [[run]] tables of " + path +
                            ", in order)");
     }
-    const DeclaredRun& d = declared[static_cast<std::size_t>(number) - 1];
-    estimators::BalancingRun run{d.name, {}, d.masses};
+    const auto index = static_cast<std::size_t>(number) - 1;
+    const DeclaredRun& d = declared[index];
+    estimators::BalancingRun run{d.name, {}, d.masses, d.check, index};
     for (std::size_t s = 0; s < c.sensors.size(); ++s) {
       const double amplitude = t.at(c.sensors[s] + ".amplitude")[row] / amplitude_factor;
       const double phase = t.at(c.sensors[s] + ".phase")[row];
@@ -114,4 +126,4 @@ BalancingCampaign read_balancing_campaign(const std::string& path) {
   return c;
 }
 
-}  // namespace poise::cli
+}  // namespace poise::balancing

@@ -1,5 +1,6 @@
 #pragma once
-/// A balancing campaign file and its readings (`poise balance CAMPAIGN.toml`):
+/// A balancing campaign file and its readings (`poise balance CAMPAIGN.toml`, Python's
+/// poise.balance):
 ///
 ///     [campaign]
 ///     name = "compressor, field balance 2004"
@@ -23,6 +24,10 @@
 ///     [[run]]
 ///     name = "aft trial"
 ///     masses = [{plane = "aft", mass = "11.1 g", angle = "35 deg"}]
+///     [[run]]
+///     name = "check"
+///     check = true                   # masses known but left out of the calibration: the
+///     masses = [...]                 #   answer for this run is compared with them
 ///
 /// Weight angles and phases are counted in one sense from the key phasor (the instrument's); the
 /// answers are given in that sense. The readings file is a lab's table (estimators/lab_table.h):
@@ -33,7 +38,7 @@
 
 #include "estimators/influence_coefficients.h"
 
-namespace poise::cli {
+namespace poise::balancing {
 
 struct BalancingCampaign {
   std::string file, name, amplitude_unit;
@@ -47,4 +52,4 @@ struct BalancingCampaign {
 /// key and what was expected.
 BalancingCampaign read_balancing_campaign(const std::string& path);
 
-}  // namespace poise::cli
+}  // namespace poise::balancing

@@ -1,0 +1,191 @@
+#include "balancing/campaign_analysis.h"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <numbers>
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include "core/error.h"
+#include "core/format.h"
+
+namespace poise::balancing {
+namespace {
+using estimators::Phasor;
+using estimators::PhasorInterval;
+using nlohmann::json;
+
+json interval_json(const PhasorInterval& z, const std::string& amount_key, double factor) {
+  json j{{amount_key, std::abs(z.value) * factor}, {"angle_deg", degrees(z.value)}};
+  const auto r = z.radius();
+  j["radius95"] = r ? json(*r * factor) : json(nullptr);
+  j["degrees_of_freedom"] = r ? json(z.dof) : json(nullptr);
+  return j;
+}
+
+json plane_answers_json(const BalancingCampaign& c, const CampaignAnalysis& a, const estimators::PlaneAnswers& u,
+                        const std::optional<std::vector<Phasor>>& applied) {
+  json planes = json::array();
+  for (std::size_t p = 0; p < c.planes.size(); ++p) {
+    json e = interval_json(u.planes[p], "mass_g", 1.0);
+    e["plane"] = c.planes[p];
+    e["radius95_g"] = e["radius95"];
+    e.erase("radius95");
+    if (applied) {
+      e["applied"] = {{"mass_g", std::abs((*applied)[p])}, {"angle_deg", degrees((*applied)[p])}};
+      e["covered"] = u.planes[p].radius() ? json(u.planes[p].contains((*applied)[p])) : json(nullptr);
+      e["error_g"] = std::abs(u.planes[p].value - (*applied)[p]);
+    }
+    planes.push_back(e);
+  }
+  json j{{"planes", planes}};
+  if (u.static_unbalance) {
+    j["static"] = interval_json(*u.static_unbalance, "amount", a.moment_factor);
+    j["couple"] = interval_json(*u.couple_unbalance, "amount", a.moment_factor);
+    j["unit"] = a.moment_unit;
+  }
+  return j;
+}
+
+// Rows of the runs the calibration leaves out, grouped by declared run, in the campaign's order.
+std::vector<RunAnswer> answers_of_unused_runs(const BalancingCampaign& c, const CampaignAnalysis& a) {
+  std::map<std::size_t, std::vector<const estimators::BalancingRun*>> rows;
+  for (const auto& r : c.runs) {
+    if (!r.masses || r.check) rows[r.declared].push_back(&r);
+  }
+  std::vector<RunAnswer> out;
+  for (const auto& [declared, runs] : rows) {
+    std::vector<std::vector<Phasor>> readings;
+    for (const auto* r : runs) readings.push_back(r->readings);
+    RunAnswer answer{runs.front()->name, runs.front()->check, runs.size(),
+                     estimators::unbalance_answers(a.calibration, readings, c.plane_radius), runs.front()->masses};
+    if (!answer.check) answer.applied.reset();
+    out.push_back(std::move(answer));
+  }
+  return out;
+}
+
+std::string answer_sentence(const BalancingCampaign& c, const CampaignAnalysis& a) {
+  std::string s = "Correction (trial masses removed):";
+  for (std::size_t p = 0; p < c.planes.size(); ++p) {
+    s += p ? ", " : " ";
+    s += c.planes[p] + " " + phasor_text(a.correction_masses.planes[p], "g");
+  }
+  double before = 0.0;
+  for (const auto& z : a.calibration.initial) before += std::norm(z.value);
+  before = std::sqrt(before / static_cast<double>(a.calibration.initial.size()));
+  s += "; the predicted residual RMS " + significant(a.correction.residual_rms, 3) + " " + c.amplitude_unit +
+       " (from " + significant(before, 3) + " " + c.amplitude_unit + ")";
+  std::size_t checks = 0, covered = 0, with_region = 0;
+  for (const auto& r : a.runs) {
+    if (!r.check) continue;
+    ++checks;
+    for (std::size_t p = 0; p < c.planes.size(); ++p) {
+      if (!r.unbalance.planes[p].radius()) continue;
+      ++with_region;
+      covered += r.unbalance.planes[p].contains((*r.applied)[p]) ? 1 : 0;
+    }
+  }
+  if (checks > 0 && with_region > 0) {
+    s += fmt::format("; check runs: {} of {} plane masses within their 95% regions", covered, with_region);
+  }
+  if (a.calibration.dof == 0) s += "; no intervals (as many runs as unknowns: one more run would give them)";
+  return s + ".";
+}
+
+}  // namespace
+
+double degrees(const Phasor& z) {
+  double d = std::arg(z) * 180.0 / std::numbers::pi;
+  if (d < 0.0) d += 360.0;
+  return d;
+}
+
+std::string phasor_text(const PhasorInterval& z, const std::string& unit, double factor) {
+  std::string s = significant(std::abs(z.value) * factor, 4);
+  if (!unit.empty()) s += " " + unit;
+  s += fmt::format(" @ {:.1f} deg", degrees(z.value));
+  if (const auto r = z.radius()) {
+    s += " (95%: +- " + significant(*r * factor, 2);
+    if (!unit.empty()) s += " " + unit;
+    s += ")";
+  }
+  return s;
+}
+
+CampaignAnalysis analyse_campaign(const BalancingCampaign& c) {
+  if (c.sensors.size() < c.planes.size()) {
+    throw Error(
+        fmt::format("{} sensors cannot separate {} planes: each plane needs a sensor of its own (the "
+                    "influence matrix is sensors x planes)",
+                    c.sensors.size(), c.planes.size()));
+  }
+  CampaignAnalysis a;
+  a.calibration = estimators::calibrate(c.runs, c.planes.size());
+  a.correction = estimators::correction(a.calibration);
+  const bool radii = std::all_of(c.plane_radius.begin(), c.plane_radius.end(), [](double r) { return r > 0.0; });
+  a.moment_unit = radii ? "g mm" : "g";
+  a.moment_factor = radii ? 1e3 : 1.0;  // g m -> g mm
+  a.correction_masses = estimators::correction_answers(a.calibration, c.plane_radius);
+  a.initial_unbalance = estimators::initial_unbalance_answers(a.calibration, c.plane_radius);
+  a.residual_readings = estimators::residual_reading_answers(a.calibration);
+  a.runs = answers_of_unused_runs(c, a);
+  a.answer = answer_sentence(c, a);
+  return a;
+}
+
+json analysis_json(const BalancingCampaign& c, const CampaignAnalysis& a) {
+  const auto& cal = a.calibration;
+  json h = json::array();
+  for (std::size_t s = 0; s < c.sensors.size(); ++s) {
+    for (std::size_t p = 0; p < c.planes.size(); ++p) {
+      json e{{"sensor", c.sensors[s]},
+             {"plane", c.planes[p]},
+             {"value", {{"amplitude", std::abs(cal.h[s][p].value)}, {"angle_deg", degrees(cal.h[s][p].value)}}}};
+      e["standard_error"] = cal.h[s][p].se ? json(*cal.h[s][p].se) : json(nullptr);
+      h.push_back(e);
+    }
+  }
+  json masses = json::array(), residual = json::array(), runs = json::array();
+  for (std::size_t p = 0; p < c.planes.size(); ++p) {
+    json e = interval_json(a.correction_masses.planes[p], "mass_g", 1.0);
+    e["plane"] = c.planes[p];
+    e["radius95_g"] = e["radius95"];
+    e.erase("radius95");
+    masses.push_back(e);
+  }
+  for (std::size_t s = 0; s < c.sensors.size(); ++s) {
+    const auto& z = a.residual_readings[s];
+    const auto r = z.radius();
+    residual.push_back({{"sensor", c.sensors[s]},
+                        {"reading", {{"amplitude", std::abs(z.value)}, {"angle_deg", degrees(z.value)}}},
+                        {"radius95", r ? json(*r) : json(nullptr)}});
+  }
+  for (const auto& r : a.runs) {
+    runs.push_back({{"run", r.name},
+                    {"check", r.check},
+                    {"readings", r.readings},
+                    {"unbalance", plane_answers_json(c, a, r.unbalance, r.applied)}});
+  }
+  json out{{"campaign", c.name},
+           {"amplitude_unit", c.amplitude_unit},
+           {"runs_used", cal.runs},
+           {"degrees_of_freedom", cal.dof},
+           {"influence_coefficients", h},
+           {"influence_unit", c.amplitude_unit + " per g"},
+           {"condition_number", cal.condition},
+           {"correction", masses},
+           {"predicted_residual", residual},
+           {"predicted_residual_rms", a.correction.residual_rms},
+           {"initial_unbalance", plane_answers_json(c, a, a.initial_unbalance, std::nullopt)},
+           {"correction_static_couple", plane_answers_json(c, a, a.correction_masses, std::nullopt)},
+           {"runs", runs},
+           {"answer", a.answer}};
+  out["noise_sd"] = json::array();
+  for (double v : cal.noise_var) out["noise_sd"].push_back(std::sqrt(v));
+  return out;
+}
+
+}  // namespace poise::balancing
