@@ -1,7 +1,10 @@
 #include "balancing/campaign.h"
 
+#include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
+#include <map>
 #include <optional>
 
 #include "core/error.h"
@@ -14,10 +17,16 @@ namespace {
 using engine::TomlReader;
 using estimators::Phasor;
 
+// Where a sensor's reading is in the readings file (wide layout): amplitude and phase, or real
+// and imaginary parts; its mounting angle.
 struct SensorColumns {
-  std::string amplitude, phase;
+  std::string first, second;
+  bool cartesian = false;
   double angle = 0.0;  // rad
 };
+
+const units::Dimension kSpeed{{0, 0, -1, 0, 1, 0}};  // rpm's
+constexpr double kRadPerSecPerRpm = 2.0 * 3.14159265358979323846 / 60.0;
 
 // One [[run]]: its name and, when known, the masses it carries per plane (g at the plane's radius).
 struct DeclaredRun {
@@ -32,7 +41,8 @@ std::optional<std::vector<Phasor>> read_masses(TomlReader& run, const BalancingC
   for (TomlReader& m : run.table_array("masses")) {
     const std::string plane = m.choice("plane", c.planes);
     const double mass_g = m.quantity("mass", units::kMass, engine::positive) * 1e3;
-    const double angle = m.quantity("angle", units::kAngle);
+    // Inside Poise masses' angles count against rotation (campaign.h).
+    const double angle = m.quantity("angle", units::kAngle) * (c.weights_with_rotation ? -1.0 : 1.0);
     const double radius = m.quantity("radius", units::kLength, engine::non_negative, 0.0);
     for (std::size_t p = 0; p < c.planes.size(); ++p) {
       if (c.planes[p] != plane) continue;
@@ -56,6 +66,194 @@ DeclaredRun read_run(TomlReader& r, const BalancingCampaign& c) {
 
 }  // namespace
 
+namespace {
+
+// What the campaign file says of the readings file, beside the sensors.
+struct ReadingsLayout {
+  std::string file;
+  bool long_layout = false, lead = false, weights_with_rotation = false;
+  units::Dimension amplitude_dim;
+  double amplitude_factor = 1.0;  // SI per amplitude unit
+  std::vector<SensorColumns> sensors;
+  estimators::ColumnMapping columns;  // role -> header
+};
+
+SensorColumns read_sensor_columns(TomlReader& s) {
+  SensorColumns out;
+  out.cartesian = s.has("real") || s.has("imaginary");
+  out.first = s.string(out.cartesian ? "real" : "amplitude");
+  out.second = s.string(out.cartesian ? "imaginary" : "phase");
+  out.angle = s.quantity("angle", units::kAngle, {}, 0.0);
+  return out;
+}
+
+std::vector<estimators::ColumnRole> column_roles(const BalancingCampaign& c, const ReadingsLayout& l) {
+  using estimators::ColumnRole;
+  std::vector<ColumnRole> roles = {{"run", {"run"}, units::kDimensionless, "1", true, "run (its number or name)", true},
+                                   {"speed", {"speed", "speed_rpm", "rpm"}, kSpeed, "rpm", false, "speed", false}};
+  const auto reading_roles = [&](const std::string& prefix, const SensorColumns& sc, const std::string& who) {
+    if (sc.cartesian) {
+      roles.push_back({prefix + "real", {sc.first}, l.amplitude_dim, c.amplitude_unit, true, who + "real part"});
+      roles.push_back(
+          {prefix + "imaginary", {sc.second}, l.amplitude_dim, c.amplitude_unit, true, who + "imaginary part"});
+    } else {
+      roles.push_back({prefix + "amplitude", {sc.first}, l.amplitude_dim, c.amplitude_unit, true, who + "amplitude"});
+      roles.push_back({prefix + "phase", {sc.second}, units::kAngle, "deg", true, who + "phase"});
+    }
+  };
+  if (l.long_layout) {
+    roles.push_back({"sensor", {"sensor"}, units::kDimensionless, "1", true, "sensor's name", true});
+    const bool cartesian = l.columns.header.count("real") || l.columns.header.count("imaginary");
+    reading_roles("", {cartesian ? "real" : "amplitude", cartesian ? "imaginary" : "phase", cartesian, 0.0}, "");
+  } else {
+    for (std::size_t s = 0; s < c.sensors.size(); ++s) {
+      reading_roles(c.sensors[s] + ".", l.sensors[s], c.sensors[s] + "'s ");
+    }
+  }
+  for (auto& r : roles) r.unit_by_default = true;  // the campaign declares the units
+  return roles;
+}
+
+// One row's reading of one sensor as Poise counts it (lag, the probe's angle added), in the
+// campaign's amplitude unit.
+Phasor reading_at(const estimators::LabTable& t, const std::string& prefix, std::size_t row, const ReadingsLayout& l,
+                  const SensorColumns& sc) {
+  Phasor z = sc.cartesian ? Phasor(t.at(prefix + "real")[row], t.at(prefix + "imaginary")[row])
+                          : std::polar(t.at(prefix + "amplitude")[row], t.at(prefix + "phase")[row]);
+  z /= l.amplitude_factor;
+  if (l.lead) z = std::conj(z);
+  return z * std::polar(1.0, sc.angle);
+}
+
+std::size_t run_of(const std::string& cell, const std::vector<DeclaredRun>& declared, const std::string& file,
+                   std::size_t line, const std::string& campaign) {
+  for (std::size_t k = 0; k < declared.size(); ++k) {
+    if (declared[k].name == cell) return k;
+  }
+  char* end = nullptr;
+  const double number = std::strtod(cell.c_str(), &end);
+  if (end != cell.c_str() && *end == '\0' && number >= 1.0 && number <= static_cast<double>(declared.size()) &&
+      number == std::round(number)) {
+    return static_cast<std::size_t>(number) - 1;
+  }
+  throw InputError(SourceLocation{file, static_cast<int>(line), 0}, "run", cell,
+                   "a run's number, 1 to " + std::to_string(declared.size()) + " (the [[run]] tables of " + campaign +
+                       ", in order), or a run's name");
+}
+
+}  // namespace
+
+namespace {
+
+// The speed groups: speeds within 2% of a group's lowest are one; each group's mean.
+std::vector<double> speed_groups(std::vector<double> speeds) {
+  std::sort(speeds.begin(), speeds.end());
+  std::vector<double> means;
+  std::size_t first = 0;
+  for (std::size_t k = 1; k <= speeds.size(); ++k) {
+    if (k == speeds.size() || speeds[k] > 1.02 * speeds[first]) {
+      double sum = 0.0;
+      for (std::size_t j = first; j < k; ++j) sum += speeds[j];
+      means.push_back(sum / static_cast<double>(k - first));
+      first = k;
+    }
+  }
+  return means;
+}
+
+std::optional<double> group_of(const std::vector<double>& groups, double rpm) {
+  for (double g : groups) {
+    if (std::abs(rpm - g) <= 0.02 * g) return g;
+  }
+  return std::nullopt;
+}
+
+// The rows of a long table assembled into readings of every sensor: the k-th row of a sensor in
+// a run (at a speed) is the k-th reading of that run.
+void assemble_long(const estimators::LabTable& t, const std::vector<std::size_t>& run_index,
+                   const std::vector<std::optional<double>>& speed, const std::vector<DeclaredRun>& declared,
+                   const ReadingsLayout& l, BalancingCampaign& c) {
+  struct Key {
+    std::size_t run;
+    double speed;
+    auto operator<=>(const Key&) const = default;
+  };
+  std::map<Key, std::vector<std::vector<std::pair<Phasor, std::size_t>>>> by_sensor;
+  for (std::size_t row = 0; row < t.size(); ++row) {
+    const std::string& name = t.text.at("sensor")[row];
+    const auto it = std::find(c.sensors.begin(), c.sensors.end(), name);
+    if (it == c.sensors.end()) {
+      std::string names;
+      for (const auto& n : c.sensors) names += (names.empty() ? "" : ", ") + n;
+      throw InputError(SourceLocation{t.file, static_cast<int>(t.lines[row]), 0}, "sensor", name,
+                       "one of the campaign's [[sensor]] names: " + names);
+    }
+    const auto s = static_cast<std::size_t>(it - c.sensors.begin());
+    auto& cells = by_sensor[{run_index[row], speed[row].value_or(0.0)}];
+    cells.resize(c.sensors.size());
+    cells[s].push_back({reading_at(t, "", row, l, l.sensors.empty() ? SensorColumns{} : l.sensors[s]), t.lines[row]});
+  }
+  for (const auto& [key, cells] : by_sensor) {
+    for (std::size_t s = 0; s < c.sensors.size(); ++s) {
+      if (cells[s].size() == cells[0].size()) continue;
+      const std::size_t line = cells[s].empty() ? cells[0].front().second : cells[s].front().second;
+      throw InputError(SourceLocation{t.file, static_cast<int>(line), 0}, "sensor", c.sensors[s],
+                       "as many readings of each sensor in run '" + declared[key.run].name + "' (" +
+                           std::to_string(cells[0].size()) + " of " + c.sensors[0] + ", " +
+                           std::to_string(cells[s].size()) + " of " + c.sensors[s] + ")");
+    }
+    for (std::size_t k = 0; k < cells[0].size(); ++k) {
+      const DeclaredRun& d = declared[key.run];
+      estimators::BalancingRun run{d.name, {}, d.masses, d.check, key.run, std::nullopt};
+      if (key.speed > 0.0) run.speed_rpm = key.speed;
+      for (std::size_t s = 0; s < c.sensors.size(); ++s) run.readings.push_back(cells[s][k].first);
+      c.runs.push_back(std::move(run));
+    }
+  }
+}
+
+ReadingsLayout read_layout(TomlReader& root, TomlReader& head, BalancingCampaign& c, const std::string& path) {
+  ReadingsLayout l;
+  l.file = (std::filesystem::path(path).parent_path() / head.string("readings")).string();
+  c.amplitude_unit = head.string("amplitude_unit");
+  try {
+    const auto q = engine::unit_quantity(c.amplitude_unit);
+    l.amplitude_dim = q.dim;
+    l.amplitude_factor = q.value;
+  } catch (const Error& e) {
+    head.error("amplitude_unit", engine::quote_value(c.amplitude_unit),
+               std::string("the amplitudes' unit, e.g. \"um\", \"mil\", \"mm/s\" or \"gn\" (") + e.what() + ")");
+  }
+  l.lead = head.choice("phase", {"lag", "lead"}, "lag") == "lead";
+  l.weights_with_rotation =
+      head.choice("weight_angles", {"against_rotation", "with_rotation"}, "against_rotation") == "with_rotation";
+  c.weights_with_rotation = l.weights_with_rotation;
+  l.long_layout = head.choice("layout", {"wide", "long"}, "wide") == "long";
+  if (head.has("balancing_speed")) {
+    c.balancing_speed_rpm = head.quantity("balancing_speed", kSpeed, engine::positive) / kRadPerSecPerRpm;
+  }
+  if (root.has("columns")) {
+    TomlReader cols = root.table("columns");
+    const std::vector<std::string> keys =
+        l.long_layout ? std::vector<std::string>{"run", "speed", "sensor", "amplitude", "phase", "real", "imaginary"}
+                      : std::vector<std::string>{"run", "speed"};
+    for (const auto& k : keys) {
+      if (cols.has(k)) l.columns.header[k] = cols.string(k);
+    }
+  }
+  for (TomlReader& s : root.table_array("sensor")) {
+    c.sensors.push_back(s.string("name"));
+    if (l.long_layout) {
+      l.sensors.push_back({"", "", false, s.quantity("angle", units::kAngle, {}, 0.0)});
+    } else {
+      l.sensors.push_back(read_sensor_columns(s));
+    }
+  }
+  return l;
+}
+
+}  // namespace
+
 BalancingCampaign read_balancing_campaign(const std::string& path) {
   const toml::table doc = engine::parse_toml_file(path);
   auto ctx = std::make_shared<engine::ReadContext>();
@@ -65,21 +263,7 @@ BalancingCampaign read_balancing_campaign(const std::string& path) {
   c.file = path;
   TomlReader head = root.table("campaign");
   c.name = head.string("name");
-  const std::string readings = head.string("readings");
-  c.amplitude_unit = head.string("amplitude_unit");
-  units::Dimension amplitude_dim;
-  try {
-    amplitude_dim = engine::unit_quantity(c.amplitude_unit).dim;
-  } catch (const Error& e) {
-    head.error("amplitude_unit", engine::quote_value(c.amplitude_unit),
-               std::string("the amplitudes' unit, e.g. \"um\", \"mil\" or \"mm/s\" (") + e.what() + ")");
-  }
-  const bool lead = head.choice("phase", {"lag", "lead"}, "lag") == "lead";
-  std::vector<SensorColumns> columns;
-  for (TomlReader& s : root.table_array("sensor")) {
-    c.sensors.push_back(s.string("name"));
-    columns.push_back({s.string("amplitude"), s.string("phase"), s.quantity("angle", units::kAngle, {}, 0.0)});
-  }
+  const ReadingsLayout l = read_layout(root, head, c, path);
   for (TomlReader& p : root.table_array("plane")) {
     c.planes.push_back(p.string("name"));
     c.plane_radius.push_back(p.quantity("radius", units::kLength, engine::non_negative, 0.0));
@@ -88,38 +272,29 @@ BalancingCampaign read_balancing_campaign(const std::string& path) {
   for (TomlReader& r : root.table_array("run")) declared.push_back(read_run(r, c));
   if (c.sensors.empty()) root.error("sensor", "", "at least one [[sensor]] with name, amplitude and phase");
   if (c.planes.empty()) root.error("plane", "", "at least one [[plane]] with a name");
+  if (declared.empty()) root.error("run", "", "at least one [[run]] with a name and its masses");
   engine::finish(doc, *ctx);
   c.declared_runs = declared.size();
 
-  std::vector<estimators::ColumnRole> roles = {{"run", {"run"}, units::kDimensionless, "1", true, "run number"}};
-  for (std::size_t s = 0; s < c.sensors.size(); ++s) {
-    roles.push_back({c.sensors[s] + ".amplitude",
-                     {columns[s].amplitude},
-                     amplitude_dim,
-                     c.amplitude_unit,
-                     true,
-                     c.sensors[s] + "'s amplitude"});
-    roles.push_back(
-        {c.sensors[s] + ".phase", {columns[s].phase}, units::kAngle, "deg", true, c.sensors[s] + "'s phase"});
-  }
-  const std::filesystem::path table_path = std::filesystem::path(path).parent_path() / readings;
-  const estimators::LabTable t = estimators::read_lab_table(table_path.string(), roles, {});
-  const double amplitude_factor = engine::unit_quantity(c.amplitude_unit).value;
+  const estimators::LabTable t = estimators::read_lab_table(l.file, column_roles(c, l), l.columns);
+  std::vector<std::size_t> run_index;
+  std::vector<double> speeds;
   for (std::size_t row = 0; row < t.size(); ++row) {
-    const double number = t.at("run")[row];
-    if (!(number >= 1.0 && number <= static_cast<double>(declared.size()) && number == std::round(number))) {
-      throw InputError(SourceLocation{table_path.string(), static_cast<int>(t.lines[row]), 0}, "run",
-                       std::to_string(number),
-                       "a run's number, 1 to " + std::to_string(declared.size()) + " (the [[run]] tables of " + path +
-                           ", in order)");
-    }
-    const auto index = static_cast<std::size_t>(number) - 1;
-    const DeclaredRun& d = declared[index];
-    estimators::BalancingRun run{d.name, {}, d.masses, d.check, index};
+    run_index.push_back(run_of(t.text.at("run")[row], declared, l.file, t.lines[row], path));
+    if (t.has("speed")) speeds.push_back(t.at("speed")[row] / kRadPerSecPerRpm);
+  }
+  c.speeds_rpm = speed_groups(speeds);
+  std::vector<std::optional<double>> speed(t.size());
+  for (std::size_t row = 0; row < speeds.size(); ++row) speed[row] = group_of(c.speeds_rpm, speeds[row]);
+  if (l.long_layout) {
+    assemble_long(t, run_index, speed, declared, l, c);
+    return c;
+  }
+  for (std::size_t row = 0; row < t.size(); ++row) {
+    const DeclaredRun& d = declared[run_index[row]];
+    estimators::BalancingRun run{d.name, {}, d.masses, d.check, run_index[row], speed[row]};
     for (std::size_t s = 0; s < c.sensors.size(); ++s) {
-      const double amplitude = t.at(c.sensors[s] + ".amplitude")[row] / amplitude_factor;
-      const double phase = t.at(c.sensors[s] + ".phase")[row];
-      run.readings.push_back(std::polar(amplitude, (lead ? -phase : phase) + columns[s].angle));
+      run.readings.push_back(reading_at(t, c.sensors[s] + ".", row, l, l.sensors[s]));
     }
     c.runs.push_back(std::move(run));
   }

@@ -4,21 +4,35 @@
 ///
 ///     [campaign]
 ///     name = "compressor, field balance 2004"
-///     readings = "readings.csv"      # relative to this file; one row per reading of a run
+///     readings = "readings.csv"      # relative to this file
 ///     amplitude_unit = "mil"         # the amplitudes' unit where the header gives none
+///                                    #   (a displacement, "mm/s", "m/s^2" or "gn": any one kind)
 ///     phase = "lag"                  # "lag" (default) or "lead": how the instrument gives phase
+///     weight_angles = "against_rotation"  # (default) or "with_rotation": how masses' angles count
+///     layout = "wide"                # "wide" (default): a row per reading of a run, two columns
+///                                    #   per sensor; "long": a row per sensor's reading
+///     balancing_speed = "8610 rpm"   # with several speeds: the one answered first (default: highest)
+///
+///     [columns]                      # optional: the readings file's headers, where not the defaults
+///     run = "Run"                    # the run: its number (1, 2, ... the [[run]] tables in order)
+///                                    #   or its name (default header "run")
+///     speed = "RPM"                  # optional: the speed, unit in the header or rpm ("speed",
+///                                    #   "speed_rpm", "rpm")
+///     sensor = "Probe"               # long layout: the sensor's name ("sensor"), and its reading
+///     amplitude = "Amp"              #   as "amplitude" and "phase", or "real" and "imaginary"
+///     phase = "Phase"
 ///
 ///     [[sensor]]                     # one per probe, in any order
 ///     name = "fwd_x"
-///     amplitude = "FwdX amp"         # the readings file's headers of its amplitude and phase
-///     phase = "FwdX phase"
+///     amplitude = "FwdX amp"         # wide layout: the headers of its amplitude and phase,
+///     phase = "FwdX phase"           #   or `real = ".."` and `imaginary = ".."`
 ///     angle = "225 deg"              # optional: added to its phases (a probe's mounting angle)
 ///
 ///     [[plane]]
 ///     name = "aft"
 ///     radius = "120 mm"              # optional: masses at another radius are scaled to it
 ///
-///     [[run]]                        # in the order of the readings file's `run` column (1, 2, ...)
+///     [[run]]                        # in the order of the run numbers
 ///     name = "as found"
 ///     masses = []                    # no mass added; omit `masses` for a rotor of unknown masses
 ///     [[run]]
@@ -29,10 +43,14 @@
 ///     check = true                   # masses known but left out of the calibration: the
 ///     masses = [...]                 #   answer for this run is compared with them
 ///
-/// Weight angles and phases are counted in one sense from the key phasor (the instrument's); the
-/// answers are given in that sense. The readings file is a lab's table (estimators/lab_table.h):
-/// a `run` column (the run's number) and each sensor's two columns; a run may have several rows
-/// (repeated readings), each one observation.
+/// Conventions. Inside Poise phases are lags and masses' angles count against rotation, both from
+/// the reference mark (a heavy spot further against rotation passes a probe later: a larger lag),
+/// so that a reading is linear in m e^{i angle}; a lead or angles with rotation are turned round
+/// on reading, and the answers are given back in the campaign's declared sense. A reference mark
+/// that sits elsewhere turns every reading by one angle, which the coefficients absorb: the
+/// masses found do not depend on it. Each sensor's readings (a row) at one speed are one
+/// observation; readings at speeds within 2% of each other are one speed.
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -42,6 +60,9 @@ namespace poise::balancing {
 
 struct BalancingCampaign {
   std::string file, name, amplitude_unit;
+  bool weights_with_rotation = false;  ///< answers' angles count with rotation (declared)
+  std::vector<double> speeds_rpm;      ///< the distinct speeds, ascending (empty: none given)
+  std::optional<double> balancing_speed_rpm;
   std::vector<std::string> sensors, planes;
   std::vector<double> plane_radius;            ///< m, 0 where not given
   std::vector<estimators::BalancingRun> runs;  ///< one per reading row, named after its [[run]]

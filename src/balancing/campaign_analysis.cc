@@ -50,9 +50,10 @@ json plane_answers_json(const BalancingCampaign& c, const CampaignAnalysis& a, c
 }
 
 // Rows of the runs the calibration leaves out, grouped by declared run, in the campaign's order.
-std::vector<RunAnswer> answers_of_unused_runs(const BalancingCampaign& c, const CampaignAnalysis& a) {
+std::vector<RunAnswer> answers_of_unused_runs(const std::vector<estimators::BalancingRun>& all,
+                                              const BalancingCampaign& c, const CampaignAnalysis& a) {
   std::map<std::size_t, std::vector<const estimators::BalancingRun*>> rows;
-  for (const auto& r : c.runs) {
+  for (const auto& r : all) {
     if (!r.masses || r.check) rows[r.declared].push_back(&r);
   }
   std::vector<RunAnswer> out;
@@ -115,15 +116,24 @@ std::string phasor_text(const PhasorInterval& z, const std::string& unit, double
   return s;
 }
 
-CampaignAnalysis analyse_campaign(const BalancingCampaign& c) {
-  if (c.sensors.size() < c.planes.size()) {
-    throw Error(
-        fmt::format("{} sensors cannot separate {} planes: each plane needs a sensor of its own (the "
-                    "influence matrix is sensors x planes)",
-                    c.sensors.size(), c.planes.size()));
-  }
+namespace {
+
+// Masses' angles back in the campaign's declared sense (inside Poise: against rotation).
+void mirror(PhasorInterval& z) {
+  z.value = std::conj(z.value);
+  if (z.covariance) (*z.covariance)[1] = -(*z.covariance)[1];
+}
+void mirror(estimators::PlaneAnswers& u) {
+  for (auto& z : u.planes) mirror(z);
+  if (u.static_unbalance) mirror(*u.static_unbalance);
+  if (u.couple_unbalance) mirror(*u.couple_unbalance);
+}
+
+CampaignAnalysis analyse_runs(const BalancingCampaign& c, const std::vector<estimators::BalancingRun>& runs,
+                              std::optional<double> speed_rpm) {
   CampaignAnalysis a;
-  a.calibration = estimators::calibrate(c.runs, c.planes.size());
+  a.speed_rpm = speed_rpm;
+  a.calibration = estimators::calibrate(runs, c.planes.size());
   a.correction = estimators::correction(a.calibration);
   const bool radii = std::all_of(c.plane_radius.begin(), c.plane_radius.end(), [](double r) { return r > 0.0; });
   a.moment_unit = radii ? "g mm" : "g";
@@ -131,12 +141,65 @@ CampaignAnalysis analyse_campaign(const BalancingCampaign& c) {
   a.correction_masses = estimators::correction_answers(a.calibration, c.plane_radius);
   a.initial_unbalance = estimators::initial_unbalance_answers(a.calibration, c.plane_radius);
   a.residual_readings = estimators::residual_reading_answers(a.calibration);
-  a.runs = answers_of_unused_runs(c, a);
+  a.runs = answers_of_unused_runs(runs, c, a);
+  if (c.weights_with_rotation) {
+    mirror(a.correction_masses);
+    mirror(a.initial_unbalance);
+    for (auto& r : a.runs) {
+      mirror(r.unbalance);
+      if (r.applied) {
+        for (auto& m : *r.applied) m = std::conj(m);
+      }
+    }
+  }
   a.answer = answer_sentence(c, a);
+  if (speed_rpm) a.answer = "At " + significant(*speed_rpm, 5) + " rpm: " + a.answer;
   return a;
 }
 
-json analysis_json(const BalancingCampaign& c, const CampaignAnalysis& a) {
+}  // namespace
+
+CampaignAnalyses analyse_campaign(const BalancingCampaign& c) {
+  if (c.sensors.size() < c.planes.size()) {
+    throw Error(
+        fmt::format("{} sensors cannot separate {} planes: each plane needs a sensor of its own (the "
+                    "influence matrix is sensors x planes)",
+                    c.sensors.size(), c.planes.size()));
+  }
+  CampaignAnalyses out;
+  if (c.speeds_rpm.size() <= 1) {
+    out.speeds.push_back(analyse_runs(c, c.runs, c.speeds_rpm.empty() ? std::nullopt : std::optional(c.speeds_rpm[0])));
+    return out;
+  }
+  // The balancing speed first: the declared one's group, else the highest.
+  std::vector<double> order = c.speeds_rpm;
+  std::size_t first = order.size() - 1;
+  if (c.balancing_speed_rpm) {
+    first = 0;
+    for (std::size_t k = 0; k < order.size(); ++k) {
+      if (std::abs(order[k] - *c.balancing_speed_rpm) < std::abs(order[first] - *c.balancing_speed_rpm)) first = k;
+    }
+  }
+  std::rotate(order.begin(), order.begin() + static_cast<std::ptrdiff_t>(first),
+              order.begin() + static_cast<std::ptrdiff_t>(first) + 1);
+  for (std::size_t k = 0; k < order.size(); ++k) {
+    std::vector<estimators::BalancingRun> runs;
+    for (const auto& r : c.runs) {
+      if (r.speed_rpm && *r.speed_rpm == order[k]) runs.push_back(r);
+    }
+    try {
+      out.speeds.push_back(analyse_runs(c, runs, order[k]));
+    } catch (const Error& e) {
+      if (k == 0) throw Error("at the balancing speed " + significant(order[k], 5) + " rpm: " + e.what());
+      out.notes.push_back("at " + significant(order[k], 5) + " rpm, no calibration: " + e.what());
+    }
+  }
+  return out;
+}
+
+namespace {
+
+json speed_json(const BalancingCampaign& c, const CampaignAnalysis& a) {
   const auto& cal = a.calibration;
   json h = json::array();
   for (std::size_t s = 0; s < c.sensors.size(); ++s) {
@@ -185,6 +248,22 @@ json analysis_json(const BalancingCampaign& c, const CampaignAnalysis& a) {
            {"answer", a.answer}};
   out["noise_sd"] = json::array();
   for (double v : cal.noise_var) out["noise_sd"].push_back(std::sqrt(v));
+  out["speed_rpm"] = a.speed_rpm ? json(*a.speed_rpm) : json(nullptr);
+  return out;
+}
+
+}  // namespace
+
+json analysis_json(const BalancingCampaign& c, const CampaignAnalyses& a) {
+  json out = speed_json(c, a.speeds.front());
+  if (a.speeds.size() > 1) {
+    out["speeds"] = json::array();
+    for (const auto& s : a.speeds) out["speeds"].push_back(speed_json(c, s));
+  }
+  out["notes"] = a.notes;
+  out["angle_convention"] =
+      std::string("readings and influence coefficients: phase lag with each probe's angle added; masses: angles ") +
+      (c.weights_with_rotation ? "with" : "against") + " rotation from the reference mark, as the campaign declares";
   return out;
 }
 

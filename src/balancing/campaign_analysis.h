@@ -25,6 +25,7 @@ struct RunAnswer {
 };
 
 struct CampaignAnalysis {
+  std::optional<double> speed_rpm;  ///< the speed these readings were taken at, where given
   estimators::InfluenceCalibration calibration;
   estimators::Correction correction;  ///< the plain least-squares correction
   estimators::PlaneAnswers correction_masses, initial_unbalance;
@@ -37,12 +38,19 @@ struct CampaignAnalysis {
   std::string answer;  ///< the campaign's answer in one sentence
 };
 
-/// Throws poise::Error when the campaign cannot be calibrated (too few runs, planes not
-/// separated, fewer sensors than planes).
-CampaignAnalysis analyse_campaign(const BalancingCampaign& c);
+/// One analysis per speed of the readings (one where none is given), the balancing speed's first
+/// (the campaign's balancing_speed, else the highest). Throws poise::Error when the campaign
+/// cannot be calibrated at the balancing speed (too few runs, planes not separated, fewer
+/// sensors than planes); another speed that cannot be is left out with a note.
+struct CampaignAnalyses {
+  std::vector<CampaignAnalysis> speeds;
+  std::vector<std::string> notes;
+};
+CampaignAnalyses analyse_campaign(const BalancingCampaign& c);
 
-/// The analysis as `poise balance --json` prints it.
-nlohmann::json analysis_json(const BalancingCampaign& c, const CampaignAnalysis& a);
+/// The analysis as `poise balance --json` prints it: the balancing speed's figures at the top,
+/// and with several speeds each speed's under "speeds".
+nlohmann::json analysis_json(const BalancingCampaign& c, const CampaignAnalyses& a);
 
 /// "15.33 g @ 2.9 deg" and, with a region, " (95%: +- 1.2 g)".
 std::string phasor_text(const estimators::PhasorInterval& z, const std::string& unit, double factor = 1.0);

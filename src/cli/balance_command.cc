@@ -50,10 +50,11 @@ object instead (its "answer" is the same sentence).
 Exit status: 0 success, 2 invalid input (file, line, key and what was expected).
 )";
 
-void print_text(const balancing::BalancingCampaign& c, const balancing::CampaignAnalysis& a) {
+void print_speed(const balancing::BalancingCampaign& c, const balancing::CampaignAnalysis& a) {
   const auto& cal = a.calibration;
-  std::cout << "Campaign '" << c.name << "' (" << c.file << "): " << cal.runs << " readings of runs with known masses, "
-            << c.sensors.size() << " sensors, " << c.planes.size() << " planes; " << cal.dof << " degrees of freedom"
+  std::cout << (a.speed_rpm ? "At " + significant(*a.speed_rpm, 5) + " rpm: " : std::string()) << cal.runs
+            << " readings of runs with known masses, " << c.sensors.size() << " sensors, " << c.planes.size()
+            << " planes; " << cal.dof << " degrees of freedom"
             << (cal.dof == 0 ? " (as many readings as unknowns: no standard errors; another run would give them)" : "")
             << ".\nInfluence coefficients [" << c.amplitude_unit << " per g]:\n";
   for (std::size_t s = 0; s < c.sensors.size(); ++s) {
@@ -97,13 +98,22 @@ void print_text(const balancing::BalancingCampaign& c, const balancing::Campaign
     std::cout << (s ? ", " : " ") << c.sensors[s] << " "
               << balancing::phasor_text(a.residual_readings[s], c.amplitude_unit);
   }
-  std::cout << ".\n" << a.answer << '\n';
+  std::cout << ".\n";
+}
+
+void print_text(const balancing::BalancingCampaign& c, const balancing::CampaignAnalyses& a) {
+  std::cout << "Campaign '" << c.name << "' (" << c.file << ")";
+  if (a.speeds.size() > 1) std::cout << ", " << a.speeds.size() << " speeds (the balancing speed first)";
+  std::cout << ".\n";
+  for (const auto& s : a.speeds) print_speed(c, s);
+  for (const auto& n : a.notes) std::cout << "Note: " << n << ".\n";
+  std::cout << a.speeds.front().answer << '\n';
 }
 
 int run_balance(const std::string& path, bool as_json) {
   try {
     const balancing::BalancingCampaign c = balancing::read_balancing_campaign(path);
-    const balancing::CampaignAnalysis a = balancing::analyse_campaign(c);
+    const balancing::CampaignAnalyses a = balancing::analyse_campaign(c);
     if (as_json) {
       std::cout << balancing::analysis_json(c, a).dump(2) << '\n';
     } else {

@@ -77,6 +77,7 @@ const std::map<std::string, UnitDef, std::less<>>& unit_table() {
       {"kPa", {1e3, kPressure}},
       {"MPa", {1e6, kPressure}},
       {"GPa", {1e9, kPressure}},
+      {"gn", {9.80665, kAcceleration}},  // standard acceleration of gravity (ISO 80000-3's g_n)
       {"rpm", {2.0 * kPi / 60.0, Dimension{{0, 0, -1, 0, 1, 0}}}},
       // dimensionless
       {"1", {1.0, kDimensionless}},

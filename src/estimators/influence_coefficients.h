@@ -36,6 +36,7 @@ struct BalancingRun {
   std::optional<std::vector<Phasor>> masses;
   bool check = false;
   std::size_t declared = 0;
+  std::optional<double> speed_rpm;  ///< where the readings give it
 };
 
 /// A complex estimate with its standard error (the sd of each of its parts), if any.

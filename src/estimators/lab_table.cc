@@ -199,14 +199,16 @@ std::optional<Found> find_column(const ColumnRole& role, const std::vector<std::
     if (role.required) missing.push_back(&role);
     return std::nullopt;
   }
+  if (role.text) return Found{&role, *index, 1.0};
   const std::string& header = headers[*index];
   std::string unit;
   if (auto it = mapping.unit.find(role.role); it != mapping.unit.end()) {
     unit = it->second;
   } else if (auto in_header = unit_in_header(header, role.dimension)) {
     unit = *in_header;
-  } else if (!named || std::find(role.default_headers.begin(), role.default_headers.end(), header) !=
-                           role.default_headers.end()) {
+  } else if (!named || role.unit_by_default ||
+             std::find(role.default_headers.begin(), role.default_headers.end(), header) !=
+                 role.default_headers.end()) {
     unit = role.default_unit;
   } else {
     throw InputError(where, "unit of column '" + header + "' (" + role.what + ")", "(not given)",
@@ -381,6 +383,7 @@ LabTable npy_table(const std::string& path, const std::vector<ColumnRole>& roles
   std::vector<const ColumnRole*> missing;
   for (const ColumnRole& role : roles) {
     if (auto f = find_column(role, headers, mapping, path, 0, missing)) {
+      require(!role.text, path + ": a NumPy array holds numbers only; the " + role.what + " needs a text table");
       t.header[role.role] = headers[f->index];
       t.unit[role.role] = mapping.unit.count(role.role) ? mapping.unit.at(role.role) : role.default_unit;
       auto& values = t.si[role.role];
@@ -427,6 +430,10 @@ LabTable read_lab_table(const std::string& path, const std::vector<ColumnRole>& 
     if (auto f = find_column(role, headers, mapping, path, lineno, missing)) {
       found.push_back(*f);
       t.header[role.role] = headers[f->index];
+      if (role.text) {
+        t.text[role.role];
+        continue;
+      }
       t.unit[role.role] = mapping.unit.count(role.role)
                               ? mapping.unit.at(role.role)
                               : unit_in_header(headers[f->index], role.dimension).value_or(role.default_unit);
@@ -450,6 +457,10 @@ LabTable read_lab_table(const std::string& path, const std::vector<ColumnRole>& 
                          "(missing: " + std::to_string(cells.size()) + " cells in the row)",
                          std::to_string(headers.size()) + " cells, as the header (line " +
                              std::to_string(t.header_line) + ") has, delimited by " + t.delimiter);
+      }
+      if (f.role->text) {
+        t.text[f.role->role].push_back(cells[f.index]);
+        continue;
       }
       auto v = number_of(cells[f.index], decimal_comma);
       if (!v && f.role->dimension == units::kTime) {  // a date and time: seconds, whatever the column's unit

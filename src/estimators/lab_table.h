@@ -40,7 +40,11 @@ struct ColumnRole {
   units::Dimension dimension;                ///< what its values are
   std::string default_unit;                  ///< the unit of a default header ("s", "A", "deg")
   bool required = true;
-  std::string what;  ///< "time", "drive current", ...: for messages
+  std::string what;   ///< "time", "drive current", ...: for messages
+  bool text = false;  ///< cells kept as written (a sensor's name), no unit
+  /// A header the user named without a unit in it is in default_unit (a file whose units a
+  /// campaign declares), instead of an error asking for --unit.
+  bool unit_by_default = false;
 };
 
 /// What the user said of the file's columns: role -> header (--column), role -> unit (--unit).
@@ -57,11 +61,12 @@ void add_column_option(ColumnMapping& mapping, const std::string& option, const 
 /// The columns found, each in SI (angles in rad), in file order.
 struct LabTable {
   std::string file;
-  std::map<std::string, std::vector<double>> si;  ///< role -> values (only the roles found)
-  std::map<std::string, std::string> header;      ///< role -> the header that held it
-  std::map<std::string, std::string> unit;        ///< role -> the unit read (as written)
-  std::vector<std::size_t> lines;                 ///< file line (1-based) of each row
-  std::string delimiter;                          ///< "comma", "semicolon", "tab", "whitespace"
+  std::map<std::string, std::vector<double>> si;         ///< role -> values (only the roles found)
+  std::map<std::string, std::vector<std::string>> text;  ///< role -> cells of a text role
+  std::map<std::string, std::string> header;             ///< role -> the header that held it
+  std::map<std::string, std::string> unit;               ///< role -> the unit read (as written)
+  std::vector<std::size_t> lines;                        ///< file line (1-based) of each row
+  std::string delimiter;                                 ///< "comma", "semicolon", "tab", "whitespace"
   std::size_t header_line = 1;
 
   bool has(const std::string& role) const { return si.count(role) > 0; }

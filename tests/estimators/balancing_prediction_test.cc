@@ -39,7 +39,13 @@ std::vector<BalancingRun> campaign(std::mt19937_64* g, double noise_scale, int e
   std::vector<std::vector<P>> masses = {{0.0, 0.0}, {std::polar(10.0, 0.6), 0.0}, {0.0, std::polar(8.0, 2.2)}};
   for (int k = 0; k < extra; ++k) masses.push_back({std::polar(10.0, 0.6 + k), std::polar(8.0, 2.2 - 0.7 * k)});
   std::vector<BalancingRun> runs;
-  for (const auto& w : masses) runs.push_back({"run", readings(w, g, noise_scale), w});
+  for (const auto& w : masses) {
+    BalancingRun r;
+    r.name = "run";
+    r.readings = readings(w, g, noise_scale);
+    r.masses = w;
+    runs.push_back(r);
+  }
   return runs;
 }
 

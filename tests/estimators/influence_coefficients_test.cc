@@ -23,7 +23,9 @@ const std::vector<std::vector<P>> kH = {{std::polar(0.08, 1.0), std::polar(0.02,
 
 BalancingRun simulated_run(const std::vector<P>& w, std::mt19937_64* g, double noise) {
   std::normal_distribution<double> n(0.0, noise);
-  BalancingRun r{"run", {}, w};
+  BalancingRun r;
+  r.name = "run";
+  r.masses = w;
   for (std::size_t s = 0; s < kA.size(); ++s) {
     P v = kA[s];
     for (std::size_t p = 0; p < w.size(); ++p) v += kH[s][p] * w[p];
