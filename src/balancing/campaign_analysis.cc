@@ -69,7 +69,15 @@ std::vector<RunAnswer> answers_of_unused_runs(const std::vector<estimators::Bala
 }
 
 std::string answer_sentence(const BalancingCampaign& c, const CampaignAnalysis& a) {
-  std::string s = "Correction (trial masses removed):";
+  std::string s;
+  for (const auto& t : a.model_tests) {
+    // A declared sense the readings contradict comes first: every answer below assumes it.
+    if (t.significant && t.name == "phase sense" && t.finding.find("opposite senses") != std::string::npos) {
+      s = "The readings contradict the declared phase and angle senses (they follow the masses' mirror images): "
+          "declare the other phase or weight_angles; as declared, ";
+    }
+  }
+  s += s.empty() ? "Correction (trial masses removed):" : "the correction (trial masses removed):";
   for (std::size_t p = 0; p < c.planes.size(); ++p) {
     s += p ? ", " : " ";
     s += c.planes[p] + " " + phasor_text(a.correction_masses.planes[p], "g");
@@ -93,6 +101,12 @@ std::string answer_sentence(const BalancingCampaign& c, const CampaignAnalysis& 
     s += fmt::format("; check runs: {} of {} plane masses within their 95% regions", covered, with_region);
   }
   if (a.calibration.dof == 0) s += "; no intervals (as many runs as unknowns: one more run would give them)";
+  std::string missing;
+  for (const auto& t : a.model_tests) {
+    if (t.significant) missing += (missing.empty() ? "" : ", ") + t.name;
+  }
+  if (!missing.empty())
+    s += "; the linear model does not hold on these readings (" + missing + ": see the model tests)";
   return s + ".";
 }
 
@@ -152,9 +166,30 @@ CampaignAnalysis analyse_runs(const BalancingCampaign& c, const std::vector<esti
       }
     }
   }
+  a.model_tests = estimators::test_linear_model(runs, c.planes.size());
   a.answer = answer_sentence(c, a);
   if (speed_rpm) a.answer = "At " + significant(*speed_rpm, 5) + " rpm: " + a.answer;
   return a;
+}
+
+// The runout test across the speeds and the cross-talk statement, on the balancing speed's
+// analysis; a significant runout joins its answer.
+void add_runout_test(CampaignAnalyses& out) {
+  std::vector<estimators::InfluenceCalibration> calibrations;
+  for (const auto& s : out.speeds) calibrations.push_back(s.calibration);
+  CampaignAnalysis& first = out.speeds.front();
+  first.model_tests.push_back(estimators::test_runout(calibrations));
+  estimators::ModelTest crosstalk;
+  crosstalk.name = "sensor cross-talk";
+  crosstalk.needs =
+      "a reading of each probe with the others disconnected, or a known shaker input: on a campaign's readings "
+      "cross-talk is absorbed in the influence coefficients and the answers do not depend on it";
+  first.model_tests.push_back(crosstalk);
+  if (first.model_tests[first.model_tests.size() - 2].significant) {
+    first.answer.pop_back();
+    first.answer +=
+        "; a runout that does not follow the masses is significant across the speeds (see the model tests).";
+  }
 }
 
 }  // namespace
@@ -169,6 +204,7 @@ CampaignAnalyses analyse_campaign(const BalancingCampaign& c) {
   CampaignAnalyses out;
   if (c.speeds_rpm.size() <= 1) {
     out.speeds.push_back(analyse_runs(c, c.runs, c.speeds_rpm.empty() ? std::nullopt : std::optional(c.speeds_rpm[0])));
+    add_runout_test(out);
     return out;
   }
   // The balancing speed first: the declared one's group, else the highest.
@@ -194,6 +230,7 @@ CampaignAnalyses analyse_campaign(const BalancingCampaign& c) {
       out.notes.push_back("at " + significant(order[k], 5) + " rpm, no calibration: " + e.what());
     }
   }
+  add_runout_test(out);
   return out;
 }
 
@@ -249,6 +286,20 @@ json speed_json(const BalancingCampaign& c, const CampaignAnalysis& a) {
   out["noise_sd"] = json::array();
   for (double v : cal.noise_var) out["noise_sd"].push_back(std::sqrt(v));
   out["speed_rpm"] = a.speed_rpm ? json(*a.speed_rpm) : json(nullptr);
+  out["model_tests"] = json::array();
+  const auto opt = [](const std::optional<double>& v) { return v ? json(*v) : json(nullptr); };
+  for (const auto& t : a.model_tests) {
+    out["model_tests"].push_back({{"name", t.name},
+                                  {"ran", t.ran},
+                                  {"significant", t.significant},
+                                  {"p_value", opt(t.p_value)},
+                                  {"finding", t.finding},
+                                  {"needs", t.needs},
+                                  {"residual_rms_before", opt(t.residual_before)},
+                                  {"residual_rms_after", opt(t.residual_after)},
+                                  {"check_rms_before", opt(t.check_before)},
+                                  {"check_rms_after", opt(t.check_after)}});
+  }
   return out;
 }
 

@@ -11,6 +11,7 @@
 #include <nlohmann/json_fwd.hpp>
 
 #include "balancing/campaign.h"
+#include "estimators/balancing_model_tests.h"
 #include "estimators/balancing_prediction.h"
 
 namespace poise::balancing {
@@ -31,6 +32,9 @@ struct CampaignAnalysis {
   estimators::PlaneAnswers correction_masses, initial_unbalance;
   std::vector<estimators::PhasorInterval> residual_readings;
   std::vector<RunAnswer> runs;
+  /// The linear model's tests on these runs (estimators/balancing_model_tests.h), and the runout
+  /// test across the speeds (on the balancing speed's analysis).
+  std::vector<estimators::ModelTest> model_tests;
   /// Static and couple unbalance: "g mm" where every plane's radius is given, else "g" (at the
   /// planes' radii), and the factor from the estimators' figures (g m or g) to that unit.
   std::string moment_unit;

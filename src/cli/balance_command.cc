@@ -99,6 +99,23 @@ void print_speed(const balancing::BalancingCampaign& c, const balancing::Campaig
               << balancing::phasor_text(a.residual_readings[s], c.amplitude_unit);
   }
   std::cout << ".\n";
+  if (!a.model_tests.empty()) std::cout << "Tests of the linear model (level 0.01 over the tests that ran):\n";
+  for (const auto& t : a.model_tests) {
+    std::cout << "  " << t.name << ": ";
+    if (!t.ran) {
+      std::cout << "cannot be tested on these runs; needs " << t.needs << ".\n";
+      continue;
+    }
+    std::cout << (t.significant ? "SIGNIFICANT" : "not significant") << " (p = " << significant(*t.p_value, 2) << ")";
+    if (t.significant) {
+      std::cout << ": " << t.finding;
+      if (t.check_before) {
+        std::cout << "; check runs' readings predicted with RMS error " << significant(*t.check_before, 3) << " -> "
+                  << significant(*t.check_after, 3) << " " << c.amplitude_unit;
+      }
+    }
+    std::cout << ".\n";
+  }
 }
 
 void print_text(const balancing::BalancingCampaign& c, const balancing::CampaignAnalyses& a) {

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <functional>
+#include <limits>
 
 #include <Eigen/Dense>
 #include <boost/math/distributions/fisher_f.hpp>
@@ -78,7 +79,7 @@ std::vector<PhasorInterval> propagate(const InfluenceCalibration& c, const CVect
   }
   const double nu_sensor = 2.0 * static_cast<double>(c.dof);
   std::vector<RMatrix> cov(answers, RMatrix::Zero(2, 2));
-  std::vector<double> trace_sum(answers, 0.0), trace_sq_over_nu(answers, 0.0);
+  std::vector<std::vector<RMatrix>> parts(answers);  // per answer, each sensor's share
   for (std::size_t s = 0; s < c.sensors; ++s) {
     const auto row = static_cast<Eigen::Index>(s);
     const double scale = std::max(beta.row(row).cwiseAbs().maxCoeff(), std::abs(v.size() ? v(row) : Phasor(0.0)));
@@ -108,13 +109,26 @@ std::vector<PhasorInterval> propagate(const InfluenceCalibration& c, const CVect
       const RMatrix block =
           c.noise_var[s] * a.block(2 * static_cast<Eigen::Index>(k), 2 * static_cast<Eigen::Index>(k), 2, 2);
       cov[k] += block;
-      trace_sum[k] += block.trace();
-      trace_sq_over_nu[k] += block.trace() * block.trace() / nu_sensor;
+      parts[k].push_back(block);
     }
   }
   for (std::size_t k = 0; k < answers; ++k) {
     out[k].covariance = std::array<double, 3>{cov[k](0, 0), cov[k](0, 1), cov[k](1, 1)};
-    out[k].dof = trace_sq_over_nu[k] > 0.0 ? trace_sum[k] * trace_sum[k] / trace_sq_over_nu[k] : nu_sensor;
+    // Welch-Satterthwaite along each principal axis of the covariance; the smaller (a direction
+    // that one sensor dominates has that sensor's few degrees of freedom).
+    const Eigen::SelfAdjointEigenSolver<RMatrix> axes(cov[k]);
+    double dof = std::numeric_limits<double>::infinity();
+    for (int axis = 0; axis < 2; ++axis) {
+      const Eigen::Vector2d e = axes.eigenvectors().col(axis);
+      double sum = 0.0, sq = 0.0;
+      for (const RMatrix& b : parts[k]) {
+        const double share = e.dot(b * e);
+        sum += share;
+        sq += share * share / nu_sensor;
+      }
+      if (sq > 0.0) dof = std::min(dof, sum * sum / sq);
+    }
+    out[k].dof = std::isfinite(dof) ? dof : nu_sensor;
   }
   return out;
 }

@@ -11,7 +11,7 @@
 /// with J the Jacobian (central differences of the real and imaginary parts). Its covariance is
 /// the 2 x 2 real matrix S = sum_s s_s^2 A_s of (Re, Im). With s_s^2 estimated on
 /// nu_s = 2 (runs - planes - 1) degrees of freedom, the effective degrees of freedom are
-/// Welch-Satterthwaite's on trace(S), and the 95% region is the ellipse
+/// Welch-Satterthwaite's along the principal axis of S that gives the fewer, and the 95% region is the ellipse
 ///   d^T S^-1 d <= 2 F(0.95; 2, nu),
 /// Hotelling's form for a two-part estimate (e.g. Montgomery, Design and Analysis of
 /// Experiments, 2017, sec. 10.6, for the calibration (inverse prediction) case). Its coverage is

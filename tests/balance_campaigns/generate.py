@@ -5,7 +5,7 @@ Independent test-data generator for Poise's influence-coefficient estimator.
 Python 3 standard library + numpy only.
 
     python3 generate.py --out DIR --count N --seed S \
-        --effect none|nonlinear|crosstalk|offset|lead_phase [--check-runs K] \
+        --effect none|nonlinear|crosstalk|offset|lead_phase|none_two_speeds [--check-runs K] \
         [--mount-angles with|against]
     python3 generate.py --self-check
 
@@ -112,6 +112,8 @@ nonlinear   cubic hardening supports, Fx = -k x - k3 x^3; one-term harmonic
             (machines where that cannot show are redrawn); a 3-rung mass
             ladder (same plane and angle, x1, x2, x3) is included.
 crosstalk   each y probe reads y + c x at its bearing, c in [0.05, 0.20].
+none_two_speeds  clean physics read at two speeds, as offset's campaigns (a control for
+            the runout test: no runout planted).
 offset      a constant runout phasor per probe (pp um, random lag) added to
             every reading; every run is read at two speeds (speed_rpm column).
 lead_phase  the instrument reports phase LEAD = -lag (mod 360) while the
@@ -133,7 +135,7 @@ import time
 import numpy as np
 
 RHO_STEEL = 7850.0
-EFFECTS = ("none", "nonlinear", "crosstalk", "offset", "lead_phase")
+EFFECTS = ("none", "nonlinear", "crosstalk", "offset", "lead_phase", "none_two_speeds")
 PLANES = ("left", "right")
 # name, bearing index, physical mounting angle in deg counted WITH rotation from +x
 SENSORS = (("b1_x", 0, 0.0), ("b1_y", 0, 90.0), ("b2_x", 1, 0.0), ("b2_y", 1, 90.0))
@@ -495,7 +497,7 @@ def make_campaign(seed, idx, effect, check_runs=None, mount="with", noise=True):
     rs_st = rng_for(seed, idx, STREAM_STRUCT)
     rs_eff = rng_for(seed, idx, STREAM_EFFECT)
     rs_noise = rng_for(seed, idx, STREAM_NOISE)
-    two = effect == "offset"
+    two = effect in ("offset", "none_two_speeds")
     proj0 = projection()
     nl_target = float(rs_eff.uniform(0.03, 0.10))
     while True:
