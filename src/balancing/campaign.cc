@@ -267,6 +267,12 @@ BalancingCampaign read_balancing_campaign(const std::string& path) {
   for (TomlReader& p : root.table_array("plane")) {
     c.planes.push_back(p.string("name"));
     c.plane_radius.push_back(p.quantity("radius", units::kLength, engine::non_negative, 0.0));
+    const std::int64_t holes = p.integer("holes", 0, 3600, 0);
+    if (holes == 1 || holes == 2)
+      p.error("holes", std::to_string(holes),
+              "3 or more equally spaced holes (two opposite holes reach one line only), or none");
+    c.plane_holes.push_back(static_cast<int>(holes));
+    c.plane_first_hole.push_back(p.quantity("first_hole", units::kAngle, {}, 0.0));
   }
   std::vector<DeclaredRun> declared;
   for (TomlReader& r : root.table_array("run")) declared.push_back(read_run(r, c));

@@ -31,6 +31,9 @@
 ///     [[plane]]
 ///     name = "aft"
 ///     radius = "120 mm"              # optional: masses at another radius are scaled to it
+///     holes = 12                     # optional: correction only at 12 equally spaced holes,
+///     first_hole = "0 deg"           #   the first at this angle: each correction is split onto
+///                                    #   the two holes beside it
 ///
 ///     [[run]]                        # in the order of the run numbers
 ///     name = "as found"
@@ -65,6 +68,8 @@ struct BalancingCampaign {
   std::optional<double> balancing_speed_rpm;
   std::vector<std::string> sensors, planes;
   std::vector<double> plane_radius;            ///< m, 0 where not given
+  std::vector<int> plane_holes;                ///< equally spaced holes, 0 where any angle will do
+  std::vector<double> plane_first_hole;        ///< rad, in the declared sense of masses' angles
   std::vector<estimators::BalancingRun> runs;  ///< one per reading row, named after its [[run]]
   std::size_t declared_runs = 0;
 };

@@ -143,6 +143,24 @@ void mirror(estimators::PlaneAnswers& u) {
   if (u.couple_unbalance) mirror(*u.couple_unbalance);
 }
 
+// Each reading of the runs beside the calibration's model of it.
+std::vector<ReadingPoint> reading_points(const std::vector<estimators::BalancingRun>& runs,
+                                         const estimators::InfluenceCalibration& cal) {
+  std::vector<ReadingPoint> out;
+  for (const auto& r : runs) {
+    for (std::size_t s = 0; s < r.readings.size(); ++s) {
+      ReadingPoint p{r.name, s, r.readings[s], std::nullopt, r.check};
+      if (r.masses) {
+        Phasor m = cal.initial[s].value;
+        for (std::size_t q = 0; q < cal.planes; ++q) m += cal.h[s][q].value * (*r.masses)[q];
+        p.model = m;
+      }
+      out.push_back(p);
+    }
+  }
+  return out;
+}
+
 CampaignAnalysis analyse_runs(const BalancingCampaign& c, const std::vector<estimators::BalancingRun>& runs,
                               std::optional<double> speed_rpm) {
   CampaignAnalysis a;
@@ -167,6 +185,12 @@ CampaignAnalysis analyse_runs(const BalancingCampaign& c, const std::vector<esti
     }
   }
   a.model_tests = estimators::test_linear_model(runs, c.planes.size());
+  a.points = reading_points(runs, a.calibration);
+  for (std::size_t p = 0; p < c.planes.size(); ++p) {
+    a.correction_holes.push_back(c.plane_holes[p] >= 2 ? split_onto_holes(a.correction_masses.planes[p].value,
+                                                                          c.plane_holes[p], c.plane_first_hole[p])
+                                                       : std::vector<HoleMass>{});
+  }
   a.answer = answer_sentence(c, a);
   if (speed_rpm) a.answer = "At " + significant(*speed_rpm, 5) + " rpm: " + a.answer;
   return a;
@@ -193,6 +217,18 @@ void add_runout_test(CampaignAnalyses& out) {
 }
 
 }  // namespace
+
+std::vector<HoleMass> split_onto_holes(const Phasor& w, int holes, double first) {
+  const double pitch = 2.0 * std::numbers::pi / holes;
+  double from_first = std::remainder(std::arg(w) - first, 2.0 * std::numbers::pi);
+  if (from_first < 0.0) from_first += 2.0 * std::numbers::pi;
+  const double k = std::floor(from_first / pitch);
+  const double phi_a = first + k * pitch, phi_b = phi_a + pitch, theta = first + from_first;
+  // The sine rule of the triangle w = m_a e^{i phi_a} + m_b e^{i phi_b}.
+  const double m = std::abs(w), s = std::sin(pitch);
+  const auto wrap = [](double a) { return std::remainder(a, 2.0 * std::numbers::pi); };
+  return {{wrap(phi_a), m * std::sin(phi_b - theta) / s}, {wrap(phi_b), m * std::sin(theta - phi_a) / s}};
+}
 
 CampaignAnalyses analyse_campaign(const BalancingCampaign& c) {
   if (c.sensors.size() < c.planes.size()) {
@@ -286,6 +322,23 @@ json speed_json(const BalancingCampaign& c, const CampaignAnalysis& a) {
   out["noise_sd"] = json::array();
   for (double v : cal.noise_var) out["noise_sd"].push_back(std::sqrt(v));
   out["speed_rpm"] = a.speed_rpm ? json(*a.speed_rpm) : json(nullptr);
+  for (std::size_t p = 0; p < c.planes.size(); ++p) {
+    if (a.correction_holes[p].empty()) continue;
+    json holes = json::array();
+    for (const auto& hole : a.correction_holes[p]) {
+      holes.push_back({{"angle_deg", degrees(std::polar(1.0, hole.angle))}, {"mass_g", hole.mass_g}});
+    }
+    out["correction"][p]["holes"] = holes;
+  }
+  out["readings"] = json::array();
+  for (const auto& pt : a.points) {
+    json e{{"run", pt.run},
+           {"sensor", c.sensors[pt.sensor]},
+           {"check", pt.check},
+           {"reading", {{"amplitude", std::abs(pt.reading)}, {"angle_deg", degrees(pt.reading)}}}};
+    e["model"] = pt.model ? json{{"amplitude", std::abs(*pt.model)}, {"angle_deg", degrees(*pt.model)}} : json(nullptr);
+    out["readings"].push_back(e);
+  }
   out["model_tests"] = json::array();
   const auto opt = [](const std::optional<double>& v) { return v ? json(*v) : json(nullptr); };
   for (const auto& t : a.model_tests) {

@@ -25,12 +25,30 @@ struct RunAnswer {
   std::optional<std::vector<estimators::Phasor>> applied;  ///< a check run's masses
 };
 
+/// A correction mass split onto the two holes beside it (a plane with `holes`).
+struct HoleMass {
+  double angle = 0.0;  ///< rad, declared sense
+  double mass_g = 0.0;
+};
+
+/// One reading of a run and what the calibration makes of it: the fitted reading a + H w of a
+/// run it used, the reading predicted from a check run's known masses; none for an unknown run.
+struct ReadingPoint {
+  std::string run;
+  std::size_t sensor = 0;
+  estimators::Phasor reading;
+  std::optional<estimators::Phasor> model;
+  bool check = false;
+};
+
 struct CampaignAnalysis {
   std::optional<double> speed_rpm;  ///< the speed these readings were taken at, where given
   estimators::InfluenceCalibration calibration;
   estimators::Correction correction;  ///< the plain least-squares correction
   estimators::PlaneAnswers correction_masses, initial_unbalance;
   std::vector<estimators::PhasorInterval> residual_readings;
+  std::vector<std::vector<HoleMass>> correction_holes;  ///< per plane; empty where any angle will do
+  std::vector<ReadingPoint> points;
   std::vector<RunAnswer> runs;
   /// The linear model's tests on these runs (estimators/balancing_model_tests.h), and the runout
   /// test across the speeds (on the balancing speed's analysis).
@@ -41,6 +59,10 @@ struct CampaignAnalysis {
   double moment_factor = 1.0;
   std::string answer;  ///< the campaign's answer in one sentence
 };
+
+/// The correction w split onto the two of `holes` equally spaced holes (the first at `first`,
+/// rad) beside its angle: m_a e^{i phi_a} + m_b e^{i phi_b} = w, both masses >= 0.
+std::vector<HoleMass> split_onto_holes(const estimators::Phasor& w, int holes, double first);
 
 /// One analysis per speed of the readings (one where none is given), the balancing speed's first
 /// (the campaign's balancing_speed, else the highest). Throws poise::Error when the campaign

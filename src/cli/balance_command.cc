@@ -93,6 +93,15 @@ void print_speed(const balancing::BalancingCampaign& c, const balancing::Campaig
     }
     std::cout << ".\n";
   }
+  for (std::size_t p = 0; p < c.planes.size(); ++p) {
+    if (a.correction_holes[p].empty()) continue;
+    std::cout << "Correction in " << c.planes[p] << " on its " << c.plane_holes[p] << " holes:";
+    for (const auto& h : a.correction_holes[p]) {
+      std::cout << " " << significant(h.mass_g, 4) << " g @ "
+                << fmt::format("{:.1f}", balancing::degrees(std::polar(1.0, h.angle))) << " deg";
+    }
+    std::cout << ".\n";
+  }
   std::cout << "Predicted readings after correction (95% prediction):";
   for (std::size_t s = 0; s < c.sensors.size(); ++s) {
     std::cout << (s ? ", " : " ") << c.sensors[s] << " "

@@ -184,3 +184,30 @@ TEST(CampaignFormats, WrongInputIsRefusedWithFileLineAndWhatWasExpected) {
 
 }  // namespace
 }  // namespace poise::balancing
+
+namespace poise::balancing {
+namespace {
+
+// A correction split onto a plane's holes: the two masses sit on the holes beside its angle, are
+// not negative and add up (as vectors) to the correction.
+TEST(CorrectionHoles, TheTwoHolesBesideTheAngleAddUpToTheCorrection) {
+  for (int holes : {3, 8, 12, 36}) {
+    for (double deg = -350.0; deg < 360.0; deg += 17.3) {
+      const estimators::Phasor w = std::polar(7.5, deg * M_PI / 180.0);
+      const double first = 10.0 * M_PI / 180.0;
+      const auto split = split_onto_holes(w, holes, first);
+      ASSERT_EQ(split.size(), 2u);
+      estimators::Phasor sum = 0.0;
+      for (const auto& h : split) {
+        EXPECT_GE(h.mass_g, -1e-12);
+        const double k = (h.angle - first) / (2.0 * M_PI / holes);
+        EXPECT_NEAR(std::remainder(k, 1.0), 0.0, 1e-9) << "a hole's angle";
+        sum += std::polar(h.mass_g, h.angle);
+      }
+      EXPECT_NEAR(std::abs(sum - w), 0.0, 1e-9) << holes << " holes, " << deg << " deg";
+    }
+  }
+}
+
+}  // namespace
+}  // namespace poise::balancing
