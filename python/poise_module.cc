@@ -24,6 +24,9 @@
 #include <utility>
 #include <vector>
 
+#include "balancing/balance_report.h"
+#include "balancing/campaign.h"
+#include "balancing/campaign_analysis.h"
 #include "cli/budget_command.h"
 #include "cli/diagnose_command.h"
 #include "cli/mass_properties_command.h"
@@ -300,6 +303,42 @@ class Study {
   std::string why_not_;
 };
 
+// A JSON value as Python's own objects (dict, list, str, float, int, bool, None), converted
+// directly (not printed and parsed again).
+py::object python_value(const nlohmann::json& j) {
+  switch (j.type()) {
+    case nlohmann::json::value_t::object: {
+      py::dict d;
+      for (const auto& [key, value] : j.items()) d[py::str(key)] = python_value(value);
+      return d;
+    }
+    case nlohmann::json::value_t::array: {
+      py::list l;
+      for (const auto& value : j) l.append(python_value(value));
+      return l;
+    }
+    case nlohmann::json::value_t::string: return py::str(j.get<std::string>());
+    case nlohmann::json::value_t::boolean: return py::bool_(j.get<bool>());
+    case nlohmann::json::value_t::number_integer: return py::int_(j.get<std::int64_t>());
+    case nlohmann::json::value_t::number_unsigned: return py::int_(j.get<std::uint64_t>());
+    case nlohmann::json::value_t::number_float: return py::float_(j.get<double>());
+    default: return py::none();
+  }
+}
+
+// A balancing campaign analysed (balancing/campaign_analysis.h), as `poise balance --json` prints
+// it; with `out`, the folder of --out too.
+py::object balance(const std::string& path, const std::string& out) {
+  nlohmann::json j = guarded([&] {
+    py::gil_scoped_release release;
+    const balancing::BalancingCampaign c = balancing::read_balancing_campaign(path);
+    const balancing::CampaignAnalyses a = balancing::analyse_campaign(c);
+    if (!out.empty()) balancing::write_balance_folder(out, c, a);
+    return balancing::analysis_json(c, a);
+  });
+  return python_value(j);
+}
+
 std::string budget(const std::string& path) {
   return guarded([&] {
     py::gil_scoped_release release;
@@ -386,6 +425,7 @@ PYBIND11_MODULE(_poise, m) {
         py::arg("plots"), py::arg("out"), py::arg("progress"), py::arg("sensitivity_base"), py::arg("model"),
         py::arg("allow_programs"));
   m.def("budget", &budget, py::arg("path"));
+  m.def("balance", &balance, py::arg("path"), py::arg("out"));
   m.def("mass_properties", &mass_properties, py::arg("meshes"), py::arg("units"), py::arg("densities"), py::arg("rays"),
         py::arg("drop_duplicates"), py::arg("weld"), py::arg("max_overlap"));
   m.def("diagnose", &diagnose, py::arg("data"), py::arg("alpha"), py::arg("max_harmonic"), py::arg("noise"),

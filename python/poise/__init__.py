@@ -28,7 +28,7 @@ import numpy as np
 
 from . import _poise
 
-__all__ = ["run", "Study", "Result", "budget", "mass_properties", "diagnose", "Error", "InputError", "PoiseWarning",
+__all__ = ["run", "Study", "Result", "balance", "budget", "mass_properties", "diagnose", "Error", "InputError", "PoiseWarning",
            "version"]
 
 version = _poise.version
@@ -261,6 +261,14 @@ class Study:
 
     def __repr__(self):
         return f"<poise.Study {self.file!r} kind={self.kind!r}>"
+
+
+def balance(campaign, out=None):
+    """A balancing campaign's readings analysed as ``poise balance --json`` does (that object as
+    a dict): influence coefficients, the correction with its 95% regions, each check run and run
+    of unknown masses, the tests of the linear model, and "answer" in one sentence. out: a folder
+    for balance.json and report.html, as ``--out``. The campaign file: docs/balancing.md."""
+    return _call(_poise.balance, os.fspath(campaign), "" if out is None else os.fspath(out))
 
 
 def budget(path):

@@ -192,6 +192,18 @@ def test_budget_is_the_json_of_the_command_line():
     assert j["answer"] == cli["answer"] and j["combined"] == cli["combined"]
 
 
+def test_balance_is_the_json_of_the_command_line(tmp_path):
+    campaign = os.path.join(SRC, "examples", "balance_campaign", "campaign.toml")
+    j = poise.balance(campaign, out=tmp_path / "report")
+    cli = json.loads(subprocess.run([EXE, "balance", campaign, "--json"], check=True, capture_output=True,
+                                    text=True).stdout)
+    assert j == cli
+    assert (tmp_path / "report" / "report.html").exists()
+    with pytest.raises(poise.InputError) as e:
+        poise.balance(os.path.join(SRC, "studies", "wang2011_budget.toml"))
+    assert "campaign" in str(e.value)
+
+
 def test_mass_properties_of_a_cube(tmp_path):
     # A 10 mm cube of 1000 kg/m^3: 1 g, centre at its middle, I = m a^2 / 6 about each axis.
     v = [(x, y, z) for x in (0, 10) for y in (0, 10) for z in (0, 10)]

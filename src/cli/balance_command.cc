@@ -8,6 +8,7 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
+#include "balancing/balance_report.h"
 #include "balancing/campaign.h"
 #include "balancing/campaign_analysis.h"
 #include "core/error.h"
@@ -136,10 +137,11 @@ void print_text(const balancing::BalancingCampaign& c, const balancing::Campaign
   std::cout << a.speeds.front().answer << '\n';
 }
 
-int run_balance(const std::string& path, bool as_json) {
+int run_balance(const std::string& path, bool as_json, const std::string& out) {
   try {
     const balancing::BalancingCampaign c = balancing::read_balancing_campaign(path);
     const balancing::CampaignAnalyses a = balancing::analyse_campaign(c);
+    if (!out.empty()) balancing::write_balance_folder(out, c, a);
     if (as_json) {
       std::cout << balancing::analysis_json(c, a).dump(2) << '\n';
     } else {
@@ -162,7 +164,7 @@ int run_balance(const std::string& path, bool as_json) {
 
 BalanceHandler add_balance_command(CLI::App& app) {
   struct Options {
-    std::string campaign;
+    std::string campaign, out;
     bool json = false;
   };
   auto opt = std::make_shared<Options>();
@@ -172,10 +174,13 @@ BalanceHandler add_balance_command(CLI::App& app) {
       ->required()
       ->check(CLI::ExistingFile);
   sub->add_flag("--json", opt->json, "print the results as one JSON object");
+  sub->add_option("--out", opt->out,
+                  "write DIR/balance.json (the JSON) and DIR/report.html (the answer first, the readings beside the "
+                  "fitted model, before and after, the model tests)");
   sub->footer(kBalanceHelp);
   return [sub, opt]() -> std::optional<int> {
     if (!*sub) return std::nullopt;
-    return run_balance(opt->campaign, opt->json);
+    return run_balance(opt->campaign, opt->json, opt->out);
   };
 }
 

@@ -77,10 +77,12 @@ def make_report(kind, tmp):
               "--out", out)
     elif kind == "optimize":
         poise("optimize", optimization_file(tmp), "-q", "--threads", "2", "--out", out)
+    elif kind == "balance":  # a campaign whose truth is known (examples/balance_campaign)
+        poise("balance", os.path.join(SRC, "examples", "balance_campaign", "campaign.toml"), "--out", out)
     return os.path.join(out, "report.html")
 
 
-KINDS = list(RUNS) + ["budget", "diagnose", "diagnose_record", "optimize"]
+KINDS = list(RUNS) + ["budget", "diagnose", "diagnose_record", "optimize", "balance"]
 
 
 @pytest.mark.parametrize("kind", KINDS)
