@@ -27,6 +27,7 @@
 #include "balancing/balance_report.h"
 #include "balancing/campaign.h"
 #include "balancing/campaign_analysis.h"
+#include "cli/balance_design.h"
 #include "cli/budget_command.h"
 #include "cli/diagnose_command.h"
 #include "cli/mass_properties_command.h"
@@ -332,7 +333,7 @@ py::object balance(const std::string& path, const std::string& out) {
   nlohmann::json j = guarded([&] {
     py::gil_scoped_release release;
     const balancing::BalancingCampaign c = balancing::read_balancing_campaign(path);
-    const balancing::CampaignAnalyses a = balancing::analyse_campaign(c);
+    const balancing::CampaignAnalyses a = balancing::analyse_campaign(c, cli::design_runner(0));
     if (!out.empty()) balancing::write_balance_folder(out, c, a);
     return balancing::analysis_json(c, a);
   });

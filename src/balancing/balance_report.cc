@@ -7,6 +7,7 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
+#include "balancing/iso_figures.h"
 #include "core/error.h"
 #include "core/format.h"
 #include "engine/report/report_contents.h"
@@ -203,6 +204,30 @@ std::string model_tests_html(const BalancingCampaign& c, const CampaignAnalysis&
   return h.str();
 }
 
+std::string iso_html(const BalancingCampaign& c, const CampaignAnalysis& a) {
+  const IsoFigures iso = iso_figures(c, a);
+  if (iso.urr.empty() && iso.umar.empty()) return "";
+  std::ostringstream h;
+  const auto range = [](const std::optional<double>& lo, const std::optional<double>& hi, double scale) {
+    return lo ? significant(*lo * scale, 3) + " to " + significant(*hi * scale, 3) : std::string("&ndash;");
+  };
+  h << "<h2 id='iso'>ISO 21940-21 figures</h2>\n<table><tr><th class='l'>figure</th><th>value</th><th>95% "
+       "interval</th></tr>\n";
+  for (const auto& f : iso.urr) {
+    h << "<tr><td class='l'>URR, check run '" << html_escape(f.run) << "', " << html_escape(f.plane) << "</td><td>"
+      << significant(100.0 * f.urr, 3) << "%</td><td>" << range(f.lower, f.upper, 100.0) << "%</td></tr>\n";
+  }
+  for (const auto& f : iso.umar) {
+    h << "<tr><td class='l'>U_mar, " << html_escape(f.plane) << " (" << f.positions << " positions)</td><td>"
+      << significant(f.umar, 3) << " " << html_escape(f.unit) << "</td><td>" << range(f.lower, f.upper, 1.0) << " "
+      << html_escape(f.unit) << "</td></tr>\n";
+  }
+  h << "</table>\n<p>URR = 1 - |D - T| / |T| of each test mass T and its indication D; U_mar = half the spread of the "
+       "indicated amounts over the U_mar test's positions, times the plane's radius. The intervals follow from the "
+       "regions of D (conservative).</p>\n";
+  return h.str();
+}
+
 }  // namespace
 
 std::string balance_report_html(const BalancingCampaign& c, const CampaignAnalyses& all, const fs::path& dir) {
@@ -213,10 +238,15 @@ std::string balance_report_html(const BalancingCampaign& c, const CampaignAnalys
     << (a.speed_rpm ? "; at " + significant(*a.speed_rpm, 5) + " rpm" : std::string()) << ".</p>\n"
     << correction_html(c, a) << "<h2 id='readings'>Readings and the fitted model</h2>\n"
     << readings_figure(c, a, dir) << before_after_html(c, a, dir) << coefficients_html(c, a) << unbalance_html(c, a)
-    << model_tests_html(c, a);
+    << iso_html(c, a) << model_tests_html(c, a);
   if (all.speeds.size() > 1) {
     h << "<h2 id='speeds'>Other speeds</h2>\n<ul>\n";
     for (std::size_t k = 1; k < all.speeds.size(); ++k) h << "<li>" << html_escape(all.speeds[k].answer) << "</li>\n";
+    h << "</ul>\n";
+  }
+  if (!all.design.empty()) {
+    h << "<h2 id='design'>The machine beside its design study</h2>\n<ul>\n";
+    for (const auto& d : all.design) h << "<li>" << html_escape(d.sentence) << ".</li>\n";
     h << "</ul>\n";
   }
   for (const auto& n : all.notes) h << "<p>Note: " << html_escape(n) << "</p>\n";

@@ -32,7 +32,7 @@ constexpr double kRadPerSecPerRpm = 2.0 * 3.14159265358979323846 / 60.0;
 struct DeclaredRun {
   std::string name;
   std::optional<std::vector<Phasor>> masses;
-  bool check = false;
+  bool check = false, umar = false;
 };
 
 std::optional<std::vector<Phasor>> read_masses(TomlReader& run, const BalancingCampaign& c) {
@@ -55,7 +55,10 @@ std::optional<std::vector<Phasor>> read_masses(TomlReader& run, const BalancingC
 }
 
 DeclaredRun read_run(TomlReader& r, const BalancingCampaign& c) {
-  DeclaredRun d{r.string("name"), read_masses(r, c), r.boolean("check", false)};
+  DeclaredRun d{r.string("name"), read_masses(r, c), r.boolean("check", false), r.boolean("umar", false)};
+  if (d.umar && !d.check) {
+    r.error("umar", "true", "a check run (check = true): a run of the U_mar test is left out of the calibration");
+  }
   if (d.check && !d.masses) {
     r.error("check", "true",
             "a check run with its masses: `masses = [...]` (the masses added, known, that the calibration leaves "
@@ -276,11 +279,24 @@ BalancingCampaign read_balancing_campaign(const std::string& path) {
   }
   std::vector<DeclaredRun> declared;
   for (TomlReader& r : root.table_array("run")) declared.push_back(read_run(r, c));
+  if (root.has("design")) {
+    TomlReader d = root.table("design");
+    DesignLink link;
+    link.study = (std::filesystem::path(path).parent_path() / d.string("study")).string();
+    link.samples = static_cast<std::size_t>(d.integer("samples", 2, 1000000, 64));
+    for (TomlReader& k : d.table_array("compare")) {
+      DesignCompare cmp{k.choice("figure", {"urr", "umar"}), k.choice("plane", c.planes), k.string("output")};
+      link.compare.push_back(cmp);
+    }
+    if (link.compare.empty()) d.error("compare", "", "at least one [[design.compare]] with figure, plane and output");
+    c.design = link;
+  }
   if (c.sensors.empty()) root.error("sensor", "", "at least one [[sensor]] with name, amplitude and phase");
   if (c.planes.empty()) root.error("plane", "", "at least one [[plane]] with a name");
   if (declared.empty()) root.error("run", "", "at least one [[run]] with a name and its masses");
   engine::finish(doc, *ctx);
   c.declared_runs = declared.size();
+  for (const auto& d : declared) c.umar_run.push_back(d.umar);
 
   const estimators::LabTable t = estimators::read_lab_table(l.file, column_roles(c, l), l.columns);
   std::vector<std::size_t> run_index;

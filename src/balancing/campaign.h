@@ -45,6 +45,16 @@
 ///     name = "check"
 ///     check = true                   # masses known but left out of the calibration: the
 ///     masses = [...]                 #   answer for this run is compared with them
+///     umar = true                    # optional, with check: a run of ISO 21940-21's U_mar test
+///                                    #   (test masses in both planes moved together)
+///
+///     [design]                       # optional: the machine's design study (a balancing_machine
+///     study = "machine.toml"         #   study), run here; the real figures are placed in its
+///     samples = 64                   #   simulated distributions
+///     [[design.compare]]
+///     figure = "urr"                 # "urr" (the check runs' mean in that plane) or "umar"
+///     plane = "left"
+///     output = "urr_iso_plane1_pct"  # the study's output it is compared with
 ///
 /// Conventions. Inside Poise phases are lags and masses' angles count against rotation, both from
 /// the reference mark (a heavy spot further against rotation passes a probe later: a larger lag),
@@ -61,6 +71,16 @@
 
 namespace poise::balancing {
 
+/// A real figure of the campaign beside an output of the machine's design study.
+struct DesignCompare {
+  std::string figure, plane, output;
+};
+struct DesignLink {
+  std::string study;  ///< path (relative ones are read from the campaign's folder)
+  std::size_t samples = 64;
+  std::vector<DesignCompare> compare;
+};
+
 struct BalancingCampaign {
   std::string file, name, amplitude_unit;
   bool weights_with_rotation = false;  ///< answers' angles count with rotation (declared)
@@ -72,6 +92,8 @@ struct BalancingCampaign {
   std::vector<double> plane_first_hole;        ///< rad, in the declared sense of masses' angles
   std::vector<estimators::BalancingRun> runs;  ///< one per reading row, named after its [[run]]
   std::size_t declared_runs = 0;
+  std::vector<bool> umar_run;  ///< per declared run: a run of the U_mar test
+  std::optional<DesignLink> design;
 };
 
 /// Reads the campaign and its readings. Throws ValidationError / InputError with file, line,

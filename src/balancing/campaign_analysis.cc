@@ -8,6 +8,7 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
+#include "balancing/iso_figures.h"
 #include "core/error.h"
 #include "core/format.h"
 
@@ -60,8 +61,12 @@ std::vector<RunAnswer> answers_of_unused_runs(const std::vector<estimators::Bala
   for (const auto& [declared, runs] : rows) {
     std::vector<std::vector<Phasor>> readings;
     for (const auto* r : runs) readings.push_back(r->readings);
-    RunAnswer answer{runs.front()->name, runs.front()->check, runs.size(),
-                     estimators::unbalance_answers(a.calibration, readings, c.plane_radius), runs.front()->masses};
+    RunAnswer answer{runs.front()->name,
+                     declared,
+                     runs.front()->check,
+                     runs.size(),
+                     estimators::unbalance_answers(a.calibration, readings, c.plane_radius),
+                     runs.front()->masses};
     if (!answer.check) answer.applied.reset();
     out.push_back(std::move(answer));
   }
@@ -230,7 +235,36 @@ std::vector<HoleMass> split_onto_holes(const Phasor& w, int holes, double first)
   return {{wrap(phi_a), m * std::sin(phi_b - theta) / s}, {wrap(phi_b), m * std::sin(theta - phi_a) / s}};
 }
 
-CampaignAnalyses analyse_campaign(const BalancingCampaign& c) {
+namespace {
+
+// The design study's comparisons, in the balancing speed's answer.
+void add_design(const BalancingCampaign& c, const DesignRunner& design, CampaignAnalyses& out) {
+  if (!c.design || !design) return;
+  out.design = design(c, out.speeds.front());
+  std::string& answer = out.speeds.front().answer;
+  answer.pop_back();  // its full stop
+  std::size_t outside = 0, placed = 0;
+  for (const auto& d : out.design) {
+    if (!d.real) continue;
+    ++placed;
+    outside += d.within ? 0 : 1;
+  }
+  if (placed > 0) {
+    answer += outside == 0 ? fmt::format(
+                                 "; the machine behaves as its design study predicts ({} figure(s) within its "
+                                 "simulated central 95%)",
+                                 placed)
+                           : fmt::format(
+                                 "; {} of {} real figure(s) lie OUTSIDE the design study's simulated central "
+                                 "95%: the machine does not behave as designed",
+                                 outside, placed);
+  }
+  answer += ".";
+}
+
+}  // namespace
+
+CampaignAnalyses analyse_campaign(const BalancingCampaign& c, const DesignRunner& design) {
   if (c.sensors.size() < c.planes.size()) {
     throw Error(
         fmt::format("{} sensors cannot separate {} planes: each plane needs a sensor of its own (the "
@@ -241,6 +275,7 @@ CampaignAnalyses analyse_campaign(const BalancingCampaign& c) {
   if (c.speeds_rpm.size() <= 1) {
     out.speeds.push_back(analyse_runs(c, c.runs, c.speeds_rpm.empty() ? std::nullopt : std::optional(c.speeds_rpm[0])));
     add_runout_test(out);
+    add_design(c, design, out);
     return out;
   }
   // The balancing speed first: the declared one's group, else the highest.
@@ -267,6 +302,7 @@ CampaignAnalyses analyse_campaign(const BalancingCampaign& c) {
     }
   }
   add_runout_test(out);
+  add_design(c, design, out);
   return out;
 }
 
@@ -339,6 +375,27 @@ json speed_json(const BalancingCampaign& c, const CampaignAnalysis& a) {
     e["model"] = pt.model ? json{{"amplitude", std::abs(*pt.model)}, {"angle_deg", degrees(*pt.model)}} : json(nullptr);
     out["readings"].push_back(e);
   }
+  const IsoFigures iso = iso_figures(c, a);
+  if (!iso.urr.empty() || !iso.umar.empty()) {
+    const auto maybe = [](const std::optional<double>& v) { return v ? json(*v) : json(nullptr); };
+    json urr = json::array(), umar = json::array();
+    for (const auto& f : iso.urr) {
+      urr.push_back({{"run", f.run},
+                     {"plane", f.plane},
+                     {"urr", f.urr},
+                     {"lower95", maybe(f.lower)},
+                     {"upper95", maybe(f.upper)}});
+    }
+    for (const auto& f : iso.umar) {
+      umar.push_back({{"plane", f.plane},
+                      {"positions", f.positions},
+                      {"umar", f.umar},
+                      {"unit", f.unit},
+                      {"lower95", maybe(f.lower)},
+                      {"upper95", maybe(f.upper)}});
+    }
+    out["iso21940_21"] = {{"urr", urr}, {"umar", umar}};
+  }
   out["model_tests"] = json::array();
   const auto opt = [](const std::optional<double>& v) { return v ? json(*v) : json(nullptr); };
   for (const auto& t : a.model_tests) {
@@ -365,6 +422,20 @@ json analysis_json(const BalancingCampaign& c, const CampaignAnalyses& a) {
     for (const auto& s : a.speeds) out["speeds"].push_back(speed_json(c, s));
   }
   out["notes"] = a.notes;
+  out["design"] = json::array();
+  for (const auto& e : a.design) {
+    out["design"].push_back({{"figure", e.figure},
+                             {"plane", e.plane},
+                             {"output", e.output},
+                             {"unit", e.unit},
+                             {"real", e.real ? json(*e.real) : json(nullptr)},
+                             {"share_at_or_below", e.share_below},
+                             {"simulated_p2_5", e.p2_5},
+                             {"simulated_p97_5", e.p97_5},
+                             {"samples", e.samples},
+                             {"within", e.within},
+                             {"sentence", e.sentence}});
+  }
   out["angle_convention"] =
       std::string("readings and influence coefficients: phase lag with each probe's angle added; masses: angles ") +
       (c.weights_with_rotation ? "with" : "against") + " rotation from the reference mark, as the campaign declares";

@@ -4,6 +4,7 @@
 /// unbalance, the least-squares correction and the readings it leaves, and the unbalance of each
 /// run of unknown masses and of each check run, all with their 95% regions
 /// (estimators/balancing_prediction.h). A check run's answer is compared with its known masses.
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
@@ -19,6 +20,7 @@ namespace poise::balancing {
 /// The answer for one declared run that the calibration did not use.
 struct RunAnswer {
   std::string name;
+  std::size_t declared = 0;  ///< the [[run]]'s index
   bool check = false;
   std::size_t readings = 0;                                ///< rows averaged
   estimators::PlaneAnswers unbalance;                      ///< per plane, g at its radius; static/couple below
@@ -68,11 +70,29 @@ std::vector<HoleMass> split_onto_holes(const estimators::Phasor& w, int holes, d
 /// (the campaign's balancing_speed, else the highest). Throws poise::Error when the campaign
 /// cannot be calibrated at the balancing speed (too few runs, planes not separated, fewer
 /// sensors than planes); another speed that cannot be is left out with a note.
+/// A real figure beside the simulated distribution of a design study's output ([design]).
+struct DesignComparison {
+  std::string figure, plane, output, unit;
+  std::optional<double> real;  ///< in the output's unit; absent where the campaign has no such figure
+  double share_below = 0.0;    ///< simulated machines at or below the real figure
+  double p2_5 = 0.0, p97_5 = 0.0;
+  std::size_t samples = 0;
+  bool within = false;
+  std::string sentence;
+};
+
 struct CampaignAnalyses {
   std::vector<CampaignAnalysis> speeds;
   std::vector<std::string> notes;
+  std::vector<DesignComparison> design;
 };
-CampaignAnalyses analyse_campaign(const BalancingCampaign& c);
+
+/// Runs a campaign's design study and places the real figures (cli/balance_design.h: it needs
+/// the study kinds, a layer above this one).
+using DesignRunner = std::function<std::vector<DesignComparison>(const BalancingCampaign&, const CampaignAnalysis&)>;
+
+/// With a [design] and a runner, the comparisons join the balancing speed's answer.
+CampaignAnalyses analyse_campaign(const BalancingCampaign& c, const DesignRunner& design = {});
 
 /// The analysis as `poise balance --json` prints it: the balancing speed's figures at the top,
 /// and with several speeds each speed's under "speeds".

@@ -11,6 +11,8 @@
 #include "balancing/balance_report.h"
 #include "balancing/campaign.h"
 #include "balancing/campaign_analysis.h"
+#include "balancing/iso_figures.h"
+#include "cli/balance_design.h"
 #include "core/error.h"
 #include "core/format.h"
 #include "engine/study_files/toml_reader.h"
@@ -38,7 +40,14 @@ const char* kBalanceHelp = R"(What it does:
     - for each check run (`check = true`: masses known, left out of the calibration), the
       same answer beside the masses applied, and whether its region holds them.
   The condition number of the influence matrix says whether the planes are separable on
-  these sensors.
+  these sensors. Then the tests of the linear model (lack of fit against repeats, amplitude
+  nonlinearity, phase sense, runout across speeds), ISO 21940-21's URR and U_mar from the
+  check runs, and with [design] the real figures placed in a design study's distributions.
+
+Readings as a lab keeps them: a wide table (a row per reading of a run) or a long one (a row
+per sensor's reading), amplitude and phase or real and imaginary parts, runs by number or
+name, units in the headers, a speed column (each speed calibrated apart), phase lag or lead
+and masses' angles with or against rotation as declared.
 
 Campaign file: see src/balancing/campaign.h, or the worked examples:
   poise balance tests/data/real/feese2004_compressor/campaign.toml
@@ -109,6 +118,22 @@ void print_speed(const balancing::BalancingCampaign& c, const balancing::Campaig
               << balancing::phasor_text(a.residual_readings[s], c.amplitude_unit);
   }
   std::cout << ".\n";
+  const balancing::IsoFigures iso = balancing::iso_figures(c, a);
+  for (const auto& f : iso.urr) {
+    std::cout << "ISO 21940-21 URR of check run '" << f.run << "', " << f.plane << ": " << significant(100.0 * f.urr, 3)
+              << "%"
+              << (f.lower
+                      ? " (95%: " + significant(100.0 * *f.lower, 3) + " to " + significant(100.0 * *f.upper, 3) + "%)"
+                      : std::string())
+              << ".\n";
+  }
+  for (const auto& f : iso.umar) {
+    std::cout << "ISO 21940-21 U_mar, " << f.plane << " (" << f.positions << " positions): " << significant(f.umar, 3)
+              << " " << f.unit
+              << (f.lower ? " (95%: " + significant(*f.lower, 3) + " to " + significant(*f.upper, 3) + ")"
+                          : std::string())
+              << ".\n";
+  }
   if (!a.model_tests.empty()) std::cout << "Tests of the linear model (level 0.01 over the tests that ran):\n";
   for (const auto& t : a.model_tests) {
     std::cout << "  " << t.name << ": ";
@@ -134,13 +159,14 @@ void print_text(const balancing::BalancingCampaign& c, const balancing::Campaign
   std::cout << ".\n";
   for (const auto& s : a.speeds) print_speed(c, s);
   for (const auto& n : a.notes) std::cout << "Note: " << n << ".\n";
+  for (const auto& d : a.design) std::cout << "Design study: " << d.sentence << ".\n";
   std::cout << a.speeds.front().answer << '\n';
 }
 
 int run_balance(const std::string& path, bool as_json, const std::string& out) {
   try {
     const balancing::BalancingCampaign c = balancing::read_balancing_campaign(path);
-    const balancing::CampaignAnalyses a = balancing::analyse_campaign(c);
+    const balancing::CampaignAnalyses a = balancing::analyse_campaign(c, design_runner(0));
     if (!out.empty()) balancing::write_balance_folder(out, c, a);
     if (as_json) {
       std::cout << balancing::analysis_json(c, a).dump(2) << '\n';

@@ -3,7 +3,10 @@
 // and Kelm, Kelm & Pavelek 2016 (its influence coefficients, the probes' angles added).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <optional>
+#include <sstream>
 #include <string>
 #include <utility>
 #include <vector>
@@ -94,6 +97,64 @@ TEST(BalanceCommand, CheckRunsOfRealCampaignsArePredictedByLeastSquares) {
       EXPECT_TRUE(planes[p]["covered"].is_null()) << "no degrees of freedom: no region";
     }
   }
+}
+
+// The real machine beside its design study: the example campaign's check runs give URR figures;
+// the balancing-machine study is run in memory and each figure placed among its simulated
+// machines. The simulated machines are the ones `poise run` gives with the study's seed (one
+// seed, the same samples): the share at or below the real figure is recounted from samples.csv.
+TEST(BalanceCommand, RealFiguresArePlacedInTheDesignStudysDistribution) {
+  TempDir dir;
+  std::string campaign = test::read_text(source_path("examples/balance_campaign/campaign.toml"));
+  const std::string readings = "readings = \"readings.csv\"";
+  campaign.replace(campaign.find(readings), readings.size(),
+                   "readings = '" + source_path("examples/balance_campaign/readings.csv") + "'");
+  campaign += "\n[design]\nstudy = '" + source_path("studies/wang2014_balancing_mc.toml") +
+              "'\nsamples = 8\n[[design.compare]]\nfigure = \"urr\"\nplane = \"left\"\n"
+              "output = \"urr_iso_plane1_pct\"\n";
+  test::write_text(dir.file("c.toml"), campaign);
+  const auto r = test::run_poise(dir, "balance '" + dir.file("c.toml") + "' --json");
+  ASSERT_EQ(r.status, 0) << r.err;
+  const auto j = nlohmann::json::parse(r.out);
+  ASSERT_EQ(j["design"].size(), 1u);
+  const auto& d = j["design"][0];
+  double sum = 0.0;
+  int n = 0;
+  for (const auto& run : j["runs"]) {
+    for (const auto& p : run["unbalance"]["planes"]) {
+      if (p["plane"] != "left" || !p.contains("applied") || p["applied"]["mass_g"].get<double>() == 0.0) continue;
+      sum += 100.0 * (1.0 - p["error_g"].get<double>() / p["applied"]["mass_g"].get<double>());
+      ++n;
+    }
+  }
+  ASSERT_GT(n, 0);
+  EXPECT_NEAR(d["real"].get<double>(), sum / n, 1e-9);
+  EXPECT_EQ(d["samples"], 8);
+  const auto run = test::run_poise(dir, "run '" + source_path("studies/wang2014_balancing_mc.toml") +
+                                            "' --samples 8 -q --no-plots --threads 2 --out '" + dir.file("sim") + "'");
+  ASSERT_EQ(run.status, 0) << run.err;
+  std::istringstream csv(test::read_text(dir.file("sim/samples.csv")));
+  std::string line;
+  std::optional<std::size_t> column;
+  int below = 0, total = 0;
+  while (std::getline(csv, line)) {
+    if (line.empty() || line[0] == '#') continue;
+    std::vector<std::string> cells;
+    std::stringstream row(line);
+    for (std::string cell; std::getline(row, cell, ',');) cells.push_back(cell);
+    if (!column) {
+      column = static_cast<std::size_t>(std::find(cells.begin(), cells.end(), "urr_iso_plane1_pct") - cells.begin());
+      ASSERT_LT(*column, cells.size());
+      continue;
+    }
+    below += std::stod(cells[*column]) <= d["real"].get<double>() ? 1 : 0;
+    ++total;
+  }
+  EXPECT_EQ(total, 8);
+  EXPECT_NEAR(d["share_at_or_below"].get<double>(), static_cast<double>(below) / total, 1e-12);
+  EXPECT_EQ(d["within"].get<bool>(), d["real"].get<double>() >= d["simulated_p2_5"].get<double>() &&
+                                         d["real"].get<double>() <= d["simulated_p97_5"].get<double>());
+  EXPECT_NE(j["answer"].get<std::string>().find("design study"), std::string::npos);
 }
 
 TEST(BalanceCommand, ARunNumberOutsideTheCampaignIsRefusedWithItsLine) {
