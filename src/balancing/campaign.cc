@@ -232,6 +232,9 @@ ReadingsLayout read_layout(TomlReader& root, TomlReader& head, BalancingCampaign
       head.choice("weight_angles", {"against_rotation", "with_rotation"}, "against_rotation") == "with_rotation";
   c.weights_with_rotation = l.weights_with_rotation;
   l.long_layout = head.choice("layout", {"wide", "long"}, "wide") == "long";
+  if (head.has("reading_noise")) {
+    c.reading_noise = head.quantity("reading_noise", l.amplitude_dim, engine::positive) / l.amplitude_factor;
+  }
   if (head.has("balancing_speed")) {
     c.balancing_speed_rpm = head.quantity("balancing_speed", kSpeed, engine::positive) / kRadPerSecPerRpm;
   }

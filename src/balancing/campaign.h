@@ -12,6 +12,9 @@
 ///     layout = "wide"                # "wide" (default): a row per reading of a run, two columns
 ///                                    #   per sensor; "long": a row per sensor's reading
 ///     balancing_speed = "8610 rpm"   # with several speeds: the one answered first (default: highest)
+///     reading_noise = "0.02 mil"     # optional: the instrument's reading noise (RMS size of a
+///                                    #   reading's error), used only where the runs leave no
+///                                    #   degrees of freedom: regions from it alone
 ///
 ///     [columns]                      # optional: the readings file's headers, where not the defaults
 ///     run = "Run"                    # the run: its number (1, 2, ... the [[run]] tables in order)
@@ -86,6 +89,7 @@ struct BalancingCampaign {
   bool weights_with_rotation = false;  ///< answers' angles count with rotation (declared)
   std::vector<double> speeds_rpm;      ///< the distinct speeds, ascending (empty: none given)
   std::optional<double> balancing_speed_rpm;
+  std::optional<double> reading_noise;  ///< in amplitude_unit
   std::vector<std::string> sensors, planes;
   std::vector<double> plane_radius;            ///< m, 0 where not given
   std::vector<int> plane_holes;                ///< equally spaced holes, 0 where any angle will do

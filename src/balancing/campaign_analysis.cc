@@ -105,7 +105,10 @@ std::string answer_sentence(const BalancingCampaign& c, const CampaignAnalysis& 
   if (checks > 0 && with_region > 0) {
     s += fmt::format("; check runs: {} of {} plane masses within their 95% regions", covered, with_region);
   }
-  if (a.calibration.dof == 0) s += "; no intervals (as many runs as unknowns: one more run would give them)";
+  if (a.calibration.dof == 0 && !a.calibration.noise_declared) {
+    s += "; no intervals (as many runs as unknowns: one more run, or the instrument's reading_noise, would give them)";
+  }
+  if (a.calibration.noise_declared) s += "; regions from the declared reading noise alone (no degrees of freedom)";
   std::string missing;
   for (const auto& t : a.model_tests) {
     if (t.significant) missing += (missing.empty() ? "" : ", ") + t.name;
@@ -170,7 +173,7 @@ CampaignAnalysis analyse_runs(const BalancingCampaign& c, const std::vector<esti
                               std::optional<double> speed_rpm) {
   CampaignAnalysis a;
   a.speed_rpm = speed_rpm;
-  a.calibration = estimators::calibrate(runs, c.planes.size());
+  a.calibration = estimators::calibrate(runs, c.planes.size(), c.reading_noise);
   a.correction = estimators::correction(a.calibration);
   const bool radii = std::all_of(c.plane_radius.begin(), c.plane_radius.end(), [](double r) { return r > 0.0; });
   a.moment_unit = radii ? "g mm" : "g";

@@ -15,6 +15,9 @@ using CMatrix = Eigen::Matrix<Phasor, Eigen::Dynamic, Eigen::Dynamic>;
 using CVector = Eigen::Matrix<Phasor, Eigen::Dynamic, 1>;
 using RMatrix = Eigen::MatrixXd;
 
+// The degrees of freedom of a known variance (F(2, nu) is then chi-square's, to 1e-9).
+constexpr double kKnownVariance = 1e12;
+
 // Answers as functions of the coefficients (a row [a_s, h_s1 ..] per sensor) and a run's mean
 // readings.
 using Answers = std::function<CVector(const CMatrix& beta, const CVector& v)>;
@@ -77,7 +80,8 @@ std::vector<PhasorInterval> propagate(const InfluenceCalibration& c, const CVect
     template_cov(nb, nb) = 0.5 / readings_n;
     template_cov(np + nb, np + nb) = 0.5 / readings_n;
   }
-  const double nu_sensor = 2.0 * static_cast<double>(c.dof);
+  // A declared noise is a known variance: as good as infinitely many degrees of freedom.
+  const double nu_sensor = c.noise_declared ? kKnownVariance : 2.0 * static_cast<double>(c.dof);
   std::vector<RMatrix> cov(answers, RMatrix::Zero(2, 2));
   std::vector<std::vector<RMatrix>> parts(answers);  // per answer, each sensor's share
   for (std::size_t s = 0; s < c.sensors; ++s) {
@@ -216,7 +220,7 @@ std::vector<PhasorInterval> residual_reading_answers(const InfluenceCalibration&
     if (c.noise_var.empty()) continue;
     const double half = c.noise_var[s] * (1.0 + q) / 2.0;
     out[s].covariance = std::array<double, 3>{half, 0.0, half};
-    out[s].dof = 2.0 * static_cast<double>(c.dof);
+    out[s].dof = c.noise_declared ? kKnownVariance : 2.0 * static_cast<double>(c.dof);
   }
   return out;
 }

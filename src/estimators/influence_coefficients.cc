@@ -24,7 +24,8 @@ CMatrix influence_matrix(const InfluenceCalibration& c) {
 
 }  // namespace
 
-InfluenceCalibration calibrate(const std::vector<BalancingRun>& runs, std::size_t planes) {
+InfluenceCalibration calibrate(const std::vector<BalancingRun>& runs, std::size_t planes,
+                               std::optional<double> declared_sd) {
   std::vector<const BalancingRun*> known;
   for (const auto& r : runs) {
     if (r.masses && !r.check) known.push_back(&r);
@@ -78,6 +79,10 @@ InfluenceCalibration calibrate(const std::vector<BalancingRun>& runs, std::size_
     };
     c.initial[s] = estimate(0);
     for (std::size_t p = 0; p < planes; ++p) c.h[s][p] = estimate(static_cast<Eigen::Index>(p) + 1);
+  }
+  if (c.dof == 0 && declared_sd && *declared_sd > 0.0) {
+    c.noise_var.assign(c.sensors, *declared_sd * *declared_sd);
+    c.noise_declared = true;
   }
   const Eigen::JacobiSVD<CMatrix> svd(influence_matrix(c));
   const auto& sv = svd.singularValues();

@@ -54,9 +54,10 @@ struct InfluenceCalibration {
   /// The condition number of the influence matrix H (sensors x planes): large (say > 100) means
   /// the planes are not separable on these sensors.
   double condition = 0.0;
-  /// Each sensor's reading noise variance s^2 (E|e|^2, complex), from the residuals; empty
-  /// without degrees of freedom.
+  /// Each sensor's reading noise variance s^2 (E|e|^2, complex), from the residuals; without
+  /// degrees of freedom, the declared one (noise_declared) or empty.
   std::vector<double> noise_var;
+  bool noise_declared = false;
   /// (X^H X)^-1 of the runs' design (1, masses), (planes + 1)^2 row-major: the covariance of a
   /// sensor's [a, h...] is noise_var[s] times it.
   std::vector<Phasor> design_inverse;
@@ -65,7 +66,11 @@ struct InfluenceCalibration {
 /// Fits the coefficients from the runs with known masses (check runs left out). Throws poise::Error when there are
 /// fewer such runs than 1 + planes, or when their masses do not separate the planes (the
 /// matrix of masses has lower rank).
-InfluenceCalibration calibrate(const std::vector<BalancingRun>& runs, std::size_t planes);
+/// declared_sd: the instrument's reading noise (the RMS size of a reading's error, E|e|^2 =
+/// sd^2, in the readings' unit), used only where the runs leave no degrees of freedom: the
+/// answers' regions then come from it alone (known variance), not from the campaign's scatter.
+InfluenceCalibration calibrate(const std::vector<BalancingRun>& runs, std::size_t planes,
+                               std::optional<double> declared_sd = std::nullopt);
 
 /// The least-squares correction of the rotor as calibrated (its initial readings a), its
 /// predicted residual readings, and their root mean square.
