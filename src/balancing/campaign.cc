@@ -22,7 +22,8 @@ using estimators::Phasor;
 struct SensorColumns {
   std::string first, second;
   bool cartesian = false;
-  double angle = 0.0;  // rad
+  double angle = 0.0;     // rad
+  bool combined = false;  // one column of "amplitude @ phase" cells (first)
 };
 
 const units::Dimension kSpeed{{0, 0, -1, 0, 1, 0}};  // rpm's
@@ -83,10 +84,15 @@ struct ReadingsLayout {
 
 SensorColumns read_sensor_columns(TomlReader& s) {
   SensorColumns out;
+  out.angle = s.quantity("angle", units::kAngle, {}, 0.0);
+  if (s.has("reading")) {  // a field report's "2.07 @ 335" cells
+    out.combined = true;
+    out.first = s.string("reading");
+    return out;
+  }
   out.cartesian = s.has("real") || s.has("imaginary");
   out.first = s.string(out.cartesian ? "real" : "amplitude");
   out.second = s.string(out.cartesian ? "imaginary" : "phase");
-  out.angle = s.quantity("angle", units::kAngle, {}, 0.0);
   return out;
 }
 
@@ -95,7 +101,15 @@ std::vector<estimators::ColumnRole> column_roles(const BalancingCampaign& c, con
   std::vector<ColumnRole> roles = {{"run", {"run"}, units::kDimensionless, "1", true, "run (its number or name)", true},
                                    {"speed", {"speed", "speed_rpm", "rpm"}, kSpeed, "rpm", false, "speed", false}};
   const auto reading_roles = [&](const std::string& prefix, const SensorColumns& sc, const std::string& who) {
-    if (sc.cartesian) {
+    if (sc.combined) {
+      roles.push_back({prefix + "reading",
+                       {sc.first},
+                       units::kDimensionless,
+                       "1",
+                       true,
+                       who + "reading (amplitude @ phase)",
+                       true});
+    } else if (sc.cartesian) {
       roles.push_back({prefix + "real", {sc.first}, l.amplitude_dim, c.amplitude_unit, true, who + "real part"});
       roles.push_back(
           {prefix + "imaginary", {sc.second}, l.amplitude_dim, c.amplitude_unit, true, who + "imaginary part"});
@@ -119,10 +133,51 @@ std::vector<estimators::ColumnRole> column_roles(const BalancingCampaign& c, con
 
 // One row's reading of one sensor as Poise counts it (lag, the probe's angle added), in the
 // campaign's amplitude unit.
+// A cell holding a reading as field reports print it: "2.07 @ 335", "2.07@335°", "2.07/335 deg",
+// "2.07 ∠ 335": the amplitude in the campaign's amplitude unit, the phase in degrees.
+Phasor polar_cell(const std::string& cell, const std::string& file, std::size_t line, const std::string& what) {
+  std::string text = cell;
+  for (const std::string mark : {"\xC2\xB0", "deg"}) {  // a degree sign or "deg" after the phase
+    if (const auto at = text.find(mark); at != std::string::npos) text.erase(at, mark.size());
+  }
+  std::size_t split = std::string::npos, width = 1;
+  for (const std::string sep : {"@", "\xE2\x88\xA0", "/"}) {  // @, the angle sign, a slash
+    if (const auto at = text.find(sep); at != std::string::npos && split == std::string::npos) {
+      split = at;
+      width = sep.size();
+    }
+  }
+  char* end = nullptr;
+  double amplitude = 0.0, phase = 0.0;
+  bool ok = split != std::string::npos;
+  if (ok) {
+    const std::string a = text.substr(0, split), p = text.substr(split + width);
+    amplitude = std::strtod(a.c_str(), &end);
+    ok = end != a.c_str() &&
+         std::all_of(static_cast<const char*>(end), a.c_str() + a.size(), [](char ch) { return ch == ' '; });
+    phase = std::strtod(p.c_str(), &end);
+    ok = ok && end != p.c_str() &&
+         std::all_of(static_cast<const char*>(end), p.c_str() + p.size(), [](char ch) { return ch == ' '; }) &&
+         std::isfinite(amplitude) && std::isfinite(phase) && amplitude >= 0.0;
+  }
+  if (!ok) {
+    throw InputError(
+        SourceLocation{file, static_cast<int>(line), 0}, what, cell.empty() ? "(empty)" : cell,
+        "a reading as amplitude @ phase in degrees, e.g. \"2.07 @ 335\" (also 2.07@335\xC2\xB0, 2.07/335)");
+  }
+  return std::polar(amplitude, phase * 3.14159265358979323846 / 180.0);
+}
+
 Phasor reading_at(const estimators::LabTable& t, const std::string& prefix, std::size_t row, const ReadingsLayout& l,
                   const SensorColumns& sc) {
-  Phasor z = sc.cartesian ? Phasor(t.at(prefix + "real")[row], t.at(prefix + "imaginary")[row])
-                          : std::polar(t.at(prefix + "amplitude")[row], t.at(prefix + "phase")[row]);
+  Phasor z;
+  if (sc.combined) {
+    z = polar_cell(t.text.at(prefix + "reading")[row], t.file, t.lines[row], "column " + sc.first) *
+        l.amplitude_factor;  // in the amplitude unit already
+  } else {
+    z = sc.cartesian ? Phasor(t.at(prefix + "real")[row], t.at(prefix + "imaginary")[row])
+                     : std::polar(t.at(prefix + "amplitude")[row], t.at(prefix + "phase")[row]);
+  }
   z /= l.amplitude_factor;
   if (l.lead) z = std::conj(z);
   return z * std::polar(1.0, sc.angle);

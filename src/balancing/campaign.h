@@ -28,7 +28,8 @@
 ///     [[sensor]]                     # one per probe, in any order
 ///     name = "fwd_x"
 ///     amplitude = "FwdX amp"         # wide layout: the headers of its amplitude and phase,
-///     phase = "FwdX phase"           #   or `real = ".."` and `imaginary = ".."`
+///     phase = "FwdX phase"           #   or `real = ".."` and `imaginary = ".."`, or
+///                                    #   `reading = ".."`: cells as "2.07 @ 335" (degrees)
 ///     angle = "225 deg"              # optional: added to its phases (a probe's mounting angle)
 ///
 ///     [[plane]]

@@ -42,6 +42,8 @@ const std::map<std::string, UnitDef, std::less<>>& unit_table() {
       {"kg", {1.0, kMass}},
       {"g", {1e-3, kMass}},
       {"mg", {1e-6, kMass}},
+      {"lb", {0.45359237, kMass}},      // avoirdupois pound, exact by definition
+      {"oz", {0.028349523125, kMass}},  // avoirdupois ounce (1/16 lb)
       // time
       {"s", {1.0, kTime}},
       {"ms", {1e-3, kTime}},

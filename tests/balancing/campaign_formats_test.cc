@@ -120,6 +120,28 @@ TEST(CampaignFormats, EveryLayoutGivesTheSameAnswers) {
   EXPECT_NEAR(std::abs(unknown_mass(cart.speeds[0]) - kMass[3]), 0.0, 1e-6);
 }
 
+// A field report's table: each reading in one cell, "amplitude @ phase", a degree sign or not.
+TEST(CampaignFormats, ReadingsWrittenAsAmplitudeAtPhaseInOneCell) {
+  TempDir dir;
+  std::string csv = "run,X,Y\n";
+  for (int r = 0; r < 4; ++r) {
+    const auto [ax, px] = instrument(r, 0);
+    const auto [ay, py] = instrument(r, 1);
+    csv += fmt::format("{},{:.9f} @ {:.9f}\xC2\xB0,{:.9f}/{:.9f}\n", r + 1, ax, px, ay, py);
+  }
+  const std::string sensors =
+      "[[sensor]]\nname = \"x\"\nreading = \"X\"\n[[sensor]]\nname = \"y\"\nreading = \"Y\"\nangle = \"90 deg\"\n";
+  const auto a = analyse(dir, campaign_toml("", sensors, false), csv);
+  EXPECT_NEAR(std::abs(unknown_mass(a.speeds[0]) - kMass[3]), 0.0, 1e-6);
+  try {
+    analyse(dir, campaign_toml("", sensors, false), "run,X,Y\n1,2.0 @ 30,2.1 at 40\n");
+    FAIL() << "a cell that is no reading was accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("r.csv:2"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("amplitude @ phase"), std::string::npos) << e.what();
+  }
+}
+
 TEST(CampaignFormats, DeclaredSensesTurnReadingsAndAnswersRound) {
   TempDir dir;
   // The instrument gives lead and the masses' angles count with rotation: the answers come back
