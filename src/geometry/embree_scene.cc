@@ -1,5 +1,7 @@
 #include "geometry/embree_scene.h"
 
+#include <memory>
+
 #include <pmmintrin.h>
 #include <xmmintrin.h>
 
@@ -67,12 +69,17 @@ EmbreeThreadFlags::~EmbreeThreadFlags() { _mm_setcsr(saved_); }
 EmbreeScene::EmbreeScene(std::vector<Mesh> meshes, bool collect_all_hits)
     : meshes_(std::move(meshes)), collect_(collect_all_hits) {
   RTCDevice dev = embree_device();
-  scene_ = rtcNewScene(dev);
+  // The scene and each geometry are held by their own releasing handle until the scene is built:
+  // a check that throws here (no destructor runs for an unfinished object) leaks neither.
+  std::unique_ptr<RTCSceneTy, void (*)(RTCScene)> scene(rtcNewScene(dev), rtcReleaseScene);
+  scene_ = scene.get();
   rtcSetSceneFlags(scene_, RTC_SCENE_FLAG_ROBUST);
   rtcSetSceneBuildQuality(scene_, RTC_BUILD_QUALITY_MEDIUM);
   for (std::size_t k = 0; k < meshes_.size(); ++k) {
     const Mesh& m = meshes_[k];
-    RTCGeometry g = rtcNewGeometry(dev, RTC_GEOMETRY_TYPE_TRIANGLE);
+    const std::unique_ptr<RTCGeometryTy, void (*)(RTCGeometry)> geometry(
+        rtcNewGeometry(dev, RTC_GEOMETRY_TYPE_TRIANGLE), rtcReleaseGeometry);
+    RTCGeometry g = geometry.get();
     auto* v =
         static_cast<float*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float),
                                                     std::max<std::size_t>(m.vertices.size(), 1)));
@@ -90,8 +97,7 @@ EmbreeScene::EmbreeScene(std::vector<Mesh> meshes, bool collect_all_hits)
     if (m.triangles.empty()) ix[0] = ix[1] = ix[2] = 0;  // one degenerate triangle: never hit
     if (collect_) rtcSetGeometryIntersectFilterFunction(g, collect_filter);
     rtcCommitGeometry(g);
-    rtcAttachGeometryByID(scene_, g, static_cast<unsigned>(k));
-    rtcReleaseGeometry(g);
+    rtcAttachGeometryByID(scene_, g, static_cast<unsigned>(k));  // the scene holds its own reference
   }
   // Embree builds the BVH with oneTBB tasks; here in an arena of this thread alone, so that no
   // other thread (one of the run's, waiting in its own parallel loop) runs one of them: oneTBB
@@ -101,6 +107,7 @@ EmbreeScene::EmbreeScene(std::vector<Mesh> meshes, bool collect_all_hits)
   tbb::task_arena own_arena(1);
   own_arena.execute([this] { rtcCommitScene(scene_); });
   check(dev, "building the scene");
+  scene.release();  // the object is whole: its destructor releases the scene
 }
 
 EmbreeScene::~EmbreeScene() {

@@ -16,7 +16,7 @@
 ///                      output, min_clearance_mm, the least clearance of the nominal frames to the
 ///                      housing over a yaw_points x pitch_points grid (default 3 x 3: the field's
 ///                      corners, edges and centre), the same for every sample of a design: a
-///                      [[constraint]] of a bearing-span sizing can use it (studies/seeker_clearance.h).
+///                      [[constraint]] of a bearing-span sizing can use it (kinds/seeker_los/seeker_clearance.h).
 #include <cstdint>
 #include <string>
 #include <vector>

@@ -69,7 +69,7 @@ struct SeekerModel : ModelHeader {                                ///< file, nam
   SeekerAxis yaw, pitch;
   double barrel_length = 0;  ///< L3 (m)
   ToleranceSpec optical_axis;
-  /// Frames and housing ([geometry], optional; studies/seeker_geometry.h), sized from the spans.
+  /// Frames and housing ([geometry], optional; model_files/seeker_geometry.h), sized from the spans.
   std::optional<geometry::SeekerGeometry> geometry;
   /// [geometry] ring_mesh, barrel_mesh, housing_mesh: a designer's meshes (checked, in metres,
   /// each in its frame's coordinates) used instead of the generated yaw ring, pitch barrel and

@@ -1,6 +1,6 @@
 #pragma once
 /// Gimbal axis under test as a disk rotor on elastic supports (Yang et al. 2015, Sec. 3,
-/// Eqs. 13-18, ../shared/seeds/001), derived anew; the printed equations have slips.
+/// Eqs. 13-18; docs/papers.md), derived anew; the printed equations have slips.
 ///
 /// Coordinates: phi, the disk's rotation about the gimbal axis x; y, z, the translation of
 /// the disk's geometric centre O from the bearing centre O' (support bending). The mass

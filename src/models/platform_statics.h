@@ -1,8 +1,8 @@
 #pragma once
 /// Statics of a three-gimbal inertial stabilization platform: the coupled unbalance torques
 /// of the inner, middle and outer gimbal axes under gravity and carrier acceleration
-/// (Yang, Zhao, Li, Wu 2015, Sec. 2, Eqs. 1-12, ../shared/seeds/001 and its alternate OCR
-/// 000), derived anew with rotation matrices.
+/// (Yang, Zhao, Li, Wu 2015, Sec. 2, Eqs. 1-12; docs/papers.md),
+/// derived anew with rotation matrices.
 ///
 /// Frames (the paper's Fig. 2): base b; outer o turned by alpha about x_b; middle m turned by
 /// beta about z_o; inner p turned by gamma about y_m. The three axes meet at one point, the

@@ -1,5 +1,5 @@
 #pragma once
-/// The analytic error budget of Wang et al. 2011 (../shared/seeds/003), recomputed term by
+/// The analytic error budget of Wang et al. 2011 (docs/papers.md), recomputed term by
 /// term from its inputs so that a reviewer can set it beside the printed figures and
 /// beside the Monte Carlo of the exact chain (seeker_los_chain.h).
 ///

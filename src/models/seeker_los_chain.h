@@ -3,7 +3,7 @@
 ///
 /// Source: Wang, Zhu, Yan, Jia, Sun 2011, "Analysis of LOS pointing error derived from
 /// precision of shafting in stabilization mechanism", Infrared and Laser Engineering
-/// 40(11):2265-2269 (../shared/seeds/003). The paper propagates its error terms with
+/// 40(11):2265-2269 (docs/papers.md). The paper propagates its error terms with
 /// first-order formulas (Sec. 3); here the chain is composed exactly and the paper's
 /// formulas serve as the first-order check (tests/models/seeker_los_chain_test.cc).
 ///

@@ -1,6 +1,6 @@
 #pragma once
 /// Vertical hard-bearing balancing machine on spring plates (Wang & Wang 2014, Secs. 2-4,
-/// Eqs. 1-2, 8-17, ../shared/seeds/002), derived anew; the printed equations have slips.
+/// Eqs. 1-2, 8-17; docs/papers.md), derived anew; the printed equations have slips.
 ///
 /// Mechanism (paper Figs. 6-7): a support board hangs on two horizontal spring plates
 /// (stiffness k5 each) and translates by x; a torsion shaft fixed to the board carries the

@@ -82,7 +82,6 @@ CvodeIntegrator::CvodeIntegrator(std::size_t n, RhsFunction rhs, void* user_data
   check(SUNContext_Create(nullptr, &ctx), "SUNContext_Create");
 #endif
   owned_->context.reset(ctx);
-  ctx_ = ctx;
   N_Vector y = N_VNew_Serial(static_cast<sunindextype>(n), ctx);
   owned_->y.reset(y);
   N_Vector tmp = N_VNew_Serial(static_cast<sunindextype>(n), ctx);
@@ -92,12 +91,9 @@ CvodeIntegrator::CvodeIntegrator(std::size_t n, RhsFunction rhs, void* user_data
   use_weighted_rms_norm(y);              // clones inherit it
   N_VEnableFusedOps_Serial(y, SUNTRUE);  // one loop per linear combination (clones inherit)
   N_VEnableFusedOps_Serial(tmp, SUNTRUE);
-  y_ = y;
-  tmp_ = tmp;
   void* mem = CVodeCreate(CV_BDF, ctx);
   require(mem != nullptr, "CVodeCreate failed");
   owned_->memory.reset(mem);
-  mem_ = mem;
   CVodeSetErrHandlerFn(mem, cvode_error_handler, this);
   check(CVodeInit(mem, cvode_rhs, 0.0, y), "CVodeInit");
   if (opt.atol_per_state.empty()) {
@@ -114,8 +110,6 @@ CvodeIntegrator::CvodeIntegrator(std::size_t n, RhsFunction rhs, void* user_data
   SUNLinearSolver ls = n <= kSmallDenseMaxSize ? small_dense_linear_solver(n, ctx) : SUNLinSol_Dense(y, a, ctx);
   owned_->solver.reset(ls);
   require(a && ls, "CVODE: cannot create the dense linear solver");
-  a_ = a;
-  ls_ = ls;
   check(CVodeSetLinearSolver(mem, ls, a), "CVodeSetLinearSolver");
   check(CVodeSetMaxNumSteps(mem, opt.max_steps), "CVodeSetMaxNumSteps");
   if (opt.max_step > 0) check(CVodeSetMaxStep(mem, opt.max_step), "CVodeSetMaxStep");
@@ -126,16 +120,16 @@ CvodeIntegrator::~CvodeIntegrator() = default;  // owned_ frees the handles
 
 void CvodeIntegrator::reset(double t0, std::span<const double> y0) {
   POISE_INVARIANT(y0.size() == n_, "CVODE reset: state of the wrong size");
-  N_Vector y = static_cast<N_Vector>(y_);
+  N_Vector y = owned_->y.get();
   std::copy(y0.begin(), y0.end(), N_VGetArrayPointer(y));
-  check(CVodeReInit(mem_, t0, y), "CVodeReInit", last_error_);
+  check(CVodeReInit(owned_->memory.get(), t0, y), "CVodeReInit", last_error_);
   t_ = t0;
 }
 
 double CvodeIntegrator::advance(double t_out, double t_stop, bool one_step) {
-  check(CVodeSetStopTime(mem_, t_stop), "CVodeSetStopTime", last_error_);
+  check(CVodeSetStopTime(owned_->memory.get(), t_stop), "CVodeSetStopTime", last_error_);
   sunrealtype t = t_;
-  const int flag = CVode(mem_, t_out, static_cast<N_Vector>(y_), &t, one_step ? CV_ONE_STEP : CV_NORMAL);
+  const int flag = CVode(owned_->memory.get(), t_out, owned_->y.get(), &t, one_step ? CV_ONE_STEP : CV_NORMAL);
   check(flag, "CVode", last_error_);
   t_ = t;
   return t_;
@@ -143,36 +137,36 @@ double CvodeIntegrator::advance(double t_out, double t_stop, bool one_step) {
 
 void CvodeIntegrator::interpolate(double t, std::span<double> y) const {
   POISE_INVARIANT(y.size() == n_, "CVODE interpolate: buffer of the wrong size");
-  N_Vector tmp = static_cast<N_Vector>(tmp_);
-  check(CVodeGetDky(mem_, t, 0, tmp), "CVodeGetDky", last_error_);
+  N_Vector tmp = owned_->tmp.get();
+  check(CVodeGetDky(owned_->memory.get(), t, 0, tmp), "CVodeGetDky", last_error_);
   const double* p = N_VGetArrayPointer(tmp);
   std::copy(p, p + n_, y.begin());
 }
 
 int CvodeIntegrator::step_polynomial(std::span<double> c, double* tn) const {
   int q = 0;
-  CVodeGetLastOrder(mem_, &q);
-  CVodeGetCurrentTime(mem_, tn);
+  CVodeGetLastOrder(owned_->memory.get(), &q);
+  CVodeGetCurrentTime(owned_->memory.get(), tn);
   POISE_INVARIANT(c.size() >= (static_cast<std::size_t>(q) + 1) * n_, "CVODE step_polynomial: buffer too small");
-  N_Vector tmp = static_cast<N_Vector>(tmp_);
+  N_Vector tmp = owned_->tmp.get();
   const double* p = N_VGetArrayPointer(tmp);
   double fact = 1.0;
   for (int j = 0; j <= q; ++j) {
     if (j > 1) fact *= j;
-    check(CVodeGetDky(mem_, *tn, j, tmp), "CVodeGetDky", last_error_);
+    check(CVodeGetDky(owned_->memory.get(), *tn, j, tmp), "CVodeGetDky", last_error_);
     for (std::size_t i = 0; i < n_; ++i) c[static_cast<std::size_t>(j) * n_ + i] = p[i] / fact;
   }
   return q;
 }
 
-std::span<const double> CvodeIntegrator::state() const { return {N_VGetArrayPointer(static_cast<N_Vector>(y_)), n_}; }
+std::span<const double> CvodeIntegrator::state() const { return {N_VGetArrayPointer(owned_->y.get()), n_}; }
 
 CvodeStats CvodeIntegrator::stats() const {
   long steps = 0, nfe = 0, nfe_ls = 0, nje = 0;
-  CVodeGetNumSteps(mem_, &steps);
-  CVodeGetNumRhsEvals(mem_, &nfe);
-  CVodeGetNumLinRhsEvals(mem_, &nfe_ls);
-  CVodeGetNumJacEvals(mem_, &nje);
+  CVodeGetNumSteps(owned_->memory.get(), &steps);
+  CVodeGetNumRhsEvals(owned_->memory.get(), &nfe);
+  CVodeGetNumLinRhsEvals(owned_->memory.get(), &nfe_ls);
+  CVodeGetNumJacEvals(owned_->memory.get(), &nje);
   return {steps, nfe + nfe_ls, nje};
 }
 

@@ -78,16 +78,10 @@ class CvodeIntegrator {
 
  private:
   /// Owns every SUNDIALS handle (freed in the right order, also when the constructor throws
-  /// half-way); the void* members below are views of them.
+  /// half-way): the one place each is held.
   struct Handles;  // complete in the .cc, where the constructor and destructor are
   std::size_t n_;
   std::unique_ptr<Handles> owned_;
-  void* ctx_ = nullptr;  // SUNContext
-  void* mem_ = nullptr;  // CVODE memory
-  void* y_ = nullptr;    // N_Vector
-  void* tmp_ = nullptr;  // N_Vector for interpolation
-  void* a_ = nullptr;    // SUNMatrix
-  void* ls_ = nullptr;   // SUNLinearSolver
   double t_ = 0.0;
   CvodeOptions opt_;
   mutable std::string last_error_;

@@ -42,10 +42,11 @@ struct FixedFactorization final : Factorization {
 // The factorization of size n (1 .. kSmallDenseMaxSize): one factory per compiled size.
 template <std::size_t... I>
 std::unique_ptr<Factorization> factorization_of(std::size_t n, std::index_sequence<I...>) {
-  using Make = Factorization* (*)();
-  static constexpr Make kMake[] = {
-      []() -> Factorization* { return new (std::nothrow) FixedFactorization<static_cast<int>(I) + 1>; }...};
-  return std::unique_ptr<Factorization>(kMake[n - 1]());
+  using Make = std::unique_ptr<Factorization> (*)();
+  static constexpr Make kMake[] = {[]() -> std::unique_ptr<Factorization> {
+    return std::make_unique<FixedFactorization<static_cast<int>(I) + 1>>();
+  }...};
+  return kMake[n - 1]();
 }
 
 Factorization* content(SUNLinearSolver s) { return static_cast<Factorization*>(s->content); }
@@ -74,7 +75,7 @@ sunindextype last_flag(SUNLinearSolver s) { return content(s)->last_flag; }
 
 int free_solver(SUNLinearSolver s) {
   if (s == nullptr) return SUNLS_SUCCESS;
-  delete content(s);
+  std::unique_ptr<Factorization>(content(s)).reset();  // the content small_dense_linear_solver released to it
   s->content = nullptr;
   SUNLinSolFreeEmpty(s);
   return SUNLS_SUCCESS;

@@ -1,7 +1,8 @@
 #pragma once
 /// A study kind is one module behind this interface: a folder src/kinds/<kind>/ and one line
-/// in the table of src/kinds/registry.cc. The engine (study-file reading, run plan, sample
-/// driver, resume, convergence, provenance, result writing, report assembly) reaches a kind
+/// in the table of src/kinds/registry.cc.in (the build writes registry.cc from it). The engine
+/// (study-file reading, run plan, sample driver, resume, convergence, provenance, result
+/// writing, report assembly) reaches a kind
 /// only through this interface and names none.
 ///
 /// What a kind does:
@@ -82,7 +83,8 @@ class StudyKind {
                                                           std::uint64_t seed) const;
 };
 
-/// Adds a kind to the table (src/kinds/registry.cc calls it once per kind).
+/// Adds a kind to the table (the registry.cc the build makes from src/kinds/registry.cc.in calls it
+/// once per kind).
 void register_study_kind(std::unique_ptr<StudyKind> kind);
 /// The kind of that name; throws poise::Error naming the registered kinds if there is none.
 const StudyKind& study_kind(const std::string& name);
