@@ -2,8 +2,7 @@
 /// A study kind is one module behind this interface: a folder src/kinds/<kind>/ and one line
 /// in the table of src/kinds/registry.cc.in (the build writes registry.cc from it). The engine
 /// (study-file reading, run plan, sample driver, resume, convergence, provenance, result
-/// writing, report assembly) reaches a kind
-/// only through this interface and names none.
+/// writing, report assembly) reaches a kind only through this interface and names none.
 ///
 /// What a kind does:
 ///   - reads and validates its own sections of a study file (read_sections, validate),
