@@ -184,6 +184,31 @@ Candidate mirror_term(const Rows& r) {
   return c;
 }
 
+// Superposition: products of two planes' masses w_p w_q (scaled by the mean mass squared), zero
+// on every run that loads one plane: do runs with masses in two planes read as the sum of the
+// single-plane responses?
+Candidate superposition_term(const Rows& r) {
+  Candidate c{"superposition",
+              "runs with masses in two planes at once, more of them than the pairs of planes, beside single-plane runs",
+              {},
+              {}};
+  double scale = 0.0;
+  for (Eigen::Index i = 0; i < r.w.size(); ++i) scale += std::abs(r.w(i));
+  scale = scale > 0.0 ? scale / static_cast<double>(r.w.size()) : 1.0;
+  const Eigen::Index pairs = r.w.cols() * (r.w.cols() - 1) / 2;
+  CMatrix cal(r.w.rows(), pairs), check(r.check_w.rows(), pairs);
+  Eigen::Index k = 0;
+  for (Eigen::Index p = 0; p < r.w.cols(); ++p) {
+    for (Eigen::Index q = p + 1; q < r.w.cols(); ++q, ++k) {
+      cal.col(k) = r.w.col(p).cwiseProduct(r.w.col(q)) / (scale * scale);
+      check.col(k) = r.check_w.col(p).cwiseProduct(r.check_w.col(q)) / (scale * scale);
+    }
+  }
+  c.cal.assign(static_cast<std::size_t>(r.y.cols()), cal);
+  c.check.assign(static_cast<std::size_t>(r.y.cols()), check);
+  return c;
+}
+
 CMatrix joined(const CMatrix& a, const CMatrix& b) {
   CMatrix out(a.rows(), a.cols() + b.cols());
   out << a, b;
@@ -278,9 +303,13 @@ std::vector<ModelTest> select_terms(const Rows& r, std::vector<Candidate> candid
       current[s] = joined(current[s], cand.cal[s]);
       current_check[s] = joined(current_check[s], cand.check[s]);
     }
-    t.finding = cand.name == "phase sense"
-                    ? mirror_finding(r, t)
-                    : fmt::format(
+    t.finding = cand.name == "phase sense"     ? mirror_finding(r, t)
+                : cand.name == "superposition" ? fmt::format("runs with masses in two planes do not read as the sum of "
+                                                             "the single-plane responses: a term w_p w_q takes the "
+                                                             "residual RMS from {} to {}",
+                                                             significant(*t.residual_before, 3),
+                                                             significant(*t.residual_after, 3))
+                                               : fmt::format(
                           "the readings' gain changes with their size (a support that stiffens or softens, a "
                           "sensor that saturates): a term y|y|^2 takes the residual RMS from {} to {}",
                           significant(*t.residual_before, 3), significant(*t.residual_after, 3));
@@ -329,11 +358,16 @@ std::vector<ModelTest> test_linear_model(const std::vector<BalancingRun>& runs, 
     ModelTest amplitude;
     amplitude.name = "amplitude nonlinearity";
     amplitude.needs = "the phase sense set right first: the readings follow the masses' mirror images";
+    ModelTest superposition = amplitude;
+    superposition.name = "superposition";
     tests.push_back(std::move(amplitude));
+    tests.push_back(std::move(superposition));
     tests.push_back(std::move(*sense));
     return tests;
   }
-  for (auto& t : select_terms(r, {amplitude_term(r), mirror_term(r)})) tests.push_back(std::move(t));
+  for (auto& t : select_terms(r, {amplitude_term(r), mirror_term(r), superposition_term(r)})) {
+    tests.push_back(std::move(t));
+  }
   return tests;
 }
 

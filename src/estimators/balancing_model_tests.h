@@ -13,6 +13,8 @@
 /// - Amplitude nonlinearity (a mass ladder shows it): Ramsey's RESET term y_fit |y_fit|^2 per
 ///   sensor (a gain that changes with the vibration's size: a hardening or softening support,
 ///   a saturating sensor).
+/// - Superposition: products w_p w_q of two planes' masses: do runs with masses in two planes
+///   read as the sum of the single-plane responses?
 /// - Phase sense: terms in the masses' mirror images conj(w). A campaign whose phases or
 ///   masses' angles count the other way reads as conj(w), not w; a declared sense that is wrong
 ///   is named when the mirror-image model fits and the declared one does not.
