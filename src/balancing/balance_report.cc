@@ -78,7 +78,7 @@ std::string before_after_html(const BalancingCampaign& c, const CampaignAnalysis
     << html_escape(c.amplitude_unit) << "]</th><th>after the correction (95% prediction)</th></tr>\n";
   data << "# sensor before after upper95\n";
   for (std::size_t s = 0; s < c.sensors.size(); ++s) {
-    const auto& z = a.residual_readings[s];
+    const auto& z = a.residual_as_read[s];
     h << "<tr><td class='l'>" << html_escape(c.sensors[s]) << "</td><td>"
       << significant(std::abs(a.calibration.initial[s].value), 4) << "</td><td>" << cell(z, c.amplitude_unit)
       << "</td></tr>\n";

@@ -75,9 +75,10 @@ namespace {
 // What the campaign file says of the readings file, beside the sensors.
 struct ReadingsLayout {
   std::string file;
-  bool long_layout = false, lead = false, weights_with_rotation = false;
+  bool long_layout = false, lead = false, weights_with_rotation = false, phase_unit_declared = false;
   units::Dimension amplitude_dim;
   double amplitude_factor = 1.0;  // SI per amplitude unit
+  std::string phase_unit = "deg";
   std::vector<SensorColumns> sensors;
   estimators::ColumnMapping columns;  // role -> header
 };
@@ -115,7 +116,7 @@ std::vector<estimators::ColumnRole> column_roles(const BalancingCampaign& c, con
           {prefix + "imaginary", {sc.second}, l.amplitude_dim, c.amplitude_unit, true, who + "imaginary part"});
     } else {
       roles.push_back({prefix + "amplitude", {sc.first}, l.amplitude_dim, c.amplitude_unit, true, who + "amplitude"});
-      roles.push_back({prefix + "phase", {sc.second}, units::kAngle, "deg", true, who + "phase"});
+      roles.push_back({prefix + "phase", {sc.second}, units::kAngle, l.phase_unit, true, who + "phase"});
     }
   };
   if (l.long_layout) {
@@ -172,8 +173,10 @@ Phasor reading_at(const estimators::LabTable& t, const std::string& prefix, std:
                   const SensorColumns& sc) {
   Phasor z;
   if (sc.combined) {
-    z = polar_cell(t.text.at(prefix + "reading")[row], t.file, t.lines[row], "column " + sc.first) *
-        l.amplitude_factor;  // in the amplitude unit already
+    std::string cell = t.text.at(prefix + "reading")[row];
+    if (t.delimiter == "semicolon" || t.delimiter == "tab") std::replace(cell.begin(), cell.end(), ',', '.');
+    z = polar_cell(cell, t.file, t.lines[row], "column " + sc.first) * l.amplitude_factor;  // in the amplitude unit
+    if (l.phase_unit == "rad") z = std::polar(std::abs(z), std::arg(z) * 180.0 / 3.14159265358979323846);
   } else {
     z = sc.cartesian ? Phasor(t.at(prefix + "real")[row], t.at(prefix + "imaginary")[row])
                      : std::polar(t.at(prefix + "amplitude")[row], t.at(prefix + "phase")[row]);
@@ -283,6 +286,9 @@ ReadingsLayout read_layout(TomlReader& root, TomlReader& head, BalancingCampaign
                std::string("the amplitudes' unit, e.g. \"um\", \"mil\", \"mm/s\" or \"gn\" (") + e.what() + ")");
   }
   l.lead = head.choice("phase", {"lag", "lead"}, "lag") == "lead";
+  c.phase_lead = l.lead;
+  l.phase_unit_declared = head.has("phase_unit");
+  l.phase_unit = head.choice("phase_unit", {"deg", "rad"}, "deg");
   l.weights_with_rotation =
       head.choice("weight_angles", {"against_rotation", "with_rotation"}, "against_rotation") == "with_rotation";
   c.weights_with_rotation = l.weights_with_rotation;
@@ -313,6 +319,40 @@ ReadingsLayout read_layout(TomlReader& root, TomlReader& head, BalancingCampaign
   return l;
 }
 
+// Phases that all lie within 2 pi "degrees" are radians read as degrees: refused unless the
+// header or the campaign says degrees (a phase column of four or more readings in degrees spans
+// more than 6.3 deg).
+void refuse_phases_in_radians(const estimators::LabTable& t, const ReadingsLayout& l, const BalancingCampaign& c) {
+  if (l.phase_unit_declared || t.size() < 4) return;
+  for (const auto& [role, header] : t.header) {
+    if (role.size() < 5 || role.compare(role.size() - 5, 5, "phase") != 0) continue;
+    if (header.find("deg") != std::string::npos || header.find("\xC2\xB0") != std::string::npos) continue;
+    const auto& v = t.at(role);
+    const bool small = std::all_of(
+        v.begin(), v.end(), [](double x) { return std::abs(x) <= 2.0 * 3.1416 * 3.14159265358979323846 / 180.0; });
+    if (!small) continue;
+    throw InputError(
+        SourceLocation{t.file, static_cast<int>(t.header_line), 0}, "column " + header, "every phase within +-6.3",
+        "phases in degrees: these look like radians; give the unit in the header (\"" + header +
+            " [rad]\") or the campaign's phase_unit = \"rad\" (or \"deg\", to keep degrees) for " + c.name);
+  }
+}
+
+// Every declared run must have readings: a run left out of the file (or a row numbered wrong)
+// would change the answer silently.
+void refuse_runs_without_readings(const BalancingCampaign& c, const std::vector<DeclaredRun>& declared,
+                                  const std::vector<int>& lines, const std::string& readings) {
+  std::vector<bool> seen(declared.size(), false);
+  for (const auto& r : c.runs) seen[r.declared] = true;
+  for (std::size_t k = 0; k < declared.size(); ++k) {
+    if (seen[k]) continue;
+    throw InputError(SourceLocation{c.file, k < lines.size() ? lines[k] : 0, 0}, "run[" + std::to_string(k) + "]",
+                     declared[k].name,
+                     "readings of every [[run]] in " + readings + " (run " + std::to_string(k + 1) +
+                         " or its name; none found): add its rows, or remove the [[run]]");
+  }
+}
+
 }  // namespace
 
 BalancingCampaign read_balancing_campaign(const std::string& path) {
@@ -325,6 +365,7 @@ BalancingCampaign read_balancing_campaign(const std::string& path) {
   TomlReader head = root.table("campaign");
   c.name = head.string("name");
   const ReadingsLayout l = read_layout(root, head, c, path);
+  for (const auto& sc : l.sensors) c.sensor_angle.push_back(sc.angle);
   for (TomlReader& p : root.table_array("plane")) {
     c.planes.push_back(p.string("name"));
     c.plane_radius.push_back(p.quantity("radius", units::kLength, engine::non_negative, 0.0));
@@ -336,7 +377,11 @@ BalancingCampaign read_balancing_campaign(const std::string& path) {
     c.plane_first_hole.push_back(p.quantity("first_hole", units::kAngle, {}, 0.0));
   }
   std::vector<DeclaredRun> declared;
-  for (TomlReader& r : root.table_array("run")) declared.push_back(read_run(r, c));
+  std::vector<int> run_lines;
+  for (TomlReader& r : root.table_array("run")) {
+    declared.push_back(read_run(r, c));
+    run_lines.push_back(r.line_of("name"));
+  }
   if (root.has("design")) {
     TomlReader d = root.table("design");
     DesignLink link;
@@ -356,7 +401,13 @@ BalancingCampaign read_balancing_campaign(const std::string& path) {
   c.declared_runs = declared.size();
   for (const auto& d : declared) c.umar_run.push_back(d.umar);
 
-  const estimators::LabTable t = estimators::read_lab_table(l.file, column_roles(c, l), l.columns);
+  estimators::ColumnMapping mapping = l.columns;
+  mapping.naming =
+      "the campaign's [columns] table (run, speed; sensor, amplitude, phase in a long layout) or its "
+      "[[sensor]] keys (amplitude and phase, real and imaginary, or reading): " +
+      path;
+  const estimators::LabTable t = estimators::read_lab_table(l.file, column_roles(c, l), mapping);
+  refuse_phases_in_radians(t, l, c);
   std::vector<std::size_t> run_index;
   std::vector<double> speeds;
   for (std::size_t row = 0; row < t.size(); ++row) {
@@ -368,16 +419,17 @@ BalancingCampaign read_balancing_campaign(const std::string& path) {
   for (std::size_t row = 0; row < speeds.size(); ++row) speed[row] = group_of(c.speeds_rpm, speeds[row]);
   if (l.long_layout) {
     assemble_long(t, run_index, speed, declared, l, c);
-    return c;
-  }
-  for (std::size_t row = 0; row < t.size(); ++row) {
-    const DeclaredRun& d = declared[run_index[row]];
-    estimators::BalancingRun run{d.name, {}, d.masses, d.check, run_index[row], speed[row]};
-    for (std::size_t s = 0; s < c.sensors.size(); ++s) {
-      run.readings.push_back(reading_at(t, c.sensors[s] + ".", row, l, l.sensors[s]));
+  } else {
+    for (std::size_t row = 0; row < t.size(); ++row) {
+      const DeclaredRun& d = declared[run_index[row]];
+      estimators::BalancingRun run{d.name, {}, d.masses, d.check, run_index[row], speed[row]};
+      for (std::size_t s = 0; s < c.sensors.size(); ++s) {
+        run.readings.push_back(reading_at(t, c.sensors[s] + ".", row, l, l.sensors[s]));
+      }
+      c.runs.push_back(std::move(run));
     }
-    c.runs.push_back(std::move(run));
   }
+  refuse_runs_without_readings(c, declared, run_lines, l.file);
   return c;
 }
 

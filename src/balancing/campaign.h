@@ -88,6 +88,8 @@ struct DesignLink {
 struct BalancingCampaign {
   std::string file, name, amplitude_unit;
   bool weights_with_rotation = false;  ///< answers' angles count with rotation (declared)
+  bool phase_lead = false;             ///< the instrument gives phase lead (declared)
+  std::vector<double> sensor_angle;    ///< rad: each probe's mounting angle
   std::vector<double> speeds_rpm;      ///< the distinct speeds, ascending (empty: none given)
   std::optional<double> balancing_speed_rpm;
   std::optional<double> reading_noise;  ///< in amplitude_unit

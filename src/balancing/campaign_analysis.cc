@@ -86,6 +86,14 @@ std::string answer_sentence(const BalancingCampaign& c, const CampaignAnalysis& 
   for (std::size_t p = 0; p < c.planes.size(); ++p) {
     s += p ? ", " : " ";
     s += c.planes[p] + " " + phasor_text(a.correction_masses.planes[p], "g");
+    if (p < a.correction_holes.size() && !a.correction_holes[p].empty()) {
+      s += " (on its holes:";
+      for (std::size_t k = 0; k < a.correction_holes[p].size(); ++k) {
+        s += fmt::format("{}{} g @ {:.1f} deg", k ? " and " : " ", significant(a.correction_holes[p][k].mass_g, 4),
+                         degrees(std::polar(1.0, a.correction_holes[p][k].angle)));
+      }
+      s += ")";
+    }
   }
   double before = 0.0;
   for (const auto& z : a.calibration.initial) before += std::norm(z.value);
@@ -181,6 +189,14 @@ CampaignAnalysis analyse_runs(const BalancingCampaign& c, const std::vector<esti
   a.correction_masses = estimators::correction_answers(a.calibration, c.plane_radius);
   a.initial_unbalance = estimators::initial_unbalance_answers(a.calibration, c.plane_radius);
   a.residual_readings = estimators::residual_reading_answers(a.calibration);
+  // As the instrument shows a reading: the probe's angle taken off, lead where it gives lead (the
+  // regions are circles: only their centre moves).
+  for (std::size_t s = 0; s < a.residual_readings.size(); ++s) {
+    PhasorInterval z = a.residual_readings[s];
+    z.value *= std::polar(1.0, s < c.sensor_angle.size() ? -c.sensor_angle[s] : 0.0);
+    if (c.phase_lead) z.value = std::conj(z.value);
+    a.residual_as_read.push_back(z);
+  }
   a.runs = answers_of_unused_runs(runs, c, a);
   if (c.weights_with_rotation) {
     mirror(a.correction_masses);
@@ -332,7 +348,7 @@ json speed_json(const BalancingCampaign& c, const CampaignAnalysis& a) {
     masses.push_back(e);
   }
   for (std::size_t s = 0; s < c.sensors.size(); ++s) {
-    const auto& z = a.residual_readings[s];
+    const auto& z = a.residual_as_read[s];
     const auto r = z.radius();
     residual.push_back({{"sensor", c.sensors[s]},
                         {"reading", {{"amplitude", std::abs(z.value)}, {"angle_deg", degrees(z.value)}}},

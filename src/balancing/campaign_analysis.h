@@ -48,8 +48,9 @@ struct CampaignAnalysis {
   estimators::InfluenceCalibration calibration;
   estimators::Correction correction;  ///< the plain least-squares correction
   estimators::PlaneAnswers correction_masses, initial_unbalance;
-  std::vector<estimators::PhasorInterval> residual_readings;
-  std::vector<std::vector<HoleMass>> correction_holes;  ///< per plane; empty where any angle will do
+  std::vector<estimators::PhasorInterval> residual_readings;  ///< as Poise counts (lag, probe angle added)
+  std::vector<estimators::PhasorInterval> residual_as_read;   ///< as the instrument will show them
+  std::vector<std::vector<HoleMass>> correction_holes;        ///< per plane; empty where any angle will do
   std::vector<ReadingPoint> points;
   std::vector<RunAnswer> runs;
   /// The linear model's tests on these runs (estimators/balancing_model_tests.h), and the runout

@@ -1,6 +1,7 @@
 #include "cli/balance_command.h"
 
 #include <cmath>
+#include <filesystem>
 #include <iostream>
 #include <memory>
 #include <numbers>
@@ -64,9 +65,10 @@ void print_speed(const balancing::BalancingCampaign& c, const balancing::Campaig
   const auto& cal = a.calibration;
   std::cout << (a.speed_rpm ? "At " + significant(*a.speed_rpm, 5) + " rpm: " : std::string()) << cal.runs
             << " readings of runs with known masses, " << c.sensors.size() << " sensors, " << c.planes.size()
-            << " planes; " << cal.dof << " degrees of freedom"
+            << " planes; " << cal.dof << (cal.dof == 1 ? " degree" : " degrees") << " of freedom"
             << (cal.dof == 0 ? " (as many readings as unknowns: no standard errors; another run would give them)" : "")
-            << ".\nInfluence coefficients [" << c.amplitude_unit << " per g]:\n";
+            << ".\nInfluence coefficients [" << c.amplitude_unit
+            << " per g; as Poise counts angles: phase lag with the probe's angle added, masses against rotation]:\n";
   for (std::size_t s = 0; s < c.sensors.size(); ++s) {
     for (std::size_t p = 0; p < c.planes.size(); ++p) {
       std::cout << "  " << c.sensors[s] << " from " << c.planes[p] << ": "
@@ -90,7 +92,7 @@ void print_speed(const balancing::BalancingCampaign& c, const balancing::Campaig
   print_planes("The rotor's own unbalance as calibrated", a.initial_unbalance);
   for (const auto& r : a.runs) {
     print_planes((r.check ? "Check run '" : "Run '") + r.name + "' (" + std::to_string(r.readings) +
-                     " reading(s)): unbalance relative to the calibrated rotor",
+                     (r.readings == 1 ? " reading" : " readings") + "): unbalance relative to the calibrated rotor",
                  r.unbalance);
     if (!r.applied) continue;
     std::cout << "  applied:";
@@ -106,16 +108,18 @@ void print_speed(const balancing::BalancingCampaign& c, const balancing::Campaig
   for (std::size_t p = 0; p < c.planes.size(); ++p) {
     if (a.correction_holes[p].empty()) continue;
     std::cout << "Correction in " << c.planes[p] << " on its " << c.plane_holes[p] << " holes:";
-    for (const auto& h : a.correction_holes[p]) {
-      std::cout << " " << significant(h.mass_g, 4) << " g @ "
+    for (std::size_t k = 0; k < a.correction_holes[p].size(); ++k) {
+      const auto& h = a.correction_holes[p][k];
+      std::cout << (k ? " and " : " ") << significant(h.mass_g, 4) << " g @ "
                 << fmt::format("{:.1f}", balancing::degrees(std::polar(1.0, h.angle))) << " deg";
     }
     std::cout << ".\n";
   }
-  std::cout << "Predicted readings after correction (95% prediction):";
+  std::cout << "Predicted readings after correction, as the instrument will show them (phase "
+            << (c.phase_lead ? "lead" : "lag") << ", 95% prediction):";
   for (std::size_t s = 0; s < c.sensors.size(); ++s) {
     std::cout << (s ? ", " : " ") << c.sensors[s] << " "
-              << balancing::phasor_text(a.residual_readings[s], c.amplitude_unit);
+              << balancing::phasor_text(a.residual_as_read[s], c.amplitude_unit);
   }
   std::cout << ".\n";
   const balancing::IsoFigures iso = balancing::iso_figures(c, a);
@@ -167,11 +171,18 @@ int run_balance(const std::string& path, bool as_json, const std::string& out) {
   try {
     const balancing::BalancingCampaign c = balancing::read_balancing_campaign(path);
     const balancing::CampaignAnalyses a = balancing::analyse_campaign(c, design_runner(0));
-    if (!out.empty()) balancing::write_balance_folder(out, c, a);
+    if (!out.empty()) {
+      try {
+        balancing::write_balance_folder(out, c, a);
+      } catch (const std::filesystem::filesystem_error& e) {
+        throw UsageError("--out " + out + ": " + e.code().message() + " (a folder to create, or an empty one)");
+      }
+    }
     if (as_json) {
       std::cout << balancing::analysis_json(c, a).dump(2) << '\n';
     } else {
       print_text(c, a);
+      if (!out.empty()) std::cout << "report: " << out << "/report.html\n";
     }
     return 0;
   } catch (const engine::ValidationError& e) {

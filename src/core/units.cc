@@ -38,6 +38,7 @@ const std::map<std::string, UnitDef, std::less<>>& unit_table() {
       {"in", {0.0254, kLength}},      // inch, exact by definition
       {"mil", {0.0254e-3, kLength}},  // thousandth of an inch (a "thou")
       {"thou", {0.0254e-3, kLength}},
+      {"mils", {0.0254e-3, kLength}},  // as vibration tables write it
       // mass
       {"kg", {1.0, kMass}},
       {"g", {1e-3, kMass}},

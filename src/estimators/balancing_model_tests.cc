@@ -109,15 +109,30 @@ double rms(double rss, Eigen::Index count) {
 ModelTest lack_of_fit(const Rows& r) {
   ModelTest t;
   t.name = "lack of fit";
-  std::map<std::size_t, Eigen::Index> group;
-  for (std::size_t run : r.run) group.try_emplace(run, static_cast<Eigen::Index>(group.size()));
-  const auto groups = static_cast<Eigen::Index>(group.size());
+  // Repeats: rows with the same masses (the same run read again, or two runs of equal masses).
+  std::vector<Eigen::Index> group_of(static_cast<std::size_t>(r.w.rows()));
+  std::vector<Eigen::Index> first_row;
+  for (Eigen::Index i = 0; i < r.w.rows(); ++i) {
+    Eigen::Index g = static_cast<Eigen::Index>(first_row.size());
+    for (std::size_t k = 0; k < first_row.size(); ++k) {
+      if ((r.w.row(i) - r.w.row(first_row[k])).cwiseAbs().maxCoeff() <=
+          1e-12 * (1.0 + r.w.row(i).cwiseAbs().maxCoeff())) {
+        g = static_cast<Eigen::Index>(k);
+        break;
+      }
+    }
+    if (g == static_cast<Eigen::Index>(first_row.size())) first_row.push_back(i);
+    group_of[static_cast<std::size_t>(i)] = g;
+  }
+  const auto groups = static_cast<Eigen::Index>(first_row.size());
   CMatrix indicators = CMatrix::Zero(r.w.rows(), groups);
-  for (std::size_t i = 0; i < r.run.size(); ++i) indicators(static_cast<Eigen::Index>(i), group.at(r.run[i])) = 1.0;
+  for (std::size_t i = 0; i < group_of.size(); ++i) indicators(static_cast<Eigen::Index>(i), group_of[i]) = 1.0;
   const CMatrix base = base_design(r.w);
   const auto c = extra_terms_test(r.y, base, [&](Eigen::Index) { return indicators; });
   if (!c) {
-    t.needs = "repeated readings of runs (read each run twice or more) and more distinct runs than planes + 1";
+    t.needs =
+        "repeated readings (a run read twice or more, or two runs of equal masses) and more distinct runs "
+        "than planes + 1";
     return t;
   }
   t.ran = true;
@@ -273,6 +288,9 @@ std::vector<ModelTest> select_terms(const Rows& r, std::vector<Candidate> candid
       });
       if (!c) {  // beside the terms already added, no degrees of freedom are left for it
         open[k] = false;
+        out[k].ran = false;
+        out[k].p_value.reset();
+        out[k].needs = "a run more: beside the term found, no degrees of freedom are left to test it";
         continue;
       }
       out[k].p_value = c->p_value;
@@ -303,13 +321,14 @@ std::vector<ModelTest> select_terms(const Rows& r, std::vector<Candidate> candid
       current[s] = joined(current[s], cand.cal[s]);
       current_check[s] = joined(current_check[s], cand.check[s]);
     }
-    t.finding = cand.name == "phase sense"     ? mirror_finding(r, t)
-                : cand.name == "superposition" ? fmt::format("runs with masses in two planes do not read as the sum of "
-                                                             "the single-plane responses: a term w_p w_q takes the "
-                                                             "residual RMS from {} to {}",
-                                                             significant(*t.residual_before, 3),
-                                                             significant(*t.residual_after, 3))
-                                               : fmt::format(
+    t.finding = cand.name == "phase sense" ? mirror_finding(r, t)
+                : cand.name == "superposition"
+                    ? fmt::format(
+                          "runs with masses in two planes do not read as the sum of "
+                          "the single-plane responses: a term w_p w_q takes the "
+                          "residual RMS from {} to {}",
+                          significant(*t.residual_before, 3), significant(*t.residual_after, 3))
+                    : fmt::format(
                           "the readings' gain changes with their size (a support that stiffens or softens, a "
                           "sensor that saturates): a term y|y|^2 takes the residual RMS from {} to {}",
                           significant(*t.residual_before, 3), significant(*t.residual_after, 3));
@@ -354,6 +373,7 @@ std::vector<ModelTest> test_linear_model(const std::vector<BalancingRun>& runs, 
   const Rows r = rows_of(runs, planes);
   std::vector<ModelTest> tests = {lack_of_fit(r)};
   if (tests[0].ran) tests[0].significant = *tests[0].p_value < kModelTestLevel;
+  if (!tests[0].significant) tests[0].finding.clear();  // a finding is said only where there is one
   if (auto sense = wrong_sense(r, kModelTestLevel / 2.0)) {
     ModelTest amplitude;
     amplitude.name = "amplitude nonlinearity";

@@ -1,6 +1,7 @@
 #include "estimators/lab_table.h"
 
 #include <algorithm>
+#include <cctype>
 #include <charconv>
 #include <cmath>
 #include <cstdint>
@@ -159,6 +160,20 @@ std::optional<std::string> unit_in_header(const std::string& header, const units
   return std::nullopt;
 }
 
+// A unit in the header's brackets that Poise knows but of another dimension than `dim`.
+std::optional<std::string> unit_of_other_kind(const std::string& header, const units::Dimension& dim) {
+  for (const auto& [open, close] : {std::pair{'[', ']'}, std::pair{'(', ')'}}) {
+    const std::size_t a = header.rfind(open), b = header.rfind(close);
+    if (a == std::string::npos || b == std::string::npos || b <= a + 1) continue;
+    const std::string u = trimmed(header.substr(a + 1, b - a - 1));
+    try {
+      if (units::parse_quantity("1 " + u).dim != dim) return u;
+    } catch (const Error&) {
+    }
+  }
+  return std::nullopt;
+}
+
 std::string listed(const std::vector<std::string>& headers) {
   std::string s;
   for (std::size_t i = 0; i < headers.size() && i < 12; ++i) s += (i ? ", '" : "'") + headers[i] + "'";
@@ -185,13 +200,37 @@ std::optional<Found> find_column(const ColumnRole& role, const std::vector<std::
     for (std::size_t i = 0; i < headers.size(); ++i) {
       if (headers[i] == it->second) index = i;
     }
+    // A name given without the unit the header carries ("amp" for "amp [mm/s]").
+    for (std::size_t i = 0; i < headers.size() && !index; ++i) {
+      const std::size_t bracket = headers[i].find_last_of("[(");
+      if (bracket != std::string::npos && trimmed(headers[i].substr(0, bracket)) == it->second) index = i;
+    }
     if (!index) {
-      throw InputError(where, "--column " + role.role, it->second, "one of the file's headers: " + listed(headers));
+      throw InputError(where, mapping.naming.empty() ? "--column " + role.role : role.what, it->second,
+                       "one of the file's headers: " + listed(headers));
     }
   } else {
     for (const std::string& h : role.default_headers) {
       for (std::size_t i = 0; i < headers.size() && !index; ++i) {
         if (headers[i] == h) index = i;
+      }
+    }
+    // A default header written in another case ("Run", "TIME") is the same column.
+    const auto lower = [](std::string t) {
+      std::transform(t.begin(), t.end(), t.begin(),
+                     [](unsigned char ch) { return static_cast<char>(std::tolower(ch)); });
+      return t;
+    };
+    for (const std::string& h : role.default_headers) {
+      for (std::size_t i = 0; i < headers.size() && !index; ++i) {
+        if (lower(headers[i]) == lower(h)) index = i;
+      }
+    }
+    // A header that adds its unit to the name looked for ("amp [mm/s]" for "amp").
+    for (const std::string& h : role.default_headers) {
+      for (std::size_t i = 0; i < headers.size() && !index; ++i) {
+        const std::size_t bracket = headers[i].find_last_of("[(");
+        if (bracket != std::string::npos && bracket > 0 && trimmed(headers[i].substr(0, bracket)) == h) index = i;
       }
     }
   }
@@ -206,6 +245,13 @@ std::optional<Found> find_column(const ColumnRole& role, const std::vector<std::
     unit = it->second;
   } else if (auto in_header = unit_in_header(header, role.dimension)) {
     unit = *in_header;
+  } else if (const auto other = role.unit_by_default ? unit_of_other_kind(header, role.dimension) : std::nullopt) {
+    // A declared file whose header names a unit of another kind ("[um]" where the campaign
+    // reads velocities): refused, not read in the declared unit.
+    throw InputError(where, "unit of column '" + header + "' (" + role.what + ")", *other,
+                     "a unit of " + units::dimension_name(role.dimension) + " like the declared " + role.default_unit +
+                         " (" + *other + " is " + units::dimension_name(units::parse_quantity("1 " + *other).dim) +
+                         "): convert the column or declare its unit");
   } else if (!named || role.unit_by_default ||
              std::find(role.default_headers.begin(), role.default_headers.end(), header) !=
                  role.default_headers.end()) {
@@ -228,7 +274,7 @@ std::optional<Found> find_column(const ColumnRole& role, const std::vector<std::
 
 // Every required column the file lacks, in one message.
 void refuse_missing(const std::vector<const ColumnRole*>& missing, const std::vector<std::string>& headers,
-                    const std::string& path, std::size_t header_line) {
+                    const std::string& path, std::size_t header_line, const std::string& naming) {
   if (missing.empty()) return;
   std::string names, options;
   for (std::size_t i = 0; i < missing.size(); ++i) {
@@ -237,13 +283,13 @@ void refuse_missing(const std::vector<const ColumnRole*>& missing, const std::ve
     if (i > 0) names += i + 1 == missing.size() ? " and " : ", ";
     names += fmt::format("{} (the {})", defaults, missing[i]->what);
     if (i > 0) options += ' ';
-    options += fmt::format("--column {}=HEADER", missing[i]->role);
+    if (naming.empty()) options += fmt::format("--column {}=HEADER", missing[i]->role);
   }
   const bool several = missing.size() > 1;
   throw Error(
       fmt::format("{}:{}: missing column{} {}: the file's columns are {}; name the one{} that hold{} {} with {}", path,
                   header_line, several ? "s" : "", names, listed(headers), several ? "s" : "", several ? "" : "s",
-                  several ? "them" : "it", options));
+                  several ? "them" : "it", naming.empty() ? options : naming));
 }
 
 }  // namespace
@@ -394,7 +440,7 @@ LabTable npy_table(const std::string& path, const std::vector<ColumnRole>& roles
       }
     }
   }
-  refuse_missing(missing, headers, path, 0);
+  refuse_missing(missing, headers, path, 0, mapping.naming);
   const std::size_t n = a.columns.empty() ? 0 : a.columns.front().size();
   for (std::size_t k = 0; k < n; ++k) t.lines.push_back(k + 1);
   return t;
@@ -440,7 +486,7 @@ LabTable read_lab_table(const std::string& path, const std::vector<ColumnRole>& 
       t.si[role.role];
     }
   }
-  refuse_missing(missing, headers, path, lineno);
+  refuse_missing(missing, headers, path, lineno, mapping.naming);
   while (std::getline(in, line)) {
     ++lineno;
     if (is_comment(line)) continue;

@@ -51,6 +51,9 @@ struct ColumnRole {
 struct ColumnMapping {
   std::map<std::string, std::string> header;
   std::map<std::string, std::string> unit;
+  /// How the user names a column, for messages ("" = the command line's --column ROLE=HEADER;
+  /// a campaign file says its own keys).
+  std::string naming = "";
 };
 
 /// Parses "ROLE=VALUE" options into a mapping (throws poise::InputError naming the option for

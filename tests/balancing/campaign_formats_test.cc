@@ -195,6 +195,47 @@ TEST(CampaignFormats, WrongInputIsRefusedWithFileLineAndWhatWasExpected) {
               std::string::npos)
         << e.what();
   }
+  // Phases in radians read as degrees would give masses ten times too large: refused.
+  std::string radians = "Run,x_amp,x_deg,y_amp,y_deg\n";  // "Run": a default header in another case
+  for (int r = 0; r < 4; ++r) {
+    const auto [ax, px] = instrument(r, 0);
+    const auto [ay, py] = instrument(r, 1);
+    radians += fmt::format("{},{},{},{},{}\n", r + 1, ax, px * M_PI / 180.0, ay, py * M_PI / 180.0);
+  }
+  const std::string plain_phase_sensors =
+      "[[sensor]]\nname = \"x\"\namplitude = \"x_amp\"\nphase = \"x_ph\"\n"
+      "[[sensor]]\nname = \"y\"\namplitude = \"y_amp\"\nphase = \"y_ph\"\n";
+  std::string renamed = radians;
+  renamed.replace(0, renamed.find('\n'), "Run,x_amp,x_ph,y_amp,y_ph");
+  try {
+    analyse(dir, campaign_toml("", plain_phase_sensors, false), renamed);
+    FAIL() << "phases in radians were read as degrees";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("look like radians"), std::string::npos) << e.what();
+  }
+  const auto declared = analyse(dir, campaign_toml("phase_unit = \"rad\"", plain_phase_sensors, false), renamed);
+  EXPECT_NEAR(std::abs(unknown_mass(declared.speeds[0]) - kMass[3]), 0.0, 1e-6);
+  // A [[run]] without readings (a row numbered wrong, a run left out) is named, not dropped.
+  try {
+    std::string three = wide_csv(false);
+    three.erase(three.rfind("4,"));
+    analyse(dir, campaign_toml("", kWideSensors, false), three);
+    FAIL() << "a run without readings was dropped silently";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("c.toml:"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("unknown"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("readings of every [[run]]"), std::string::npos) << e.what();
+  }
+  // A header whose unit is of another kind than the declared amplitudes (um where mil... is a
+  // length too: use mm/s) is refused, not read in the declared unit.
+  try {
+    std::string velocity = wide_csv(false);
+    velocity.replace(0, velocity.find('\n'), "run,x_amp [mm/s],x_deg,y_amp,y_deg");
+    analyse(dir, campaign_toml("", kWideSensors, false), velocity);
+    FAIL() << "a velocity column was read as displacement";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("mm/s"), std::string::npos) << e.what();
+  }
   try {
     write_text(dir.file("c.toml"), campaign_toml("", kWideSensors, false) + "[[run]]\nname = \"c\"\ncheck = true\n");
     read_balancing_campaign(dir.file("c.toml"));
