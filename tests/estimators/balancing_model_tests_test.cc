@@ -2,6 +2,7 @@
 // itself with one effect planted: each effect is found and named, clean campaigns find nothing
 // in more than a few percent, and a campaign too small for a test says which runs it needs.
 #include "estimators/balancing_model_tests.h"
+#include "balancing_test_rotor.h"
 
 #include <gtest/gtest.h>
 
@@ -13,10 +14,9 @@ namespace {
 
 using P = Phasor;
 
-const std::vector<P> kA = {std::polar(1.2, 0.4), std::polar(0.7, 2.0), std::polar(1.9, -1.0)};
-const std::vector<std::vector<P>> kH = {{std::polar(0.08, 1.0), std::polar(0.02, -0.5)},
-                                        {std::polar(0.05, 2.5), std::polar(0.06, 0.3)},
-                                        {std::polar(0.01, -2.0), std::polar(0.09, 1.7)}};
+// The shared rotor: two planes, three sensors (balancing_test_rotor.h).
+using test_rotor::kA;
+using test_rotor::kH;
 
 enum class Planted { kNone, kMirror, kCubic };
 

@@ -3,6 +3,7 @@
 // covers the truth in about 95% of campaigns, with sensors of different noise and few degrees
 // of freedom (the Welch-Satterthwaite and Hotelling form), and without noise the answers are exact.
 #include "estimators/balancing_prediction.h"
+#include "balancing_test_rotor.h"
 
 #include <gtest/gtest.h>
 
@@ -15,10 +16,9 @@ namespace {
 
 using P = Phasor;
 
-const std::vector<P> kA = {std::polar(1.2, 0.4), std::polar(0.7, 2.0), std::polar(1.9, -1.0)};
-const std::vector<std::vector<P>> kH = {{std::polar(0.08, 1.0), std::polar(0.02, -0.5)},
-                                        {std::polar(0.05, 2.5), std::polar(0.06, 0.3)},
-                                        {std::polar(0.01, -2.0), std::polar(0.09, 1.7)}};
+// The shared rotor: two planes, three sensors (balancing_test_rotor.h).
+using test_rotor::kA;
+using test_rotor::kH;
 // Each sensor's noise sd per part: one sensor four times noisier than another.
 const std::vector<double> kNoise = {0.01, 0.04, 0.02};
 const std::vector<double> kRadii = {0.1, 0.15};

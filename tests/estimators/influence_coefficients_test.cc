@@ -9,17 +9,16 @@
 #include <random>
 
 #include "core/error.h"
+#include "balancing_test_rotor.h"
 
 namespace poise::estimators {
 namespace {
 
 using P = Phasor;
 
-// Two planes, three sensors; the rotor's own readings a and the coefficients h.
-const std::vector<P> kA = {std::polar(1.2, 0.4), std::polar(0.7, 2.0), std::polar(1.9, -1.0)};
-const std::vector<std::vector<P>> kH = {{std::polar(0.08, 1.0), std::polar(0.02, -0.5)},
-                                        {std::polar(0.05, 2.5), std::polar(0.06, 0.3)},
-                                        {std::polar(0.01, -2.0), std::polar(0.09, 1.7)}};
+// The shared rotor: two planes, three sensors (balancing_test_rotor.h).
+using test_rotor::kA;
+using test_rotor::kH;
 
 BalancingRun simulated_run(const std::vector<P>& w, std::mt19937_64* g, double noise) {
   std::normal_distribution<double> n(0.0, noise);
