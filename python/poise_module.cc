@@ -24,10 +24,8 @@
 #include <utility>
 #include <vector>
 
-#include "balancing/balance_report.h"
-#include "balancing/campaign.h"
 #include "balancing/campaign_analysis.h"
-#include "cli/balance_design.h"
+#include "cli/balance_command.h"
 #include "cli/budget_command.h"
 #include "cli/diagnose_command.h"
 #include "cli/mass_properties_command.h"
@@ -332,10 +330,8 @@ py::object python_value(const nlohmann::json& j) {
 py::object balance(const std::string& path, const std::string& out) {
   nlohmann::json j = guarded([&] {
     py::gil_scoped_release release;
-    const balancing::BalancingCampaign c = balancing::read_balancing_campaign(path);
-    const balancing::CampaignAnalyses a = balancing::analyse_campaign(c, cli::design_runner(0));
-    if (!out.empty()) balancing::write_balance_folder(out, c, a);
-    return balancing::analysis_json(c, a);
+    const cli::BalanceResult r = cli::balance_campaign(path, out);
+    return balancing::analysis_json(r.campaign, r.analyses);
   });
   return python_value(j);
 }

@@ -109,11 +109,7 @@ std::string correction_html(const BalancingCampaign& c, const CampaignAnalysis& 
   h << "<h2 id='correction'>Correction</h2>\n<table><tr><th class='l'>plane</th><th>mass at the plane's radius "
        "(95% region)</th><th class='l'>on its holes</th></tr>\n";
   for (std::size_t p = 0; p < c.planes.size(); ++p) {
-    std::string holes;
-    for (const auto& hole : a.correction_holes[p]) {
-      holes += fmt::format("{}{} g @ {:.1f} deg", holes.empty() ? "" : ", ", significant(hole.mass_g, 4),
-                           degrees(std::polar(1.0, hole.angle)));
-    }
+    const std::string holes = holes_text(a.correction_holes[p]);
     h << "<tr><td class='l'>" << html_escape(c.planes[p]) << "</td><td>" << cell(a.correction_masses.planes[p], "g")
       << "</td><td class='l'>" << html_escape(holes.empty() ? "any angle" : holes) << "</td></tr>\n";
   }

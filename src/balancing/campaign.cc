@@ -5,6 +5,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <map>
+#include <numbers>
 #include <optional>
 
 #include "core/error.h"
@@ -27,7 +28,7 @@ struct SensorColumns {
 };
 
 const units::Dimension kSpeed{{0, 0, -1, 0, 1, 0}};  // rpm's
-constexpr double kRadPerSecPerRpm = 2.0 * 3.14159265358979323846 / 60.0;
+constexpr double kRadPerSecPerRpm = 2.0 * std::numbers::pi / 60.0;
 
 // One [[run]]: its name and, when known, the masses it carries per plane (g at the plane's radius).
 struct DeclaredRun {
@@ -166,7 +167,7 @@ Phasor polar_cell(const std::string& cell, const std::string& file, std::size_t 
         SourceLocation{file, static_cast<int>(line), 0}, what, cell.empty() ? "(empty)" : cell,
         "a reading as amplitude @ phase in degrees, e.g. \"2.07 @ 335\" (also 2.07@335\xC2\xB0, 2.07/335)");
   }
-  return std::polar(amplitude, phase * 3.14159265358979323846 / 180.0);
+  return std::polar(amplitude, phase * units::kRadPerDeg);
 }
 
 Phasor reading_at(const estimators::LabTable& t, const std::string& prefix, std::size_t row, const ReadingsLayout& l,
@@ -176,7 +177,7 @@ Phasor reading_at(const estimators::LabTable& t, const std::string& prefix, std:
     std::string cell = t.text.at(prefix + "reading")[row];
     if (t.delimiter == "semicolon" || t.delimiter == "tab") std::replace(cell.begin(), cell.end(), ',', '.');
     z = polar_cell(cell, t.file, t.lines[row], "column " + sc.first) * l.amplitude_factor;  // in the amplitude unit
-    if (l.phase_unit == "rad") z = std::polar(std::abs(z), std::arg(z) * 180.0 / 3.14159265358979323846);
+    if (l.phase_unit == "rad") z = std::polar(std::abs(z), std::arg(z) / units::kRadPerDeg);
   } else {
     z = sc.cartesian ? Phasor(t.at(prefix + "real")[row], t.at(prefix + "imaginary")[row])
                      : std::polar(t.at(prefix + "amplitude")[row], t.at(prefix + "phase")[row]);
@@ -328,8 +329,9 @@ void refuse_phases_in_radians(const estimators::LabTable& t, const ReadingsLayou
     if (role.size() < 5 || role.compare(role.size() - 5, 5, "phase") != 0) continue;
     if (header.find("deg") != std::string::npos || header.find("\xC2\xB0") != std::string::npos) continue;
     const auto& v = t.at(role);
-    const bool small = std::all_of(
-        v.begin(), v.end(), [](double x) { return std::abs(x) <= 2.0 * 3.1416 * 3.14159265358979323846 / 180.0; });
+    // 2 pi read as degrees, in rad
+    const double radian_in_degrees = 2.0 * std::numbers::pi * units::kRadPerDeg;
+    const bool small = std::all_of(v.begin(), v.end(), [&](double x) { return std::abs(x) <= radian_in_degrees; });
     if (!small) continue;
     throw InputError(
         SourceLocation{t.file, static_cast<int>(t.header_line), 0}, "column " + header, "every phase within +-6.3",

@@ -6,9 +6,7 @@
 #include <numbers>
 
 #include <fmt/format.h>
-#include <nlohmann/json.hpp>
 
-#include "balancing/iso_figures.h"
 #include "core/error.h"
 #include "core/format.h"
 
@@ -16,39 +14,6 @@ namespace poise::balancing {
 namespace {
 using estimators::Phasor;
 using estimators::PhasorInterval;
-using nlohmann::json;
-
-json interval_json(const PhasorInterval& z, const std::string& amount_key, double factor) {
-  json j{{amount_key, std::abs(z.value) * factor}, {"angle_deg", degrees(z.value)}};
-  const auto r = z.radius();
-  j["radius95"] = r ? json(*r * factor) : json(nullptr);
-  j["degrees_of_freedom"] = r ? json(z.dof) : json(nullptr);
-  return j;
-}
-
-json plane_answers_json(const BalancingCampaign& c, const CampaignAnalysis& a, const estimators::PlaneAnswers& u,
-                        const std::optional<std::vector<Phasor>>& applied) {
-  json planes = json::array();
-  for (std::size_t p = 0; p < c.planes.size(); ++p) {
-    json e = interval_json(u.planes[p], "mass_g", 1.0);
-    e["plane"] = c.planes[p];
-    e["radius95_g"] = e["radius95"];
-    e.erase("radius95");
-    if (applied) {
-      e["applied"] = {{"mass_g", std::abs((*applied)[p])}, {"angle_deg", degrees((*applied)[p])}};
-      e["covered"] = u.planes[p].radius() ? json(u.planes[p].contains((*applied)[p])) : json(nullptr);
-      e["error_g"] = std::abs(u.planes[p].value - (*applied)[p]);
-    }
-    planes.push_back(e);
-  }
-  json j{{"planes", planes}};
-  if (u.static_unbalance) {
-    j["static"] = interval_json(*u.static_unbalance, "amount", a.moment_factor);
-    j["couple"] = interval_json(*u.couple_unbalance, "amount", a.moment_factor);
-    j["unit"] = a.moment_unit;
-  }
-  return j;
-}
 
 // Rows of the runs the calibration leaves out, grouped by declared run, in the campaign's order.
 std::vector<RunAnswer> answers_of_unused_runs(const std::vector<estimators::BalancingRun>& all,
@@ -87,12 +52,7 @@ std::string answer_sentence(const BalancingCampaign& c, const CampaignAnalysis& 
     s += p ? ", " : " ";
     s += c.planes[p] + " " + phasor_text(a.correction_masses.planes[p], "g");
     if (p < a.correction_holes.size() && !a.correction_holes[p].empty()) {
-      s += " (on its holes:";
-      for (std::size_t k = 0; k < a.correction_holes[p].size(); ++k) {
-        s += fmt::format("{}{} g @ {:.1f} deg", k ? " and " : " ", significant(a.correction_holes[p][k].mass_g, 4),
-                         degrees(std::polar(1.0, a.correction_holes[p][k].angle)));
-      }
-      s += ")";
+      s += " (on its holes: " + holes_text(a.correction_holes[p]) + ")";
     }
   }
   double before = 0.0;
@@ -132,6 +92,15 @@ double degrees(const Phasor& z) {
   double d = std::arg(z) * 180.0 / std::numbers::pi;
   if (d < 0.0) d += 360.0;
   return d;
+}
+
+std::string holes_text(const std::vector<HoleMass>& holes) {
+  std::string s;
+  for (std::size_t k = 0; k < holes.size(); ++k) {
+    s += fmt::format("{}{} g @ {:.1f} deg", k ? " and " : "", significant(holes[k].mass_g, 4),
+                     degrees(std::polar(1.0, holes[k].angle)));
+  }
+  return s;
 }
 
 std::string phasor_text(const PhasorInterval& z, const std::string& unit, double factor) {
@@ -322,142 +291,6 @@ CampaignAnalyses analyse_campaign(const BalancingCampaign& c, const DesignRunner
   }
   add_runout_test(out);
   add_design(c, design, out);
-  return out;
-}
-
-namespace {
-
-json speed_json(const BalancingCampaign& c, const CampaignAnalysis& a) {
-  const auto& cal = a.calibration;
-  json h = json::array();
-  for (std::size_t s = 0; s < c.sensors.size(); ++s) {
-    for (std::size_t p = 0; p < c.planes.size(); ++p) {
-      json e{{"sensor", c.sensors[s]},
-             {"plane", c.planes[p]},
-             {"value", {{"amplitude", std::abs(cal.h[s][p].value)}, {"angle_deg", degrees(cal.h[s][p].value)}}}};
-      e["standard_error"] = cal.h[s][p].se ? json(*cal.h[s][p].se) : json(nullptr);
-      h.push_back(e);
-    }
-  }
-  json masses = json::array(), residual = json::array(), runs = json::array();
-  for (std::size_t p = 0; p < c.planes.size(); ++p) {
-    json e = interval_json(a.correction_masses.planes[p], "mass_g", 1.0);
-    e["plane"] = c.planes[p];
-    e["radius95_g"] = e["radius95"];
-    e.erase("radius95");
-    masses.push_back(e);
-  }
-  for (std::size_t s = 0; s < c.sensors.size(); ++s) {
-    const auto& z = a.residual_as_read[s];
-    const auto r = z.radius();
-    residual.push_back({{"sensor", c.sensors[s]},
-                        {"reading", {{"amplitude", std::abs(z.value)}, {"angle_deg", degrees(z.value)}}},
-                        {"radius95", r ? json(*r) : json(nullptr)}});
-  }
-  for (const auto& r : a.runs) {
-    runs.push_back({{"run", r.name},
-                    {"check", r.check},
-                    {"readings", r.readings},
-                    {"unbalance", plane_answers_json(c, a, r.unbalance, r.applied)}});
-  }
-  json out{{"campaign", c.name},
-           {"amplitude_unit", c.amplitude_unit},
-           {"runs_used", cal.runs},
-           {"degrees_of_freedom", cal.dof},
-           {"influence_coefficients", h},
-           {"influence_unit", c.amplitude_unit + " per g"},
-           {"condition_number", cal.condition},
-           {"correction", masses},
-           {"predicted_residual", residual},
-           {"predicted_residual_rms", a.correction.residual_rms},
-           {"initial_unbalance", plane_answers_json(c, a, a.initial_unbalance, std::nullopt)},
-           {"correction_static_couple", plane_answers_json(c, a, a.correction_masses, std::nullopt)},
-           {"runs", runs},
-           {"answer", a.answer}};
-  out["noise_sd"] = json::array();
-  for (double v : cal.noise_var) out["noise_sd"].push_back(std::sqrt(v));
-  out["speed_rpm"] = a.speed_rpm ? json(*a.speed_rpm) : json(nullptr);
-  for (std::size_t p = 0; p < c.planes.size(); ++p) {
-    if (a.correction_holes[p].empty()) continue;
-    json holes = json::array();
-    for (const auto& hole : a.correction_holes[p]) {
-      holes.push_back({{"angle_deg", degrees(std::polar(1.0, hole.angle))}, {"mass_g", hole.mass_g}});
-    }
-    out["correction"][p]["holes"] = holes;
-  }
-  out["readings"] = json::array();
-  for (const auto& pt : a.points) {
-    json e{{"run", pt.run},
-           {"sensor", c.sensors[pt.sensor]},
-           {"check", pt.check},
-           {"reading", {{"amplitude", std::abs(pt.reading)}, {"angle_deg", degrees(pt.reading)}}}};
-    e["model"] = pt.model ? json{{"amplitude", std::abs(*pt.model)}, {"angle_deg", degrees(*pt.model)}} : json(nullptr);
-    out["readings"].push_back(e);
-  }
-  const IsoFigures iso = iso_figures(c, a);
-  if (!iso.urr.empty() || !iso.umar.empty()) {
-    const auto maybe = [](const std::optional<double>& v) { return v ? json(*v) : json(nullptr); };
-    json urr = json::array(), umar = json::array();
-    for (const auto& f : iso.urr) {
-      urr.push_back({{"run", f.run},
-                     {"plane", f.plane},
-                     {"urr", f.urr},
-                     {"lower95", maybe(f.lower)},
-                     {"upper95", maybe(f.upper)}});
-    }
-    for (const auto& f : iso.umar) {
-      umar.push_back({{"plane", f.plane},
-                      {"positions", f.positions},
-                      {"umar", f.umar},
-                      {"unit", f.unit},
-                      {"lower95", maybe(f.lower)},
-                      {"upper95", maybe(f.upper)}});
-    }
-    out["iso21940_21"] = {{"urr", urr}, {"umar", umar}};
-  }
-  out["model_tests"] = json::array();
-  const auto opt = [](const std::optional<double>& v) { return v ? json(*v) : json(nullptr); };
-  for (const auto& t : a.model_tests) {
-    out["model_tests"].push_back({{"name", t.name},
-                                  {"ran", t.ran},
-                                  {"significant", t.significant},
-                                  {"p_value", opt(t.p_value)},
-                                  {"finding", t.finding},
-                                  {"needs", t.needs},
-                                  {"residual_rms_before", opt(t.residual_before)},
-                                  {"residual_rms_after", opt(t.residual_after)},
-                                  {"check_rms_before", opt(t.check_before)},
-                                  {"check_rms_after", opt(t.check_after)}});
-  }
-  return out;
-}
-
-}  // namespace
-
-json analysis_json(const BalancingCampaign& c, const CampaignAnalyses& a) {
-  json out = speed_json(c, a.speeds.front());
-  if (a.speeds.size() > 1) {
-    out["speeds"] = json::array();
-    for (const auto& s : a.speeds) out["speeds"].push_back(speed_json(c, s));
-  }
-  out["notes"] = a.notes;
-  out["design"] = json::array();
-  for (const auto& e : a.design) {
-    out["design"].push_back({{"figure", e.figure},
-                             {"plane", e.plane},
-                             {"output", e.output},
-                             {"unit", e.unit},
-                             {"real", e.real ? json(*e.real) : json(nullptr)},
-                             {"share_at_or_below", e.share_below},
-                             {"simulated_p2_5", e.p2_5},
-                             {"simulated_p97_5", e.p97_5},
-                             {"samples", e.samples},
-                             {"within", e.within},
-                             {"sentence", e.sentence}});
-  }
-  out["angle_convention"] =
-      std::string("readings and influence coefficients: phase lag with each probe's angle added; masses: angles ") +
-      (c.weights_with_rotation ? "with" : "against") + " rotation from the reference mark, as the campaign declares";
   return out;
 }
 

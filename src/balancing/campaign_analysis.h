@@ -99,6 +99,9 @@ CampaignAnalyses analyse_campaign(const BalancingCampaign& c, const DesignRunner
 /// and with several speeds each speed's under "speeds".
 nlohmann::json analysis_json(const BalancingCampaign& c, const CampaignAnalyses& a);
 
+/// A correction's split onto holes: "24.13 g @ 292.5 deg and 16.08 g @ 315.0 deg".
+std::string holes_text(const std::vector<HoleMass>& holes);
+
 /// "15.33 g @ 2.9 deg" and, with a region, " (95%: +- 1.2 g)".
 std::string phasor_text(const estimators::PhasorInterval& z, const std::string& unit, double factor = 1.0);
 

@@ -61,7 +61,7 @@ object instead (its "answer" is the same sentence).
 Exit status: 0 success, 2 invalid input (file, line, key and what was expected).
 )";
 
-void print_speed(const balancing::BalancingCampaign& c, const balancing::CampaignAnalysis& a) {
+void print_calibration(const balancing::BalancingCampaign& c, const balancing::CampaignAnalysis& a) {
   const auto& cal = a.calibration;
   std::cout << (a.speed_rpm ? "At " + significant(*a.speed_rpm, 5) + " rpm: " : std::string()) << cal.runs
             << " readings of runs with known masses, " << c.sensors.size() << " sensors, " << c.planes.size()
@@ -78,20 +78,27 @@ void print_speed(const balancing::BalancingCampaign& c, const balancing::Campaig
   }
   std::cout << "Planes' separation: condition number " << significant(cal.condition, 3) << " of the influence matrix"
             << (cal.condition > 100.0 ? " (the planes are hardly separable on these sensors)" : "") << ".\n";
-  auto print_planes = [&](const std::string& title, const estimators::PlaneAnswers& u) {
-    std::cout << title << ":";
-    for (std::size_t p = 0; p < c.planes.size(); ++p) {
-      std::cout << (p ? ", " : " ") << c.planes[p] << " " << balancing::phasor_text(u.planes[p], "g");
-    }
-    if (u.static_unbalance) {
-      std::cout << "; static " << balancing::phasor_text(*u.static_unbalance, a.moment_unit, a.moment_factor)
-                << ", couple " << balancing::phasor_text(*u.couple_unbalance, a.moment_unit, a.moment_factor);
-    }
-    std::cout << ".\n";
-  };
-  print_planes("The rotor's own unbalance as calibrated", a.initial_unbalance);
+}
+
+void print_planes(const balancing::BalancingCampaign& c, const balancing::CampaignAnalysis& a, const std::string& title,
+                  const estimators::PlaneAnswers& u) {
+  std::cout << title << ":";
+  for (std::size_t p = 0; p < c.planes.size(); ++p) {
+    std::cout << (p ? ", " : " ") << c.planes[p] << " " << balancing::phasor_text(u.planes[p], "g");
+  }
+  if (u.static_unbalance) {
+    std::cout << "; static " << balancing::phasor_text(*u.static_unbalance, a.moment_unit, a.moment_factor)
+              << ", couple " << balancing::phasor_text(*u.couple_unbalance, a.moment_unit, a.moment_factor);
+  }
+  std::cout << ".\n";
+}
+
+// The rotor's own unbalance, and each run the calibration left out beside its masses if known.
+void print_unbalance(const balancing::BalancingCampaign& c, const balancing::CampaignAnalysis& a) {
+  print_planes(c, a, "The rotor's own unbalance as calibrated", a.initial_unbalance);
   for (const auto& r : a.runs) {
-    print_planes((r.check ? "Check run '" : "Run '") + r.name + "' (" + std::to_string(r.readings) +
+    print_planes(c, a,
+                 (r.check ? "Check run '" : "Run '") + r.name + "' (" + std::to_string(r.readings) +
                      (r.readings == 1 ? " reading" : " readings") + "): unbalance relative to the calibrated rotor",
                  r.unbalance);
     if (!r.applied) continue;
@@ -105,15 +112,14 @@ void print_speed(const balancing::BalancingCampaign& c, const balancing::Campaig
     }
     std::cout << ".\n";
   }
+}
+
+// The correction on each plane's holes and the readings it leaves.
+void print_after_correction(const balancing::BalancingCampaign& c, const balancing::CampaignAnalysis& a) {
   for (std::size_t p = 0; p < c.planes.size(); ++p) {
     if (a.correction_holes[p].empty()) continue;
-    std::cout << "Correction in " << c.planes[p] << " on its " << c.plane_holes[p] << " holes:";
-    for (std::size_t k = 0; k < a.correction_holes[p].size(); ++k) {
-      const auto& h = a.correction_holes[p][k];
-      std::cout << (k ? " and " : " ") << significant(h.mass_g, 4) << " g @ "
-                << fmt::format("{:.1f}", balancing::degrees(std::polar(1.0, h.angle))) << " deg";
-    }
-    std::cout << ".\n";
+    std::cout << "Correction in " << c.planes[p] << " on its " << c.plane_holes[p]
+              << " holes: " << balancing::holes_text(a.correction_holes[p]) << ".\n";
   }
   std::cout << "Predicted readings after correction, as the instrument will show them (phase "
             << (c.phase_lead ? "lead" : "lag") << ", 95% prediction):";
@@ -122,6 +128,9 @@ void print_speed(const balancing::BalancingCampaign& c, const balancing::Campaig
               << balancing::phasor_text(a.residual_as_read[s], c.amplitude_unit);
   }
   std::cout << ".\n";
+}
+
+void print_iso(const balancing::BalancingCampaign& c, const balancing::CampaignAnalysis& a) {
   const balancing::IsoFigures iso = balancing::iso_figures(c, a);
   for (const auto& f : iso.urr) {
     std::cout << "ISO 21940-21 URR of check run '" << f.run << "', " << f.plane << ": " << significant(100.0 * f.urr, 3)
@@ -138,6 +147,9 @@ void print_speed(const balancing::BalancingCampaign& c, const balancing::Campaig
                           : std::string())
               << ".\n";
   }
+}
+
+void print_model_tests(const balancing::BalancingCampaign& c, const balancing::CampaignAnalysis& a) {
   if (!a.model_tests.empty()) std::cout << "Tests of the linear model (level 0.01 over the tests that ran):\n";
   for (const auto& t : a.model_tests) {
     std::cout << "  " << t.name << ": ";
@@ -157,6 +169,14 @@ void print_speed(const balancing::BalancingCampaign& c, const balancing::Campaig
   }
 }
 
+void print_speed(const balancing::BalancingCampaign& c, const balancing::CampaignAnalysis& a) {
+  print_calibration(c, a);
+  print_unbalance(c, a);
+  print_after_correction(c, a);
+  print_iso(c, a);
+  print_model_tests(c, a);
+}
+
 void print_text(const balancing::BalancingCampaign& c, const balancing::CampaignAnalyses& a) {
   std::cout << "Campaign '" << c.name << "' (" << c.file << ")";
   if (a.speeds.size() > 1) std::cout << ", " << a.speeds.size() << " speeds (the balancing speed first)";
@@ -169,15 +189,9 @@ void print_text(const balancing::BalancingCampaign& c, const balancing::Campaign
 
 int run_balance(const std::string& path, bool as_json, const std::string& out) {
   try {
-    const balancing::BalancingCampaign c = balancing::read_balancing_campaign(path);
-    const balancing::CampaignAnalyses a = balancing::analyse_campaign(c, design_runner(0));
-    if (!out.empty()) {
-      try {
-        balancing::write_balance_folder(out, c, a);
-      } catch (const std::filesystem::filesystem_error& e) {
-        throw UsageError("--out " + out + ": " + e.code().message() + " (a folder to create, or an empty one)");
-      }
-    }
+    const BalanceResult result = balance_campaign(path, out);
+    const balancing::BalancingCampaign& c = result.campaign;
+    const balancing::CampaignAnalyses& a = result.analyses;
     if (as_json) {
       std::cout << balancing::analysis_json(c, a).dump(2) << '\n';
     } else {
@@ -198,6 +212,19 @@ int run_balance(const std::string& path, bool as_json, const std::string& out) {
 }
 
 }  // namespace
+
+BalanceResult balance_campaign(const std::string& path, const std::string& out) {
+  BalanceResult r{balancing::read_balancing_campaign(path), {}};
+  r.analyses = balancing::analyse_campaign(r.campaign, design_runner(0));
+  if (!out.empty()) {
+    try {
+      balancing::write_balance_folder(out, r.campaign, r.analyses);
+    } catch (const std::filesystem::filesystem_error& e) {
+      throw UsageError("--out " + out + ": " + e.code().message() + " (a folder to create, or an empty one)");
+    }
+  }
+  return r;
+}
 
 BalanceHandler add_balance_command(CLI::App& app) {
   struct Options {

@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <functional>
-#include <map>
+#include <numbers>
 
 #include <fmt/format.h>
 #include <Eigen/Dense>
@@ -34,10 +34,20 @@ Fit fit(const CMatrix& x, const CVector& y) {
   return f;
 }
 
+// A phasor's angle in degrees, 0 to 360.
+double degrees_of(const Phasor& z) { return std::fmod(std::arg(z) * 180.0 / std::numbers::pi + 360.0, 360.0); }
+
+// The extra-sum-of-squares F test of fit f1 (q more complex terms, nu complex residual degrees of
+// freedom) over f0: each complex term and residual counts twice.
+double extra_sum_of_squares_p(const Fit& f0, const Fit& f1, Eigen::Index q, Eigen::Index nu) {
+  const double f = ((f0.rss - f1.rss) / (2.0 * static_cast<double>(q))) / (f1.rss / (2.0 * static_cast<double>(nu)));
+  return boost::math::cdf(boost::math::complement(
+      boost::math::fisher_f(2.0 * static_cast<double>(q), 2.0 * static_cast<double>(nu)), std::max(f, 0.0)));
+}
+
 // The campaign's calibration rows (runs with known masses, check runs out) and check rows.
 struct Rows {
-  CMatrix w, y;                  // masses (n x P), readings (n x S)
-  std::vector<std::size_t> run;  // declared run of each row
+  CMatrix w, y;  // masses (n x P), readings (n x S)
   CMatrix check_w, check_y;
 };
 
@@ -60,7 +70,6 @@ Rows rows_of(const std::vector<BalancingRun>& runs, std::size_t planes) {
   };
   fill(cal, out.w, out.y);
   fill(chk, out.check_w, out.check_y);
-  for (const auto* r : cal) out.run.push_back(r->declared);
   return out;
 }
 
@@ -89,9 +98,7 @@ std::optional<Combined> extra_terms_test(const CMatrix& y, const CMatrix& base,
     const Fit f1 = fit(augmented(s), y.col(s));
     const Eigen::Index q = f1.rank - f0.rank, nu = n - f1.rank;
     if (q <= 0 || nu <= 0 || !(f1.rss > 0.0)) return std::nullopt;
-    const double f = ((f0.rss - f1.rss) / (2.0 * static_cast<double>(q))) / (f1.rss / (2.0 * static_cast<double>(nu)));
-    const double p = boost::math::cdf(boost::math::complement(
-        boost::math::fisher_f(2.0 * static_cast<double>(q), 2.0 * static_cast<double>(nu)), std::max(f, 0.0)));
+    const double p = extra_sum_of_squares_p(f0, f1, q, nu);
     fisher += -2.0 * std::log(std::max(p, 1e-300));
     c.rss_before += f0.rss;
     c.rss_after += f1.rss;
@@ -172,7 +179,7 @@ Candidate amplitude_term(const Rows& r) {
 }
 
 // The masses' mirror images conj(w), for the planes whose masses take two or more angles (at
-// one angle, conj(w) is w turned: no new column).
+// one angle, conj(w) is w turned and adds no column).
 Candidate mirror_term(const Rows& r) {
   Candidate c{
       "phase sense", "two or more trial masses at different angles in a plane, and a run more than that", {}, {}};
@@ -183,7 +190,7 @@ Candidate mirror_term(const Rows& r) {
     for (Eigen::Index i = 0; i < r.w.rows(); ++i) {
       if (std::abs(r.w(i, p)) == 0.0) continue;
       const double a = std::arg(r.w(i, p));
-      if (angle && std::abs(std::remainder(a - *angle, 3.14159265358979323846)) > 1e-6) two = true;
+      if (angle && std::abs(std::remainder(a - *angle, std::numbers::pi)) > 1e-6) two = true;
       angle = a;
     }
     if (two) planes.push_back(p);
@@ -434,9 +441,7 @@ ModelTest test_runout(const std::vector<InfluenceCalibration>& speeds) {
     return t;
   }
   t.ran = true;
-  const double f = ((f0.rss - f1.rss) / (2.0 * static_cast<double>(q))) / (f1.rss / (2.0 * static_cast<double>(nu)));
-  t.p_value = boost::math::cdf(boost::math::complement(
-      boost::math::fisher_f(2.0 * static_cast<double>(q), 2.0 * static_cast<double>(nu)), std::max(f, 0.0)));
+  t.p_value = extra_sum_of_squares_p(f0, f1, q, nu);
   t.significant = *t.p_value < kModelTestLevel;
   // Residuals in the amplitude unit (the fits are weighted).
   t.residual_before = rms((y - x0 * f0.beta).cwiseProduct(weight_sd).squaredNorm(), y.size());
@@ -444,17 +449,13 @@ ModelTest test_runout(const std::vector<InfluenceCalibration>& speeds) {
   std::string runout, unbalance;
   for (Eigen::Index s = 0; s < s_count; ++s) {
     const Phasor r = f1.beta(p_count + s);
-    runout += fmt::format("{}{} @ {:.0f} deg", s ? ", " : "", significant(std::abs(r), 3),
-                          std::fmod(std::arg(r) * 180.0 / 3.14159265358979323846 + 360.0, 360.0));
+    runout += fmt::format("{}{} @ {:.0f} deg", s ? ", " : "", significant(std::abs(r), 3), degrees_of(r));
   }
   std::string correction;
   for (Eigen::Index p = 0; p < p_count; ++p) {
     const Phasor u = f1.beta(p);
-    const auto deg = [](const Phasor& z) {
-      return std::fmod(std::arg(z) * 180.0 / 3.14159265358979323846 + 360.0, 360.0);
-    };
-    unbalance += fmt::format("{}{} g @ {:.1f} deg", p ? ", " : "", significant(std::abs(u), 4), deg(u));
-    correction += fmt::format("{}{} g @ {:.1f} deg", p ? ", " : "", significant(std::abs(u), 4), deg(-u));
+    unbalance += fmt::format("{}{} g @ {:.1f} deg", p ? ", " : "", significant(std::abs(u), 4), degrees_of(u));
+    correction += fmt::format("{}{} g @ {:.1f} deg", p ? ", " : "", significant(std::abs(u), 4), degrees_of(-u));
   }
   t.finding = "a reading that does not follow the masses (runout per sensor, the amplitude unit, lag: " + runout +
               "); the rotor's own unbalance without it: " + unbalance +

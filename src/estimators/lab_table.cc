@@ -187,53 +187,60 @@ struct Found {
   double factor;
 };
 
+// How a header may name a column, in the order they are tried: as written, in another case
+// ("Run" for "run"), with its unit added ("amp [mm/s]" for "amp").
+enum class HeaderMatch { kExact, kAnyCase, kWithoutUnit };
+
+bool header_matches(const std::string& header, const std::string& name, HeaderMatch how) {
+  switch (how) {
+    case HeaderMatch::kExact: return header == name;
+    case HeaderMatch::kAnyCase:
+      return std::equal(header.begin(), header.end(), name.begin(), name.end(),
+                        [](unsigned char x, unsigned char y) { return std::tolower(x) == std::tolower(y); });
+    case HeaderMatch::kWithoutUnit: {
+      const std::size_t bracket = header.find_last_of("[(");
+      return bracket != std::string::npos && bracket > 0 && trimmed(header.substr(0, bracket)) == name;
+    }
+  }
+  return false;
+}
+
+// The index of a role's column: the header the user named (as written, the last such, or without
+// its unit; InputError if the file has none), else a default header (each way in turn).
+std::optional<std::size_t> column_index(const ColumnRole& role, const std::vector<std::string>& headers,
+                                        const ColumnMapping& mapping, const SourceLocation& where) {
+  std::optional<std::size_t> index;
+  if (auto it = mapping.header.find(role.role); it != mapping.header.end()) {
+    for (std::size_t i = 0; i < headers.size(); ++i) {
+      if (header_matches(headers[i], it->second, HeaderMatch::kExact)) index = i;
+    }
+    for (std::size_t i = 0; i < headers.size() && !index; ++i) {
+      if (header_matches(headers[i], it->second, HeaderMatch::kWithoutUnit)) index = i;
+    }
+    if (!index) {
+      throw InputError(where, mapping.naming.empty() ? "--column " + role.role : role.what, it->second,
+                       "one of the file's headers: " + listed(headers));
+    }
+    return index;
+  }
+  for (const HeaderMatch how : {HeaderMatch::kExact, HeaderMatch::kAnyCase, HeaderMatch::kWithoutUnit}) {
+    for (const std::string& h : role.default_headers) {
+      for (std::size_t i = 0; i < headers.size() && !index; ++i) {
+        if (header_matches(headers[i], h, how)) index = i;
+      }
+    }
+  }
+  return index;
+}
+
 // The column of a role, and the SI value of one of its units; nullopt for an optional role not
 // in the file.
 std::optional<Found> find_column(const ColumnRole& role, const std::vector<std::string>& headers,
                                  const ColumnMapping& mapping, const std::string& path, std::size_t header_line,
                                  std::vector<const ColumnRole*>& missing) {
   const SourceLocation where{path, line_number(header_line), 0};
-  std::optional<std::size_t> index;
-  bool named = false;
-  if (auto it = mapping.header.find(role.role); it != mapping.header.end()) {
-    named = true;
-    for (std::size_t i = 0; i < headers.size(); ++i) {
-      if (headers[i] == it->second) index = i;
-    }
-    // A name given without the unit the header carries ("amp" for "amp [mm/s]").
-    for (std::size_t i = 0; i < headers.size() && !index; ++i) {
-      const std::size_t bracket = headers[i].find_last_of("[(");
-      if (bracket != std::string::npos && trimmed(headers[i].substr(0, bracket)) == it->second) index = i;
-    }
-    if (!index) {
-      throw InputError(where, mapping.naming.empty() ? "--column " + role.role : role.what, it->second,
-                       "one of the file's headers: " + listed(headers));
-    }
-  } else {
-    for (const std::string& h : role.default_headers) {
-      for (std::size_t i = 0; i < headers.size() && !index; ++i) {
-        if (headers[i] == h) index = i;
-      }
-    }
-    // A default header written in another case ("Run", "TIME") is the same column.
-    const auto lower = [](std::string t) {
-      std::transform(t.begin(), t.end(), t.begin(),
-                     [](unsigned char ch) { return static_cast<char>(std::tolower(ch)); });
-      return t;
-    };
-    for (const std::string& h : role.default_headers) {
-      for (std::size_t i = 0; i < headers.size() && !index; ++i) {
-        if (lower(headers[i]) == lower(h)) index = i;
-      }
-    }
-    // A header that adds its unit to the name looked for ("amp [mm/s]" for "amp").
-    for (const std::string& h : role.default_headers) {
-      for (std::size_t i = 0; i < headers.size() && !index; ++i) {
-        const std::size_t bracket = headers[i].find_last_of("[(");
-        if (bracket != std::string::npos && bracket > 0 && trimmed(headers[i].substr(0, bracket)) == h) index = i;
-      }
-    }
-  }
+  const bool named = mapping.header.count(role.role) > 0;
+  const std::optional<std::size_t> index = column_index(role, headers, mapping, where);
   if (!index) {
     if (role.required) missing.push_back(&role);
     return std::nullopt;
