@@ -1,5 +1,6 @@
 #include "balancing/balance_report.h"
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 #include <vector>
@@ -49,8 +50,15 @@ std::string readings_figure(const BalancingCampaign& c, const CampaignAnalysis& 
   }
   engine::write_file_atomic((dir / "after.dat").string(), after.str());
   const std::string unit = c.amplitude_unit;
-  plot << "set size ratio -1\nset key outside right\nset xlabel " << engine::gnuplot_quoted("real part [" + unit + "]")
-       << "\nset ylabel " << engine::gnuplot_quoted("imaginary part [" + unit + "]")
+  // One square range about the origin for both parts: equal scales, ticks that do not crowd.
+  double reach = 0.0;
+  for (const auto& p : a.points) reach = std::max({reach, std::abs(p.reading), std::abs(p.model.value_or(p.reading))});
+  for (const auto& z : a.residual_readings) reach = std::max(reach, std::abs(z.value) + z.radius().value_or(0.0));
+  reach = reach > 0.0 ? 1.1 * reach : 1.0;
+  plot << "set xrange [" << -reach << ":" << reach << "]\nset yrange [" << -reach << ":" << reach
+       << "]\nset size ratio -1\nset xtics rotate by -45\nset key outside right\nset xlabel "
+       << engine::gnuplot_quoted("real part [" + unit + "]") << "\nset ylabel "
+       << engine::gnuplot_quoted("imaginary part [" + unit + "]")
        << "\nset title 'Readings (filled), the linear model a + H w (open), residuals (lines)'\nplot ";
   for (std::size_t s = 0; s < c.sensors.size(); ++s) {
     const int colour = static_cast<int>(s) + 1;
