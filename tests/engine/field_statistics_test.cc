@@ -64,8 +64,8 @@ TEST(FieldStatistics, EqualTheStatisticsOfTheWholeFieldInMemory) {
                                                {2, engine::kFieldCollectLimit}, {3, 0}, {2, 0}}) {
     const auto got = field_statistics(
         columns,
-        [&](std::size_t p, std::vector<float>& out) -> std::span<const float> {
-          if (threads == 2) return field[p];
+        [&, in_memory = threads == 2](std::size_t p, std::vector<float>& out) -> std::span<const float> {
+          if (in_memory) return field[p];
           out = field[p];
           return out;
         },
