@@ -189,6 +189,33 @@ json design_json(const std::vector<DesignComparison>& design) {
   return out;
 }
 
+json calibration_json(const DesignCalibration& d) {
+  json figures = json::array();
+  for (const auto& f : d.figures) {
+    figures.push_back({{"sensor", f.sensor},
+                       {"plane", f.plane},
+                       {"output", f.output},
+                       {"unit", f.unit},
+                       {"real", f.real},
+                       {"real_se", f.real_se},
+                       {"simulated_mean_before", f.before},
+                       {"simulated_mean_after", f.after}});
+  }
+  return {{"key", d.key},
+          {"unit", d.unit},
+          {"value", d.value},
+          {"se", d.se},
+          {"range", {d.low, d.high}},
+          {"at_bound", d.at_bound},
+          {"chi2_before", d.chi2_before},
+          {"chi2_after", d.chi2_after},
+          {"dof", d.dof},
+          {"evaluations", d.evaluations},
+          {"figures", figures},
+          {"label", "calibration"},
+          {"sentence", d.sentence}};
+}
+
 }  // namespace
 
 json analysis_json(const BalancingCampaign& c, const CampaignAnalyses& a) {
@@ -199,6 +226,7 @@ json analysis_json(const BalancingCampaign& c, const CampaignAnalyses& a) {
   }
   out["notes"] = a.notes;
   out["design"] = design_json(a.design);
+  if (a.calibration) out["calibration"] = calibration_json(*a.calibration);
   out["angle_convention"] =
       std::string("readings and influence coefficients: phase lag with each probe's angle added; masses: angles ") +
       (c.weights_with_rotation ? "with" : "against") + " rotation from the reference mark, as the campaign declares";

@@ -232,6 +232,22 @@ std::string iso_html(const BalancingCampaign& c, const CampaignAnalysis& a) {
   return h.str();
 }
 
+// A model key fitted to the real coefficients: the sentence and each coefficient before and after.
+std::string calibration_html(const DesignCalibration& d) {
+  std::ostringstream h;
+  h << "<h2 id='calibration'>Calibration of the design study</h2>\n<p>" << html_escape(d.sentence)
+    << ". The study's mean |h| over its simulated machines against the real ones (" << d.evaluations
+    << " runs of the study):</p>\n<table><tr><th class='l'>coefficient</th><th>real</th><th>study, before</th>"
+       "<th>study, after</th></tr>\n";
+  for (const auto& f : d.figures) {
+    h << "<tr><th class='l'>plane " << html_escape(f.plane) << " at sensor " << html_escape(f.sensor) << "</th><td>"
+      << significant(f.real, 4) << " &plusmn; " << significant(f.real_se, 2) << " " << html_escape(f.unit)
+      << "</td><td>" << significant(f.before, 4) << "</td><td>" << significant(f.after, 4) << "</td></tr>\n";
+  }
+  h << "</table>\n";
+  return h.str();
+}
+
 }  // namespace
 
 std::string balance_report_html(const BalancingCampaign& c, const CampaignAnalyses& all, const fs::path& dir) {
@@ -253,6 +269,7 @@ std::string balance_report_html(const BalancingCampaign& c, const CampaignAnalys
     for (const auto& d : all.design) h << "<li>" << html_escape(d.sentence) << ".</li>\n";
     h << "</ul>\n";
   }
+  if (all.calibration) h << calibration_html(*all.calibration);
   for (const auto& n : all.notes) h << "<p>Note: " << html_escape(n) << "</p>\n";
   h << "</body></html>\n";
   return engine::with_contents(h.str());

@@ -8,6 +8,7 @@
 #include <numbers>
 #include <optional>
 
+#include "balancing/campaign_design.h"
 #include "core/error.h"
 #include "engine/kind_interface/output_spec.h"
 #include "engine/study_files/toml_reader.h"
@@ -386,15 +387,7 @@ BalancingCampaign read_balancing_campaign(const std::string& path) {
   }
   if (root.has("design")) {
     TomlReader d = root.table("design");
-    DesignLink link;
-    link.study = (std::filesystem::path(path).parent_path() / d.string("study")).string();
-    link.samples = static_cast<std::size_t>(d.integer("samples", 2, 1000000, 64));
-    for (TomlReader& k : d.table_array("compare")) {
-      DesignCompare cmp{k.choice("figure", {"urr", "umar"}), k.choice("plane", c.planes), k.string("output")};
-      link.compare.push_back(cmp);
-    }
-    if (link.compare.empty()) d.error("compare", "", "at least one [[design.compare]] with figure, plane and output");
-    c.design = link;
+    c.design = read_design_link(d, c, path);
   }
   if (c.sensors.empty()) root.error("sensor", "", "at least one [[sensor]] with name, amplitude and phase");
   if (c.planes.empty()) root.error("plane", "", "at least one [[plane]] with a name");

@@ -56,9 +56,15 @@
 ///     study = "machine.toml"         #   study), run here; the real figures are placed in its
 ///     samples = 64                   #   simulated distributions
 ///     [[design.compare]]
-///     figure = "urr"                 # "urr" (the check runs' mean in that plane) or "umar"
+///     figure = "urr"                 # "urr" (the check runs' mean in that plane), "umar", or
+///                                    #   "influence": |h| of `sensor` and plane (readings in a
+///                                    #   force per unbalance: the plane's radius is needed)
 ///     plane = "left"
 ///     output = "urr_iso_plane1_pct"  # the study's output it is compared with
+///     sensor = "left"                # influence only: the campaign's sensor
+///     [design.calibrate]             # optional: one model key fitted to the influence figures
+///     key = "torsional_plate.thickness"   # (a calibration: the study's mean |h| made equal to the
+///     range = ["3 mm", "5 mm"]       #   real ones in weighted least squares, within the range)
 ///
 /// Conventions. Inside Poise phases are lags and masses' angles count against rotation, both from
 /// the reference mark (a heavy spot further against rotation passes a probe later: a larger lag),
@@ -78,11 +84,20 @@ namespace poise::balancing {
 /// A real figure of the campaign beside an output of the machine's design study.
 struct DesignCompare {
   std::string figure, plane, output;
+  std::string sensor;  ///< figure "influence" only
+};
+/// A model key of the design study fitted to the campaign's influence figures.
+struct DesignCalibrate {
+  std::string key;
+  std::string unit;              ///< the range's unit, as written ("" for a plain number)
+  double low = 0.0, high = 0.0;  ///< in that unit
+  int line = 0;                  ///< of [design.calibrate] in the campaign file
 };
 struct DesignLink {
   std::string study;  ///< path (relative ones are read from the campaign's folder)
   std::size_t samples = 64;
   std::vector<DesignCompare> compare;
+  std::optional<DesignCalibrate> calibrate;
 };
 
 struct BalancingCampaign {

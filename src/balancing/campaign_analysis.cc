@@ -228,7 +228,9 @@ namespace {
 // The design study's comparisons, in the balancing speed's answer.
 void add_design(const BalancingCampaign& c, const DesignRunner& design, CampaignAnalyses& out) {
   if (!c.design || !design) return;
-  out.design = design(c, out.speeds.front());
+  DesignResult r = design(c, out.speeds.front());
+  out.design = std::move(r.comparisons);
+  out.calibration = std::move(r.calibration);
   std::string& answer = out.speeds.front().answer;
   answer.pop_back();  // its full stop
   std::size_t outside = 0, placed = 0;
@@ -247,6 +249,7 @@ void add_design(const BalancingCampaign& c, const DesignRunner& design, Campaign
                                  "95%: the machine does not behave as designed",
                                  outside, placed);
   }
+  if (out.calibration) answer += "; " + out.calibration->sentence;
   answer += ".";
 }
 

@@ -82,15 +82,46 @@ struct DesignComparison {
   std::string sentence;
 };
 
+/// One real influence coefficient against the design study's mean, before and after a calibration.
+struct CalibrationFigure {
+  std::string sensor, plane, output, unit;
+  double real = 0.0, real_se = 0.0;  ///< |h| from the readings, in the output's unit, and its standard error
+  double before = 0.0, after = 0.0;  ///< the study's mean |h|: as the model is, and at the fitted value
+};
+
+/// A model key of the design study fitted to the real influence coefficients ([design.calibrate]):
+/// the value that makes the study's mean |h| equal the real ones in weighted least squares (weights
+/// from the machines' covariance and the readings' errors, cli/balance_calibration.h). A calibration to these
+/// readings, not a validation of the model.
+struct DesignCalibration {
+  std::string key, unit;
+  double value = 0.0;  ///< fitted, in `unit`
+  double se = 0.0;     ///< its standard error (cli/balance_calibration.h)
+  double low = 0.0, high = 0.0;
+  bool at_bound = false;  ///< the fit ended at an end of the range: the range holds no better value
+  double chi2_before = 0.0, chi2_after = 0.0;
+  std::size_t dof = 0;          ///< figures - 1
+  std::size_t evaluations = 0;  ///< design-study runs of `samples` machines each
+  std::vector<CalibrationFigure> figures;
+  std::string sentence;
+};
+
+/// What the design study says of the campaign: the real figures placed, and the calibration.
+struct DesignResult {
+  std::vector<DesignComparison> comparisons;
+  std::optional<DesignCalibration> calibration;
+};
+
 struct CampaignAnalyses {
   std::vector<CampaignAnalysis> speeds;
   std::vector<std::string> notes;
   std::vector<DesignComparison> design;
+  std::optional<DesignCalibration> calibration;
 };
 
 /// Runs a campaign's design study and places the real figures (cli/balance_design.h: it needs
 /// the study kinds, a layer above this one).
-using DesignRunner = std::function<std::vector<DesignComparison>(const BalancingCampaign&, const CampaignAnalysis&)>;
+using DesignRunner = std::function<DesignResult(const BalancingCampaign&, const CampaignAnalysis&)>;
 
 /// With a [design] and a runner, the comparisons join the balancing speed's answer.
 CampaignAnalyses analyse_campaign(const BalancingCampaign& c, const DesignRunner& design = {});

@@ -184,6 +184,15 @@ void print_text(const balancing::BalancingCampaign& c, const balancing::Campaign
   for (const auto& s : a.speeds) print_speed(c, s);
   for (const auto& n : a.notes) std::cout << "Note: " << n << ".\n";
   for (const auto& d : a.design) std::cout << "Design study: " << d.sentence << ".\n";
+  if (a.calibration) {
+    std::cout << "Calibration (labelled so: fitted to these readings, not a validation): " << a.calibration->key
+              << ":\n";
+    for (const auto& f : a.calibration->figures) {
+      std::cout << "  |h| of plane " << f.plane << " at sensor " << f.sensor << ": real " << significant(f.real, 4)
+                << " +- " << significant(f.real_se, 2) << " " << f.unit << "; study mean " << significant(f.before, 4)
+                << " before, " << significant(f.after, 4) << " after\n";
+    }
+  }
   std::cout << a.speeds.front().answer << '\n';
 }
 

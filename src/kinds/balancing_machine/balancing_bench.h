@@ -127,5 +127,9 @@ void umar_iso_test(Bench& bench, const BalancingExperiment& x, const RotorR& r, 
 void accuracy_test(Bench& bench, const BalancingExperiment& x, const RotorR& r, std::vector<double>& out,
                    std::size_t& o);
 
+/// calibration: the machine's influence coefficients from its calibration on rotor R (|C| in N per kg m, phase in
+/// deg), sensor by sensor, plane by plane.
+void calibration_outputs(const Bench& bench, std::vector<double>& out, std::size_t& o);
+
 }  // namespace detail
 }  // namespace poise::kinds::balancing_machine

@@ -215,4 +215,14 @@ void accuracy_test(Bench& bench, const BalancingExperiment& x, const RotorR& r, 
              x.piece_unbalance / std::abs(u_true) * 1e6;
 }
 
+void calibration_outputs(const Bench& bench, std::vector<double>& out, std::size_t& o) {
+  for (Eigen::Index s = 0; s < 2; ++s) {
+    for (Eigen::Index p = 0; p < 2; ++p) {
+      const cd c = bench.cal.coefficients(s, p);
+      out[o++] = std::abs(c);
+      out[o++] = std::arg(c) / units::kRadPerDeg;
+    }
+  }
+}
+
 }  // namespace poise::kinds::balancing_machine::detail

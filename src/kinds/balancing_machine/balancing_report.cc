@@ -244,6 +244,27 @@ void umar_iso_section(const SectionPage& page, const BalancingExperiment& x) {
     << " g mm: " << significant(pass * 100, 3) << "% of the machines.</p>\n";
 }
 
+// The machine's own influence coefficients (its calibration on rotor R): a table of their spread.
+void calibration_section(const SectionPage& page, const BalancingExperiment& x) {
+  std::ostringstream& h = page.h;
+  h << "<h2>The machine's influence coefficients (" << html_escape(x.name) << ")</h2>\n<p>Each simulated machine "
+    << "calibrated on rotor R as production machines are (a bare run, then the calibration mass in each plane): "
+       "C = (A - A<sub>0</sub>) / (m r), the sensor force per unbalance at the nominal speed. A real machine's "
+       "coefficients from its readings belong within these bands (<code>poise balance</code> with "
+       "<code>[design]</code> places them).</p>\n<table><tr><th class='l'>coefficient</th><th>5%</th><th>median</th>"
+       "<th>95%</th><th>phase, median</th></tr>\n";
+  for (int s = 1; s <= 2; ++s) {
+    for (int p = 1; p <= 2; ++p) {
+      const std::string n = x.name + "_s" + std::to_string(s) + "_p" + std::to_string(p);
+      const Band m = band_of(page.values(n + "_N_per_kgm")), a = band_of(page.values(n + "_deg"));
+      h << "<tr><th class='l'>plane " << p << " at sensor " << s << "</th><td>" << significant(m.p05) << "</td><td>"
+        << significant(m.p50) << "</td><td>" << significant(m.p95) << " N/(kg m)</td><td>" << significant(a.p50)
+        << " deg</td></tr>\n";
+    }
+  }
+  h << "</table>\n";
+}
+
 // Estimation error and couple interference: a histogram per error output.
 void accuracy_section(const SectionPage& page, const BalancingExperiment& x, const std::vector<OutputSpec>& outputs) {
   std::ostringstream& h = page.h;
@@ -351,6 +372,8 @@ void BalancingStudy::report_sections(const McResult& mc, const std::string& plot
       umar_iso_section(page, x);
     } else if (x.type == "accuracy") {
       accuracy_section(page, x, outputs());
+    } else if (x.type == "calibration") {
+      calibration_section(page, x);
     }
   }
 }

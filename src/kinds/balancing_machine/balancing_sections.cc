@@ -24,13 +24,16 @@ std::unique_ptr<KindSections> read_balancing_sections(TomlReader& root, const St
   for (auto& e : root.table_array("experiment")) {
     BalancingExperiment x;
     x.name = e.string("name");
-    x.type = e.choice("type", {"separation", "umar", "umar_iso", "stability", "urr", "accuracy"});
+    x.type = e.choice("type", {"separation", "umar", "umar_iso", "stability", "urr", "accuracy", "calibration"});
     for (const auto& other : c->experiments) {
       if (other.name == x.name) e.error("name", "\"" + x.name + "\"", "a name no other experiment has");
     }
-    x.mass = e.quantity("mass", units::kMass, positive);
-    x.radius = e.quantity("radius", units::kLength, positive);
     const bool schema = e.schema_only();  // `poise keys`: every type's keys
+    // calibration reports the machine's own calibration ([procedure]'s mass): no test mass.
+    if (schema || x.type != "calibration") {
+      x.mass = e.quantity("mass", units::kMass, positive);
+      x.radius = e.quantity("radius", units::kLength, positive);
+    }
     if (schema || x.type == "separation" || x.type == "umar" || x.type == "umar_iso" || x.type == "stability") {
       x.positions = static_cast<int>(e.integer("positions", 1, 360, 8));
     }

@@ -5,7 +5,8 @@
 ///                   estimator = "influence" | "closed_form" (what the machine displays),
 ///                   calibration_mass, calibration_radius (influence-coefficient test masses)
 ///   [[experiment]]  name (output prefix), type = "separation" | "umar" | "umar_iso" | "stability" |
-///                   "urr" | "accuracy", and per type: mass, radius, surface, positions, band,
+///                   "urr" | "accuracy" | "calibration", and per type: mass, radius (every type
+///                   but calibration), surface, positions, band,
 ///                   balance_first, variant, piece_unbalance, requirement, plane_2_offset, claim
 ///                   (see BalancingExperiment)
 #include <memory>
@@ -20,7 +21,7 @@ using namespace poise::engine;
 /// One experiment of a balancing-machine study (Wang 2014 Sec. 5, ISO 21940-21 tests).
 struct BalancingExperiment {
   std::string name;           ///< output prefix
-  std::string type;           ///< separation | umar | umar_iso | stability | urr | accuracy
+  std::string type;           ///< separation | umar | umar_iso | stability | urr | accuracy | calibration
   double mass = 0.0;          ///< test mass (kg)
   double radius = 0.0;        ///< its radius (m)
   int surface = 0;            ///< stability: surface carrying the test mass

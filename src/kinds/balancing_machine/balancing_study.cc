@@ -103,6 +103,8 @@ void run_experiment(Bench& bench, const BalancingExperiment& x, const RotorR& r,
     urr_test(bench, x, r, outputs, o);
   } else if (x.type == "umar_iso") {
     umar_iso_test(bench, x, r, outputs, o);
+  } else if (x.type == "calibration") {
+    calibration_outputs(bench, outputs, o);
   } else {
     accuracy_test(bench, x, r, outputs, o);
   }

@@ -124,6 +124,17 @@ void experiment_outputs(const BalancingExperiment& x, int surfaces, std::vector<
              {"_plane2_mean_g", "g", "mean reading of plane 2"},
              {"_pass_ratio", "1", "1 when every reading lies within mean +- claim / r, else 0"}});
     readings(outputs, n, x.positions, "_g", "g", "reading");
+  } else if (x.type == "calibration") {
+    for (int s = 1; s <= 2; ++s) {
+      for (int p = 1; p <= 2; ++p) {
+        const std::string sp = "_s" + std::to_string(s) + "_p" + std::to_string(p);
+        const std::string which = "plane " + std::to_string(p) + " at sensor " + std::to_string(s);
+        outputs.push_back({n + sp + "_N_per_kgm", "N/kg/m",
+                           n + ": influence coefficient |C| of " + which +
+                               " (sensor force per unbalance, at the nominal speed), the machine's own calibration"});
+        outputs.push_back({n + sp + "_deg", "deg", n + ": phase of the influence coefficient of " + which});
+      }
+    }
   } else {
     declare(outputs, n,
             {{"_u_error_ic_gmm", "g*mm", "static unbalance error |U^ - U|, influence coefficients"},
