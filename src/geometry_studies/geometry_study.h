@@ -28,7 +28,10 @@ class TomlReader;  // engine/study_files/toml_reader.h
 }  // namespace poise::engine
 
 namespace poise::geometry_studies {
-using namespace poise::engine;
+using engine::KindSectionsOf;
+using engine::sections_of;
+using engine::StudyConfig;
+using engine::TomlReader;
 
 struct GeometryStudySpec {
   // geometry_mass_properties

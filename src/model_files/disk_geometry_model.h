@@ -20,7 +20,10 @@
 #include "model_files/seeker_model.h"
 
 namespace poise::model_files {
-using namespace poise::engine;
+using engine::InputColumn;
+using engine::ModelHeader;
+using engine::ToleranceSpec;
+using engine::ValidationError;
 
 struct DiskGeometryModel : ModelHeader {  ///< file, name, title, source of the model file
   geometry::DiskSpec nominal;

@@ -17,7 +17,11 @@
 #include "procedures/static_unbalance_procedure.h"
 
 namespace poise::model_files {
-using namespace poise::engine;
+using engine::ModelHeader;
+using engine::ScopedTolerance;
+using engine::TomlReader;
+using engine::UserParts;
+using engine::ValidationError;
 
 struct GimbalModel : ModelHeader {  ///< file, name, title, source of the model file
   models::DiskRotorParams rotor;    ///< eccentricity comes from the sampled unbalance

@@ -30,7 +30,7 @@
 #include "model_files/seeker_model.h"
 
 namespace poise::model_files {
-using namespace poise::engine;
+using engine::TomlReader;
 
 /// Reads [geometry] if present (std::nullopt if not), and its meshes into `meshes` (relative to
 /// `base_dir`); errors go to the reader's context.

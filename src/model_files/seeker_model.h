@@ -37,7 +37,10 @@
 #include "models/seeker_los_chain.h"
 
 namespace poise::model_files {
-using namespace poise::engine;
+using engine::InputColumn;
+using engine::ModelHeader;
+using engine::ToleranceSpec;
+using engine::ValidationError;
 
 /// A displacement source at the bearings of one axis.
 struct BearingSource {

@@ -31,7 +31,7 @@ class Draws {
   /// The value for this use: the unit draw, or a fresh test-scope draw.
   double use(Slot s) {
     if (unit[s]) return value[s];
-    const ToleranceSpec& t = (m_.*kSlots[s].tol).spec;
+    const engine::ToleranceSpec& t = (m_.*kSlots[s].tol).spec;
     return kSlots[s].magnitude ? t.dist.magnitude_quantile(rs_.uniform()) : t.dist.quantile(rs_.uniform());
   }
 

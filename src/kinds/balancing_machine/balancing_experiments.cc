@@ -6,6 +6,7 @@
 #include "kinds/balancing_machine/balancing_bench.h"
 
 namespace poise::kinds::balancing_machine::detail {
+using namespace poise::engine;
 namespace {
 using units::kPi;
 }  // namespace

@@ -21,7 +21,9 @@
 #include "procedures/balancing_measurement.h"
 
 namespace poise::kinds::balancing_machine {
-using namespace poise::engine;
+using engine::ModelHeader;
+using engine::ScopedTolerance;
+using engine::ValidationError;
 
 /// A rotor on the spindle: a solid cylinder with numbered testing surfaces (planes).
 struct BalancingRotor {

@@ -16,7 +16,11 @@
 #include "engine/study_files/study_config.h"
 
 namespace poise::kinds::balancing_machine {
-using namespace poise::engine;
+using engine::KindSections;
+using engine::KindSectionsOf;
+using engine::sections_of;
+using engine::StudyConfig;
+using engine::TomlReader;
 
 /// One experiment of a balancing-machine study (Wang 2014 Sec. 5, ISO 21940-21 tests).
 struct BalancingExperiment {

@@ -71,7 +71,7 @@ inline const SlotSpec kSlots[kSlotCount] = {
     {"correction_angle", "correction_angle", &BalancingModel::correction_angle, false, false},
 };
 
-inline std::string display_suffix(const ToleranceSpec& s) {
+inline std::string display_suffix(const engine::ToleranceSpec& s) {
   if (s.display_unit.empty()) return "";
   std::string u = s.display_unit;
   for (auto& ch : u) {

@@ -59,7 +59,11 @@ class RandomStream;
 }
 
 namespace poise::kinds::balancing_machine {
-using namespace poise::engine;
+using engine::McResult;
+using engine::ProcedureStudyBase;
+using engine::SampleResult;
+using engine::StudyConfig;
+using engine::ValidationError;
 namespace detail {
 class Draws;  // one sample's draws (balancing_study.cc)
 }

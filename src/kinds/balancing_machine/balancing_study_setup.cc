@@ -9,6 +9,7 @@
 #include "kinds/balancing_machine/balancing_study.h"
 
 namespace poise::kinds::balancing_machine {
+using namespace poise::engine;
 
 using namespace detail;
 using units::kPi;

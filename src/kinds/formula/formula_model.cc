@@ -9,6 +9,7 @@
 #include "engine/study_files/toml_reader.h"
 
 namespace poise::kinds::formula {
+using namespace poise::engine;
 namespace {
 using engine::TomlReader;
 

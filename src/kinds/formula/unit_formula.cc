@@ -9,6 +9,7 @@
 #include "core/nearest_name.h"
 
 namespace poise::kinds::formula {
+using namespace poise::engine;
 namespace {
 using units::Dimension;
 

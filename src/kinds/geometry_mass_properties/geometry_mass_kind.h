@@ -7,7 +7,7 @@
 #include "engine/kind_interface/study_kind.h"
 
 namespace poise::kinds::geometry_mass_properties {
-using namespace poise::engine;
+using engine::StudyKind;
 
 std::unique_ptr<StudyKind> make_geometry_mass_properties_kind();
 

@@ -20,7 +20,8 @@
 #include "engine/study_files/study_config.h"
 
 namespace poise::kinds::geometry_mass_properties {
-using namespace poise::engine;
+using engine::ProcedureStudy;
+using engine::StudyConfig;
 
 /// The study of `cfg` on its model with `model_overrides`, `samples` samples from `seed`.
 std::unique_ptr<ProcedureStudy> make_geometry_mass_study(const StudyConfig& cfg,

@@ -7,6 +7,7 @@
 #include "kinds/gimbal_static_unbalance/gimbal_study.h"
 
 namespace poise::kinds::gimbal_static_unbalance {
+using namespace poise::model_files;
 using namespace poise::engine;
 namespace {
 

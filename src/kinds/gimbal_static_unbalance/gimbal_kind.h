@@ -9,7 +9,7 @@
 #include "engine/kind_interface/study_kind.h"
 
 namespace poise::kinds::gimbal_static_unbalance {
-using namespace poise::engine;
+using engine::StudyKind;
 
 std::unique_ptr<StudyKind> make_gimbal_static_unbalance_kind();
 

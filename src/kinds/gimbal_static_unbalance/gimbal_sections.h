@@ -15,7 +15,11 @@
 #include "engine/study_files/study_config.h"
 
 namespace poise::kinds::gimbal_static_unbalance {
-using namespace poise::engine;
+using engine::KindSections;
+using engine::KindSectionsOf;
+using engine::sections_of;
+using engine::StudyConfig;
+using engine::TomlReader;
 
 /// A test mass of a gimbal loading test (Yang 2015, Tables 2-3).
 struct GimbalLoad {

@@ -16,6 +16,8 @@
 #include "sampling/random_stream.h"
 
 namespace poise::kinds::gimbal_static_unbalance {
+using namespace poise::engine;
+using namespace poise::model_files;
 
 // The unit-scope draws, in design-dimension order: scalars take one dimension, vectors a
 // magnitude and a uniform direction; and the disk's (or the parts') effects as built.

@@ -32,8 +32,13 @@
 #include "sampling/statistics.h"
 
 namespace poise::kinds::gimbal_static_unbalance {
-using namespace poise::engine;
-using namespace poise::model_files;
+using engine::McResult;
+using engine::ProcedureStudyBase;
+using engine::SampleResult;
+using engine::StudyConfig;
+using engine::UserPartsSampler;
+using model_files::DiskSampler;
+using model_files::GimbalModel;
 
 class GimbalStudy : public ProcedureStudyBase<GimbalStudy> {
  public:

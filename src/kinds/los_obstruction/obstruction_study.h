@@ -24,7 +24,8 @@
 #include "engine/study_files/study_config.h"
 
 namespace poise::kinds::los_obstruction {
-using namespace poise::engine;
+using engine::ProcedureStudy;
+using engine::StudyConfig;
 
 /// The study of `cfg` on its model with `model_overrides`, `samples` samples from `seed`.
 std::unique_ptr<ProcedureStudy> make_obstruction_study(const StudyConfig& cfg,

@@ -6,7 +6,7 @@
 #include "engine/kind_interface/study_kind.h"
 
 namespace poise::kinds::platform_balancing {
-using namespace poise::engine;
+using engine::StudyKind;
 
 std::unique_ptr<StudyKind> make_platform_balancing_kind();
 

@@ -40,7 +40,9 @@
 #include "procedures/static_unbalance_procedure.h"
 
 namespace poise::kinds::platform_balancing {
-using namespace poise::engine;
+using engine::ModelHeader;
+using engine::ScopedTolerance;
+using engine::ValidationError;
 
 /// One gimbal: mass properties, its motor and bearings (the disk-rotor parameters of its
 /// test), its correction plane and where it is locked while the others are tested.

@@ -6,7 +6,7 @@
 #include "engine/study_files/study_config.h"
 
 namespace poise::kinds::platform_balancing {
-using namespace poise::engine;
+using engine::StudyConfig;
 
 /// The shafting LOS error of the seeker study named in [platform.shafting]: the greatest
 /// error over the field of regard of each unit (arcsec), and the pixel IFOV (arcsec).

@@ -9,6 +9,7 @@
 #include "models/seeker_los_chain.h"
 
 namespace poise::kinds::platform_balancing {
+using namespace poise::engine;
 namespace {
 
 using models::Axis;

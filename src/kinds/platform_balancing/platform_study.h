@@ -44,7 +44,10 @@
 #include "sampling/random_stream.h"
 
 namespace poise::kinds::platform_balancing {
-using namespace poise::engine;
+using engine::McResult;
+using engine::ProcedureStudyBase;
+using engine::SampleResult;
+using engine::StudyConfig;
 
 /// Draws of one sample: per tolerance, up to 6 instances (centroid x, y, z; per axis test or
 /// motor by models::Axis; lock errors 2 per test: the two locked gimbals in axis order).

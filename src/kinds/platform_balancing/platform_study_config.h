@@ -26,7 +26,11 @@ class TomlReader;  // engine/study_files/toml_reader.h
 }  // namespace poise::engine
 
 namespace poise::kinds::platform_balancing {
-using namespace poise::engine;
+using engine::KindSections;
+using engine::KindSectionsOf;
+using engine::sections_of;
+using engine::StudyConfig;
+using engine::TomlReader;
 
 struct PlatformVibration {
   std::array<double, 3> amplitude{};  ///< m/s^2, base frame

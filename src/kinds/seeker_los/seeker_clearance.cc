@@ -8,6 +8,7 @@
 #include "model_files/seeker_geometry.h"
 
 namespace poise::kinds::seeker_los {
+using namespace poise::engine;
 using namespace poise::model_files;
 
 double nominal_min_clearance(const SeekerModel& model, std::size_t yaw_points, std::size_t pitch_points) {

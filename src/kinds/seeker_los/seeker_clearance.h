@@ -8,7 +8,7 @@
 #include "model_files/seeker_model.h"
 
 namespace poise::kinds::seeker_los {
-using namespace poise::model_files;
+using model_files::SeekerModel;
 
 /// Least clearance (m; negative = interference) of the yaw ring and the barrel to the housing
 /// and of the barrel to the ring, nominal poses on a yaw_points x pitch_points grid over the

@@ -9,6 +9,9 @@
 #include "kinds/seeker_los/seeker_los_study.h"
 
 namespace poise::kinds::seeker_los {
+using namespace poise::engine;
+using namespace poise::model_files;
+using namespace poise::geometry_studies;
 namespace {
 
 class SeekerInputEvaluator final : public InputEvaluator {

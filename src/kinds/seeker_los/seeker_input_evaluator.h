@@ -10,8 +10,9 @@
 #include "model_files/seeker_model.h"
 
 namespace poise::kinds::seeker_los {
-using namespace poise::engine;
-using namespace poise::model_files;
+using engine::InputEvaluator;
+using engine::StudyConfig;
+using model_files::SeekerModel;
 
 std::unique_ptr<InputEvaluator> make_seeker_input_evaluator(const StudyConfig& cfg, SeekerModel model);
 

@@ -11,6 +11,7 @@
 #include "model_files/seeker_model.h"
 
 namespace poise::kinds::seeker_los {
+using namespace poise::geometry_studies;
 using namespace poise::engine;
 using namespace poise::model_files;
 namespace {

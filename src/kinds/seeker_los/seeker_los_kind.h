@@ -7,7 +7,7 @@
 #include "engine/kind_interface/study_kind.h"
 
 namespace poise::kinds::seeker_los {
-using namespace poise::engine;
+using engine::StudyKind;
 
 std::unique_ptr<StudyKind> make_seeker_los_kind();
 

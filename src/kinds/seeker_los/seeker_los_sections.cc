@@ -4,6 +4,8 @@
 #include "engine/study_files/toml_reader.h"
 
 namespace poise::kinds::seeker_los {
+using namespace poise::model_files;
+using namespace poise::geometry_studies;
 using namespace poise::engine;
 
 std::unique_ptr<KindSections> read_seeker_los_sections(TomlReader& root, const StudyConfig& cfg) {

@@ -21,8 +21,14 @@
 #include "geometry_studies/geometry_study.h"
 
 namespace poise::kinds::seeker_los {
-using namespace poise::engine;
-using namespace poise::geometry_studies;
+using engine::KindSections;
+using engine::KindSectionsOf;
+using engine::kKeepColumnsBytes;
+using engine::sections_of;
+using engine::StudyConfig;
+using engine::TomlReader;
+using geometry_studies::GeometryStudySpec;
+using geometry_studies::TomlReader;
 
 struct SeekerLosSections : KindSectionsOf<SeekerLosSections> {
   std::size_t yaw_points = 13, pitch_points = 13;

@@ -33,8 +33,17 @@
 #include "sampling/statistics.h"
 
 namespace poise::kinds::seeker_los {
-using namespace poise::engine;
-using namespace poise::model_files;
+using engine::McResult;
+using engine::OutputDeclaration;
+using engine::OutputSpec;
+using engine::ProcedureStudy;
+using engine::RunControl;
+using engine::SampleResult;
+using engine::SampleSink;
+using engine::StudyConfig;
+using engine::WideColumnsSpec;
+using model_files::SeekerModel;
+using model_files::SeekerSampler;
 
 /// Names and units of the per-sample outputs, in order.
 inline constexpr OutputDeclaration kSeekerOutputs[] = {

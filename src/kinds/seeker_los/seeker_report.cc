@@ -15,6 +15,8 @@
 #include "kinds/seeker_los/seeker_los_study.h"
 
 namespace poise::kinds::seeker_los {
+using namespace poise::model_files;
+using namespace poise::geometry_studies;
 using namespace poise::engine;
 namespace {
 namespace fs = std::filesystem;

@@ -12,7 +12,8 @@
 #include "engine/study_files/study_config.h"
 
 namespace poise::kinds::seeker_los {
-using namespace poise::engine;
+using engine::RunOptions;
+using engine::StudyConfig;
 
 std::string validate_seeker_study(const StudyConfig& cfg);
 /// Sample `index` alone: inputs, outputs and the pointing error at every grid point.
