@@ -6,7 +6,6 @@
 #include "core/units.h"
 
 namespace poise::kinds::balancing_machine {
-using namespace poise::engine;
 
 IsoUrr iso_urr(IsoBench& bench, const std::vector<models::PlaneMass>& rotor, double mass, double radius) {
   const Eigen::Vector2cd bare = bench.indicate(rotor);

@@ -20,7 +20,6 @@
 extern char** environ;
 
 namespace poise::kinds::external {
-using namespace poise::engine;
 namespace {
 using nlohmann::json;
 using Clock = std::chrono::steady_clock;

@@ -9,7 +9,6 @@
 #include "core/nearest_name.h"
 
 namespace poise::kinds::formula {
-using namespace poise::engine;
 namespace {
 using units::Dimension;
 

@@ -4,7 +4,6 @@
 #include "engine/study_files/toml_reader.h"
 
 namespace poise::kinds::gimbal_static_unbalance {
-using namespace poise::model_files;
 using namespace poise::engine;
 
 std::unique_ptr<KindSections> read_gimbal_sections(TomlReader& root, const StudyConfig&) {

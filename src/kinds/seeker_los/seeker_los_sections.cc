@@ -4,7 +4,6 @@
 #include "engine/study_files/toml_reader.h"
 
 namespace poise::kinds::seeker_los {
-using namespace poise::model_files;
 using namespace poise::geometry_studies;
 using namespace poise::engine;
 
