@@ -104,6 +104,12 @@ balancing::DesignCalibration calibrate_design(const balancing::BalancingCampaign
   const balancing::DesignCalibrate& k = *c.design->calibrate;
   const engine::StudyKind& kind = engine::study_kind(cfg.kind);
   const std::vector<Target> targets = targets_of(c, a, kind.outputs(cfg));
+  if (c.design->samples <= targets.size() + 2) {
+    throw Error(
+        fmt::format("{}:{}: [design.calibrate]: [design] samples = {} cannot give the covariance of {} "
+                    "figures; expected more than {} (at least 32: with 16 machines the intervals covered 92%)",
+                    c.file, k.line, c.design->samples, targets.size(), targets.size() + 2));
+  }
   balancing::DesignCalibration d;
   d.key = k.key;
   d.unit = k.unit;

@@ -196,6 +196,18 @@ TEST(BalanceCalibration, AKeyTheModelLacksIsRefusedWithTheCampaignsLine) {
   }
 }
 
+TEST(BalanceCalibration, TooFewMachinesForTheCovarianceAreRefused) {
+  TempDir dir;
+  write_study(dir, 6);
+  write_campaign(dir, one_machine(dir.file("study.toml"), 5), 6);
+  try {
+    cli::balance_campaign(dir.file("campaign.toml"), "");
+    FAIL() << "expected an error";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("samples = 6"), std::string::npos) << e.what();
+  }
+}
+
 TEST(BalanceCalibration, ACalibrationWithoutInfluenceFiguresIsRefused) {
   TempDir dir;
   write_study(dir, 8);
