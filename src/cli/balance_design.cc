@@ -77,9 +77,7 @@ std::vector<DesignComparison> compare_with_design(const balancing::BalancingCamp
   for (const auto& k : c.design->compare) {
     DesignComparison d{k.figure, k.plane, k.output, "", std::nullopt, 0.0, 0.0, 0.0, 0, false, ""};
     const std::size_t index = sim.index(k.output);
-    for (const auto& o : outputs) {
-      if (o.name == k.output) d.unit = o.unit;
-    }
+    d.unit = engine::output_unit_of(outputs, k.output);
     const units::Dimension needed = figure_dimension(c, k.figure);
     if (engine::unit_quantity(d.unit).dim != needed) {
       throw Error(fmt::format(

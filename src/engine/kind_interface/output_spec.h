@@ -37,6 +37,14 @@ inline units::Quantity unit_quantity(const std::string& unit) {
   return units::parse_quantity("1 " + unit);
 }
 
+/// The unit of the output named `name` ("" where there is none of that name).
+inline std::string output_unit_of(const std::vector<OutputSpec>& outputs, const std::string& name) {
+  for (const auto& o : outputs) {
+    if (o.name == name) return o.unit;
+  }
+  return "";
+}
+
 /// The names of a list of outputs, in order.
 inline std::vector<std::string> output_names_of(const std::vector<OutputSpec>& outputs) {
   std::vector<std::string> names;

@@ -287,10 +287,7 @@ void accuracy_section(const SectionPage& page, const BalancingExperiment& x, con
         for (double v : page.values(n)) dd << v << '\n';
         write_file_atomic((page.dir / (n + ".dat")).string(), dd.str());
       }
-      std::string unit;
-      for (const auto& spec : outputs) {
-        if (spec.name == n) unit = spec.unit;
-      }
+      const std::string unit = output_unit_of(outputs, n);
       svg_plot(page.dir, n,
                "set title '" + n + "'\nset xlabel '" + unit + "'\nset ylabel 'machines'\nstats '" + n +
                    ".dat' u 1 nooutput\nnb = ceil(sqrt(STATS_records)); nb = (nb < 5 ? 5 : (nb > 25 ? 25 : nb))\n"
