@@ -175,8 +175,10 @@ void BM_StudyRun(benchmark::State& state) {
   const int threads = static_cast<int>(state.range(0));
   std::size_t failures = 0;
   for (auto _ : state) {
+    // As a run without samples.h5 does ([output] grid_values = false): the grid values kept
+    // in memory, the field figures made. A folder is what asks a run for its field.
     poise::engine::RunControl control;
-    control.field_figures = true;  // as a run does: the grid values kept, the field figures made
+    control.folder = poise::engine::RunFolder{};
     poise::engine::McResult r = study.run(threads, false, {}, {}, control);
     failures += r.failures;
     benchmark::DoNotOptimize(r.outputs.data());

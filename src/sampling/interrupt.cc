@@ -20,6 +20,7 @@ extern "C" void on_signal(int sig) {
 
 InterruptGuard::InterruptGuard() {
   if (g_guards.fetch_add(1) == 0) {
+    g_signal.store(0);  // a run that follows a stopped one in the same process (Python, tests) starts afresh
     std::signal(SIGINT, on_signal);
     std::signal(SIGTERM, on_signal);
   }

@@ -4,6 +4,8 @@
 /// written, and the run ends with a summary of what was done (`poise run --resume` completes
 /// it). A second signal of the same kind ends the process at once; the samples already
 /// written are kept either way (results stream to disk block by block), as under kill -9.
+/// The outermost guard starts with no stop requested: a run that follows a stopped one in the
+/// same process (the Python module, a test) is not stopped by the earlier signal.
 #include <atomic>
 
 namespace poise::sampling {

@@ -7,6 +7,7 @@
 #include <functional>
 #include <map>
 #include <memory>
+#include <optional>
 #include <span>
 #include <sstream>
 #include <string>
@@ -45,23 +46,33 @@ struct SampleSink {
   std::string bytes(std::span<const SampleResult> block) const { return format ? format(block) : std::string(); }
 };
 
+/// The run's result folder, for a study that writes per-sample values of its own beside
+/// samples.csv (a field's value at every point, in samples.h5): where and with which root
+/// attributes. Only the main run of `poise run` has one.
+struct RunFolder {
+  std::string samples_h5;
+  std::map<std::string, std::string> text_attributes;
+  std::map<std::string, std::uint64_t> number_attributes;
+};
+
 /// How a run is driven beyond its sample range: over MPI ranks (the run's main loop only)
 /// and with a stop rule checked on rank 0 after each chunk on the results so far.
 struct RunControl {
   bool distributed = false;
-  std::size_t replicate_size = 0;                    ///< set from the study's config by ProcedureStudyBase::run
-  std::size_t samples_per_task = 1;                  ///< set from the study by ProcedureStudyBase::run
+  std::size_t replicate_size = 0;    ///< set from the study's config by ProcedureStudyBase::run
+  std::size_t samples_per_task = 1;  ///< set from the study by ProcedureStudyBase::run
+  /// Samples per chunk of the sample order (the stop points, the unit of samples.csv's writes):
+  /// 0 = 8 whole procedures, or 4 tasks' worth of cheap samples (run_procedure_samples).
+  std::size_t chunk = 0;
   std::function<std::string(const McResult&)> stop;  ///< "" = go on
-  /// A study with a per-sample field: make its figures (McResult::field) and write its values
-  /// to `field_file` (samples.h5 of a run; "" = kept in memory, or a scratch file when too
-  /// big), with these root attributes. Off: the field is not kept (sweeps, the optimizer).
-  bool field_figures = false;
-  std::string field_file;
-  /// With field_figures: the per-point statistics and maps too ([output] maps); off, the
-  /// values are only written to field_file.
-  bool field_maps = true;
-  std::map<std::string, std::string> field_attributes;
-  std::map<std::string, std::uint64_t> field_number_attributes;
+  /// The run's folder (none: the run is kept in memory: sweeps, contributions, the optimizer).
+  std::optional<RunFolder> folder;
+  /// The per-sample field sink: each chunk of finished samples (SampleResult::field) on rank 0
+  /// in sample order, after samples.csv's sink. Empty: the fields go nowhere.
+  std::function<void(std::span<const SampleResult>)> field_sink;
+  /// false: run_procedure_samples leaves McResult::outputs empty, for a study that summarizes
+  /// its outputs itself beside work of its own (its field's figures).
+  bool summarize = true;
   /// Called on every rank once the samples are done, before the study's own tail (its
   /// statistics, its field's figures), with whether a signal stopped them; it may use the
   /// ranks' collectives (a run that lets the other ranks go on while rank 0 finishes).
@@ -85,6 +96,17 @@ std::function<OutputValues(const std::string&)> requirement_values(const McResul
                                                                    const std::vector<OutputSpec>& outputs,
                                                                    const StudyConfig& cfg);
 
+/// A thread's workspace as a study's compute() takes it: the object a make_workspace() that
+/// returns a pointer points to, or the workspace itself.
+template <class W>
+auto& workspace_of(W& w) {
+  if constexpr (requires { *w; }) {
+    return *w;
+  } else {
+    return w;
+  }
+}
+
 /// The parallel run every procedure study shares: samples [done.size(), samples) in small
 /// in-order blocks (whole procedures are slow: progress and the CSV move often), one
 /// workspace per thread; `done` (a resumed run's samples) counted but not recomputed.
@@ -95,9 +117,16 @@ McResult run_procedure_samples(std::size_t samples, std::size_t block, int threa
   McResult r;
   r.n = samples;
   r.replicate_size = control.replicate_size;
+  r.ok_index.reserve(samples);  // untouched pages of a run stopped early take no memory
   // Chunks of 8 whole procedures (progress and samples.csv move often), of a few tasks' worth
-  // for cheap or batched samples; the same for any thread or rank count (the stop points).
-  const std::size_t chunk = std::min<std::size_t>(block, std::max<std::size_t>(8, 4 * control.samples_per_task));
+  // for cheap or batched samples, or the study's own; the same for any thread or rank count
+  // (the stop points).
+  const std::size_t chunk = control.chunk > 0
+                                ? control.chunk
+                                : std::min<std::size_t>(block, std::max<std::size_t>(8, 4 * control.samples_per_task));
+  const auto finish = [&] {
+    if (control.summarize) summarize_outputs(r);
+  };
   // A resumed run's samples pass the stop rule chunk by chunk as they did the first time, so
   // a run that had already met its stop point is not continued past it.
   for (std::size_t start = 0; start < done.size(); start += chunk) {
@@ -108,17 +137,18 @@ McResult run_procedure_samples(std::size_t samples, std::size_t block, int threa
   if (!r.stop_reason.empty()) {
     if (control.samples_done) control.samples_done(false);
     r.completed = first;
-    summarize_outputs(r);
+    finish();
     return r;
   }
-  sampling::Progress bar("samples", samples - first, progress && sampling::Cluster::root());
+  sampling::Progress bar("samples", samples - first, progress && (!control.distributed || sampling::Cluster::root()));
   DriveSpec spec{
       first, samples, chunk, std::max<std::size_t>(control.samples_per_task, 1), threads, control.distributed};
   const DriveOutcome o = drive_samples<SampleResult>(
-      spec, make_workspace, [&](std::size_t i, auto& ws, SampleResult& res) { compute(i, *ws, res); },
+      spec, make_workspace, [&](std::size_t i, auto& ws, SampleResult& res) { compute(i, workspace_of(ws), res); },
       [&](std::span<const SampleResult> finished) { return sink.bytes(finished); },
       [&](std::size_t, std::span<const SampleResult> finished, std::string_view formatted) {
         if (sink) sink.write(finished, formatted);
+        if (control.field_sink) control.field_sink(finished);
         collect_samples(r, finished);
       },
       [&](std::size_t) { return control.stop ? control.stop(r) : std::string(); }, encode_result, decode_result, &bar);
@@ -129,7 +159,7 @@ McResult run_procedure_samples(std::size_t samples, std::size_t block, int threa
   r.interrupted = o.interrupted;
   r.signal = o.signal;
   r.stop_reason = o.stop_reason;
-  summarize_outputs(r);
+  finish();
   return r;
 }
 

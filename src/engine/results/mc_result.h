@@ -2,10 +2,12 @@
 /// The one result type of a run of any study kind: each sample's result as computed
 /// (SampleResult: drawn inputs, declared outputs, a field where the study has one, the
 /// solver's counters) and a run's results gathered (McResult: the ok samples' values by
-/// output, failures with their reasons, statistics, the field figures, how the run ended).
+/// output, failures with their reasons, statistics, a study's own figures, how the run ended).
 /// The result folder, the optimizer's objective and the budget's Monte Carlo all read it.
+#include <any>
 #include <cstddef>
 #include <map>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -24,18 +26,10 @@ struct SampleResult {
   std::vector<double> inputs;   ///< unit-scope draws, display units
   std::vector<double> outputs;  ///< output_names() order
   long solver_steps = 0, rhs_evals = 0;
-  /// A study's values at every point of a field (the LOS error at each grid point), for one
-  /// whose samples have one (empty otherwise): samples.h5 keeps them, the field figures
-  /// (McResult::field) are made from them.
+  /// A study's values at every point of a per-sample field (an error at each point of a
+  /// grid), for one whose samples have one (empty otherwise): they travel with the sample to
+  /// rank 0, where the run's field sink (RunControl::field_sink) takes them.
   std::vector<float> field;
-};
-
-/// The figures of a per-sample field over a run's ok samples (a study that has one).
-struct FieldFigures {
-  bool present = false;
-  sampling::Summary pooled;              ///< over every (ok sample, field point)
-  std::vector<double> p50, p95, p99_73;  ///< per field point, over the ok samples
-  nlohmann::json file;                   ///< samples.h5's field (WideColumnsWriter::close), rank 0
 };
 
 struct McResult {
@@ -53,7 +47,12 @@ struct McResult {
   int signal = 0;
   std::string stop_reason;         ///< why the run stopped before n ("" = it did not)
   std::size_t replicate_size = 0;  ///< summaries by replicate (design.h) when > 0
-  FieldFigures field;              ///< a study with a per-sample field, when asked for
+  /// A study's own figures of the run, of its own type (the maps of a per-sample field), for
+  /// its details and report sections; empty for most studies.
+  std::any study_figures;
+  /// samples.h5 as summary.json describes it, for a study that wrote it itself (null: it wrote
+  /// none); unset: the engine writes the inputs and outputs there from samples.csv.
+  std::optional<nlohmann::json> samples_h5;
   /// Means and covariances of the ok samples' inputs and outputs (a study of at most 64
   /// inputs and outputs together), for each input's share of an output's variance.
   sampling::CrossMoments moments;

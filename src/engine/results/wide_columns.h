@@ -143,11 +143,16 @@ class WideColumnsReader {
   std::size_t columns() const { return columns_; }
   /// Every row's value of column p (NaN for failed samples).
   void read_column(std::size_t p, std::vector<float>& out) const;
+  /// Rows [first, first + n) of every column, row by row (out: n x columns()); reads each chunk
+  /// they touch once.
+  void read_rows(std::size_t first, std::size_t n, std::vector<float>& out) const;
   /// The /sample and /ok datasets.
   std::vector<std::uint64_t> sample_index() const;
   std::vector<std::uint8_t> ok() const;
 
  private:
+  /// The chunk of column p that starts at row `first`, decoded (all NaN where never written).
+  void read_chunk(std::size_t first, std::size_t p, std::vector<float>& chunk, std::string& stored) const;
   struct Handles;
   std::string path_;
   std::unique_ptr<Handles> h_;

@@ -43,32 +43,53 @@ WideColumnsReader::WideColumnsReader(std::string path, const std::string& datase
 
 WideColumnsReader::~WideColumnsReader() = default;
 
+void WideColumnsReader::read_chunk(std::size_t first, std::size_t p, std::vector<float>& chunk,
+                                   std::string& stored) const {
+  chunk.resize(chunk_rows_);
+  std::uint32_t mask = 0;
+  {
+    const std::lock_guard<std::mutex> lock(hdf5_);
+    const hsize_t offset[2] = {first, p};
+    hsize_t size = 0;
+    if (H5Dget_chunk_storage_size(h_->values.get(), offset, &size) < 0) {
+      throw Error(path_ + ": cannot locate the chunk at row " + std::to_string(first));
+    }
+    stored.resize(size);
+    if (size > 0 && H5Dread_chunk(h_->values.get(), H5P_DEFAULT, offset, &mask, stored.data()) < 0) {
+      throw Error(hdf5::failed(path_ + ": cannot read the chunk at row " + std::to_string(first)));
+    }
+  }
+  if (stored.empty()) {  // never written: the fill value
+    std::fill(chunk.begin(), chunk.end(), NAN);
+    return;
+  }
+  decode_chunk(stored, mask, chunk, path_);
+}
+
 void WideColumnsReader::read_column(std::size_t p, std::vector<float>& out) const {
   POISE_INVARIANT(p < columns_, path_ + ": column " + std::to_string(p) + " is past the last");
   out.resize(rows_);
-  std::vector<float> chunk(chunk_rows_);
+  std::vector<float> chunk;
   std::string stored;
   for (std::size_t first = 0; first < rows_; first += chunk_rows_) {
-    std::uint32_t mask = 0;
-    {
-      const std::lock_guard<std::mutex> lock(hdf5_);
-      const hsize_t offset[2] = {first, p};
-      hsize_t size = 0;
-      if (H5Dget_chunk_storage_size(h_->values.get(), offset, &size) < 0) {
-        throw Error(path_ + ": cannot locate the chunk at row " + std::to_string(first));
-      }
-      stored.resize(size);
-      if (size > 0 && H5Dread_chunk(h_->values.get(), H5P_DEFAULT, offset, &mask, stored.data()) < 0) {
-        throw Error(hdf5::failed(path_ + ": cannot read the chunk at row " + std::to_string(first)));
-      }
-    }
+    read_chunk(first, p, chunk, stored);
     const std::size_t n = std::min(chunk_rows_, rows_ - first);
-    if (stored.empty()) {  // never written: the fill value
-      std::fill(out.begin() + static_cast<long>(first), out.begin() + static_cast<long>(first + n), NAN);
-      continue;
-    }
-    decode_chunk(stored, mask, chunk, path_);
     std::copy(chunk.begin(), chunk.begin() + static_cast<long>(n), out.begin() + static_cast<long>(first));
+  }
+}
+
+void WideColumnsReader::read_rows(std::size_t first, std::size_t n, std::vector<float>& out) const {
+  POISE_INVARIANT(first + n <= rows_, path_ + ": rows " + std::to_string(first) + " to " + std::to_string(first + n) +
+                                          " are past the last");
+  out.resize(n * columns_);
+  std::vector<float> chunk;
+  std::string stored;
+  for (std::size_t start = first - first % chunk_rows_; start < first + n; start += chunk_rows_) {
+    const std::size_t from = std::max(start, first), to = std::min(start + chunk_rows_, first + n);
+    for (std::size_t p = 0; p < columns_; ++p) {
+      read_chunk(start, p, chunk, stored);
+      for (std::size_t row = from; row < to; ++row) out[(row - first) * columns_ + p] = chunk[row - start];
+    }
   }
 }
 

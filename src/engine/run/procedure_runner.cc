@@ -167,21 +167,14 @@ DesignProbe probe_design(StudyConfig& cfg, const StudyFactory& make_study) {
   return d;
 }
 
-// The run's stop rule and, for a study with a per-sample field, where and how the field goes:
-// samples.h5 as the samples stream in (a resumed run recomputes it whole) and its figures.
-RunControl run_control(const StudyConfig& cfg, const std::shared_ptr<StopRule>& rule, const std::string& h5_path,
-                       const std::map<std::string, std::string>& h5_text,
-                       const std::map<std::string, std::uint64_t>& h5_numbers) {
+// The run's stop rule and its folder's samples.h5, for a study that writes one of its own.
+RunControl run_control(const std::shared_ptr<StopRule>& rule, RunFolder folder) {
   RunControl control;
   control.distributed = true;
   control.stop = [rule](const McResult& r) {
     return (*rule)(r.values, r.ok_index, r.failures, r.ok_index.size() + r.failures);
   };
-  control.field_figures = cfg.maps || cfg.grid_values;
-  control.field_file = cfg.grid_values ? h5_path : std::string();
-  control.field_maps = cfg.maps;
-  control.field_attributes = h5_text;
-  control.field_number_attributes = h5_numbers;
+  control.folder = std::move(folder);
   return control;
 }
 
@@ -252,7 +245,7 @@ std::string run_procedure_study(const StudyConfig& cfg_in, const StudyFactory& m
                                                    {"method", sampling::to_string(cfg.method)},
                                                    {"poise_version", kVersion}};
   const std::map<std::string, std::uint64_t> h5_numbers{{"seed", plan.seed}, {"planned_samples", n}};
-  RunControl control = run_control(cfg, rule, h5_path, h5_text, h5_numbers);
+  RunControl control = run_control(rule, RunFolder{h5_path, h5_text, h5_numbers});
   // A complete run that is not a sensitivity analysis has sweeps and contributions, which every
   // rank shares. Rank 0 knows how the samples ended and says so as soon as they have: the other
   // ranks start their share while it finishes the run's statistics and writes the folder.
@@ -260,7 +253,7 @@ std::string run_procedure_study(const StudyConfig& cfg_in, const StudyFactory& m
   control.samples_done = [&](bool interrupted) {
     extra_runs = sampling::Cluster::any(root && !interrupted && !rule->failed() && plan.sensitivity_base == 0);
   };
-  // Rows on disk are not written again (a study may recompute them: a resumed LOS run).
+  // Rows on disk are not written again.
   SampleRowWriter rows(csv, done.size(), study.has_solver());
   McResult mc = study.run(plan.threads, options.progress, cfg.samples_csv ? rows.sink() : SampleSink{}, done, control);
   if (!root) {  // rank 0 writes the folder
@@ -280,13 +273,12 @@ std::string run_procedure_study(const StudyConfig& cfg_in, const StudyFactory& m
 
   const FinishedRun f{cfg, study, plan, mc, ran, done.size(), rhs_uncounted, status, sources, tolerances, requirements};
   json s = summary_of(f, *rule, options);
-  // samples.h5: the field of a study that has one (written during the run); else the inputs
-  // and outputs as named columns, from the finished samples.csv.
-  s["samples_h5"] =
-      !mc.field.file.is_null() ? mc.field.file
-      : cfg.samples_csv && !mc.field.present
-          ? write_sample_columns_h5(csv_path, h5_path, study.input_names(), study.outputs(), h5_text, h5_numbers)
-          : json(nullptr);
+  // samples.h5: a study's own (written during the run); else the inputs and outputs as named
+  // columns, from the finished samples.csv.
+  s["samples_h5"] = mc.samples_h5     ? *mc.samples_h5
+                    : cfg.samples_csv ? write_sample_columns_h5(csv_path, h5_path, study.input_names(), study.outputs(),
+                                                                h5_text, h5_numbers)
+                                      : json(nullptr);
   if (extra_runs) add_sweeps_and_contributions(s, cfg, study, plan, requirements, make_study, options);
   write_file_atomic((fs::path(plan.dir) / "summary.json").string(), s.dump(2) + "\n");
   const fs::path pdir = fs::path(plan.dir) / "plots";

@@ -31,7 +31,12 @@ void collect_samples(McResult& r, std::span<const SampleResult> block) {
       ++r.failure_reasons[s.message.substr(0, s.message.find(": "))];
       continue;
     }
-    if (r.values.size() < s.outputs.size()) r.values.resize(s.outputs.size());
+    if (r.values.size() < s.outputs.size()) {
+      r.values.resize(s.outputs.size());
+      // Sized for every planned sample at once: a growing vector would hold its old and new
+      // storage at once (3x); untouched pages (a run stopped early) take no memory.
+      for (auto& v : r.values) v.reserve(r.n);
+    }
     for (std::size_t k = 0; k < s.outputs.size(); ++k) r.values[k].push_back(s.outputs[k]);
     r.ok_index.push_back(s.index);
     if (s.inputs.size() + s.outputs.size() <= 64) r.moments.add(s.inputs, s.outputs);

@@ -12,6 +12,7 @@
 #include <tbb/task_group.h>
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <cstddef>
@@ -52,6 +53,14 @@ struct DriveOutcome {
 
 using sampling::ByteReader;
 using sampling::ByteWriter;
+
+/// How many samples this process has computed: every sample the loop below computes, and any a
+/// study recomputes itself (it adds them). A resumed run computes only the samples it lacks,
+/// which the resume tests check by this count (tests/kinds/resume_computes_test.cc).
+inline std::atomic<std::size_t>& samples_computed() {
+  static std::atomic<std::size_t> count{0};
+  return count;
+}
 
 /// The fields every sample result has that rank 0 reads (index, ok, message, outputs), for the
 /// encode/decode of a result type. Not the inputs: only samples.csv's rows show them, and they
@@ -182,6 +191,7 @@ class SampleDriver {
                         if constexpr (requires { ws->begin_range(std::size_t{}, std::size_t{}); }) {
                           ws->begin_range(first + r.begin(), r.size());
                         }
+                        samples_computed().fetch_add(r.size(), std::memory_order_relaxed);
                         for (std::size_t k = r.begin(); k != r.end(); ++k) {
                           fault_injection::hold_if_held(first + k);
                           compute_(first + k, ws, into.results[k]);

@@ -94,7 +94,7 @@ void read_sampling_table(TomlReader& root, StudyConfig& c) {
   }
 }
 
-// [output]: plots, block, contribution_samples, samples_csv, grid_values, maps.
+// [output]: plots, block, contribution_samples, samples_csv (a kind reads its own keys there too).
 void read_output_table(TomlReader& root, StudyConfig& c) {
   if (!root.has_or_schema("output")) return;
   TomlReader t = root.table("output");
@@ -103,8 +103,6 @@ void read_output_table(TomlReader& root, StudyConfig& c) {
   t.ask("contribution_samples", "an integer from 0 to 1000000000 (0: no contributions)", "0 (the seeker: 4096)", false);
   c.contribution_samples = static_cast<std::size_t>(t.integer("contribution_samples", 0, 1'000'000'000, 0));
   c.samples_csv = t.boolean("samples_csv", true);
-  c.grid_values = t.boolean("grid_values", true);
-  c.maps = t.boolean("maps", true);
 }
 
 // [[sweep]] tables: parameter, values, samples.

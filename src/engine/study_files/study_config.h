@@ -9,10 +9,9 @@
 ///   [sampling]    method = "sobol" | "lhs" | "monte_carlo", samples, seed,
 ///                 replicate_size (optional), max_failure_share (optional, default 0.05)
 ///   [overrides]   "dotted.model.key" = "value"      (optional)
-///   [output]      plots = true, block = 1024, contribution_samples = 0, samples_csv = true,
-///                 grid_values = true, maps = true (optional; the last three leave out what a
-///                 run does not need: samples.csv, a field's per-point values in samples.h5,
-///                 a field's per-point statistics and maps)
+///   [output]      plots = true, block = 1024, contribution_samples = 0, samples_csv = true
+///                 (optional; samples_csv = false leaves samples.csv out); a kind may read keys
+///                 of its own there (the seeker's grid_values and maps)
 ///   [[reference]] figures to compare with (engine/results/references.h): name, output, statistic,
 ///                 value, source, role = "validation" | "calibration_target"
 ///   [[sweep]]     parameter = "dotted.model.key", values = [...], samples (optional; default:
@@ -131,12 +130,6 @@ struct StudyConfig {
   /// without a field, as named columns in samples.h5); false leaves them out and with them
   /// --resume, which restarts from samples.csv.
   bool samples_csv = true;
-  /// [output] grid_values: a field's per-point values of every sample in samples.h5 (the
-  /// seeker's LOS error at each grid point); false keeps them only as long as the maps need.
-  bool grid_values = true;
-  /// [output] maps: a field's per-point statistics (p50, p95, p99.73 maps, the pooled figures);
-  /// false skips the field's figures altogether (with grid_values: nothing per point is made).
-  bool maps = true;
   std::vector<ReferenceFigure> references;  ///< the study file's [[reference]] tables
   /// The study file's [[requirement]] tables (engine/results/requirements.h), and a kind's shorthand
   /// for one (the seeker's [requirement] los_error) added by its section reader.

@@ -68,6 +68,8 @@ std::unique_ptr<KindSections> read_seeker_los_sections(TomlReader& root, const S
   if (root.has_or_schema("output")) {
     TomlReader t = root.table("output");
     c->contribution_samples = static_cast<std::size_t>(t.integer("contribution_samples", 0, 1'000'000'000, 4096));
+    c->grid_values = t.boolean("grid_values", true);
+    c->maps = t.boolean("maps", true);
     c->grid_values_in_memory_mb = static_cast<std::size_t>(
         t.integer("grid_values_in_memory_mb", 0, 1'000'000, static_cast<std::int64_t>(kKeepColumnsBytes >> 20)));
   }

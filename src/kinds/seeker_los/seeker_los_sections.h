@@ -10,6 +10,10 @@
 ///   [clearance]    output = true, yaw_points, pitch_points (optional; the nominal frames'
 ///                  least clearance to the housing as an output: geometry_study.h)
 ///   [output]       contribution_samples = 4096 (each tolerance set to zero in turn; 0 = off)
+///                  grid_values = true (the LOS error at each grid point of every sample in
+///                  samples.h5; false keeps them only as long as the maps need)
+///                  maps = true (each grid point's p50, p95, p99.73 and the pooled figures;
+///                  false with grid_values false: nothing per grid point is made)
 ///                  grid_values_in_memory_mb = 256 (a run's grid values are kept in memory for
 ///                  its field statistics when they take at most this much, else read back
 ///                  from samples.h5 column by column; 0 = always read back)
@@ -39,6 +43,7 @@ struct SeekerLosSections : KindSectionsOf<SeekerLosSections> {
   /// Contribution of each tolerance: the study re-run with that tolerance set to zero
   /// (same random numbers), with this many samples; 0 switches it off.
   std::size_t contribution_samples = 4096;
+  bool grid_values = true, maps = true;  ///< [output]
   /// The grid values (4 bytes each) kept in memory at most, in MiB (SeekerLosStudy::run).
   std::size_t grid_values_in_memory_mb = kKeepColumnsBytes >> 20;
   GeometryStudySpec geometry;  ///< [clearance]

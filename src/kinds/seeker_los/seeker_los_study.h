@@ -59,8 +59,9 @@ inline constexpr OutputDeclaration kSeekerOutputs[] = {
 inline constexpr std::size_t kNumSeekerOutputs = std::size(kSeekerOutputs);
 
 /// A study ready to run: model, sampler, design and grid built and validated. The engine runs
-/// it as every kind (engine/run/procedure_runner.h); its own run() streams each sample's grid
-/// values (SampleResult::field) into samples.h5 and makes the field figures from them.
+/// it as every kind (engine/run/procedure_runner.h), on its sample loop; each sample's grid
+/// values (SampleResult::field) go to the field sink, which writes samples.h5 and makes the
+/// field figures from them (seeker_field.h).
 class SeekerLosStudy final : public ProcedureStudy {
  public:
   SeekerLosStudy(StudyConfig config, SeekerModel model, std::size_t samples, std::uint64_t seed);
@@ -102,9 +103,10 @@ class SeekerLosStudy final : public ProcedureStudy {
   /// Per-grid-point errors of sample i (for replay reports).
   std::vector<models::PointingError> grid_errors(std::size_t i) const;
 
-  /// Runs all samples on `threads` threads; each finished block goes to `sink` in order. A
-  /// resumed run's `done` samples are recomputed (microseconds each; the field figures need
-  /// their grid values), and the sink's writer skips the rows it has.
+  /// Runs samples [done.size(), n) on the engine's sample loop (run_procedure_samples), the
+  /// grid values of each going to its field sink (seeker_field.h); a resumed run's `done`
+  /// samples are not computed again: their grid values come from the interrupted run's
+  /// samples.h5.
   McResult run(int threads, bool progress, const SampleSink& sink, std::span<const SampleResult> done,
                const RunControl& control = {}) const override;
   SampleResult replay(std::size_t i) const override;

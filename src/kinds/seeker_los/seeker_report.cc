@@ -11,6 +11,7 @@
 #include "core/units.h"
 #include "engine/report/report_plot.h"
 #include "engine/results/result_io.h"
+#include "kinds/seeker_los/seeker_field.h"
 #include "kinds/seeker_los/seeker_los_sections.h"
 #include "kinds/seeker_los/seeker_los_study.h"
 
@@ -69,9 +70,10 @@ json SeekerLosStudy::details(const McResult& mc) const {
                {"yaw_deg", {model_.yaw_min / units::kRadPerDeg, model_.yaw_max / units::kRadPerDeg}},
                {"pitch_deg", {model_.pitch_min / units::kRadPerDeg, model_.pitch_max / units::kRadPerDeg}}};
   d["inputs"] = seeker_inputs_json(model_);
-  if (mc.field.present && !mc.ok_index.empty()) {
+  const SeekerFieldFigures* field = field_figures_of(mc);
+  if (field && !mc.ok_index.empty()) {
     d["pooled_field_arcsec"] =
-        summary_with_unit(mc.field.pooled, "arcsec", "total LOS error over every (sample, grid point)");
+        summary_with_unit(field->pooled, "arcsec", "total LOS error over every (sample, grid point)");
   }
   if (mc.outputs.size() == kNumSeekerOutputs) {
     std::size_t meeting = 0;
@@ -123,7 +125,8 @@ void SeekerLosStudy::report_sections(const McResult& mc, const std::string& plot
     row("greatest over the field of a unit: p99.73", mc.outputs[0].p99_73.value);
     h << "</table>\n<p><small>" << html_escape(d["ci_note"].get<std::string>()) << ".</small></p>\n";
   }
-  if (plots && mc.field.present && !mc.field.p95.empty()) {
+  const SeekerFieldFigures* field = field_figures_of(mc);
+  if (plots && field && !field->p95.empty()) {
     std::ostringstream data;
     data << "# yaw_deg pitch_deg p50_arcsec p95_arcsec p99_73_arcsec\n";
     const std::size_t nb = grid_.beta().size();
@@ -131,7 +134,7 @@ void SeekerLosStudy::report_sections(const McResult& mc, const std::string& plot
       for (std::size_t ib = 0; ib < nb; ++ib) {
         const std::size_t k = ia * nb + ib;
         data << grid_.alpha()[ia] / units::kRadPerDeg << ' ' << grid_.beta()[ib] / units::kRadPerDeg << ' '
-             << mc.field.p50[k] << ' ' << mc.field.p95[k] << ' ' << mc.field.p99_73[k] << '\n';
+             << field->p50[k] << ' ' << field->p95[k] << ' ' << field->p99_73[k] << '\n';
       }
       data << '\n';
     }
