@@ -1,7 +1,9 @@
 // A procedure run's samples: collected into its result, sent between MPI ranks, read back on
 // resume (procedure_study.h, procedure_resume.h).
 #include <algorithm>
+#include <charconv>
 #include <sstream>
+#include <string_view>
 
 #include "core/error.h"
 #include "engine/kind_interface/study_evaluation.h"
@@ -88,31 +90,59 @@ void decode_result(ByteReader& rd, SampleResult& r) {
   rd.get_vector(r.field);
 }
 
+namespace {
+
+// A number of a samples.csv cell (as csv_number wrote it: shortest round trip, "nan"); throws
+// poise::Error naming the row.
+template <class T>
+T cell_number(std::string_view cell, const std::string& csv_path, std::size_t row) {
+  T v{};
+  const auto [end, ec] = std::from_chars(cell.data(), cell.data() + cell.size(), v);
+  if (ec != std::errc() || end != cell.data() + cell.size()) {
+    throw Error("--resume: " + csv_path + " row " + std::to_string(row) + ": '" + std::string(cell) +
+                "' is not a number");
+  }
+  return v;
+}
+
+}  // namespace
+
 std::vector<SampleResult> read_done_samples(const std::string& csv_path, const std::string& header,
                                             std::size_t n_inputs, std::size_t n_outputs, bool solver_steps) {
   const std::size_t n_cells = 2 + n_inputs + n_outputs + (solver_steps ? 2 : 1);
   std::vector<SampleResult> done;
-  std::istringstream lines(read_complete_rows(csv_path, header));
-  std::string line;
-  while (std::getline(lines, line)) {
-    std::vector<std::string> cells;
-    std::stringstream ss(line);
-    std::string cell;
-    while (std::getline(ss, cell, ',')) cells.push_back(cell);
-    if (!line.empty() && line.back() == ',') cells.emplace_back();
+  const std::string text = read_complete_rows(csv_path, header);
+  std::vector<std::string_view> cells;
+  for (std::size_t at = 0; at < text.size();) {
+    std::size_t end = text.find('\n', at);
+    if (end == std::string::npos) end = text.size();
+    const std::string_view line(text.data() + at, end - at);
+    at = end + 1;
+    const std::size_t row = done.size() + 2;
+    cells.clear();
+    for (std::size_t from = 0;;) {
+      const std::size_t comma = line.find(',', from);
+      cells.push_back(line.substr(from, comma == std::string_view::npos ? std::string_view::npos : comma - from));
+      if (comma == std::string_view::npos) break;
+      from = comma + 1;
+    }
     if (cells.size() != n_cells) {
-      throw Error("--resume: " + csv_path + " row " + std::to_string(done.size() + 2) + " has " +
-                  std::to_string(cells.size()) + " cells, expected " + std::to_string(n_cells));
+      throw Error("--resume: " + csv_path + " row " + std::to_string(row) + " has " + std::to_string(cells.size()) +
+                  " cells, expected " + std::to_string(n_cells));
     }
     SampleResult r;
-    r.index = std::stoul(cells[0]);
-    if (r.index != done.size()) throw Error("--resume: samples.csv rows are not in order at sample " + cells[0]);
+    r.index = cell_number<std::size_t>(cells[0], csv_path, row);
+    if (r.index != done.size()) {
+      throw Error("--resume: samples.csv rows are not in order at sample " + std::string(cells[0]));
+    }
     r.ok = cells[1] == "ok";
     // Only what the statistics and the stop rule read: the inputs stay on disk, and an ok
     // row's message is empty (memory per resumed row: its outputs).
     r.outputs.reserve(n_outputs);
-    for (std::size_t k = 0; k < n_outputs; ++k) r.outputs.push_back(std::stod(cells[2 + n_inputs + k]));
-    if (solver_steps) r.solver_steps = std::stol(cells[2 + n_inputs + n_outputs]);
+    for (std::size_t k = 0; k < n_outputs; ++k) {
+      r.outputs.push_back(cell_number<double>(cells[2 + n_inputs + k], csv_path, row));
+    }
+    if (solver_steps) r.solver_steps = cell_number<long>(cells[2 + n_inputs + n_outputs], csv_path, row);
     if (!r.ok) r.message = cells.back();
     done.push_back(std::move(r));
   }

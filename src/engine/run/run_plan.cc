@@ -151,7 +151,12 @@ void announce_run(const StudyConfig& cfg, const RunPlan& plan, const std::option
 std::string read_complete_rows(const std::string& csv_path, const std::string& header) {
   std::ifstream in(csv_path, std::ios::binary);
   if (!in) throw UsageError("--resume: cannot read " + csv_path);
-  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  // In one read of the file's size (a character at a time took a tenth of a LOS resume).
+  in.seekg(0, std::ios::end);
+  std::string text(static_cast<std::size_t>(std::max<std::streamoff>(in.tellg(), 0)), '\0');
+  in.seekg(0, std::ios::beg);
+  in.read(text.data(), static_cast<std::streamsize>(text.size()));
+  text.resize(static_cast<std::size_t>(in.gcount()));
   in.close();
   if (text.size() <= header.size() && header.compare(0, text.size(), text) == 0) {
     // A disk that filled up while the header was written: the header again, no rows yet.
