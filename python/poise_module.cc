@@ -8,6 +8,7 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -50,12 +51,24 @@ namespace py = pybind11;
 namespace poise::python {
 namespace {
 
+// One refused value: where (file, line; "" and 0 where not known), its key, value and what was
+// expected, and its message.
+struct RefusedValue {
+  std::string message, file, key, value, expected;
+  int line = 0;
+};
+
 // The one exception type that crosses into Python; __init__.py maps it.
 struct NativeError {
   std::string category;  ///< "input", "error" or "interrupt"
   std::string message, file, key;
   int line = 0;
+  std::vector<RefusedValue> errors;  ///< every refused value of an input error (at least the one above)
 };
+
+RefusedValue refused(const InputError& e) {
+  return {e.what(), e.where().file, e.key(), e.value(), e.expected(), e.where().line};
+}
 
 // Runs f, turning Poise's exceptions into NativeError (with the file, line and key of the
 // first refused value of a ValidationError).
@@ -64,23 +77,27 @@ auto guarded(F&& f) -> decltype(f()) {
   try {
     return f();
   } catch (const engine::ValidationError& e) {
-    NativeError n{"input", e.what(), "", ""};
-    if (!e.errors().empty()) {
-      n.file = e.errors().front().where().file;
-      n.line = e.errors().front().where().line;
-      n.key = e.errors().front().key();
+    // Every refused value; the first that has a line (else the first) says where.
+    NativeError n{"input", e.what(), "", "", 0, {}};
+    for (const InputError& one : e.errors()) n.errors.push_back(refused(one));
+    const auto with_line =
+        std::find_if(n.errors.begin(), n.errors.end(), [](const RefusedValue& r) { return r.line > 0; });
+    if (const auto at = with_line != n.errors.end() ? with_line : n.errors.begin(); at != n.errors.end()) {
+      n.file = at->file;
+      n.line = at->line;
+      n.key = at->key;
     }
     throw n;
   } catch (const InputError& e) {
-    throw NativeError{"input", e.what(), e.where().file, e.key(), e.where().line};
+    throw NativeError{"input", e.what(), e.where().file, e.key(), e.where().line, {refused(e)}};
   } catch (const UsageError& e) {
-    throw NativeError{"input", e.what(), "", "", 0};
+    throw NativeError{"input", e.what(), "", "", 0, {}};
   } catch (const geometry::MeshCheckError& e) {
-    throw NativeError{"input", e.what(), "", "", 0};
+    throw NativeError{"input", e.what(), "", "", 0, {}};
   } catch (const engine::Interrupted& e) {
-    throw NativeError{"interrupt", e.what(), "", "", 0};
+    throw NativeError{"interrupt", e.what(), "", "", 0, {}};
   } catch (const std::exception& e) {
-    throw NativeError{"error", e.what(), "", "", 0};
+    throw NativeError{"error", e.what(), "", "", 0, {}};
   }
 }
 
@@ -249,7 +266,10 @@ class Study {
       throw NativeError{"input",
                         "evaluate: expected " + std::to_string(ev.input_names().size()) + " input columns, got " +
                             std::to_string(columns.size()),
-                        "", "", 0};
+                        "",
+                        "",
+                        0,
+                        {}};
     }
     engine::InputColumns in;
     for (std::size_t j = 0; j < columns.size(); ++j) {
@@ -258,7 +278,10 @@ class Study {
         throw NativeError{"input",
                           "evaluate: input " + ev.input_names()[j] + " has " + std::to_string(size) + " values for " +
                               std::to_string(points) + " points",
-                          "", ev.input_names()[j], 0};
+                          "",
+                          ev.input_names()[j],
+                          0,
+                          {}};
       }
       in.data.push_back(columns[j].data());
       in.stride.push_back(size == 1 ? 0 : 1);
@@ -272,7 +295,10 @@ class Study {
       throw NativeError{
           "input",
           "evaluate: expected a 2-D array with " + std::to_string(ev.input_names().size()) + " columns, one per input",
-          "", "", 0};
+          "",
+          "",
+          0,
+          {}};
     }
     return run_evaluation(ev, engine::InputColumns::row_major(x.data(), ev.input_names().size()),
                           static_cast<std::size_t>(x.shape(0)), threads);
@@ -293,7 +319,7 @@ class Study {
     return py::make_tuple(y, f.count, f.first);
   }
   const engine::InputEvaluator& need() const {
-    if (!evaluator_) throw NativeError{"error", why_not_, cfg_.file, "", 0};
+    if (!evaluator_) throw NativeError{"error", why_not_, cfg_.file, "", 0, {}};
     return *evaluator_;
   }
   engine::StudyConfig cfg_;
@@ -397,7 +423,12 @@ PYBIND11_MODULE(_poise, m) {
     try {
       if (p) std::rethrow_exception(p);
     } catch (const NativeError& e) {
-      py::object args = py::make_tuple(e.category, e.message, e.file, e.line, e.key);
+      py::list errors;
+      for (const RefusedValue& r : e.errors) {
+        errors.append(py::dict(py::arg("message") = r.message, py::arg("file") = r.file, py::arg("line") = r.line,
+                               py::arg("key") = r.key, py::arg("value") = r.value, py::arg("expected") = r.expected));
+      }
+      py::object args = py::make_tuple(e.category, e.message, e.file, e.line, e.key, errors);
       PyErr_SetObject(native.ptr(), args.ptr());
     }
   });

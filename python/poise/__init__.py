@@ -22,13 +22,14 @@ import difflib
 import json
 import os
 import re
+import typing
 import warnings
 
 import numpy as np
 
 from . import _poise
 
-__all__ = ["run", "Study", "Result", "balance", "budget", "mass_properties", "diagnose", "Error", "InputError", "PoiseWarning",
+__all__ = ["run", "Study", "Result", "balance", "budget", "mass_properties", "diagnose", "Error", "InputError", "RefusedValue", "PoiseWarning",
            "version"]
 
 version = _poise.version
@@ -38,14 +39,28 @@ class Error(RuntimeError):
     """A failure of Poise that is not a refused input (a run that could not write, ...)."""
 
 
-class InputError(ValueError, Error):
-    """Refused input: ``file``, ``line`` and ``key`` say where (None where not known)."""
+class RefusedValue(typing.NamedTuple):
+    """One refused value of an input: where it is (``file``, ``line``: None where not known),
+    its ``key`` and ``value``, what was ``expected``, and the whole ``message``."""
+    message: str
+    file: typing.Optional[str] = None
+    line: typing.Optional[int] = None
+    key: typing.Optional[str] = None
+    value: typing.Optional[str] = None
+    expected: typing.Optional[str] = None
 
-    def __init__(self, message, file=None, line=None, key=None):
+
+class InputError(ValueError, Error):
+    """Refused input: ``file``, ``line`` and ``key`` say where (None where not known): those of
+    the first refused value that has a line. ``errors`` lists every refused value
+    (:class:`RefusedValue`), as ``poise validate`` prints them."""
+
+    def __init__(self, message, file=None, line=None, key=None, errors=None):
         super().__init__(message)
         self.file = file or None
         self.line = line or None
         self.key = key or None
+        self.errors = list(errors) if errors else [RefusedValue(message, self.file, self.line, self.key)]
 
 
 class PoiseWarning(UserWarning):
@@ -61,13 +76,15 @@ def _call(function, *args):
     try:
         return function(*args)
     except _poise.NativeError as e:
-        category, message, file, line, key = e.args[0] if len(e.args) == 1 else e.args
+        category, message, file, line, key, errors = e.args[0] if len(e.args) == 1 else e.args
         if category == "input":
             if not file:  # "data.csv:12: ...": the message names where
                 where = re.match(r"(?:\d+ errors? in the input:\s+)?([^\s:][^:\n]*):(\d+):", message)
                 if where:
                     file, line = where.group(1), int(where.group(2))
-            raise InputError(message, file, line, key) from None
+            refused = [RefusedValue(r["message"], r["file"] or None, r["line"] or None, r["key"] or None,
+                                    r["value"] or None, r["expected"] or None) for r in errors]
+            raise InputError(message, file, line, key, refused) from None
         if category == "interrupt":
             raise KeyboardInterrupt(message) from None
         raise Error(message) from None

@@ -184,6 +184,34 @@ def test_input_error_carries_file_line_and_key(tmp_path):
         poise.run(SHAFT, overrides=["x"])
 
 
+def test_input_error_carries_every_refused_value(tmp_path):
+    # Two refused values in one file: .errors holds both, each with its file, line and key, as
+    # `poise validate` lists them; the error's own file, line and key are the first one's.
+    text = open(SHAFT).read().replace('model = "../models/', 'model = "' + os.path.join(SRC, "models") + '/')
+    assert "\nseed = 1\n" in text and "\nsamples = " in text
+    text = text.replace("\nseed = 1\n", "\nseed = \"eleven\"\n", 1).replace("\nsamples = ", "\nsamples = -", 1)
+    bad = tmp_path / "bad.toml"
+    bad.write_text(text)
+    with pytest.raises(poise.InputError) as e:
+        poise.run(bad, samples=4)
+    keys = [r.key for r in e.value.errors]
+    assert "sampling.seed" in keys and "sampling.samples" in keys, e.value.errors
+    lines = text.splitlines()
+    for r in e.value.errors:
+        assert r.file == str(bad) and r.line and r.key.split(".")[-1] in lines[r.line - 1], r
+        assert r.message and r.expected, r
+    assert (e.value.file, e.value.line, e.value.key) == (e.value.errors[0].file, e.value.errors[0].line,
+                                                         e.value.errors[0].key)
+    cli = subprocess.run([EXE, "validate", str(bad)], capture_output=True, text=True)
+    assert cli.returncode == 2
+    for r in e.value.errors:
+        assert f"{r.file}:{r.line}" in cli.stderr + cli.stdout
+    # An error of a call's own argument: one entry, the error itself.
+    with pytest.raises(poise.InputError) as e:
+        poise.run(SHAFT, overrides=["x"])
+    assert len(e.value.errors) == 1 and e.value.errors[0].message == str(e.value)
+
+
 def test_budget_is_the_json_of_the_command_line():
     budget = os.path.join(SRC, "studies", "wang2011_budget.toml")
     j = poise.budget(budget)
