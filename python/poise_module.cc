@@ -1,7 +1,7 @@
 // _poise: the C++ side of the Python package poise (python/poise/__init__.py is what a user
 // imports). Every function here is the command line's own code path: a run writes the same
 // folder as `poise run` and its samples are read back from that samples.csv; budget,
-// mass_properties and diagnose return the objects their --json prints. The GIL is released
+// mass_properties and diagnose return the objects their --json prints, converted directly. The GIL is released
 // while Poise computes. Errors cross as _poise.NativeError(category, message, file, line,
 // key), which __init__.py turns into poise.InputError or poise.Error.
 #include <pybind11/numpy.h>
@@ -107,6 +107,29 @@ py::array_t<double> array_of(const std::vector<double>& v) {
   return a;
 }
 
+// A JSON value as Python's own objects (dict, list, str, float, int, bool, None), converted
+// directly (not printed and parsed again).
+py::object python_value(const nlohmann::json& j) {
+  switch (j.type()) {
+    case nlohmann::json::value_t::object: {
+      py::dict d;
+      for (const auto& [key, value] : j.items()) d[py::str(key)] = python_value(value);
+      return d;
+    }
+    case nlohmann::json::value_t::array: {
+      py::list l;
+      for (const auto& value : j) l.append(python_value(value));
+      return l;
+    }
+    case nlohmann::json::value_t::string: return py::str(j.get<std::string>());
+    case nlohmann::json::value_t::boolean: return py::bool_(j.get<bool>());
+    case nlohmann::json::value_t::number_integer: return py::int_(j.get<std::int64_t>());
+    case nlohmann::json::value_t::number_unsigned: return py::int_(j.get<std::uint64_t>());
+    case nlohmann::json::value_t::number_float: return py::float_(j.get<double>());
+    default: return py::none();
+  }
+}
+
 // A fresh folder for a run the caller keeps no files of (out=None), removed afterwards.
 std::string temporary_run_folder() {
   std::random_device rd;
@@ -153,7 +176,8 @@ py::dict run(const std::string& study, std::optional<std::size_t> samples, std::
   opt.progress = progress;
   const bool keep = out.has_value();
   opt.out = keep ? *out : temporary_run_folder();
-  std::string dir, summary;
+  std::string dir;
+  nlohmann::json summary;
   SampleTable table;
   std::vector<engine::OutputSpec> outputs;
   // out=None: the temporary folder goes however the run ends.
@@ -172,7 +196,7 @@ py::dict run(const std::string& study, std::optional<std::size_t> samples, std::
       outputs = engine::study_kind(cfg.kind).outputs(cfg);
       table = read_samples_csv((std::filesystem::path(dir) / "samples.csv").string(), engine::output_names_of(outputs));
       std::ifstream in(std::filesystem::path(dir) / "summary.json");
-      summary.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+      if (in) summary = nlohmann::json::parse(in);
       return 0;
     });
   } catch (NativeError& e) {
@@ -200,7 +224,7 @@ py::dict run(const std::string& study, std::optional<std::size_t> samples, std::
   r["sample"] = array_of(table.sample);
   r["ok"] = ok;
   r["messages"] = table.messages;
-  r["summary"] = summary;
+  r["summary"] = summary.is_null() ? py::object(py::dict()) : python_value(summary);
   r["path"] = keep ? py::object(py::str(dir)) : py::object(py::none());
   return r;
 }
@@ -328,29 +352,6 @@ class Study {
   std::string why_not_;
 };
 
-// A JSON value as Python's own objects (dict, list, str, float, int, bool, None), converted
-// directly (not printed and parsed again).
-py::object python_value(const nlohmann::json& j) {
-  switch (j.type()) {
-    case nlohmann::json::value_t::object: {
-      py::dict d;
-      for (const auto& [key, value] : j.items()) d[py::str(key)] = python_value(value);
-      return d;
-    }
-    case nlohmann::json::value_t::array: {
-      py::list l;
-      for (const auto& value : j) l.append(python_value(value));
-      return l;
-    }
-    case nlohmann::json::value_t::string: return py::str(j.get<std::string>());
-    case nlohmann::json::value_t::boolean: return py::bool_(j.get<bool>());
-    case nlohmann::json::value_t::number_integer: return py::int_(j.get<std::int64_t>());
-    case nlohmann::json::value_t::number_unsigned: return py::int_(j.get<std::uint64_t>());
-    case nlohmann::json::value_t::number_float: return py::float_(j.get<double>());
-    default: return py::none();
-  }
-}
-
 // A balancing campaign analysed (balancing/campaign_analysis.h), as `poise balance --json` prints
 // it; with `out`, the folder of --out too.
 py::object balance(const std::string& path, const std::string& out) {
@@ -362,27 +363,48 @@ py::object balance(const std::string& path, const std::string& out) {
   return python_value(j);
 }
 
-std::string budget(const std::string& path) {
+py::object budget(const std::string& path) {
+  return python_value(guarded([&] {
+    py::gil_scoped_release release;
+    return cli::check_budget_file(path, nullptr, false);
+  }));
+}
+
+// `poise validate`: the study and its model checked, nothing run; the summary line.
+std::string validate(const std::string& study) {
   return guarded([&] {
     py::gil_scoped_release release;
-    return cli::check_budget_file(path, nullptr, false).dump();
+    return engine::validate_study(study);
   });
 }
 
-std::string mass_properties(const std::vector<std::string>& meshes, const std::vector<std::string>& units,
-                            const std::vector<std::string>& densities, int rays, bool drop_duplicates,
-                            const std::string& weld, const std::string& max_overlap) {
-  return guarded([&] {
+// `poise replay`: sample `index` recomputed alone, as the command prints it.
+py::object replay(const std::string& study, std::size_t index, std::optional<std::size_t> samples,
+                  std::optional<std::uint64_t> seed) {
+  return python_value(guarded([&] {
     py::gil_scoped_release release;
-    return cli::mass_properties_json({meshes, units, densities, rays, drop_duplicates, weld, max_overlap}).dump();
-  });
+    engine::RunOptions o;
+    o.samples = samples;
+    o.seed = seed;
+    o.progress = false;
+    return engine::replay_sample(study, index, o);
+  }));
 }
 
-std::string diagnose(const std::string& data, double alpha, int max_harmonic, const std::string& noise,
-                     const std::string& load_torque, const std::string& load_angle, const std::string& study,
-                     std::size_t study_samples, const std::vector<std::string>& columns,
-                     const std::vector<std::string>& units) {
-  return guarded([&] {
+py::object mass_properties(const std::vector<std::string>& meshes, const std::vector<std::string>& units,
+                           const std::vector<std::string>& densities, int rays, bool drop_duplicates,
+                           const std::string& weld, const std::string& max_overlap) {
+  return python_value(guarded([&] {
+    py::gil_scoped_release release;
+    return cli::mass_properties_json({meshes, units, densities, rays, drop_duplicates, weld, max_overlap});
+  }));
+}
+
+py::object diagnose(const std::string& data, double alpha, int max_harmonic, const std::string& noise,
+                    const std::string& load_torque, const std::string& load_angle, const std::string& study,
+                    std::size_t study_samples, const std::vector<std::string>& columns,
+                    const std::vector<std::string>& units) {
+  return python_value(guarded([&] {
     py::gil_scoped_release release;
     cli::DiagnoseRequest r;
     r.data = data;
@@ -395,13 +417,13 @@ std::string diagnose(const std::string& data, double alpha, int max_harmonic, co
     r.study_samples = study_samples;
     r.columns = {columns, units};
     try {
-      return cli::diagnose_json(r).dump();
+      return cli::diagnose_json(r);
     } catch (const engine::ValidationError&) {
       throw;
     } catch (const Error& e) {  // the command line refuses each of these as invalid input (exit 2)
       throw UsageError(e.what());
     }
-  });
+  }));
 }
 
 }  // namespace
@@ -453,6 +475,8 @@ PYBIND11_MODULE(_poise, m) {
         py::arg("plots"), py::arg("out"), py::arg("progress"), py::arg("sensitivity_base"), py::arg("model"),
         py::arg("allow_programs"));
   m.def("budget", &budget, py::arg("path"));
+  m.def("validate", &validate, py::arg("study"));
+  m.def("replay", &replay, py::arg("study"), py::arg("sample"), py::arg("samples"), py::arg("seed"));
   m.def("balance", &balance, py::arg("path"), py::arg("out"));
   m.def("mass_properties", &mass_properties, py::arg("meshes"), py::arg("units"), py::arg("densities"), py::arg("rays"),
         py::arg("drop_duplicates"), py::arg("weld"), py::arg("max_overlap"));

@@ -19,7 +19,6 @@ that file value for value. Invalid input raises :class:`InputError` (a ``ValueEr
 released; Ctrl-C during a run stops it as on the command line (``KeyboardInterrupt``).
 """
 import difflib
-import json
 import os
 import re
 import typing
@@ -29,7 +28,7 @@ import numpy as np
 
 from . import _poise
 
-__all__ = ["run", "Study", "Result", "balance", "budget", "mass_properties", "diagnose", "Error", "InputError", "RefusedValue", "PoiseWarning",
+__all__ = ["run", "Study", "Result", "Sample", "validate", "replay", "balance", "budget", "mass_properties", "diagnose", "Error", "InputError", "RefusedValue", "PoiseWarning",
            "version"]
 
 version = _poise.version
@@ -126,7 +125,7 @@ class Result:
         self.sample = raw["sample"].astype(np.int64)
         self.ok = raw["ok"]
         self.messages = list(raw["messages"])
-        self.summary = json.loads(raw["summary"]) if raw["summary"] else {}
+        self.summary = raw["summary"]
         self.path = raw["path"]
 
     @property
@@ -280,6 +279,45 @@ class Study:
         return f"<poise.Study {self.file!r} kind={self.kind!r}>"
 
 
+def validate(study):
+    """The study file and its model checked as ``poise validate`` checks them, nothing run: the
+    same one-line summary. Refused input raises :class:`InputError` with every refused value in
+    ``.errors``."""
+    return _call(_poise.validate, os.fspath(study))
+
+
+class Sample(typing.NamedTuple):
+    """One sample recomputed alone (``poise replay``): ``index``, ``ok``, ``message`` (why it
+    failed, else ""), ``inputs`` and ``outputs`` by name (the study's units), and ``details``:
+    what else the kind gives, lists of records as dicts of NumPy arrays (the seeker's error at
+    every grid point: ``details["grid"]["total_arcsec"]``)."""
+    index: int
+    ok: bool
+    message: str
+    inputs: dict
+    outputs: dict
+    details: dict
+
+
+def _columns_of(value):
+    """A list of records with the same numeric keys as a dict of NumPy arrays; else as it is."""
+    if (isinstance(value, list) and value and all(isinstance(r, dict) for r in value)
+            and all(r.keys() == value[0].keys() for r in value)
+            and all(isinstance(v, (int, float)) for r in value for v in r.values())):
+        return {k: np.array([r[k] for r in value], dtype=float) for k in value[0]}
+    return value
+
+
+def replay(study, sample, samples=None, seed=None):
+    """Sample ``sample`` of the study recomputed alone, as ``poise replay -i`` does (with the
+    run's ``samples`` and ``seed`` where they differ from the study file's): a :class:`Sample`."""
+    j = _call(_poise.replay, os.fspath(study), _count("sample", sample, 0), _count("samples", samples, 1),
+              None if seed is None else _count("seed", seed, 0))
+    details = {k: _columns_of(v) for k, v in j.items() if k not in ("sample", "status", "message", "inputs", "outputs")}
+    return Sample(j["sample"], j["status"] == "ok", j.get("message", ""), j.get("inputs", {}), j.get("outputs", {}),
+                  details)
+
+
 def balance(campaign, out=None):
     """A balancing campaign's readings analysed as ``poise balance --json`` does (that object as
     a dict): influence coefficients, the correction with its 95% regions, each check run and run
@@ -290,7 +328,7 @@ def balance(campaign, out=None):
 
 def budget(path):
     """An error budget checked as ``poise budget --json`` does: that object as a dict."""
-    return json.loads(_call(_poise.budget, os.fspath(path)))
+    return _call(_poise.budget, os.fspath(path))
 
 
 def mass_properties(meshes, unit, density, rays=256, drop_duplicates=False, weld=None, max_overlap=None):
@@ -310,9 +348,9 @@ def mass_properties(meshes, unit, density, rays=256, drop_duplicates=False, weld
     if not units or not all(isinstance(u, str) for u in units):
         raise InputError(f"unit={unit!r}: expected \"mm\", \"cm\", \"m\" or \"in\", or a list of them, one per "
                          "mesh", key="unit")
-    return json.loads(_call(_poise.mass_properties, [os.fspath(m) for m in meshes], units, densities,
-                            _count("rays", rays, 1), bool(drop_duplicates), "" if weld is None else str(weld),
-                            "" if max_overlap is None else str(max_overlap)))
+    return _call(_poise.mass_properties, [os.fspath(m) for m in meshes], units, densities,
+                 _count("rays", rays, 1), bool(drop_duplicates), "" if weld is None else str(weld),
+                 "" if max_overlap is None else str(max_overlap))
 
 
 def diagnose(data, alpha=0.05, max_harmonic=6, noise=None, load_torque=None, load_angle=None, study=None,
@@ -323,6 +361,6 @@ def diagnose(data, alpha=0.05, max_harmonic=6, noise=None, load_torque=None, loa
     take them, e.g. ``columns={"angle": "angle [rad]", "torque": "M"}, units={"torque": "N*m"}``
     (roles: angle, torque, time, sweep, torque_se)."""
     pairs = lambda d: [f"{role}={value}" for role, value in (d or {}).items()]  # noqa: E731
-    return json.loads(_call(_poise.diagnose, os.fspath(data), float(alpha), int(max_harmonic), noise or "",
-                            load_torque or "", load_angle or "", "" if study is None else os.fspath(study),
-                            int(study_samples), pairs(columns), pairs(units)))
+    return _call(_poise.diagnose, os.fspath(data), float(alpha), int(max_harmonic), noise or "",
+                 load_torque or "", load_angle or "", "" if study is None else os.fspath(study),
+                 int(study_samples), pairs(columns), pairs(units))

@@ -212,6 +212,27 @@ def test_input_error_carries_every_refused_value(tmp_path):
     assert len(e.value.errors) == 1 and e.value.errors[0].message == str(e.value)
 
 
+def test_validate_and_replay_are_the_command_lines():
+    for study in (SEEKER, GIMBAL):
+        cli = subprocess.run([EXE, "validate", study], check=True, capture_output=True, text=True).stdout.strip()
+        assert poise.validate(study) == cli
+        j = json.loads(subprocess.run([EXE, "replay", study, "-i", "3", "--samples", "16", "--seed", "5"], check=True,
+                                      capture_output=True, text=True).stdout)
+        s = poise.replay(study, 3, samples=16, seed=5)
+        assert isinstance(s, poise.Sample)
+        assert s.index == 3 and s.ok == (j["status"] == "ok") and s.inputs == j["inputs"] and s.outputs == j["outputs"]
+        assert set(s.details) == set(j) - {"sample", "status", "message", "inputs", "outputs"}
+    # The seeker's grid as arrays: its greatest total error is the sample's los_max_arcsec.
+    s = poise.replay(SEEKER, 3, samples=16, seed=5)
+    grid = s.details["grid"]
+    assert isinstance(grid["total_arcsec"], np.ndarray) and grid["total_arcsec"].shape == grid["yaw_deg"].shape
+    assert grid["total_arcsec"].max() == pytest.approx(s.outputs["los_max_arcsec"], rel=1e-12)
+    with pytest.raises(poise.InputError, match="outside"):
+        poise.replay(SEEKER, 16, samples=16)
+    with pytest.raises(poise.InputError):
+        poise.validate(os.path.join(SRC, "studies", "wang2011_budget.toml"))
+
+
 def test_budget_is_the_json_of_the_command_line():
     budget = os.path.join(SRC, "studies", "wang2011_budget.toml")
     j = poise.budget(budget)
