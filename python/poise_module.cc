@@ -43,6 +43,7 @@
 #include "geometry/mesh_check.h"
 #include "kinds/python/python_model_function.h"
 #include "kinds/registry.h"
+#include "optimize/optimization_study.h"
 #include "python_model.h"
 #include "python_results.h"
 
@@ -141,6 +142,21 @@ std::string temporary_run_folder() {
   throw Error("cannot make a temporary folder in " + base.string());
 }
 
+// A temporary run folder's parent, removed however the call ends ("" = none).
+struct RemoveFolder {
+  std::string path;
+  ~RemoveFolder() {
+    std::error_code ec;
+    if (!path.empty()) std::filesystem::remove_all(path, ec);
+  }
+};
+
+// A folder's summary.json as a JSON value (null when it has none).
+nlohmann::json summary_of_folder(const std::string& dir) {
+  std::ifstream in(std::filesystem::path(dir) / "summary.json");
+  return in ? nlohmann::json::parse(in) : nlohmann::json();
+}
+
 // poise.run: the study run as `poise run` runs it; the folder's samples and summary read back.
 py::dict run(const std::string& study, std::optional<std::size_t> samples, std::optional<std::uint64_t> seed,
              int threads, const std::map<std::string, std::string>& overrides, bool plots,
@@ -181,13 +197,7 @@ py::dict run(const std::string& study, std::optional<std::size_t> samples, std::
   SampleTable table;
   std::vector<engine::OutputSpec> outputs;
   // out=None: the temporary folder goes however the run ends.
-  struct RemoveFolder {
-    std::string path;
-    ~RemoveFolder() {
-      std::error_code ec;
-      if (!path.empty()) std::filesystem::remove_all(path, ec);
-    }
-  } const temporary{keep ? std::string() : std::filesystem::path(opt.out).parent_path().string()};
+  const RemoveFolder temporary{keep ? std::string() : std::filesystem::path(opt.out).parent_path().string()};
   try {
     guarded([&] {
       py::gil_scoped_release release;
@@ -195,8 +205,7 @@ py::dict run(const std::string& study, std::optional<std::size_t> samples, std::
       engine::StudyConfig cfg = engine::load_study(study);
       outputs = engine::study_kind(cfg.kind).outputs(cfg);
       table = read_samples_csv((std::filesystem::path(dir) / "samples.csv").string(), engine::output_names_of(outputs));
-      std::ifstream in(std::filesystem::path(dir) / "summary.json");
-      if (in) summary = nlohmann::json::parse(in);
+      summary = summary_of_folder(dir);
       return 0;
     });
   } catch (NativeError& e) {
@@ -352,6 +361,33 @@ class Study {
   std::string why_not_;
 };
 
+// `poise optimize`: the optimization file run as the command runs it (optimize/optimization_study.h);
+// its answer, exit status and summary.json; the folder kept only with `out`.
+py::dict optimize(const std::string& file, std::optional<std::string> out, int threads,
+                  std::optional<std::uint64_t> seed, bool plots, bool progress) {
+  engine::RunOptions o;
+  o.threads = threads;
+  o.plots = plots;
+  o.progress = progress;
+  const bool keep = out.has_value();
+  o.out = keep ? *out : temporary_run_folder();
+  const RemoveFolder temporary{keep ? std::string() : std::filesystem::path(o.out).parent_path().string()};
+  optimize::OptimizationRun r;
+  nlohmann::json summary;
+  guarded([&] {
+    py::gil_scoped_release release;
+    r = optimize::run_optimization(file, o, seed);
+    summary = summary_of_folder(r.dir);
+    return 0;
+  });
+  py::dict d;
+  d["answer"] = r.answer;
+  d["exit_status"] = r.exit_status;
+  d["summary"] = summary.is_null() ? py::object(py::dict()) : python_value(summary);
+  d["path"] = keep ? py::object(py::str(r.dir)) : py::object(py::none());
+  return d;
+}
+
 // A balancing campaign analysed (balancing/campaign_analysis.h), as `poise balance --json` prints
 // it; with `out`, the folder of --out too.
 py::object balance(const std::string& path, const std::string& out) {
@@ -476,6 +512,8 @@ PYBIND11_MODULE(_poise, m) {
         py::arg("allow_programs"));
   m.def("budget", &budget, py::arg("path"));
   m.def("validate", &validate, py::arg("study"));
+  m.def("optimize", &optimize, py::arg("file"), py::arg("out"), py::arg("threads"), py::arg("seed"), py::arg("plots"),
+        py::arg("progress"));
   m.def("replay", &replay, py::arg("study"), py::arg("sample"), py::arg("samples"), py::arg("seed"));
   m.def("balance", &balance, py::arg("path"), py::arg("out"));
   m.def("mass_properties", &mass_properties, py::arg("meshes"), py::arg("units"), py::arg("densities"), py::arg("rays"),

@@ -28,7 +28,7 @@ import numpy as np
 
 from . import _poise
 
-__all__ = ["run", "Study", "Result", "Sample", "validate", "replay", "balance", "budget", "mass_properties", "diagnose", "Error", "InputError", "RefusedValue", "PoiseWarning",
+__all__ = ["run", "Study", "Result", "Sample", "Optimization", "validate", "replay", "optimize", "balance", "budget", "mass_properties", "diagnose", "Error", "InputError", "RefusedValue", "PoiseWarning",
            "version"]
 
 version = _poise.version
@@ -316,6 +316,27 @@ def replay(study, sample, samples=None, seed=None):
     details = {k: _columns_of(v) for k, v in j.items() if k not in ("sample", "status", "message", "inputs", "outputs")}
     return Sample(j["sample"], j["status"] == "ok", j.get("message", ""), j.get("inputs", {}), j.get("outputs", {}),
                   details)
+
+
+class Optimization(typing.NamedTuple):
+    """An optimization run (``poise optimize``): ``answer`` in words, ``verified`` (the optimum
+    passed its check on fresh samples), ``exit_status`` (the command's: 0 verified, 3 not),
+    ``summary`` (summary.json as a dict: optimum, verification, nearest passing design, ...) and
+    ``path`` (the result folder; None with ``out=None``)."""
+    answer: str
+    verified: bool
+    exit_status: int
+    summary: dict
+    path: typing.Optional[str]
+
+
+def optimize(file, out=None, threads=0, seed=None, plots=False, progress=False):
+    """An optimization file (docs/designer.md) run as ``poise optimize`` runs it: an
+    :class:`Optimization`. A design that fails its fresh-sample check is an answer, not an
+    error (``verified`` False); no feasible design raises :class:`Error`."""
+    r = _call(_poise.optimize, os.fspath(file), None if out is None else os.fspath(out), _count("threads", threads, 0),
+              None if seed is None else _count("seed", seed, 0), bool(plots), bool(progress))
+    return Optimization(r["answer"], r["exit_status"] == 0, r["exit_status"], r["summary"], r["path"])
 
 
 def balance(campaign, out=None):

@@ -233,6 +233,49 @@ def test_validate_and_replay_are_the_command_lines():
         poise.validate(os.path.join(SRC, "studies", "wang2011_budget.toml"))
 
 
+def test_optimize_is_the_command_line(tmp_path):
+    # A small bearing-span sizing of the LOS study: the same optimum, answer and verdict as
+    # `poise optimize` at the same seed.
+    opt = tmp_path / "spans.toml"
+    opt.write_text(f"""[optimization]
+name = "spans"
+study = "{SEEKER}"
+samples = 128
+seed = 11
+algorithm = "cobyla"
+max_evaluations = 12
+
+[[variable]]
+parameter = "yaw.bearing_span"
+lower = "60 mm"
+upper = "160 mm"
+start = "140 mm"
+
+[objective]
+variable_sum = ["yaw.bearing_span"]
+
+[[constraint]]
+output = "los_max_px"
+statistic = "p95"
+at_most = 1.9
+
+[verification]
+samples = 256
+seed = 5
+""")
+    cli = subprocess.run([EXE, "optimize", str(opt), "-q", "--no-plots", "--threads", "2", "--out",
+                          str(tmp_path / "cli")], capture_output=True, text=True)
+    assert cli.returncode in (0, 3), cli.stderr
+    cli_summary = json.load(open(tmp_path / "cli" / "summary.json"))
+    r = poise.optimize(opt, threads=2)
+    assert isinstance(r, poise.Optimization) and r.path is None
+    assert r.exit_status == cli.returncode and r.verified == (cli.returncode == 0)
+    assert r.answer == cli_summary["answer"] and f"answer: {r.answer}" in cli.stdout
+    assert r.summary["optimum"] == cli_summary["optimum"] and r.summary["verification"] == cli_summary["verification"]
+    with pytest.raises(poise.InputError):
+        poise.optimize(SEEKER)
+
+
 def test_budget_is_the_json_of_the_command_line():
     budget = os.path.join(SRC, "studies", "wang2011_budget.toml")
     j = poise.budget(budget)
