@@ -217,9 +217,13 @@ py::dict run(const std::string& study, std::optional<std::size_t> samples, std::
     throw;
   }
   py::dict r, in, outs, units;
+  // The unit each input is declared with (summary.json's sampling.input_units).
+  const nlohmann::json declared_units =
+      summary.is_object() ? summary.value("/sampling/input_units"_json_pointer, nlohmann::json::object())
+                          : nlohmann::json::object();
   for (std::size_t k = 0; k < table.input_names.size(); ++k) {
     in[py::str(table.input_names[k])] = array_of(table.inputs[k]);
-    units[py::str(table.input_names[k])] = input_unit(table.input_names[k]);
+    units[py::str(table.input_names[k])] = declared_units.value(table.input_names[k], std::string("1"));
   }
   for (std::size_t k = 0; k < outputs.size(); ++k) {
     outs[py::str(outputs[k].name)] = array_of(table.outputs[k]);
@@ -279,7 +283,7 @@ class Study {
   std::vector<std::string> input_names() const { return need().input_names(); }
   std::vector<std::string> input_units() const {
     std::vector<std::string> u;
-    for (const auto& n : need().input_names()) u.push_back(input_unit(n));
+    for (const auto& i : need().inputs()) u.push_back(i.unit);
     return u;
   }
   std::vector<double> nominal() const { return need().nominal_inputs(); }

@@ -71,16 +71,4 @@ SampleTable read_samples_csv(const std::string& path, const std::vector<std::str
   return t;
 }
 
-std::string input_unit(const std::string& column) {
-  const std::size_t us = column.rfind('_');
-  if (us == std::string::npos) return "1";
-  const std::string tail = column.substr(us + 1);
-  try {
-    engine::unit_quantity(tail);
-    return tail;
-  } catch (const Error&) {
-    return "1";
-  }
-}
-
 }  // namespace poise::python

@@ -20,8 +20,4 @@ struct SampleTable {
 /// Throws poise::Error when the file is missing or lacks a declared output.
 SampleTable read_samples_csv(const std::string& path, const std::vector<std::string>& output_names);
 
-/// The unit that ends an input column's name ("yaw_radial_runout_A_um" -> "um"; "1" when
-/// the last part is no unit, as in "k_load").
-std::string input_unit(const std::string& column);
-
 }  // namespace poise::python

@@ -212,6 +212,15 @@ def test_input_error_carries_every_refused_value(tmp_path):
     assert len(e.value.errors) == 1 and e.value.errors[0].message == str(e.value)
 
 
+def test_input_units_are_the_declared_ones():
+    # "residual_unbalance_g_mm" is in g*mm: its kind says so; a name's tail would say mm.
+    r = poise.run(GIMBAL, samples=2, threads=1)
+    assert r.units["residual_unbalance_g_mm"] == "g*mm" and r.units["axis_tilt_arcmin"] == "arcmin"
+    assert r.units == {**r.summary["sampling"]["input_units"], **{k: r.units[k] for k in r.outputs}}
+    s = poise.Study(SEEKER)
+    assert s.input_units["yaw_perpendicularity_tilt_arcsec"] == "arcsec" and s.input_units["k_load"] == "1"
+
+
 def test_validate_and_replay_are_the_command_lines():
     for study in (SEEKER, GIMBAL):
         cli = subprocess.run([EXE, "validate", study], check=True, capture_output=True, text=True).stdout.strip()

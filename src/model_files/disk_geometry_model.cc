@@ -79,15 +79,16 @@ DiskSampler::DiskSampler(DiskGeometryModel model) : model_(std::move(model)) {
   const double mm = 1e-3;
   for (std::size_t k = 0; k < model_.nominal.holes.size(); ++k) {
     const std::string h = std::string(k < 8 ? "A" : "B") + std::to_string(k % 8);
-    columns_.push_back({"hole_" + h + "_dx_mm", mm});
-    columns_.push_back({"hole_" + h + "_dy_mm", mm});
+    columns_.push_back({"hole_" + h + "_dx_mm", "mm", mm});
+    columns_.push_back({"hole_" + h + "_dy_mm", "mm", mm});
   }
   for (const auto& c : model_.nominal.clumps) {
-    columns_.push_back({"clump_" + std::string(c.hole < 8 ? "A" : "B") + std::to_string(c.hole % 8) + "_dm_g", 1e-3});
+    columns_.push_back(
+        {"clump_" + std::string(c.hole < 8 ? "A" : "B") + std::to_string(c.hole % 8) + "_dm_g", "g", 1e-3});
   }
-  columns_.push_back({"thickness_dev_mm", mm});
-  columns_.push_back({"wedge_mm", mm});
-  columns_.push_back({"wedge_angle_deg", units::kRadPerDeg});
+  columns_.push_back({"thickness_dev_mm", "mm", mm});
+  columns_.push_back({"wedge_mm", "mm", mm});
+  columns_.push_back({"wedge_angle_deg", "deg", units::kRadPerDeg});
 }
 
 geometry::DiskSpec DiskSampler::draw(std::span<const double> u, std::span<double> values) const {

@@ -174,31 +174,31 @@ SeekerModel load_seeker_model(const std::string& path, const std::map<std::strin
 SeekerSampler::SeekerSampler(SeekerModel model) : model_(std::move(model)) {
   // Each column with the model file's tolerance key it is drawn from (its Sobol group).
   std::string tolerance;
-  auto add = [&](std::string name, double factor) {
-    columns_.push_back({std::move(name), factor});
+  auto add = [&](std::string name, const char* unit, double factor) {
+    columns_.push_back({std::move(name), unit, factor});
     column_tolerances_.push_back(tolerance);
   };
   tolerance = "load_deformation";
-  add("k_load", 1.0);
+  add("k_load", "1", 1.0);
   tolerance = "yaw.perpendicularity";
   if (model_.yaw.tilt_reading.per_component && model_.yaw.tilt_reading.random_direction) {
-    add("yaw_perpendicularity_x_arcsec", units::kRadPerArcsec);
-    add("yaw_perpendicularity_y_arcsec", units::kRadPerArcsec);
+    add("yaw_perpendicularity_x_arcsec", "arcsec", units::kRadPerArcsec);
+    add("yaw_perpendicularity_y_arcsec", "arcsec", units::kRadPerArcsec);
   } else {
-    add("yaw_perpendicularity_tilt_arcsec", units::kRadPerArcsec);
-    add("yaw_perpendicularity_azimuth_deg", units::kRadPerDeg);
+    add("yaw_perpendicularity_tilt_arcsec", "arcsec", units::kRadPerArcsec);
+    add("yaw_perpendicularity_azimuth_deg", "deg", units::kRadPerDeg);
   }
   tolerance = "pitch.perpendicularity";
-  add("pitch_perpendicularity_arcsec", units::kRadPerArcsec);
+  add("pitch_perpendicularity_arcsec", "arcsec", units::kRadPerArcsec);
   tolerance = "optics.axis_error";
-  add("optics_collimation_arcsec", units::kRadPerArcsec);
+  add("optics_collimation_arcsec", "arcsec", units::kRadPerArcsec);
   for (const auto* axis : {"yaw", "pitch"}) {
     const SeekerAxis& a = std::string(axis) == "yaw" ? model_.yaw : model_.pitch;
     for (const auto& s : a.bearing_sources) {
       tolerance = std::string(axis) + "." + s.name;
       for (const char* bearing : {"A", "B"}) {
-        add(std::string(axis) + "_" + s.name + "_" + bearing + "_um", 1e-6);
-        add(std::string(axis) + "_" + s.name + "_" + bearing + "_phase_deg", units::kRadPerDeg);
+        add(std::string(axis) + "_" + s.name + "_" + bearing + "_um", "um", 1e-6);
+        add(std::string(axis) + "_" + s.name + "_" + bearing + "_phase_deg", "deg", units::kRadPerDeg);
       }
     }
   }

@@ -1,14 +1,18 @@
 // samples.h5 of a LOS run end to end through `poise run`: the grid values of every sample,
 // one row per sample, the same data for any thread count; samples.csv keeps the inputs and
 // scalar outputs; the pooled field figures of summary.json are those of the file's values.
+// samples.h5 of the other kinds: the inputs and outputs as columns, each input with the unit
+// its kind declares (never read off its name).
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
+#include <map>
 #include <sstream>
 #include <nlohmann/json.hpp>
 
+#include "core/units.h"
 #include "h5_util.h"
 #include "sampling/statistics.h"
 #include "test_util.h"
@@ -179,6 +183,34 @@ TEST(SamplesH5, OutputKeysLeaveOutFilesAndKeepTheAnswer) {
   auto resume = test::run_poise(d, "run --resume '" + d.file("lean") + "' -q");
   EXPECT_EQ(resume.status, 2) << resume.err;
   EXPECT_NE(resume.err.find("samples_csv = false"), std::string::npos) << resume.err;
+}
+
+TEST(SamplesH5, EachInputHasTheUnitItsKindDeclares) {
+  // Units a name's tail cannot give: "residual_unbalance_g_mm" is in g*mm, "youngs_modulus" a
+  // pure number; each kind declares them, summary.json and samples.h5 carry them.
+  const std::map<std::string, std::map<std::string, std::string>> expected{
+      {"gimbal_unbalance_mc", {{"residual_unbalance_g_mm", "g*mm"}, {"axis_tilt_arcmin", "arcmin"}}},
+      {"wang2014_balancing_mc", {{"rotor_residual_1_g_mm", "g*mm"}, {"youngs_modulus", "1"}}},
+      {"shaft_sag_example", {{"youngs_modulus_GPa", "GPa"}}},
+      {"geometry_mass_properties", {}}};
+  for (const auto& [study, units] : expected) {
+    SCOPED_TRACE(study);
+    TempDir d;
+    const auto r = test::run_poise(d, "run '" + test::source_path("studies/" + study + ".toml") +
+                                          "' --samples 2 --threads 1 -q --no-plots --out '" + d.file("run") + "'");
+    ASSERT_EQ(r.status, 0) << r.err;
+    const json s = json::parse(read_text(d.file("run/summary.json")));
+    const json& declared = s["sampling"]["input_units"];
+    ASSERT_EQ(declared.size(), s["sampling"]["inputs"].size());
+    for (const auto& [name, unit] : units) EXPECT_EQ(declared.value(name, ""), unit) << name;
+    for (const auto& name : s["sampling"]["inputs"]) {
+      const std::string unit = declared[name.get<std::string>()].get<std::string>();
+      EXPECT_NO_THROW(units::parse_quantity("1 " + unit)) << name << ": " << unit;
+      EXPECT_EQ(test::read_h5_text_attribute(d.file("run/samples.h5"), "inputs/" + name.get<std::string>(), "units"),
+                unit)
+          << name;
+    }
+  }
 }
 
 }  // namespace

@@ -47,4 +47,32 @@ inline bool same_h5_floats(const H5Floats& a, const H5Floats& b) {
   return true;
 }
 
+/// The text attribute `name` of the object at `path` in a file ("" if absent or not text).
+inline std::string read_h5_text_attribute(const std::string& file, const std::string& path, const std::string& name) {
+  std::string out;
+  const hid_t f = H5Fopen(file.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  if (f < 0) return out;
+  if (H5Aexists_by_name(f, path.c_str(), name.c_str(), H5P_DEFAULT) > 0) {
+    const hid_t a = H5Aopen_by_name(f, path.c_str(), name.c_str(), H5P_DEFAULT, H5P_DEFAULT);
+    const hid_t t = H5Aget_type(a);
+    if (H5Tget_class(t) == H5T_STRING) {
+      if (H5Tis_variable_str(t) > 0) {
+        char* text = nullptr;
+        if (H5Aread(a, t, &text) >= 0 && text) out = text;
+        const hid_t space = H5Aget_space(a);
+        H5Dvlen_reclaim(t, space, H5P_DEFAULT, &text);
+        H5Sclose(space);
+      } else {
+        out.resize(H5Tget_size(t));
+        if (H5Aread(a, t, out.data()) < 0) out.clear();
+        out.erase(out.find_last_not_of('\0') + 1);
+      }
+    }
+    H5Tclose(t);
+    H5Aclose(a);
+  }
+  H5Fclose(f);
+  return out;
+}
+
 }  // namespace poise::test

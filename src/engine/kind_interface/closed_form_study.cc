@@ -87,9 +87,10 @@ class ClosedFormStudy final : public ProcedureStudyBase<ClosedFormStudy> {
         design_(make_design(cfg_, seed, samples, std::max<std::size_t>(model_.drawn.size(), 1))) {
     const ClosedFormDeclaration& d = declaration_;
     for (const auto& dr : model_.drawn) {
-      input_names_.push_back(column_name(d.parameters[dr.parameter]));
-      input_factor_.push_back(display_factor(d.parameters[dr.parameter].display_unit));
-      input_tolerances_.push_back("tolerances." + d.parameters[dr.parameter].name);
+      const ClosedFormParameter& p = d.parameters[dr.parameter];
+      declare_input(
+          {column_name(p), p.display_unit.empty() ? "1" : p.display_unit, p.description, "tolerances." + p.name});
+      input_factor_.push_back(display_factor(p.display_unit));
     }
     for (const auto& o : d.outputs) output_factor_.push_back(display_factor(o.unit));
     declare_outputs(d.outputs);

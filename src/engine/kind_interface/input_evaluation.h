@@ -38,7 +38,9 @@ struct InputColumns {
 class InputEvaluator {
  public:
   virtual ~InputEvaluator() = default;
-  /// The inputs, as samples.csv names them ("yaw_radial_runout_A_um"), in order.
+  /// The inputs as declared (name as samples.csv has it, unit, description), in order.
+  virtual const std::vector<InputSpec>& inputs() const = 0;
+  /// Their names ("yaw_radial_runout_A_um"), in order.
   virtual const std::vector<std::string>& input_names() const = 0;
   /// The outputs with their units, in order.
   virtual const std::vector<OutputSpec>& outputs() const = 0;

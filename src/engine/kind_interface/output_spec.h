@@ -1,7 +1,7 @@
 #pragma once
-/// A per-sample output a study kind declares once: its samples.csv column, its unit and
-/// what it is. Every table, axis, summary.json entry, HDF5 column and Python array takes its
-/// unit and meaning from here, never from a suffix of the name.
+/// A per-sample output (and input) a study kind declares once: its samples.csv column, its
+/// unit and what it is. Every table, axis, summary.json entry, HDF5 column and Python array
+/// takes its unit and meaning from here, never from a suffix of the name.
 #include <span>
 #include <string>
 #include <vector>
@@ -15,6 +15,25 @@ struct OutputSpec {
   std::string unit;         ///< display unit of its values ("mN*m"; "1" or "" for a pure number)
   std::string description;  ///< one line: what it is
 };
+
+/// A per-sample input a study kind declares once, as it declares its outputs: its samples.csv
+/// column, the display unit of its values, what it is, and the model's tolerance it is drawn
+/// from. samples.h5, summary.json and Python take an input's unit from here, never from a
+/// suffix of its name.
+struct InputSpec {
+  std::string name;         ///< samples.csv column ("yaw_radial_runout_A_um")
+  std::string unit;         ///< display unit of its values ("um"; "1" for a pure number)
+  std::string description;  ///< one line: what it is ("" where the tolerance key says it)
+  std::string tolerance;    ///< the model's tolerance key ("tolerances.kt_drift"; "" for a derived column)
+};
+
+/// The names of a list of inputs, in order.
+inline std::vector<std::string> input_names_of(const std::vector<InputSpec>& inputs) {
+  std::vector<std::string> names;
+  names.reserve(inputs.size());
+  for (const auto& i : inputs) names.push_back(i.name);
+  return names;
+}
 
 /// An output in a kind's constant table: {name (or a suffix of it), unit, description}.
 struct OutputDeclaration {

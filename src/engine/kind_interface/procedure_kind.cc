@@ -31,6 +31,7 @@ namespace {
 class ProcedureInputEvaluator final : public InputEvaluator {
  public:
   explicit ProcedureInputEvaluator(std::unique_ptr<ProcedureStudy> study) : study_(std::move(study)) {}
+  const std::vector<InputSpec>& inputs() const override { return study_->inputs(); }
   const std::vector<std::string>& input_names() const override { return study_->input_names(); }
   const std::vector<OutputSpec>& outputs() const override { return study_->outputs(); }
   std::vector<double> nominal_inputs() const override { return study_->nominal_inputs(); }

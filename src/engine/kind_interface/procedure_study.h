@@ -167,6 +167,9 @@ class ProcedureStudy {
  public:
   virtual ~ProcedureStudy() = default;
   virtual const StudyConfig& config() const = 0;
+  /// The per-sample inputs as declared (name, unit, description, tolerance), samples.csv order.
+  virtual const std::vector<InputSpec>& inputs() const = 0;
+  /// Their names, in the same order.
   virtual const std::vector<std::string>& input_names() const = 0;
   /// The per-sample outputs as declared (name, unit, description), in samples.csv order.
   virtual const std::vector<OutputSpec>& outputs() const = 0;
@@ -244,12 +247,12 @@ class ProcedureStudy {
 
 /// run() and replay() of a study that has samples(), config(), make_workspace() and
 /// compute(i, workspace, result) (CRTP): one implementation for every procedure study. It
-/// holds the study's input columns (input_names_, the model's tolerance key of each in
-/// input_tolerances_) and declared outputs (declare_outputs), which the derived study fills
-/// in its constructor.
+/// holds the study's declared inputs (declare_input) and outputs (declare_outputs), which the
+/// derived study declares in its constructor.
 template <class Derived>
 class ProcedureStudyBase : public ProcedureStudy {
  public:
+  const std::vector<InputSpec>& inputs() const override { return inputs_; }
   const std::vector<std::string>& input_names() const override { return input_names_; }
   /// The model's tolerance key of each input column ("" for a derived column).
   const std::vector<std::string>& input_tolerances() const { return input_tolerances_; }
@@ -305,9 +308,16 @@ class ProcedureStudyBase : public ProcedureStudy {
     outputs_ = std::move(outputs);
     output_names_ = output_names_of(outputs_);
   }
-  std::vector<std::string> input_names_, input_tolerances_;
+  /// The next input column, declared once (its name and tolerance key follow).
+  void declare_input(InputSpec input) {
+    input_names_.push_back(input.name);
+    input_tolerances_.push_back(input.tolerance);
+    inputs_.push_back(std::move(input));
+  }
 
  private:
+  std::vector<InputSpec> inputs_;
+  std::vector<std::string> input_names_, input_tolerances_;
   std::vector<OutputSpec> outputs_;
   std::vector<std::string> output_names_;
 };

@@ -39,7 +39,7 @@ double cell_value(const std::string& cell) {
 }  // namespace
 
 nlohmann::json write_sample_columns_h5(const std::string& csv_path, const std::string& h5_path,
-                                       const std::vector<std::string>& input_names,
+                                       const std::vector<InputSpec>& input_specs,
                                        const std::vector<OutputSpec>& outputs,
                                        const std::map<std::string, std::string>& text_attributes,
                                        const std::map<std::string, std::uint64_t>& number_attributes) {
@@ -47,15 +47,7 @@ nlohmann::json write_sample_columns_h5(const std::string& csv_path, const std::s
   if (!in) throw Error(csv_path + ": cannot be read back for samples.h5");
   std::string line;
   std::getline(in, line);  // header
-  std::vector<std::string> inputs_named = input_names;
-  if (inputs_named.empty() && !outputs.empty()) {  // the header's columns before the first output
-    std::stringstream hs(line);
-    std::string cell;
-    for (std::size_t k = 0; std::getline(hs, cell, ',') && cell != outputs.front().name; ++k) {
-      if (k >= 2) inputs_named.push_back(cell);
-    }
-  }
-  const std::size_t n_in = inputs_named.size(), n_out = outputs.size();
+  const std::size_t n_in = input_specs.size(), n_out = outputs.size();
   std::vector<std::uint64_t> sample;
   std::vector<std::uint8_t> ok;
   std::vector<std::vector<double>> inputs(n_in), values(n_out);
@@ -86,8 +78,11 @@ nlohmann::json write_sample_columns_h5(const std::string& csv_path, const std::s
     Id out_group(H5Gcreate2(file.get(), "outputs", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose);
     if (!in_group.ok() || !out_group.ok()) throw Error(hdf5::failed("cannot create the groups"));
     for (std::size_t k = 0; k < n_in; ++k) {
-      write_column(in_group.get(), inputs_named[k], H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, inputs[k].data(), rows, "",
-                   "drawn input (its unit ends its name)");
+      const InputSpec& spec = input_specs[k];
+      write_column(in_group.get(), spec.name, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, inputs[k].data(), rows, spec.unit,
+                   spec.description.empty()
+                       ? "drawn input" + (spec.tolerance.empty() ? std::string() : " (" + spec.tolerance + ")")
+                       : spec.description);
     }
     for (std::size_t k = 0; k < n_out; ++k) {
       write_column(out_group.get(), outputs[k].name, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, values[k].data(), rows,

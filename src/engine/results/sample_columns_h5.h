@@ -25,8 +25,7 @@ namespace poise::engine {
 /// (its name in the run folder), "rows", "inputs", "outputs"} for summary.json. Throws WriteError when the file cannot
 /// be written.
 nlohmann::json write_sample_columns_h5(const std::string& csv_path, const std::string& h5_path,
-                                       const std::vector<std::string>& input_names,
-                                       const std::vector<OutputSpec>& outputs,
+                                       const std::vector<InputSpec>& inputs, const std::vector<OutputSpec>& outputs,
                                        const std::map<std::string, std::string>& text_attributes,
                                        const std::map<std::string, std::uint64_t>& number_attributes);
 

@@ -84,6 +84,13 @@ void add_statistics(json& s, const FinishedRun& f, const StopRule& rule) {
   }
 }
 
+// Each input's declared unit, by name.
+json input_units_json(const std::vector<InputSpec>& inputs) {
+  json units = json::object();
+  for (const auto& i : inputs) units[i.name] = i.unit;
+  return units;
+}
+
 json summary_of(const FinishedRun& f, const StopRule& rule, const RunOptions& options) {
   const StudyConfig& cfg = f.cfg;
   json s;
@@ -107,6 +114,7 @@ json summary_of(const FinishedRun& f, const StopRule& rule, const RunOptions& op
                    {"replicate_size", cfg.replicate_size},
                    {"max_failure_share", cfg.max_failure_share},
                    {"inputs", f.study.input_names()},
+                   {"input_units", input_units_json(f.study.inputs())},
                    {"ci_note", cfg.replicate_size > 0
                                    ? "95% intervals from the spread of the independent randomized replicates"
                                    : "95% intervals assume independent samples; for lhs and sobol designs they are "
@@ -276,7 +284,7 @@ std::string run_procedure_study(const StudyConfig& cfg_in, const StudyFactory& m
   // samples.h5: a study's own (written during the run); else the inputs and outputs as named
   // columns, from the finished samples.csv.
   s["samples_h5"] = mc.samples_h5     ? *mc.samples_h5
-                    : cfg.samples_csv ? write_sample_columns_h5(csv_path, h5_path, study.input_names(), study.outputs(),
+                    : cfg.samples_csv ? write_sample_columns_h5(csv_path, h5_path, study.inputs(), study.outputs(),
                                                                 h5_text, h5_numbers)
                                       : json(nullptr);
   if (extra_runs) add_sweeps_and_contributions(s, cfg, study, plan, requirements, make_study, options);

@@ -140,14 +140,14 @@ UserPartsSampler::UserPartsSampler(UserParts parts) : parts_(std::move(parts)) {
   for (const auto& p : parts_.parts) {
     nominal_.push_back(p.part);
     const std::string& n = p.part.name;
-    if (p.has_density) columns_.push_back({n + "_ddensity_kg_m3", 1.0});
+    if (p.has_density) columns_.push_back({n + "_ddensity_kg_m3", "kg/m^3", 1.0});
     if (p.has_position) {
-      for (const char* a : {"x", "y", "z"}) columns_.push_back({n + "_d" + a + "_mm", 1e-3});
+      for (const char* a : {"x", "y", "z"}) columns_.push_back({n + "_d" + a + "_mm", "mm", 1e-3});
     }
     if (p.has_angle) {
-      for (const char* a : {"x", "y", "z"}) columns_.push_back({n + "_r" + a + "_deg", units::kRadPerDeg});
+      for (const char* a : {"x", "y", "z"}) columns_.push_back({n + "_r" + a + "_deg", "deg", units::kRadPerDeg});
     }
-    if (p.has_scale) columns_.push_back({n + "_scale_ppm", 1e-6});
+    if (p.has_scale) columns_.push_back({n + "_scale_ppm", "ppm", 1e-6});
   }
 }
 

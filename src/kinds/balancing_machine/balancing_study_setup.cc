@@ -187,9 +187,10 @@ BalancingStudy::BalancingStudy(StudyConfig config, BalancingModel model, std::si
   for (const auto& s : kSlots) {
     const ScopedTolerance& t = model_.*s.tol;
     if (t.per_test) continue;
-    input_names_.push_back(std::string(s.name) + display_suffix(t.spec));
-    if (s.magnitude) input_names_.push_back(std::string(s.name) + "_angle_deg");
-    input_tolerances_.resize(input_names_.size(), std::string("tolerances.") + s.key);
+    const std::string tolerance = std::string("tolerances.") + s.key;
+    declare_input({std::string(s.name) + display_suffix(t.spec),
+                   t.spec.display_unit.empty() ? "1" : t.spec.display_unit, "", tolerance});
+    if (s.magnitude) declare_input({std::string(s.name) + "_angle_deg", "deg", "its direction", tolerance});
   }
   declare_outputs(balancing_outputs(balancing_sections(config_), model_.rotor.surfaces));
   if (!errors.empty()) throw ValidationError(errors);

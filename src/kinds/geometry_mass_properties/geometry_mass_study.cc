@@ -66,7 +66,7 @@ class MassStudy final : public SampledModelStudy<MassStudy> {
         sampler_(model_),
         samples_(n),
         design_(make_design(cfg_, seed, n, sampler_.dimension())) {
-    for (const auto& c : sampler_.columns()) input_names_.push_back(c.name);
+    for (const auto& c : sampler_.columns()) declare_input({c.name, c.unit, "", ""});
     std::vector<OutputSpec> outputs;
     for (const auto& o : kOutputs) outputs.push_back({o.name, o.unit, o.description});
     declare_outputs(std::move(outputs));

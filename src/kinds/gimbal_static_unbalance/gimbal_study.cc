@@ -178,22 +178,23 @@ GimbalStudy::GimbalStudy(StudyConfig config, GimbalModel model, std::size_t samp
     for (auto& ch : u) {
       if (ch == '*') ch = '_';
     }
-    input_names_.push_back(std::string(s.name) + (unit == "1" ? "" : "_" + u));
-    if (s.angle) input_names_.push_back(std::string(s.name) + "_angle_deg");
-    input_tolerances_.resize(input_names_.size(), std::string("tolerances.") + s.name);
+    const std::string tolerance = std::string("tolerances.") + s.name;
+    declare_input({std::string(s.name) + (unit == "1" ? "" : "_" + u), unit, "", tolerance});
+    if (s.angle) declare_input({std::string(s.name) + "_angle_deg", "deg", "its direction", tolerance});
   }
-  if (disk_) {
-    for (const auto& c : disk_->columns()) input_names_.push_back("disk_" + c.name);
-    for (const char* n : {"disk_unbalance_gmm", "disk_unbalance_angle_deg", "disk_mass_g", "disk_inertia_kgm2"}) {
-      input_names_.emplace_back(n);
-    }
-  }
-  if (parts_) {
-    for (const auto& c : parts_->columns()) input_names_.push_back("part_" + c.name);
-    for (const char* n : {"parts_unbalance_gmm", "parts_unbalance_angle_deg", "parts_mass_g", "parts_inertia_kgm2"}) {
-      input_names_.emplace_back(n);
-    }
-  }
+  // The disk's (or the parts') drawn geometry, and what it gives the rotor (derived columns).
+  static constexpr OutputDeclaration kDerived[] = {
+      {"unbalance_gmm", "g*mm", "static unbalance of the drawn geometry"},
+      {"unbalance_angle_deg", "deg", "its direction"},
+      {"mass_g", "g", "mass of the drawn geometry"},
+      {"inertia_kgm2", "kg*m^2", "moment of inertia about the axis under test"}};
+  const auto geometry_inputs = [&](const std::vector<InputColumn>& columns, const std::string& column_prefix,
+                                   const std::string& derived_prefix) {
+    for (const auto& c : columns) declare_input({column_prefix + c.name, c.unit, "", ""});
+    for (const auto& d : kDerived) declare_input({derived_prefix + d.name, d.unit, d.description, ""});
+  };
+  if (disk_) geometry_inputs(disk_->columns(), "disk_", "disk_");
+  if (parts_) geometry_inputs(parts_->columns(), "part_", "parts_");
   static constexpr OutputDeclaration kGroupOutputs[] = {
       {"rmse_torque_mNm", "mN*m", "RMSE of the estimated MT_s against the loads over the group's tests"},
       {"rmse_angle_deg", "deg", "RMSE of the estimated unbalance angle b against the loads"},

@@ -65,8 +65,9 @@ class ObstructionStudy final : public SampledModelStudy<ObstructionStudy> {
     scenes_ = std::make_unique<SeekerScenes>(*model_.geometry, seeker_scene_meshes(model_), g.beam_rays);
     yaw_ = models::linspace(model_.yaw_min, model_.yaw_max, g.yaw_points);
     pitch_ = models::linspace(model_.pitch_min, model_.pitch_max, g.pitch_points);
-    for (const auto& c : sampler_.columns()) input_names_.push_back(c.name);
-    input_tolerances_ = sampler_.column_tolerances();
+    for (std::size_t k = 0; k < sampler_.columns().size(); ++k) {
+      declare_input({sampler_.columns()[k].name, sampler_.columns()[k].unit, "", sampler_.column_tolerances()[k]});
+    }
     std::vector<OutputSpec> outputs;
     for (const auto& o : kOutputs) outputs.push_back({o.name, o.unit, o.description});
     declare_outputs(std::move(outputs));

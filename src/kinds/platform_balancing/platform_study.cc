@@ -111,10 +111,10 @@ PlatformStudy::PlatformStudy(StudyConfig config, PlatformModel model, std::size_
   std::sort(shafting_sorted_.begin(), shafting_sorted_.end());
   for (const auto& [s, k] : unit_slots_) {
     const ScopedTolerance& t = tolerance_of(model_, s);
-    input_names_.push_back(std::string(slot_name(s)) + "_" + instance_label(s, k) + unit_suffix(t));
-    if (s == Slot::kFixtureTilt)
-      input_names_.push_back(std::string(slot_name(s)) + "_" + instance_label(s, k) + "_azimuth_deg");
-    input_tolerances_.resize(input_names_.size(), std::string("tolerances.") + slot_name(s));
+    const std::string tolerance = std::string("tolerances.") + slot_name(s);
+    const std::string column = std::string(slot_name(s)) + "_" + instance_label(s, k);
+    declare_input({column + unit_suffix(t), t.spec.display_unit.empty() ? "1" : t.spec.display_unit, "", tolerance});
+    if (s == Slot::kFixtureTilt) declare_input({column + "_azimuth_deg", "deg", "its direction", tolerance});
   }
   std::vector<OutputSpec> outputs;
   outputs.reserve(models::kAllAxes.size());

@@ -17,10 +17,7 @@ namespace {
 class SeekerInputEvaluator final : public InputEvaluator {
  public:
   SeekerInputEvaluator(const StudyConfig& cfg, SeekerModel model) : study_(cfg, std::move(model), 1, cfg.seed) {
-    for (const auto& c : study_.sampler().columns()) {
-      names_.push_back(c.name);
-      factors_.push_back(c.display_factor);
-    }
+    for (const auto& c : study_.sampler().columns()) factors_.push_back(c.display_factor);
     for (const auto& o : kSeekerOutputs) outputs_.push_back({o.name, o.unit, o.description});
     const GeometryStudySpec& g = seeker_sections(cfg).geometry;
     if (g.clearance_output) {  // a design constraint of the nominal frames: the same at every point
@@ -28,13 +25,14 @@ class SeekerInputEvaluator final : public InputEvaluator {
       clearance_mm_ = 1e3 * nominal_min_clearance(study_.model(), g.clearance_yaw_points, g.clearance_pitch_points);
     }
   }
-  const std::vector<std::string>& input_names() const override { return names_; }
+  const std::vector<InputSpec>& inputs() const override { return study_.inputs(); }
+  const std::vector<std::string>& input_names() const override { return study_.input_names(); }
   const std::vector<OutputSpec>& outputs() const override { return outputs_; }
   std::vector<double> nominal_inputs() const override { return study_.sampler().nominal(); }
   void evaluate_points(const InputColumns& inputs, double* values, std::size_t begin, std::size_t end,
                        std::vector<std::pair<std::size_t, std::string>>& failures) const override {
     SeekerLosStudy::Workspace ws = study_.make_workspace();
-    evaluate_each_point(inputs, factors_, names_.size(), outputs_.size(), values, begin, end, failures,
+    evaluate_each_point(inputs, factors_, input_names().size(), outputs_.size(), values, begin, end, failures,
                         [&](std::size_t, std::span<const double> si, std::span<double> y) {
                           study_.evaluate_state(study_.sampler().state_of(si), ws, y.first(kNumSeekerOutputs), {});
                           if (y.size() > kNumSeekerOutputs) y[kNumSeekerOutputs] = clearance_mm_;
@@ -43,7 +41,6 @@ class SeekerInputEvaluator final : public InputEvaluator {
 
  private:
   SeekerLosStudy study_;
-  std::vector<std::string> names_;
   std::vector<double> factors_;
   std::vector<OutputSpec> outputs_;
   double clearance_mm_ = 0.0;

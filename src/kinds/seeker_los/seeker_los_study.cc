@@ -45,7 +45,11 @@ SeekerLosStudy::SeekerLosStudy(StudyConfig config, SeekerModel model, std::size_
       requirement_rad_(seeker_sections(config_).requirement_in_pixels
                            ? seeker_sections(config_).requirement * model_.pixel_ifov
                            : seeker_sections(config_).requirement) {
-  for (const auto& c : sampler_.columns()) input_names_.push_back(c.name);
+  for (std::size_t k = 0; k < sampler_.columns().size(); ++k) {
+    const InputColumn& c = sampler_.columns()[k];
+    inputs_.push_back({c.name, c.unit, "", sampler_.column_tolerances()[k]});
+  }
+  input_names_ = input_names_of(inputs_);
   append_outputs(outputs_, "", kSeekerOutputs);
   output_names_ = output_names_of(outputs_);
 }

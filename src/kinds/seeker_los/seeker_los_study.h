@@ -33,6 +33,7 @@
 #include "sampling/statistics.h"
 
 namespace poise::kinds::seeker_los {
+using engine::InputSpec;
 using engine::McResult;
 using engine::OutputDeclaration;
 using engine::OutputSpec;
@@ -74,6 +75,7 @@ class SeekerLosStudy final : public ProcedureStudy {
   std::size_t samples() const { return samples_; }
   std::uint64_t seed() const { return seed_; }
 
+  const std::vector<InputSpec>& inputs() const override { return inputs_; }
   const std::vector<std::string>& input_names() const override { return input_names_; }
   const std::vector<OutputSpec>& outputs() const override { return outputs_; }
   const std::vector<std::string>& output_names() const override { return output_names_; }
@@ -128,6 +130,7 @@ class SeekerLosStudy final : public ProcedureStudy {
   sampling::Design design_;
   models::LosGrid grid_;
   double requirement_rad_;
+  std::vector<InputSpec> inputs_;
   std::vector<std::string> input_names_, output_names_;
   std::vector<OutputSpec> outputs_;
 };
