@@ -29,7 +29,10 @@
 #include "cli/balance_command.h"
 #include "cli/budget_command.h"
 #include "cli/diagnose_command.h"
+#include "cli/error_mechanisms_command.h"
+#include "cli/fit_command.h"
 #include "cli/mass_properties_command.h"
+#include "cli/record_command.h"
 #include "core/diagnostics.h"
 #include "core/error.h"
 #include "core/version.h"
@@ -392,6 +395,57 @@ py::dict optimize(const std::string& file, std::optional<std::string> out, int t
   return d;
 }
 
+// `poise fit --json`: a measured torque table's sine fit.
+py::object fit(const std::string& data, const std::vector<std::string>& columns,
+               const std::vector<std::string>& units) {
+  return python_value(guarded([&] {
+    py::gil_scoped_release release;
+    try {
+      return cli::fit_torque_table(data, {columns, units});
+    } catch (const engine::ValidationError&) {
+      throw;
+    } catch (const Error& e) {  // the command refuses each of these as invalid input (exit 2)
+      throw UsageError(e.what());
+    }
+  }));
+}
+
+// `poise diagnose-record --json`: a raw record's diagnosis, with its text and residuals.
+py::dict diagnose_record(const std::string& record, const std::string& kt, const std::vector<std::string>& columns,
+                         const std::vector<std::string>& units) {
+  const cli::RecordDiagnosis r = guarded([&] {
+    py::gil_scoped_release release;
+    try {
+      return cli::diagnose_record(record, kt, {columns, units});
+    } catch (const engine::ValidationError&) {
+      throw;
+    } catch (const Error& e) {  // the command refuses each of these as invalid input (exit 2)
+      throw UsageError(e.what());
+    }
+  });
+  py::dict d;
+  d["json"] = python_value(r.json);
+  d["text"] = r.text;
+  d["angle"] = array_of(r.angle);
+  d["residual_before"] = array_of(r.residual_before);
+  d["residual_after"] = array_of(r.residual_after);
+  return d;
+}
+
+// `poise error-mechanisms DIR --json`.
+py::object error_mechanisms(const std::string& dir, const std::string& calibrate, int draws) {
+  return python_value(guarded([&] {
+    py::gil_scoped_release release;
+    try {
+      return cli::compare_error_mechanisms_in(dir, calibrate, draws);
+    } catch (const UsageError&) {
+      throw;
+    } catch (const Error& e) {  // the command refuses each of these as invalid input (exit 2)
+      throw UsageError(e.what());
+    }
+  }));
+}
+
 // A balancing campaign analysed (balancing/campaign_analysis.h), as `poise balance --json` prints
 // it; with `out`, the folder of --out too.
 py::object balance(const std::string& path, const std::string& out) {
@@ -516,6 +570,9 @@ PYBIND11_MODULE(_poise, m) {
         py::arg("allow_programs"));
   m.def("budget", &budget, py::arg("path"));
   m.def("validate", &validate, py::arg("study"));
+  m.def("fit", &fit, py::arg("data"), py::arg("columns"), py::arg("units"));
+  m.def("diagnose_record", &diagnose_record, py::arg("record"), py::arg("kt"), py::arg("columns"), py::arg("units"));
+  m.def("error_mechanisms", &error_mechanisms, py::arg("dir"), py::arg("calibrate"), py::arg("draws"));
   m.def("optimize", &optimize, py::arg("file"), py::arg("out"), py::arg("threads"), py::arg("seed"), py::arg("plots"),
         py::arg("progress"));
   m.def("replay", &replay, py::arg("study"), py::arg("sample"), py::arg("samples"), py::arg("seed"));

@@ -28,7 +28,8 @@ import numpy as np
 
 from . import _poise
 
-__all__ = ["run", "Study", "Result", "Sample", "Optimization", "validate", "replay", "optimize", "balance", "budget", "mass_properties", "diagnose", "Error", "InputError", "RefusedValue", "PoiseWarning",
+__all__ = ["run", "Study", "Result", "Sample", "Optimization", "SineFit", "RecordDiagnosis", "validate", "replay",
+           "optimize", "fit", "diagnose_record", "error_mechanisms", "sensitivity", "balance", "budget", "mass_properties", "diagnose", "Error", "InputError", "RefusedValue", "PoiseWarning",
            "version"]
 
 version = _poise.version
@@ -339,6 +340,74 @@ def optimize(file, out=None, threads=0, seed=None, plots=False, progress=False):
     return Optimization(r["answer"], r["exit_status"] == 0, r["exit_status"], r["summary"], r["path"])
 
 
+def _role_pairs(d):
+    return [f"{role}={value}" for role, value in (d or {}).items()]
+
+
+class SineFit(typing.NamedTuple):
+    """A measured torque table's sine fit M(theta) = MT_s sin(theta + b) + MK (``poise fit``), in
+    the table's torque ``unit``: ``amplitude`` (MT_s), ``phase_deg`` (b), ``offset`` (MK),
+    ``standard_errors`` of the three, ``rmse``, ``sigma``, ``max_abs_residual``, ``n_points`` and
+    ``residuals``: NumPy arrays ``theta_deg``, ``measured``, ``fitted``, ``residual``."""
+    amplitude: float
+    phase_deg: float
+    offset: float
+    standard_errors: dict
+    rmse: float
+    sigma: float
+    max_abs_residual: float
+    unit: str
+    n_points: int
+    residuals: dict
+
+
+def fit(data, columns=None, units=None):
+    """A measured torque table fitted as ``poise fit --json`` fits it: a :class:`SineFit`.
+    columns, units: the file's own column names and units by role, as ``--column`` and
+    ``--unit`` take them (roles: angle, torque, time, sweep)."""
+    j = _call(_poise.fit, os.fspath(data), _role_pairs(columns), _role_pairs(units))
+    return SineFit(j["amplitude"], j["phase_deg"], j["offset"], j["standard_errors"], j["rmse"], j["sigma"],
+                   j["max_abs_residual"], j["unit"], j["n_points"], _columns_of(j["residuals"]))
+
+
+class RecordDiagnosis(typing.NamedTuple):
+    """A raw record's diagnosis (``poise diagnose-record``): ``answer`` in one sentence,
+    ``json`` (the ``--json`` object as a dict: the motion, each effect found, the parameters
+    the motion can show), ``text`` (what the command prints before the answer), and NumPy
+    arrays ``angle``, ``residual_before`` and ``residual_after`` (the residual against angle
+    before and after the effects found)."""
+    answer: str
+    json: dict
+    text: str
+    angle: np.ndarray
+    residual_before: np.ndarray
+    residual_after: np.ndarray
+
+
+def diagnose_record(record, kt="0.05 N*m/A", columns=None, units=None):
+    """A raw record (time, drive current or torque, angle) diagnosed as ``poise diagnose-record``
+    does: a :class:`RecordDiagnosis`. kt: the torque constant with its unit; columns, units: the
+    file's own column names and units by role (time, current, torque, angle, velocity)."""
+    r = _call(_poise.diagnose_record, os.fspath(record), str(kt), _role_pairs(columns), _role_pairs(units))
+    return RecordDiagnosis(r["json"]["answer"], r["json"], r["text"], r["angle"], r["residual_before"],
+                           r["residual_after"])
+
+
+def error_mechanisms(folder="data/yang2015", calibrate=None, draws=20000):
+    """Which per-test error mechanism a folder of measured static-unbalance tables supports, as
+    ``poise error-mechanisms FOLDER --json`` gives it (that object as a dict; "supported" names
+    the mechanism). calibrate: list this table first; draws: simulated copies per check."""
+    return _call(_poise.error_mechanisms, os.fspath(folder), calibrate or "", _count("draws", draws, 100))
+
+
+def sensitivity(study, base, seed=None, threads=0, overrides=None, out=None, progress=False, model=None,
+                allow_programs=False):
+    """Sobol indices of a study as ``poise sensitivity --base N`` computes them: a :class:`Result`
+    whose ``summary["sensitivity"]`` holds each index with its interval."""
+    return run(study, seed=seed, threads=threads, overrides=overrides, out=out, progress=progress,
+               sensitivity_base=_count("base", base, 1), model=model, allow_programs=allow_programs)
+
+
 def balance(campaign, out=None):
     """A balancing campaign's readings analysed as ``poise balance --json`` does (that object as
     a dict): influence coefficients, the correction with its 95% regions, each check run and run
@@ -381,7 +450,6 @@ def diagnose(data, alpha=0.05, max_harmonic=6, noise=None, load_torque=None, loa
     columns, units: the file's own column names and units by role, as ``--column`` and ``--unit``
     take them, e.g. ``columns={"angle": "angle [rad]", "torque": "M"}, units={"torque": "N*m"}``
     (roles: angle, torque, time, sweep, torque_se)."""
-    pairs = lambda d: [f"{role}={value}" for role, value in (d or {}).items()]  # noqa: E731
     return _call(_poise.diagnose, os.fspath(data), float(alpha), int(max_harmonic), noise or "",
                  load_torque or "", load_angle or "", "" if study is None else os.fspath(study),
-                 int(study_samples), pairs(columns), pairs(units))
+                 int(study_samples), _role_pairs(columns), _role_pairs(units))

@@ -285,6 +285,45 @@ seed = 5
         poise.optimize(SEEKER)
 
 
+def cli_json(*args, cwd=None):
+    return json.loads(subprocess.run([EXE, *args, "--json"], check=True, capture_output=True, text=True,
+                                     cwd=cwd).stdout)
+
+
+def test_fit_diagnose_record_error_mechanisms_and_sensitivity_are_the_command_lines(tmp_path):
+    table = os.path.join(SRC, "data", "yang2015", "table1_loading_test_36pt.csv")
+    j = cli_json("fit", table)
+    f = poise.fit(table)
+    assert isinstance(f, poise.SineFit)
+    assert (f.amplitude, f.phase_deg, f.offset, f.unit, f.n_points) == (j["amplitude"], j["phase_deg"], j["offset"],
+                                                                         j["unit"], j["n_points"])
+    assert np.array_equal(f.residuals["residual"], [r["residual"] for r in j["residuals"]])
+    # A real record (ODrive's holding-current map) with its own columns and units.
+    folder = os.path.join(SRC, "tests", "data", "real", "odrive_gchenfc_coggingmap")
+    j = cli_json("diagnose-record", "map.csv", "--column", "angle=count", "--unit", "angle=1/8192 rev", "--column",
+                 "current=Iq_A", "--kt", "1 N*m/A", cwd=folder)
+    d = poise.diagnose_record(os.path.join(folder, "map.csv"), kt="1 N*m/A",
+                              columns={"angle": "count", "current": "Iq_A"}, units={"angle": "1/8192 rev"})
+    assert isinstance(d, poise.RecordDiagnosis) and d.answer == j["answer"]
+    assert {k: v for k, v in d.json.items() if k != "file"} == {k: v for k, v in j.items() if k != "file"}
+    assert d.angle.shape == d.residual_before.shape == d.residual_after.shape and d.angle.size > 100
+    assert np.sqrt(np.mean(d.residual_after ** 2)) < np.sqrt(np.mean(d.residual_before ** 2))
+    with pytest.raises(poise.InputError, match="--unit angle=UNIT") as e:  # counts without their unit
+        poise.diagnose_record(os.path.join(folder, "map.csv"), columns={"angle": "count", "current": "Iq_A"})
+    assert e.value.file.endswith("map.csv") and e.value.line == 2
+    # Which error mechanism the paper's tables support, with few draws.
+    data = os.path.join(SRC, "data", "yang2015")
+    j = cli_json("error-mechanisms", data, "--draws", "200")
+    assert poise.error_mechanisms(data, draws=200) == j
+    with pytest.raises(poise.InputError, match="no such table"):
+        poise.error_mechanisms(data, calibrate="Table 99", draws=200)
+    # Sobol indices: the command's summary.
+    subprocess.run([EXE, "sensitivity", SHAFT, "--base", "64", "-q", "--no-plots", "--threads", "2", "--out",
+                    str(tmp_path / "cli")], check=True, stdout=subprocess.DEVNULL)
+    r = poise.sensitivity(SHAFT, base=64, threads=2)
+    assert r.summary["sensitivity"] == json.load(open(tmp_path / "cli" / "summary.json"))["sensitivity"]
+
+
 def test_budget_is_the_json_of_the_command_line():
     budget = os.path.join(SRC, "studies", "wang2011_budget.toml")
     j = poise.budget(budget)

@@ -126,6 +126,23 @@ void print_text(const json& r, std::ostream& o) {
 
 }  // namespace
 
+json compare_error_mechanisms_in(const std::string& dir, const std::string& calibrate, int draws) {
+  namespace fs = std::filesystem;
+  UnbalanceTestData data;
+  read_unbalance_tests((fs::path(dir) / "tables2_3_loading_tests.csv").string(), data);
+  read_unbalance_tests((fs::path(dir) / "tables4_5_repeatability.csv").string(), data);
+  const auto t1 = estimators::read_torque_table((fs::path(dir) / "table1_loading_test_36pt.csv").string());
+  const auto fit = estimators::fit_sine(t1.theta_rad, t1.torque_Nm);
+  std::set<std::string> names;
+  for (const auto& t : data.tests) names.insert(t.table);
+  if (!calibrate.empty() && !names.count(calibrate)) {
+    std::string list;
+    for (const auto& n : names) list += (list.empty() ? "" : ", ") + n;
+    throw UsageError("--calibrate \"" + calibrate + "\": no such table (expected one of " + list + ")");
+  }
+  return compare_error_mechanisms(data, fit.sigma, calibrate, draws);
+}
+
 ErrorMechanismsHandler add_error_mechanisms_command(CLI::App& app) {
   struct Options {
     std::string dir = "data/yang2015", calibrate;
@@ -144,21 +161,8 @@ ErrorMechanismsHandler add_error_mechanisms_command(CLI::App& app) {
   sub->footer(kHelp);
   return [sub, opt]() -> std::optional<int> {
     if (!*sub) return std::nullopt;
-    namespace fs = std::filesystem;
     try {
-      UnbalanceTestData data;
-      read_unbalance_tests((fs::path(opt->dir) / "tables2_3_loading_tests.csv").string(), data);
-      read_unbalance_tests((fs::path(opt->dir) / "tables4_5_repeatability.csv").string(), data);
-      const auto t1 = estimators::read_torque_table((fs::path(opt->dir) / "table1_loading_test_36pt.csv").string());
-      const auto fit = estimators::fit_sine(t1.theta_rad, t1.torque_Nm);
-      std::set<std::string> names;
-      for (const auto& t : data.tests) names.insert(t.table);
-      if (!opt->calibrate.empty() && !names.count(opt->calibrate)) {
-        std::string list;
-        for (const auto& n : names) list += (list.empty() ? "" : ", ") + n;
-        throw UsageError("--calibrate \"" + opt->calibrate + "\": no such table (expected one of " + list + ")");
-      }
-      const json r = compare_error_mechanisms(data, fit.sigma, opt->calibrate, opt->draws);
+      const json r = compare_error_mechanisms_in(opt->dir, opt->calibrate, opt->draws);
       if (opt->json) std::cout << r.dump(2) << '\n';
       else print_text(r, std::cout);
     } catch (const UsageError&) {

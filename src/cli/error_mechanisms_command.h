@@ -6,6 +6,7 @@
 #include <CLI/CLI.hpp>
 #include <functional>
 #include <optional>
+#include <string>
 
 #include <nlohmann/json.hpp>
 
@@ -18,6 +19,12 @@ namespace poise::cli {
 /// simulated copies per predictive check.
 nlohmann::json compare_error_mechanisms(const UnbalanceTestData& data, double position_noise,
                                         const std::string& calibrate, int draws);
+
+/// The comparison of a folder of measured tables (tables2_3_loading_tests.csv,
+/// tables4_5_repeatability.csv, and table1_loading_test_36pt.csv for the position noise), as
+/// `poise error-mechanisms DIR --json` prints it. Throws UsageError for a `calibrate` table the
+/// folder lacks, poise::Error for a file it refuses.
+nlohmann::json compare_error_mechanisms_in(const std::string& dir, const std::string& calibrate, int draws);
 
 using ErrorMechanismsHandler = std::function<std::optional<int>()>;
 ErrorMechanismsHandler add_error_mechanisms_command(CLI::App& app);

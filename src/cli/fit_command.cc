@@ -114,15 +114,15 @@ void print_text(const estimators::TorqueTable& t, const estimators::SineFitResul
 
 int run_fit(const std::string& path, bool json, const ColumnOptions& columns) {
   try {
+    if (json) {
+      std::cout << fit_torque_table(path, columns).dump(2) << '\n';
+      return 0;
+    }
     const estimators::TorqueTable table =
         estimators::read_torque_table(path, column_mapping(columns, estimators::torque_table_roles()));
     // Fit in the file's unit so the output repeats the measured values exactly as written.
     const estimators::SineFitResult fit = estimators::fit_sine(table.theta_rad, table.torque);
-    if (json) {
-      std::cout << to_json(table, fit).dump(2) << '\n';
-    } else {
-      print_text(table, fit, std::cout);
-    }
+    { print_text(table, fit, std::cout); }
   } catch (const Error& e) {
     // Everything read_torque_table and fit_sine refuse is a problem with the input file.
     std::cerr << "poise: " << e.what() << "\nNothing was fitted.\n";
@@ -132,6 +132,13 @@ int run_fit(const std::string& path, bool json, const ColumnOptions& columns) {
 }
 
 }  // namespace
+
+nlohmann::json fit_torque_table(const std::string& path, const ColumnOptions& columns) {
+  const estimators::TorqueTable table =
+      estimators::read_torque_table(path, column_mapping(columns, estimators::torque_table_roles()));
+  // Fit in the file's unit so the output repeats the measured values exactly as written.
+  return to_json(table, estimators::fit_sine(table.theta_rad, table.torque));
+}
 
 FitHandler add_fit_command(CLI::App& app) {
   struct Options {

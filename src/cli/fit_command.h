@@ -5,6 +5,11 @@
 #include <CLI/CLI.hpp>
 #include <functional>
 #include <optional>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "cli/column_options.h"
 
 namespace poise::cli {
 
@@ -15,5 +20,9 @@ using FitHandler = std::function<std::optional<int>()>;
 /// Registers the `fit` subcommand on app (before app is parsed). Call the returned handler
 /// once app has parsed the command line.
 FitHandler add_fit_command(CLI::App& app);
+
+/// `poise fit --json`: the sine fit of a measured torque table (the file's columns named as
+/// `columns` maps them), as the command prints it. Throws poise::Error for a file it refuses.
+nlohmann::json fit_torque_table(const std::string& path, const ColumnOptions& columns);
 
 }  // namespace poise::cli

@@ -114,43 +114,51 @@ int report(const Args& a, const nlohmann::json& j, const std::string& text, cons
 }
 
 int diagnose(const Args& a) {
-  estimators::OscillationOptions opt;
-  try {
-    opt.kt = units::parse_as(a.kt_text, units::Dimension{{2, 1, -2, -1, 0, 0}});
-  } catch (const Error& e) {
-    throw Error("--kt '" + a.kt_text + "': " + e.what());
-  }
-  const estimators::OscillationRecord record =
-      estimators::read_oscillation_record(a.file, column_mapping(a.columns, estimators::record_column_roles()));
-  const std::string torque_source = record.torque.empty() ? "K_T = " + a.kt_text : "the torque as recorded";
-  estimators::OscillationDiagnosis d;
-  estimators::RecordMotion motion;
-  try {
-    motion = estimators::record_motion(record, opt);
-    if (motion.kind != "swing") {
-      const estimators::MapDiagnosis map = estimators::diagnose_map(record, opt);
-      nlohmann::json j = map_diagnosis_json(map);
-      j["reading"] = record.notes;
-      j["file"] = a.file;
-      j["answer"] = record_answer(j);
-      return report(a, j, map_diagnosis_text(map, record, torque_source),
-                    {map.angle, map.residual_base, map.residual_after});
-    }
-    d = estimators::diagnose_oscillation(record, opt);
-  } catch (const Error&) {
-    throw;
-  } catch (const std::exception& e) {  // e.g. a Boost.Math domain error from degenerate data
-    throw Error(a.file + ": the record cannot be diagnosed (" + e.what() + "); check --kt (" + a.kt_text +
-                ") and the record's columns and units");
-  }
-  nlohmann::json j = swing_diagnosis_json(d, motion, record);
-  j["file"] = a.file;
-  j["answer"] = record_answer(j);
-  return report(a, j, swing_diagnosis_text(d, motion, record, torque_source),
-                {d.angle, d.residual_base, d.residual_after});
+  const RecordDiagnosis r = diagnose_record(a.file, a.kt_text, a.columns);
+  return report(a, r.json, r.text, {r.angle, r.residual_before, r.residual_after});
 }
 
 }  // namespace
+
+RecordDiagnosis diagnose_record(const std::string& file, const std::string& kt_text, const ColumnOptions& columns) {
+  estimators::OscillationOptions opt;
+  try {
+    opt.kt = units::parse_as(kt_text, units::Dimension{{2, 1, -2, -1, 0, 0}});
+  } catch (const Error& e) {
+    throw Error("--kt '" + kt_text + "': " + e.what());
+  }
+  const estimators::OscillationRecord record =
+      estimators::read_oscillation_record(file, column_mapping(columns, estimators::record_column_roles()));
+  const std::string torque_source = record.torque.empty() ? "K_T = " + kt_text : "the torque as recorded";
+  RecordDiagnosis r;
+  try {
+    const estimators::RecordMotion motion = estimators::record_motion(record, opt);
+    if (motion.kind != "swing") {
+      const estimators::MapDiagnosis map = estimators::diagnose_map(record, opt);
+      r.json = map_diagnosis_json(map);
+      r.json["reading"] = record.notes;
+      r.text = map_diagnosis_text(map, record, torque_source);
+      r.angle = map.angle;
+      r.residual_before = map.residual_base;
+      r.residual_after = map.residual_after;
+    } else {
+      const estimators::OscillationDiagnosis d = estimators::diagnose_oscillation(record, opt);
+      r.json = swing_diagnosis_json(d, motion, record);
+      r.text = swing_diagnosis_text(d, motion, record, torque_source);
+      r.angle = d.angle;
+      r.residual_before = d.residual_base;
+      r.residual_after = d.residual_after;
+    }
+  } catch (const Error&) {
+    throw;
+  } catch (const std::exception& e) {  // e.g. a Boost.Math domain error from degenerate data
+    throw Error(file + ": the record cannot be diagnosed (" + e.what() + "); check --kt (" + kt_text +
+                ") and the record's columns and units");
+  }
+  r.json["file"] = file;
+  r.json["answer"] = record_answer(r.json);
+  return r;
+}
 
 std::function<std::optional<int>()> add_record_commands(CLI::App& app) {
   auto a = std::make_shared<Args>();
