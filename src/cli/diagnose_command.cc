@@ -238,8 +238,9 @@ DiagnoseHandler add_diagnose_command(CLI::App& app) {
                   "highest harmonic tried, default 6 (capped to keep 5 residual dof)");
   sub->add_option("--noise", opt->noise, "independent noise level of one point, e.g. \"0.2 mN*m\" (lack-of-fit test)");
   sub->add_option("--study", opt->study,
-                  "a gimbal_static_unbalance study: the effects found are added to its model's "
-                  "[disturbances] and the simulated errors with and without them are reported");
+                  "a study whose kind's model takes measured effects (e.g. gimbal_static_unbalance, into its "
+                  "[disturbances]): the effects found are added to its model and the simulated errors with and "
+                  "without them are reported");
   sub->add_option("--study-samples", opt->study_samples, "samples of each --study evaluation, default 64");
   sub->add_option("--load-torque", opt->load_torque, "known load torque, e.g. \"12.91 mN*m\"");
   sub->add_option("--load-angle", opt->load_angle, "angle of the known load, e.g. \"45.5 deg\"");

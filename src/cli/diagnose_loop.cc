@@ -3,28 +3,17 @@
 #include <cmath>
 #include <map>
 #include <numeric>
+#include <optional>
 
 #include "core/error.h"
 #include "core/format.h"
 #include "engine/kind_interface/study_evaluation.h"
+#include "engine/kind_interface/study_kind.h"
 #include "engine/study_files/study_config.h"
-#include "model_files/gimbal_model.h"
-
-using namespace poise::model_files;  // the kinds' and model files' own namespaces
 
 namespace poise::cli {
-namespace {
-
 namespace est = poise::estimators;
-
-std::string value(double v, const char* unit) { return fmt::format("{:.9g} {}", v, unit); }
-
-double param(const est::Effect& e, const std::string& name) {
-  for (const auto& p : e.params) {
-    if (p.name == name) return p.value;
-  }
-  throw Error("effect " + e.name + " has no parameter " + name);
-}
+namespace {
 
 void mean_sd(const std::vector<double>& v, double& mean, double& sd) {
   mean = v.empty() ? 0.0 : std::accumulate(v.begin(), v.end(), 0.0) / static_cast<double>(v.size());
@@ -33,9 +22,13 @@ void mean_sd(const std::vector<double>& v, double& mean, double& sd) {
   sd = v.size() > 1 ? std::sqrt(ss / static_cast<double>(v.size() - 1)) : 0.0;
 }
 
-bool is_error_output(const std::string& n) {
-  return n.find("error") != std::string::npos || n.find("rmse") != std::string::npos ||
-         n.find("residual") != std::string::npos;
+// The kinds whose models take measured effects, for a message.
+std::string kinds_taking_effects() {
+  std::string names;
+  for (const engine::StudyKind* k : engine::study_kinds()) {
+    if (k->takes_measured_effects()) names += (names.empty() ? "" : ", ") + k->name();
+  }
+  return names.empty() ? "none" : names;
 }
 
 }  // namespace
@@ -48,55 +41,33 @@ LoopResult close_the_loop(const std::string& study_path, const est::TorqueTable&
   out.measured_rmse = result.rmse_before;
   out.unit = table.unit;
   engine::StudyConfig cfg = engine::load_study(study_path);
-  if (cfg.kind != "gimbal_static_unbalance") {
-    throw Error(study_path + ": study kind '" + cfg.kind +
-                "'; expected gimbal_static_unbalance (its model has the [disturbances] an effect "
-                "maps to)");
+  const std::optional<engine::EffectsInModel> mapped =
+      engine::study_kind(cfg.kind).effects_in_model(cfg, table, result);
+  if (!mapped) {
+    throw Error(study_path + ": study kind '" + cfg.kind + "': its model takes no effect measured in a test table (" +
+                "kinds whose models do: " + kinds_taking_effects() + ")");
   }
-  const model_files::GimbalModel model = model_files::load_gimbal_model(cfg.model_path);
-  const double to_nm = table.unit_factor;
-  std::map<std::string, std::string> overrides;
-  for (const est::Effect& e : result.effects) {
-    if (e.name == "harmonic" && e.order == 2) {
-      overrides["disturbances.harmonic2_torque"] = value(param(e, "amplitude") * to_nm, "N*m");
-      overrides["disturbances.harmonic2_phase"] = value(param(e, "phase_deg"), "deg");
-    } else if (e.name == "time_drift" && !table.time_s.empty()) {
-      overrides["disturbances.offset_drift_rate"] =
-          value(param(e, "slope") * to_nm / model.plan.servo.kt_nominal, "A/s");
-    } else if (e.name == "direction_offset") {
-      overrides["disturbances.direction_torque"] = value(param(e, "half_difference") * to_nm, "N*m");
-    } else if (e.name == "outlier") {
-      overrides["disturbances.bump_position"] = std::to_string(e.index);
-      overrides["disturbances.bump_torque"] = value(param(e, "offset") * to_nm, "N*m");
-    } else {
-      out.unmapped.push_back(e.name + (e.order ? " " + std::to_string(e.order) : "") +
-                             (e.name == "time_drift" ? " (no time_s: no rate)" : ""));
-    }
-  }
-  for (const auto& [k, v] : overrides) out.overrides.emplace_back(k, v);
-  if (overrides.empty()) {
+  for (const auto& [k, v] : mapped->overrides) out.overrides.emplace_back(k, v);
+  out.unmapped = mapped->unmapped;
+  if (mapped->overrides.empty()) {
     out.sentence = "No effect found maps to a key of the simulation model: the study is not re-run.";
     return out;
   }
   const engine::McResult without = engine::evaluate_study(cfg, {}, samples, cfg.seed, 0);
-  const engine::McResult with = engine::evaluate_study(cfg, overrides, samples, cfg.seed, 0);
-  for (std::size_t i = 0; i < without.names.size(); ++i) {
-    if (!is_error_output(without.names[i])) continue;
+  const engine::McResult with = engine::evaluate_study(cfg, mapped->overrides, samples, cfg.seed, 0);
+  for (const std::string& name : mapped->error_outputs) {
     LoopOutput o;
-    o.name = without.names[i];
-    mean_sd(without.values[i], o.mean_without, o.sd_without);
-    mean_sd(with.values[with.index(o.name)], o.mean_with, o.sd_with);
+    o.name = name;
+    mean_sd(without.values[without.index(name)], o.mean_without, o.sd_without);
+    mean_sd(with.values[with.index(name)], o.mean_with, o.sd_with);
     out.outputs.push_back(o);
   }
-  const auto find = [&](const char* part) -> const LoopOutput* {
-    for (const LoopOutput& o : out.outputs) {
-      if (o.name.find(part) != std::string::npos) return &o;
-    }
-    return nullptr;
-  };
-  const LoopOutput* err = find("torque_error");
-  if (!err && !out.outputs.empty()) err = &out.outputs.front();
-  const LoopOutput* fit = find("fit_rmse");
+  const LoopOutput* err = out.outputs.empty() ? nullptr : &out.outputs.front();
+  const LoopOutput* fit = nullptr;
+  for (const LoopOutput& o : out.outputs) {
+    if (o.name == mapped->headline_output) err = &o;
+    if (o.name == mapped->fit_residual_output) fit = &o;
+  }
   if (err) {
     out.sentence = fmt::format(
         "With these effects in the model the simulated test's {} is {:.4g} +- {:.3g} "

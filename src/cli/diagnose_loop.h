@@ -1,20 +1,11 @@
 #pragma once
-/// Closes the loop at the table level for `poise diagnose --study`: each effect the diagnosis
-/// found is mapped to the [disturbances] key of the gimbal simulation model it stands for,
-/// the study is evaluated (in memory, engine::evaluate_study) without and with those
-/// overrides on the same random numbers, and the simulated errors are set beside the
-/// measured residual: "with this effect in the model the simulated test's error is X; the
-/// measured one is Y".
-///
-/// Mapping (table unit -> SI):
-///   harmonic 2        disturbances.harmonic2_torque = amplitude, harmonic2_phase = phase
-///                     (both the simulator's T2 sin(2 theta + psi2) and the diagnosis'
-///                     amplitude sin(2 theta + phase))
-///   time_drift        disturbances.offset_drift_rate = slope / K_T (the model's nominal K_T;
-///                     needs time_s in the table: a drift per measurement has no rate)
-///   direction_offset  disturbances.direction_torque = half_difference (torque +-T_d by sweep)
-///   outlier           disturbances.bump_position = row, bump_torque = offset
-/// Other effects have no key in the simulation model and are listed as such.
+/// Closes the loop at the table level for `poise diagnose --study`: the study's kind maps each
+/// effect the diagnosis found to the model keys it stands for (StudyKind::effects_in_model,
+/// engine/kind_interface/measured_effects.h; the gimbal's mapping is in
+/// kinds/gimbal_static_unbalance/gimbal_measured_effects.h), the study is evaluated (in memory,
+/// engine::evaluate_study) without and with those overrides on the same random numbers, and
+/// the outputs the kind names are set beside the measured residual: "with this effect in the
+/// model the simulated test's error is X; the measured one is Y". It names no kind.
 #include <string>
 #include <vector>
 
@@ -43,7 +34,7 @@ struct LoopResult {
 };
 
 /// Maps, evaluates and compares (see above). Throws poise::Error / ValidationError for a
-/// study that is not a gimbal_static_unbalance one or whose model refuses an override.
+/// study whose kind's model takes no measured effect or refuses an override.
 LoopResult close_the_loop(const std::string& study_path, const estimators::TorqueTable& table,
                           const estimators::DiagnosisResult& result, std::size_t samples);
 

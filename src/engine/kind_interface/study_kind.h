@@ -14,17 +14,21 @@
 #include <cstdint>
 #include <map>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include <nlohmann/json.hpp>
 
 #include "engine/kind_interface/input_evaluation.h"
+#include "engine/kind_interface/measured_effects.h"
 #include "engine/kind_interface/output_spec.h"
 #include "engine/kind_interface/study_evaluation.h"
 #include "engine/run/study_runner.h"
 #include "engine/study_files/study_config.h"
 #include "engine/study_files/toml_reader.h"
+#include "estimators/residual_diagnosis.h"
+#include "estimators/torque_table.h"
 
 namespace poise::engine {
 
@@ -80,6 +84,16 @@ class StudyKind {
   virtual std::unique_ptr<InputEvaluator> input_evaluator(const StudyConfig& cfg,
                                                           const std::map<std::string, std::string>& model_overrides,
                                                           std::uint64_t seed) const;
+  /// Whether this kind's model takes effects measured in a test table (effects_in_model).
+  virtual bool takes_measured_effects() const { return false; }
+  /// The effects a residual diagnosis found in a measured table (`table` gives its unit and
+  /// whether it has time stamps), as keys of this study's model, and the outputs to compare
+  /// (engine/kind_interface/measured_effects.h). Default: nullopt (its model takes none).
+  virtual std::optional<EffectsInModel> effects_in_model(const StudyConfig& /*cfg*/,
+                                                         const estimators::TorqueTable& /*table*/,
+                                                         const estimators::DiagnosisResult& /*result*/) const {
+    return std::nullopt;
+  }
 };
 
 /// Adds a kind to the table (the registry.cc the build makes from src/kinds/registry.cc.in calls it

@@ -2,6 +2,7 @@
 
 #include "core/format.h"
 #include "engine/kind_interface/procedure_kind.h"
+#include "kinds/gimbal_static_unbalance/gimbal_measured_effects.h"
 #include "kinds/gimbal_static_unbalance/gimbal_sections.h"
 #include "kinds/gimbal_static_unbalance/gimbal_study.h"
 #include "model_files/gimbal_model.h"
@@ -42,6 +43,11 @@ class GimbalStaticUnbalanceKind final : public ProcedureKind {
            "model; positions that would saturate the drive or must be sampled are integrated on "
            "quasi-static supports. It leaves out the tracking error, the start transient's remainder and "
            "the supports' dynamics";
+  }
+  bool takes_measured_effects() const override { return true; }
+  std::optional<EffectsInModel> effects_in_model(const StudyConfig& cfg, const estimators::TorqueTable& table,
+                                                 const estimators::DiagnosisResult& result) const override {
+    return gimbal_effects_in_model(cfg, outputs(cfg), table, result);
   }
   std::string validate(const StudyConfig& cfg) const override {
     const GimbalModel model = load_gimbal_model(cfg.model_path, cfg.overrides);
