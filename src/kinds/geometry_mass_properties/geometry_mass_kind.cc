@@ -1,8 +1,8 @@
 #include "kinds/geometry_mass_properties/geometry_mass_kind.h"
 
 #include "engine/kind_interface/procedure_kind.h"
-#include "geometry_studies/geometry_study.h"
 #include "kinds/geometry_mass_properties/geometry_mass_study.h"
+#include "kinds/geometry_mass_properties/mass_properties_sections.h"
 
 namespace poise::kinds::geometry_mass_properties {
 using namespace poise::engine;
@@ -19,9 +19,7 @@ class GeometryMassPropertiesKind final : public ProcedureKind {
            "models/simulator_disk_yang2015.toml)";
   }
   std::unique_ptr<KindSections> read_sections(TomlReader& root, const StudyConfig&) const override {
-    auto s = std::make_unique<GeometrySections>();
-    read_geometry_study(root, name(), s->geometry);
-    return s;
+    return read_mass_properties_sections(root);
   }
   std::string validate(const StudyConfig& cfg) const override { return validate_geometry_mass_study(cfg); }
   std::unique_ptr<ProcedureStudy> make_study(const StudyConfig& cfg, const std::map<std::string, std::string>& o,

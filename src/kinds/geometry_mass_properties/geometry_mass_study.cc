@@ -20,8 +20,8 @@
 #include "geometry/mass_properties.h"
 #include "geometry/mesh_io.h"
 #include "geometry_studies/geometry_plots.h"
-#include "geometry_studies/geometry_study.h"
 #include "geometry_studies/sampled_model_study.h"
+#include "kinds/geometry_mass_properties/mass_properties_sections.h"
 #include "model_files/disk_geometry_model.h"
 #include "sampling/design.h"
 
@@ -84,7 +84,7 @@ class MassStudy final : public SampledModelStudy<MassStudy> {
   auto realization_of(std::span<const double> si) const { return sampler_.spec_of(si); }
 
   geometry::Moments ray(const geometry::Assembly& parts, int n) const {
-    if (geometry_sections(cfg_).geometry.per_part) return geometry::raycast_moments(parts, {2, n});
+    if (mass_properties_sections(cfg_).per_part) return geometry::raycast_moments(parts, {2, n});
     std::vector<geometry::Mesh> meshes;
     std::vector<double> rho;
     for (const auto& b : parts) meshes.push_back(b.mesh), rho.push_back(b.density);
@@ -95,7 +95,7 @@ class MassStudy final : public SampledModelStudy<MassStudy> {
   /// The outputs of one disk as built; throws poise::Error for a non-finite property.
   std::vector<double> outputs_of(const geometry::DiskSpec& spec) const {
     const geometry::Assembly parts = geometry::simulator_disk(spec);
-    const MassProperties r = geometry::to_mass_properties(ray(parts, geometry_sections(cfg_).geometry.rays_per_side));
+    const MassProperties r = geometry::to_mass_properties(ray(parts, mass_properties_sections(cfg_).rays_per_side));
     const MassProperties x = geometry::to_mass_properties(geometry::exact_moments(parts));
     const double e = std::hypot(r.com.x(), r.com.y()), ex = std::hypot(x.com.x(), x.com.y());
     std::vector<double> outputs{r.mass * 1e3,
@@ -168,7 +168,7 @@ json closed_form_check(const DiskGeometryModel& m, const MassProperties& exact, 
 
 const json& MassStudy::nominal_check() const {
   if (!nominal_check_.is_null()) return nominal_check_;
-  const GeometryStudySpec& g = geometry_sections(cfg_).geometry;
+  const MassPropertiesSections& g = mass_properties_sections(cfg_);
   const geometry::Assembly nominal = geometry::simulator_disk(model_.nominal);
   const MassProperties exact = geometry::to_mass_properties(geometry::exact_moments(nominal));
   const MassProperties ray_nominal = geometry::to_mass_properties(ray(nominal, g.rays_per_side));
@@ -219,7 +219,7 @@ json MassStudy::details(const McResult&) const { return nominal_check(); }
 void MassStudy::report_sections(const McResult& mc, const std::string& plots_dir, bool plots, std::vector<std::string>&,
                                 std::ostringstream& h) const {
   const json& check = nominal_check();
-  const GeometryStudySpec& g = geometry_sections(cfg_).geometry;
+  const MassPropertiesSections& g = mass_properties_sections(cfg_);
   h << "<h2>Nominal disk against its closed form</h2>\n<table><tr><th class='l'>quantity</th><th>closed form</th>"
     << "<th>divergence theorem (mesh)</th><th>rel. error</th><th>ray cast (" << g.rays_per_side
     << " per side)</th><th>rel. error</th></tr>\n";
@@ -298,7 +298,7 @@ std::unique_ptr<ProcedureStudy> make_geometry_mass_study(const StudyConfig& cfg,
 std::string validate_geometry_mass_study(const StudyConfig& cfg) {
   const MassStudy study(cfg, load_disk_geometry_model(cfg.model_path, cfg.overrides), cfg.samples, cfg.seed);
   const auto& s = study.model().nominal;
-  const GeometryStudySpec& g = geometry_sections(cfg).geometry;
+  const MassPropertiesSections& g = mass_properties_sections(cfg);
   return cfg.file + ": valid. Study '" + cfg.name + "' (" + cfg.kind + ") on model '" + study.model().name +
          "': disk " + significant(2e3 * s.radius, 6) + " mm x " + significant(1e3 * s.thickness, 6) + " mm, " +
          std::to_string(s.holes.size()) + " holes, " + std::to_string(s.clumps.size()) + " clump weight(s); " +

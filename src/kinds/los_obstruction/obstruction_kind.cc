@@ -1,7 +1,7 @@
 #include "kinds/los_obstruction/obstruction_kind.h"
 
 #include "engine/kind_interface/procedure_kind.h"
-#include "geometry_studies/geometry_study.h"
+#include "kinds/los_obstruction/obstruction_sections.h"
 #include "kinds/los_obstruction/obstruction_study.h"
 
 namespace poise::kinds::los_obstruction {
@@ -18,9 +18,7 @@ class LosObstructionKind final : public ProcedureKind {
            "(model: a seeker model with [geometry])";
   }
   std::unique_ptr<KindSections> read_sections(TomlReader& root, const StudyConfig&) const override {
-    auto s = std::make_unique<GeometrySections>();
-    read_geometry_study(root, name(), s->geometry);
-    return s;
+    return read_obstruction_sections(root);
   }
   std::string validate(const StudyConfig& cfg) const override { return validate_obstruction_study(cfg); }
   std::unique_ptr<ProcedureStudy> make_study(const StudyConfig& cfg, const std::map<std::string, std::string>& o,

@@ -14,8 +14,8 @@
 #include "engine/report/report_plot.h"
 #include "geometry/obstruction.h"
 #include "geometry_studies/geometry_plots.h"
-#include "geometry_studies/geometry_study.h"
 #include "geometry_studies/sampled_model_study.h"
+#include "kinds/los_obstruction/obstruction_sections.h"
 #include "model_files/seeker_geometry.h"
 #include "model_files/seeker_model.h"
 #include "sampling/design.h"
@@ -61,7 +61,7 @@ class ObstructionStudy final : public SampledModelStudy<ObstructionStudy> {
       throw ValidationError({InputError(SourceLocation{cfg_.file, 0, 0}, "study.model", "\"" + cfg_.model_path + "\"",
                                         "a seeker model with a [geometry] section (frames and housing)")});
     }
-    const GeometryStudySpec& g = geometry_sections(cfg_).geometry;
+    const ObstructionSections& g = obstruction_sections(cfg_);
     scenes_ = std::make_unique<SeekerScenes>(*model_.geometry, seeker_scene_meshes(model_), g.beam_rays);
     yaw_ = models::linspace(model_.yaw_min, model_.yaw_max, g.yaw_points);
     pitch_ = models::linspace(model_.pitch_min, model_.pitch_max, g.pitch_points);
@@ -130,9 +130,9 @@ class ObstructionStudy final : public SampledModelStudy<ObstructionStudy> {
   /// The outputs of one error realization, with the shifts from the nominal design's.
   std::vector<double> outputs_of(const models::SeekerErrorState& state) const {
     const std::vector<double>& nominal = nominal_;
-    std::vector<double> o = outputs(field(state, geometry_sections(cfg_).geometry.clearance_per_sample));
+    std::vector<double> o = outputs(field(state, obstruction_sections(cfg_).clearance_per_sample));
     o[3] = (o[0] - nominal[0]) * 1e4;  // pct -> ppm
-    if (geometry_sections(cfg_).geometry.clearance_per_sample) {
+    if (obstruction_sections(cfg_).clearance_per_sample) {
       o[8] = (o[4] - nominal[4]) * 1e3;  // mm -> um
     } else {
       for (std::size_t k = 4; k < kNumOutputs; ++k) o[k] = nominal[k];
@@ -154,7 +154,7 @@ class ObstructionStudy final : public SampledModelStudy<ObstructionStudy> {
 };
 
 json ObstructionStudy::details(const McResult&) const {
-  const GeometryStudySpec& gs = geometry_sections(cfg_).geometry;
+  const ObstructionSections& gs = obstruction_sections(cfg_);
   const auto& g = *model_.geometry;
   json nom;
   for (std::size_t k = 0; k < kNumOutputs; ++k) nom[kOutputs[k].name] = nominal_[k];
@@ -188,7 +188,7 @@ json ObstructionStudy::details(const McResult&) const {
 }
 
 void ObstructionStudy::nominal_design_html(std::ostringstream& h) const {
-  const GeometryStudySpec& gs = geometry_sections(cfg_).geometry;
+  const ObstructionSections& gs = obstruction_sections(cfg_);
   const auto& g = *model_.geometry;
   h << "<h2>Nominal design</h2>\n<p>Yaw span " << significant(1e3 * g.yaw_span, 6) << " mm, pitch span "
     << significant(1e3 * g.pitch_span, 6) << " mm; housing radius " << significant(1e3 * g.housing_radius, 6)
@@ -307,9 +307,8 @@ std::string validate_obstruction_study(const StudyConfig& cfg) {
       "{} random inputs, {} design, {} samples, seed {}; grid {} x {}, {} beam rays, clearance {}.",
       cfg.file, cfg.name, cfg.kind, study.model().name, 1e3 * g.yaw_span, 1e3 * g.pitch_span, 1e3 * g.housing_radius,
       1e3 * g.window_radius, study.sampler().dimension(), sampling::to_string(cfg.method), cfg.samples, cfg.seed,
-      geometry_sections(cfg).geometry.yaw_points, geometry_sections(cfg).geometry.pitch_points,
-      geometry_sections(cfg).geometry.beam_rays,
-      geometry_sections(cfg).geometry.clearance_per_sample ? "per sample" : "nominal only");
+      obstruction_sections(cfg).yaw_points, obstruction_sections(cfg).pitch_points, obstruction_sections(cfg).beam_rays,
+      obstruction_sections(cfg).clearance_per_sample ? "per sample" : "nominal only");
 }
 
 }  // namespace poise::kinds::los_obstruction

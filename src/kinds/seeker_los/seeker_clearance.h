@@ -1,7 +1,7 @@
 #pragma once
 /// The nominal clearance of a seeker's moving frames to its housing, as an output of the LOS
 /// study for a bearing-span sizing (a study's optional [clearance] output = true, see
-/// geometry_study.h): the frames are built from the model's [geometry] and its current
+/// seeker_los_sections.h): the frames are built from the model's [geometry] and its current
 /// bearing spans, so each design point of the optimizer gets its own frames.
 #include <cstddef>
 

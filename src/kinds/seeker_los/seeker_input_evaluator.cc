@@ -11,7 +11,6 @@
 namespace poise::kinds::seeker_los {
 using namespace poise::engine;
 using namespace poise::model_files;
-using namespace poise::geometry_studies;
 namespace {
 
 class SeekerInputEvaluator final : public InputEvaluator {
@@ -19,7 +18,7 @@ class SeekerInputEvaluator final : public InputEvaluator {
   SeekerInputEvaluator(const StudyConfig& cfg, SeekerModel model) : study_(cfg, std::move(model), 1, cfg.seed) {
     for (const auto& c : study_.sampler().columns()) factors_.push_back(c.display_factor);
     for (const auto& o : kSeekerOutputs) outputs_.push_back({o.name, o.unit, o.description});
-    const GeometryStudySpec& g = seeker_sections(cfg).geometry;
+    const SeekerClearanceSpec& g = seeker_sections(cfg).clearance;
     if (g.clearance_output) {  // a design constraint of the nominal frames: the same at every point
       outputs_.push_back({"min_clearance_mm", "mm", "least clearance of the nominal frames to the housing"});
       clearance_mm_ = 1e3 * nominal_min_clearance(study_.model(), g.clearance_yaw_points, g.clearance_pitch_points);

@@ -11,7 +11,6 @@
 #include "model_files/seeker_model.h"
 
 namespace poise::kinds::seeker_los {
-using namespace poise::geometry_studies;
 using namespace poise::engine;
 using namespace poise::model_files;
 namespace {
@@ -32,7 +31,7 @@ class SeekerLosKind final : public ProcedureKind {
     std::vector<OutputSpec> out;
     for (const auto& o : kSeekerOutputs) out.push_back({o.name, o.unit, o.description});
     const SeekerModel model = load_seeker_model(cfg.model_path, cfg.overrides);  // validates the overrides
-    if (seeker_sections(cfg).geometry.clearance_output) {
+    if (seeker_sections(cfg).clearance.clearance_output) {
       if (!model.geometry) {
         throw ValidationError(
             {InputError(SourceLocation{cfg.file, 0, 0}, "clearance.output", "true",
@@ -110,7 +109,7 @@ class SeekerLosKind final : public ProcedureKind {
                     std::size_t samples, std::uint64_t seed, int threads) const override {
     const SeekerLosStudy study(cfg, load_seeker_model(cfg.model_path, model_overrides), samples, seed);
     McResult e = evaluate_procedure(study, threads);
-    const GeometryStudySpec& g = seeker_sections(cfg).geometry;
+    const SeekerClearanceSpec& g = seeker_sections(cfg).clearance;
     if (g.clearance_output) {  // a design constraint: the same for every sample
       const double c = nominal_min_clearance(study.model(), g.clearance_yaw_points, g.clearance_pitch_points);
       e.names.emplace_back("min_clearance_mm");

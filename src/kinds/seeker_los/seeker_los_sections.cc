@@ -4,12 +4,16 @@
 #include "engine/study_files/toml_reader.h"
 
 namespace poise::kinds::seeker_los {
-using namespace poise::geometry_studies;
 using namespace poise::engine;
 
 std::unique_ptr<KindSections> read_seeker_los_sections(TomlReader& root, const StudyConfig& cfg) {
   auto c = std::make_unique<SeekerLosSections>();
-  read_geometry_study(root, "seeker_los", c->geometry);  // optional [clearance]
+  if (root.has_or_schema("clearance")) {  // optional
+    TomlReader t = root.table("clearance");
+    c->clearance.clearance_output = t.boolean("output");
+    c->clearance.clearance_yaw_points = static_cast<std::size_t>(t.integer("yaw_points", 1, 101, 3));
+    c->clearance.clearance_pitch_points = static_cast<std::size_t>(t.integer("pitch_points", 1, 101, 3));
+  }
   {
     TomlReader t = root.table("grid");
     c->yaw_points = static_cast<std::size_t>(t.integer("yaw_points", 1, 1001));

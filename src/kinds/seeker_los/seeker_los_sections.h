@@ -8,7 +8,7 @@
 ///                  giving the field figures their limit; or none (the field figures are then
 ///                  taken against 1 px)
 ///   [clearance]    output = true, yaw_points, pitch_points (optional; the nominal frames'
-///                  least clearance to the housing as an output: geometry_study.h)
+///                  least clearance to the housing as an output: SeekerClearanceSpec below)
 ///   [output]       contribution_samples = 4096 (each tolerance set to zero in turn; 0 = off)
 ///                  grid_values = true (the LOS error at each grid point of every sample in
 ///                  samples.h5; false keeps them only as long as the maps need)
@@ -22,7 +22,6 @@
 
 #include "engine/results/wide_columns.h"
 #include "engine/study_files/study_config.h"
-#include "geometry_studies/geometry_study.h"
 
 namespace poise::kinds::seeker_los {
 using engine::KindSections;
@@ -31,8 +30,15 @@ using engine::kKeepColumnsBytes;
 using engine::sections_of;
 using engine::StudyConfig;
 using engine::TomlReader;
-using geometry_studies::GeometryStudySpec;
-using geometry_studies::TomlReader;
+
+/// [clearance] output = true: the optimizer's evaluation of the study gets one more output,
+/// min_clearance_mm, the least clearance of the nominal frames to the housing over a
+/// yaw_points x pitch_points grid (default 3 x 3: the field's corners, edges and centre), the
+/// same for every sample of a design (seeker_clearance.h); the model needs a [geometry] section.
+struct SeekerClearanceSpec {
+  bool clearance_output = false;
+  std::size_t clearance_yaw_points = 3, clearance_pitch_points = 3;
+};
 
 struct SeekerLosSections : KindSectionsOf<SeekerLosSections> {
   std::size_t yaw_points = 13, pitch_points = 13;
@@ -46,7 +52,7 @@ struct SeekerLosSections : KindSectionsOf<SeekerLosSections> {
   bool grid_values = true, maps = true;  ///< [output]
   /// The grid values (4 bytes each) kept in memory at most, in MiB (SeekerLosStudy::run).
   std::size_t grid_values_in_memory_mb = kKeepColumnsBytes >> 20;
-  GeometryStudySpec geometry;  ///< [clearance]
+  SeekerClearanceSpec clearance;  ///< [clearance]
 };
 
 /// Reads the seeker_los sections (errors recorded on `root`).

@@ -17,7 +17,6 @@
 
 namespace poise::kinds::seeker_los {
 using namespace poise::model_files;
-using namespace poise::geometry_studies;
 using namespace poise::engine;
 namespace {
 namespace fs = std::filesystem;
