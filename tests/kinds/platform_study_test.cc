@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include "kinds/platform_balancing/platform_model.h"
+#include "kinds/platform_balancing/platform_shafting.h"
 #include "kinds/platform_balancing/platform_study.h"
 #include "kinds/platform_balancing/platform_study_config.h"
 #include "engine/study_files/study_config.h"
@@ -212,6 +213,36 @@ TEST(PlatformStudy, StrictStudyAndModelFiles) {
   }
 }
 
+
+// [platform.shafting] takes any study through the kind interface: its output in an angle and
+// the same error in px, by the units the study declares; the pixel's angle is their ratio
+// (the Wang 2011 seeker's 18.75 arcsec). Outputs of the wrong dimension or none are refused.
+TEST(PlatformStudy, ShaftingLineFromAnyStudyByItsDeclaredUnits) {
+  TempDir d;
+  const std::string base = test::read_text(tiny_study(d));
+  const auto with_shafting = [&](const std::string& keys) {
+    test::write_text(d.file("shafting.toml"), base + "\n[platform.shafting]\nstudy = \"" +
+                                                  test::source_path("studies/los_seeker_wang2011.toml") +
+                                                  "\"\nsamples = 64\n" + keys);
+    return load_study(d.file("shafting.toml"));
+  };
+  const ShaftingLos line = compute_shafting_los(with_shafting(""), 2);
+  ASSERT_EQ(line.los_max_arcsec.size(), 64u);
+  EXPECT_NEAR(line.pixel_arcsec, 18.75, 1e-9);
+  EXPECT_TRUE(std::is_sorted(line.los_max_arcsec.begin(), line.los_max_arcsec.end()));
+  const auto refused = [&](const std::string& keys, const std::string& what) {
+    try {
+      check_shafting_study(with_shafting(keys));
+      ADD_FAILURE() << keys << ": no error";
+    } catch (const Error& e) {
+      EXPECT_NE(std::string(e.what()).find(what), std::string::npos) << e.what();
+    }
+  };
+  refused("output = \"los_max_px\"\n", "output = \"los_max_px\": the study");
+  refused("output = \"los_max_px\"\n", "gives it in px, expected an angle");
+  refused("pixel_output = \"los_rms_arcsec\"\n", "gives it in arcsec, expected px");
+  refused("output = \"los_peak\"\n", "has no such output (its outputs: los_max_arcsec");
+}
 
 // The model notes' stiffness figures are the model's own: least disturbance stiffness of each
 // axis' loop (0.81 J w_n^2 near w_n / 2), and the poles and crossover the notes state.

@@ -7,10 +7,9 @@
 #include "engine/kind_interface/procedure_kind.h"
 #include "engine/run/procedure_runner.h"
 #include "kinds/platform_balancing/platform_model.h"
-#include "kinds/platform_balancing/platform_report.h"
+#include "kinds/platform_balancing/platform_shafting.h"
 #include "kinds/platform_balancing/platform_study.h"
 #include "kinds/platform_balancing/platform_study_config.h"
-#include "model_files/seeker_model.h"
 #include "sampling/distributed.h"
 
 namespace poise::kinds::platform_balancing {
@@ -34,8 +33,8 @@ class PlatformBalancingKind final : public ProcedureKind {
                                              std::size_t samples, std::uint64_t seed) const override {
     return std::make_unique<PlatformStudy>(cfg, load_platform_model(cfg.model_path, o), samples, seed);
   }
-  // The run first computes the shafting LOS line of [platform.shafting] (a seeker_los
-  // study), which every sample combines with its balancing residual.
+  // The run first computes the shafting LOS line of [platform.shafting] (platform_shafting.h),
+  // which every sample combines with its balancing residual.
   std::string run(const StudyConfig& cfg, const RunOptions& options) const override {
     const PlatformModel model = load_platform_model(cfg.model_path, cfg.overrides);
     const int threads = options.threads > 0 ? options.threads : sampling::Cluster::default_threads();
@@ -57,14 +56,7 @@ class PlatformBalancingKind final : public ProcedureKind {
   }
   std::string validate(const StudyConfig& cfg) const override {
     const PlatformModel model = load_platform_model(cfg.model_path, cfg.overrides);
-    if (!platform_sections(cfg).platform.shafting_study.empty()) {
-      const StudyConfig sc = load_study(platform_sections(cfg).platform.shafting_study);
-      if (sc.kind != "seeker_los") {
-        throw Error(cfg.file + ": [platform.shafting] study " + sc.file + " is of kind '" + sc.kind +
-                    "', expected 'seeker_los'");
-      }
-      load_seeker_model(sc.model_path, sc.overrides);
-    }
+    check_shafting_study(cfg);
     PlatformStudy study(cfg, model, cfg.samples, cfg.seed);
     return fmt::format(
         "{}: valid. Study '{}' ({}) on model '{}': {} unit-scope random inputs, {} design, {} samples, seed "

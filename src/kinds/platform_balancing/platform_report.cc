@@ -1,4 +1,4 @@
-#include "kinds/platform_balancing/platform_report.h"
+// The platform study's own report sections (PlatformStudy::report_sections, details).
 
 #include <algorithm>
 #include <cmath>
@@ -14,7 +14,6 @@
 #include "engine/run/procedure_runner.h"
 #include "kinds/platform_balancing/platform_study.h"
 #include "kinds/platform_balancing/platform_study_config.h"
-#include "model_files/seeker_model.h"
 #include "sampling/random_stream.h"
 #include "sampling/statistics.h"
 
@@ -225,23 +224,6 @@ void los_budget_table(const json& d, const PlatformStudySection& ps, std::ostrin
 }
 
 }  // namespace
-
-ShaftingLos compute_shafting_los(const StudyConfig& cfg, int threads) {
-  ShaftingLos out;
-  if (platform_sections(cfg).platform.shafting_study.empty()) return out;
-  const StudyConfig sc = load_study(platform_sections(cfg).platform.shafting_study);
-  if (sc.kind != "seeker_los") {
-    throw Error(cfg.file + ": [platform.shafting] study " + sc.file + " is of kind '" + sc.kind +
-                "', expected 'seeker_los'");
-  }
-  const SeekerModel model = load_seeker_model(sc.model_path, sc.overrides);
-  // Through the kind interface (no kind includes another): the seeker study's ok samples.
-  const McResult e = evaluate_study(sc, {}, platform_sections(cfg).platform.shafting_samples, sc.seed, threads);
-  out.los_max_arcsec = e.values[e.index("los_max_arcsec")];
-  std::sort(out.los_max_arcsec.begin(), out.los_max_arcsec.end());
-  out.pixel_arcsec = model.pixel_ifov * units::kArcsecPerRad;
-  return out;
-}
 
 // Per gimbal: its mass properties, counterweight and stabilization loop.
 json PlatformStudy::gimbals_json() const {

@@ -99,9 +99,11 @@ void read_platform_section(TomlReader& root, const std::string& study_path, Plat
     c.shafting_study = (std::filesystem::path(study_path).parent_path() / rel).lexically_normal().string();
     std::error_code ec;  // a name too long for the file system is a missing file, not an exception
     if (!std::filesystem::is_regular_file(c.shafting_study, ec)) {
-      s.error("study", quote_value(rel), "an existing seeker_los study file (looked for " + c.shafting_study + ")");
+      s.error("study", quote_value(rel), "an existing study file (looked for " + c.shafting_study + ")");
     }
     c.shafting_samples = static_cast<std::size_t>(s.integer("samples", 16, 10'000'000, 4096));
+    c.shafting_output = s.string("output", "los_max_arcsec");
+    c.shafting_pixel_output = s.string("pixel_output", "los_max_px");
   }
 }
 

@@ -11,9 +11,12 @@
 ///                                       #   residual torque beside gravity
 ///   [platform.profile]   duration, time_step, manoeuvre_x/_y/_z, onset, rise_time
 ///   [[platform.profile.vibration]]  amplitude_x/_y/_z, frequency
-///   [platform.shafting]  study = "los_seeker_wang2011.toml" (a seeker_los study, path
-///                        relative to this file), samples: the shafting LOS line of the
-///                        combined budget (optional; without it the budget has no shafting line)
+///   [platform.shafting]  study = "los_seeker_wang2011.toml" (a study of any kind, path
+///                        relative to this file), samples, output = "los_max_arcsec" (its
+///                        output in an angle unit: each unit's shafting LOS error) and
+///                        pixel_output = "los_max_px" (the same error in px, which gives the
+///                        pixel's angle): the shafting LOS line of the combined budget
+///                        (optional; without it the budget has no shafting line)
 #include <array>
 #include <cstddef>
 #include <string>
@@ -50,6 +53,7 @@ struct PlatformStudySection {
   std::vector<PlatformVibration> vibration;
   std::string shafting_study;  ///< resolved path, "" = none
   std::size_t shafting_samples = 4096;
+  std::string shafting_output = "los_max_arcsec", shafting_pixel_output = "los_max_px";
 };
 
 /// Reads [platform] of a study file at `study_path` (errors recorded in the reader).
