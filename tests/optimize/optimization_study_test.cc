@@ -189,6 +189,15 @@ TEST(OptimizationStudy, ChanceConstraintOptimumPassesItsFreshCheck) {
     EXPECT_GE(v["supported_step"].get<double>(), 0.0);
   }
   EXPECT_NE(r.answer.find("over 2 searches"), std::string::npos) << r.answer;
+  // The answer keeps the digits that tell designs apart: each span as summary.json's optimum
+  // to 3 significant digits, never rounded to the spread's step (issue 52).
+  for (const auto& [key, value] : summary["optimum"].items()) {
+    const std::size_t at = r.answer.find(key + " ");
+    ASSERT_NE(at, std::string::npos) << r.answer;
+    const double said = std::stod(r.answer.substr(at + key.size() + 1));
+    const double optimum = std::stod(value.get<std::string>());
+    EXPECT_NEAR(said, optimum, 0.005 * std::abs(optimum)) << key << " in: " << r.answer;
+  }
   std::printf("answer: %s\n", r.answer.c_str());
 }
 

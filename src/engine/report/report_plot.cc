@@ -13,6 +13,7 @@
 #include <iterator>
 #include <set>
 
+#include "core/format.h"
 #include "engine/results/result_io.h"
 
 extern char** environ;
@@ -237,6 +238,8 @@ std::string provenance_html(const nlohmann::json& p) {
         v += "<code>" + html_escape(k2) + "</code> " + html_escape(v2.is_string() ? v2.get<std::string>() : v2.dump()) +
              "<br>";
       }
+    } else if (value.is_number_float()) {
+      v = significant(value.get<double>(), 4);  // as every other number ("0.04814", not 0.048136775)
     } else {
       v = html_escape(value.dump());
     }
