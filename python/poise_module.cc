@@ -395,18 +395,30 @@ py::dict optimize(const std::string& file, std::optional<std::string> out, int t
   return d;
 }
 
+// Runs f for a command that refuses every poise::Error of its input as invalid input (exit 2):
+// such an error crosses as an input error; a ValidationError, InputError or UsageError stays as
+// it is (with its file, line and key).
+template <class F>
+auto refused_as_input(F&& f) -> decltype(f()) {
+  try {
+    return f();
+  } catch (const engine::ValidationError&) {
+    throw;
+  } catch (const InputError&) {
+    throw;
+  } catch (const UsageError&) {
+    throw;
+  } catch (const Error& e) {
+    throw UsageError(e.what());
+  }
+}
+
 // `poise fit --json`: a measured torque table's sine fit.
 py::object fit(const std::string& data, const std::vector<std::string>& columns,
                const std::vector<std::string>& units) {
   return python_value(guarded([&] {
     py::gil_scoped_release release;
-    try {
-      return cli::fit_torque_table(data, {columns, units});
-    } catch (const engine::ValidationError&) {
-      throw;
-    } catch (const Error& e) {  // the command refuses each of these as invalid input (exit 2)
-      throw UsageError(e.what());
-    }
+    return refused_as_input([&] { return cli::fit_torque_table(data, {columns, units}); });
   }));
 }
 
@@ -415,13 +427,7 @@ py::dict diagnose_record(const std::string& record, const std::string& kt, const
                          const std::vector<std::string>& units) {
   const cli::RecordDiagnosis r = guarded([&] {
     py::gil_scoped_release release;
-    try {
-      return cli::diagnose_record(record, kt, {columns, units});
-    } catch (const engine::ValidationError&) {
-      throw;
-    } catch (const Error& e) {  // the command refuses each of these as invalid input (exit 2)
-      throw UsageError(e.what());
-    }
+    return refused_as_input([&] { return cli::diagnose_record(record, kt, {columns, units}); });
   });
   py::dict d;
   d["json"] = python_value(r.json);
@@ -436,13 +442,7 @@ py::dict diagnose_record(const std::string& record, const std::string& kt, const
 py::object error_mechanisms(const std::string& dir, const std::string& calibrate, int draws) {
   return python_value(guarded([&] {
     py::gil_scoped_release release;
-    try {
-      return cli::compare_error_mechanisms_in(dir, calibrate, draws);
-    } catch (const UsageError&) {
-      throw;
-    } catch (const Error& e) {  // the command refuses each of these as invalid input (exit 2)
-      throw UsageError(e.what());
-    }
+    return refused_as_input([&] { return cli::compare_error_mechanisms_in(dir, calibrate, draws); });
   }));
 }
 
@@ -510,13 +510,7 @@ py::object diagnose(const std::string& data, double alpha, int max_harmonic, con
     r.study = study;
     r.study_samples = study_samples;
     r.columns = {columns, units};
-    try {
-      return cli::diagnose_json(r);
-    } catch (const engine::ValidationError&) {
-      throw;
-    } catch (const Error& e) {  // the command line refuses each of these as invalid input (exit 2)
-      throw UsageError(e.what());
-    }
+    return refused_as_input([&] { return cli::diagnose_json(r); });
   }));
 }
 
