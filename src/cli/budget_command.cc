@@ -12,7 +12,7 @@
 #include "budget/budget_check.h"
 #include "budget/budget_file.h"
 #include "budget/budget_json.h"
-#include "cli/budget_monte_carlo.h"
+#include "budget/budget_monte_carlo.h"
 #include "cli/budget_text.h"
 #include "core/error.h"
 #include "engine/kind_interface/output_spec.h"
@@ -23,6 +23,11 @@
 #include "sampling/statistics.h"
 
 namespace poise::cli {
+using budget::find_monte_carlo_kind;
+using budget::model_kind_of;
+using budget::monte_carlo_kinds;
+using budget::MonteCarloKind;
+using budget::MonteCarloValues;
 namespace {
 
 using nlohmann::json;

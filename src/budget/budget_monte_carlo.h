@@ -7,14 +7,15 @@
 ///   tolerance_keys(model)     the model's sampled tolerances, dotted ("yaw.perpendicularity"),
 ///                             for a budget line's model_key
 ///   run(model, output, samples, seed) -> the output's values (same seed, same values)
-/// Today: the seeker_los kind for "seeker_two_axis" models.
+/// It lives in the budget layer (it was the command line's): Python's poise.budget and the
+/// command reach the same call.
 #include <cstdint>
 #include <functional>
 #include <optional>
 #include <string>
 #include <vector>
 
-namespace poise::cli {
+namespace poise::budget {
 
 struct MonteCarloOutput {
   std::string name, unit, description;
@@ -44,4 +45,4 @@ std::optional<MonteCarloKind> find_monte_carlo_kind(const std::string& model_kin
 /// file does not parse.
 std::string model_kind_of(const std::string& model_path);
 
-}  // namespace poise::cli
+}  // namespace poise::budget

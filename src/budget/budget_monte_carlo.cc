@@ -1,4 +1,4 @@
-#include "cli/budget_monte_carlo.h"
+#include "budget/budget_monte_carlo.h"
 
 #include <thread>
 
@@ -7,7 +7,7 @@
 #include "engine/study_files/toml_reader.h"
 #include "sampling/distributed.h"
 
-namespace poise::cli {
+namespace poise::budget {
 namespace {
 
 // A kind's Monte Carlo on a model file alone, through the kind interface (StudyKind::
@@ -57,4 +57,4 @@ std::string model_kind_of(const std::string& model_path) {
   return "";
 }
 
-}  // namespace poise::cli
+}  // namespace poise::budget
