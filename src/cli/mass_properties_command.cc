@@ -6,14 +6,18 @@
 #include <vector>
 
 #include "cli/mass_properties_output.h"
-#include "cli/mass_properties_parts.h"
 #include "geometry/mesh_check.h"
+#include "geometry/mesh_parts.h"
 
 namespace poise::cli {
 namespace {
 
-using mass_properties::Computed;
-using mass_properties::Options;
+// The command line, as given: the request, --json, and arguments CLI11 did not recognise.
+struct Options {
+  geometry::MeshPartsRequest request;
+  bool json = false;
+  std::vector<std::string> extras;
+};
 
 const char* kMassPropertiesHelp = R"(What it does:
   Reads each mesh (STL binary or ASCII, OBJ; the lengths in --unit), checks it, and gives
@@ -68,7 +72,11 @@ Exit status: 0 success, 2 bad mesh or argument (nothing computed), 1 other failu
 
 int run(const Options& opt) {
   try {
-    const Computed c = mass_properties::compute(opt);
+    if (!opt.extras.empty()) {
+      throw geometry::MeshCheckError("unknown argument '" + opt.extras.front() +
+                                     "' (see poise mass-properties --help)");
+    }
+    const geometry::MeshParts c = geometry::compute_mesh_parts(opt.request);
     if (!c.errors.empty()) {
       for (const auto& e : c.errors) std::cerr << "poise mass-properties: " << e << '\n';
       for (const auto& w : c.notes) std::cerr << "poise mass-properties: note: " << w << '\n';
@@ -94,15 +102,15 @@ int run(const Options& opt) {
 }  // namespace
 
 nlohmann::json mass_properties_json(const MassPropertiesRequest& request) {
-  Options opt;
-  opt.meshes = request.meshes;
-  opt.units = request.units;
-  opt.densities = request.densities;
-  opt.rays = std::to_string(request.rays);
-  opt.drop_duplicates = request.drop_duplicates;
-  opt.weld = request.weld;
-  opt.max_overlap = request.max_overlap;
-  const Computed c = mass_properties::compute(opt);
+  geometry::MeshPartsRequest parts;
+  parts.meshes = request.meshes;
+  parts.units = request.units;
+  parts.densities = request.densities;
+  parts.rays = std::to_string(request.rays);
+  parts.drop_duplicates = request.drop_duplicates;
+  parts.weld = request.weld;
+  parts.max_overlap = request.max_overlap;
+  const geometry::MeshParts c = geometry::compute_mesh_parts(parts);
   if (!c.errors.empty()) {
     std::string msg;
     for (const auto& e : c.errors) msg += (msg.empty() ? "" : "\n") + e;
@@ -120,23 +128,23 @@ MassPropertiesHandler add_mass_properties_command(CLI::App& app) {
       "volume, mass, centre of mass, inertia and principal axes of CAD meshes (STL, OBJ), each checked; "
       "several meshes: each part and the assembly");
   // Not required through CLI11, so that a missing argument is refused here with exit status 2.
-  sub->add_option("MESH", opt->meshes, "mesh files: .stl (binary or ASCII) or .obj, e.g. rotor_disk.stl");
-  sub->add_option("--unit,-u", opt->units,
+  sub->add_option("MESH", opt->request.meshes, "mesh files: .stl (binary or ASCII) or .obj, e.g. rotor_disk.stl");
+  sub->add_option("--unit,-u", opt->request.units,
                   "length unit the files were exported in: mm, cm, m or in (required: STL has no unit); once for "
                   "all meshes, or once per mesh in their order (the assembly is printed in the first's)");
-  sub->add_option("--density,-d", opt->densities,
+  sub->add_option("--density,-d", opt->request.densities,
                   "density with its unit, e.g. \"2700 kg/m^3\" or \"7.85 g/cm^3\"; once for all meshes, or once per "
                   "mesh in their order (required)");
-  sub->add_option("--rays", opt->rays, "rays per side of the ray-cast check grid (default 256)");
+  sub->add_option("--rays", opt->request.rays, "rays per side of the ray-cast check grid (default 256)");
   sub->add_flag("--json", opt->json, "print one JSON object");
-  sub->add_option("--weld", opt->weld,
+  sub->add_option("--weld", opt->request.weld,
                   "weld vertices closer than this length, e.g. \"0.0001 mm\" (\"0\": none; default 1e-6 of the "
                   "part's bounding-box diagonal): closes the cracks of an export and joins an OBJ's unshared "
                   "vertices; what was welded is said");
-  sub->add_option("--max-overlap", opt->max_overlap,
+  sub->add_option("--max-overlap", opt->request.max_overlap,
                   "largest overlap of shells accepted, as a share of the part's volume (default 1e-6; 0: none): "
                   "touching curved faces whose facets cross by their chord error pass with a note");
-  sub->add_flag("--drop-duplicates", opt->drop_duplicates,
+  sub->add_flag("--drop-duplicates", opt->request.drop_duplicates,
                 "remove triangles that repeat another (same vertices, same winding: a face or shell exported "
                 "twice) and say how many; without it such a mesh is refused");
   sub->allow_extras();  // an unknown option is refused by the handler, with exit status 2

@@ -7,6 +7,9 @@
 #include "geometry/rigid_body_inertia.h"
 
 namespace poise::cli::mass_properties {
+using geometry::MeshPart;
+using geometry::MeshParts;
+using geometry::RaycastDifference;
 namespace {
 
 nlohmann::json vec(const Eigen::Vector3d& v) { return {v.x(), v.y(), v.z()}; }
@@ -58,7 +61,7 @@ void print_properties(const geometry::MassProperties& p, double volume, const Ra
       << " % from the exact figures\n";
 }
 
-std::size_t cavities_of(const Part& p) {
+std::size_t cavities_of(const MeshPart& p) {
   std::size_t cavities = 0;
   for (const auto& s : p.check.shells) cavities += s.cavity;
   return cavities;
@@ -66,12 +69,13 @@ std::size_t cavities_of(const Part& p) {
 
 }  // namespace
 
-nlohmann::json to_json(const Computed& c) {
+nlohmann::json to_json(const MeshParts& c) {
   nlohmann::json out = properties_json(c.total, c.volume, c.total_diff, c.rays);
   if (c.parts.size() > 1) {
     nlohmann::json list = nlohmann::json::array();
     for (const auto& p : c.parts) {
-      nlohmann::json j = properties_json(p.exact, p.check.volume_m3, difference(p.exact, p.raycast), c.rays);
+      nlohmann::json j =
+          properties_json(p.exact, p.check.volume_m3, geometry::raycast_difference(p.exact, p.raycast), c.rays);
       j["file"] = p.file;
       j["unit"] = p.unit;
       j["density_kg_m3"] = p.density;
@@ -85,14 +89,15 @@ nlohmann::json to_json(const Computed& c) {
   return out;
 }
 
-void print_text(const Computed& c, std::ostream& out) {
+void print_text(const MeshParts& c, std::ostream& out) {
   for (const auto& p : c.parts) {
     const std::size_t cavities = cavities_of(p);
     out << p.file << " (" << p.unit << ", " << significant(p.density, 6) << " kg/m^3): " << p.mesh.triangles.size()
         << " triangles, " << p.check.shells.size() << (p.check.shells.size() == 1 ? " shell" : " shells");
     if (cavities) out << " (" << cavities << (cavities == 1 ? " cavity" : " cavities") << ")";
     out << ", closed and consistently oriented\n";
-    print_properties(p.exact, p.check.volume_m3, difference(p.exact, p.raycast), p.unit, p.unit_m, out);
+    print_properties(p.exact, p.check.volume_m3, geometry::raycast_difference(p.exact, p.raycast), p.unit, p.unit_m,
+                     out);
     out << '\n';
   }
   if (c.parts.size() > 1) {

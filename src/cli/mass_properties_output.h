@@ -4,11 +4,11 @@
 #include <nlohmann/json.hpp>
 #include <ostream>
 
-#include "cli/mass_properties_parts.h"
+#include "geometry/mesh_parts.h"
 
 namespace poise::cli::mass_properties {
 
-nlohmann::json to_json(const Computed& c);
-void print_text(const Computed& c, std::ostream& out);
+nlohmann::json to_json(const geometry::MeshParts& c);
+void print_text(const geometry::MeshParts& c, std::ostream& out);
 
 }  // namespace poise::cli::mass_properties

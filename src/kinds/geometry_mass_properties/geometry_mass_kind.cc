@@ -6,7 +6,6 @@
 
 namespace poise::kinds::geometry_mass_properties {
 using namespace poise::engine;
-using namespace poise::geometry_studies;
 namespace {
 
 class GeometryMassPropertiesKind final : public ProcedureKind {

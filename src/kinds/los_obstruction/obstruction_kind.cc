@@ -6,7 +6,6 @@
 
 namespace poise::kinds::los_obstruction {
 using namespace poise::engine;
-using namespace poise::geometry_studies;
 namespace {
 
 class LosObstructionKind final : public ProcedureKind {

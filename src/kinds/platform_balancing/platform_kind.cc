@@ -14,7 +14,6 @@
 
 namespace poise::kinds::platform_balancing {
 using namespace poise::engine;
-using namespace poise::model_files;
 namespace {
 using nlohmann::json;
 

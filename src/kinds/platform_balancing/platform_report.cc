@@ -19,7 +19,6 @@
 
 namespace poise::kinds::platform_balancing {
 using namespace poise::engine;
-using namespace poise::model_files;
 namespace {
 namespace fs = std::filesystem;
 using nlohmann::json;

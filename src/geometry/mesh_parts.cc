@@ -1,4 +1,4 @@
-#include "cli/mass_properties_parts.h"
+#include "geometry/mesh_parts.h"
 
 #include <charconv>
 #include <cmath>
@@ -10,10 +10,10 @@
 #include "geometry/mesh_text.h"
 #include "geometry/rigid_body_inertia.h"
 
-namespace poise::cli::mass_properties {
+namespace poise::geometry {
 namespace {
 
-[[noreturn]] void refuse(const std::string& what) { throw geometry::MeshCheckError(what); }
+[[noreturn]] void refuse(const std::string& what) { throw MeshCheckError(what); }
 
 std::string count(std::size_t n, const std::string& one, const std::string& many) {
   return std::to_string(n) + " " + (n == 1 ? one : many);
@@ -33,7 +33,7 @@ double unit_size(const std::string& unit) {
 }
 
 // --rays as a number from 8 to 4096, or -1.
-int rays_per_side(const Options& opt) {
+int rays_per_side(const MeshPartsRequest& opt) {
   int n = 0;
   const char* end = opt.rays.data() + opt.rays.size();
   const auto [p, ec] = std::from_chars(opt.rays.data(), end, n);
@@ -41,7 +41,7 @@ int rays_per_side(const Options& opt) {
 }
 
 // --weld in metres: -1 for the default, relative to the part.
-double weld_length(const Options& opt) {
+double weld_length(const MeshPartsRequest& opt) {
   if (opt.weld.empty()) return -1.0;
   double weld_m = 0.0;
   try {
@@ -56,8 +56,8 @@ double weld_length(const Options& opt) {
 }
 
 // --max-overlap: a share of the part's volume from 0 (none accepted) to below 1.
-double overlap_share(const Options& opt) {
-  if (opt.max_overlap.empty()) return geometry::kMaxOverlapShare;
+double overlap_share(const MeshPartsRequest& opt) {
+  if (opt.max_overlap.empty()) return kMaxOverlapShare;
   double share = -1.0;
   const char* begin = opt.max_overlap.data();
   const char* end = begin + opt.max_overlap.size();
@@ -71,7 +71,7 @@ double overlap_share(const Options& opt) {
 }
 
 // The arguments, checked before any mesh is read; each part's file, unit and density.
-std::vector<Part> parts_of(const Options& opt) {
+std::vector<MeshPart> parts_of(const MeshPartsRequest& opt) {
   if (opt.meshes.empty()) refuse("no mesh given: poise mass-properties MESH... --unit mm --density \"2700 kg/m^3\"");
   if (opt.units.size() > 1 && opt.units.size() != opt.meshes.size()) {
     refuse("--unit given " + std::to_string(opt.units.size()) + " times for " + std::to_string(opt.meshes.size()) +
@@ -82,13 +82,12 @@ std::vector<Part> parts_of(const Options& opt) {
     refuse("--density given " + std::to_string(opt.densities.size()) + " times for " +
            std::to_string(opt.meshes.size()) + " meshes: give one for all, or one per mesh in their order");
   }
-  if (!opt.extras.empty()) refuse("unknown argument '" + opt.extras.front() + "' (see poise mass-properties --help)");
   if (rays_per_side(opt) < 0) {
     refuse("--rays " + opt.rays + ": expected a whole number from 8 to 4096 (rays across the part)");
   }
-  std::vector<Part> parts(opt.meshes.size());
+  std::vector<MeshPart> parts(opt.meshes.size());
   for (std::size_t i = 0; i < parts.size(); ++i) {
-    Part& p = parts[i];
+    MeshPart& p = parts[i];
     p.file = opt.meshes[i];
     p.unit = opt.units.empty() ? std::string() : opt.units.size() == 1 ? opt.units[0] : opt.units[i];
     p.unit_m = unit_size(p.unit);
@@ -106,12 +105,12 @@ std::vector<Part> parts_of(const Options& opt) {
 }
 
 // What reading the part repaired or found doubtful, one note each.
-void repair_notes(const Part& p, std::vector<std::string>& notes) {
-  if (const std::string w = geometry::unit_warning(p.mesh, p.unit, p.unit_m); !w.empty()) notes.push_back(w);
-  const geometry::WeldReport& weld = p.repairs.weld;
+void repair_notes(const MeshPart& p, std::vector<std::string>& notes) {
+  if (const std::string w = unit_warning(p.mesh, p.unit, p.unit_m); !w.empty()) notes.push_back(w);
+  const WeldReport& weld = p.repairs.weld;
   if (weld.merged_vertices > 0 || weld.dropped_triangles > 0) {
     notes.push_back(p.file + ": welded " + std::to_string(weld.merged_vertices) + " vertices onto others within " +
-                    geometry::describe_length(p.mesh, weld.tolerance_m) +
+                    describe_length(p.mesh, weld.tolerance_m) +
                     (weld.dropped_triangles > 0 ? " and dropped the " + std::to_string(weld.dropped_triangles) +
                                                       " triangles this left without area"
                                                 : std::string()) +
@@ -131,13 +130,12 @@ void repair_notes(const Part& p, std::vector<std::string>& notes) {
 }
 
 // Overlapping shells: an error above the accepted share of the part's volume, else a note.
-void judge_overlap(const Part& p, const geometry::RayCastStats& stats, double max_share, Computed& c) {
+void judge_overlap(const MeshPart& p, const RayCastStats& stats, double max_share, MeshParts& c) {
   if (stats.overlap_rays == 0) return;
   const double share = stats.overlap_volume_m3 / std::abs(p.check.volume_m3);
-  const std::string what = "about " + geometry::describe_volume(p.mesh, stats.overlap_volume_m3) + " counted twice (" +
+  const std::string what = "about " + describe_volume(p.mesh, stats.overlap_volume_m3) + " counted twice (" +
                            significant(share, 3) + " of the part's volume; accepted up to " +
-                           significant(max_share, 3) + ", --max-overlap), " +
-                           geometry::describe_box(p.mesh, stats.overlap_box);
+                           significant(max_share, 3) + ", --max-overlap), " + describe_box(p.mesh, stats.overlap_box);
   if (share > max_share) {
     c.errors.push_back(p.file + ": shells overlap: " + std::to_string(stats.overlap_rays) + " of " +
                        std::to_string(stats.rays) +
@@ -151,43 +149,43 @@ void judge_overlap(const Part& p, const geometry::RayCastStats& stats, double ma
 }
 
 // One part read, checked and integrated; its defects go to c.errors.
-void examine(Part& p, const Options& opt, double weld_m, double max_share, Computed& c) {
+void examine(MeshPart& p, const MeshPartsRequest& opt, double weld_m, double max_share, MeshParts& c) {
   std::error_code ec;
   if (!std::filesystem::is_regular_file(p.file, ec)) {
     c.errors.push_back(p.file + ": no such mesh file (or not a regular file)");
     return;
   }
   try {
-    p.mesh = geometry::load_mesh(p.file, p.unit_m, &p.repairs, weld_m);
+    p.mesh = load_mesh(p.file, p.unit_m, &p.repairs, weld_m);
   } catch (const Error& e) {
     c.errors.emplace_back(e.what());  // MeshFormatError (names file and line), unreadable file, unknown extension
     return;
   }
-  if (opt.drop_duplicates) p.dropped = geometry::drop_duplicate_triangles(p.mesh);
+  if (opt.drop_duplicates) p.dropped = drop_duplicate_triangles(p.mesh);
   repair_notes(p, c.notes);
-  p.check = geometry::check_mesh(p.mesh);
+  p.check = check_mesh(p.mesh);
   if (!p.check.ok()) {
     c.errors.insert(c.errors.end(), p.check.errors.begin(), p.check.errors.end());
     return;
   }
-  if (const geometry::Defect& z = p.check.zero_area_triangles; z.count > 0) {
+  if (const Defect& z = p.check.zero_area_triangles; z.count > 0) {
     c.notes.push_back(p.file + ": kept " + count(z.count, "zero-area triangle", "zero-area triangles") +
                       " that close the surface (a vertex on another triangle's edge), the first is " +
-                      geometry::describe_triangle(p.mesh, z.first_triangle) + "; they add no volume");
+                      describe_triangle(p.mesh, z.first_triangle) + "; they add no volume");
   }
-  p.exact = geometry::to_mass_properties(geometry::exact_moments(p.mesh, p.density));
+  p.exact = to_mass_properties(exact_moments(p.mesh, p.density));
   // Rays along the part's thinnest side: a plate is crossed through its thickness, where
   // each segment is integrated exactly, and sampled across its face.
-  geometry::RayGridOptions grid;
+  RayGridOptions grid;
   grid.rays_per_side = c.rays;
   p.mesh.bounds().sizes().minCoeff(&grid.axis);
-  geometry::RayCastStats stats;
-  p.raycast = geometry::to_mass_properties(geometry::raycast_moments({{p.mesh, p.density}}, grid, &stats));
+  RayCastStats stats;
+  p.raycast = to_mass_properties(raycast_moments({{p.mesh, p.density}}, grid, &stats));
   judge_overlap(p, stats, max_share, c);
   // The ray cast is an independent integration: past its tolerance the mesh, not the rays,
   // is the likely cause (a region counted twice, a surface that does not enclose what it
   // seems to), unless the walls are thinner than the rays' spacing.
-  if (const double dm = difference(p.exact, p.raycast).mass; dm > kRaycastTolerance) {
+  if (const double dm = raycast_difference(p.exact, p.raycast).mass; dm > kRaycastTolerance) {
     c.errors.push_back(p.file + ": the ray-cast check differs from the exact mass by " + significant(100.0 * dm, 3) +
                        " % (tolerance " + significant(100.0 * kRaycastTolerance, 2) +
                        " %): the mesh may count a region twice (faces or shells exported twice) or not enclose what "
@@ -198,7 +196,7 @@ void examine(Part& p, const Options& opt, double weld_m, double max_share, Compu
 
 }  // namespace
 
-RaycastDifference difference(const geometry::MassProperties& exact, const geometry::MassProperties& ray) {
+RaycastDifference raycast_difference(const MassProperties& exact, const MassProperties& ray) {
   RaycastDifference d;
   d.mass = std::abs(ray.mass - exact.mass) / exact.mass;
   d.com_m = (ray.com - exact.com).norm();
@@ -206,24 +204,24 @@ RaycastDifference difference(const geometry::MassProperties& exact, const geomet
   return d;
 }
 
-Computed compute(const Options& opt) {
-  Computed c;
+MeshParts compute_mesh_parts(const MeshPartsRequest& opt) {
+  MeshParts c;
   c.parts = parts_of(opt);
   c.rays = rays_per_side(opt);
   const double weld_m = weld_length(opt), max_share = overlap_share(opt);
   c.unit = c.parts.front().unit;
   c.unit_m = c.parts.front().unit_m;
-  for (Part& p : c.parts) examine(p, opt, weld_m, max_share, c);
+  for (MeshPart& p : c.parts) examine(p, opt, weld_m, max_share, c);
   if (!c.errors.empty()) return c;
-  std::vector<geometry::MassProperties> exact, ray;
-  for (const Part& p : c.parts) {
+  std::vector<MassProperties> exact, ray;
+  for (const MeshPart& p : c.parts) {
     exact.push_back(p.exact);
     ray.push_back(p.raycast);
     c.volume += p.check.volume_m3;
   }
-  c.total = geometry::assemble(exact);
-  c.total_diff = difference(c.total, geometry::assemble(ray));
+  c.total = assemble(exact);
+  c.total_diff = raycast_difference(c.total, assemble(ray));
   return c;
 }
 
-}  // namespace poise::cli::mass_properties
+}  // namespace poise::geometry
