@@ -47,7 +47,6 @@ constexpr OutputDeclaration kOutputs[] = {
     {"e_ray_error_um", "um", "ray-cast e minus exact e"},
     {"mass_ray_error_pct", "%", "ray-cast mass against exact, relative"},
 };
-constexpr std::size_t kNumOutputs = std::size(kOutputs);
 
 double axis_tilt(const Eigen::Matrix3d& inertia) {
   Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es(inertia);

@@ -141,7 +141,7 @@ const SeekerFieldFigures* field_figures_of(const McResult& mc) {
 SeekerFieldRecorder::SeekerFieldRecorder(WideColumnsSpec layout, const SeekerFieldSettings& settings,
                                          const RunControl& control, std::size_t samples, std::size_t resumed,
                                          int threads)
-    : layout_(std::move(layout)), settings_(settings), control_(control), samples_(samples), threads_(threads) {
+    : layout_(std::move(layout)), settings_(settings), control_(control), threads_(threads) {
   const bool root = !control.distributed || sampling::Cluster::root();
   if (!control.folder || !(settings.values || settings.maps) || !root) return;
   // The grid values go to the run's samples.h5; without one they are only kept in memory

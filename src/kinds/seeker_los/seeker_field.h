@@ -77,7 +77,6 @@ class SeekerFieldRecorder {
   WideColumnsSpec layout_;
   SeekerFieldSettings settings_;
   const RunControl& control_;
-  std::size_t samples_;
   int threads_;
   bool temporary_ = false;
   std::string path_, interrupted_path_;
