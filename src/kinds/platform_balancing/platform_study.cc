@@ -94,6 +94,41 @@ std::size_t unit_dimension(const std::vector<std::pair<int, int>>& slots) {
   return d;
 }
 
+// The per-sample outputs: each axis' largest initial torque, then per test order each axis'
+// figures after the campaign and the LOS error over the carrier profile.
+std::vector<OutputSpec> platform_outputs(const std::vector<std::string>& order_labels) {
+  std::vector<OutputSpec> outputs;
+  outputs.reserve(models::kAllAxes.size());
+  for (Axis a : models::kAllAxes) {
+    outputs.push_back({std::string("initial_") + models::axis_name(a) + "_torque_max_mNm", "mN*m",
+                       std::string("largest unbalance torque on the ") + models::axis_name(a) +
+                           " axis before balancing, over the gimbal-angle grid"});
+  }
+  static constexpr OutputDeclaration kAxisOutputs[] = {
+      {"measured_mNm", "mN*m", "MT_s measured in the axis test"},
+      {"residual_gmm", "g*mm",
+       "residual first moment perpendicular to the axis after the campaign, at the lock angles"},
+      {"residual_grid_max_gmm", "g*mm", "the same, greatest over the gimbal-angle grid"},
+      {"torque_max_mNm", "mN*m", "largest residual unbalance torque over the grid, under gravity"},
+      {"torque_rms_mNm", "mN*m", "RMS residual unbalance torque over the grid, under gravity"},
+      {"torque_max_acc_mNm", "mN*m",
+       "largest residual unbalance torque over the grid, under gravity plus the stated carrier acceleration"},
+      {"torque_rms_acc_mNm", "mN*m",
+       "RMS residual unbalance torque over the grid, under gravity plus the stated carrier acceleration"},
+  };
+  for (const auto& label : order_labels) {
+    for (Axis a : models::kAllAxes) {
+      append_outputs(outputs, label + "_" + models::axis_name(a) + "_", kAxisOutputs,
+                     "order " + label + ", " + models::axis_name(a) + " axis: ");
+    }
+    outputs.push_back({label + "_los_max_arcsec", "arcsec",
+                       "order " + label + ": peak LOS error over the carrier profile, worst grid point"});
+    outputs.push_back({label + "_los_rms_arcsec", "arcsec",
+                       "order " + label + ": RMS LOS error over the carrier profile, worst grid point"});
+  }
+  return outputs;
+}
+
 }  // namespace
 
 PlatformStudy::PlatformStudy(StudyConfig config, PlatformModel model, std::size_t samples, std::uint64_t seed,
@@ -116,36 +151,7 @@ PlatformStudy::PlatformStudy(StudyConfig config, PlatformModel model, std::size_
     declare_input({column + unit_suffix(t), t.spec.display_unit.empty() ? "1" : t.spec.display_unit, "", tolerance});
     if (s == Slot::kFixtureTilt) declare_input({column + "_azimuth_deg", "deg", "its direction", tolerance});
   }
-  std::vector<OutputSpec> outputs;
-  outputs.reserve(models::kAllAxes.size());
-  for (Axis a : models::kAllAxes) {
-    outputs.push_back({std::string("initial_") + models::axis_name(a) + "_torque_max_mNm", "mN*m",
-                       std::string("largest unbalance torque on the ") + models::axis_name(a) +
-                           " axis before balancing, over the gimbal-angle grid"});
-  }
-  static constexpr OutputDeclaration kAxisOutputs[] = {
-      {"measured_mNm", "mN*m", "MT_s measured in the axis test"},
-      {"residual_gmm", "g*mm",
-       "residual first moment perpendicular to the axis after the campaign, at the lock angles"},
-      {"residual_grid_max_gmm", "g*mm", "the same, greatest over the gimbal-angle grid"},
-      {"torque_max_mNm", "mN*m", "largest residual unbalance torque over the grid, under gravity"},
-      {"torque_rms_mNm", "mN*m", "RMS residual unbalance torque over the grid, under gravity"},
-      {"torque_max_acc_mNm", "mN*m",
-       "largest residual unbalance torque over the grid, under gravity plus the stated carrier acceleration"},
-      {"torque_rms_acc_mNm", "mN*m",
-       "RMS residual unbalance torque over the grid, under gravity plus the stated carrier acceleration"},
-  };
-  for (const auto& label : platform_sections(config_).platform.order_labels) {
-    for (Axis a : models::kAllAxes) {
-      append_outputs(outputs, label + "_" + models::axis_name(a) + "_", kAxisOutputs,
-                     "order " + label + ", " + models::axis_name(a) + " axis: ");
-    }
-    outputs.push_back({label + "_los_max_arcsec", "arcsec",
-                       "order " + label + ": peak LOS error over the carrier profile, worst grid point"});
-    outputs.push_back({label + "_los_rms_arcsec", "arcsec",
-                       "order " + label + ": RMS LOS error over the carrier profile, worst grid point"});
-  }
-  declare_outputs(std::move(outputs));
+  declare_outputs(platform_outputs(platform_sections(config_).platform.order_labels));
   // Grid of gimbal angles.
   const PlatformStudySection& ps = platform_sections(config_).platform;
   for (double al : models::linspace(ps.outer_min, ps.outer_max, ps.outer_points)) {

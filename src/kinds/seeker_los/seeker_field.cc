@@ -142,11 +142,12 @@ SeekerFieldRecorder::SeekerFieldRecorder(WideColumnsSpec layout, const SeekerFie
                                          const RunControl& control, std::size_t samples, std::size_t resumed,
                                          int threads)
     : layout_(std::move(layout)), settings_(settings), control_(control), threads_(threads) {
+  // The grid values go to the run's samples.h5 (every rank knows whether they do: the maps of
+  // an MPI run are shared then); without one they are only kept in memory when they fit, else
+  // in an uncompressed scratch file read back once.
+  settings_.values = settings.values && control.folder && !control.folder->samples_h5.empty();
   const bool root = !control.distributed || sampling::Cluster::root();
   if (!control.folder || !(settings.values || settings.maps) || !root) return;
-  // The grid values go to the run's samples.h5; without one they are only kept in memory
-  // when they fit, else in an uncompressed scratch file read back once.
-  settings_.values = settings.values && !control.folder->samples_h5.empty();
   layout_.keep_up_to_bytes = settings.maps ? settings.keep_bytes : 0;
   temporary_ = !settings_.values && !fits_in_memory(layout_, samples);
   path_ = temporary_ ? temporary_field_file() : settings_.values ? control.folder->samples_h5 : std::string();
@@ -198,8 +199,7 @@ void SeekerFieldRecorder::append(std::span<const SampleResult> block) {
 void SeekerFieldRecorder::finish(std::size_t n_ok, const std::function<void()>& summarize, McResult& r) {
   // The field maps of an MPI run whose grid values go to samples.h5 are made by all its ranks;
   // else by this process alone (from the file, its copy in memory or a scratch file).
-  const bool shared_maps =
-      control_.distributed && sampling::Cluster::size() > 1 && control_.folder && settings_.values && settings_.maps;
+  const bool shared_maps = control_.distributed && sampling::Cluster::size() > 1 && settings_.values && settings_.maps;
   // The tail on all threads, two independent halves side by side so that each fills the
   // other's serial moments: closing samples.h5 and the field figures read back point by point;
   // the per-sample outputs' summaries. With maps shared by the ranks, the other ranks start on

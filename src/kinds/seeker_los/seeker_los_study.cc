@@ -1,29 +1,18 @@
 #include "kinds/seeker_los/seeker_los_study.h"
 
-#include <unistd.h>
-
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <cstdlib>
-#include <cstring>
-#include <filesystem>
-#include <memory>
-#include <optional>
 
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
-#include <tbb/parallel_invoke.h>
 #include <tbb/task_arena.h>
 #include "core/units.h"
 
-#include "engine/results/field_statistics.h"
 #include "engine/run/convergence.h"
 #include "engine/run/sample_driver.h"
 #include "kinds/seeker_los/seeker_field.h"
 #include "kinds/seeker_los/seeker_los_sections.h"
-#include "sampling/distributed.h"
-#include "sampling/progress.h"
 
 namespace poise::kinds::seeker_los {
 using namespace poise::model_files;
